@@ -1,0 +1,53 @@
+/* geom: exact geometric predicates and floating-point geometry helpers.
+ *
+ * orient2d, incircle and the diametral-circle (encroachment) test are exact in sign for every
+ * pair of finite doubles: a floating-point filter answers when the rounded value is certain,
+ * otherwise adaptive expansion arithmetic (Shewchuk, "Adaptive Precision Floating-Point
+ * Arithmetic and Fast Robust Geometric Predicates", 1997) decides.  Topology in this project
+ * is decided by these predicates only.  Everything else here (circumcenter, angles, areas) is
+ * ordinary rounded arithmetic used for point creation and quality measures.
+ *
+ * All functions are Local (no communication) and thread-safe after geom_init().
+ */
+#ifndef GEOM_H
+#define GEOM_H
+
+/* Computes the machine constants of the filters.  Idempotent; call once before anything
+ * else (the mesher and the programs do). */
+void geom_init(void);
+
+/* > 0 if a, b, c are in counter-clockwise order, < 0 if clockwise, 0 if collinear.
+ * The sign is exact; the magnitude is twice the signed area, approximately. */
+double geom_orient2d(const double a[2], const double b[2], const double c[2]);
+
+/* > 0 if d lies inside the circle through a, b, c (given counter-clockwise), < 0 outside,
+ * 0 on it.  Sign exact.  For clockwise a, b, c the sign is reversed. */
+double geom_incircle(const double a[2], const double b[2], const double c[2],
+                     const double d[2]);
+
+/* Sign of (a - p) . (b - p), exact: < 0 iff p lies strictly inside the circle whose diameter
+ * is the segment ab (p "encroaches" ab), 0 on it, > 0 outside. */
+double geom_diametral(const double a[2], const double b[2], const double p[2]);
+
+/* 1 if p lies strictly inside the diametral circle of ab (exact), else 0. */
+int geom_encroaches(const double a[2], const double b[2], const double p[2]);
+
+/* Circumcenter of triangle abc (rounded).  Returns 0, or -1 if abc is degenerate. */
+int geom_circumcenter(const double a[2], const double b[2], const double c[2], double out[2]);
+
+/* Midpoint of ab computed as a + (b - a) / 2 componentwise, the same bits on every rank. */
+void geom_midpoint(const double a[2], const double b[2], double out[2]);
+
+/* Signed area of abc (rounded; positive when counter-clockwise). */
+double geom_area(const double a[2], const double b[2], const double c[2]);
+
+/* Smallest interior angle of triangle abc, in degrees (rounded). */
+double geom_min_angle_deg(const double a[2], const double b[2], const double c[2]);
+
+/* Angle at vertex b between rays b->a and b->c, in degrees in [0, 180] (rounded). */
+double geom_angle_deg(const double a[2], const double b[2], const double c[2]);
+
+/* Squared length of ab. */
+double geom_dist2(const double a[2], const double b[2]);
+
+#endif

@@ -1,0 +1,46 @@
+/* meshio: a flat, pointer-free view of a finished mesh and its writers.
+ *
+ * Every mesher (./mesh, ./pcdm, ./pbw) ends by filling a mesh_flat: global vertex numbering,
+ * counter-clockwise triangles, the constrained edges (subsegments) with their markers, and for
+ * pictures the owning rank of each triangle.  The writers produce Triangle's .node/.ele/.poly,
+ * legacy VTK (unstructured grid, readable by ParaView and meshio) and SVG.  Each file is
+ * written to a temporary name in the same directory and renamed, so a reader never sees half a
+ * file.  All functions return 0, or -1 with "FILE: problem" in err.
+ */
+#ifndef MESHIO_H
+#define MESHIO_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct mesh_flat {
+    int32_t nverts;
+    double *xy;       /* 2 * nverts */
+    int32_t *vmarker; /* nverts (may be NULL) */
+    int nattr;
+    double *vattr;    /* nattr * nverts (may be NULL) */
+    int32_t ntris;
+    int32_t *tri;     /* 3 * ntris, counter-clockwise, 0-based */
+    int32_t *trank;   /* ntris owning rank (may be NULL: all 0) */
+    int32_t nsegs;
+    int32_t *seg;     /* 2 * nsegs subsegment endpoints */
+    int32_t *smarker; /* nsegs (may be NULL) */
+    int32_t *sinterface; /* nsegs: 1 if an artificial (interface) constraint (may be NULL) */
+} mesh_flat;
+
+/* Writes PREFIX.node, PREFIX.ele and PREFIX.poly (1-based, as Triangle writes them). */
+int meshio_write_triangle(const mesh_flat *m, const char *prefix, char *err, size_t errlen);
+
+/* Reads PREFIX.node and PREFIX.ele (and PREFIX.poly when present) back into m. */
+int meshio_read_triangle(const char *prefix, mesh_flat *m, char *err, size_t errlen);
+
+/* Legacy VTK unstructured grid (ASCII), with the rank as a cell scalar. */
+int meshio_write_vtk(const mesh_flat *m, const char *path, char *err, size_t errlen);
+
+/* SVG picture: triangles filled by owning rank, constraint edges drawn thick, interface
+ * constraints in a contrasting colour. */
+int meshio_write_svg(const mesh_flat *m, const char *path, char *err, size_t errlen);
+
+void mesh_flat_free(mesh_flat *m);
+
+#endif

@@ -1,0 +1,48 @@
+/* validate: the mesh validator.  A mesh is "correct" only when this says so.
+ *
+ * Checks, all topological ones with exact predicates:
+ *  - every triangle counter-clockwise and non-degenerate; every vertex index in range;
+ *  - conforming: every edge shared by at most two triangles, with opposite orientations; no
+ *    two triangles overlap (total area equals the area enclosed by the boundary edges);
+ *  - every input vertex present (as a mesh vertex with the same coordinates);
+ *  - every input segment present as a chain of mesh edges along it;
+ *  - every boundary edge of the mesh (one triangle) lies on an input segment;
+ *  - area equal to the domain's (pslg_domain_area), to a relative 1e-9;
+ *  - every interior edge that is not on an input segment (or on an interface constraint
+ *    listed in the mesh's segments) is locally Delaunay (exact incircle, strict);
+ *  - smallest angle >= min_angle (degrees) and area <= max_area, except triangles whose small
+ *    angle is forced by the input (a triangle angle at an input vertex where two input
+ *    segments meet at less than 60 degrees, or at a vertex on such a corner's segments).
+ */
+#ifndef VALIDATE_H
+#define VALIDATE_H
+
+#include "meshio.h"
+#include "pslg.h"
+
+#include <stdio.h>
+
+typedef struct validate_opts {
+    double min_angle; /* degrees; 0 to skip */
+    double max_area;  /* 0 to skip */
+    int check_delaunay_interfaces; /* 1: edges on sinterface segments must be locally Delaunay */
+} validate_opts;
+
+typedef struct validate_report {
+    int ok;
+    long ntris, nverts;
+    double min_angle, max_area;    /* measured over all triangles */
+    double min_angle_unforced;     /* measured over triangles not exempted */
+    double mesh_area, domain_area;
+    long bad_orient, bad_conform, missing_verts, missing_segs, stray_boundary,
+        non_delaunay, bad_angle, bad_area;
+    char first_problem[256]; /* description of the first failure found */
+} validate_report;
+
+/* Validates m against input g.  Returns 1 if the mesh passes, else 0; r filled either way. */
+int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, validate_report *r);
+
+/* One summary line: "meshcheck: OK triangles=N ..." or "meshcheck: FAIL ...". */
+void validate_report_print(const validate_report *r, FILE *f);
+
+#endif

@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# Runs every test: Check unit programs (tests/unit_*.c), MPI programs (tests/mpi_*.c) at the
+# rank counts named on their "// ranks:" line, and shell tests (tests/t_*.sh).
+# Each MPI run is wrapped in timeout and oversubscribed.  Prints "N passed, N failed" last and
+# exits non-zero on any failure.
+set -u
+cd "$(dirname "$0")/.."
+B=${BUILD:-build}
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+export OMPI_MCA_rmaps_base_oversubscribe=1 PRTE_MCA_rmaps_default_mapping_policy=:oversubscribe
+export TMPDIR=${TMPDIR:-/tmp}
+if [ "${SANITIZE:-}" = 1 ]; then
+    export ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+    export BIN=$B/bin
+else
+    export BIN=.
+fi
+export B
+MPIRUN="mpirun --oversubscribe"
+export MPIRUN
+pass=0 fail=0 failed=()
+log=$B/test-logs
+mkdir -p "$log"
+run() { # name, command...
+    local name=$1; shift
+    local t0=$SECONDS
+    if "$@" >"$log/$name.log" 2>&1; then
+        pass=$((pass + 1)); printf 'PASS %-40s %3ds\n' "$name" $((SECONDS - t0))
+    else
+        fail=$((fail + 1)); failed+=("$name")
+        printf 'FAIL %-40s %3ds (log: %s)\n' "$name" $((SECONDS - t0)) "$log/$name.log"
+        tail -n 30 "$log/$name.log" | sed 's/^/    /'
+    fi
+}
+for src in tests/unit_*.c; do
+    [ -e "$src" ] || continue
+    t=$(basename "$src" .c)
+    run "$t" timeout 600 "$B/tests/$t"
+done
+for src in tests/mpi_*.c; do
+    [ -e "$src" ] || continue
+    t=$(basename "$src" .c)
+    ranks=$(sed -n 's|^// ranks: *||p' "$src" | head -1)
+    for np in ${ranks:-1 2 4 8}; do
+        run "$t.np$np" timeout 300 $MPIRUN -np "$np" "$B/tests/$t"
+    done
+done
+for sh in tests/t_*.sh; do
+    [ -e "$sh" ] || continue
+    run "$(basename "$sh" .sh)" timeout 900 bash "$sh"
+done
+echo
+[ "$fail" -gt 0 ] && printf 'failed: %s\n' "${failed[*]}"
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]
