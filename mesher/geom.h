@@ -8,6 +8,13 @@
  * ordinary rounded arithmetic used for point creation and quality measures.
  *
  * All functions are Local (no communication) and thread-safe after geom_init().
+ *
+ * Valid range (sufficient; "exact barring underflow and overflow" made concrete): the signs
+ * are exact when every nonzero coordinate has magnitude in [2^-380, 2^400] (about 4e-115 to
+ * 2.6e120) for geom_orient2d, geom_diametral and geom_encroaches, and in [2^-160, 2^200]
+ * (about 6.8e-49 to 1.6e60) for geom_incircle, whose determinant has degree 4.  (Then every
+ * intermediate is a multiple of 2^-1074 and no error bound underflows.)  Outside that range
+ * intermediate products may underflow or overflow and the sign may be wrong.
  */
 #ifndef GEOM_H
 #define GEOM_H
@@ -35,7 +42,10 @@ int geom_encroaches(const double a[2], const double b[2], const double p[2]);
 /* Circumcenter of triangle abc (rounded).  Returns 0, or -1 if abc is degenerate. */
 int geom_circumcenter(const double a[2], const double b[2], const double c[2], double out[2]);
 
-/* Midpoint of ab computed as a + (b - a) / 2 componentwise, the same bits on every rank. */
+/* Midpoint of ab computed as a + (b - a) / 2 componentwise, the same bits on every rank.
+ * Precisely: with (a, b) first put in lexicographic order (x, then y), out[i] is
+ * a[i] + 0.5 * (b[i] - a[i]), so geom_midpoint(a, b) and geom_midpoint(b, a) agree bit for
+ * bit. */
 void geom_midpoint(const double a[2], const double b[2], double out[2]);
 
 /* Signed area of abc (rounded; positive when counter-clockwise). */

@@ -1,0 +1,76 @@
+/* par: what ./pcdm and ./pbw share around their algorithms -- command line, input, the
+ * decomposition, gathering the pieces of the mesh into one conforming mesh on rank 0, the
+ * output files, the quality check, and collective error exits.
+ *
+ * Both programs are SPMD: every rank parses the same arguments and reads the same input file
+ * (a shared file system is assumed, as with mpirun on one machine), so input errors are
+ * detected identically on every rank; only rank 0 prints them, and every rank exits non-zero.
+ * Errors found on one rank only go through par_fail_any(), a collective agreement.
+ *
+ * Collective = every rank of rt_comm() calls it; Local otherwise.
+ */
+#ifndef PAR_H
+#define PAR_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "meshio.h"
+#include "pcdm_decomp.h"
+#include "pslg.h"
+#include "validate.h"
+
+typedef struct par_opts {
+    const char *prog;     /* "pcdm" or "pbw" (for messages and --help) */
+    const char *input;    /* input .poly */
+    double min_angle;     /* -q DEG (default 20.7) */
+    double max_area;      /* -a AREA (0 = none) */
+    int64_t max_steiner;  /* -S N (< 0: none) */
+    const char *out_prefix; /* -o PREFIX: PREFIX.node/.ele/.poly */
+    const char *vtk;      /* --vtk FILE */
+    const char *svg;      /* --svg FILE */
+    int stats;            /* --stats */
+    int check;            /* --check: validate the merged mesh on rank 0, fail if it fails */
+    int progress;         /* --progress: progress lines on stderr */
+    int32_t nsub;         /* --subdomains K (0 = ranks) */
+    double imbalance;     /* --imbalance R (default 1) */
+    const char *cuts;     /* --cuts FILE */
+    const char *write_cuts; /* --write-cuts FILE */
+    int phases;           /* --phases (pbw only) */
+    uint64_t perturb;     /* --perturb SEED (0 = off; also env RT_PERTURB) */
+} par_opts;
+
+/* Local.  Parses argv for program prog ("pcdm" or "pbw").  Returns 0 to go on; 1 when the
+ * program should exit with *code (--help printed: 0; usage error printed: 2).  Only rank
+ * `rank` == 0 prints. */
+int par_parse_args(int argc, char **argv, const char *prog, int rank, par_opts *o, int *code);
+
+/* Collective.  Every rank reads and checks o->input and builds the decomposition (auto or
+ * --cuts) for rt_size() ranks.  On any error rank 0 prints the one message and every rank
+ * returns -1 (the caller then exits non-zero after rt_finalize). */
+int par_load(const par_opts *o, pslg *in, pcdm_decomp *d);
+
+/* Collective.  Every rank contributes its part of the mesh (local numbering; xy of every vertex
+ * it uses; triangles ccw with trank set to its rank; its constraint subsegments).  Rank 0
+ * receives the pieces, merges vertices with identical coordinates (bit-equal: interface
+ * vertices are computed identically on both sides), renumbers globally (input vertices first,
+ * in input order), de-duplicates subsegments, and fills *global (other ranks: zeroed). */
+int par_gather_mesh(const mesh_flat *local, const pslg *in, mesh_flat *global);
+
+/* Rank 0 only (Local).  Writes the files asked for in o (-o, --vtk, --svg).  Returns 0, or -1
+ * after printing the error. */
+int par_write_outputs(const par_opts *o, const mesh_flat *global);
+
+/* Rank 0 only (Local).  Runs the validator with o's bounds; prints the summary line if
+ * o->check or o->stats; returns 1 if the mesh passes. */
+int par_validate(const par_opts *o, const pslg *in, const mesh_flat *global,
+                 validate_report *r);
+
+/* Collective.  Agreement on failure: returns nonzero on every rank if local_fail is nonzero on
+ * any rank; the first failing rank's message (msg, may be NULL) is printed by rank 0. */
+int par_fail_any(int local_fail, const char *msg);
+
+/* Local.  Peak resident set size of this process in bytes (getrusage). */
+long par_peak_rss_bytes(void);
+
+#endif
