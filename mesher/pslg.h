@@ -21,21 +21,23 @@
 
 typedef struct pslg {
     int32_t nverts;
-    double *xy;        /* 2 * nverts coordinates */
-    int32_t *vmarker;  /* nverts boundary markers (0 if the file has none) */
-    int nattr;         /* attributes per vertex */
-    double *vattr;     /* nattr * nverts, or NULL */
-    int32_t *vline;    /* nverts: source line of each vertex (for messages) */
+    double *xy;       /* 2 * nverts coordinates */
+    int32_t *vmarker; /* nverts boundary markers (0 if the file has none) */
+    int nattr;        /* attributes per vertex */
+    double *vattr;    /* nattr * nverts, or NULL */
+    int32_t *vline;   /* nverts: source line of each vertex (for messages) */
     int32_t nsegs;
-    int32_t *seg;      /* 2 * nsegs vertex indices, 0-based */
-    int32_t *smarker;  /* nsegs boundary markers */
-    int32_t *sline;    /* nsegs: source line of each segment */
+    int32_t *seg;     /* 2 * nsegs vertex indices, 0-based */
+    int32_t *smarker; /* nsegs boundary markers */
+    int32_t *sline;   /* nsegs: source line of each segment */
     int32_t nholes;
-    double *holes;     /* 2 * nholes */
+    double *holes; /* 2 * nholes */
     int32_t nregions;
     double *regions;   /* 4 * nregions: x, y, attribute, max area */
     int first_index;   /* 0 or 1: the numbering the file used */
     char path[512];    /* file the vertices came from (for messages) */
+    char segpath[512]; /* file the segments, holes and regions came from (= path unless a .poly
+                        * with no vertices took them from its .node file) */
 } pslg;
 
 /* Reads path (a .poly, or a .node for a point set).  Returns 0 on success; on failure returns
@@ -51,6 +53,22 @@ int pslg_check(pslg *g, char *err, size_t errlen);
  * mesh): the union of the bounded faces of the segment arrangement, minus the faces that
  * contain a hole point.  Used by the validator. */
 double pslg_domain_area(const pslg *g);
+
+/* Like pslg_read for a .poly, except that when the .poly declares 0 vertices its .node file is
+ * not read: segment endpoints are checked against nverts vertices numbered from first_index
+ * and out->nverts stays 0.  (meshio_read_triangle uses it after reading PREFIX.node.)  A .poly
+ * that lists its own vertices is read completely, as by pslg_read. */
+int pslg_read_segments(const char *path, int32_t nverts, int first_index, pslg *out, char *err,
+                       size_t errlen);
+
+/* The angles between angularly consecutive segments at each vertex (in degrees, exact angular
+ * order).  For every such pair (s1, then s2 counter-clockwise around v) whose angle is below
+ * bound_deg, calls fn(ctx, v, s1, s2, angle) when fn is not NULL.  Returns the smallest angle
+ * found, or 360 when no vertex has two segments.  A vertex with two segments has two angles
+ * (theta and 360 - theta). */
+double pslg_input_angles(const pslg *g, double bound_deg,
+                         void (*fn)(void *ctx, int32_t v, int32_t s1, int32_t s2, double deg),
+                         void *ctx);
 
 void pslg_free(pslg *g);
 

@@ -13,6 +13,20 @@
  *  - smallest angle >= min_angle (degrees) and area <= max_area, except triangles whose small
  *    angle is forced by the input (a triangle angle at an input vertex where two input
  *    segments meet at less than 60 degrees, or at a vertex on such a corner's segments).
+ *
+ * The exemption rule exactly: a "small corner" is an input vertex v with two angularly
+ * consecutive input segments s1, s2 meeting at less than 60 degrees (pslg_input_angles).  A
+ * triangle is exempt from the angle bound (never from the area bound) when (a) one of its
+ * vertices is a small corner, or (b) two of its vertices lie on the two different segments s1
+ * and s2 of the same small corner (on their chains of mesh edges, endpoints included): such a
+ * triangle spans the narrow wedge.  Domains without input angles below 60 degrees get no
+ * exemption at all.  Tolerances: an angle counts as below the bound when it is smaller than
+ * min_angle - 1e-6 degrees, an area as above when it exceeds max_area * (1 + 1e-12): the
+ * mesher measures with its own rounding.  Segment chains: intermediate vertices within
+ * 1e-9 * |ab| (plus a few ulps of the coordinates) of the line ab, strictly monotone from a to
+ * b.  Chains are walked over the mesh's listed segments (m->seg) and its boundary edges.  A
+ * listed segment edge that lies on no input segment counts as an interface constraint
+ * (sinterface may be NULL, e.g. after meshio_read_triangle).
  */
 #ifndef VALIDATE_H
 #define VALIDATE_H
@@ -23,19 +37,21 @@
 #include <stdio.h>
 
 typedef struct validate_opts {
-    double min_angle; /* degrees; 0 to skip */
-    double max_area;  /* 0 to skip */
+    double min_angle;              /* degrees; 0 to skip */
+    double max_area;               /* 0 to skip */
     int check_delaunay_interfaces; /* 1: edges on sinterface segments must be locally Delaunay */
 } validate_opts;
 
 typedef struct validate_report {
     int ok;
     long ntris, nverts;
-    double min_angle, max_area;    /* measured over all triangles */
-    double min_angle_unforced;     /* measured over triangles not exempted */
+    double min_angle, max_area; /* measured over all triangles */
+    double min_angle_unforced;  /* measured over triangles not exempted */
     double mesh_area, domain_area;
-    long bad_orient, bad_conform, missing_verts, missing_segs, stray_boundary,
-        non_delaunay, bad_angle, bad_area;
+    long bad_orient, bad_conform, missing_verts, missing_segs, stray_boundary, non_delaunay,
+        bad_angle, bad_area;
+    long area_mismatch;      /* 1 if the mesh area differs from the domain area (relative 1e-9) */
+    long nexempt;            /* triangles exempted from the angle bound (not a failure) */
     char first_problem[256]; /* description of the first failure found */
 } validate_report;
 

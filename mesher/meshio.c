@@ -1,0 +1,592 @@
+/* meshio: writers (Triangle .node/.ele/.poly, legacy VTK, SVG) and the Triangle-format reader
+ * for mesh_flat.
+ *
+ * Every writer opens "PATH.tmpXXXXXX" (mkstemp) in the destination directory, writes through a
+ * 1 MiB stdio buffer, checks every error (including fclose) and only then renames the file
+ * over PATH; on any failure the temporary file is removed, so a reader never sees half a
+ * file.  Coordinates are printed with "%.17g" so that a written mesh reads back bit for bit;
+ * integers are formatted by hand because the big meshes have tens of millions of them.  The
+ * SVG groups triangles by owning rank (one fill per <g>, no per-element style) so a picture of
+ * a million triangles stays a few tens of megabytes.  The reader takes .node (and .poly
+ * segments) through pslg.c and parses .ele itself with the same full-token checks.
+ */
+#include "meshio.h"
+
+#include "pslg.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+/* ---------------------------------------------------------------- atomic output --------- */
+
+typedef struct wfile {
+    FILE *f;
+    char tmp[1100];
+    const char *path;
+    char *vbuf;
+    char *err;
+    size_t errlen;
+} wfile;
+
+__attribute__((format(printf, 3, 4))) static int efail(char *err, size_t errlen, const char *fmt,
+                                                       ...) {
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err, errlen, fmt, ap);
+    va_end(ap);
+    return -1;
+}
+
+static int wopen(wfile *w, const char *path, char *err, size_t errlen) {
+    memset(w, 0, sizeof *w);
+    w->path = path;
+    w->err = err;
+    w->errlen = errlen;
+    if (errlen) err[0] = '\0';
+    if (strlen(path) + 12 > sizeof w->tmp) return efail(err, errlen, "%s: path too long", path);
+    snprintf(w->tmp, sizeof w->tmp, "%s.tmpXXXXXX", path);
+    int fd = mkstemp(w->tmp);
+    if (fd < 0)
+        return efail(err, errlen, "%s: cannot create temporary file: %s", path, strerror(errno));
+    mode_t um = umask(0);
+    umask(um);
+    if (fchmod(fd, 0666 & ~um) != 0) { /* mkstemp makes 0600; give the usual permissions */
+        /* not fatal */
+    }
+    w->f = fdopen(fd, "w");
+    if (!w->f) {
+        int e = errno;
+        close(fd);
+        unlink(w->tmp);
+        return efail(err, errlen, "%s: cannot open temporary file: %s", path, strerror(e));
+    }
+    w->vbuf = malloc(1 << 20);
+    if (w->vbuf) setvbuf(w->f, w->vbuf, _IOFBF, 1 << 20);
+    return 0;
+}
+
+/* Finishes the file: flush, close, rename.  On any failure removes the temporary file. */
+static int wclose(wfile *w, int failed) {
+    int bad = failed || ferror(w->f);
+    int e = bad ? EIO : 0;
+    if (fclose(w->f) != 0 && !bad) {
+        bad = 1;
+        e = errno;
+    }
+    free(w->vbuf);
+    if (!bad && rename(w->tmp, w->path) != 0) {
+        bad = 1;
+        e = errno;
+    }
+    if (bad) {
+        unlink(w->tmp);
+        if (!failed || !w->err[0])
+            efail(w->err, w->errlen, "%s: write failed: %s", w->path, strerror(e));
+        return -1;
+    }
+    return 0;
+}
+
+/* ---------------------------------------------------------------- fast formatting ------- */
+
+/* Appends the decimal form of v to p; returns the new end. */
+static char *put_int(char *p, long long v) {
+    char tmp[24];
+    int n = 0;
+    unsigned long long u = v < 0 ? 0ULL - (unsigned long long)v : (unsigned long long)v;
+    do {
+        tmp[n++] = (char)('0' + u % 10);
+        u /= 10;
+    } while (u);
+    if (v < 0) *p++ = '-';
+    while (n)
+        *p++ = tmp[--n];
+    return p;
+}
+
+/* Appends v with 17 significant digits (round-trips exactly). */
+static char *put_dbl(char *p, double v) {
+    if (v == 0) { /* also turns -0 into 0 */
+        *p++ = '0';
+        return p;
+    }
+    return p + snprintf(p, 32, "%.17g", v);
+}
+
+/* SVG coordinates: two decimals, by integer arithmetic (snprintf dominates otherwise). */
+static char *put_fix(char *p, double v) {
+    if (!(fabs(v) < 1e15)) return p + snprintf(p, 32, "%.2f", v);
+    long long q = llround(v * 100);
+    if (q < 0) {
+        *p++ = '-';
+        q = -q;
+    }
+    p = put_int(p, q / 100);
+    int f = (int)(q % 100);
+    if (f) {
+        *p++ = '.';
+        *p++ = (char)('0' + f / 10);
+        if (f % 10) *p++ = (char)('0' + f % 10);
+    }
+    return p;
+}
+
+/* ---------------------------------------------------------------- Triangle files -------- */
+
+static int write_node(const mesh_flat *m, const char *path, char *err, size_t errlen) {
+    wfile w;
+    if (wopen(&w, path, err, errlen)) return -1;
+    int nattr = m->vattr ? m->nattr : 0;
+    fprintf(w.f, "%d 2 %d 1\n", (int)m->nverts, nattr);
+    char *line = malloc(64 + 32 * (size_t)nattr);
+    if (!line) {
+        efail(err, errlen, "%s: out of memory", path);
+        return wclose(&w, 1);
+    }
+    for (int32_t i = 0; i < m->nverts; i++) {
+        char *p = put_int(line, (long long)i + 1);
+        *p++ = ' ';
+        p = put_dbl(p, m->xy[2 * i]);
+        *p++ = ' ';
+        p = put_dbl(p, m->xy[2 * i + 1]);
+        for (int k = 0; k < nattr; k++) {
+            *p++ = ' ';
+            p = put_dbl(p, m->vattr[(size_t)i * nattr + k]);
+        }
+        *p++ = ' ';
+        p = put_int(p, m->vmarker ? m->vmarker[i] : 0);
+        *p++ = '\n';
+        fwrite(line, 1, (size_t)(p - line), w.f);
+    }
+    free(line);
+    fprintf(w.f, "# written by pcdm\n");
+    return wclose(&w, 0);
+}
+
+static int write_ele(const mesh_flat *m, const char *path, char *err, size_t errlen) {
+    wfile w;
+    if (wopen(&w, path, err, errlen)) return -1;
+    fprintf(w.f, "%d 3 %d\n", (int)m->ntris, m->trank ? 1 : 0);
+    char line[128];
+    for (int32_t t = 0; t < m->ntris; t++) {
+        char *p = put_int(line, (long long)t + 1);
+        for (int k = 0; k < 3; k++) {
+            *p++ = ' ';
+            p = put_int(p, (long long)m->tri[3 * t + k] + 1);
+        }
+        if (m->trank) {
+            *p++ = ' ';
+            p = put_int(p, m->trank[t]);
+        }
+        *p++ = '\n';
+        fwrite(line, 1, (size_t)(p - line), w.f);
+    }
+    fprintf(w.f, "# written by pcdm%s\n", m->trank ? " (attribute: owning rank)" : "");
+    return wclose(&w, 0);
+}
+
+static int write_poly(const mesh_flat *m, const char *path, char *err, size_t errlen) {
+    wfile w;
+    if (wopen(&w, path, err, errlen)) return -1;
+    fprintf(w.f, "0 2 0 1\n%d 1\n", (int)m->nsegs);
+    char line[128];
+    for (int32_t s = 0; s < m->nsegs; s++) {
+        char *p = put_int(line, (long long)s + 1);
+        for (int k = 0; k < 2; k++) {
+            *p++ = ' ';
+            p = put_int(p, (long long)m->seg[2 * s + k] + 1);
+        }
+        *p++ = ' ';
+        p = put_int(p, m->smarker ? m->smarker[s] : 0);
+        *p++ = '\n';
+        fwrite(line, 1, (size_t)(p - line), w.f);
+    }
+    fprintf(w.f, "0\n");
+    return wclose(&w, 0);
+}
+
+int meshio_write_triangle(const mesh_flat *m, const char *prefix, char *err, size_t errlen) {
+    char path[1024];
+    if (strlen(prefix) + 6 > sizeof path) return efail(err, errlen, "%s: path too long", prefix);
+    snprintf(path, sizeof path, "%s.node", prefix);
+    if (write_node(m, path, err, errlen)) return -1;
+    snprintf(path, sizeof path, "%s.ele", prefix);
+    if (write_ele(m, path, err, errlen)) return -1;
+    snprintf(path, sizeof path, "%s.poly", prefix);
+    return write_poly(m, path, err, errlen);
+}
+
+/* ---------------------------------------------------------------- reading back ---------- */
+
+__attribute__((format(printf, 5, 6))) static int lfail(char *err, size_t errlen, const char *path,
+                                                       long line, const char *fmt, ...) {
+    char msg[384];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    snprintf(err, errlen, "%s:%ld: %s", path, line > 0 ? line : 1, msg);
+    return -1;
+}
+
+/* Next data line of buf (comments stripped, blank lines skipped); *line counts lines. */
+static char *ele_line(char **pos, char *end, long *line) {
+    while (*pos && *pos < end) {
+        char *s = *pos, *e = memchr(s, '\n', (size_t)(end - s));
+        if (e) {
+            *e = '\0';
+            *pos = e + 1;
+        } else {
+            *pos = NULL;
+        }
+        ++*line;
+        char *h = strchr(s, '#');
+        if (h) *h = '\0';
+        s += strspn(s, " \t\r\v\f");
+        if (*s) return s;
+    }
+    return NULL;
+}
+
+/* Parses one decimal integer token at *s (advancing *s); 0, or -1 if missing or malformed. */
+static int ele_int(char **s, long *v, int *missing) {
+    char *t = *s + strspn(*s, " \t\r\v\f"), *p = t;
+    *missing = *t == '\0';
+    if (*missing) return -1;
+    int neg = 0;
+    if (*p == '+' || *p == '-') neg = *p++ == '-';
+    char *d = p;
+    long x = 0;
+    while (*p >= '0' && *p <= '9' && x <= INT32_MAX)
+        x = x * 10 + (*p++ - '0');
+    if (p == d || x > INT32_MAX || (*p && !strchr(" \t\r\v\f", *p))) return -1;
+    *v = neg ? -x : x;
+    *s = p;
+    return 0;
+}
+
+static int ele_dbl(char **s, double *v, int *missing) {
+    char *t = *s + strspn(*s, " \t\r\v\f");
+    *missing = *t == '\0';
+    if (*missing) return -1;
+    char *end;
+    *v = strtod(t, &end);
+    if (end == t || (*end && !strchr(" \t\r\v\f", *end)) || !isfinite(*v)) return -1;
+    *s = end;
+    return 0;
+}
+
+static int read_ele(const char *path, mesh_flat *m, int first, char *err, size_t errlen) {
+    FILE *f = fopen(path, "rb");
+    if (!f) return efail(err, errlen, "%s: cannot open: %s", path, strerror(errno));
+    size_t cap = 1 << 16, n = 0;
+    char *buf = malloc(cap);
+    for (;;) {
+        if (!buf) {
+            fclose(f);
+            return efail(err, errlen, "%s: out of memory reading the file", path);
+        }
+        n += fread(buf + n, 1, cap - n - 1, f);
+        if (n < cap - 1) break;
+        char *nb = realloc(buf, cap * 2);
+        if (!nb) free(buf);
+        buf = nb;
+        cap *= 2;
+    }
+    fclose(f);
+    buf[n] = '\0';
+    char *pos = buf, *end = buf + n, *s;
+    long line = 0, nt, npt = 3, nattr = 0, v;
+    int miss, rc = -1;
+    if (!(s = ele_line(&pos, end, &line))) {
+        lfail(err, errlen, path, line, "empty file: expected a triangle count");
+        goto out;
+    }
+    if (ele_int(&s, &nt, &miss) || nt < 0) {
+        lfail(err, errlen, path, line, "malformed triangle count");
+        goto out;
+    }
+    if (ele_int(&s, &npt, &miss) && !miss) {
+        lfail(err, errlen, path, line, "malformed nodes-per-triangle count");
+        goto out;
+    }
+    if (ele_int(&s, &nattr, &miss) && !miss) {
+        lfail(err, errlen, path, line, "malformed attribute count");
+        goto out;
+    }
+    if (npt != 3 || nattr < 0 || nattr > 1000) {
+        lfail(err, errlen, path, line, "expected 3 nodes per triangle and 0..1000 attributes");
+        goto out;
+    }
+    if ((size_t)nt > (size_t)(end - (pos ? pos : end)) / 7 + 1) {
+        lfail(err, errlen, path, line, "triangle count %ld is more than the file can hold", nt);
+        goto out;
+    }
+    m->ntris = (int32_t)nt;
+    m->tri = malloc(((size_t)nt * 3 + 1) * sizeof(int32_t));
+    m->trank = nattr ? malloc(((size_t)nt + 1) * sizeof(int32_t)) : NULL;
+    if (!m->tri || (nattr && !m->trank)) {
+        lfail(err, errlen, path, line, "out of memory for %ld triangles", nt);
+        goto out;
+    }
+    int rank_ok = nattr > 0;
+    for (long t = 0; t < nt; t++) {
+        if (!(s = ele_line(&pos, end, &line))) {
+            lfail(err, errlen, path, line,
+                  "unexpected end of file: expected %ld triangles, found %ld", nt, t);
+            goto out;
+        }
+        if (ele_int(&s, &v, &miss)) {
+            lfail(err, errlen, path, line, "malformed triangle number");
+            goto out;
+        }
+        for (int k = 0; k < 3; k++) {
+            if (ele_int(&s, &v, &miss)) {
+                lfail(err, errlen, path, line, "%s vertex %d of triangle %ld",
+                      miss ? "missing" : "malformed", k + 1, t + first);
+                goto out;
+            }
+            if (v < first || v >= (long)first + m->nverts) {
+                lfail(err, errlen, path, line, "triangle %ld: vertex %ld out of range [%d, %ld]",
+                      t + first, v, first, (long)first + m->nverts - 1);
+                goto out;
+            }
+            m->tri[3 * t + k] = (int32_t)(v - first);
+        }
+        for (long k = 0; k < nattr; k++) {
+            double a;
+            if (ele_dbl(&s, &a, &miss)) {
+                lfail(err, errlen, path, line, "%s attribute %ld of triangle %ld",
+                      miss ? "missing" : "malformed", k + 1, t + first);
+                goto out;
+            }
+            if (k == 0) {
+                if (a >= 0 && a <= INT32_MAX && a == floor(a))
+                    m->trank[t] = (int32_t)a;
+                else
+                    rank_ok = 0;
+            }
+        }
+        s += strspn(s, " \t\r\v\f");
+        if (*s) {
+            lfail(err, errlen, path, line, "unexpected text '%.40s' at the end of the line", s);
+            goto out;
+        }
+    }
+    if (!rank_ok) { /* attributes that are not ranks (e.g. Triangle's regional attributes) */
+        free(m->trank);
+        m->trank = NULL;
+    }
+    rc = 0;
+out:
+    free(buf);
+    return rc;
+}
+
+void mesh_flat_free(mesh_flat *m) {
+    if (!m) return;
+    free(m->xy);
+    free(m->vmarker);
+    free(m->vattr);
+    free(m->tri);
+    free(m->trank);
+    free(m->seg);
+    free(m->smarker);
+    free(m->sinterface);
+    memset(m, 0, sizeof *m);
+}
+
+int meshio_read_triangle(const char *prefix, mesh_flat *m, char *err, size_t errlen) {
+    memset(m, 0, sizeof *m);
+    if (errlen) err[0] = '\0';
+    char path[1024];
+    if (strlen(prefix) + 6 > sizeof path) return efail(err, errlen, "%s: path too long", prefix);
+    pslg g;
+    snprintf(path, sizeof path, "%s.node", prefix);
+    if (pslg_read(path, &g, err, errlen)) return -1;
+    m->nverts = g.nverts;
+    m->xy = g.xy;
+    m->vmarker = g.vmarker;
+    m->nattr = g.nattr;
+    m->vattr = g.vattr;
+    g.xy = g.vattr = NULL;
+    g.vmarker = NULL;
+    int first = g.first_index;
+    pslg_free(&g);
+    snprintf(path, sizeof path, "%s.ele", prefix);
+    if (read_ele(path, m, first, err, errlen)) goto fail;
+    snprintf(path, sizeof path, "%s.poly", prefix);
+    if (access(path, F_OK) == 0) {
+        if (pslg_read_segments(path, m->nverts, first, &g, err, errlen)) goto fail;
+        if (g.nverts != 0) {
+            pslg_free(&g);
+            efail(err, errlen, "%s: lists its own vertices; expected 0 (vertices in %s.node)", path,
+                  prefix);
+            goto fail;
+        }
+        m->nsegs = g.nsegs;
+        m->seg = g.seg;
+        m->smarker = g.smarker;
+        g.seg = g.smarker = NULL;
+        pslg_free(&g);
+    }
+    return 0;
+fail:
+    mesh_flat_free(m);
+    return -1;
+}
+
+/* ---------------------------------------------------------------- VTK ------------------- */
+
+int meshio_write_vtk(const mesh_flat *m, const char *path, char *err, size_t errlen) {
+    wfile w;
+    if (wopen(&w, path, err, errlen)) return -1;
+    fprintf(w.f, "# vtk DataFile Version 3.0\npcdm mesh\nASCII\nDATASET UNSTRUCTURED_GRID\n");
+    fprintf(w.f, "POINTS %d double\n", (int)m->nverts);
+    char line[160];
+    for (int32_t i = 0; i < m->nverts; i++) {
+        char *p = put_dbl(line, m->xy[2 * i]);
+        *p++ = ' ';
+        p = put_dbl(p, m->xy[2 * i + 1]);
+        memcpy(p, " 0\n", 3);
+        fwrite(line, 1, (size_t)(p + 3 - line), w.f);
+    }
+    fprintf(w.f, "CELLS %d %lld\n", (int)m->ntris, 4LL * m->ntris);
+    for (int32_t t = 0; t < m->ntris; t++) {
+        char *p = line;
+        *p++ = '3';
+        for (int k = 0; k < 3; k++) {
+            *p++ = ' ';
+            p = put_int(p, m->tri[3 * t + k]);
+        }
+        *p++ = '\n';
+        fwrite(line, 1, (size_t)(p - line), w.f);
+    }
+    fprintf(w.f, "CELL_TYPES %d\n", (int)m->ntris);
+    for (int32_t t = 0; t < m->ntris; t++)
+        fputs("5\n", w.f);
+    fprintf(w.f, "CELL_DATA %d\nSCALARS rank int 1\nLOOKUP_TABLE default\n", (int)m->ntris);
+    for (int32_t t = 0; t < m->ntris; t++) {
+        char *p = put_int(line, m->trank ? m->trank[t] : 0);
+        *p++ = '\n';
+        fwrite(line, 1, (size_t)(p - line), w.f);
+    }
+    return wclose(&w, 0);
+}
+
+/* ---------------------------------------------------------------- SVG ------------------- */
+
+static const char *const palette[12] = {"#4e79a7", "#f28e2b", "#76b7b2", "#59a14f",
+                                        "#edc948", "#b07aa1", "#ff9da7", "#9c755f",
+                                        "#bab0ac", "#8cd17d", "#a0cbe8", "#ffbe7d"};
+
+typedef struct svgmap {
+    double x0, y1, s, pad;
+} svgmap;
+
+static char *put_pt(char *p, const svgmap *sm, const double *q) {
+    p = put_fix(p, (q[0] - sm->x0) * sm->s + sm->pad);
+    *p++ = ' ';
+    return put_fix(p, (sm->y1 - q[1]) * sm->s + sm->pad);
+}
+
+int meshio_write_svg(const mesh_flat *m, const char *path, char *err, size_t errlen) {
+    double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+    for (int32_t i = 0; i < m->nverts; i++) {
+        x0 = fmin(x0, m->xy[2 * i]);
+        x1 = fmax(x1, m->xy[2 * i]);
+        y0 = fmin(y0, m->xy[2 * i + 1]);
+        y1 = fmax(y1, m->xy[2 * i + 1]);
+    }
+    if (m->nverts == 0) x0 = y0 = x1 = y1 = 0;
+    double w = x1 - x0, h = y1 - y0, big = fmax(w, h);
+    svgmap sm = {x0, y1, big > 0 ? 1000 / big : 1, 10};
+    double W = w * sm.s + 2 * sm.pad, H = h * sm.s + 2 * sm.pad;
+    /* triangles grouped by rank (counting sort) */
+    int32_t maxr = 0;
+    for (int32_t t = 0; m->trank && t < m->ntris; t++)
+        if (m->trank[t] > maxr) maxr = m->trank[t];
+    int32_t *start = calloc((size_t)maxr + 2, sizeof(int32_t));
+    int32_t *order = malloc(((size_t)m->ntris + 1) * sizeof(int32_t));
+    if (!start || !order) {
+        free(start);
+        free(order);
+        return efail(err, errlen, "%s: out of memory", path);
+    }
+    for (int32_t t = 0; t < m->ntris; t++)
+        start[(m->trank && m->trank[t] > 0 ? m->trank[t] : 0) + 1]++;
+    for (int32_t r = 0; r <= maxr; r++)
+        start[r + 1] += start[r];
+    for (int32_t t = 0; t < m->ntris; t++)
+        order[start[m->trank && m->trank[t] > 0 ? m->trank[t] : 0]++] = t;
+    for (int32_t r = maxr + 1; r > 0; r--)
+        start[r] = start[r - 1];
+    start[0] = 0;
+    wfile wf;
+    if (wopen(&wf, path, err, errlen)) {
+        free(start);
+        free(order);
+        return -1;
+    }
+    /* edge width: a quarter of a typical triangle's size in pixels, at most one pixel */
+    double ew = m->ntris ? fmin(1.0, 0.25 * sqrt(w * h * sm.s * sm.s / m->ntris)) : 1;
+    fprintf(wf.f,
+            "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+            "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 %.2f %.2f\" "
+            "width=\"%.0f\" height=\"%.0f\">\n"
+            "<!-- pcdm mesh: %d triangles, %d vertices, %d segments; fill = owning rank -->\n"
+            "<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n",
+            W, H, W, H, (int)m->ntris, (int)m->nverts, (int)m->nsegs);
+    char line[256];
+    for (int32_t r = 0; r <= maxr; r++) {
+        if (start[r] == start[r + 1]) continue;
+        fprintf(wf.f,
+                "<g fill=\"%s\" stroke=\"#808080\" stroke-width=\"%.3f\" "
+                "stroke-linejoin=\"round\">\n",
+                palette[r % 12], ew);
+        for (int32_t i = start[r]; i < start[r + 1]; i++) {
+            if ((i - start[r]) % 4096 == 0)
+                fputs(i == start[r] ? "<path d=\"" : "\"/>\n<path d=\"", wf.f);
+            const int32_t *t = m->tri + 3 * order[i];
+            char *p = line;
+            for (int k = 0; k < 3; k++) {
+                *p++ = k ? 'L' : 'M';
+                p = put_pt(p, &sm, m->xy + 2 * t[k]);
+            }
+            *p++ = 'Z';
+            fwrite(line, 1, (size_t)(p - line), wf.f);
+        }
+        fputs("\"/>\n</g>\n", wf.f);
+    }
+    for (int pass = 0; pass < 2; pass++) { /* constraints black, then interfaces red */
+        int any = 0;
+        for (int32_t s = 0; s < m->nsegs; s++) {
+            int iface = m->sinterface && m->sinterface[s];
+            if (iface != pass) continue;
+            if (any % 4096 == 0)
+                fprintf(wf.f,
+                        "%s<path fill=\"none\" stroke=\"%s\" stroke-width=\"%.2f\" "
+                        "stroke-linecap=\"round\" d=\"",
+                        any ? "\"/>\n" : "", pass ? "#e00000" : "black", pass ? 1.5 : 2.0);
+            any++;
+            char *p = line;
+            *p++ = 'M';
+            p = put_pt(p, &sm, m->xy + 2 * m->seg[2 * s]);
+            *p++ = 'L';
+            p = put_pt(p, &sm, m->xy + 2 * m->seg[2 * s + 1]);
+            fwrite(line, 1, (size_t)(p - line), wf.f);
+        }
+        if (any) fputs("\"/>\n", wf.f);
+    }
+    fputs("</svg>\n", wf.f);
+    free(start);
+    free(order);
+    return wclose(&wf, 0);
+}

@@ -1,0 +1,1284 @@
+/* pslg: reading, checking and measuring planar straight-line graphs (Triangle's .poly/.node).
+ *
+ * The reader loads the whole file, walks it line by line (comments after '#' and blank lines
+ * skipped), and parses every token in full (strtol/strtod must consume the token); any problem
+ * becomes one "FILE:LINE: problem" message and every allocation is released.  pslg_check()
+ * merges duplicate vertices (sort by (x, y)), drops repeated segments and rejects zero-length
+ * and crossing segments: candidate pairs come from a uniform grid whose cells each segment
+ * visits along its length, and every candidate is decided with the exact geom_orient2d.
+ * pslg_domain_area() measures the domain from the PSLG alone by tracing the faces of the
+ * segment arrangement (half-edges sorted around each vertex by exact angular order), so the
+ * validator can compare a mesh against an independent figure.  Invariant after pslg_check():
+ * distinct vertex coordinates, distinct non-degenerate segments, no two segments meeting
+ * except at shared endpoints or at a vertex lying inside a segment.
+ */
+#include "pslg.h"
+
+#include "geom.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---------------------------------------------------------------- line reader ---------- */
+
+typedef struct reader {
+    const char *path;
+    char *buf; /* whole file, NUL-terminated, tokenised in place */
+    size_t len;
+    char *next; /* start of the next unread line */
+    char *cur;  /* cursor in the current line */
+    long line;  /* number of the current line (1-based) */
+    char *err;
+    size_t errlen;
+} reader;
+
+__attribute__((format(printf, 2, 3))) static int rfail(reader *r, const char *fmt, ...) {
+    char msg[384];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    snprintf(r->err, r->errlen, "%s:%ld: %s", r->path, r->line > 0 ? r->line : 1, msg);
+    return -1;
+}
+
+/* Loads path into r.  Returns 0, or -1 with "PATH: cannot open: reason". */
+static int reader_open(reader *r, const char *path, char *err, size_t errlen) {
+    memset(r, 0, sizeof *r);
+    r->path = path;
+    r->err = err;
+    r->errlen = errlen;
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
+        return -1;
+    }
+    size_t cap = 1 << 16, n = 0;
+    char *buf = malloc(cap);
+    for (;;) {
+        if (!buf) {
+            fclose(f);
+            snprintf(err, errlen, "%s: out of memory reading the file", path);
+            return -1;
+        }
+        n += fread(buf + n, 1, cap - n - 1, f);
+        if (n < cap - 1) break;
+        char *nb = cap > SIZE_MAX / 2 ? NULL : realloc(buf, cap * 2);
+        if (!nb) free(buf);
+        buf = nb;
+        cap *= 2;
+    }
+    int bad = ferror(f);
+    fclose(f);
+    if (bad) {
+        free(buf);
+        snprintf(err, errlen, "%s: cannot read: %s", path, strerror(errno));
+        return -1;
+    }
+    buf[n] = '\0';
+    r->buf = buf;
+    r->len = n;
+    r->next = buf;
+    return 0;
+}
+
+static void reader_close(reader *r) {
+    free(r->buf);
+    r->buf = NULL;
+}
+
+/* Advances to the next line holding data (comments and blank lines skipped).  Returns 1, or 0
+ * at the end of the file (r->line is then the last line of the file). */
+static int next_line(reader *r) {
+    while (r->next && r->next < r->buf + r->len) {
+        char *s = r->next;
+        char *e = memchr(s, '\n', (size_t)(r->buf + r->len - s));
+        if (e) {
+            *e = '\0';
+            r->next = e + 1;
+        } else {
+            e = r->buf + r->len;
+            r->next = NULL;
+        }
+        r->line++;
+        char *h = strchr(s, '#');
+        if (h) *h = '\0';
+        s += strspn(s, " \t\r\v\f");
+        if (*s) {
+            r->cur = s;
+            return 1;
+        }
+    }
+    r->cur = NULL;
+    return 0;
+}
+
+/* Next token of the current line, NUL-terminated in place, or NULL at its end. */
+static char *next_tok(reader *r) {
+    if (!r->cur) return NULL;
+    char *s = r->cur + strspn(r->cur, " \t\r\v\f");
+    if (!*s) {
+        r->cur = s;
+        return NULL;
+    }
+    char *e = s + strcspn(s, " \t\r\v\f");
+    if (*e) {
+        *e = '\0';
+        r->cur = e + 1;
+    } else {
+        r->cur = e;
+    }
+    return s;
+}
+
+/* Bytes not yet consumed: an upper bound for how many records the rest of the file can hold. */
+static size_t bytes_left(const reader *r) {
+    return r->next ? (size_t)(r->buf + r->len - r->next) : 0;
+}
+
+/* Decimal integer with optional sign; *end is set past the digits.  Returns 0, or -1 when
+ * there are no digits or the value leaves [-INT32_MAX, INT32_MAX]. */
+static int scan_long(const char *t, char **end, long *out) {
+    const char *p = t;
+    int neg = 0;
+    if (*p == '+' || *p == '-') neg = *p++ == '-';
+    long v = 0;
+    const char *d = p;
+    while (*p >= '0' && *p <= '9') {
+        if (v > INT32_MAX / 10 + 1)
+            v = (long)INT32_MAX + 1; /* saturate: reported as out of range */
+        else
+            v = v * 10 + (*p - '0');
+        p++;
+    }
+    *end = (char *)p;
+    if (p == d) return -1;
+    *out = neg ? -v : v;
+    return v > INT32_MAX ? 1 : 0;
+}
+
+/* Messages name the field: "WHAT" or "WHAT of OWNER ID". */
+static void field_name(char *buf, size_t n, const char *what, const char *owner, long id) {
+    if (owner)
+        snprintf(buf, n, "%s of %s %ld", what, owner, id);
+    else
+        snprintf(buf, n, "%s", what);
+}
+
+static int parse_long(reader *r, const char *what, const char *owner, long id, long *out) {
+    char *t = next_tok(r), *end, name[96];
+    if (t) {
+        int rc = scan_long(t, &end, out);
+        if (rc == 0 && !*end) return 0;
+        field_name(name, sizeof name, what, owner, id);
+        if (rc > 0 && !*end) return rfail(r, "%s '%s' is out of range", name, t);
+        return rfail(r, "malformed %s '%s' (not an integer)", name, t);
+    }
+    field_name(name, sizeof name, what, owner, id);
+    return rfail(r, "missing %s", name);
+}
+
+static int parse_double(reader *r, const char *what, const char *owner, long id, double *out) {
+    char *t = next_tok(r), *end, name[96];
+    if (t) {
+        double v = strtod(t, &end);
+        if (end != t && !*end && isfinite(v)) {
+            *out = v;
+            return 0;
+        }
+        field_name(name, sizeof name, what, owner, id);
+        if (end == t || *end) return rfail(r, "malformed %s '%s' (not a number)", name, t);
+        return rfail(r, "%s '%s' is not finite", name, t);
+    }
+    field_name(name, sizeof name, what, owner, id);
+    return rfail(r, "missing %s", name);
+}
+
+/* The next token of the current line without consuming it (NULL at the line's end). */
+static const char *peek_tok(const reader *r) {
+    if (!r->cur) return NULL;
+    const char *s = r->cur + strspn(r->cur, " \t\r\v\f");
+    return *s ? s : NULL;
+}
+
+/* Optional integer: absent leaves *out unchanged. */
+static int parse_long_opt(reader *r, const char *what, long *out) {
+    return peek_tok(r) ? parse_long(r, what, NULL, 0, out) : 0;
+}
+
+static int line_end(reader *r) {
+    char *t = next_tok(r);
+    if (t)
+        return rfail(r, "unexpected text '%s' at the end of the line (comments start with '#')", t);
+    return 0;
+}
+
+/* Reads a count: a non-negative integer that the rest of the file can hold (each record takes
+ * at least min_bytes characters) and that is allocatable. */
+static int check_count(reader *r, const char *what, long n, size_t min_bytes) {
+    if (n < 0) return rfail(r, "negative %s count %ld", what, n);
+    if ((size_t)n > INT32_MAX / 8) return rfail(r, "%s count %ld is too large", what, n);
+    if ((size_t)n * min_bytes > bytes_left(r) + 1)
+        return rfail(r, "%s count %ld is more than the rest of the file can hold", what, n);
+    return 0;
+}
+
+static int eof_fail(reader *r, const char *what, long got, long want) {
+    return rfail(r, "unexpected end of file: expected %ld %s, found %ld", want, what, got);
+}
+
+/* ---------------------------------------------------------------- reading --------------- */
+
+void pslg_free(pslg *g) {
+    if (!g) return;
+    free(g->xy);
+    free(g->vmarker);
+    free(g->vattr);
+    free(g->vline);
+    free(g->seg);
+    free(g->smarker);
+    free(g->sline);
+    free(g->holes);
+    free(g->regions);
+    memset(g, 0, sizeof *g);
+}
+
+static void *xcalloc(size_t n, size_t size) {
+    return calloc(n ? n : 1, size ? size : 1);
+}
+
+/* Reads the vertex section whose header line is current in r. */
+static int read_vertices(reader *r, pslg *g) {
+    long n, dim = 2, nattr = 0, nmark = 0;
+    if (parse_long(r, "vertex count", NULL, 0, &n) || parse_long_opt(r, "dimension", &dim) ||
+        parse_long_opt(r, "attribute count", &nattr) ||
+        parse_long_opt(r, "boundary marker count", &nmark) || line_end(r))
+        return -1;
+    long hline = r->line;
+    if (check_count(r, "vertex", n, 5)) return -1;
+    if (dim != 2) return rfail(r, "dimension must be 2, not %ld", dim);
+    if (nattr < 0 || nattr > 1000)
+        return rfail(r, "attribute count %ld out of range [0, 1000]", nattr);
+    if (nmark != 0 && nmark != 1)
+        return rfail(r, "boundary marker count must be 0 or 1, not %ld", nmark);
+    if (n > 0 && (size_t)n * (size_t)(nattr + 1) > bytes_left(r) + 1)
+        return rfail(r, "vertex count %ld is more than the rest of the file can hold", n);
+    g->nverts = (int32_t)n;
+    g->nattr = (int)nattr;
+    g->xy = xcalloc((size_t)n * 2, sizeof(double));
+    g->vmarker = xcalloc((size_t)n, sizeof(int32_t));
+    g->vline = xcalloc((size_t)n, sizeof(int32_t));
+    g->vattr = nattr ? xcalloc((size_t)n * (size_t)nattr, sizeof(double)) : NULL;
+    if (!g->xy || !g->vmarker || !g->vline || (nattr && !g->vattr))
+        return rfail(r, "out of memory for %ld vertices", n);
+    for (long i = 0; i < n; i++) {
+        if (!next_line(r)) return eof_fail(r, "vertices", i, n);
+        long id;
+        if (parse_long(r, "vertex number", NULL, 0, &id)) return -1;
+        if (i == 0) {
+            if (id != 0 && id != 1)
+                return rfail(r, "first vertex number must be 0 or 1, not %ld", id);
+            g->first_index = (int)id;
+        } else if (id != g->first_index + i) {
+            return rfail(r,
+                         "vertex number %ld out of sequence (expected %ld: line %ld declares %ld "
+                         "vertices)",
+                         id, g->first_index + i, hline, n);
+        }
+        if (parse_double(r, "x coordinate", "vertex", id, &g->xy[2 * i]) ||
+            parse_double(r, "y coordinate", "vertex", id, &g->xy[2 * i + 1]))
+            return -1;
+        for (long k = 0; k < nattr; k++)
+            if (parse_double(r, "an attribute", "vertex", id, &g->vattr[i * nattr + k])) return -1;
+        if (nmark) {
+            long mk;
+            if (parse_long(r, "boundary marker", "vertex", id, &mk)) return -1;
+            g->vmarker[i] = (int32_t)mk;
+        }
+        if (line_end(r)) return -1;
+        g->vline[i] = (int32_t)r->line;
+    }
+    return 0;
+}
+
+static void node_path_of(const char *poly, char *out, size_t outlen) {
+    size_t n = strlen(poly);
+    if (n >= 5 && strcmp(poly + n - 5, ".poly") == 0) n -= 5;
+    snprintf(out, outlen, "%.*s.node", (int)n, poly);
+}
+
+static int ends_with(const char *s, const char *suffix) {
+    size_t n = strlen(s), k = strlen(suffix);
+    return n >= k && strcmp(s + n - k, suffix) == 0;
+}
+
+/* Reads a whole .node file into g. */
+static int read_node_file(const char *path, pslg *g, char *err, size_t errlen) {
+    reader r;
+    if (reader_open(&r, path, err, errlen)) return -1;
+    snprintf(g->path, sizeof g->path, "%s", path);
+    int rc = -1;
+    if (!next_line(&r)) {
+        rfail(&r, "empty file: expected a vertex count");
+        goto out;
+    }
+    if (read_vertices(&r, g)) goto out;
+    if (next_line(&r)) {
+        rfail(&r, "unexpected data after %d vertices", (int)g->nverts);
+        goto out;
+    }
+    rc = 0;
+out:
+    reader_close(&r);
+    return rc;
+}
+
+/* The .poly reader.  skip_node: do not read the .node file when the vertex count is 0; check
+ * indices against (nv, first) instead. */
+static int read_poly(const char *path, pslg *g, int skip_node, int32_t nv, int first, char *err,
+                     size_t errlen) {
+    reader r;
+    if (reader_open(&r, path, err, errlen)) return -1;
+    snprintf(g->path, sizeof g->path, "%s", path);
+    snprintf(g->segpath, sizeof g->segpath, "%s", path);
+    int rc = -1;
+    if (!next_line(&r)) {
+        rfail(&r, "empty file: expected a vertex count");
+        goto out;
+    }
+    {
+        const char *t = peek_tok(&r);
+        size_t tl = strcspn(t, " \t\r\v\f");
+        int zero = tl > 0 && strspn(t, "+-0") == tl; /* the count is 0 (else read normally) */
+        if (zero) {
+            pslg tmp = {0};
+            if (read_vertices(&r, &tmp)) { /* validates the header line */
+                pslg_free(&tmp);
+                goto out;
+            }
+            pslg_free(&tmp);
+            if (skip_node) {
+                g->first_index = first;
+            } else {
+                char np[520];
+                node_path_of(path, np, sizeof np);
+                if (read_node_file(np, g, err, errlen)) goto out;
+                nv = g->nverts;
+                first = g->first_index;
+            }
+        } else {
+            if (read_vertices(&r, g)) goto out;
+            nv = g->nverts;
+            first = g->first_index;
+        }
+    }
+    /* segments */
+    if (!next_line(&r)) {
+        rfail(&r, "missing segments section (expected a segment count)");
+        goto out;
+    }
+    long ns, nsm = 0;
+    if (parse_long(&r, "segment count", NULL, 0, &ns) ||
+        parse_long_opt(&r, "segment boundary marker count", &nsm) || line_end(&r))
+        goto out;
+    if (check_count(&r, "segment", ns, 5)) goto out;
+    if (nsm != 0 && nsm != 1) {
+        rfail(&r, "segment boundary marker count must be 0 or 1, not %ld", nsm);
+        goto out;
+    }
+    g->nsegs = (int32_t)ns;
+    g->seg = xcalloc((size_t)ns * 2, sizeof(int32_t));
+    g->smarker = xcalloc((size_t)ns, sizeof(int32_t));
+    g->sline = xcalloc((size_t)ns, sizeof(int32_t));
+    if (!g->seg || !g->smarker || !g->sline) {
+        rfail(&r, "out of memory for %ld segments", ns);
+        goto out;
+    }
+    for (long i = 0; i < ns; i++) {
+        if (!next_line(&r)) {
+            eof_fail(&r, "segments", i, ns);
+            goto out;
+        }
+        long id, e[2], mk = 0;
+        if (parse_long(&r, "segment number", NULL, 0, &id)) goto out;
+        for (int k = 0; k < 2; k++) {
+            if (parse_long(&r, k ? "endpoint 2" : "endpoint 1", "segment", id, &e[k])) goto out;
+            if (e[k] < first || e[k] >= (long)first + nv) {
+                rfail(&r, "segment %ld: vertex %ld out of range [%d, %ld]", id, e[k], first,
+                      (long)first + nv - 1);
+                goto out;
+            }
+            g->seg[2 * i + k] = (int32_t)(e[k] - first);
+        }
+        if (nsm && parse_long(&r, "boundary marker", "segment", id, &mk)) goto out;
+        if (line_end(&r)) goto out;
+        g->smarker[i] = (int32_t)mk;
+        g->sline[i] = (int32_t)r.line;
+    }
+    /* holes (a missing section means none) */
+    if (!next_line(&r)) {
+        rc = 0;
+        goto out;
+    }
+    long nh;
+    if (parse_long(&r, "hole count", NULL, 0, &nh) || line_end(&r) ||
+        check_count(&r, "hole", nh, 5))
+        goto out;
+    g->nholes = (int32_t)nh;
+    g->holes = xcalloc((size_t)nh * 2, sizeof(double));
+    if (!g->holes) {
+        rfail(&r, "out of memory for %ld holes", nh);
+        goto out;
+    }
+    for (long i = 0; i < nh; i++) {
+        long id;
+        if (!next_line(&r)) {
+            eof_fail(&r, "holes", i, nh);
+            goto out;
+        }
+        if (parse_long(&r, "hole number", NULL, 0, &id) ||
+            parse_double(&r, "x", "hole", id, &g->holes[2 * i]) ||
+            parse_double(&r, "y", "hole", id, &g->holes[2 * i + 1]) || line_end(&r))
+            goto out;
+    }
+    /* optional regional attributes */
+    if (!next_line(&r)) {
+        rc = 0;
+        goto out;
+    }
+    long nr;
+    if (parse_long(&r, "region count", NULL, 0, &nr) || line_end(&r) ||
+        check_count(&r, "region", nr, 5))
+        goto out;
+    g->nregions = (int32_t)nr;
+    g->regions = xcalloc((size_t)nr * 4, sizeof(double));
+    if (!g->regions) {
+        rfail(&r, "out of memory for %ld regions", nr);
+        goto out;
+    }
+    for (long i = 0; i < nr; i++) {
+        long id;
+        double *q = g->regions + 4 * i;
+        if (!next_line(&r)) {
+            eof_fail(&r, "regions", i, nr);
+            goto out;
+        }
+        q[2] = 0;
+        q[3] = -1;
+        if (parse_long(&r, "region number", NULL, 0, &id) ||
+            parse_double(&r, "x", "region", id, &q[0]) ||
+            parse_double(&r, "y", "region", id, &q[1]))
+            goto out;
+        if (peek_tok(&r) && parse_double(&r, "attribute", "region", id, &q[2])) goto out;
+        if (peek_tok(&r) && parse_double(&r, "maximum area", "region", id, &q[3])) goto out;
+        if (line_end(&r)) goto out;
+    }
+    if (next_line(&r)) {
+        rfail(&r, "unexpected data after the regions section");
+        goto out;
+    }
+    rc = 0;
+out:
+    reader_close(&r);
+    return rc;
+}
+
+int pslg_read(const char *path, pslg *out, char *err, size_t errlen) {
+    memset(out, 0, sizeof *out);
+    if (errlen) err[0] = '\0';
+    int rc;
+    if (ends_with(path, ".node")) {
+        rc = read_node_file(path, out, err, errlen);
+        snprintf(out->segpath, sizeof out->segpath, "%s", path);
+    } else {
+        rc = read_poly(path, out, 0, 0, 0, err, errlen);
+    }
+    if (rc) pslg_free(out);
+    return rc;
+}
+
+int pslg_read_segments(const char *path, int32_t nverts, int first_index, pslg *out, char *err,
+                       size_t errlen) {
+    memset(out, 0, sizeof *out);
+    if (errlen) err[0] = '\0';
+    int rc = read_poly(path, out, 1, nverts, first_index, err, errlen);
+    if (rc) pslg_free(out);
+    return rc;
+}
+
+/* ---------------------------------------------------------------- sorting helper -------- */
+
+typedef int (*cmp_fn)(const void *ctx, int32_t a, int32_t b);
+
+/* Stable merge sort of a[0..n) with a context comparator; tmp has room for n items. */
+static void msort(int32_t *a, int32_t *tmp, int32_t n, cmp_fn cmp, const void *ctx) {
+    if (n <= 16) {
+        for (int32_t i = 1; i < n; i++) {
+            int32_t v = a[i], j = i;
+            while (j > 0 && cmp(ctx, a[j - 1], v) > 0) {
+                a[j] = a[j - 1];
+                j--;
+            }
+            a[j] = v;
+        }
+        return;
+    }
+    int32_t h = n / 2;
+    msort(a, tmp, h, cmp, ctx);
+    msort(a + h, tmp, n - h, cmp, ctx);
+    int32_t i = 0, j = h, k = 0;
+    while (i < h && j < n)
+        tmp[k++] = cmp(ctx, a[j], a[i]) < 0 ? a[j++] : a[i++];
+    while (i < h)
+        tmp[k++] = a[i++];
+    while (j < n)
+        tmp[k++] = a[j++];
+    memcpy(a, tmp, (size_t)n * sizeof *a);
+}
+
+/* ---------------------------------------------------------------- uniform grid ---------- */
+
+typedef struct grid {
+    double x0, y0, cw, ch;
+    int nx, ny;
+    int32_t *start; /* nx*ny + 1 */
+    int32_t *item;
+} grid;
+
+static void grid_setup(grid *gr, double x0, double y0, double x1, double y1, long n) {
+    memset(gr, 0, sizeof *gr);
+    double w = x1 - x0, h = y1 - y0;
+    long nx = 1, ny = 1;
+    if (n < 1) n = 1;
+    if (w > 0 && h > 0) {
+        nx = (long)ceil(sqrt((double)n * w / h));
+        ny = (long)ceil(sqrt((double)n * h / w));
+    } else if (w > 0) {
+        nx = n;
+    } else if (h > 0) {
+        ny = n;
+    }
+    nx = nx < 1 ? 1 : nx > 2048 ? 2048 : nx;
+    ny = ny < 1 ? 1 : ny > 2048 ? 2048 : ny;
+    gr->x0 = x0;
+    gr->y0 = y0;
+    gr->nx = (int)nx;
+    gr->ny = (int)ny;
+    gr->cw = w > 0 ? w / nx : 1;
+    gr->ch = h > 0 ? h / ny : 1;
+}
+
+static int grid_cx(const grid *gr, double x) {
+    double c = (x - gr->x0) / gr->cw;
+    if (!(c > 0)) return 0;
+    return c >= gr->nx - 1 ? gr->nx - 1 : (int)c;
+}
+
+static int grid_cy(const grid *gr, double y) {
+    double c = (y - gr->y0) / gr->ch;
+    if (!(c > 0)) return 0;
+    return c >= gr->ny - 1 ? gr->ny - 1 : (int)c;
+}
+
+/* Calls visit(ctx, cell) for every cell the segment ab passes near (row by row, padded by one
+ * cell in x so rounding cannot lose a cell). */
+static void grid_segment(const grid *gr, const double *a, const double *b,
+                         void (*visit)(void *, int32_t), void *ctx) {
+    double ylo = fmin(a[1], b[1]), yhi = fmax(a[1], b[1]);
+    int j0 = grid_cy(gr, ylo), j1 = grid_cy(gr, yhi);
+    int bx0 = grid_cx(gr, fmin(a[0], b[0])), bx1 = grid_cx(gr, fmax(a[0], b[0]));
+    for (int j = j0; j <= j1; j++) {
+        int i0 = bx0, i1 = bx1;
+        if (j0 != j1) {
+            double s0 = fmax(ylo, gr->y0 + j * gr->ch), s1 = fmin(yhi, gr->y0 + (j + 1) * gr->ch);
+            double k = (b[0] - a[0]) / (b[1] - a[1]);
+            double xa = a[0] + (s0 - a[1]) * k, xb = a[0] + (s1 - a[1]) * k;
+            int c0 = grid_cx(gr, fmin(xa, xb)) - 1, c1 = grid_cx(gr, fmax(xa, xb)) + 1;
+            if (c0 > i0) i0 = c0;
+            if (c1 < i1) i1 = c1;
+        }
+        for (int i = i0; i <= i1; i++)
+            visit(ctx, (int32_t)j * gr->nx + i);
+    }
+}
+
+typedef struct fill_ctx {
+    grid *gr;
+    int32_t id;
+    int counting;
+} fill_ctx;
+
+static void grid_visit(void *vctx, int32_t cell) {
+    fill_ctx *c = vctx;
+    if (c->counting)
+        c->gr->start[cell + 1]++;
+    else
+        c->gr->item[c->gr->start[cell]++] = c->id;
+}
+
+/* Buckets the segments listed in ids[0..n) (endpoint pairs in seg, coordinates in xy) into a
+ * grid over the bounding box of their endpoints.  Returns 0 or -1 (out of memory). */
+static int grid_build_segments(grid *gr, const double *xy, const int32_t *seg, const int32_t *ids,
+                               int32_t n) {
+    double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+    for (int32_t i = 0; i < n; i++)
+        for (int k = 0; k < 2; k++) {
+            const double *p = xy + 2 * seg[2 * ids[i] + k];
+            x0 = fmin(x0, p[0]);
+            x1 = fmax(x1, p[0]);
+            y0 = fmin(y0, p[1]);
+            y1 = fmax(y1, p[1]);
+        }
+    if (n == 0) x0 = y0 = x1 = y1 = 0;
+    grid_setup(gr, x0, y0, x1, y1, n);
+    size_t ncell = (size_t)gr->nx * gr->ny;
+    gr->start = calloc(ncell + 1, sizeof(int32_t));
+    if (!gr->start) return -1;
+    fill_ctx c = {gr, 0, 1};
+    for (int32_t i = 0; i < n; i++) {
+        const int32_t *s = seg + 2 * ids[i];
+        grid_segment(gr, xy + 2 * s[0], xy + 2 * s[1], grid_visit, &c);
+        if (gr->start[ncell] > INT32_MAX / 2) /* cell count overflow guard (absurd inputs) */
+            return -1;
+    }
+    for (size_t i = 0; i < ncell; i++)
+        gr->start[i + 1] += gr->start[i];
+    gr->item = malloc(((size_t)gr->start[ncell] + 1) * sizeof(int32_t));
+    if (!gr->item) return -1;
+    c.counting = 0;
+    for (int32_t i = 0; i < n; i++) {
+        const int32_t *s = seg + 2 * ids[i];
+        c.id = ids[i];
+        grid_segment(gr, xy + 2 * s[0], xy + 2 * s[1], grid_visit, &c);
+    }
+    for (size_t i = ncell; i > 0; i--)
+        gr->start[i] = gr->start[i - 1];
+    gr->start[0] = 0;
+    return 0;
+}
+
+static void grid_free(grid *gr) {
+    free(gr->start);
+    free(gr->item);
+    gr->start = gr->item = NULL;
+}
+
+/* ---------------------------------------------------------------- exact tests ----------- */
+
+static int sgn(double v) {
+    return (v > 0) - (v < 0);
+}
+
+/* For collinear s, p, q with p, q != s: 1 if p and q lie on the same side of s. */
+static int same_direction(const double *s, const double *p, const double *q) {
+    if (p[0] != s[0]) return (p[0] > s[0]) == (q[0] > s[0]);
+    return (p[1] > s[1]) == (q[1] > s[1]);
+}
+
+/* 1 if p (collinear with ab) lies strictly between a and b. */
+static int strictly_between(const double *a, const double *b, const double *p) {
+    int k = a[0] != b[0] ? 0 : 1;
+    double lo = fmin(a[k], b[k]), hi = fmax(a[k], b[k]);
+    return p[k] > lo && p[k] < hi;
+}
+
+/* 1 if segments ab and cd (vertex indices) cross in their interiors or overlap collinearly.
+ * Touching at a shared endpoint or at a vertex inside the other segment is allowed. */
+static int segs_conflict(const double *xy, int32_t a, int32_t b, int32_t c, int32_t d) {
+    const double *A = xy + 2 * a, *B = xy + 2 * b, *C = xy + 2 * c, *D = xy + 2 * d;
+    if (a == c || a == d || b == c || b == d) {
+        const double *S, *P, *Q;
+        if (a == c || a == d) {
+            S = A;
+            P = B;
+            Q = a == c ? D : C;
+        } else {
+            S = B;
+            P = A;
+            Q = b == c ? D : C;
+        }
+        if (P == Q || (P[0] == Q[0] && P[1] == Q[1])) return 1;
+        if (geom_orient2d(S, P, Q) != 0) return 0;
+        return same_direction(S, P, Q);
+    }
+    int o1 = sgn(geom_orient2d(A, B, C)), o2 = sgn(geom_orient2d(A, B, D));
+    if (o1 == 0 && o2 == 0) {
+        int k = A[0] != B[0] ? 0 : 1;
+        double lo1 = fmin(A[k], B[k]), hi1 = fmax(A[k], B[k]);
+        double lo2 = fmin(C[k], D[k]), hi2 = fmax(C[k], D[k]);
+        return fmax(lo1, lo2) < fmin(hi1, hi2);
+    }
+    if (o1 * o2 >= 0) return 0;
+    int o3 = sgn(geom_orient2d(C, D, A)), o4 = sgn(geom_orient2d(C, D, B));
+    return o3 * o4 < 0;
+}
+
+/* ---------------------------------------------------------------- pslg_check ------------ */
+
+typedef struct vkey {
+    double x, y;
+    int32_t i;
+} vkey;
+
+static int cmp_vkey(const void *pa, const void *pb) {
+    const vkey *a = pa, *b = pb;
+    if (a->x != b->x) return a->x < b->x ? -1 : 1;
+    if (a->y != b->y) return a->y < b->y ? -1 : 1;
+    return (a->i > b->i) - (a->i < b->i);
+}
+
+typedef struct skey {
+    int32_t lo, hi, i;
+} skey;
+
+static int cmp_skey(const void *pa, const void *pb) {
+    const skey *a = pa, *b = pb;
+    if (a->lo != b->lo) return a->lo < b->lo ? -1 : 1;
+    if (a->hi != b->hi) return a->hi < b->hi ? -1 : 1;
+    return (a->i > b->i) - (a->i < b->i);
+}
+
+__attribute__((format(printf, 3, 4))) static int gfail(char *err, size_t errlen, const char *fmt,
+                                                       ...) {
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err, errlen, fmt, ap);
+    va_end(ap);
+    return -1;
+}
+
+int pslg_check(pslg *g, char *err, size_t errlen) {
+    geom_init();
+    if (errlen) err[0] = '\0';
+    const char *vf = g->path[0] ? g->path : "(input)";
+    const char *sf = g->segpath[0] ? g->segpath : vf;
+    int32_t n = g->nverts;
+    for (int32_t i = 0; i < n; i++)
+        if (!isfinite(g->xy[2 * i]) || !isfinite(g->xy[2 * i + 1]))
+            return gfail(err, errlen, "%s:%d: vertex %d has a non-finite coordinate", vf,
+                         g->vline ? g->vline[i] : 0, i + g->first_index);
+    for (int32_t s = 0; s < g->nsegs; s++)
+        for (int k = 0; k < 2; k++)
+            if (g->seg[2 * s + k] < 0 || g->seg[2 * s + k] >= n)
+                return gfail(err, errlen, "%s:%d: segment %d: vertex %d out of range", sf,
+                             g->sline ? g->sline[s] : 0, s + g->first_index,
+                             g->seg[2 * s + k] + g->first_index);
+    /* 1. merge duplicate vertices */
+    vkey *vk = malloc((size_t)(n ? n : 1) * sizeof *vk);
+    int32_t *map = malloc((size_t)(n ? n : 1) * sizeof *map);
+    if (!vk || !map) {
+        free(vk);
+        free(map);
+        return gfail(err, errlen, "%s: out of memory checking %d vertices", vf, n);
+    }
+    for (int32_t i = 0; i < n; i++)
+        vk[i] = (vkey){g->xy[2 * i], g->xy[2 * i + 1], i};
+    qsort(vk, (size_t)n, sizeof *vk, cmp_vkey);
+    int32_t ndup = 0;
+    for (int32_t i = 0, rep = 0; i < n; i++) {
+        if (i > 0 && vk[i].x == vk[i - 1].x && vk[i].y == vk[i - 1].y) {
+            int32_t a = vk[i].i, b = vk[rep].i;
+            map[a] = b;
+            ndup++;
+            fprintf(stderr, "%s:%d: warning: vertex %d duplicates vertex %d (line %d); merged\n",
+                    vf, g->vline ? g->vline[a] : 0, a + g->first_index, b + g->first_index,
+                    g->vline ? g->vline[b] : 0);
+            if (g->vmarker && g->vmarker[b] == 0) g->vmarker[b] = g->vmarker[a];
+        } else {
+            rep = i;
+            map[vk[i].i] = vk[i].i;
+        }
+    }
+    free(vk);
+    if (ndup) {
+        int32_t m = 0;
+        int32_t *newidx = malloc((size_t)n * sizeof *newidx);
+        if (!newidx) {
+            free(map);
+            return gfail(err, errlen, "%s: out of memory", vf);
+        }
+        for (int32_t i = 0; i < n; i++) {
+            if (map[i] != i) continue;
+            newidx[i] = m;
+            g->xy[2 * m] = g->xy[2 * i];
+            g->xy[2 * m + 1] = g->xy[2 * i + 1];
+            if (g->vmarker) g->vmarker[m] = g->vmarker[i];
+            if (g->vline) g->vline[m] = g->vline[i];
+            if (g->vattr)
+                memmove(g->vattr + (size_t)m * g->nattr, g->vattr + (size_t)i * g->nattr,
+                        (size_t)g->nattr * sizeof(double));
+            m++;
+        }
+        for (int32_t i = 0; i < n; i++)
+            map[i] = newidx[map[i]];
+        free(newidx);
+        for (int32_t s = 0; s < 2 * g->nsegs; s++)
+            g->seg[s] = map[g->seg[s]];
+        g->nverts = n = m;
+    }
+    free(map);
+    /* 2. zero-length and repeated segments */
+    int32_t ns = g->nsegs;
+    for (int32_t s = 0; s < ns; s++)
+        if (g->seg[2 * s] == g->seg[2 * s + 1])
+            return gfail(err, errlen, "%s:%d: segment %d has zero length (both endpoints are %s)",
+                         sf, g->sline ? g->sline[s] : 0, s + g->first_index,
+                         ndup ? "the same point" : "the same vertex");
+    skey *sk = malloc((size_t)(ns ? ns : 1) * sizeof *sk);
+    int32_t *ids = malloc((size_t)(ns ? ns : 1) * sizeof *ids);
+    char *keep = malloc((size_t)(ns ? ns : 1));
+    if (!sk || !ids || !keep) {
+        free(sk);
+        free(ids);
+        free(keep);
+        return gfail(err, errlen, "%s: out of memory checking %d segments", sf, ns);
+    }
+    for (int32_t s = 0; s < ns; s++) {
+        int32_t a = g->seg[2 * s], b = g->seg[2 * s + 1];
+        sk[s] = (skey){a < b ? a : b, a < b ? b : a, s};
+        keep[s] = 1;
+    }
+    qsort(sk, (size_t)ns, sizeof *sk, cmp_skey);
+    for (int32_t i = 1, run = 0; i < ns; i++) {
+        if (sk[i].lo != sk[run].lo || sk[i].hi != sk[run].hi) {
+            run = i;
+        } else {
+            int32_t s = sk[i].i, t = sk[run].i; /* the first of a run is kept */
+            keep[s] = 0;
+            fprintf(stderr, "%s:%d: warning: segment %d repeats segment %d (line %d); dropped\n",
+                    sf, g->sline ? g->sline[s] : 0, s + g->first_index, t + g->first_index,
+                    g->sline ? g->sline[t] : 0);
+        }
+    }
+    free(sk);
+    int32_t nk = 0;
+    for (int32_t s = 0; s < ns; s++)
+        if (keep[s]) ids[nk++] = s;
+    /* 3. crossings: grid candidates, exact decision */
+    grid gr;
+    int rc = 0;
+    if (grid_build_segments(&gr, g->xy, g->seg, ids, nk)) {
+        rc = gfail(err, errlen, "%s: out of memory checking segment crossings", sf);
+    } else {
+        int32_t bs = -1, bt = -1;
+        size_t ncell = (size_t)gr.nx * gr.ny;
+        for (size_t c = 0; c < ncell; c++) {
+            for (int32_t i = gr.start[c]; i < gr.start[c + 1]; i++)
+                for (int32_t j = i + 1; j < gr.start[c + 1]; j++) {
+                    int32_t s = gr.item[i], t = gr.item[j];
+                    if (s > t) {
+                        int32_t x = s;
+                        s = t;
+                        t = x;
+                    }
+                    /* report the pair whose later segment comes first in the file */
+                    if (bt >= 0 && (t > bt || (t == bt && s >= bs))) continue;
+                    if (segs_conflict(g->xy, g->seg[2 * s], g->seg[2 * s + 1], g->seg[2 * t],
+                                      g->seg[2 * t + 1])) {
+                        bs = s;
+                        bt = t;
+                    }
+                }
+        }
+        if (bt >= 0)
+            rc = gfail(err, errlen, "%s:%d: segment %d crosses segment %d (line %d)", sf,
+                       g->sline ? g->sline[bt] : 0, bt + g->first_index, bs + g->first_index,
+                       g->sline ? g->sline[bs] : 0);
+    }
+    grid_free(&gr);
+    if (rc == 0 && nk < ns) {
+        for (int32_t i = 0; i < nk; i++) {
+            int32_t s = ids[i];
+            g->seg[2 * i] = g->seg[2 * s];
+            g->seg[2 * i + 1] = g->seg[2 * s + 1];
+            if (g->smarker) g->smarker[i] = g->smarker[s];
+            if (g->sline) g->sline[i] = g->sline[s];
+        }
+        g->nsegs = nk;
+    }
+    free(ids);
+    free(keep);
+    return rc;
+}
+
+/* ---------------------------------------------------------------- arrangement ----------- */
+
+/* Half-edge structure of the segment arrangement: edges split at vertices lying on them,
+ * outgoing half-edges of each vertex sorted counter-clockwise. */
+typedef struct arr {
+    const double *xy;
+    int32_t nv, ne;  /* vertices, undirected edges */
+    int32_t *org;    /* 2*ne: origin of half-edge h; h^1 is its twin */
+    int32_t *vstart; /* nv+1: outgoing half-edges of v are out[vstart[v] .. vstart[v+1]) */
+    int32_t *out;    /* 2*ne */
+    int32_t *pos;    /* 2*ne: position of h in out */
+} arr;
+
+static int quadrant(double dx, double dy) {
+    if (dx > 0 && dy >= 0) return 0;
+    if (dx <= 0 && dy > 0) return 1;
+    if (dx < 0 && dy <= 0) return 2;
+    return 3;
+}
+
+/* Angular order of half-edges leaving the same vertex (exact). */
+static int cmp_angle(const void *ctx, int32_t h1, int32_t h2) {
+    const arr *A = ctx;
+    const double *o = A->xy + 2 * A->org[h1];
+    const double *p = A->xy + 2 * A->org[h1 ^ 1], *q = A->xy + 2 * A->org[h2 ^ 1];
+    int q1 = quadrant(p[0] - o[0], p[1] - o[1]), q2 = quadrant(q[0] - o[0], q[1] - o[1]);
+    if (q1 != q2) return q1 < q2 ? -1 : 1;
+    double d = geom_orient2d(o, p, q);
+    return d > 0 ? -1 : d < 0 ? 1 : 0;
+}
+
+typedef struct split_ctx {
+    const pslg *g;
+    const grid *vg;
+    int32_t s;
+    int32_t *hits; /* growable list of (segment, vertex) pairs */
+    size_t nhits, cap;
+    int oom;
+} split_ctx;
+
+static void split_visit(void *vctx, int32_t cell) {
+    split_ctx *c = vctx;
+    const double *xy = c->g->xy;
+    int32_t a = c->g->seg[2 * c->s], b = c->g->seg[2 * c->s + 1];
+    for (int32_t i = c->vg->start[cell]; i < c->vg->start[cell + 1]; i++) {
+        int32_t v = c->vg->item[i];
+        if (v == a || v == b) continue;
+        const double *A = xy + 2 * a, *B = xy + 2 * b, *P = xy + 2 * v;
+        if (P[0] < fmin(A[0], B[0]) || P[0] > fmax(A[0], B[0]) || P[1] < fmin(A[1], B[1]) ||
+            P[1] > fmax(A[1], B[1]))
+            continue;
+        if (geom_orient2d(A, B, P) != 0 || !strictly_between(A, B, P)) continue;
+        /* each vertex lives in one cell and a segment visits a cell once: no repeats */
+        if (c->nhits == c->cap) {
+            size_t nc = c->cap ? 2 * c->cap : 64;
+            int32_t *nh = realloc(c->hits, nc * 2 * sizeof(int32_t));
+            if (!nh) {
+                c->oom = 1;
+                return;
+            }
+            c->hits = nh;
+            c->cap = nc;
+        }
+        c->hits[2 * c->nhits] = c->s;
+        c->hits[2 * c->nhits + 1] = v;
+        c->nhits++;
+    }
+}
+
+/* Position of vertex v along segment s (for sorting split points). */
+typedef struct along_ctx {
+    const double *xy;
+    const int32_t *hits;
+    const double *a, *b;
+} along_ctx;
+
+static int cmp_along(const void *vctx, int32_t i, int32_t j) {
+    const along_ctx *c = vctx;
+    int k = c->a[0] != c->b[0] ? 0 : 1;
+    double pi = c->xy[2 * c->hits[2 * i + 1] + k], pj = c->xy[2 * c->hits[2 * j + 1] + k];
+    double dir = c->b[k] > c->a[k] ? 1 : -1;
+    return pi == pj ? 0 : (pi - pj) * dir < 0 ? -1 : 1;
+}
+
+static void arr_free(arr *A) {
+    free(A->org);
+    free(A->vstart);
+    free(A->out);
+    free(A->pos);
+}
+
+/* Builds the arrangement of g's segments.  Returns 0 or -1 (out of memory). */
+static int arr_build(const pslg *g, arr *A) {
+    memset(A, 0, sizeof *A);
+    A->xy = g->xy;
+    A->nv = g->nverts;
+    int32_t n = g->nverts, ns = g->nsegs;
+    int rc = -1;
+    split_ctx sc = {0};
+    grid vg = {0};
+    skey *ek = NULL;
+    int32_t *order = NULL, *tmp = NULL;
+    /* vertices into a grid */
+    double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+    for (int32_t i = 0; i < n; i++) {
+        x0 = fmin(x0, g->xy[2 * i]);
+        x1 = fmax(x1, g->xy[2 * i]);
+        y0 = fmin(y0, g->xy[2 * i + 1]);
+        y1 = fmax(y1, g->xy[2 * i + 1]);
+    }
+    if (n == 0) x0 = x1 = y0 = y1 = 0;
+    grid_setup(&vg, x0, y0, x1, y1, n);
+    size_t ncell = (size_t)vg.nx * vg.ny;
+    vg.start = calloc(ncell + 1, sizeof(int32_t));
+    vg.item = malloc((size_t)(n ? n : 1) * sizeof(int32_t));
+    if (!vg.start || !vg.item) goto out;
+    for (int32_t i = 0; i < n; i++)
+        vg.start[grid_cy(&vg, g->xy[2 * i + 1]) * vg.nx + grid_cx(&vg, g->xy[2 * i]) + 1]++;
+    for (size_t c = 0; c < ncell; c++)
+        vg.start[c + 1] += vg.start[c];
+    for (int32_t i = 0; i < n; i++)
+        vg.item[vg.start[grid_cy(&vg, g->xy[2 * i + 1]) * vg.nx + grid_cx(&vg, g->xy[2 * i])]++] =
+            i;
+    for (size_t c = ncell; c > 0; c--)
+        vg.start[c] = vg.start[c - 1];
+    vg.start[0] = 0;
+    /* vertices lying inside segments */
+    sc.g = g;
+    sc.vg = &vg;
+    for (int32_t s = 0; s < ns; s++) {
+        sc.s = s;
+        grid_segment(&vg, g->xy + 2 * g->seg[2 * s], g->xy + 2 * g->seg[2 * s + 1], split_visit,
+                     &sc);
+        if (sc.oom) goto out;
+    }
+    /* sub-edges: hits are grouped by segment already (segments visited in order) */
+    size_t nsub = (size_t)(ns > 0 ? ns : 0) + sc.nhits;
+    ek = malloc((nsub ? nsub : 1) * sizeof *ek);
+    order = malloc((sc.nhits ? sc.nhits : 1) * sizeof *order);
+    tmp = malloc((sc.nhits ? sc.nhits : 1) * sizeof *tmp);
+    if (!ek || !order || !tmp) goto out;
+    size_t ne = 0, h = 0;
+    for (int32_t s = 0; s < ns; s++) {
+        int32_t a = g->seg[2 * s], b = g->seg[2 * s + 1];
+        size_t h0 = h;
+        while (h < sc.nhits && sc.hits[2 * h] == s)
+            h++;
+        int32_t m = (int32_t)(h - h0);
+        for (int32_t i = 0; i < m; i++)
+            order[i] = (int32_t)(h0 + (size_t)i);
+        along_ctx ac = {g->xy, sc.hits, g->xy + 2 * a, g->xy + 2 * b};
+        msort(order, tmp, m, cmp_along, &ac);
+        int32_t prev = a;
+        for (int32_t i = 0; i <= m; i++) {
+            int32_t v = i < m ? sc.hits[2 * order[i] + 1] : b;
+            if (v != prev) ek[ne++] = (skey){prev < v ? prev : v, prev < v ? v : prev, 0};
+            prev = v;
+        }
+    }
+    qsort(ek, ne, sizeof *ek, cmp_skey);
+    size_t m = 0;
+    for (size_t i = 0; i < ne; i++)
+        if (m == 0 || ek[i].lo != ek[m - 1].lo || ek[i].hi != ek[m - 1].hi) ek[m++] = ek[i];
+    ne = m;
+    A->ne = (int32_t)ne;
+    A->org = malloc((2 * ne + 1) * sizeof(int32_t));
+    A->out = malloc((2 * ne + 1) * sizeof(int32_t));
+    A->pos = malloc((2 * ne + 1) * sizeof(int32_t));
+    A->vstart = calloc((size_t)n + 2, sizeof(int32_t));
+    free(tmp);
+    tmp = malloc((2 * ne + 1) * sizeof(int32_t));
+    if (!A->org || !A->out || !A->pos || !A->vstart || !tmp) goto out;
+    for (size_t e = 0; e < ne; e++) {
+        A->org[2 * e] = ek[e].lo;
+        A->org[2 * e + 1] = ek[e].hi;
+        A->vstart[ek[e].lo + 1]++;
+        A->vstart[ek[e].hi + 1]++;
+    }
+    for (int32_t v = 0; v < n; v++)
+        A->vstart[v + 1] += A->vstart[v];
+    for (int32_t hh = 0; hh < (int32_t)(2 * ne); hh++)
+        A->out[A->vstart[A->org[hh]]++] = hh;
+    for (int32_t v = n; v > 0; v--)
+        A->vstart[v] = A->vstart[v - 1];
+    A->vstart[0] = 0;
+    for (int32_t v = 0; v < n; v++) {
+        int32_t *o = A->out + A->vstart[v];
+        int32_t d = A->vstart[v + 1] - A->vstart[v];
+        msort(o, tmp, d, cmp_angle, A);
+        for (int32_t i = 0; i < d; i++)
+            A->pos[o[i]] = A->vstart[v] + i;
+    }
+    rc = 0;
+out:
+    if (rc) arr_free(A);
+    free(sc.hits);
+    grid_free(&vg);
+    free(ek);
+    free(order);
+    free(tmp);
+    return rc;
+}
+
+/* The half-edge after h on the face to the left of h. */
+static int32_t arr_next(const arr *A, int32_t h) {
+    int32_t t = h ^ 1, v = A->org[t];
+    int32_t p = A->pos[t] - 1;
+    if (p < A->vstart[v]) p = A->vstart[v + 1] - 1;
+    return A->out[p];
+}
+
+double pslg_input_angles(const pslg *g, double bound_deg,
+                         void (*fn)(void *ctx, int32_t v, int32_t s1, int32_t s2, double deg),
+                         void *ctx) {
+    geom_init();
+    int32_t n = g->nverts, ns = g->nsegs;
+    double best = 360;
+    arr A = {0};
+    A.xy = g->xy;
+    A.org = malloc((2 * (size_t)ns + 1) * sizeof(int32_t));
+    A.out = malloc((2 * (size_t)ns + 1) * sizeof(int32_t));
+    A.vstart = calloc((size_t)n + 2, sizeof(int32_t));
+    int32_t *tmp = malloc((2 * (size_t)ns + 1) * sizeof(int32_t));
+    if (!A.org || !A.out || !A.vstart || !tmp) goto out;
+    for (int32_t s = 0; s < ns; s++) {
+        A.org[2 * s] = g->seg[2 * s];
+        A.org[2 * s + 1] = g->seg[2 * s + 1];
+        A.vstart[g->seg[2 * s] + 1]++;
+        A.vstart[g->seg[2 * s + 1] + 1]++;
+    }
+    for (int32_t v = 0; v < n; v++)
+        A.vstart[v + 1] += A.vstart[v];
+    for (int32_t h = 0; h < 2 * ns; h++)
+        A.out[A.vstart[A.org[h]]++] = h;
+    for (int32_t v = n; v > 0; v--)
+        A.vstart[v] = A.vstart[v - 1];
+    A.vstart[0] = 0;
+    for (int32_t v = 0; v < n; v++) {
+        int32_t *o = A.out + A.vstart[v];
+        int32_t d = A.vstart[v + 1] - A.vstart[v];
+        if (d < 2) continue;
+        msort(o, tmp, d, cmp_angle, &A);
+        const double *c = g->xy + 2 * v;
+        for (int32_t i = 0; i < d; i++) {
+            int32_t h1 = o[i], h2 = o[(i + 1) % d];
+            const double *p = g->xy + 2 * A.org[h1 ^ 1], *q = g->xy + 2 * A.org[h2 ^ 1];
+            double t1 = atan2(p[1] - c[1], p[0] - c[0]), t2 = atan2(q[1] - c[1], q[0] - c[0]);
+            double deg = (t2 - t1) * (180 / 3.14159265358979323846);
+            if (deg <= 0) deg += 360;
+            if (deg < best) best = deg;
+            if (deg < bound_deg && fn) fn(ctx, v, h1 >> 1, h2 >> 1, deg);
+        }
+    }
+out:
+    free(A.org);
+    free(A.out);
+    free(A.vstart);
+    free(tmp);
+    return best;
+}
+
+/* 1 if p lies strictly inside the closed walk starting at half-edge h0 (crossing count with
+ * exact side tests; edges walked in both directions cancel). */
+static int in_cycle(const arr *A, int32_t h0, const double *p) {
+    int in = 0;
+    int32_t h = h0;
+    do {
+        const double *a = A->xy + 2 * A->org[h], *b = A->xy + 2 * A->org[h ^ 1];
+        if ((a[1] <= p[1]) != (b[1] <= p[1])) {
+            double o = geom_orient2d(a, b, p);
+            if (b[1] > a[1] ? o > 0 : o < 0) in ^= 1;
+        }
+        h = arr_next(A, h);
+    } while (h != h0);
+    return in;
+}
+
+typedef struct cycle {
+    int32_t h0, comp;
+    double area, face; /* signed area of the walk; face area (outer minus inner) */
+    double x0, y0, x1, y1;
+    int removed;
+} cycle;
+
+static int32_t uf_find(int32_t *p, int32_t x) {
+    while (p[x] != x) {
+        p[x] = p[p[x]];
+        x = p[x];
+    }
+    return x;
+}
+
+/* Smallest positive cycle (other than component skip) strictly containing p, or -1. */
+static int32_t enclosing(const arr *A, const cycle *cy, int32_t nc, const double *p, int32_t skip) {
+    int32_t best = -1;
+    for (int32_t i = 0; i < nc; i++) {
+        const cycle *c = cy + i;
+        if (c->area <= 0 || c->comp == skip) continue;
+        if (p[0] < c->x0 || p[0] > c->x1 || p[1] < c->y0 || p[1] > c->y1) continue;
+        if (best >= 0 && c->area >= cy[best].area) continue;
+        if (in_cycle(A, c->h0, p)) best = i;
+    }
+    return best;
+}
+
+double pslg_domain_area(const pslg *g) {
+    geom_init();
+    arr A;
+    if (g->nsegs == 0 || arr_build(g, &A)) return 0;
+    int32_t nh = 2 * A.ne, n = g->nverts;
+    int32_t *cid = malloc((size_t)nh * sizeof(int32_t));
+    int32_t *uf = malloc((size_t)(n ? n : 1) * sizeof(int32_t));
+    cycle *cy = malloc((size_t)nh * sizeof(cycle));
+    double total = 0;
+    if (!cid || !uf || !cy) goto out;
+    for (int32_t v = 0; v < n; v++)
+        uf[v] = v;
+    for (int32_t e = 0; e < A.ne; e++) {
+        int32_t a = uf_find(uf, A.org[2 * e]), b = uf_find(uf, A.org[2 * e + 1]);
+        if (a != b) uf[a] = b;
+    }
+    for (int32_t h = 0; h < nh; h++)
+        cid[h] = -1;
+    int32_t nc = 0;
+    for (int32_t h0 = 0; h0 < nh; h0++) {
+        if (cid[h0] >= 0) continue;
+        cycle *c = cy + nc;
+        const double *o = g->xy + 2 * A.org[h0];
+        double sum = 0, comp = 0; /* Neumaier summation of the shoelace terms */
+        c->x0 = c->x1 = o[0];
+        c->y0 = c->y1 = o[1];
+        int32_t h = h0;
+        do {
+            cid[h] = nc;
+            const double *a = g->xy + 2 * A.org[h], *b = g->xy + 2 * A.org[h ^ 1];
+            double t = (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+            double s = sum + t;
+            comp += fabs(sum) >= fabs(t) ? (sum - s) + t : (t - s) + sum;
+            sum = s;
+            c->x0 = fmin(c->x0, a[0]);
+            c->x1 = fmax(c->x1, a[0]);
+            c->y0 = fmin(c->y0, a[1]);
+            c->y1 = fmax(c->y1, a[1]);
+            h = arr_next(&A, h);
+        } while (h != h0);
+        c->h0 = h0;
+        c->area = c->face = 0.5 * (sum + comp);
+        c->comp = uf_find(uf, A.org[h0]);
+        c->removed = 0;
+        nc++;
+    }
+    /* outer boundaries of components (negative walks) go to their enclosing face */
+    for (int32_t i = 0; i < nc; i++) {
+        if (cy[i].area >= 0) continue;
+        int32_t f = enclosing(&A, cy, nc, g->xy + 2 * A.org[cy[i].h0], cy[i].comp);
+        if (f >= 0) cy[f].face += cy[i].area;
+    }
+    for (int32_t k = 0; k < g->nholes; k++) {
+        int32_t f = enclosing(&A, cy, nc, g->holes + 2 * k, -1);
+        if (f >= 0) cy[f].removed = 1;
+    }
+    double comp = 0;
+    for (int32_t i = 0; i < nc; i++)
+        if (cy[i].area > 0 && !cy[i].removed) {
+            double t = cy[i].face, s = total + t;
+            comp += fabs(total) >= fabs(t) ? (total - s) + t : (t - s) + total;
+            total = s;
+        }
+    total += comp;
+out:
+    free(cid);
+    free(uf);
+    free(cy);
+    arr_free(&A);
+    return total;
+}

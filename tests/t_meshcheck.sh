@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# meshcheck end to end: usage and exit codes (0 valid, 1 invalid, 2 usage or input error) and
+# the one-line summary, on small meshes written here in Triangle's format.
+set -u
+cd "$(dirname "$0")/.."
+MC=${BIN:-.}/meshcheck
+T=$(mktemp -d "${TMPDIR:-/tmp}/t_meshcheck.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+expect() { # rc pattern command...
+    local want=$1 pat=$2; shift 2
+    local out rc
+    out=$("$@" 2>&1); rc=$?
+    echo "\$ ${*#"$MC "} -> $rc: $out"
+    [ "$rc" -eq "$want" ] || fail "exit $rc, expected $want: $*"
+    grep -q -- "$pat" <<<"$out" || fail "output lacks '$pat': $*"
+}
+
+printf '4 2 0 1\n1 0 0 1\n2 1 0 1\n3 1 1 1\n4 0 1 1\n' > "$T/sq.node"
+printf '2 3 0\n1 1 2 3\n2 1 3 4\n' > "$T/sq.ele"
+printf '0 2 0 1\n4 1\n1 1 2 1\n2 2 3 1\n3 3 4 1\n4 4 1 1\n0\n' > "$T/sq.poly"
+mkdir "$T/flip" && cp "$T/sq.node" "$T/sq.poly" "$T/flip/"
+printf '2 3 0\n1 1 3 2\n2 1 3 4\n' > "$T/flip/sq.ele"
+
+expect 0 'usage: meshcheck' "$MC" --help
+expect 2 'usage: meshcheck' "$MC"
+expect 2 'usage: meshcheck' "$MC" data/square.poly
+expect 2 'unknown option' "$MC" data/square.poly "$T/sq" --bogus
+expect 2 '\-q needs a non-negative number' "$MC" data/square.poly "$T/sq" -q abc
+expect 0 'meshcheck: OK triangles=2 vertices=4 min_angle=45.0000 max_area=0.5 area=1 domain_area=1' \
+    "$MC" data/square.poly "$T/sq"
+expect 0 'meshcheck: OK' "$MC" data/square.poly "$T/sq" -q 45 -a 0.5 --interfaces-delaunay
+expect 1 'meshcheck: FAIL triangle 0 has smallest angle 45 < 50 degrees bad_angle=2' \
+    "$MC" data/square.poly "$T/sq" -q 50
+expect 1 'bad_area=2' "$MC" data/square.poly "$T/sq" -a 0.25
+expect 1 'meshcheck: FAIL triangle 0 (0 2 1) is clockwise bad_orient=1' "$MC" data/square.poly "$T/flip/sq"
+expect 1 'area_mismatch=1' "$MC" data/lshape.poly "$T/sq"
+expect 2 'nosuch.node: cannot open: No such file or directory' "$MC" data/square.poly "$T/nosuch"
+expect 2 'tests/bad/self_intersecting.poly:11: segment 4 crosses segment 2 (line 9)' \
+    "$MC" tests/bad/self_intersecting.poly "$T/sq"
+rm "$T/sq.poly" # without the .poly the boundary edges still carry the input segments
+expect 0 'meshcheck: OK' "$MC" data/square.poly "$T/sq"
+echo "t_meshcheck: all passed"
