@@ -1,0 +1,454 @@
+/* rt.c - life cycle, the RSR and task verbs, and the scheduler loop of the runtime.
+ *
+ * rt_run is the main loop of the Parallel (Constrained) Meshing Algorithm, TR-97-17 section
+ * 2: REPEAT { service incoming RSRs (rt_comm_progress, perturbation release, self-sends,
+ * finished threaded handlers); complete suspended tasks whose replies have arrived (the FIFO
+ * ready queue); run one bounded step of the application's local work; flush aggregated RSRs }
+ * UNTIL the distributed termination detector (rt_term.c) declares that every rank is passive
+ * and no RSR is in flight.  A rank with nothing to do backs off exponentially (about 2 us to
+ * 1 ms) in a timed condition wait that a finishing worker cuts short, so idle ranks give
+ * their core to busy ones.  Invariants: only the thread that called rt_init calls MPI; every
+ * RSR is counted once as sent (when the main thread hands it to the transport) and once as
+ * received (when its handler has returned); a rank is passive only when no task, local
+ * work, buffered or held RSR, or threaded handler remains; rt_run returns on no rank before
+ * every rank has seen the termination decision (a closing barrier), so the RSRs of the next
+ * phase are never handled inside this one.
+ */
+#include "rt_internal.h"
+
+#include <sched.h>
+#include <stdarg.h>
+#include <stdatomic.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+rt_global rt_g;
+
+static atomic_long rt_live_allocs;
+
+/* ---- allocation and errors ---------------------------------------------------------------- */
+
+void *rt_xmalloc(size_t n) {
+    void *p = malloc(n ? n : 1);
+    if (!p) RT_FATAL("out of memory allocating %zu bytes", n);
+    atomic_fetch_add(&rt_live_allocs, 1);
+    return p;
+}
+
+void *rt_xrealloc(void *p, size_t n) {
+    void *q = realloc(p, n ? n : 1);
+    if (!q) RT_FATAL("out of memory reallocating %zu bytes", n);
+    if (!p) atomic_fetch_add(&rt_live_allocs, 1);
+    return q;
+}
+
+void rt_xfree(void *p) {
+    if (!p) return;
+    atomic_fetch_sub(&rt_live_allocs, 1);
+    free(p);
+}
+
+void rt_fatal_at(const char *file, int line, const char *fmt, ...) {
+    char msg[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    fprintf(stderr, "rt: fatal on rank %d (%s:%d): %s\n", rt_g.initialised ? rt_g.rank : -1, file,
+            line, msg);
+    fflush(stderr);
+    int inited = 0, fin = 0;
+    MPI_Initialized(&inited);
+    MPI_Finalized(&fin);
+    if (inited && !fin && !rt_in_worker) MPI_Abort(MPI_COMM_WORLD, 70);
+    abort();
+}
+
+const char *rt_strerror(int err) {
+    switch (err) {
+    case RT_OK:
+        return "success";
+    case RT_EINVAL:
+        return "invalid argument";
+    case RT_ENOMEM:
+        return "out of memory";
+    case RT_EMPI:
+        return "MPI error or insufficient MPI thread support";
+    case RT_ETHREAD:
+        return "thread creation or synchronisation failed";
+    case RT_EMISMATCH:
+        return "handler tables differ between ranks";
+    case RT_ESTATE:
+        return "call not allowed in the runtime's current state";
+    case RT_ENOSPC:
+        return "buffer or table full";
+    case RT_EHANDLER:
+        return "unknown or unregistered handler";
+    case RT_ELEN:
+        return "payload length does not match the handler";
+    case RT_EPROTO:
+        return "malformed message";
+    default:
+        return "unknown error";
+    }
+}
+
+double rt_wtime(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* ---- configuration and life cycle ----------------------------------------------------- */
+
+void rt_config_default(rt_config *cfg) {
+    memset(cfg, 0, sizeof *cfg);
+    cfg->aggregate = 1;
+    cfg->agg_bytes = 16384;
+    cfg->nworkers = 2;
+    cfg->perturb_seed = 0;
+    cfg->idle_spin = 0;
+    cfg->idle_min_ns = 2000;
+    cfg->idle_max_ns = 1000000;
+}
+
+static void env_u64(const char *name, uint64_t *v) {
+    const char *s = getenv(name);
+    if (s && *s) *v = strtoull(s, NULL, 0);
+}
+
+static void apply_env(rt_config *c) {
+    uint64_t v;
+    v = (uint64_t)c->aggregate;
+    env_u64("RT_AGGREGATE", &v);
+    c->aggregate = v != 0;
+    v = c->agg_bytes;
+    env_u64("RT_AGG_BYTES", &v);
+    c->agg_bytes = (uint32_t)v;
+    v = (uint64_t)c->nworkers;
+    env_u64("RT_WORKERS", &v);
+    c->nworkers = (int)v;
+    env_u64("RT_PERTURB", &c->perturb_seed);
+    v = (uint64_t)c->idle_spin;
+    env_u64("RT_IDLE_SPIN", &v);
+    c->idle_spin = v != 0;
+    v = c->worker_spin_us;
+    env_u64("RT_WORKER_SPIN_US", &v);
+    c->worker_spin_us = (uint32_t)v;
+}
+
+int rt_init(int *argc, char ***argv, const rt_config *cfg) {
+    if (rt_g.initialised) return RT_ESTATE;
+    memset(&rt_g, 0, sizeof rt_g);
+    if (cfg)
+        rt_g.cfg = *cfg;
+    else
+        rt_config_default(&rt_g.cfg);
+    apply_env(&rt_g.cfg);
+    rt_config *c = &rt_g.cfg;
+    if (c->agg_bytes < 256) c->agg_bytes = 256;
+    c->agg_bytes = (c->agg_bytes + 7u) & ~7u;
+    if (c->nworkers < 0 || c->nworkers > 256) return RT_EINVAL;
+    if (c->idle_min_ns == 0) c->idle_min_ns = 1000;
+    if (c->idle_max_ns < c->idle_min_ns) c->idle_max_ns = c->idle_min_ns;
+
+    int inited = 0, provided = 0;
+    MPI_Initialized(&inited);
+    if (!inited) {
+        if (MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS) {
+            fprintf(stderr, "rt_init: MPI_Init_thread failed\n");
+            return RT_EMPI;
+        }
+        rt_g.mpi_by_us = true;
+    } else {
+        MPI_Query_thread(&provided);
+    }
+    int is_main = 0;
+    MPI_Is_thread_main(&is_main);
+    if (provided < MPI_THREAD_FUNNELED || !is_main) {
+        fprintf(stderr,
+                "rt_init: MPI provides thread level %d (need MPI_THREAD_FUNNELED = %d) and "
+                "rt_init must run on MPI's main thread (%s)\n",
+                provided, MPI_THREAD_FUNNELED, is_main ? "it does" : "it does not");
+        return RT_EMPI;
+    }
+    if (MPI_Comm_dup(MPI_COMM_WORLD, &rt_g.comm) != MPI_SUCCESS) return RT_EMPI;
+    MPI_Comm_rank(rt_g.comm, &rt_g.rank);
+    MPI_Comm_size(rt_g.comm, &rt_g.size);
+    rt_htable_init(&rt_g.ht);
+    rt_tasks_init(&rt_g.tasks);
+    rt_term_init(&rt_g.term);
+    rt_g.perturbing = c->perturb_seed != 0;
+    if (rt_g.perturbing)
+        rt_perturb_init(&rt_g.pert, c->perturb_seed * 1000003u + (uint64_t)rt_g.rank, rt_g.size);
+    int rc = rt_comm_init();
+    if (rc == RT_OK) rc = rt_workers_start(c->nworkers);
+    if (rc != RT_OK) return rc;
+    rt_g.initialised = true;
+    return RT_OK;
+}
+
+void rt_finalize(void) {
+    if (!rt_g.initialised) return;
+    RT_CHECK(!rt_g.in_run);
+    rt_comm_flush_all();
+    rt_comm_wait_sends();
+    rt_workers_stop();
+    rt_comm_destroy();
+    if (rt_g.perturbing) rt_perturb_destroy(&rt_g.pert);
+    rt_tasks_destroy(&rt_g.tasks);
+    MPI_Comm_free(&rt_g.comm);
+    rt_g.initialised = false;
+    long live = atomic_load(&rt_live_allocs);
+    if (live != 0)
+        fprintf(stderr, "rt_finalize: rank %d: %ld runtime allocations not freed\n", rt_g.rank,
+                live);
+    if (rt_g.mpi_by_us) MPI_Finalize();
+}
+
+static void need_init(const char *fn) {
+    if (!rt_g.initialised) RT_FATAL("%s called before rt_init", fn);
+}
+
+int rt_rank(void) {
+    return rt_g.rank;
+}
+
+int rt_size(void) {
+    return rt_g.size;
+}
+
+MPI_Comm rt_comm(void) {
+    return rt_g.comm;
+}
+
+/* ---- handlers ----------------------------------------------------------------------------- */
+
+int rt_handler_register(const char *name, rt_handler_fn fn, void *arg, unsigned flags,
+                        uint32_t size) {
+    need_init("rt_handler_register");
+    return rt_htable_add(&rt_g.ht, name, fn, arg, flags, size);
+}
+
+void rt_start(void) {
+    need_init("rt_start");
+    if (rt_g.started) return;
+    rt_g.ht.frozen = true;
+    rt_g.started = true;
+    rt_hsig mine[RT_MAX_HANDLERS];
+    rt_htable_sig(&rt_g.ht, mine);
+    size_t one = sizeof mine;
+    rt_hsig *all = rt_xmalloc(one * (size_t)rt_g.size);
+    RT_MPI(MPI_Allgather(mine, (int)one, MPI_BYTE, all, (int)one, MPI_BYTE, rt_g.comm));
+    int slot = -1, who = -1;
+    for (int r = 1; r < rt_g.size; r++) {
+        int s = rt_hsig_compare(all, all + (size_t)r * RT_MAX_HANDLERS);
+        if (s >= 0 && (slot < 0 || s < slot)) {
+            slot = s;
+            who = r;
+        }
+    }
+    if (slot >= 0) {
+        const rt_hsig *a = &all[slot], *b = &all[(size_t)who * RT_MAX_HANDLERS + slot];
+        fprintf(stderr,
+                "rt_start: rank %d: handler table mismatch at slot %d: rank 0 registered '%s' "
+                "(flags %u, size %u) but rank %d registered '%s' (flags %u, size %u)\n",
+                rt_g.rank, slot, a->name[0] ? a->name : "(nothing)", (unsigned)a->flags,
+                (unsigned)a->size, who, b->name[0] ? b->name : "(nothing)", (unsigned)b->flags,
+                (unsigned)b->size);
+        fflush(stderr);
+        MPI_Barrier(rt_g.comm);
+        MPI_Abort(MPI_COMM_WORLD, 71);
+    }
+    rt_xfree(all);
+}
+
+/* ---- RSRs and tasks -------------------------------------------------------------------- */
+
+static void send_common(int dest, int handler, const void *payload, uint32_t len, uint16_t flags,
+                        rt_token tok) {
+    need_init("rt_rsr");
+    if (dest < 0 || dest >= rt_g.size)
+        RT_FATAL("RSR to invalid rank %d (handler %d)", dest, handler);
+    int rc = rt_htable_check(&rt_g.ht, (uint32_t)handler, len);
+    if (rc == RT_EHANDLER) RT_FATAL("RSR to rank %d names unregistered handler %d", dest, handler);
+    if (rc == RT_ELEN)
+        RT_FATAL("RSR to rank %d for handler %d '%s': payload length %u, declared %s%u", dest,
+                 handler, rt_g.ht.e[handler].name, (unsigned)len,
+                 (rt_g.ht.e[handler].flags & RT_VARSIZE) ? "at most " : "",
+                 (unsigned)rt_g.ht.e[handler].size);
+    if (len && !payload) RT_FATAL("RSR with NULL payload of length %u", (unsigned)len);
+    rt_hdr h = {.handler = (uint16_t)handler,
+                .flags = flags,
+                .src = rt_g.rank,
+                .len = len,
+                .tok_rank = tok.rank,
+                .tok_slot = tok.slot,
+                .tok_gen = tok.gen};
+    if (rt_in_worker) {
+        rt_item *it = rt_item_new(&h, payload);
+        it->dest = dest;
+        pthread_mutex_lock(&rt_g.wlock);
+        rt_queue_push(&rt_g.outq, &it->q);
+        atomic_fetch_add(&rt_g.wposted, 1);
+        pthread_cond_signal(&rt_g.mcond);
+        pthread_mutex_unlock(&rt_g.wlock);
+        return;
+    }
+    rt_send_hdr(dest, &h, payload);
+}
+
+static const rt_token no_token = {-1, 0, 0};
+
+void rt_rsr(int dest, int handler, const void *payload, uint32_t len) {
+    send_common(dest, handler, payload, len, 0, no_token);
+}
+
+rt_task *rt_task_spawn(rt_task_fn fn, void *state) {
+    need_init("rt_task_spawn");
+    if (rt_in_worker) RT_FATAL("rt_task_spawn called from a threaded handler");
+    return rt_tasks_spawn(&rt_g.tasks, fn, state);
+}
+
+void rt_request(rt_task *t, int dest, int handler, const void *payload, uint32_t len) {
+    if (rt_in_worker) RT_FATAL("rt_request called from a threaded handler");
+    if (!t || t->st != RT_TS_RUNNING) RT_FATAL("rt_request outside the running task");
+    rt_token tok = rt_task_take_token(t, rt_g.rank);
+    send_common(dest, handler, payload, len, RT_HF_TOKEN, tok);
+}
+
+void rt_reply(const rt_msg *req, int handler, const void *payload, uint32_t len) {
+    if (req->token.rank >= 0)
+        send_common(req->token.rank, handler, payload, len, RT_HF_REPLY, req->token);
+    else
+        send_common(req->src, handler, payload, len, 0, no_token);
+}
+
+void rt_forward(const rt_msg *req, int dest, int handler, const void *payload, uint32_t len) {
+    if (req->token.rank >= 0)
+        send_common(dest, handler, payload, len, RT_HF_TOKEN, req->token);
+    else
+        send_common(dest, handler, payload, len, 0, no_token);
+}
+
+int rt_task_pending(const rt_task *t) {
+    return (int)t->pending;
+}
+
+void *rt_task_data(const rt_task *t) {
+    return t->state;
+}
+
+int rt_perturb_set(uint64_t seed) {
+    need_init("rt_perturb_set");
+    if (rt_g.in_run || rt_in_worker) return RT_ESTATE;
+    if (rt_g.perturbing) {
+        RT_CHECK(rt_g.pert.nheld == 0);
+        rt_perturb_destroy(&rt_g.pert);
+    }
+    rt_g.cfg.perturb_seed = seed;
+    rt_g.perturbing = seed != 0;
+    if (rt_g.perturbing)
+        rt_perturb_init(&rt_g.pert, seed * 1000003u + (uint64_t)rt_g.rank, rt_g.size);
+    return RT_OK;
+}
+
+/* ---- scheduler ------------------------------------------------------------------------- */
+
+#define RT_WAVE_DELAY 20e-6 /* seconds of quiet before this rank joins a termination wave */
+
+static bool passive(bool local_busy) {
+    return !local_busy && rt_queue_empty(&rt_g.tasks.ready) && rt_g.tasks.nblocked == 0 &&
+           rt_g.wk_outstanding == 0 && rt_comm_flushed() &&
+           (!rt_g.perturbing || rt_g.pert.nheld == 0);
+}
+
+int rt_run(rt_work_fn work, void *ctx) {
+    need_init("rt_run");
+    if (rt_in_worker || rt_g.in_run || rt_g.in_handler)
+        RT_FATAL("rt_run called from a handler, a task or a worker");
+    rt_start();
+    rt_g.in_run = true;
+    uint64_t backoff = rt_g.cfg.idle_min_ns;
+    double idle_since = -1; /* when this rank last became passive, -1 while active */
+    unsigned spins = 0;
+    /* Time accounting by laps: each stretch between two clock readings goes to one bucket;
+     * non-threaded handler time is taken out of the communication laps. */
+    double lap = rt_wtime(), inl = rt_g.inline_time, now;
+#define RT_LAP(bucket) (now = rt_wtime(), rt_g.st.time[bucket] += now - lap, lap = now)
+#define RT_COMM_LAP()                                                                              \
+    (RT_LAP(RT_TIME_COMM), rt_g.st.time[RT_TIME_COMM] -= rt_g.inline_time - inl,                   \
+     inl = rt_g.inline_time)
+    for (;;) {
+        bool did = rt_comm_progress();
+        if (rt_g.perturbing && rt_perturb_release(&rt_g.pert, rt_dispatch_item) > 0) did = true;
+        did |= rt_local_deliver();
+        did |= rt_workers_drain();
+        bool local_busy = false;
+        if (!rt_queue_empty(&rt_g.tasks.ready) || work) {
+            /* Clock reads are kept off the empty-poll path: a lap is closed only around
+             * real work, and the time of an empty poll goes with the idle lap. */
+            if (did) RT_COMM_LAP();
+            bool ran = rt_tasks_run(&rt_g.tasks, rt_g.tasks.ready.n) > 0;
+            if (work) local_busy = work(ctx) != RT_WORK_IDLE;
+            if (ran || local_busy) {
+                RT_LAP(RT_TIME_BUSY);
+                did = true;
+            }
+        }
+        rt_comm_flush_all();
+        if (did) {
+            rt_g.term.active = true;
+            backoff = rt_g.cfg.idle_min_ns;
+            idle_since = -1;
+            continue;
+        }
+        /* A wave is started only after RT_WAVE_DELAY of quiet, so that ranks exchanging
+         * messages quickly do not run a collective between every two of them. */
+        if (passive(local_busy)) {
+            if (idle_since < 0) idle_since = lap;
+            if ((rt_g.term.wave_open || lap - idle_since >= RT_WAVE_DELAY) &&
+                rt_term_step(&rt_g.term, rt_g.comm, rt_g.sent, rt_g.recvd))
+                break;
+        }
+        if (rt_g.cfg.idle_spin) {
+            /* busy-poll, but let this rank's workers run while they have jobs; read the
+             * clock (idle time, wave delay) only every few empty polls */
+            if (rt_g.wk_outstanding > 0) sched_yield();
+            if (++spins % 32 != 0) continue;
+        } else if (rt_g.perturbing && rt_g.pert.nheld > 0) {
+            RT_COMM_LAP();
+            sched_yield(); /* held messages are released by iterations, not by time */
+        } else {
+            RT_COMM_LAP();
+            rt_workers_idle_wait(backoff);
+            backoff = backoff * 2 > rt_g.cfg.idle_max_ns ? rt_g.cfg.idle_max_ns : backoff * 2;
+        }
+        RT_LAP(RT_TIME_IDLE);
+    }
+    RT_COMM_LAP();
+    /* Leave together: until every rank has seen the decision nobody may start the next
+     * phase, or its RSRs would be handled inside this one.  Nothing is in flight here. */
+    MPI_Request bar;
+    int left = 0;
+    RT_MPI(MPI_Ibarrier(rt_g.comm, &bar));
+    backoff = rt_g.cfg.idle_min_ns;
+    for (;;) {
+        RT_MPI(MPI_Test(&bar, &left, MPI_STATUS_IGNORE));
+        if (left) break;
+        if (rt_g.cfg.idle_spin) {
+            sched_yield();
+        } else {
+            rt_workers_idle_wait(backoff);
+            backoff = backoff * 2 > rt_g.cfg.idle_max_ns ? rt_g.cfg.idle_max_ns : backoff * 2;
+        }
+    }
+    RT_LAP(RT_TIME_IDLE);
+#undef RT_LAP
+#undef RT_COMM_LAP
+    rt_g.st.waves = rt_g.term.waves;
+    rt_comm_wait_sends();
+    rt_g.in_run = false;
+    return RT_OK;
+}

@@ -1,0 +1,256 @@
+/* rt.h - public API of the pcdm runtime (a DMCS-like layer, TR-97-17 section 4).
+ *
+ * The runtime gives an SPMD MPI program three things:
+ *   - remote service requests (RSRs): rt_rsr(dest, handler, payload, len) runs a registered
+ *     handler on rank dest with a copy of the payload.  Handlers are non-threaded (run inside
+ *     the scheduler's poll loop, must not block) or threaded (run on a pooled pthread worker).
+ *   - tasks: continuations that run until done or until they wait for N replies to requests
+ *     they issued (rt_request / rt_reply); a waiting task sits in the blocking queue and costs
+ *     no CPU, its last reply moves it to the FIFO ready queue.
+ *   - rt_run: the paper's REPEAT ... UNTIL DONE loop (service RSRs, run ready tasks, run the
+ *     application's local work, check termination) with a distributed termination detector.
+ *
+ * Threads: MPI is called only by the thread that called rt_init (the "main thread").  Every
+ * function below is main-thread only unless its contract says "any thread".
+ * Errors: recoverable failures return a negative RT_E* code (see rt_strerror); misuse and
+ * protocol violations (unknown handler id, bad payload length, ...) are bugs and abort every
+ * rank with the rank, file and line.
+ * Collective = every rank of rt_comm() must call it, in the same order.  Local = no MPI
+ * communication with other ranks.
+ */
+#ifndef RT_H
+#define RT_H
+
+#include <mpi.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+/* ---- errors ---------------------------------------------------------------------------- */
+
+enum {
+    RT_OK = 0,
+    RT_EINVAL = -1,    /* bad argument */
+    RT_ENOMEM = -2,    /* allocation failed */
+    RT_EMPI = -3,      /* an MPI call failed or MPI lacks thread support */
+    RT_ETHREAD = -4,   /* a pthread call failed */
+    RT_EMISMATCH = -5, /* handler tables differ between ranks */
+    RT_ESTATE = -6,    /* call not allowed in the runtime's current state */
+    RT_ENOSPC = -7,    /* buffer or table full */
+    RT_EHANDLER = -8,  /* unknown / unregistered handler id */
+    RT_ELEN = -9,      /* payload length does not match the handler's declaration */
+    RT_EPROTO = -10    /* malformed message */
+};
+
+/* Local, any thread.  Static string describing err (one of RT_*); never NULL. */
+const char *rt_strerror(int err);
+
+/* ---- configuration and life cycle ----------------------------------------------------- */
+
+typedef struct rt_config {
+    int aggregate;           /* 1: pack small RSRs per destination into one MPI message (default 1;
+                                env RT_AGGREGATE=0|1) */
+    uint32_t agg_bytes;      /* capacity of one aggregation buffer in bytes (default 16384; env
+                                RT_AGG_BYTES) */
+    int nworkers;            /* worker threads for threaded handlers, created once (default 2;
+                                env RT_WORKERS) */
+    uint64_t perturb_seed;   /* nonzero: delay and reorder delivery between sources, seeded
+                                (default 0 = off; env RT_PERTURB=SEED) */
+    int idle_spin;           /* 1: when idle only sched_yield, never sleep (latency benchmarks;
+                                default 0; env RT_IDLE_SPIN) */
+    uint32_t idle_min_ns;    /* first idle sleep (default 2000) */
+    uint32_t idle_max_ns;    /* cap of the exponential idle backoff (default 1000000) */
+    uint32_t worker_spin_us; /* a worker that finished a job polls (with sched_yield) this long
+                                for the next before sleeping (default 0; env
+                                RT_WORKER_SPIN_US; latency benchmarks) */
+} rt_config;
+
+/* Local.  Fills *cfg with the defaults above (environment not applied). */
+void rt_config_default(rt_config *cfg);
+
+/* Collective over MPI_COMM_WORLD.  Initialises MPI with MPI_THREAD_FUNNELED unless it is
+ * already initialised (then the provided level must be >= FUNNELED), duplicates
+ * MPI_COMM_WORLD into the runtime's communicator and starts the worker pool.  cfg may be NULL
+ * (defaults); environment variables override cfg.  argc/argv are passed to MPI_Init_thread
+ * (may be NULL).  Returns RT_OK or RT_EMPI / RT_ETHREAD / RT_ESTATE (already initialised). */
+int rt_init(int *argc, char ***argv, const rt_config *cfg);
+
+/* Collective.  Stops the workers, frees the runtime, and calls MPI_Finalize if rt_init
+ * initialised MPI.  No RSR may be in flight (call after rt_run returned). */
+void rt_finalize(void);
+
+/* Local.  This rank, the number of ranks, and the runtime's private communicator (a dup of
+ * MPI_COMM_WORLD; the application may use it for collectives between rt_run calls, but never
+ * for point-to-point messages, which the runtime's preposted receives would take). */
+int rt_rank(void);
+int rt_size(void);
+MPI_Comm rt_comm(void);
+
+/* Local, any thread.  Wall-clock seconds (monotonic). */
+double rt_wtime(void);
+
+/* ---- handlers ----------------------------------------------------------------------------- */
+
+#define RT_MAX_HANDLERS 64
+#define RT_NAME_MAX 32
+
+enum {
+    RT_NONTHREADED = 0u, /* runs in the poll loop on the main thread; must not block */
+    RT_THREADED = 1u,    /* runs on a worker thread; may block on its own locks, never calls MPI */
+    RT_VARSIZE = 2u      /* payload length may be 0..size (else it must equal size exactly) */
+};
+
+/* Identifies the task waiting for the reply to a request; travels inside messages. */
+typedef struct rt_token {
+    int32_t rank; /* rank of the waiting task, -1 if none */
+    uint32_t slot;
+    uint32_t gen;
+} rt_token;
+
+typedef struct rt_task rt_task;
+
+/* What a handler sees.  data points to len bytes aligned to 8, owned by the runtime and valid
+ * only during the call (copy what must outlive it).  token is the reply token of a request
+ * (rank -1 if the message carries none).  task is non-NULL only in a reply handler: the task
+ * whose pending count this reply will decrement after the handler returns. */
+typedef struct rt_msg {
+    int src;     /* rank that sent this message */
+    int handler; /* id of the handler being run */
+    const void *data;
+    uint32_t len;
+    rt_token token;
+    rt_task *task;
+} rt_msg;
+
+typedef void (*rt_handler_fn)(const rt_msg *m, void *arg);
+
+/* Local (but SPMD: every rank must register the same handlers in the same order, before
+ * rt_start).  name: at most RT_NAME_MAX-1 chars, copied.  arg is passed to every call.
+ * flags: RT_NONTHREADED or RT_THREADED, optionally | RT_VARSIZE.  size: exact payload size,
+ * or the maximum with RT_VARSIZE.  Returns the handler id (0, 1, 2, ... in registration
+ * order, so ids agree across ranks) or RT_EINVAL / RT_ENOSPC / RT_ESTATE (after rt_start). */
+int rt_handler_register(const char *name, rt_handler_fn fn, void *arg, unsigned flags,
+                        uint32_t size);
+
+/* Collective.  Compares the handler tables of all ranks (names, flags, sizes, in order); on a
+ * mismatch every rank prints a message naming the first mismatching slot and handler, and
+ * the job aborts.  Called by rt_run if the program did not call it.  Idempotent. */
+void rt_start(void);
+
+/* ---- remote service requests -------------------------------------------------------------- */
+
+/* Local, any thread (main thread or a threaded handler).  Sends an RSR: handler runs on rank
+ * dest (0 <= dest < rt_size(), may be this rank) with a copy of payload[0..len).  The payload
+ * is copied before return.  Delivery order between one pair of ranks is FIFO (without
+ * perturbation).  The message is sent at the latest at the end of the current scheduler
+ * iteration (aggregation) or when the calling threaded handler's RSR reaches the main thread. */
+void rt_rsr(int dest, int handler, const void *payload, uint32_t len);
+
+/* ---- tasks ------------------------------------------------------------------------------- */
+
+typedef enum rt_task_status {
+    RT_TASK_DONE = 0, /* finished; the runtime forgets the task (state is the caller's) */
+    RT_TASK_WAIT = 1, /* wait until every request issued with rt_request has been replied */
+    RT_TASK_YIELD = 2 /* run again later (goes to the back of the ready queue) */
+} rt_task_status;
+
+typedef rt_task_status (*rt_task_fn)(rt_task *t, void *state);
+
+/* Local, main thread.  Creates a task and appends it to the ready queue; fn(t, state) will be
+ * called by the scheduler, again after each WAIT once all replies arrived.  state is owned by
+ * the caller (the task typically frees it before returning RT_TASK_DONE).  The returned
+ * pointer is valid until fn returns RT_TASK_DONE.  Never NULL (aborts on OOM). */
+rt_task *rt_task_spawn(rt_task_fn fn, void *state);
+
+/* Local, main thread, from inside t's function.  Sends a request RSR carrying t's reply
+ * token and increments t's pending count.  The request's handler (on dest) or any rank it
+ * forwards to must eventually call rt_reply exactly once for it. */
+void rt_request(rt_task *t, int dest, int handler, const void *payload, uint32_t len);
+
+/* Local, any thread, from a handler.  Sends a reply RSR to the task named by req->token
+ * (handler runs on that task's rank with m->task set, then the task's pending count drops
+ * by one).  If req carries no token it is a plain RSR back to req->src. */
+void rt_reply(const rt_msg *req, int handler, const void *payload, uint32_t len);
+
+/* Local, any thread, from a handler.  Sends an RSR to dest carrying req's reply token, so the
+ * handler on dest (or a later hop) answers the original requester with rt_reply. */
+void rt_forward(const rt_msg *req, int dest, int handler, const void *payload, uint32_t len);
+
+/* Local, main thread.  Replies still outstanding for t. */
+int rt_task_pending(const rt_task *t);
+
+/* Local, main thread.  The state pointer t was spawned with (for reply handlers, which get
+ * the task as m->task). */
+void *rt_task_data(const rt_task *t);
+
+/* ---- scheduler ------------------------------------------------------------------------- */
+
+enum { RT_WORK_IDLE = 0, RT_WORK_BUSY = 1 };
+
+/* The application's local work step: do a bounded amount of work (e.g. a few hundred point
+ * insertions) and return RT_WORK_BUSY if it did work or has more, RT_WORK_IDLE if it has
+ * none.  Contract: after returning IDLE it may return BUSY again only after a handler or task
+ * ran on this rank (new work arrives only through RSRs), otherwise termination is wrong. */
+typedef int (*rt_work_fn)(void *ctx);
+
+/* Collective.  Runs the scheduler loop until distributed termination: every rank passive (no
+ * ready or blocked task, local work IDLE, no threaded handler queued or running, no RSR
+ * buffered or held) and no RSR in flight.  work may be NULL.  May be called again later
+ * (e.g. per phase): no rank returns before every rank has seen termination, so RSRs sent
+ * after rt_run returned are handled in the next rt_run (RSRs sent outside rt_run wait for
+ * it).  Returns RT_OK. */
+int rt_run(rt_work_fn work, void *ctx);
+
+/* Local, main thread, outside rt_run.  Turns perturbation on with seed (0: off), replacing
+ * the configured seed; lets one program run the same computation under several seeds.
+ * Returns RT_OK or RT_ESTATE (inside rt_run). */
+int rt_perturb_set(uint64_t seed);
+
+/* ---- statistics -------------------------------------------------------------------------- */
+
+typedef enum rt_time_bucket {
+    RT_TIME_HANDLER = 0, /* in handlers (non-threaded and threaded) */
+    RT_TIME_COMM,        /* in MPI calls, packing, polling that found nothing */
+    RT_TIME_IDLE,        /* sleeping or yielding with nothing to do */
+    RT_TIME_BUSY,        /* in tasks and the application's local work */
+    RT_TIME_UNDO,        /* application-defined (PBW: work undone after a lock conflict) */
+    RT_TIME_NBUCKETS
+} rt_time_bucket;
+
+typedef struct rt_stats {
+    uint64_t rsr_sent, rsr_recv;             /* RSRs (including self-sends) */
+    uint64_t rsr_bytes_sent, rsr_bytes_recv; /* RSR payload bytes */
+    uint64_t mpi_sent, mpi_recv;             /* MPI messages (an aggregate counts once) */
+    uint64_t mpi_bytes_sent, mpi_bytes_recv; /* MPI message bytes (headers included) */
+    uint64_t tasks_spawned, tasks_done;
+    uint64_t waves; /* termination detection waves */
+    double time[RT_TIME_NBUCKETS];
+} rt_stats;
+
+typedef struct rt_handler_stats {
+    char name[RT_NAME_MAX];
+    uint64_t sent, recv, bytes_sent, bytes_recv;
+    double time;
+} rt_handler_stats;
+
+/* Local, main thread.  This rank's counters. */
+void rt_stats_local(rt_stats *out);
+
+/* Local, main thread.  This rank's counters of handler id (RT_EINVAL if not registered). */
+int rt_stats_handler(int id, rt_handler_stats *out);
+
+/* Collective.  sum (may be NULL) gets the sum over ranks of every field; max (may be NULL) the
+ * maximum.  Every rank gets the result. */
+void rt_stats_reduce(rt_stats *sum, rt_stats *max);
+
+/* Local, main thread.  Adds seconds to bucket b (the application uses RT_TIME_UNDO). */
+void rt_stats_add_time(rt_time_bucket b, double seconds);
+
+/* Local, main thread.  Zeroes this rank's counters and timers. */
+void rt_stats_reset(void);
+
+/* Collective.  Gathers every rank's counters to rank 0, which prints a per-rank table and a
+ * per-handler table of totals to f (f is only used on rank 0; may be NULL elsewhere). */
+void rt_stats_print(FILE *f);
+
+#endif

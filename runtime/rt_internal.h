@@ -1,0 +1,282 @@
+/* rt_internal.h - internals shared by the runtime's modules and its unit tests.
+ *
+ * Never included by applications.  Sections: allocation and fatal errors, intrusive FIFO
+ * queues (rt_queue.c), wire format and packing (rt_msg.c), handler table (rt_handler.c),
+ * tasks (rt_task.c), termination waves (rt_term.c), perturbation (rt_perturb.c), worker pool
+ * (rt_worker.c), transport (rt_comm.c), the global runtime state (rt.c).
+ *
+ * Lock order: there is one lock, rt_g.wlock (worker pool + cross-thread queues).  Everything
+ * else in rt_g is touched by the main thread only.
+ */
+#ifndef RT_INTERNAL_H
+#define RT_INTERNAL_H
+
+#include "rt.h"
+
+#include <pthread.h>
+#include <stdbool.h>
+
+/* ---- allocation funnel and fatal errors (rt.c) ----------------------------------------- */
+
+void *rt_xmalloc(size_t n);
+void *rt_xrealloc(void *p, size_t n);
+void rt_xfree(void *p);
+#if defined(__GNUC__)
+__attribute__((noreturn, format(printf, 3, 4)))
+#endif
+void rt_fatal_at(const char *file, int line, const char *fmt, ...);
+#define RT_FATAL(...) rt_fatal_at(__FILE__, __LINE__, __VA_ARGS__)
+#define RT_CHECK(c)                                                                                \
+    do {                                                                                           \
+        if (!(c)) RT_FATAL("check failed: %s", #c);                                                \
+    } while (0)
+#define RT_MPI(call)                                                                               \
+    do {                                                                                           \
+        int rt_mpi_rc_ = (call);                                                                   \
+        if (rt_mpi_rc_ != MPI_SUCCESS) RT_FATAL("%s failed (MPI error %d)", #call, rt_mpi_rc_);    \
+    } while (0)
+
+/* ---- intrusive FIFO queue (rt_queue.c) -------------------------------------------------- */
+
+typedef struct rt_qnode {
+    struct rt_qnode *next;
+} rt_qnode;
+
+typedef struct rt_queue {
+    rt_qnode *head, *tail;
+    size_t n;
+} rt_queue;
+
+void rt_queue_init(rt_queue *q);
+bool rt_queue_empty(const rt_queue *q);
+void rt_queue_push(rt_queue *q, rt_qnode *n);       /* append at the tail */
+rt_qnode *rt_queue_pop(rt_queue *q);                /* remove the head, NULL if empty */
+void rt_queue_append(rt_queue *dst, rt_queue *src); /* move all of src to dst's tail */
+
+#define RT_CONTAINER(ptr, type, member) ((type *)(void *)((char *)(ptr)-offsetof(type, member)))
+
+/* ---- wire format (rt_msg.c) --------------------------------------------------------------- */
+
+enum {
+    RT_HF_TOKEN = 1u, /* header carries a reply token (a request or forwarded request) */
+    RT_HF_REPLY = 2u  /* completes the token's task after the handler */
+};
+
+/* One RSR on the wire: this header, then len payload bytes, padded to a multiple of 8. */
+typedef struct rt_hdr {
+    uint16_t handler;
+    uint16_t flags; /* RT_HF_* */
+    int32_t src;
+    uint32_t len;
+    int32_t tok_rank;
+    uint32_t tok_slot;
+    uint32_t tok_gen;
+} rt_hdr;
+_Static_assert(sizeof(rt_hdr) == 24, "rt_hdr must be 24 bytes with no padding");
+_Static_assert(sizeof(rt_hdr) % 8 == 0, "payloads must stay 8-byte aligned");
+
+#define RT_MAX_PAYLOAD (1u << 30)
+
+size_t rt_wire_size(uint32_t len); /* header + padded payload */
+/* Appends one record at buf+*used; RT_ENOSPC (nothing written) if it does not fit in cap. */
+int rt_pack(unsigned char *buf, size_t cap, size_t *used, const rt_hdr *h, const void *payload);
+/* Reads the record at buf+*off: 1 and advances *off, 0 at the end, RT_EPROTO if malformed.
+ * *payload points into buf. */
+int rt_unpack(const unsigned char *buf, size_t n, size_t *off, rt_hdr *h,
+              const unsigned char **payload);
+
+/* An owned RSR: header and a payload copy (self-sends, threaded jobs, held messages). */
+typedef struct rt_item {
+    rt_qnode q;
+    rt_hdr h;
+    uint64_t release_at; /* perturbation: poll iteration at which it may be delivered */
+    double elapsed;      /* threaded handler: seconds spent in the handler */
+    int dest;            /* RSR sent by a worker: its destination */
+    _Alignas(8) unsigned char data[];
+} rt_item;
+
+rt_item *rt_item_new(const rt_hdr *h, const void *payload);
+
+/* ---- handler table (rt_handler.c) -------------------------------------------------------- */
+
+typedef struct rt_hentry {
+    char name[RT_NAME_MAX];
+    rt_handler_fn fn;
+    void *arg;
+    uint32_t flags, size;
+    bool registered;
+    uint64_t sent, recv, bytes_sent, bytes_recv; /* statistics (main thread) */
+    double time;
+} rt_hentry;
+
+typedef struct rt_htable {
+    rt_hentry e[RT_MAX_HANDLERS];
+    int n;
+    bool frozen; /* set by rt_start: no more registrations */
+} rt_htable;
+
+/* What ranks compare at rt_start. */
+typedef struct rt_hsig {
+    char name[RT_NAME_MAX];
+    uint32_t flags, size;
+} rt_hsig;
+
+void rt_htable_init(rt_htable *t); /* every slot gets the fatal "unregistered" stub */
+int rt_htable_add(rt_htable *t, const char *name, rt_handler_fn fn, void *arg, unsigned flags,
+                  uint32_t size);
+/* RT_OK, RT_EHANDLER (id out of range or unregistered) or RT_ELEN. */
+int rt_htable_check(const rt_htable *t, uint32_t id, uint32_t len);
+void rt_htable_sig(const rt_htable *t, rt_hsig out[RT_MAX_HANDLERS]);
+/* First slot where a and b differ (registered-ness, name, flags or size), -1 if equal. */
+int rt_hsig_compare(const rt_hsig a[RT_MAX_HANDLERS], const rt_hsig b[RT_MAX_HANDLERS]);
+void rt_handler_unregistered(const rt_msg *m, void *arg); /* the stub: aborts */
+
+/* ---- tasks (rt_task.c) ------------------------------------------------------------------- */
+
+typedef enum rt_task_state {
+    RT_TS_FREE = 0, /* slot unused (or the task finished: done) */
+    RT_TS_NEW,
+    RT_TS_READY,
+    RT_TS_RUNNING,
+    RT_TS_BLOCKED
+} rt_task_state;
+
+struct rt_task {
+    rt_qnode q;
+    rt_task_fn fn;
+    void *state;
+    uint32_t slot, gen;
+    int32_t pending;
+    rt_task_state st;
+};
+
+typedef struct rt_tasks {
+    rt_task **slot; /* every task ever allocated, by slot; reused after DONE with gen+1 */
+    uint32_t nslot, cap;
+    rt_queue free_q, ready;
+    size_t nblocked, nlive;
+    uint64_t spawned, done;
+} rt_tasks;
+
+void rt_tasks_init(rt_tasks *ts);
+void rt_tasks_destroy(rt_tasks *ts);
+rt_task *rt_tasks_spawn(rt_tasks *ts, rt_task_fn fn, void *state); /* NEW -> READY */
+size_t rt_tasks_run(rt_tasks *ts, size_t max);     /* runs up to max ready tasks; returns count */
+rt_token rt_task_take_token(rt_task *t, int rank); /* pending++ */
+rt_task *rt_tasks_lookup(rt_tasks *ts, rt_token tok); /* NULL if stale or invalid */
+void rt_tasks_reply(rt_tasks *ts, rt_task *t);        /* pending--; BLOCKED -> READY at 0 */
+
+/* ---- termination detection (rt_term.c) -------------------------------------------------- */
+
+typedef struct rt_term {
+    MPI_Request req;
+    bool wave_open;
+    bool active;        /* activity since this rank's last contribution */
+    int64_t contrib[3]; /* sent, received, active */
+    int64_t result[3];
+    uint64_t waves;
+} rt_term;
+
+void rt_term_init(rt_term *t);
+/* The decision on a completed wave's reduced {sent, received, active}. */
+bool rt_term_decide(const int64_t result[3]);
+/* Call only while locally passive.  Starts a wave if none is open, else tests the open one.
+ * Returns true when termination is declared (the same wave on every rank). */
+bool rt_term_step(rt_term *t, MPI_Comm comm, uint64_t sent, uint64_t recvd);
+
+/* ---- perturbation (rt_perturb.c) --------------------------------------------------------- */
+
+typedef struct rt_perturb {
+    uint64_t rng;
+    uint64_t iter;
+    rt_queue *held; /* per source FIFO */
+    int *perm;
+    int nsrc;
+    size_t nheld;
+} rt_perturb;
+
+void rt_perturb_init(rt_perturb *p, uint64_t seed, int nsrc);
+void rt_perturb_destroy(rt_perturb *p);
+uint64_t rt_perturb_rand(rt_perturb *p);
+void rt_perturb_hold(rt_perturb *p, rt_item *it, int src);
+/* Advances one poll iteration and hands every due message to deliver(); returns how many. */
+size_t rt_perturb_release(rt_perturb *p, void (*deliver)(rt_item *it));
+
+/* ---- worker pool (rt_worker.c) ----------------------------------------------------------- */
+
+int rt_workers_start(int n);
+void rt_workers_stop(void);
+void rt_workers_submit(rt_item *it); /* main thread: run a threaded handler */
+/* Main thread: moves RSRs sent by workers and finished jobs out; true if any. */
+bool rt_workers_drain(void);
+/* Main thread: waits up to ns for worker activity (or returns at once if there is some). */
+void rt_workers_idle_wait(uint64_t ns);
+extern _Thread_local int rt_in_worker;
+
+/* ---- transport (rt_comm.c) --------------------------------------------------------------- */
+
+int rt_comm_init(void);
+void rt_comm_destroy(void);
+/* Main thread: sends one RSR to rank to (h->src is set here) and counts it. */
+void rt_send_hdr(int to, rt_hdr *h, const void *payload);
+bool rt_comm_progress(void); /* receive, deliver, complete sends */
+void rt_comm_flush_all(void);
+bool rt_comm_flushed(void);
+void rt_comm_wait_sends(void);
+void rt_dispatch_item(rt_item *it); /* deliver an owned message now (inline or to a worker) */
+/* Completion of a message's processing (main thread): counters, stats, reply token. */
+void rt_complete(const rt_hdr *h, double elapsed);
+bool rt_local_deliver(void); /* self-sends */
+
+/* ---- global state (rt.c) ------------------------------------------------------------------ */
+
+typedef struct rt_sendbuf rt_sendbuf;
+
+typedef struct rt_global {
+    bool initialised, started, mpi_by_us, in_run, in_handler;
+    int rank, size;
+    MPI_Comm comm;
+    rt_config cfg;
+    rt_htable ht;
+    rt_tasks tasks;
+    rt_term term;
+    rt_perturb pert;
+    bool perturbing;
+    rt_stats st;
+    uint64_t sent, recvd; /* RSR counts for termination (main thread) */
+    double inline_time;   /* seconds in non-threaded handlers (not communication time) */
+
+    /* transport (rt_comm.c) */
+    rt_sendbuf **agg; /* open aggregation buffer per destination */
+    int *dirty;       /* destinations with an open buffer */
+    int ndirty;
+    rt_sendbuf *pool; /* free standard-size buffers */
+    MPI_Request *reqs;
+    rt_sendbuf **reqbuf;
+    int *reqidx; /* scratch for MPI_Testsome */
+    int nreq, capreq;
+    unsigned char *rbuf; /* large messages */
+    size_t rcap;
+    unsigned char **pbuf; /* preposted receive buffers, RT_NPOST of pcap bytes */
+    MPI_Request *preq;
+    size_t pcap;
+    int phead; /* oldest preposted receive: completes (is matched) first */
+    rt_queue selfq;
+
+    /* worker pool (rt_worker.c) */
+    pthread_mutex_t wlock;
+    pthread_cond_t wcond; /* workers wait here for jobs */
+    pthread_cond_t mcond; /* main thread waits here when idle */
+    pthread_t *threads;
+    int nthreads;
+    bool wstop;
+    rt_queue jobs, outq, doneq;
+    size_t wk_outstanding; /* submitted jobs whose completion the main thread has not seen */
+    _Atomic int njobs;     /* jobs queued, readable without the lock (spinning workers) */
+    _Atomic int wstop_hint;
+    _Atomic int wposted; /* items in outq + doneq: the main thread locks only if nonzero */
+} rt_global;
+
+extern rt_global rt_g;
+
+#endif
