@@ -1,0 +1,219 @@
+/* pbw: the Parallel Meshing Algorithm (parallel Bowyer-Watson, TR-97-17 section 2).
+ *
+ *   mpirun -np P ./pbw [options] input.poly        (options: ./pbw --help; same as ./pcdm)
+ *
+ * SPMD main: every rank reads the input and the decomposition (par_load; the decomposition
+ * only says which rank owns which triangle of the initial CDT), then mesher/pbw.c refines the
+ * one distributed mesh with remote cavity expansions, locks and undo.  After the runtime's
+ * termination detector ends rt_run everywhere, the pieces are merged on rank 0
+ * (par_gather_mesh), written (par_write_outputs) and optionally validated (par_validate, every
+ * non-input edge locally Delaunay).
+ *
+ * --stats prints one line per rank, then the RSRs by kind and the cavity counters, and last:
+ *   stats: ranks=P triangles=N vertices=N rsr=TOTAL_RSRS undone=CAVITIES_UNDONE min_angle=D
+ *          wall_s=T busy_max_s=B busy_sum_s=S comm_pct=C undo_pct=U speedup_model=X
+ *          peak_rss_mb=R bytes_per_tri=Y mesh_bytes_per_tri=Z phase1_s=F
+ * (one line).  Definitions (rt_stats time buckets, summed over ranks, inside rt_run):
+ *   busy (per rank)  = RT_TIME_BUSY + RT_TIME_HANDLER (local work, tasks and handlers), as
+ *                      ./pcdm; speedup_model = busy_sum / busy_max.
+ *   non-idle         = RT_TIME_BUSY + RT_TIME_HANDLER + RT_TIME_COMM.
+ *   comm_pct         = 100 * sum(RT_TIME_HANDLER + RT_TIME_COMM) / sum(non-idle): the paper's
+ *                      "communication overhead" -- creating, sending, receiving and servicing
+ *                      RSRs (remote expansions, commits, releases included).
+ *   undo_pct         = 100 * sum(RT_TIME_UNDO) / sum(non-idle): the paper's "undo computation
+ *                      overhead" -- expansion work (local and remote) of cavities released
+ *                      after a lock conflict.
+ *   undone           = cavity attempts abandoned after a lock conflict (local + distributed).
+ *   rsr              = every RSR sent by every rank (self-sends included).
+ *   wall_s           = from a barrier after loading to the last rank leaving pbw_mesh (CDT,
+ *                      distribution, refinement, termination; no gather, no output).
+ * Exit status: 0 success; 1 bad input, failed --check, output error (every rank); 2 usage.
+ */
+#include "pbw.h"
+#include "geom.h"
+#include "par.h"
+#include "rt.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum {
+    RS_NTRIS,
+    RS_INSERTED,
+    RS_SPLITS,
+    RS_CLOCAL,
+    RS_CREMOTE,
+    RS_ULOCAL,
+    RS_UREMOTE,
+    RS_PARKED,
+    RS_REJECTED,
+    RS_SKIPPED,
+    RS_FAILED,
+    RS_POSTPONED,
+    RS_LIMIT,
+    RS_BUSY,
+    RS_IDLE,
+    RS_HANDLER,
+    RS_COMM,
+    RS_UNDO,
+    RS_RSS,
+    RS_MESHBYTES,
+    RS_WALL,
+    RS_PHASE1,
+    RS_MPI,
+    RS_RSR,
+    RS_KIND0,
+    RS_N = RS_KIND0 + PBW_RSR_NKINDS
+};
+
+static double min_angle_of(const mesh_flat *g) {
+    double amin = 180;
+    for (int32_t t = 0; t < g->ntris; t++) {
+        const double *a = g->xy + 2 * (size_t)g->tri[3 * (size_t)t],
+                     *b = g->xy + 2 * (size_t)g->tri[3 * (size_t)t + 1],
+                     *c = g->xy + 2 * (size_t)g->tri[3 * (size_t)t + 2];
+        double an = geom_min_angle_deg(a, b, c);
+        if (an < amin) amin = an;
+    }
+    return amin;
+}
+
+int main(int argc, char **argv) {
+    int rc = rt_init(&argc, &argv, NULL);
+    if (rc != RT_OK) {
+        fprintf(stderr, "pbw: runtime initialisation failed: %s\n", rt_strerror(rc));
+        return 1;
+    }
+    int rank = rt_rank(), size = rt_size();
+    MPI_Comm comm = rt_comm();
+    par_opts o;
+    int code = 0;
+    if (par_parse_args(argc, argv, "pbw", rank, &o, &code)) {
+        rt_finalize();
+        return code;
+    }
+    if ((rc = pbw_register()) != 0) {
+        fprintf(stderr, "pbw: cannot register the handlers: %s\n", rt_strerror(rc));
+        rt_finalize();
+        return 1;
+    }
+    if (o.perturb) rt_perturb_set(o.perturb);
+    geom_init();
+    pslg in;
+    pcdm_decomp d;
+    if (par_load(&o, &in, &d) != 0) {
+        rt_finalize();
+        return 1;
+    }
+
+    MPI_Barrier(comm);
+    double t0 = rt_wtime();
+    rt_stats_reset();
+    mesh_flat local, global;
+    pbw_result res;
+    if (pbw_mesh(&o, &in, &d, &local, &res) != 0) {
+        pcdm_decomp_free(&d);
+        pslg_free(&in);
+        rt_finalize();
+        return 1;
+    }
+    double t1 = rt_wtime();
+
+    double rs[RS_N], *all = NULL;
+    memset(rs, 0, sizeof rs);
+    rt_stats st;
+    rt_stats_local(&st);
+    rs[RS_NTRIS] = (double)res.ntris;
+    rs[RS_INSERTED] = (double)res.inserted;
+    rs[RS_SPLITS] = (double)res.splits;
+    rs[RS_CLOCAL] = (double)res.cavities_local;
+    rs[RS_CREMOTE] = (double)res.cavities_remote;
+    rs[RS_ULOCAL] = (double)res.undone_local;
+    rs[RS_UREMOTE] = (double)res.undone_remote;
+    rs[RS_PARKED] = (double)res.parked;
+    rs[RS_REJECTED] = (double)res.rejected;
+    rs[RS_SKIPPED] = (double)res.skipped_small;
+    rs[RS_FAILED] = (double)res.failed;
+    rs[RS_POSTPONED] = (double)res.postponed;
+    rs[RS_LIMIT] = res.limit_hit;
+    rs[RS_BUSY] = st.time[RT_TIME_BUSY] + st.time[RT_TIME_HANDLER];
+    rs[RS_IDLE] = st.time[RT_TIME_IDLE];
+    rs[RS_HANDLER] = st.time[RT_TIME_HANDLER];
+    rs[RS_COMM] = st.time[RT_TIME_COMM];
+    rs[RS_UNDO] = st.time[RT_TIME_UNDO];
+    rs[RS_RSS] = (double)par_peak_rss_bytes();
+    rs[RS_MESHBYTES] = (double)res.mesh_bytes;
+    rs[RS_WALL] = t1 - t0;
+    rs[RS_PHASE1] = res.phase1_s;
+    rs[RS_MPI] = (double)st.mpi_sent;
+    rs[RS_RSR] = (double)st.rsr_sent;
+    for (int k = 0; k < PBW_RSR_NKINDS; k++)
+        rs[RS_KIND0 + k] = (double)res.rsr_sent[k];
+    if (rank == 0) all = malloc(sizeof(double) * RS_N * (size_t)size);
+    MPI_Gather(rs, RS_N, MPI_DOUBLE, all, RS_N, MPI_DOUBLE, 0, comm);
+
+    int fail = par_gather_mesh(&local, &in, &global) != 0;
+    mesh_flat_free(&local);
+    int status = fail ? 1 : 0;
+    if (rank == 0 && !fail) {
+        double tot[RS_N], mx[RS_N];
+        for (int k = 0; k < RS_N; k++)
+            tot[k] = mx[k] = 0;
+        for (int r = 0; r < size; r++)
+            for (int k = 0; k < RS_N; k++) {
+                double x = all[(size_t)r * RS_N + (size_t)k];
+                tot[k] += x;
+                if (x > mx[k]) mx[k] = x;
+            }
+        if (tot[RS_LIMIT] > 0)
+            fprintf(stderr, "pbw: warning: Steiner point limit (%lld) reached; quality not met\n",
+                    (long long)o.max_steiner);
+        if (par_write_outputs(&o, &global) != 0) status = 1;
+        if (o.check || o.stats) {
+            validate_report vr;
+            if (!par_validate(&o, &in, &global, &vr) && o.check) status = 1;
+        }
+        if (o.stats) {
+            for (int r = 0; r < size; r++) {
+                const double *x = all + (size_t)r * RS_N;
+                printf("rank %d: triangles=%.0f inserted=%.0f splits=%.0f cav_local=%.0f "
+                       "cav_remote=%.0f undone_local=%.0f undone_remote=%.0f parked=%.0f "
+                       "rsr_sent=%.0f busy_s=%.3f idle_s=%.3f handler_s=%.3f comm_s=%.3f "
+                       "undo_s=%.4f peak_rss_mb=%.1f\n",
+                       r, x[RS_NTRIS], x[RS_INSERTED], x[RS_SPLITS], x[RS_CLOCAL], x[RS_CREMOTE],
+                       x[RS_ULOCAL], x[RS_UREMOTE], x[RS_PARKED], x[RS_RSR], x[RS_BUSY], x[RS_IDLE],
+                       x[RS_HANDLER], x[RS_COMM], x[RS_UNDO], x[RS_RSS] / 1048576.0);
+            }
+            printf("rsr:");
+            for (int k = 0; k < PBW_RSR_NKINDS; k++)
+                printf(" %s=%.0f", pbw_rsr_kind_name[k], tot[RS_KIND0 + k]);
+            printf(" mpi_msgs=%.0f\n", tot[RS_MPI]);
+            printf("cavities: local=%.0f remote=%.0f undone_local=%.0f undone_remote=%.0f "
+                   "parked=%.0f rejected=%.0f failed=%.0f skipped_small=%.0f postponed=%.0f\n",
+                   tot[RS_CLOCAL], tot[RS_CREMOTE], tot[RS_ULOCAL], tot[RS_UREMOTE], tot[RS_PARKED],
+                   tot[RS_REJECTED], tot[RS_FAILED], tot[RS_SKIPPED], tot[RS_POSTPONED]);
+            double nonidle = tot[RS_BUSY] + tot[RS_COMM];
+            double nt = global.ntris > 0 ? (double)global.ntris : 1;
+            printf("stats: ranks=%d triangles=%ld vertices=%ld rsr=%.0f undone=%.0f "
+                   "min_angle=%.4f wall_s=%.3f busy_max_s=%.3f busy_sum_s=%.3f comm_pct=%.2f "
+                   "undo_pct=%.2f speedup_model=%.2f peak_rss_mb=%.1f bytes_per_tri=%.1f "
+                   "mesh_bytes_per_tri=%.1f phase1_s=%.3f\n",
+                   size, (long)global.ntris, (long)global.nverts, tot[RS_RSR],
+                   tot[RS_ULOCAL] + tot[RS_UREMOTE], min_angle_of(&global), mx[RS_WALL],
+                   mx[RS_BUSY], tot[RS_BUSY],
+                   nonidle > 0 ? 100.0 * (tot[RS_HANDLER] + tot[RS_COMM]) / nonidle : 0.0,
+                   nonidle > 0 ? 100.0 * tot[RS_UNDO] / nonidle : 0.0,
+                   mx[RS_BUSY] > 0 ? tot[RS_BUSY] / mx[RS_BUSY] : 0.0, mx[RS_RSS] / 1048576.0,
+                   tot[RS_RSS] / nt, tot[RS_MESHBYTES] / nt, mx[RS_PHASE1]);
+        }
+        fflush(stdout);
+    }
+    MPI_Bcast(&status, 1, MPI_INT, 0, comm);
+    if (rank == 0) mesh_flat_free(&global);
+    free(all);
+    pcdm_decomp_free(&d);
+    pslg_free(&in);
+    rt_finalize();
+    return status;
+}

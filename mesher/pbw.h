@@ -1,0 +1,72 @@
+/* pbw: the Parallel Meshing Algorithm of TR-97-17 section 2 -- a parallel Bowyer-Watson
+ * (Chew-Ruppert) Delaunay refinement of ONE distributed mesh, without artificial constraints.
+ *
+ * The initial boundary-conforming CDT of the input is partitioned among the ranks (every
+ * triangle has one owner; neighbours across ranks are (owner rank, slot) names).  Every rank
+ * refines its own bad triangles; a cavity that reaches triangles owned by other ranks is
+ * expanded by remote service requests, locked on every rank it touches, and either committed
+ * everywhere or released everywhere (undo).  See pbw.c for the protocol and its progress
+ * argument.
+ *
+ * Collective = every rank of rt_comm() calls it; Local otherwise.
+ */
+#ifndef PBW_H
+#define PBW_H
+
+#include <stdint.h>
+
+#include "meshio.h"
+#include "par.h"
+#include "pcdm_decomp.h"
+#include "pslg.h"
+
+/* RSR kinds, in handler registration order (the per-kind counts in pbw_result). */
+enum {
+    PBW_RSR_EXPAND,  /* remote cavity expansion (first hop: rt_request; later hops: rt_forward) */
+    PBW_RSR_REPLY,   /* the chain's answer to the waiting task (rt_reply) */
+    PBW_RSR_RELEASE, /* undo: release a cavity's locks on a participant */
+    PBW_RSR_COMMIT,  /* create the new triangles, fix links, unlock */
+    PBW_RSR_SPLIT,   /* split an encroached boundary subsegment (sent to its owner) */
+    PBW_RSR_WAKE,    /* a lock a died cavity ran into was released: retry */
+    PBW_RSR_NKINDS
+};
+
+/* Names of the kinds above ("expansion", "reply", ...). */
+extern const char *const pbw_rsr_kind_name[PBW_RSR_NKINDS];
+
+/* Per-rank outcome and counters of one pbw_mesh call. */
+typedef struct pbw_result {
+    int64_t ntris;           /* live triangles owned by this rank at the end */
+    int64_t steiner;         /* vertices this rank created */
+    int64_t inserted;        /* circumcenters / off-centers inserted by this rank */
+    int64_t splits;          /* subsegment splits initiated by this rank */
+    int64_t cavities_local;  /* committed cavities that touched no other rank */
+    int64_t cavities_remote; /* committed cavities that crossed ranks */
+    int64_t undone_local;    /* attempts abandoned on a lock before any RSR was sent */
+    int64_t undone_remote;   /* distributed cavities released everywhere after a conflict */
+    int64_t parked;          /* remote expansions that waited for an older-holds-younger lock */
+    int64_t rejected;        /* Steiner points discarded because they encroach (split instead) */
+    int64_t skipped_small;   /* bad triangles left alone: small angle forced by the input */
+    int64_t failed;          /* insertions abandoned (degenerate / not star-shaped) */
+    int64_t postponed;       /* --phases: nonlocal cavities put off to phase 2 */
+    int limit_hit;           /* the Steiner limit stopped this rank */
+    int32_t pre_tris;        /* triangles of the initial mesh (all ranks, before distribution) */
+    uint64_t rsr_sent[PBW_RSR_NKINDS]; /* RSRs this rank sent, by kind */
+    double phase1_s;                   /* --phases: seconds of phase 1 (0 otherwise) */
+    size_t mesh_bytes;                 /* bytes of this rank's mesh arrays (capacities) */
+} pbw_result;
+
+/* Registers PBW's RSR handlers.  Local but SPMD: every rank, same order, before any rt_run.
+ * Returns 0 or a negative RT_E* code. */
+int pbw_register(void);
+
+/* Collective.  Builds the initial CDT of in on every rank, distributes its triangles by the
+ * subdomains of d (triangle centroid -> subdomain -> d->sub_owner), refines the distributed
+ * mesh with o's bounds (-q, -a, -S, --phases) and fills *local with this rank's triangles
+ * (local vertex numbering, trank = rank, the subsegments of its triangles); *local is the
+ * caller's (mesh_flat_free).  res may be NULL.  Returns 0, or -1 on every rank (after rank 0
+ * printed the message) if the CDT cannot be built. */
+int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat *local,
+             pbw_result *res);
+
+#endif
