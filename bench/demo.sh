@@ -7,10 +7,11 @@ out=out/demo
 mkdir -p "$out"
 if [ "$(id -u)" -eq 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
 np=${NP:-4}
-cmd=(mpirun --oversubscribe -np "$np" ./pcdm -q 30 -a 0.0005 -o "$out/lake" --vtk "$out/lake.vtk"
+area=${AREA:-0.00003} # about 120K triangles
+cmd=(mpirun --oversubscribe -np "$np" ./pcdm -q 30 -a "$area" -o "$out/lake" --vtk "$out/lake.vtk"
      --svg "$out/lake.svg" --stats data/lake.poly)
 echo "demo: ${cmd[*]}"
 timeout 300 "${cmd[@]}"
-./meshcheck data/lake.poly "$out/lake" -q 30 -a 0.0005
+./meshcheck data/lake.poly "$out/lake" -q 30 -a "$area"
 echo "demo: wrote $out/lake.node $out/lake.ele $out/lake.poly (Triangle format),"
 echo "      $out/lake.vtk (open in ParaView) and $out/lake.svg (open in a browser)"

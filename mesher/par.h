@@ -45,6 +45,10 @@ typedef struct par_opts {
  * `rank` == 0 prints. */
 int par_parse_args(int argc, char **argv, const char *prog, int rank, par_opts *o, int *code);
 
+/* Largest number of subdomains par_load lets the automatic decomposition attempt (its cost
+ * grows steeply with K, and every rank computes it); more is refused with a clear message. */
+#define PAR_MAX_SUBDOMAINS 256
+
 /* Collective.  Every rank reads and checks o->input and builds the decomposition (auto or
  * --cuts) for rt_size() ranks.  On any error rank 0 prints the one message and every rank
  * returns -1 (the caller then exits non-zero after rt_finalize). */

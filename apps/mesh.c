@@ -1,0 +1,245 @@
+/* mesh: the sequential quality mesher.  ./mesh [options] input.poly
+ *
+ * Reads a PSLG (Triangle's .poly or .node), builds its constrained Delaunay triangulation and
+ * refines it with Ruppert/Chew Delaunay refinement (mesher/mesh.h), then writes the requested
+ * outputs.  Bad input: one message "FILE:LINE: problem" and exit status 1.  With --stats the
+ * last line printed is
+ *   stats: triangles=N vertices=N steiner=N min_angle=D max_area=A wall_s=T peak_rss_mb=M
+ *          bytes_per_tri=B
+ * (one line) where wall_s is the meshing time (triangulation + refinement, no file I/O) and
+ * bytes_per_tri is the process's peak resident memory divided by the number of triangles.
+ */
+#include "mesh.h"
+#include "geom.h"
+#include "meshio.h"
+#include "pslg.h"
+#include "validate.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <time.h>
+#include <unistd.h>
+
+static double now(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void usage(FILE *f) {
+    fprintf(f,
+            "usage: ./mesh [options] input.poly\n"
+            "Constrained Delaunay triangulation + Ruppert/Chew quality refinement.\n"
+            "  -q DEG        minimum angle bound in degrees (default 20.7; -q 0: no angle bound)\n"
+            "  -a AREA       maximum triangle area (default: none)\n"
+            "  -S N          at most N Steiner points\n"
+            "  -o PREFIX     write PREFIX.node, PREFIX.ele, PREFIX.poly\n"
+            "  --vtk FILE    write a legacy VTK file\n"
+            "  --svg FILE    write an SVG picture\n"
+            "  --stats       print the statistics line last\n"
+            "  --check       validate the mesh (exit 1 if it fails)\n"
+            "  --progress    progress on stderr even when it is not a terminal\n"
+            "  --circumcenters  insert circumcenters only (no off-centers)\n"
+            "  --lens        diametral lenses decide encroachment (as Triangle -q); default:\n"
+            "                diametral circles (Ruppert)\n"
+            "  --cdt-only    no refinement at all\n"
+            "  --help        this text\n");
+}
+
+typedef struct progress {
+    int on;
+    double t0, last;
+    mesh *m;
+} progress;
+
+static int poll_progress(void *ctx) {
+    progress *p = ctx;
+    if (!p->on) return 0;
+    double t = now();
+    if (t - p->last >= 2.0) {
+        p->last = t;
+        fprintf(stderr, "mesh: %.1f s  %ld triangles  %ld vertices\n", t - p->t0, (long)p->m->nlive,
+                (long)p->m->nv);
+    }
+    return 0;
+}
+
+static int parse_double(const char *s, double *out) {
+    char *end;
+    double v = strtod(s, &end);
+    if (end == s || *end) return -1;
+    *out = v;
+    return 0;
+}
+
+int main(int argc, char **argv) {
+    double qdeg = 20.7, area = 0;
+    long long steiner = -1;
+    const char *input = NULL, *prefix = NULL, *vtk = NULL, *svg = NULL;
+    int stats = 0, check = 0, prog = 0, offc = 1, cdt_only = 0, lens = 0;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        const char *val = NULL;
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            usage(stdout);
+            return 0;
+        } else if (!strcmp(a, "--stats")) {
+            stats = 1;
+        } else if (!strcmp(a, "--check")) {
+            check = 1;
+        } else if (!strcmp(a, "--progress")) {
+            prog = 1;
+        } else if (!strcmp(a, "--circumcenters")) {
+            offc = 0;
+        } else if (!strcmp(a, "--lens")) {
+            lens = 1;
+        } else if (!strcmp(a, "--cdt-only")) {
+            cdt_only = 1;
+        } else if (!strcmp(a, "--vtk") || !strcmp(a, "--svg")) {
+            if (i + 1 >= argc) {
+                fprintf(stderr, "mesh: %s needs a file name\n", a);
+                return 1;
+            }
+            if (!strcmp(a, "--vtk"))
+                vtk = argv[++i];
+            else
+                svg = argv[++i];
+        } else if (a[0] == '-' && (a[1] == 'q' || a[1] == 'a' || a[1] == 'S' || a[1] == 'o') &&
+                   a[1] != 0) {
+            if (a[2])
+                val = a + 2;
+            else if (i + 1 < argc)
+                val = argv[++i];
+            else {
+                fprintf(stderr, "mesh: option %s needs a value\n", a);
+                return 1;
+            }
+            double d = 0;
+            if (a[1] == 'o') {
+                prefix = val;
+            } else if (parse_double(val, &d) != 0 || d < 0) {
+                fprintf(stderr, "mesh: option -%c: bad value '%s'\n", a[1], val);
+                return 1;
+            } else if (a[1] == 'q') {
+                if (d > 60) {
+                    fprintf(stderr, "mesh: -q %g: the angle bound must be at most 60 degrees\n", d);
+                    return 1;
+                }
+                qdeg = d;
+            } else if (a[1] == 'a') {
+                area = d;
+            } else {
+                steiner = (long long)d;
+            }
+        } else if (a[0] == '-') {
+            fprintf(stderr, "mesh: unknown option '%s' (try --help)\n", a);
+            return 1;
+        } else if (!input) {
+            input = a;
+        } else {
+            fprintf(stderr, "mesh: more than one input file ('%s', '%s')\n", input, a);
+            return 1;
+        }
+    }
+    if (!input) {
+        usage(stderr);
+        return 1;
+    }
+    if (qdeg > 34)
+        fprintf(stderr, "mesh: warning: -q %g above about 34 degrees may not terminate\n", qdeg);
+
+    geom_init();
+    char err[1024];
+    pslg g;
+    if (pslg_read(input, &g, err, sizeof err) != 0) {
+        fprintf(stderr, "mesh: %s\n", err);
+        return 1;
+    }
+    if (pslg_check(&g, err, sizeof err) != 0) {
+        fprintf(stderr, "mesh: %s\n", err);
+        pslg_free(&g);
+        return 1;
+    }
+    double t0 = now();
+    mesh m;
+    mesh_init(&m);
+    if (mesh_build_cdt(&m, &g, NULL, err, sizeof err) != 0) {
+        fprintf(stderr, "mesh: %s\n", err);
+        mesh_free(&m);
+        pslg_free(&g);
+        return 1;
+    }
+    progress pr = {prog || isatty(2), t0, t0, &m};
+    mesh_hooks h = {NULL, poll_progress, 4096, &pr};
+    mesh_set_hooks(&m, &h);
+    mesh_refine_result rr = MESH_REFINE_DONE;
+    if (!cdt_only) {
+        /* the refiner's bound sits a hair above the requested one so rounding in the quality
+         * test can never leave a triangle a few ulps below it */
+        mesh_quality q = {qdeg > 0 ? qdeg * (1 + 1e-9) + 1e-12 : 0, area, steiner, offc, lens};
+        mesh_set_quality(&m, &q);
+        rr = mesh_refine(&m);
+    }
+    double wall = now() - t0;
+    if (rr == MESH_REFINE_STEINER_LIMIT)
+        fprintf(stderr, "mesh: warning: Steiner point limit (%lld) reached; quality not met\n",
+                steiner);
+
+    int rc = 0;
+    mesh_flat f;
+    int need_flat = prefix || vtk || svg || check;
+    if (need_flat && mesh_to_flat(&m, &f) != 0) {
+        fprintf(stderr, "mesh: out of memory\n");
+        return 1;
+    }
+    if (prefix && meshio_write_triangle(&f, prefix, err, sizeof err) != 0) {
+        fprintf(stderr, "mesh: %s\n", err);
+        rc = 1;
+    }
+    if (vtk && meshio_write_vtk(&f, vtk, err, sizeof err) != 0) {
+        fprintf(stderr, "mesh: %s\n", err);
+        rc = 1;
+    }
+    if (svg && meshio_write_svg(&f, svg, err, sizeof err) != 0) {
+        fprintf(stderr, "mesh: %s\n", err);
+        rc = 1;
+    }
+    if (check) {
+        validate_opts vo = {cdt_only ? 0 : qdeg, cdt_only ? 0 : area, 0};
+        validate_report vr;
+        if (!mesh_validate(&g, &f, &vo, &vr)) rc = 1;
+        validate_report_print(&vr, stdout);
+    }
+    if (stats) {
+        double amin = 180, amax = 0;
+        for (int32_t t = 0; t < m.nt; t++) {
+            if (!mesh_tri_alive(&m, t)) continue;
+            const double *a = mesh_vertex_xy(&m, m.tv[3 * t]),
+                         *b = mesh_vertex_xy(&m, m.tv[3 * t + 1]),
+                         *c = mesh_vertex_xy(&m, m.tv[3 * t + 2]);
+            double an = geom_min_angle_deg(a, b, c), ar = geom_area(a, b, c);
+            if (an < amin) amin = an;
+            if (ar > amax) amax = ar;
+        }
+        struct rusage ru;
+        getrusage(RUSAGE_SELF, &ru);
+        double rss = (double)ru.ru_maxrss * 1024.0;
+        const mesh_stats *s = &m.stats;
+        fprintf(stderr,
+                "mesh: inserted=%lld seg_splits=%lld rejected=%lld blocked=%lld "
+                "skipped_small=%lld failed=%lld mesh_bytes_per_tri=%.1f\n",
+                (long long)s->inserted, (long long)s->seg_splits, (long long)s->rejected,
+                (long long)s->blocked, (long long)s->skipped_small, (long long)s->failed,
+                m.nlive ? (double)mesh_memory_bytes(&m) / m.nlive : 0.0);
+        printf("stats: triangles=%ld vertices=%ld steiner=%ld min_angle=%.4f max_area=%.6g "
+               "wall_s=%.3f peak_rss_mb=%.1f bytes_per_tri=%.1f\n",
+               (long)m.nlive, (long)m.nv, (long)(m.nv - m.ninput), amin, amax, wall,
+               rss / 1048576.0, m.nlive ? rss / m.nlive : 0.0);
+    }
+    if (need_flat) mesh_flat_free(&f);
+    mesh_free(&m);
+    pslg_free(&g);
+    return rc;
+}

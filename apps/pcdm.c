@@ -1,0 +1,251 @@
+/* pcdm: Parallel Constrained Delaunay Meshing (Chew, Chrisochoides, Sukup, TR-97-17).
+ *
+ *   mpirun -np P ./pcdm [options] input.poly        (options: ./pcdm --help)
+ *
+ * SPMD main: every rank reads the input and computes the same decomposition (par_load), builds
+ * the coarse CDT of the augmented PSLG, keeps its own subdomains and refines them; the only
+ * remote service request is "split constraint edge" (mesher/pcdm.c).  After the runtime's
+ * termination detector ends rt_run on every rank, the pieces are merged on rank 0
+ * (par_gather_mesh), written (par_write_outputs) and optionally validated with interface edges
+ * required to be locally Delaunay too.
+ *
+ * --stats prints one line per rank ("rank R: ...") and last, on rank 0:
+ *   stats: ranks=P triangles=N vertices=N rsr=S min_angle=D wall_s=T busy_max_s=B busy_sum_s=U
+ *          subdomains=K idle_max_s=I max_area=A ignored=G mpi_msgs=M speedup_model=X
+ *          peak_rss_mb=R bytes_per_tri=Y mesh_bytes_per_tri=Z gather_s=W cpu_max_s=C
+ *          cpu_sum_s=E
+ * (one line).  wall_s runs from a barrier after input loading and decomposition to the moment
+ * the last rank left rt_run (CDT build + region selection + refinement + termination; no
+ * gather, no file output) -- the same span as ./mesh's wall_s.  busy = time in local work and
+ * handlers (rt_stats RT_TIME_BUSY + RT_TIME_HANDLER); speedup_model = busy_sum / busy_max.
+ * cpu = CPU seconds (getrusage) over the wall_s span: unlike busy, it does not grow when the
+ * machine is oversubscribed, so it measures work, not contention.
+ * peak_rss_mb is the largest rank's peak RSS before the gather, bytes_per_tri the sum over
+ * ranks of that peak RSS divided by the number of triangles, mesh_bytes_per_tri the mesh
+ * arrays alone (mesh_memory_bytes summed over ranks / triangles).
+ * Exit status: 0 success; 1 bad input, a failed --check, or an output error (every rank);
+ * 2 bad usage.
+ */
+#include "pcdm.h"
+#include "geom.h"
+#include "mesh.h"
+#include "par.h"
+#include "rt.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+
+enum {
+    RS_NTRIS,
+    RS_NVERTS,
+    RS_NSUB,
+    RS_SENT,
+    RS_RECV,
+    RS_IGNORED,
+    RS_NOTFOUND,
+    RS_BUSY,
+    RS_IDLE,
+    RS_HANDLER,
+    RS_COMM,
+    RS_RSS,
+    RS_MESHBYTES,
+    RS_INSERTED,
+    RS_MPI,
+    RS_WALL,
+    RS_CPU,
+    RS_N
+};
+
+static double min_angle_of(const mesh_flat *g, double *max_area);
+
+/* CPU seconds (user + system) of this process so far, all threads. */
+static double cpu_seconds(void) {
+    struct rusage ru;
+    if (getrusage(RUSAGE_SELF, &ru) != 0) return 0;
+    return (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec +
+           (double)ru.ru_stime.tv_sec + 1e-6 * (double)ru.ru_stime.tv_usec;
+}
+
+int main(int argc, char **argv) {
+    int rc = rt_init(&argc, &argv, NULL);
+    if (rc != RT_OK) {
+        fprintf(stderr, "pcdm: runtime initialisation failed: %s\n", rt_strerror(rc));
+        return 1;
+    }
+    int rank = rt_rank(), size = rt_size();
+    MPI_Comm comm = rt_comm();
+    par_opts o;
+    int code = 0;
+    if (par_parse_args(argc, argv, "pcdm", rank, &o, &code)) {
+        rt_finalize();
+        return code;
+    }
+    if (o.phases) {
+        if (rank == 0) fprintf(stderr, "pcdm: --phases is a ./pbw option\n");
+        rt_finalize();
+        return 2;
+    }
+    if ((rc = pcdm_register()) != 0) {
+        fprintf(stderr, "pcdm: cannot register the split handler: %s\n", rt_strerror(rc));
+        rt_finalize();
+        return 1;
+    }
+    if (o.perturb) rt_perturb_set(o.perturb);
+
+    pslg in;
+    pcdm_decomp d;
+    if (par_load(&o, &in, &d) != 0) {
+        rt_finalize();
+        return 1;
+    }
+
+    /* wall_s starts here: input read, checked and decomposed on every rank */
+    MPI_Barrier(comm);
+    double t0 = rt_wtime(), c0 = cpu_seconds();
+    char err[1024], msg[1200];
+    pcdm_part part;
+    rc = pcdm_part_build(&part, &d, rank, err, sizeof err);
+    snprintf(msg, sizeof msg, "pcdm: %s", err);
+    if (par_fail_any(rc != 0, msg)) {
+        if (rc == 0) pcdm_part_free(&part);
+        pcdm_decomp_free(&d);
+        pslg_free(&in);
+        rt_finalize();
+        return 1;
+    }
+    part.progress = o.progress && rank == 0;
+    mesh_quality q;
+    memset(&q, 0, sizeof q);
+    /* a hair above the requested bound, as ./mesh does, so rounding in the quality test can
+     * never leave a triangle a few ulps below it */
+    q.min_angle = o.min_angle > 0 ? o.min_angle * (1 + 1e-9) + 1e-12 : 0;
+    q.max_area = o.max_area;
+    q.offcenter = 1; /* as ./mesh; lens stays 0: diametral circles make the interface
+                        subsegments Delaunay edges of the merged mesh */
+    q.max_steiner = -1;
+    if (o.max_steiner >= 0) { /* the global budget shared by target weight */
+        double share = 0;
+        for (int32_t s = 0; s < d.nsub; s++)
+            if (d.sub_owner[s] == rank) share += d.sub_target[s];
+        q.max_steiner = (int64_t)((double)o.max_steiner * share);
+    }
+    rt_stats_reset();
+    pcdm_part_refine(&part, &q, 300);
+    double t1 = rt_wtime();
+
+    /* per-rank record */
+    double rs[RS_N], *all = NULL;
+    rt_stats st;
+    rt_stats_local(&st);
+    memset(rs, 0, sizeof rs);
+    rs[RS_NTRIS] = part.m.nlive;
+    rs[RS_NVERTS] = part.m.nv;
+    rs[RS_NSUB] = part.nsub_owned;
+    rs[RS_SENT] = (double)part.split_sent;
+    rs[RS_RECV] = (double)part.split_recv;
+    rs[RS_IGNORED] = (double)part.split_ignored;
+    rs[RS_NOTFOUND] = (double)part.split_notfound;
+    rs[RS_BUSY] = st.time[RT_TIME_BUSY] + st.time[RT_TIME_HANDLER];
+    rs[RS_IDLE] = st.time[RT_TIME_IDLE];
+    rs[RS_HANDLER] = st.time[RT_TIME_HANDLER];
+    rs[RS_COMM] = st.time[RT_TIME_COMM];
+    rs[RS_RSS] = (double)par_peak_rss_bytes();
+    rs[RS_MESHBYTES] = (double)mesh_memory_bytes(&part.m);
+    rs[RS_INSERTED] = (double)part.m.stats.inserted;
+    rs[RS_MPI] = (double)st.mpi_sent;
+    rs[RS_WALL] = t1 - t0;
+    rs[RS_CPU] = cpu_seconds() - c0;
+    if (rank == 0) all = malloc(sizeof(double) * RS_N * (size_t)size);
+    MPI_Gather(rs, RS_N, MPI_DOUBLE, all, RS_N, MPI_DOUBLE, 0, comm);
+    int limit_any = 0;
+    MPI_Reduce(&part.limit_hit, &limit_any, 1, MPI_INT, MPI_MAX, 0, comm);
+
+    /* merge on rank 0 */
+    double tg0 = rt_wtime();
+    mesh_flat local, global;
+    int fail = pcdm_part_flat(&part, &local) != 0;
+    if (par_fail_any(fail, "pcdm: out of memory converting the mesh")) {
+        if (!fail) mesh_flat_free(&local);
+        pcdm_part_free(&part);
+        pcdm_decomp_free(&d);
+        pslg_free(&in);
+        free(all);
+        rt_finalize();
+        return 1;
+    }
+    pcdm_part_free(&part);
+    fail = par_gather_mesh(&local, &in, &global) != 0;
+    mesh_flat_free(&local);
+    double tg = rt_wtime() - tg0;
+
+    int status = fail ? 1 : 0;
+    if (rank == 0 && !fail) {
+        if (limit_any)
+            fprintf(stderr, "pcdm: warning: Steiner point limit (%lld) reached; quality not met\n",
+                    (long long)o.max_steiner);
+        if (par_write_outputs(&o, &global) != 0) status = 1;
+        if (o.check) {
+            validate_report vr;
+            if (!par_validate(&o, &in, &global, &vr)) status = 1;
+        }
+        if (o.stats) {
+            double tot[RS_N], mx[RS_N];
+            for (int k = 0; k < RS_N; k++)
+                tot[k] = mx[k] = 0;
+            for (int r = 0; r < size; r++) {
+                const double *x = all + (size_t)r * RS_N;
+                printf("rank %d: subdomains=%.0f triangles=%.0f vertices=%.0f inserted=%.0f "
+                       "split_sent=%.0f split_recv=%.0f split_ignored=%.0f busy_s=%.3f "
+                       "idle_s=%.3f handler_s=%.3f comm_s=%.3f cpu_s=%.3f mpi_msgs=%.0f "
+                       "peak_rss_mb=%.1f\n",
+                       r, x[RS_NSUB], x[RS_NTRIS], x[RS_NVERTS], x[RS_INSERTED], x[RS_SENT],
+                       x[RS_RECV], x[RS_IGNORED], x[RS_BUSY], x[RS_IDLE], x[RS_HANDLER], x[RS_COMM],
+                       x[RS_CPU], x[RS_MPI], x[RS_RSS] / 1048576.0);
+                for (int k = 0; k < RS_N; k++) {
+                    tot[k] += x[k];
+                    if (x[k] > mx[k]) mx[k] = x[k];
+                }
+            }
+            if (tot[RS_NOTFOUND] > 0)
+                fprintf(stderr, "pcdm: warning: %.0f split requests named no subsegment\n",
+                        tot[RS_NOTFOUND]);
+            double amax = 0, amin = min_angle_of(&global, &amax);
+            double nt = global.ntris > 0 ? (double)global.ntris : 1;
+            printf("stats: ranks=%d triangles=%ld vertices=%ld rsr=%.0f min_angle=%.4f "
+                   "wall_s=%.3f busy_max_s=%.3f busy_sum_s=%.3f subdomains=%d idle_max_s=%.3f "
+                   "max_area=%.6g ignored=%.0f mpi_msgs=%.0f speedup_model=%.2f "
+                   "peak_rss_mb=%.1f bytes_per_tri=%.1f mesh_bytes_per_tri=%.1f gather_s=%.3f "
+                   "cpu_max_s=%.3f cpu_sum_s=%.3f\n",
+                   size, (long)global.ntris, (long)global.nverts, tot[RS_SENT], amin, mx[RS_WALL],
+                   mx[RS_BUSY], tot[RS_BUSY], (int)d.nsub, mx[RS_IDLE], amax, tot[RS_IGNORED],
+                   tot[RS_MPI], mx[RS_BUSY] > 0 ? tot[RS_BUSY] / mx[RS_BUSY] : 0.0,
+                   mx[RS_RSS] / 1048576.0, tot[RS_RSS] / nt, tot[RS_MESHBYTES] / nt, tg, mx[RS_CPU],
+                   tot[RS_CPU]);
+        }
+        fflush(stdout);
+    }
+    MPI_Bcast(&status, 1, MPI_INT, 0, comm);
+    if (rank == 0) mesh_flat_free(&global);
+    free(all);
+    pcdm_decomp_free(&d);
+    pslg_free(&in);
+    rt_finalize();
+    return status;
+}
+
+/* Smallest angle (degrees) over the merged mesh; *max_area gets the largest area. */
+static double min_angle_of(const mesh_flat *g, double *max_area) {
+    double amin = 180, amax = 0;
+    for (int32_t t = 0; t < g->ntris; t++) {
+        const double *a = g->xy + 2 * (size_t)g->tri[3 * (size_t)t],
+                     *b = g->xy + 2 * (size_t)g->tri[3 * (size_t)t + 1],
+                     *c = g->xy + 2 * (size_t)g->tri[3 * (size_t)t + 2];
+        double an = geom_min_angle_deg(a, b, c), ar = geom_area(a, b, c);
+        if (an < amin) amin = an;
+        if (ar > amax) amax = ar;
+    }
+    *max_area = amax;
+    return amin;
+}

@@ -1,0 +1,508 @@
+#!/usr/bin/env bash
+# make bench (QUICK=1: make bench-quick) -- the research baseline for PCDM vs PBW.
+#
+# Reproduces TR-97-17 section 4 (Tables 2 and 3, the PBW overhead breakdown, the primitive
+# costs, Figures 1 and 3) on this machine and goes beyond it (1M / 10M triangles against ./mesh
+# and Triangle, memory per triangle, RSRs per 1000 triangles).  Every run is appended to
+# bench/results/runs.tsv; bench/report.py turns that into bench/results/report.md, one CSV per
+# table and SVG figures, and prints the summary whose last line is
+#   bench: pcdm_rsr_8=N pbw_rsr_8=M ratio_8=R pcdm_wall_8=S pbw_wall_8=T pcdm_speedup_model_8=X pbw_speedup_model_8=Y
+#
+# Environment: QUICK=1 (1 repetition, no 10M run), REPS=N (override repetitions),
+# DOMAIN=data/lake.poly, QDEG=20.7, MESH/PCDM/PBW=program paths, B=build dir (default build),
+# RUN_TIMEOUT=seconds per run, NO_10M=1, NO_TRIANGLE=1.
+# Exit status: 0 when every program existed and every run that was started succeeded; 1 otherwise
+# (the report and the summary line are still written, with NA and a message for whatever is
+# missing or failed).  Runs skipped because the time budget ran out are reported, not fatal.
+set -uo pipefail
+cd "$(dirname "$0")/.."
+ROOT=$(pwd)
+# The whole script is one brace group, so bash reads it completely before running any of it:
+# editing bench.sh while a bench runs cannot change the running one.
+{
+
+QUICK=${QUICK:-0}
+[ "$QUICK" = 0 ] && QUICK=""
+if [ -n "$QUICK" ]; then REPS=${REPS:-1}; MODE=quick; else REPS=${REPS:-3}; MODE=full; fi
+DOMAIN=${DOMAIN:-data/lake.poly}
+QDEG=${QDEG:-20.7}
+B=${B:-build}
+MESH=${MESH:-./mesh}
+PCDM=${PCDM:-./pcdm}
+PBW=${PBW:-./pbw}
+# Per-run timeouts (seconds) for the paper-size runs, the 1M and the 10M runs; BUDGET is the
+# whole run's: past it, remaining runs are skipped (and reported as skipped), and no run may
+# outlast it, so a hanging program cannot blow the time limit (make bench: 15 min, quick: 2 min).
+if [ -n "$QUICK" ]; then RUN_TIMEOUT=${RUN_TIMEOUT:-20}; else RUN_TIMEOUT=${RUN_TIMEOUT:-30}; fi
+TIMEOUT_1M=${TIMEOUT_1M:-150}
+TIMEOUT_10M=${TIMEOUT_10M:-300}
+if [ -n "$QUICK" ]; then BUDGET=${BUDGET:-105}; else BUDGET=${BUDGET:-840}; fi
+NPS="1 2 4 8"
+R=bench/results
+VENV_PY=$ROOT/build/bench-venv/bin/python
+
+if [ "$(id -u)" -eq 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
+# Open MPI may otherwise warn (and slow down) about the missing high-speed network in containers.
+export OMPI_MCA_btl_base_warn_component_unused=0
+
+rm -rf "$R"
+mkdir -p "$R/logs" "$R/tmp"
+RUNS=$R/runs.tsv
+CMDS=$R/commands.txt
+META=$R/meta.txt
+TIMES=$R/sections.tsv
+NOTES=$R/notes.txt
+CALIB=$R/calibration.tsv
+: >"$CMDS"; : >"$NOTES"; : >"$TIMES"; : >"$CALIB"
+printf 'section\tlabel\tprog\tnp\timbalance\tarea\trep\trc\text_s\trss_sum_kb\trss_max_kb\tlog\tstats\n' >"$RUNS"
+
+T_START=$(date +%s.%N)
+now() { date +%s.%N; }
+since() { awk -v a="$1" -v b="$(now)" 'BEGIN{printf "%.1f", b-a}'; }
+note() { echo "bench: $*"; echo "$*" >>"$NOTES"; }
+FAILED=0
+
+# ---------------------------------------------------------------- machine and commit
+{
+    echo "mode=$MODE"
+    echo "reps=$REPS"
+    echo "date=$(date -u '+%Y-%m-%d %H:%M:%S UTC')"
+    echo "host=$(uname -n)"
+    echo "kernel=$(uname -sr)"
+    echo "nproc=$(nproc)"
+    echo "cpu=$(grep -m1 'model name' /proc/cpuinfo 2>/dev/null | sed 's/.*: //')"
+    echo "mem=$(awk '/MemTotal/{printf "%.1f GiB", $2/1048576}' /proc/meminfo 2>/dev/null)"
+    c=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
+    if [ -n "$(git status --porcelain 2>/dev/null)" ]; then c="$c-dirty"; fi
+    echo "commit=$c"
+    echo "mpirun=$(mpirun --version 2>/dev/null | head -1)"
+    echo "cc=$(mpicc --version 2>/dev/null | head -1)"
+    echo "domain=$DOMAIN"
+    echo "loadavg_start=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null)"
+    echo "qdeg=$QDEG"
+    echo "invocation=$( [ -n "$QUICK" ] && echo 'make bench-quick (QUICK=1 bash bench/bench.sh)' || echo 'make bench (bash bench/bench.sh)')"
+} >"$META"
+echo "bench: $MODE mode, $REPS repetition(s) per cell; results in $R/"
+sed 's/^/bench:   /' "$META"
+
+# ---------------------------------------------------------------- programs present?
+have() { [ -x "$1" ]; }
+HAVE_MESH=0; HAVE_PCDM=0; HAVE_PBW=0
+have "$MESH" && HAVE_MESH=1
+have "$PCDM" && HAVE_PCDM=1
+have "$PBW" && HAVE_PBW=1
+for p in "MESH:$MESH:$HAVE_MESH" "PCDM:$PCDM:$HAVE_PCDM" "PBW:$PBW:$HAVE_PBW"; do
+    IFS=: read -r name path ok <<<"$p"
+    if [ "$ok" = 0 ]; then
+        note "MISSING $path (not built: run 'make' and read its errors) -- every $name run is skipped and reported as missing"
+        echo "missing=$path" >>"$META"
+        FAILED=1
+    fi
+done
+if ! [ -f "$DOMAIN" ]; then
+    echo "bench: error: domain $DOMAIN not found" >&2
+    exit 1
+fi
+
+# ---------------------------------------------------------------- one run
+# run_one SECTION LABEL PROG NP IMBALANCE AREA REP [extra args...]
+# PROG is mesh|pcdm|pbw.  With MEASURE_RSS=1 every process (each rank) runs under a wrapper that
+# appends its peak RSS in KiB to a file, so memory = sum over ranks of each rank's peak:
+# /usr/bin/time -f %M (installed with apt-get when missing and we are root), else a python
+# getrusage(RUSAGE_CHILDREN) shim.
+MEASURE_RSS=0
+RSS_WRAP=()
+rss_wrapper() { # rss_wrapper FILE -> sets RSS_WRAP
+    if [ -x /usr/bin/time ]; then
+        RSS_WRAP=(/usr/bin/time -a -o "$1" -f %M)
+    else
+        RSS_WRAP=("$PYEXE" -c 'import resource,subprocess,sys
+r=subprocess.call(sys.argv[2:])
+with open(sys.argv[1],"a") as f: f.write("%d\n"%resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)
+sys.exit(r)' "$1")
+    fi
+}
+if ! [ -x /usr/bin/time ] && [ "$(id -u)" -eq 0 ] && command -v apt-get >/dev/null; then
+    echo "bench: /usr/bin/time missing; apt-get install -y time"
+    timeout 120 apt-get install -y -q time >/dev/null 2>&1 || echo "bench: could not install time; using a python getrusage shim"
+fi
+# The real interpreter (a pyenv shim costs seconds per start).
+PYEXE=$(python3 -c 'import sys; print(sys.executable)' 2>/dev/null || echo python3)
+RUN_N=0
+SEC_TIMEOUT=$RUN_TIMEOUT
+declare -A HUNG=()
+BUDGET_NOTED=0
+run_timeout() { # min(SEC_TIMEOUT, seconds left in BUDGET), at least 5
+    awk -v t="$SEC_TIMEOUT" -v b="$BUDGET" -v s="$T_START" -v n="$(now)" \
+        'BEGIN{l=b-(n-s); if (l<t) t=l; if (t<5) t=5; printf "%d", t}'
+}
+# over_budget [MIN_LEFT]: true when fewer than MIN_LEFT (default 0) seconds of the budget are left.
+over_budget() { awk -v b="$BUDGET" -v s="$T_START" -v n="$(now)" -v m="${1:-0}" 'BEGIN{exit !(b-(n-s)<m)}'; }
+MIN_LEFT=5
+record_skip() { # record_skip SECTION LABEL PROG NP IMB AREA REP STATUS
+    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t\t\t\t\t\n' "$@" >>"$RUNS"
+}
+run_one() {
+    local section=$1 label=$2 prog=$3 np=$4 imb=$5 area=$6 rep=$7
+    shift 7
+    local exe ok
+    case $prog in
+    mesh) exe=$MESH; ok=$HAVE_MESH ;;
+    pcdm) exe=$PCDM; ok=$HAVE_PCDM ;;
+    pbw) exe=$PBW; ok=$HAVE_PBW ;;
+    esac
+    RUN_N=$((RUN_N + 1))
+    local base="$R/logs/$(printf '%03d' $RUN_N)_${section}_${label}_${prog}_np${np}_r${rep}"
+    if [ "$ok" = 0 ]; then
+        record_skip "$section" "$label" "$prog" "$np" "$imb" "$area" "$rep" missing
+        return 0
+    fi
+    if [ "${HUNG[$section:$label:$prog:$np]:-0}" -ge "$([ -n "$QUICK" ] && echo 1 || echo 2)" ]; then
+        record_skip "$section" "$label" "$prog" "$np" "$imb" "$area" "$rep" skipped-after-timeout
+        return 0
+    fi
+    if over_budget "$MIN_LEFT"; then
+        if [ "$BUDGET_NOTED" = 0 ]; then
+            note "time budget of ${BUDGET}s used up: the remaining runs are skipped (reported as skipped-budget)"
+            BUDGET_NOTED=1
+        fi
+        record_skip "$section" "$label" "$prog" "$np" "$imb" "$area" "$rep" skipped-budget
+        return 0
+    fi
+    local tmo
+    tmo=$(run_timeout)
+    local -a cmd
+    local rssf="$base.rss"
+    : >"$rssf"
+    RSS_WRAP=()
+    [ "$MEASURE_RSS" = 1 ] && rss_wrapper "$rssf"
+    local -a imbargs=()
+    [ "$imb" != 1 ] && imbargs=(--imbalance "$imb")
+    if [ "$prog" = mesh ]; then
+        cmd=(timeout "$tmo" "${RSS_WRAP[@]}" "$exe" -q "$QDEG" -a "$area" --stats "$@" "$DOMAIN")
+    else
+        cmd=(timeout "$tmo" mpirun --oversubscribe -np "$np" "${RSS_WRAP[@]}"
+             "$exe" -q "$QDEG" -a "$area" "${imbargs[@]}" --stats "$@" "$DOMAIN")
+    fi
+    # The command as a user would type it (without the RSS shim).
+    local shown
+    if [ "$prog" = mesh ]; then
+        shown="$exe -q $QDEG -a $area --stats $* $DOMAIN"
+    else
+        shown="timeout $tmo mpirun --oversubscribe -np $np $exe -q $QDEG -a $area ${imbargs[*]} --stats $* $DOMAIN"
+    fi
+    echo "$section/$label rep $rep: $(echo "$shown" | tr -s ' ')" >>"$CMDS"
+    local t0 t1 rc
+    t0=$(now)
+    "${cmd[@]}" >"$base.out" 2>"$base.err"
+    rc=$?
+    t1=$(now)
+    local ext stats rsum rmax
+    ext=$(awk -v a="$t0" -v b="$t1" 'BEGIN{printf "%.3f", b-a}')
+    stats=$(grep '^stats:' "$base.out" | tail -1 | sed 's/^stats: *//')
+    rsum=$(awk '{s+=$1} END{if (NR) print s}' "$rssf")
+    rmax=$(awk 'BEGIN{m=0} {if ($1>m) m=$1} END{if (NR) print m}' "$rssf")
+    local status=$rc
+    if [ "$rc" = 0 ] && [ -z "$stats" ]; then status=nostats; fi
+    if [ "$rc" = 124 ] && [ "$tmo" -lt "$SEC_TIMEOUT" ]; then
+        status=cut-budget-${tmo}s # stopped because the time budget ran out, not a hang
+    elif [ "$rc" = 124 ]; then
+        # A cell that timed out twice (once in quick mode) is not tried again.
+        status=timeout-${tmo}s
+        HUNG[$section:$label:$prog:$np]=$((${HUNG[$section:$label:$prog:$np]:-0} + 1))
+    fi
+    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$section" "$label" "$prog" "$np" \
+        "$imb" "$area" "$rep" "$status" "$ext" "$rsum" "$rmax" "$base" "$stats" >>"$RUNS"
+    if [ "$status" != 0 ]; then
+        case $status in cut-budget*) ;; *) FAILED=1 ;; esac
+        echo "bench:   FAILED ($status) $prog np=$np $section/$label rep $rep -- see $base.err:" >&2
+        { grep -v -E '^-+$|^[[:space:]]*$|^  |mpirun (noticed|detected)|Primary job|^Process name|^Exit code|prterun|^\[' "$base.err" |
+            head -3; } | sed 's/^/bench:     /' >&2
+    else
+        local short
+        short=$(echo "$stats" | tr ' ' '\n' | grep -E '^(triangles|rsr|wall_s|busy_max_s|comm_pct|undo_pct)=' | tr '\n' ' ')
+        echo "bench:   $prog np=$np ${imb:+imb=$imb }rep $rep: ${short}(launch+run ${ext}s)"
+    fi
+}
+
+fixa() { # fixa X -> X rounded to 4 significant digits, written without an exponent
+    awk -v x="$1" 'BEGIN{v=sprintf("%.4g", x)+0; s=sprintf("%.14f", v); sub(/0+$/, "", s); sub(/\.$/, "", s); print s}'
+}
+
+key() { # key KEY "stats string" -> value
+    echo "$2" | tr ' ' '\n' | sed -n "s/^$1=//p" | head -1
+}
+
+section_begin() { SEC_NAME=$1; SEC_T0=$(now); echo; echo "bench: == $1 =="; }
+section_end() {
+    local e
+    e=$(since "$SEC_T0")
+    printf '%s\t%s\n' "$SEC_NAME" "$e" >>"$TIMES"
+    echo "bench: == $SEC_NAME done in ${e}s (total $(since "$T_START")s) =="
+}
+
+# ---------------------------------------------------------------- calibration
+# Triangles scale about as 1/area: a few ./mesh runs find the -a that gives the target count.
+calib_run() { # calib_run AREA -> triangle count (or empty)
+    local out
+    out=$(timeout "$RUN_TIMEOUT" "$MESH" -q "$QDEG" -a "$1" --stats "$DOMAIN" 2>/dev/null | grep '^stats:' | tail -1)
+    echo "$MESH -q $QDEG -a $1 --stats $DOMAIN   # calibration" >>"$CMDS"
+    key triangles "$out"
+}
+# REF_A/REF_N: the latest successful (area, triangles) pair; scaled TARGET extrapolates from it.
+REF_A=""; REF_N=""
+scaled() { fixa "$(awk -v a="$REF_A" -v n="$REF_N" -v t="$1" 'BEGIN{printf "%.6g", a*n/t}')"; }
+calibrate() { # calibrate TARGET START_AREA MAXRUNS -> sets CAL_AREA
+    local target=$1 a=$2 n i j
+    CAL_AREA=""
+    for ((i = 0; i < $3; i++)); do
+        n=$(calib_run "$a")
+        for ((j = 0; j < 2 && ${#n} == 0; j++)); do
+            # ./mesh failed at this bound: say so and try a bound 2% smaller (twice at most).
+            note "calibration: ./mesh -q $QDEG -a $a $DOMAIN failed (exit status or no stats line)"
+            a=$(fixa "$(awk -v a="$a" 'BEGIN{printf "%.6g", a*0.98}')")
+            n=$(calib_run "$a")
+        done
+        if [ -z "$n" ]; then
+            note "calibration: ./mesh -a $a failed too"
+            break
+        fi
+        printf '%s\t%s\t%s\n' "$target" "$a" "$n" >>"$CALIB"
+        echo "bench:   calibrate target=$target: -a $a -> $n triangles"
+        REF_A=$a; REF_N=$n; CAL_AREA=$a
+        if awk -v n="$n" -v t="$target" 'BEGIN{d=(n-t)/t; exit !(d<0.03 && d>-0.03)}'; then return 0; fi
+        a=$(scaled "$target")
+    done
+    if [ -n "$REF_A" ]; then
+        CAL_AREA=$(scaled "$target")
+        [ "$i" -lt "$3" ] && note "calibration for $target triangles failed; -a $CAL_AREA extrapolated from -a $REF_A -> $REF_N triangles"
+        return 0
+    fi
+    return 1
+}
+
+section_begin calibration
+A43=0.000077; A129=0.000026; A1M=0.0000033; A10M=0.00000033; ASMALL=0.0011
+if [ "$HAVE_MESH" = 1 ]; then
+    # Start from the bounding box area / 5000 so any domain gets a sane first run.
+    A0=$(sed 's/#.*//' "$DOMAIN" | awk 'NF==0{next} !h{h=1; n=$1; next}
+        c<n{c++; if(c==1||$2<x0)x0=$2; if(c==1||$2>x1)x1=$2; if(c==1||$3<y0)y0=$3; if(c==1||$3>y1)y1=$3}
+        END{printf "%.6g", (x1-x0)*(y1-y0)/5000}')
+    A0=$(fixa "$A0")
+    if calibrate 43000 "$A0" 5; then
+        A43=$CAL_AREA
+        calibrate 129400 "$(scaled 129400)" 3 && A129=$CAL_AREA
+        A1M=$(scaled 1000000)
+        A10M=$(scaled 10000000)
+        ASMALL=$(fixa "$(awk -v a="$A43" 'BEGIN{printf "%.6g", a*43000/3000}')")
+    else
+        FAILED=1
+        note "calibration impossible (./mesh fails); using fixed areas for data/lake.poly"
+    fi
+else
+    note "no ./mesh: cannot calibrate -a; using fixed areas for data/lake.poly"
+fi
+{
+    echo "area_43k=$A43"; echo "area_129k=$A129"; echo "area_1m=$A1M"; echo "area_10m=$A10M"
+    echo "area_fig=$ASMALL"
+} >>"$META"
+echo "bench: calibrated -a: 43K triangles: $A43   129.4K: $A129   1M: $A1M   10M: $A10M   figures: $ASMALL"
+section_end
+
+# ---------------------------------------------------------------- Tables 2 and 3
+section_begin "tables23"
+run_one t23 seq mesh 1 1 "$A43" 1
+for imb in 2 1; do
+    for rep in $(seq 1 "$REPS"); do
+        for np in $NPS; do
+            for prog in pbw pcdm; do
+                run_one t23 "imb$imb" "$prog" "$np" "$imb" "$A43" "$rep"
+            done
+        done
+    done
+done
+section_end
+
+# ---------------------------------------------------------------- PBW overheads at 129.4K, 4 ranks
+section_begin "overhead"
+OVH_CONFS="2 1"
+[ -n "$QUICK" ] && OVH_CONFS=2 # quick: the imbalanced configuration only
+for imb in $OVH_CONFS; do
+    for rep in $(seq 1 "$REPS"); do
+        run_one ovh "imb$imb" pbw 4 "$imb" "$A129" "$rep"
+        run_one ovh "imb$imb" pcdm 4 "$imb" "$A129" "$rep"
+    done
+done
+section_end
+
+# ---------------------------------------------------------------- primitives
+section_begin "primitives"
+PRIM_TIMEOUT=$([ -n "$QUICK" ] && echo 20 || echo 60)
+echo "B=$B timeout $PRIM_TIMEOUT bash bench/primitives.sh" >>"$CMDS"
+if over_budget; then
+    echo "rc=skipped-budget" >"$R/primitives.rc"
+    note "bench/primitives.sh skipped: time budget used up"
+elif [ -f bench/primitives.sh ]; then
+    SEC_TIMEOUT=$PRIM_TIMEOUT
+    PRIM_TIMEOUT=$(run_timeout)
+    SEC_TIMEOUT=$RUN_TIMEOUT
+    B=$B timeout "$PRIM_TIMEOUT" bash bench/primitives.sh >"$R/primitives.txt" 2>"$R/primitives.err"
+    rc=$?
+    echo "rc=$rc" >"$R/primitives.rc"
+    if [ "$rc" != 0 ] || ! grep -q '^primitives:' "$R/primitives.txt"; then
+        FAILED=1
+        [ "$rc" = 124 ] && why="timed out after ${PRIM_TIMEOUT}s" || why="exit status $rc"
+        note "bench/primitives.sh failed ($why, no 'primitives:' line); see $R/primitives.err"
+    else
+        grep '^primitives:' "$R/primitives.txt" | tail -1 | sed 's/^/bench:   /'
+    fi
+else
+    echo "rc=missing" >"$R/primitives.rc"
+    note "bench/primitives.sh is missing"
+    FAILED=1
+fi
+section_end
+
+# ---------------------------------------------------------------- Figures 1 and 3
+section_begin "figures"
+for prog in pbw pcdm; do
+    run_one fig small "$prog" 2 1 "$ASMALL" 1 --svg "$R/fig_${prog}_2ranks.svg"
+done
+section_end
+
+# ---------------------------------------------------------------- scale: 1M and 10M
+TRI_PY='import resource, sys, time
+import numpy as np, triangle
+path, q, a = sys.argv[1], sys.argv[2], sys.argv[3]
+lines = []
+for ln in open(path):
+    ln = ln.split("#", 1)[0].split()
+    if ln: lines.append(ln)
+i = 0
+nv = int(lines[i][0]); nattr = int(lines[i][2]); i += 1
+idx = {}; pts = []
+for k in range(nv):
+    idx[int(lines[i][0])] = k; pts.append((float(lines[i][1]), float(lines[i][2]))); i += 1
+ns = int(lines[i][0]); i += 1
+segs = []
+for k in range(ns):
+    segs.append((idx[int(lines[i][1])], idx[int(lines[i][2])])); i += 1
+holes = []
+if i < len(lines):
+    nh = int(lines[i][0]); i += 1
+    for k in range(nh):
+        holes.append((float(lines[i][1]), float(lines[i][2]))); i += 1
+d = {"vertices": np.array(pts), "segments": np.array(segs)}
+if holes: d["holes"] = np.array(holes)
+t0 = time.perf_counter()
+t = triangle.triangulate(d, "pq%sa%sQ" % (q, a))
+dt = time.perf_counter() - t0
+ru = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+print("stats: triangles=%d vertices=%d wall_s=%.3f peak_rss_mb=%.1f" % (len(t["triangles"]), len(t["vertices"]), dt, ru / 1024.0))'
+
+HAVE_TRI=0
+if [ -z "${NO_TRIANGLE:-}" ]; then
+    if [ -x "$VENV_PY" ] && "$VENV_PY" -c 'import triangle, numpy' 2>/dev/null; then
+        HAVE_TRI=1
+    elif [ -z "$QUICK" ] && command -v python3 >/dev/null; then
+        echo "bench: no Triangle venv at build/bench-venv; trying to create it (python3 -m venv + pip install triangle)"
+        if timeout 180 python3 -m venv build/bench-venv >/dev/null 2>&1 &&
+            timeout 180 "$VENV_PY" -m pip install -q triangle numpy >"$R/logs/venv.log" 2>&1 &&
+            "$VENV_PY" -c 'import triangle, numpy' 2>/dev/null; then
+            HAVE_TRI=1
+        fi
+    fi
+fi
+if [ "$HAVE_TRI" = 1 ]; then
+    echo "triangle=$("$VENV_PY" -c 'import importlib.metadata as m; print("triangle", m.version("triangle"), "(PyPI, Shewchuk Triangle 1.6)")' 2>/dev/null)" >>"$META"
+else
+    note "Triangle (PyPI 'triangle' in build/bench-venv) is not available -- Triangle columns are NA (make bench-seq builds the venv)"
+fi
+
+run_triangle() { # run_triangle LABEL AREA
+    local base="$R/logs/tri_$1"
+    echo "scale/$1: build/bench-venv/bin/python <triangle.triangulate(poly, 'pq${QDEG}a$2Q')> $DOMAIN" >>"$CMDS"
+    local t0 t1 rc stats
+    if over_budget "$MIN_LEFT"; then
+        record_skip scale "$1" triangle 1 1 "$2" 1 skipped-budget
+        return 0
+    fi
+    t0=$(now)
+    timeout "$(run_timeout)" "$VENV_PY" -c "$TRI_PY" "$DOMAIN" "$QDEG" "$2" >"$base.out" 2>"$base.err"
+    rc=$?
+    t1=$(now)
+    stats=$(grep '^stats:' "$base.out" | tail -1 | sed 's/^stats: *//')
+    [ "$rc" = 0 ] && [ -z "$stats" ] && rc=nostats
+    [ "$rc" = 124 ] && rc=timeout
+    [ "$rc" != 0 ] && { FAILED=1; echo "bench:   FAILED Triangle $1 ($rc), see $base.err" >&2; }
+    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t\t\t%s\t%s\n' scale "$1" triangle 1 1 "$2" 1 "$rc" \
+        "$(awk -v a="$t0" -v b="$t1" 'BEGIN{printf "%.3f", b-a}')" "$base" "$stats" >>"$RUNS"
+    [ "$rc" = 0 ] && echo "bench:   triangle: $stats"
+}
+
+# predicted PROG NP FROM_LABEL FACTOR -> FACTOR x the launch+run time of that run at FROM_LABEL
+predicted() {
+    awk -F'\t' -v p="$1" -v n="$2" -v l="$3" -v f="$4" \
+        '$1=="scale" && $2==l && $3==p && $4==n && $8=="0" {printf "%d", $9*f; exit}' "$RUNS"
+}
+scale_size() { # scale_size LABEL AREA NPS REPS [PREDICT_FROM_LABEL FACTOR]
+    local label=$1 area=$2 nps=$3 reps=$4 from=${5:-} factor=${6:-} np rep prog
+    local -a order=("mesh 1")
+    for np in $nps; do order+=("pcdm $np" "pbw $np"); done
+    local first=1 item guess left
+    for rep in $(seq 1 "$reps"); do
+        for item in "${order[@]}"; do
+            read -r prog np <<<"$item"
+            if [ -n "$from" ]; then
+                # Skip a run that the smaller size predicts cannot finish within the budget.
+                guess=$(predicted "$prog" "$np" "$from" "$factor")
+                left=$(awk -v b="$BUDGET" -v s="$T_START" -v n="$(now)" 'BEGIN{printf "%d", b-(n-s)}')
+                if [ -n "$guess" ] && [ "$guess" -gt "$left" ]; then
+                    note "$label: $prog on $np rank(s) skipped: predicted ${guess}s ($factor x its $from time) > ${left}s left in the budget"
+                    record_skip scale "$label" "$prog" "$np" 1 "$area" "$rep" "skipped-budget-predicted-${guess}s"
+                    continue
+                fi
+            fi
+            run_one scale "$label" "$prog" "$np" 1 "$area" "$rep"
+            if [ "$first" = 1 ] && [ "$HAVE_TRI" = 1 ]; then run_triangle "$label" "$area"; fi
+            first=0
+        done
+    done
+}
+
+MEASURE_RSS=1
+SEC_TIMEOUT=$TIMEOUT_1M
+MIN_LEFT=15
+section_begin "scale_1m"
+if [ -n "$QUICK" ]; then scale_size 1m "$A1M" "8 1 2 4" 1; else scale_size 1m "$A1M" "1 2 4 8" 1; fi
+section_end
+
+if [ -z "$QUICK" ] && [ -z "${NO_10M:-}" ]; then
+    SEC_TIMEOUT=$TIMEOUT_10M
+    MIN_LEFT=60
+    section_begin "scale_10m"
+    scale_size 10m "$A10M" "8 1 2 4" 1 1m 15
+    section_end
+else
+    note "10M-triangle scale runs skipped ($([ -n "$QUICK" ] && echo 'QUICK=1' || echo 'NO_10M=1'))"
+fi
+
+# ---------------------------------------------------------------- report
+TOTAL=$(since "$T_START")
+printf 'total\t%s\n' "$TOTAL" >>"$TIMES"
+echo "loadavg_end=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null)" >>"$META"
+echo
+echo "bench: all runs done in ${TOTAL}s; writing $R/report.md"
+rm -rf "$R/tmp"
+python3 bench/report.py "$R"
+rc=$?
+if [ "$rc" != 0 ]; then
+    echo "bench: report.py failed (exit $rc)" >&2
+    exit 1
+fi
+if [ "$FAILED" != 0 ]; then
+    echo "bench: some programs were missing or some runs failed; see $R/report.md (section 'Problems')" >&2
+    exit 1
+fi
+exit 0
+}

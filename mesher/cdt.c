@@ -1,0 +1,470 @@
+/* cdt.c: constrained Delaunay triangulation of a PSLG.
+ *
+ * 1. Delaunay triangulation of the vertices by randomized incremental Bowyer-Watson insertion
+ *    with ghost triangles (a vertex at infinity closes the convex hull, so points outside the
+ *    hull need no special case).  Insertion order is BRIO (Amenta, Choi, Rote, "Incremental
+ *    constructions con BRIO", 2003): rounds of geometrically growing random subsets, each round
+ *    sorted along a Hilbert curve, and every walk starts from the previous insertion, so point
+ *    location is a few steps and memory access stays local.
+ * 2. Segments are inserted one by one (Sloan, "A fast algorithm for generating constrained
+ *    Delaunay triangulations", 1993): walk along the segment from one endpoint collecting the
+ *    edges it crosses (stopping early at a vertex lying exactly on it -- exact orient2d == 0 --
+ *    where the segment is split), flip crossing edges whose quadrilateral is strictly convex
+ *    until none crosses, then flip the new edges that are not locally Delaunay.  The result is
+ *    the CDT (Chew 1989, Lee and Lin 1986).
+ * 3. Triangles outside the domain are removed as Triangle does: everything reachable from the
+ *    convex hull (ghost triangles) or from a hole point without crossing a segment.  A PSLG with
+ *    no segment keeps its convex hull, whose edges become segments.
+ * Invariants on return: no ghost triangles; every boundary edge (tn == -1) is a constraint
+ * edge with a subsegment record; every subsegment record is an edge of the mesh.
+ */
+#include "mesh_impl.h"
+
+#include "geom.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <string.h>
+
+static void set_err(char *err, size_t errlen, const char *fmt, ...) {
+    if (!err || errlen == 0) return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err, errlen, fmt, ap);
+    va_end(ap);
+}
+
+static const double *X(const mesh *m, int32_t v) {
+    return m->xy + 2 * (size_t)v;
+}
+
+/* ---- insertion order: BRIO rounds, Hilbert order inside a round --------------------------- */
+
+static uint32_t hilbert_index(uint32_t x, uint32_t y) {
+    const uint32_t n = 1u << 16;
+    uint32_t d = 0;
+    for (uint32_t s = n / 2; s > 0; s /= 2) {
+        uint32_t rx = (x & s) ? 1 : 0, ry = (y & s) ? 1 : 0;
+        d += s * s * ((3 * rx) ^ ry);
+        if (ry == 0) {
+            if (rx == 1) {
+                x = n - 1 - x;
+                y = n - 1 - y;
+            }
+            uint32_t t = x;
+            x = y;
+            y = t;
+        }
+    }
+    return d;
+}
+
+typedef struct {
+    uint64_t key;
+    int32_t v;
+} okey;
+
+static int okey_cmp(const void *a, const void *b) {
+    uint64_t x = ((const okey *)a)->key, y = ((const okey *)b)->key;
+    return x < y ? -1 : x > y;
+}
+
+static int32_t *brio_order(mesh *m, int32_t n) {
+    double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL};
+    for (int32_t v = 0; v < n; v++)
+        for (int c = 0; c < 2; c++) {
+            if (X(m, v)[c] < lo[c]) lo[c] = X(m, v)[c];
+            if (X(m, v)[c] > hi[c]) hi[c] = X(m, v)[c];
+        }
+    double span = fmax(hi[0] - lo[0], hi[1] - lo[1]);
+    if (!(span > 0)) span = 1;
+    okey *k = mesh_xrealloc(NULL, n, sizeof(okey));
+    for (int32_t v = 0; v < n; v++) {
+        uint32_t hx = (uint32_t)fmin(65535.0, (X(m, v)[0] - lo[0]) / span * 65535.0);
+        uint32_t hy = (uint32_t)fmin(65535.0, (X(m, v)[1] - lo[1]) / span * 65535.0);
+        uint64_t r = mesh_rand(m);
+        uint32_t round = 0;
+        while ((r & 1) && round < 20)
+            round++, r >>= 1;
+        k[v].key = ((uint64_t)(20 - round) << 32) | hilbert_index(hx, hy);
+        k[v].v = v;
+    }
+    qsort(k, n, sizeof(okey), okey_cmp);
+    int32_t *order = mesh_xrealloc(NULL, n, sizeof(int32_t));
+    for (int32_t i = 0; i < n; i++)
+        order[i] = k[i].v;
+    free(k);
+    return order;
+}
+
+/* ---- Delaunay triangulation of the vertices ----------------------------------------------- */
+
+static void initial_triangle(mesh *m, int32_t a, int32_t b, int32_t c) {
+    int32_t t = mesh_tri_new(m), gab = mesh_tri_new(m), gbc = mesh_tri_new(m),
+            gca = mesh_tri_new(m);
+    int32_t *tv = m->tv, *tn = m->tn;
+    tv[3 * t] = a, tv[3 * t + 1] = b, tv[3 * t + 2] = c;
+    tv[3 * gab] = b, tv[3 * gab + 1] = a, tv[3 * gab + 2] = MESH_GHOST;
+    tv[3 * gbc] = c, tv[3 * gbc + 1] = b, tv[3 * gbc + 2] = MESH_GHOST;
+    tv[3 * gca] = a, tv[3 * gca + 1] = c, tv[3 * gca + 2] = MESH_GHOST;
+    tn[3 * t] = 3 * gab, tn[3 * gab] = 3 * t;
+    tn[3 * t + 1] = 3 * gbc, tn[3 * gbc] = 3 * t + 1;
+    tn[3 * t + 2] = 3 * gca, tn[3 * gca] = 3 * t + 2;
+    tn[3 * gab + 1] = 3 * gca + 2, tn[3 * gca + 2] = 3 * gab + 1;
+    tn[3 * gca + 1] = 3 * gbc + 2, tn[3 * gbc + 2] = 3 * gca + 1;
+    tn[3 * gbc + 1] = 3 * gab + 2, tn[3 * gab + 2] = 3 * gbc + 1;
+    m->vtri[a] = m->vtri[b] = m->vtri[c] = t;
+    m->last = t;
+}
+
+/* Triangulates vertices 0..n-1.  dup[v] = the vertex v duplicates (or v). */
+static int delaunay(mesh *m, int32_t n, int32_t *dup, char *err, size_t errlen) {
+    for (int32_t v = 0; v < n; v++)
+        dup[v] = v;
+    if (n < 3) {
+        set_err(err, errlen, "fewer than 3 vertices: nothing to triangulate");
+        return -1;
+    }
+    int32_t *order = brio_order(m, n);
+    int32_t i0 = order[0], i1 = -1, i2 = -1;
+    for (int32_t i = 1; i < n && i1 < 0; i++)
+        if (X(m, order[i])[0] != X(m, i0)[0] || X(m, order[i])[1] != X(m, i0)[1]) i1 = order[i];
+    double o = 0;
+    for (int32_t i = 1; i < n && i1 >= 0 && i2 < 0; i++) {
+        o = geom_orient2d(X(m, i0), X(m, i1), X(m, order[i]));
+        if (o != 0) i2 = order[i];
+    }
+    if (i2 < 0) {
+        free(order);
+        set_err(err, errlen, "all vertices are collinear: no triangle");
+        return -1;
+    }
+    if (o > 0)
+        initial_triangle(m, i0, i1, i2);
+    else
+        initial_triangle(m, i0, i2, i1);
+    for (int32_t i = 0; i < n; i++) {
+        int32_t v = order[i];
+        if (v == i0 || v == i1 || v == i2) continue;
+        const double *p = X(m, v);
+        int32_t t = mesh_walk(m, p, m->last, 0, NULL);
+        if (t < 0) MESH_BUG("point location failed for vertex %d", v);
+        int d = -1;
+        for (int j = 0; j < 3; j++) {
+            int32_t w = m->tv[3 * t + j];
+            if (w >= 0 && X(m, w)[0] == p[0] && X(m, w)[1] == p[1]) d = w;
+        }
+        if (d >= 0) {
+            dup[v] = d;
+            continue;
+        }
+        int32_t bad = -1;
+        int st = mesh_cavity_collect(m, p, t, -1, &bad);
+        if (st != CAV_OK) MESH_BUG("Delaunay cavity of vertex %d failed (%d)", v, st);
+        mesh_cavity_commit(m, v, -1, -1);
+    }
+    free(order);
+    return 0;
+}
+
+/* ---- segment insertion ------------------------------------------------------------------- */
+
+typedef struct {
+    int32_t *a;
+    int32_t n, cap, head;
+} ivec;
+
+static void ivec_push2(ivec *q, int32_t x, int32_t y) {
+    if (q->n + 2 > q->cap) {
+        q->cap = q->cap ? q->cap * 2 : 64;
+        q->a = mesh_xrealloc(q->a, q->cap, sizeof(int32_t));
+    }
+    q->a[q->n++] = x;
+    q->a[q->n++] = y;
+}
+
+/* x is collinear with a->b: 1 iff it lies on the ray from a through b (x != a). */
+static int same_direction(const double *a, const double *b, const double *x) {
+    for (int c = 0; c < 2; c++) {
+        if ((x[c] > a[c]) != (b[c] > a[c])) return 0;
+        if ((x[c] < a[c]) != (b[c] < a[c])) return 0;
+    }
+    return 1;
+}
+
+/* Traces segment a->b from a.  Returns the vertex where this piece ends (b, or a vertex lying
+ * exactly on the segment) and appends the crossed edges as (right, left) vertex pairs. */
+static int32_t trace(mesh *m, int32_t a, int32_t b, ivec *cross) {
+    int32_t t = m->vtri[a];
+    int j = m->tv[3 * t] == a ? 0 : m->tv[3 * t + 1] == a ? 1 : 2;
+    int32_t e0 = 3 * t + j, e = e0, start = -1;
+    int64_t guard = (int64_t)m->nt + 4;
+    do {
+        int32_t x = mesh_dest(m, e), y = mesh_apex(m, e);
+        if (x == b || y == b) return b;
+        /* a hull edge out of a belongs to a ghost triangle: test both fan vertices */
+        if (y >= 0 && geom_orient2d(X(m, a), X(m, b), X(m, y)) == 0 &&
+            same_direction(X(m, a), X(m, b), X(m, y)))
+            return y;
+        if (x >= 0 && y >= 0) {
+            double ox = geom_orient2d(X(m, a), X(m, b), X(m, x));
+            if (ox == 0 && same_direction(X(m, a), X(m, b), X(m, x))) return x;
+            double oy = geom_orient2d(X(m, a), X(m, b), X(m, y));
+            if (ox < 0 && oy > 0) {
+                start = mesh_edge_next(e);
+                break;
+            }
+        }
+        e = m->tn[mesh_edge_prev(e)];
+        if (--guard < 0) MESH_BUG("vertex fan of %d does not close", a);
+    } while (e != e0);
+    if (start < 0) MESH_BUG("segment %d-%d: no triangle around %d in its direction", a, b, a);
+    e = start;
+    int32_t x = m->tv[e], y = mesh_dest(m, e);
+    for (;;) {
+        ivec_push2(cross, x, y);
+        int32_t f = m->tn[e], z = mesh_apex(m, f);
+        if (z == b) return b;
+        if (z < 0) MESH_BUG("segment %d-%d leaves the convex hull", a, b);
+        double oz = geom_orient2d(X(m, a), X(m, b), X(m, z));
+        if (oz == 0) return z;
+        if (oz > 0) {
+            e = mesh_edge_next(f);
+            y = z;
+        } else {
+            e = mesh_edge_prev(f);
+            x = z;
+        }
+    }
+}
+
+static int crosses(const mesh *m, int32_t a, int32_t b, int32_t w, int32_t z) {
+    double ow = geom_orient2d(X(m, a), X(m, b), X(m, w));
+    double oz = geom_orient2d(X(m, a), X(m, b), X(m, z));
+    return (ow > 0 && oz < 0) || (ow < 0 && oz > 0);
+}
+
+/* Flips away the crossing edges so that edge a-b exists, then restores the Delaunay property
+ * of the new edges (Sloan 1993). */
+static void sloan(mesh *m, int32_t a, int32_t b, ivec *q) {
+    ivec newe = {0};
+    int64_t guard = 0;
+    while (q->head < q->n) {
+        int32_t x = q->a[q->head], y = q->a[q->head + 1];
+        q->head += 2;
+        if (q->head > 4096 && q->head * 2 > q->n) {
+            memmove(q->a, q->a + q->head, (size_t)(q->n - q->head) * sizeof(int32_t));
+            q->n -= q->head;
+            q->head = 0;
+        }
+        int32_t e = mesh_find_edge(m, x, y);
+        if (e < 0 || m->tn[e] < 0) MESH_BUG("crossing edge %d-%d lost", x, y);
+        int32_t u = m->tv[e], v = mesh_dest(m, e), w = mesh_apex(m, e), z = mesh_apex(m, m->tn[e]);
+        if (geom_orient2d(X(m, z), X(m, v), X(m, w)) > 0 &&
+            geom_orient2d(X(m, w), X(m, u), X(m, z)) > 0) {
+            mesh_flip(m, e);
+            if (crosses(m, a, b, w, z))
+                ivec_push2(q, w, z);
+            else
+                ivec_push2(&newe, w, z);
+        } else {
+            ivec_push2(q, x, y);
+        }
+        if (++guard > 100000000) MESH_BUG("segment %d-%d: flipping does not converge", a, b);
+    }
+    int changed;
+    do {
+        changed = 0;
+        for (int32_t i = 0; i < newe.n; i += 2) {
+            int32_t w = newe.a[i], z = newe.a[i + 1];
+            if ((w == a && z == b) || (w == b && z == a)) continue;
+            int32_t e = mesh_find_edge(m, w, z);
+            if (e < 0 || m->tn[e] < 0 || mesh_edge_constrained(m, e)) continue;
+            int32_t f = m->tn[e], p = mesh_apex(m, e), s = mesh_apex(m, f);
+            if (p < 0 || s < 0) continue;
+            if (geom_incircle(X(m, m->tv[e]), X(m, mesh_dest(m, e)), X(m, p), X(m, s)) > 0) {
+                mesh_flip(m, e);
+                newe.a[i] = p;
+                newe.a[i + 1] = s;
+                changed = 1;
+            }
+        }
+    } while (changed);
+    free(newe.a);
+}
+
+static void insert_segment(mesh *m, int32_t s, ivec *pieces, ivec *cross) {
+    int32_t a = m->seg[2 * s], b = m->seg[2 * s + 1], cur = a;
+    pieces->n = 0;
+    ivec_push2(pieces, a, a);
+    while (cur != b) {
+        cross->n = cross->head = 0;
+        int32_t end = trace(m, cur, b, cross);
+        if (cross->n > 0) sloan(m, cur, end, cross);
+        int32_t e = mesh_find_edge(m, cur, end);
+        if (e < 0) MESH_BUG("segment piece %d-%d missing after insertion", cur, end);
+        mesh_set_constrained(m, e);
+        ivec_push2(pieces, end, end);
+        cur = end;
+    }
+    int32_t np = pieces->n / 2 - 1;
+    for (int32_t i = 0; i < np; i++) {
+        int32_t u = pieces->a[2 * i], v = pieces->a[2 * i + 2];
+        if (mesh_ss_find_pair(m, u, v) >= 0) continue; /* shared with an earlier segment */
+        mesh_ss_add(m, u, v, s, np == 1 ? 0 : -1, 0);
+    }
+}
+
+/* ---- removing the exterior ----------------------------------------------------------------- */
+
+static void carve(mesh *m, const double *holes, int32_t nholes, int keep_hull) {
+    int32_t *stk = mesh_xrealloc(NULL, (size_t)m->nt + 1, sizeof(int32_t));
+    int32_t n = 0;
+    for (int32_t h = 0; h < nholes; h++) {
+        const double *p = holes + 2 * h;
+        if (!isfinite(p[0]) || !isfinite(p[1])) continue;
+        int32_t t = mesh_walk(m, p, m->last, 0, NULL);
+        if (t < 0 || mesh_tri_is_ghost(m, t) || (m->tf[t] & MESH_MARK)) continue;
+        m->tf[t] |= MESH_MARK;
+        stk[n++] = t;
+    }
+    for (int32_t t = 0; t < m->nt; t++) {
+        if (!mesh_tri_alive(m, t) || !mesh_tri_is_ghost(m, t)) continue;
+        m->tf[t] |= MESH_MARK;
+        if (keep_hull) continue;
+        int g = m->tv[3 * t] == MESH_GHOST ? 0 : m->tv[3 * t + 1] == MESH_GHOST ? 1 : 2;
+        int32_t fe = 3 * t + (g + 1) % 3;
+        if (mesh_edge_constrained(m, fe)) continue;
+        int32_t r = m->tn[fe] / 3;
+        if (m->tf[r] & MESH_MARK) continue;
+        m->tf[r] |= MESH_MARK;
+        stk[n++] = r;
+    }
+    while (n > 0) {
+        int32_t t = stk[--n];
+        for (int j = 0; j < 3; j++) {
+            int32_t e = 3 * t + j, nb = m->tn[e];
+            if (nb < 0 || mesh_edge_constrained(m, e)) continue;
+            int32_t r = nb / 3;
+            if ((m->tf[r] & MESH_MARK) || mesh_tri_is_ghost(m, r)) continue;
+            m->tf[r] |= MESH_MARK;
+            stk[n++] = r;
+        }
+    }
+    free(stk);
+    for (int32_t t = 0; t < m->nt; t++) {
+        if (!mesh_tri_alive(m, t) || !(m->tf[t] & MESH_MARK)) continue;
+        for (int j = 0; j < 3; j++) {
+            int32_t nb = m->tn[3 * t + j];
+            if (nb >= 0 && mesh_tri_alive(m, nb / 3) && !(m->tf[nb / 3] & MESH_MARK))
+                m->tn[nb] = -1;
+        }
+        mesh_tri_kill(m, t);
+    }
+}
+
+/* Convex hull edges become segments (marker 1): used when the input has no segment. */
+static void hull_to_segments(mesh *m) {
+    for (int32_t t = 0; t < m->nt; t++) {
+        if (!mesh_tri_alive(m, t) || !mesh_tri_is_ghost(m, t)) continue;
+        int g = m->tv[3 * t] == MESH_GHOST ? 0 : m->tv[3 * t + 1] == MESH_GHOST ? 1 : 2;
+        int32_t fe = 3 * t + (g + 1) % 3, re = m->tn[fe];
+        int32_t u = m->tv[re], v = mesh_dest(m, re);
+        int32_t s = mesh_seg_add(m, u, v, 1, 0);
+        mesh_set_constrained(m, re);
+        mesh_ss_add(m, u, v, s, 0, 0);
+    }
+}
+
+/* Incidence lists of the segments at input vertices, and the small-angle corners. */
+static void corners(mesh *m) {
+    int32_t n = m->ninput;
+    free(m->inc_off);
+    free(m->inc_seg);
+    free(m->corner);
+    m->inc_off = mesh_xrealloc(NULL, (size_t)n + 1, sizeof(int32_t));
+    m->inc_seg = mesh_xrealloc(NULL, 2 * (size_t)m->nseg + 1, sizeof(int32_t));
+    m->corner = mesh_xrealloc(NULL, (size_t)n + 1, 1);
+    memset(m->inc_off, 0, ((size_t)n + 1) * sizeof(int32_t));
+    for (int32_t s = 0; s < m->nseg; s++) {
+        m->inc_off[m->seg[2 * s] + 1]++;
+        m->inc_off[m->seg[2 * s + 1] + 1]++;
+    }
+    for (int32_t v = 0; v < n; v++)
+        m->inc_off[v + 1] += m->inc_off[v];
+    int32_t *fill = mesh_xrealloc(NULL, (size_t)n + 1, sizeof(int32_t));
+    memcpy(fill, m->inc_off, (size_t)n * sizeof(int32_t));
+    for (int32_t s = 0; s < m->nseg; s++) {
+        m->inc_seg[fill[m->seg[2 * s]]++] = s;
+        m->inc_seg[fill[m->seg[2 * s + 1]]++] = s;
+    }
+    free(fill);
+    m->has_corners = 0;
+    for (int32_t v = 0; v < n; v++) {
+        m->corner[v] = 0;
+        for (int32_t i = m->inc_off[v]; i < m->inc_off[v + 1]; i++)
+            for (int32_t j = i + 1; j < m->inc_off[v + 1]; j++) {
+                int32_t s1 = m->inc_seg[i], s2 = m->inc_seg[j];
+                int32_t o1 = m->seg[2 * s1] == v ? m->seg[2 * s1 + 1] : m->seg[2 * s1];
+                int32_t o2 = m->seg[2 * s2] == v ? m->seg[2 * s2 + 1] : m->seg[2 * s2];
+                if (geom_angle_deg(X(m, o1), X(m, v), X(m, o2)) < 60.0) m->corner[v] = 1;
+            }
+        m->has_corners |= m->corner[v];
+    }
+}
+
+static int build(mesh *m, int32_t n, const double *xy, const int32_t *vmarker, int32_t nseg,
+                 const int32_t *seg, const int32_t *smarker, const uint8_t *iface,
+                 const double *holes, int32_t nholes, char *err, size_t errlen) {
+    if (m->nv != 0 || m->nt != 0) {
+        set_err(err, errlen, "mesh_build: mesh is not empty");
+        return -1;
+    }
+    for (int32_t v = 0; v < n; v++)
+        mesh_vert_add(m, xy[2 * v], xy[2 * v + 1], -1);
+    m->ninput = n;
+    m->in_vmarker = mesh_xrealloc(NULL, (size_t)n + 1, sizeof(int32_t));
+    for (int32_t v = 0; v < n; v++)
+        m->in_vmarker[v] = vmarker ? vmarker[v] : 0;
+    int32_t *dup = mesh_xrealloc(NULL, (size_t)n + 1, sizeof(int32_t));
+    if (delaunay(m, n, dup, err, errlen) != 0) {
+        free(dup);
+        return -1;
+    }
+    ivec pieces = {0}, cross = {0};
+    for (int32_t s = 0; s < nseg; s++) {
+        int32_t a = dup[seg[2 * s]], b = dup[seg[2 * s + 1]];
+        int32_t id = mesh_seg_add(m, a, b, smarker ? smarker[s] : 0, iface ? iface[s] : 0);
+        if (a == b) continue;
+        insert_segment(m, id, &pieces, &cross);
+    }
+    free(pieces.a);
+    free(cross.a);
+    free(dup);
+    if (nseg == 0) hull_to_segments(m);
+    carve(m, holes, nholes, nseg == 0);
+    mesh_rebuild_vtri(m);
+    mesh_ss_prune(m);
+    corners(m);
+    m->last = -1;
+    if (m->nlive == 0) {
+        set_err(err, errlen, "the domain is empty (holes or missing boundary segments?)");
+        return -1;
+    }
+    return 0;
+}
+
+int mesh_build_cdt(mesh *m, const pslg *g, const uint8_t *iface, char *err, size_t errlen) {
+    int r = build(m, g->nverts, g->xy, g->vmarker, g->nsegs, g->seg, g->smarker, iface, g->holes,
+                  g->nholes, err, errlen);
+    if (r != 0 && err && errlen > 0) {
+        char tmp[1200];
+        snprintf(tmp, sizeof tmp, "%.512s: %.600s", g->path[0] ? g->path : "(pslg)", err);
+        snprintf(err, errlen, "%s", tmp);
+    }
+    return r;
+}
+
+int mesh_build_delaunay(mesh *m, int32_t n, const double *xy, char *err, size_t errlen) {
+    return build(m, n, xy, NULL, 0, NULL, NULL, NULL, NULL, 0, err, errlen);
+}

@@ -1,0 +1,79 @@
+/* mesh_impl: declarations shared by mesh.c, cdt.c and refine.c only (not a public API).
+ * See mesh.h for the data structure. */
+#ifndef MESH_IMPL_H
+#define MESH_IMPL_H
+
+#include "mesh.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+
+#define MESH_MARK 8u /* tf scratch bit */
+
+/* A bug: report and abort. */
+#define MESH_BUG(...)                                                                              \
+    do {                                                                                           \
+        fprintf(stderr, "%s:%d: mesh bug: ", __FILE__, __LINE__);                                  \
+        fprintf(stderr, __VA_ARGS__);                                                              \
+        fputc('\n', stderr);                                                                       \
+        abort();                                                                                   \
+    } while (0)
+
+/* One boundary edge of a cavity, in counter-clockwise order around it. */
+typedef struct mesh_bedge {
+    int32_t org, dest;
+    int32_t twin;  /* edge code outside the cavity, or -1 */
+    uint8_t cons;  /* 1 if a constraint edge */
+    uint8_t split; /* 1 if this is the edge being split (one-sided split) */
+} mesh_bedge;
+
+/* Cavity outcome. */
+enum { CAV_OK = 0, CAV_NOT_STAR = -1, CAV_CYCLE = -2 };
+
+void *mesh_xrealloc(void *p, size_t n, size_t size);
+uint64_t mesh_rand(mesh *m);
+
+int32_t mesh_vert_add(mesh *m, double x, double y, int32_t vseg);
+int32_t mesh_tri_new(mesh *m);
+void mesh_tri_kill(mesh *m, int32_t t);
+int mesh_tri_is_ghost(const mesh *m, int32_t t);
+
+/* Walk toward p from triangle t.  avoid_constraints: 0 = plain walk (ghost triangles allowed:
+ * returns a ghost whose outer half-plane holds p when p is outside the hull); 1 = never cross
+ * a constraint edge: returns -1 and sets *blocked to a constraint edge code of the last
+ * triangle with p strictly beyond it when every way forward is a constraint. */
+int32_t mesh_walk(mesh *m, const double p[2], int32_t t, int avoid_constraints, int32_t *blocked);
+
+/* Collects the cavity of p (not yet a vertex).  t0 contains p (or is a ghost in conflict);
+ * split_e >= 0 is a constraint edge code of t0 that p splits (both its triangles join the
+ * cavity).  On CAV_NOT_STAR *bad is the offending boundary edge code (constraint or not).
+ * The cavity stays marked until mesh_cavity_commit or mesh_cavity_abort. */
+int mesh_cavity_collect(mesh *m, const double p[2], int32_t t0, int32_t split_e, int32_t *bad);
+void mesh_cavity_abort(mesh *m);
+/* Joins vertex v to the collected cavity's boundary.  New triangle ids in m->newt.  When
+ * split_u/split_v are >= 0 (the endpoints of the split subsegment), the spokes v-split_u and
+ * v-split_v become constraint edges. */
+void mesh_cavity_commit(mesh *m, int32_t v, int32_t split_u, int32_t split_v);
+
+/* Flips edge e (both triangles live, quadrilateral strictly convex: caller checks). */
+void mesh_flip(mesh *m, int32_t e);
+
+void mesh_set_constrained(mesh *m, int32_t e);
+
+/* subsegment side table */
+int32_t mesh_ss_add(mesh *m, int32_t u, int32_t v, int32_t seg, int32_t level, int64_t k);
+void mesh_ss_del(mesh *m, int32_t r);
+int32_t mesh_ss_find_pair(const mesh *m, int32_t u, int32_t v);
+int32_t mesh_ss_find_name(const mesh *m, int32_t seg, int32_t level, int64_t k);
+void mesh_ss_prune(mesh *m); /* drops records whose edge is no longer in the mesh */
+
+/* Adds an original segment; returns its id. */
+int32_t mesh_seg_add(mesh *m, int32_t a, int32_t b, int32_t marker, uint8_t iface);
+
+/* Sets vtri for every vertex from the live triangles. */
+void mesh_rebuild_vtri(mesh *m);
+
+/* refine.c: called after every committed cavity when refinement is active. */
+void mesh_refine_free(mesh *m);
+
+#endif

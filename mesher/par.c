@@ -1,0 +1,616 @@
+/* par.c: the layer ./pcdm and ./pbw share around their algorithms (TR-97-17 sections 3-4 leave
+ * it implicit): argument parsing, collective input loading and decomposition, the gather of the
+ * per-rank pieces into one conforming mesh on rank 0, output files, validation and collective
+ * error agreement.
+ *
+ * Gather algorithm: every rank sends its local mesh_flat (all its vertices, its triangles, its
+ * subsegments) to rank 0, one rank at a time (rank 0 merges piece by piece, so it never holds
+ * more than one foreign piece).  Vertices are merged by their exact coordinate bits in an
+ * open-addressing hash table (-0.0 is folded onto +0.0): an interface vertex is computed by
+ * both neighbours with the same expression from the same operands, so it has the same bits on
+ * both sides.  The input's vertices are entered first, in input order, so they keep their input
+ * numbers; other vertices get numbers in order of first reference (unreferenced Steiner
+ * vertices are dropped).  Subsegments are de-duplicated by their unordered pair of global
+ * vertex ids; a pair listed by both sides keeps the first marker and is an interface if either
+ * side says so.  Invariant: the merged vertex count equals the number of distinct points.
+ *
+ * Decomposition: the automatic one is asked first for interfaces meeting every other segment
+ * at >= 60 degrees (Ruppert's refinement then never ping-pongs across a corner between an
+ * interface, which is only split at dyadic midpoints, and a boundary segment), and falls back
+ * to the -q bound when no such cuts exist; more than PAR_MAX_SUBDOMAINS subdomains are refused.
+ *
+ * Errors: every rank reads the same input, so input errors are found on every rank; the
+ * decision to fail is still taken collectively (par_fail_any: an MPI_Allreduce of the lowest
+ * failing rank, then that rank's message broadcast), so no rank can wait in a collective that
+ * another rank skipped.
+ */
+#include "par.h"
+
+#include "geom.h"
+#include "rt.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#define PAR_TAG_GATHER 4711
+
+/* ---- small helpers --------------------------------------------------------------------- */
+
+static void *xmalloc(size_t n) {
+    void *p = malloc(n ? n : 1);
+    if (!p) {
+        fprintf(stderr, "par: out of memory (%zu bytes) on rank %d\n", n, rt_rank());
+        MPI_Abort(MPI_COMM_WORLD, 1);
+    }
+    return p;
+}
+
+static void *xrealloc(void *p, size_t n) {
+    void *q = realloc(p, n ? n : 1);
+    if (!q) {
+        fprintf(stderr, "par: out of memory (%zu bytes) on rank %d\n", n, rt_rank());
+        MPI_Abort(MPI_COMM_WORLD, 1);
+    }
+    return q;
+}
+
+static void mpi_check(int rc, const char *what) {
+    if (rc != MPI_SUCCESS) {
+        fprintf(stderr, "par: %s failed (MPI error %d) on rank %d\n", what, rc, rt_rank());
+        MPI_Abort(MPI_COMM_WORLD, 1);
+    }
+}
+
+static int parse_double(const char *s, double *out) {
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (end == s || *end || errno == ERANGE || !isfinite(v)) return -1;
+    *out = v;
+    return 0;
+}
+
+static int parse_u64(const char *s, uint64_t *out) {
+    char *end;
+    errno = 0;
+    if (*s == '-') return -1;
+    unsigned long long v = strtoull(s, &end, 10);
+    if (end == s || *end || errno == ERANGE) return -1;
+    *out = (uint64_t)v;
+    return 0;
+}
+
+/* ---- arguments ------------------------------------------------------------------------- */
+
+static void usage(FILE *f, const char *prog) {
+    fprintf(f,
+            "usage: mpirun -np P ./%s [options] input.poly\n"
+            "Parallel Delaunay meshing (%s).\n"
+            "  -q DEG            minimum angle bound in degrees (default 20.7; 0: none)\n"
+            "  -a AREA           maximum triangle area (default: none)\n"
+            "  -S N              at most N Steiner points (shared among the ranks)\n"
+            "  -o PREFIX         write PREFIX.node, PREFIX.ele, PREFIX.poly (merged mesh)\n"
+            "  --vtk FILE        write a legacy VTK file (cell scalar: rank)\n"
+            "  --svg FILE        write an SVG picture coloured by rank\n"
+            "  --stats           per-rank lines and the statistics line last\n"
+            "  --check           validate the merged mesh (exit 1 if it fails)\n"
+            "  --progress        progress lines on stderr\n"
+            "  --subdomains K    number of subdomains (default: number of ranks; K >= P)\n"
+            "  --imbalance R     rank 0 gets R times the work of every other rank (default 1)\n"
+            "  --cuts FILE       take the subdomain cuts from FILE (x1 y1 x2 y2 per line)\n"
+            "  --write-cuts FILE write the cuts used to FILE (rank 0)\n"
+            "%s"
+            "  --perturb SEED    perturb message delivery (delays, reordering), seeded\n"
+            "  --help            this text\n",
+            prog,
+            !strcmp(prog, "pcdm") ? "PCDM: constrained subdomains, TR-97-17"
+                                  : "PBW: distributed Bowyer-Watson, TR-97-17",
+            !strcmp(prog, "pbw") ? "  --phases          run refinement in phases (pbw)\n" : "");
+}
+
+int par_parse_args(int argc, char **argv, const char *prog, int rank, par_opts *o, int *code) {
+    memset(o, 0, sizeof *o);
+    o->prog = prog;
+    o->min_angle = 20.7;
+    o->max_steiner = -1;
+    o->imbalance = 1.0;
+#define USAGE_ERR(...)                                                                             \
+    do {                                                                                           \
+        if (rank == 0) {                                                                           \
+            fprintf(stderr, "%s: ", prog);                                                         \
+            fprintf(stderr, __VA_ARGS__);                                                          \
+            fprintf(stderr, " (try --help)\n");                                                    \
+        }                                                                                          \
+        *code = 2;                                                                                 \
+        return 1;                                                                                  \
+    } while (0)
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            if (rank == 0) usage(stdout, prog);
+            *code = 0;
+            return 1;
+        } else if (!strcmp(a, "--stats")) {
+            o->stats = 1;
+        } else if (!strcmp(a, "--check")) {
+            o->check = 1;
+        } else if (!strcmp(a, "--progress")) {
+            o->progress = 1;
+        } else if (!strcmp(a, "--phases")) {
+            o->phases = 1;
+        } else if (!strcmp(a, "--vtk") || !strcmp(a, "--svg") || !strcmp(a, "--cuts") ||
+                   !strcmp(a, "--write-cuts") || !strcmp(a, "--subdomains") ||
+                   !strcmp(a, "--imbalance") || !strcmp(a, "--perturb")) {
+            if (i + 1 >= argc) USAGE_ERR("option %s needs a value", a);
+            const char *v = argv[++i];
+            double d;
+            uint64_t u;
+            if (!strcmp(a, "--vtk"))
+                o->vtk = v;
+            else if (!strcmp(a, "--svg"))
+                o->svg = v;
+            else if (!strcmp(a, "--cuts"))
+                o->cuts = v;
+            else if (!strcmp(a, "--write-cuts"))
+                o->write_cuts = v;
+            else if (!strcmp(a, "--subdomains")) {
+                if (parse_double(v, &d) || d < 1 || d > 1e6 || d != floor(d))
+                    USAGE_ERR("--subdomains: bad value '%s' (a positive integer)", v);
+                o->nsub = (int32_t)d;
+            } else if (!strcmp(a, "--imbalance")) {
+                if (parse_double(v, &d) || !(d > 0) || d > 1e6)
+                    USAGE_ERR("--imbalance: bad value '%s' (a positive number)", v);
+                o->imbalance = d;
+            } else {
+                if (parse_u64(v, &u)) USAGE_ERR("--perturb: bad seed '%s'", v);
+                o->perturb = u;
+            }
+        } else if (a[0] == '-' && (a[1] == 'q' || a[1] == 'a' || a[1] == 'S' || a[1] == 'o')) {
+            const char *v;
+            if (a[2])
+                v = a + 2;
+            else if (i + 1 < argc)
+                v = argv[++i];
+            else
+                USAGE_ERR("option %s needs a value", a);
+            double d = 0;
+            if (a[1] == 'o') {
+                o->out_prefix = v;
+            } else if (parse_double(v, &d) || d < 0) {
+                USAGE_ERR("option -%c: bad value '%s'", a[1], v);
+            } else if (a[1] == 'q') {
+                if (d > 60) USAGE_ERR("-q %g: the angle bound must be at most 60 degrees", d);
+                o->min_angle = d;
+            } else if (a[1] == 'a') {
+                o->max_area = d;
+            } else {
+                if (d > 9e18) USAGE_ERR("-S: bad value '%s'", v);
+                o->max_steiner = (int64_t)d;
+            }
+        } else if (a[0] == '-' && a[1]) {
+            USAGE_ERR("unknown option '%s'", a);
+        } else if (!o->input) {
+            o->input = a;
+        } else {
+            USAGE_ERR("more than one input file ('%s', '%s')", o->input, a);
+        }
+    }
+    if (!o->input) USAGE_ERR("no input file");
+#undef USAGE_ERR
+    if (rank == 0 && o->min_angle > 34)
+        fprintf(stderr, "%s: warning: -q %g above about 34 degrees may not terminate\n", prog,
+                o->min_angle);
+    return 0;
+}
+
+/* ---- collective failure ----------------------------------------------------------------- */
+
+int par_fail_any(int local_fail, const char *msg) {
+    MPI_Comm c = rt_comm();
+    int rank = rt_rank(), size = rt_size();
+    int mine = local_fail ? rank : size, first = size;
+    mpi_check(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, c), "MPI_Allreduce");
+    if (first == size) return 0;
+    char buf[1024];
+    memset(buf, 0, sizeof buf);
+    if (rank == first && msg) snprintf(buf, sizeof buf, "%s", msg);
+    mpi_check(MPI_Bcast(buf, (int)sizeof buf, MPI_CHAR, first, c), "MPI_Bcast");
+    if (rank == 0 && buf[0]) fprintf(stderr, "%s\n", buf);
+    return 1;
+}
+
+/* ---- loading ---------------------------------------------------------------------------- */
+
+/* pslg_check's warnings (merged duplicates) would be printed once per rank; only rank 0 keeps
+ * stderr while it runs. */
+static int check_quietly(pslg *g, char *err, size_t errlen) {
+    if (rt_rank() == 0) return pslg_check(g, err, errlen);
+    fflush(stderr);
+    int saved = dup(2), devnull = open("/dev/null", O_WRONLY);
+    if (saved >= 0 && devnull >= 0) dup2(devnull, 2);
+    int rc = pslg_check(g, err, errlen);
+    fflush(stderr);
+    if (saved >= 0 && devnull >= 0) dup2(saved, 2);
+    if (saved >= 0) close(saved);
+    if (devnull >= 0) close(devnull);
+    return rc;
+}
+
+int par_load(const par_opts *o, pslg *in, pcdm_decomp *d) {
+    char err[1024], msg[1200];
+    memset(in, 0, sizeof *in);
+    memset(d, 0, sizeof *d);
+    geom_init();
+    int rc = pslg_read(o->input, in, err, sizeof err);
+    if (rc == 0) rc = check_quietly(in, err, sizeof err);
+    if (rc == 0 && in->nsegs > 0 && !(pslg_domain_area(in) > 0)) {
+        snprintf(err, sizeof err, "%s: empty domain (its area is zero)", o->input);
+        rc = -1;
+    }
+    if (rc == 0) {
+        pcdm_decomp_opts dopt;
+        pcdm_decomp_opts_default(&dopt);
+        dopt.nsub = o->nsub;
+        dopt.nranks = rt_size();
+        dopt.min_angle = o->min_angle;
+        dopt.max_area = o->max_area;
+        dopt.imbalance = o->imbalance;
+        int32_t k = o->nsub > 0 ? o->nsub : rt_size();
+        if (!o->cuts && k > PAR_MAX_SUBDOMAINS) {
+            snprintf(err, sizeof err,
+                     "%d subdomains: the automatic decomposition supports at most %d (fewer "
+                     "ranks or --subdomains, or give --cuts)",
+                     (int)k, PAR_MAX_SUBDOMAINS);
+            rc = -1;
+        } else if (o->nsub > 0 && o->nsub < rt_size()) {
+            snprintf(err, sizeof err, "--subdomains %d: fewer subdomains than ranks (%d)",
+                     (int)o->nsub, rt_size());
+            rc = -1;
+        } else if (o->cuts) {
+            rc = pcdm_decomp_read_cuts(o->cuts, in, &dopt, d, err, sizeof err);
+        } else {
+            /* Interfaces meeting other segments at 60 degrees or more keep Ruppert's
+             * refinement free of ping-pong splitting across a narrow corner (interface pieces
+             * are only ever split at dyadic midpoints, never on concentric shells), so ask for
+             * that first; fall back to the quality bound when no such cut exists. */
+            dopt.min_angle = 60;
+            rc = pcdm_decomp_auto(in, &dopt, d, err, sizeof err);
+            if (rc != 0 && o->min_angle < 60) {
+                dopt.min_angle = o->min_angle;
+                rc = pcdm_decomp_auto(in, &dopt, d, err, sizeof err);
+            }
+        }
+        if (rc != 0) {
+            char tmp[sizeof err];
+            memcpy(tmp, err, sizeof tmp);
+            tmp[sizeof tmp - 200] = 0; /* room for the prefix below */
+            snprintf(err, sizeof err, "cannot decompose %.150s for %d ranks: %s", o->input,
+                     rt_size(), tmp);
+        }
+    }
+    if (rc == 0 && o->write_cuts && rt_rank() == 0) {
+        if (pcdm_decomp_write_cuts(d, o->write_cuts, err, sizeof err) != 0) rc = -1;
+    }
+    snprintf(msg, sizeof msg, "%s: %s", o->prog, err);
+    if (par_fail_any(rc != 0, msg)) {
+        pslg_free(in); /* both zero what they free and accept a zeroed struct */
+        pcdm_decomp_free(d);
+        return -1;
+    }
+    return 0;
+}
+
+/* ---- gather ----------------------------------------------------------------------------- */
+
+typedef struct vhash {
+    int32_t *slot; /* global vertex id or -1 */
+    uint64_t mask;
+} vhash;
+
+static uint64_t key_bits(double x) {
+    if (x == 0) x = 0; /* -0.0 and +0.0 are one point */
+    uint64_t u;
+    memcpy(&u, &x, sizeof u);
+    return u;
+}
+
+static uint64_t mix64(uint64_t x) {
+    x ^= x >> 33;
+    x *= 0xff51afd7ed558ccdULL;
+    x ^= x >> 33;
+    x *= 0xc4ceb9fe1a85ec53ULL;
+    x ^= x >> 33;
+    return x;
+}
+
+static uint64_t point_hash(const double p[2]) {
+    return mix64(key_bits(p[0]) * 0x9e3779b97f4a7c15ULL ^ mix64(key_bits(p[1])));
+}
+
+static int same_point(const double *a, const double *b) {
+    return key_bits(a[0]) == key_bits(b[0]) && key_bits(a[1]) == key_bits(b[1]);
+}
+
+typedef struct gbuild {
+    mesh_flat *g;
+    int32_t vcap, tcap, scap;
+    vhash vh;
+    int64_t *shash; /* segment pair keys, -1 empty */
+    int32_t *sidx;
+    uint64_t smask;
+} gbuild;
+
+/* Global id of point p (vertex marker mk), added if new. */
+static int32_t gb_vertex(gbuild *b, const double p[2], int32_t mk) {
+    mesh_flat *g = b->g;
+    uint64_t h = point_hash(p) & b->vh.mask;
+    for (;;) {
+        int32_t id = b->vh.slot[h];
+        if (id < 0) break;
+        if (same_point(g->xy + 2 * (size_t)id, p)) return id;
+        h = (h + 1) & b->vh.mask;
+    }
+    if (g->nverts == b->vcap) {
+        b->vcap = b->vcap ? 2 * b->vcap : 1024;
+        g->xy = xrealloc(g->xy, 2 * (size_t)b->vcap * sizeof(double));
+        g->vmarker = xrealloc(g->vmarker, (size_t)b->vcap * sizeof(int32_t));
+    }
+    int32_t id = g->nverts++;
+    g->xy[2 * (size_t)id] = p[0];
+    g->xy[2 * (size_t)id + 1] = p[1];
+    g->vmarker[id] = mk;
+    b->vh.slot[h] = id;
+    return id;
+}
+
+static void gb_segment(gbuild *b, int32_t u, int32_t v, int32_t mk, int32_t iface) {
+    mesh_flat *g = b->g;
+    int64_t lo = u < v ? u : v, hi = u < v ? v : u;
+    int64_t key = (lo << 32) | hi;
+    uint64_t h = mix64((uint64_t)key) & b->smask;
+    for (;;) {
+        if (b->shash[h] < 0) break;
+        if (b->shash[h] == key) {
+            int32_t s = b->sidx[h];
+            if (iface) g->sinterface[s] = 1;
+            return;
+        }
+        h = (h + 1) & b->smask;
+    }
+    if (g->nsegs == b->scap) {
+        b->scap = b->scap ? 2 * b->scap : 1024;
+        g->seg = xrealloc(g->seg, 2 * (size_t)b->scap * sizeof(int32_t));
+        g->smarker = xrealloc(g->smarker, (size_t)b->scap * sizeof(int32_t));
+        g->sinterface = xrealloc(g->sinterface, (size_t)b->scap * sizeof(int32_t));
+    }
+    int32_t s = g->nsegs++;
+    g->seg[2 * (size_t)s] = u;
+    g->seg[2 * (size_t)s + 1] = v;
+    g->smarker[s] = mk;
+    g->sinterface[s] = iface ? 1 : 0;
+    b->shash[h] = key;
+    b->sidx[h] = s;
+}
+
+/* Merges one piece (rank r) into the global mesh. */
+static void gb_piece(gbuild *b, const mesh_flat *p, int r) {
+    mesh_flat *g = b->g;
+    int32_t *map = xmalloc(((size_t)p->nverts + 1) * sizeof(int32_t));
+    for (int32_t v = 0; v < p->nverts; v++)
+        map[v] = -1;
+    if (g->ntris + (int64_t)p->ntris > INT32_MAX) {
+        fprintf(stderr, "par: merged mesh exceeds 2^31 triangles\n");
+        MPI_Abort(MPI_COMM_WORLD, 1);
+    }
+    int32_t need = g->ntris + p->ntris;
+    if (need > b->tcap) {
+        while (b->tcap < need)
+            b->tcap = b->tcap ? 2 * b->tcap : 1024;
+        g->tri = xrealloc(g->tri, 3 * (size_t)b->tcap * sizeof(int32_t));
+        g->trank = xrealloc(g->trank, (size_t)b->tcap * sizeof(int32_t));
+    }
+    for (int32_t t = 0; t < p->ntris; t++) {
+        for (int j = 0; j < 3; j++) {
+            int32_t v = p->tri[3 * (size_t)t + j];
+            if (v < 0 || v >= p->nverts) {
+                fprintf(stderr, "par: rank %d sent a triangle with vertex %d of %d\n", r, v,
+                        p->nverts);
+                MPI_Abort(MPI_COMM_WORLD, 1);
+            }
+            if (map[v] < 0) map[v] = gb_vertex(b, p->xy + 2 * (size_t)v, p->vmarker[v]);
+            g->tri[3 * (size_t)g->ntris + j] = map[v];
+        }
+        g->trank[g->ntris] = p->trank ? p->trank[t] : r;
+        g->ntris++;
+    }
+    for (int32_t s = 0; s < p->nsegs; s++) {
+        int32_t u = p->seg[2 * (size_t)s], v = p->seg[2 * (size_t)s + 1];
+        if (u < 0 || u >= p->nverts || v < 0 || v >= p->nverts) continue;
+        if (map[u] < 0) map[u] = gb_vertex(b, p->xy + 2 * (size_t)u, p->vmarker[u]);
+        if (map[v] < 0) map[v] = gb_vertex(b, p->xy + 2 * (size_t)v, p->vmarker[v]);
+        gb_segment(b, map[u], map[v], p->smarker ? p->smarker[s] : 0,
+                   p->sinterface ? p->sinterface[s] : 0);
+    }
+    free(map);
+}
+
+static uint64_t pow2_at_least(uint64_t n) {
+    uint64_t c = 1024;
+    while (c < n)
+        c <<= 1;
+    return c;
+}
+
+/* Piece transfer: counts [nverts, ntris, nsegs, has_trank], then xy, vmarker, tri, trank, seg,
+ * smarker, sinterface (each only if non-empty). */
+static void send_piece(const mesh_flat *f) {
+    MPI_Comm c = rt_comm();
+    int32_t cnt[4] = {f->nverts, f->ntris, f->nsegs, f->trank ? 1 : 0};
+    mpi_check(MPI_Send(cnt, 4, MPI_INT32_T, 0, PAR_TAG_GATHER, c), "MPI_Send");
+    if (f->nverts) {
+        mpi_check(MPI_Send(f->xy, 2 * f->nverts, MPI_DOUBLE, 0, PAR_TAG_GATHER, c), "MPI_Send");
+        int32_t *mk = xmalloc((size_t)f->nverts * sizeof(int32_t));
+        for (int32_t v = 0; v < f->nverts; v++)
+            mk[v] = f->vmarker ? f->vmarker[v] : 0;
+        mpi_check(MPI_Send(mk, f->nverts, MPI_INT32_T, 0, PAR_TAG_GATHER, c), "MPI_Send");
+        free(mk);
+    }
+    if (f->ntris) {
+        mpi_check(MPI_Send(f->tri, 3 * f->ntris, MPI_INT32_T, 0, PAR_TAG_GATHER, c), "MPI_Send");
+        if (f->trank)
+            mpi_check(MPI_Send(f->trank, f->ntris, MPI_INT32_T, 0, PAR_TAG_GATHER, c), "MPI_Send");
+    }
+    if (f->nsegs) {
+        int32_t *a = xmalloc(4 * (size_t)f->nsegs * sizeof(int32_t));
+        for (int32_t s = 0; s < f->nsegs; s++) {
+            a[4 * (size_t)s] = f->seg[2 * (size_t)s];
+            a[4 * (size_t)s + 1] = f->seg[2 * (size_t)s + 1];
+            a[4 * (size_t)s + 2] = f->smarker ? f->smarker[s] : 0;
+            a[4 * (size_t)s + 3] = f->sinterface ? f->sinterface[s] : 0;
+        }
+        mpi_check(MPI_Send(a, 4 * f->nsegs, MPI_INT32_T, 0, PAR_TAG_GATHER, c), "MPI_Send");
+        free(a);
+    }
+}
+
+static void recv_piece(int src, mesh_flat *f) {
+    MPI_Comm c = rt_comm();
+    int32_t cnt[4];
+    memset(f, 0, sizeof *f);
+    mpi_check(MPI_Recv(cnt, 4, MPI_INT32_T, src, PAR_TAG_GATHER, c, MPI_STATUS_IGNORE), "MPI_Recv");
+    f->nverts = cnt[0];
+    f->ntris = cnt[1];
+    f->nsegs = cnt[2];
+    f->xy = xmalloc(2 * (size_t)f->nverts * sizeof(double));
+    f->vmarker = xmalloc((size_t)f->nverts * sizeof(int32_t));
+    f->tri = xmalloc(3 * (size_t)f->ntris * sizeof(int32_t));
+    f->trank = cnt[3] ? xmalloc((size_t)f->ntris * sizeof(int32_t)) : NULL;
+    if (f->nverts) {
+        mpi_check(
+            MPI_Recv(f->xy, 2 * f->nverts, MPI_DOUBLE, src, PAR_TAG_GATHER, c, MPI_STATUS_IGNORE),
+            "MPI_Recv");
+        mpi_check(
+            MPI_Recv(f->vmarker, f->nverts, MPI_INT32_T, src, PAR_TAG_GATHER, c, MPI_STATUS_IGNORE),
+            "MPI_Recv");
+    }
+    if (f->ntris) {
+        mpi_check(
+            MPI_Recv(f->tri, 3 * f->ntris, MPI_INT32_T, src, PAR_TAG_GATHER, c, MPI_STATUS_IGNORE),
+            "MPI_Recv");
+        if (f->trank)
+            mpi_check(MPI_Recv(f->trank, f->ntris, MPI_INT32_T, src, PAR_TAG_GATHER, c,
+                               MPI_STATUS_IGNORE),
+                      "MPI_Recv");
+    }
+    f->seg = xmalloc(2 * (size_t)f->nsegs * sizeof(int32_t));
+    f->smarker = xmalloc((size_t)f->nsegs * sizeof(int32_t));
+    f->sinterface = xmalloc((size_t)f->nsegs * sizeof(int32_t));
+    if (f->nsegs) {
+        int32_t *a = xmalloc(4 * (size_t)f->nsegs * sizeof(int32_t));
+        mpi_check(MPI_Recv(a, 4 * f->nsegs, MPI_INT32_T, src, PAR_TAG_GATHER, c, MPI_STATUS_IGNORE),
+                  "MPI_Recv");
+        for (int32_t s = 0; s < f->nsegs; s++) {
+            f->seg[2 * (size_t)s] = a[4 * (size_t)s];
+            f->seg[2 * (size_t)s + 1] = a[4 * (size_t)s + 1];
+            f->smarker[s] = a[4 * (size_t)s + 2];
+            f->sinterface[s] = a[4 * (size_t)s + 3];
+        }
+        free(a);
+    }
+}
+
+int par_gather_mesh(const mesh_flat *local, const pslg *in, mesh_flat *global) {
+    MPI_Comm c = rt_comm();
+    int rank = rt_rank(), size = rt_size();
+    memset(global, 0, sizeof *global);
+    int too_big = (int64_t)2 * local->nverts > INT_MAX || (int64_t)4 * local->nsegs > INT_MAX ||
+                  (int64_t)3 * local->ntris > INT_MAX;
+    if (par_fail_any(too_big, "par: a rank's piece of the mesh is too large to gather")) return -1;
+    int64_t mine[3] = {local->nverts, local->ntris, local->nsegs}, tot[3];
+    mpi_check(MPI_Reduce(mine, tot, 3, MPI_INT64_T, MPI_SUM, 0, c), "MPI_Reduce");
+    if (rank != 0) {
+        /* wait for rank 0's go-ahead so pieces arrive one at a time */
+        int go;
+        mpi_check(MPI_Recv(&go, 1, MPI_INT, 0, PAR_TAG_GATHER, c, MPI_STATUS_IGNORE), "MPI_Recv");
+        send_piece(local);
+        return 0;
+    }
+    gbuild b;
+    memset(&b, 0, sizeof b);
+    b.g = global;
+    uint64_t vslots = pow2_at_least(2 * (uint64_t)(tot[0] + in->nverts) + 16);
+    b.vh.slot = xmalloc(vslots * sizeof(int32_t));
+    for (uint64_t i = 0; i < vslots; i++)
+        b.vh.slot[i] = -1;
+    b.vh.mask = vslots - 1;
+    uint64_t sslots = pow2_at_least(2 * (uint64_t)tot[2] + 16);
+    b.shash = xmalloc(sslots * sizeof(int64_t));
+    b.sidx = xmalloc(sslots * sizeof(int32_t));
+    for (uint64_t i = 0; i < sslots; i++)
+        b.shash[i] = -1;
+    b.smask = sslots - 1;
+    /* input vertices first, in input order */
+    for (int32_t v = 0; v < in->nverts; v++) {
+        int32_t id = gb_vertex(&b, in->xy + 2 * (size_t)v, in->vmarker ? in->vmarker[v] : 0);
+        if (id != v) {
+            fprintf(stderr, "par: input vertex %d repeats vertex %d (unchecked input?)\n", v, id);
+            MPI_Abort(MPI_COMM_WORLD, 1);
+        }
+    }
+    gb_piece(&b, local, 0);
+    for (int r = 1; r < size; r++) {
+        int go = 1;
+        mpi_check(MPI_Send(&go, 1, MPI_INT, r, PAR_TAG_GATHER, c), "MPI_Send");
+        mesh_flat p;
+        recv_piece(r, &p);
+        gb_piece(&b, &p, r);
+        mesh_flat_free(&p);
+    }
+    free(b.vh.slot);
+    free(b.shash);
+    free(b.sidx);
+    return 0;
+}
+
+/* ---- outputs and validation -------------------------------------------------------------- */
+
+int par_write_outputs(const par_opts *o, const mesh_flat *global) {
+    char err[1024];
+    int rc = 0;
+    if (o->out_prefix && meshio_write_triangle(global, o->out_prefix, err, sizeof err) != 0) {
+        fprintf(stderr, "%s: %s\n", o->prog, err);
+        rc = -1;
+    }
+    if (o->vtk && meshio_write_vtk(global, o->vtk, err, sizeof err) != 0) {
+        fprintf(stderr, "%s: %s\n", o->prog, err);
+        rc = -1;
+    }
+    if (o->svg && meshio_write_svg(global, o->svg, err, sizeof err) != 0) {
+        fprintf(stderr, "%s: %s\n", o->prog, err);
+        rc = -1;
+    }
+    return rc;
+}
+
+int par_validate(const par_opts *o, const pslg *in, const mesh_flat *global, validate_report *r) {
+    validate_opts vo;
+    memset(&vo, 0, sizeof vo);
+    vo.min_angle = o->min_angle;
+    vo.max_area = o->max_area;
+    vo.check_delaunay_interfaces = 1;
+    int ok = mesh_validate(in, global, &vo, r);
+    if (o->check || o->stats) validate_report_print(r, stdout);
+    return ok;
+}
+
+long par_peak_rss_bytes(void) {
+    struct rusage ru;
+    if (getrusage(RUSAGE_SELF, &ru) != 0) return 0;
+    return (long)ru.ru_maxrss * 1024L;
+}

@@ -1,0 +1,265 @@
+/* pcdm.c: one rank of the Parallel Constrained Delaunay Meshing algorithm (TR-97-17 section 3,
+ * "Parallel Constrained Meshing Algorithm"; the runtime of section 4 carries the requests).
+ *
+ * Build: every rank triangulates the same augmented PSLG (input + interface cuts), so the
+ * coarse CDT, its vertex numbering and its segment numbering are identical everywhere.  Each
+ * region (component under adjacency across non-constraint edges) is mapped to a subdomain
+ * exactly: a triangle edge on constraint piece s, directed like s (u -> v of its subsegment
+ * record), has the triangle on the left of s, so the region lies in d->seg_sub[2s], otherwise
+ * in d->seg_sub[2s + 1].  Every constraint edge of a region must agree (checked), so a wrong
+ * decomposition is reported instead of producing a wrong mesh.  Regions of other ranks are
+ * deleted (mesh_keep_regions).
+ *
+ * Refine: rt_run's local work step is mesh_refine with a poll hook that stops it every
+ * poll_every insertions (resumable), so the scheduler services incoming split requests between
+ * steps and flushes the requests this step produced (aggregated per destination).  The kernel
+ * calls on_split(seg, level, k) when it splits an interface subsegment by its own decision
+ * (encroachment by a rejected circumcenter, or by a split point): the request goes to the owner
+ * of the subdomain on the other side, unless that is this rank (then the two subdomains share
+ * this mesh and the one edge already is split for both).  The handler calls
+ * mesh_split_subsegment_named: both sides compute the dyadic midpoint from the original
+ * segment's endpoints, so the vertex is bit-identical; ALREADY (split here before) is counted
+ * and dropped.  A split may encroach further subsegments; the kernel splits them and on_split
+ * fires again, so cascades cross ranks as RSRs.
+ * Invariants: no locks, no blocking; splits are never undone; every interface subsegment split
+ * on one side is eventually split on the other (each local split sends exactly one request),
+ * so at termination both sides hold the same chain of subsegments and the merged mesh
+ * conforms.  The work function returns IDLE only when mesh_refine returned DONE (or hit the
+ * Steiner limit) and no request arrived since, honouring rt_run's termination contract.
+ */
+#include "pcdm.h"
+
+#include "rt.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The handler is registered once per process with a fixed argument; the part being refined is
+ * published here for the duration of pcdm_part_refine (one part per process at a time). */
+typedef struct pcdm_slot {
+    int handler; /* id of "pcdm_split", -1 before pcdm_register */
+    pcdm_part *active;
+} pcdm_slot;
+
+static pcdm_slot slot = {-1, NULL};
+
+static void split_handler(const rt_msg *msg, void *arg) {
+    pcdm_slot *s = arg;
+    pcdm_part *p = s->active;
+    if (!p) {
+        fprintf(stderr, "pcdm: rank %d: split request from rank %d outside refinement\n", rt_rank(),
+                msg->src);
+        abort();
+    }
+    pcdm_split_msg r;
+    memcpy(&r, msg->data, sizeof r);
+    p->split_recv++;
+    switch (mesh_split_subsegment_named(&p->m, r.seg, r.level, r.k)) {
+    case MESH_SPLIT_DONE:
+        p->split_done++;
+        p->dirty = 1;
+        break;
+    case MESH_SPLIT_ALREADY:
+        p->split_ignored++;
+        p->dirty = 1; /* cheap; a cascade of named splits may have queued work */
+        break;
+    case MESH_SPLIT_NOT_FOUND:
+        p->split_notfound++;
+        fprintf(stderr,
+                "pcdm: rank %d: split request from rank %d for segment %d (%d, %lld): "
+                "not in this rank's mesh\n",
+                rt_rank(), msg->src, (int)r.seg, (int)r.level, (long long)r.k);
+        break;
+    }
+}
+
+int pcdm_register(void) {
+    int id = rt_handler_register("pcdm_split", split_handler, &slot, RT_NONTHREADED,
+                                 (uint32_t)sizeof(pcdm_split_msg));
+    if (id < 0) return id;
+    slot.handler = id;
+    return 0;
+}
+
+/* ---- build ------------------------------------------------------------------------------- */
+
+int pcdm_part_build(pcdm_part *p, const pcdm_decomp *d, int rank, char *err, size_t errlen) {
+    memset(p, 0, sizeof *p);
+    p->d = d;
+    p->rank = rank;
+    for (int32_t s = 0; s < d->nsub; s++)
+        if (d->sub_owner[s] == rank) p->nsub_owned++;
+    mesh_init(&p->m);
+    mesh *m = &p->m;
+    if (mesh_build_cdt(m, &d->g, d->seg_iface, err, errlen) != 0) {
+        mesh_free(m);
+        return -1;
+    }
+    if (m->nseg != d->g.nsegs) {
+        snprintf(err, errlen, "pcdm: the CDT has %d segments, the decomposition %d", (int)m->nseg,
+                 (int)d->g.nsegs);
+        mesh_free(m);
+        return -1;
+    }
+    int32_t *label = malloc(((size_t)m->nt + 1) * sizeof(int32_t));
+    if (!label) {
+        snprintf(err, errlen, "pcdm: out of memory");
+        mesh_free(m);
+        return -1;
+    }
+    int32_t nreg = mesh_label_regions(m, label);
+    int32_t *regsub = malloc(((size_t)nreg + 1) * sizeof(int32_t));
+    uint8_t *keep = malloc((size_t)nreg + 1);
+    if (!regsub || !keep) {
+        snprintf(err, errlen, "pcdm: out of memory");
+        free(label), free(regsub), free(keep);
+        mesh_free(m);
+        return -1;
+    }
+    for (int32_t r = 0; r < nreg; r++)
+        regsub[r] = -2;
+    int bad = 0;
+    for (int32_t t = 0; t < m->nt && !bad; t++) {
+        if (!mesh_tri_alive(m, t) || !(m->tf[t] & 7)) continue;
+        for (int j = 0; j < 3 && !bad; j++) {
+            int32_t e = 3 * t + j;
+            if (!mesh_edge_constrained(m, e)) continue;
+            const mesh_subseg *s = mesh_subseg_of_edge(m, e);
+            if (!s || s->seg < 0 || s->seg >= d->g.nsegs) {
+                snprintf(err, errlen, "pcdm: constraint edge without a segment record");
+                bad = 1;
+                break;
+            }
+            int32_t o = mesh_org(m, e), de = mesh_dest(m, e), side;
+            if (o == s->u && de == s->v)
+                side = 0; /* triangle (ccw) on the left of the directed segment */
+            else if (o == s->v && de == s->u)
+                side = 1;
+            else {
+                snprintf(err, errlen, "pcdm: subsegment record does not match its edge");
+                bad = 1;
+                break;
+            }
+            int32_t sub = d->seg_sub[2 * (size_t)s->seg + side];
+            if (sub < 0 || sub >= d->nsub) {
+                snprintf(err, errlen,
+                         "pcdm: a triangle lies outside every subdomain (segment %d, side %d)",
+                         (int)s->seg, side);
+                bad = 1;
+            } else if (regsub[label[t]] == -2) {
+                regsub[label[t]] = sub;
+            } else if (regsub[label[t]] != sub) {
+                snprintf(err, errlen,
+                         "pcdm: inconsistent decomposition: one region touches subdomains %d "
+                         "and %d",
+                         (int)regsub[label[t]], (int)sub);
+                bad = 1;
+            }
+        }
+    }
+    for (int32_t r = 0; r < nreg && !bad; r++) {
+        if (regsub[r] == -2) {
+            snprintf(err, errlen, "pcdm: a region of the CDT has no constraint edge");
+            bad = 1;
+        } else {
+            keep[r] = d->sub_owner[regsub[r]] == rank;
+        }
+    }
+    if (!bad) mesh_keep_regions(m, label, keep);
+    free(label);
+    free(regsub);
+    free(keep);
+    if (bad) {
+        mesh_free(m);
+        return -1;
+    }
+    return 0;
+}
+
+/* ---- refinement -------------------------------------------------------------------------- */
+
+static void on_split(void *ctx, int32_t seg, int32_t level, int64_t k, unsigned flags) {
+    pcdm_part *p = ctx;
+    const pcdm_decomp *d = p->d;
+    if (!(flags & MESH_SPLIT_INTERFACE) || seg < 0 || seg >= d->g.nsegs || !d->seg_iface[seg])
+        return;
+    pcdm_split_msg r;
+    memset(&r, 0, sizeof r);
+    r.seg = seg;
+    r.level = level;
+    r.k = k;
+    int sent_to = -1;
+    for (int side = 0; side < 2; side++) {
+        int32_t sub = d->seg_sub[2 * (size_t)seg + side];
+        if (sub < 0) continue;
+        int owner = d->sub_owner[sub];
+        if (owner == p->rank || owner == sent_to) continue;
+        rt_rsr(owner, slot.handler, &r, (uint32_t)sizeof r);
+        p->split_sent++;
+        sent_to = owner;
+    }
+}
+
+static int poll_stop(void *ctx) {
+    pcdm_part *p = ctx;
+    if (p->progress) {
+        double t = rt_wtime();
+        if (t - p->t_last >= 2.0) {
+            p->t_last = t;
+            fprintf(stderr, "pcdm: rank %d: %.1f s  %ld triangles  %llu splits sent\n", p->rank,
+                    t - p->t_start, (long)p->m.nlive, (unsigned long long)p->split_sent);
+        }
+    }
+    return 1; /* back to the scheduler: service requests, flush ours */
+}
+
+static int work(void *ctx) {
+    pcdm_part *p = ctx;
+    if (!p->dirty) return RT_WORK_IDLE;
+    mesh_refine_result r = mesh_refine(&p->m);
+    p->work_steps++;
+    if (r == MESH_REFINE_STOPPED) return RT_WORK_BUSY;
+    if (r == MESH_REFINE_STEINER_LIMIT) p->limit_hit = 1;
+    p->dirty = 0;
+    return RT_WORK_BUSY; /* did work in this call; the next call reports IDLE */
+}
+
+int pcdm_part_refine(pcdm_part *p, const mesh_quality *q, int32_t poll_every) {
+    p->poll_every = poll_every > 0 ? poll_every : 300;
+    mesh_set_quality(&p->m, q);
+    mesh_hooks h;
+    memset(&h, 0, sizeof h);
+    h.on_split = on_split;
+    h.poll = poll_stop;
+    h.poll_every = p->poll_every;
+    h.ctx = p;
+    mesh_set_hooks(&p->m, &h);
+    p->dirty = 1;
+    p->t_start = p->t_last = rt_wtime();
+    if (slot.handler < 0) {
+        fprintf(stderr, "pcdm: pcdm_register was not called\n");
+        abort();
+    }
+    slot.active = p;
+    rt_run(work, p);
+    slot.active = NULL;
+    return 0;
+}
+
+int pcdm_part_flat(const pcdm_part *p, mesh_flat *f) {
+    if (mesh_to_flat(&p->m, f) != 0) return -1;
+    f->trank = malloc(((size_t)f->ntris + 1) * sizeof(int32_t));
+    if (!f->trank) {
+        mesh_flat_free(f);
+        return -1;
+    }
+    for (int32_t t = 0; t < f->ntris; t++)
+        f->trank[t] = p->rank;
+    return 0;
+}
+
+void pcdm_part_free(pcdm_part *p) {
+    mesh_free(&p->m);
+    memset(p, 0, sizeof *p);
+}

@@ -1,0 +1,83 @@
+/* pcdm: the Parallel Constrained Delaunay Meshing algorithm (TR-97-17 section 3) on one rank.
+ *
+ * Every rank builds the same coarse CDT of the decomposition's augmented PSLG (input segments
+ * plus the artificial interface segments), keeps the triangles of the subdomains it owns and
+ * refines them with the sequential Ruppert/Chew kernel (mesh.h) -- no locks, no blocking tasks.
+ * When the kernel splits an interface subsegment it names it (segment id, dyadic level, index)
+ * and this module sends the rank on the other side the only remote service request there is,
+ * "split constraint edge (seg, level, k)"; the receiver splits the same subsegment at the same
+ * dyadic midpoint (bit for bit: mesh_dyadic_point from the original endpoints).  A request for
+ * a subsegment already split is counted and dropped.  Termination: the runtime's detector.
+ *
+ * Usage (SPMD):
+ *     rt_init(...); pcdm_register();            // before rt_start / the first rt_run
+ *     pcdm_part p; pcdm_part_build(&p, &d, rt_rank(), err, sizeof err);
+ *     pcdm_part_refine(&p, &q, 0);              // Collective (rt_run)
+ *     pcdm_part_flat(&p, &flat);                // then par_gather_mesh(&flat, ...)
+ *     pcdm_part_free(&p);
+ */
+#ifndef PCDM_H
+#define PCDM_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "mesh.h"
+#include "meshio.h"
+#include "pcdm_decomp.h"
+
+/* The one RSR payload: split the subsegment [k/2^level, (k+1)/2^level] of segment seg (an
+ * interface piece of the decomposition's PSLG, d.g numbering). */
+typedef struct pcdm_split_msg {
+    int32_t seg;
+    int32_t level;
+    int64_t k;
+} pcdm_split_msg;
+_Static_assert(sizeof(pcdm_split_msg) == 16, "pcdm_split_msg must be 16 bytes, no padding");
+
+/* One rank's part of the PCDM computation. */
+typedef struct pcdm_part {
+    mesh m;                 /* the local mesh: every subdomain this rank owns */
+    const pcdm_decomp *d;   /* borrowed; must outlive the part */
+    int rank;               /* owner of this part */
+    int32_t nsub_owned;     /* subdomains owned by this rank */
+    int32_t poll_every;     /* insertions between two returns to the scheduler */
+    int dirty;              /* refinement work may be queued (set by the split handler) */
+    int limit_hit;          /* the Steiner limit stopped refinement */
+    int progress;           /* progress lines on stderr (rank 0) */
+    double t_start, t_last; /* for progress lines */
+    /* counters */
+    uint64_t split_sent;     /* split RSRs sent to other ranks */
+    uint64_t split_recv;     /* split RSRs received */
+    uint64_t split_done;     /* of those, splits performed here */
+    uint64_t split_ignored;  /* of those, subsegment already split here (dropped) */
+    uint64_t split_notfound; /* of those, segment not present here (a protocol error) */
+    uint64_t work_steps;     /* calls of the local work function that refined */
+} pcdm_part;
+
+/* Local, SPMD: every rank calls it once, in the same position of its handler registration
+ * sequence, after rt_init and before rt_start (or the first rt_run).  Registers the
+ * non-threaded handler "pcdm_split".  Returns 0, or a negative RT_E* code. */
+int pcdm_register(void);
+
+/* Local.  Builds the CDT of d->g with d->seg_iface as interface flags (the same coarse CDT on
+ * every rank), maps each region (component between constraint edges) to its subdomain exactly
+ * (by the side of a bounding constraint edge and d->seg_sub), and keeps only the subdomains
+ * that d->sub_owner assigns to rank.  p is overwritten; d is borrowed and must outlive p.
+ * Returns 0, or -1 with a message in err (p then holds nothing). */
+int pcdm_part_build(pcdm_part *p, const pcdm_decomp *d, int rank, char *err, size_t errlen);
+
+/* Collective (calls rt_run).  Refines p's mesh to q (per-rank Steiner limit: q->max_steiner
+ * as given) with the split protocol above; poll_every (0: 300) insertions per work step
+ * between two services of incoming RSRs.  Returns when every rank is done and no request is in
+ * flight.  Returns 0. */
+int pcdm_part_refine(pcdm_part *p, const mesh_quality *q, int32_t poll_every);
+
+/* Local.  The part as a mesh_flat (local numbering) with trank set to p->rank.  Returns 0 or
+ * -1 (out of memory).  Free with mesh_flat_free. */
+int pcdm_part_flat(const pcdm_part *p, mesh_flat *f);
+
+/* Local.  Frees the part's mesh and zeroes it. */
+void pcdm_part_free(pcdm_part *p);
+
+#endif

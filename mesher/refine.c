@@ -1,0 +1,537 @@
+/* refine.c: Delaunay refinement -- Ruppert's algorithm with Chew's circumcenter insertion, as
+ * used by the paper's Parallel Constrained Meshing Algorithm (section 3).
+ *
+ * Ruppert, "A Delaunay refinement algorithm for quality 2-dimensional mesh generation"
+ * (J. Algorithms 18, 1995); Chew, "Guaranteed-quality mesh generation for curved surfaces"
+ * (SoCG 1993); Shewchuk, "Delaunay refinement algorithms for triangular mesh generation"
+ * (CGTA 22, 2002); Ungor, "Off-centers" (LATIN 2004).
+ *
+ * Work queues: encroached subsegments (a FIFO of vertex pairs, always drained first) and bad
+ * triangles in 4096 buckets by the binary exponent of the squared shortest edge, shortest
+ * first (as Triangle orders them), last-in first-out inside a bucket (the newest triangles are
+ * hot in cache, and in practice this inserts fewer points than FIFO).  Queue entries are triangle
+ * ids and are re-validated when popped, so stale entries (a dead or reused slot) cost one test. For
+ * a bad triangle the Steiner point is its circumcenter, or Ungor's off-center on the bisector of
+ * the shortest edge when that is closer (the off-center makes the new triangle on the shortest edge
+ * just meet the bound, with a 5% margin).  The point is located by a walk from the triangle that
+ * refuses to cross constraint edges; a walk stopped by a constraint edge splits that subsegment
+ * instead (the point lies beyond it).  Its cavity is collected; if the point encroaches a
+ * subsegment on the cavity boundary (geom_encroaches, exact), it is discarded and those subsegments
+ * are split. Subsegments are split at the exact dyadic midpoint of their original segment, except a
+ * non-interface subsegment with one endpoint at a small-angle input corner, which is split on
+ * a concentric shell around it (power-of-two distance, Ruppert 1995 / Shewchuk 2002 sec. 5).
+ * A skinny triangle whose shortest edge joins vertices on two segments of such a corner at the
+ * same distance from it is left alone: its small angle is forced by the input.  Invariants:
+ * the mesh stays a CDT; encroached subsegments never wait behind bad triangles; a split is never
+ * undone; interface subsegments are only split at dyadic midpoints.
+ */
+#include "mesh_impl.h"
+
+#include "geom.h"
+
+#include <math.h>
+#include <string.h>
+
+#define NBUCKET 4096
+
+typedef struct qent {
+    int32_t t, next;
+} qent;
+
+struct mesh_refine_state {
+    int32_t head[NBUCKET + 1]; /* per bucket: a stack of pool entries */
+    qent *pool;
+    int32_t npool, poolcap, pool_free;
+    int32_t cursor;
+    int32_t *enc; /* triples u, v, forced */
+    int32_t nenc, enccap, enchead;
+    double cosb, offfac;
+    double cos2b; /* cos(2 * min_angle), for diametral lenses (1: circles) */
+    int need_scan;
+    int32_t since_poll;
+};
+
+static const double *X(const mesh *m, int32_t v) {
+    return m->xy + 2 * (size_t)v;
+}
+
+static mesh_refine_state *rf_get(mesh *m) {
+    if (m->rf) return m->rf;
+    mesh_refine_state *r = mesh_xrealloc(NULL, 1, sizeof *r);
+    memset(r, 0, sizeof *r);
+    for (int i = 0; i <= NBUCKET; i++)
+        r->head[i] = -1;
+    r->pool_free = -1;
+    r->cursor = NBUCKET + 1;
+    r->cosb = 1.0;
+    r->need_scan = 1;
+    m->rf = r;
+    return r;
+}
+
+void mesh_refine_free(mesh *m) {
+    if (!m->rf) return;
+    free(m->rf->pool);
+    free(m->rf->enc);
+    free(m->rf);
+    m->rf = NULL;
+}
+
+void mesh_set_quality(mesh *m, const mesh_quality *q) {
+    mesh_refine_state *r = rf_get(m);
+    m->q = *q;
+    double b = q->min_angle > 0 ? q->min_angle : 0;
+    if (b > 60) b = 60;
+    r->cosb = cos(b * M_PI / 180.0);
+    /* off-center: apex angle exactly b at height |pq| / (2 tan(b/2)); keep 5% inside */
+    r->offfac = b > 0 ? 0.95 / (2.0 * tan(b * M_PI / 360.0)) : 0;
+    r->cos2b = (q->lens && b > 0 && b < 45) ? cos(2 * b * M_PI / 180.0) : 1.0;
+    r->need_scan = 1;
+}
+
+void mesh_set_hooks(mesh *m, const mesh_hooks *h) {
+    m->hooks = *h;
+    if (m->hooks.poll_every <= 0) m->hooks.poll_every = 200;
+}
+
+/* ---- quality ------------------------------------------------------------------------------ */
+
+/* Bit 1: smallest angle below the bound; bit 2: area above the bound; 0: good.  *bucket:
+ * queue priority (0 = worst; triangles bad only by area go to the last bucket).  *sh: index j
+ * of the shortest edge (edge 3t+j). */
+static int quality(const mesh *m, double cosb, int32_t t, int *bucket, int *sh) {
+    const int32_t *tv = m->tv + 3 * (size_t)t;
+    const double *p[3] = {X(m, tv[0]), X(m, tv[1]), X(m, tv[2])};
+    double ex[3], ey[3], l[3];
+    for (int j = 0; j < 3; j++) { /* edge j: p[j] -> p[j+1] */
+        ex[j] = p[(j + 1) % 3][0] - p[j][0];
+        ey[j] = p[(j + 1) % 3][1] - p[j][1];
+        l[j] = ex[j] * ex[j] + ey[j] * ey[j];
+    }
+    int j = (l[0] <= l[1] && l[0] <= l[2]) ? 0 : (l[1] <= l[2]) ? 1 : 2;
+    if (sh) *sh = j;
+    int res = 0, k = NBUCKET;
+    if (cosb < 1.0) {
+        /* the smallest angle is at the apex of the shortest edge, between edges j+1 and j+2 */
+        int a = (j + 1) % 3, b = (j + 2) % 3;
+        double dot = -(ex[a] * ex[b] + ey[a] * ey[b]);
+        if (dot > 0 && dot * dot > cosb * cosb * l[a] * l[b]) res = 1;
+    }
+    if (m->q.max_area > 0) {
+        double area = 0.5 * (ex[0] * -ey[2] - ey[0] * -ex[2]);
+        if (area > m->q.max_area) res |= 2;
+    }
+    if (res && bucket) {
+        /* shortest edges first: bucket = binary exponent of the squared shortest edge */
+        uint64_t bits;
+        memcpy(&bits, &l[j], sizeof bits);
+        k = (int)((bits >> 52) & 0x7ff) - 1023 + NBUCKET / 2; /* binary exponent */
+        *bucket = k < 0 ? 0 : k >= NBUCKET ? NBUCKET - 1 : k;
+    }
+    return res;
+}
+
+int mesh_tri_bad(const mesh *m, int32_t t) {
+    double b = m->q.min_angle > 0 ? fmin(m->q.min_angle, 60) : 0;
+    return quality(m, cos(b * M_PI / 180.0), t, NULL, NULL);
+}
+
+static void push_bad(mesh *m, int32_t t) {
+    mesh_refine_state *r = m->rf;
+    int k;
+    if (!quality(m, r->cosb, t, &k, NULL)) return;
+    int32_t i;
+    if (r->pool_free >= 0) {
+        i = r->pool_free;
+        r->pool_free = r->pool[i].next;
+    } else {
+        if (r->npool == r->poolcap) {
+            r->poolcap = r->poolcap ? r->poolcap * 2 : 1024;
+            r->pool = mesh_xrealloc(r->pool, r->poolcap, sizeof(qent));
+        }
+        i = r->npool++;
+    }
+    r->pool[i].t = t;
+    r->pool[i].next = r->head[k]; /* LIFO inside a bucket: hot in cache, fewer points */
+    r->head[k] = i;
+    if (k < r->cursor) r->cursor = k;
+}
+
+static int32_t pop_bad(mesh *m) {
+    mesh_refine_state *r = m->rf;
+    while (r->cursor <= NBUCKET && r->head[r->cursor] < 0)
+        r->cursor++;
+    if (r->cursor > NBUCKET) return -1;
+    int k = r->cursor;
+    int32_t i = r->head[k];
+    r->head[k] = r->pool[i].next;
+    r->pool[i].next = r->pool_free;
+    r->pool_free = i;
+    return r->pool[i].t;
+}
+
+static void push_new(mesh *m) {
+    for (int32_t i = 0; i < m->nnewt; i++)
+        push_bad(m, m->newt[i]);
+}
+
+/* ---- encroachment ------------------------------------------------------------------------- */
+
+static void push_enc(mesh *m, int32_t u, int32_t v, int forced) {
+    mesh_refine_state *r = m->rf;
+    if (r->nenc + 3 > r->enccap) {
+        if (r->enchead > 0) {
+            memmove(r->enc, r->enc + r->enchead, (size_t)(r->nenc - r->enchead) * 4);
+            r->nenc -= r->enchead;
+            r->enchead = 0;
+        }
+        if (r->nenc + 3 > r->enccap) {
+            r->enccap = r->enccap ? r->enccap * 2 : 192;
+            r->enc = mesh_xrealloc(r->enc, r->enccap, sizeof(int32_t));
+        }
+    }
+    r->enc[r->nenc++] = u;
+    r->enc[r->nenc++] = v;
+    r->enc[r->nenc++] = forced;
+}
+
+/* Does p encroach subsegment ab?  Diametral circle (exact, geom_encroaches), or with
+ * q.lens the diametral lens of Shewchuk 2002 (sec. 4): p encroaches only if the angle apb
+ * exceeds 180 - 2*min_angle, i.e. p lies in the intersection of the two disks through a and b
+ * whose arcs meet ab at min_angle.  The lens test is rounded: it only decides whether to split,
+ * never topology; on the circle's boundary and beyond, the exact test has the last word. */
+static int enc_test(const mesh *m, const double *a, const double *b, const double *p) {
+    if (!geom_encroaches(a, b, p)) return 0;
+    if (!m->q.lens || m->rf->cos2b >= 1.0) return 1;
+    double ax = a[0] - p[0], ay = a[1] - p[1], bx = b[0] - p[0], by = b[1] - p[1];
+    double dot = ax * bx + ay * by; /* < 0: obtuse at p */
+    return dot * dot >= m->rf->cos2b * m->rf->cos2b * (ax * ax + ay * ay) * (bx * bx + by * by);
+}
+
+/* Constraint edge e encroached by the apex of a triangle on either side. */
+static int encroached(const mesh *m, int32_t e) {
+    const double *a = X(m, m->tv[e]), *b = X(m, mesh_dest(m, e));
+    if (enc_test(m, a, b, X(m, mesh_apex(m, e)))) return 1;
+    int32_t f = m->tn[e];
+    return f >= 0 && enc_test(m, a, b, X(m, mesh_apex(m, f)));
+}
+
+/* The corner of a small angle that a subsegment with endpoint v (an input vertex) touches. */
+static int is_corner(const mesh *m, int32_t v) {
+    return v < m->ninput && m->corner && m->corner[v];
+}
+
+/* Splits subsegment record r.  notify: call on_split for an interface subsegment.  Returns 0,
+ * or -1 if it cannot be split (precision exhausted; counted as failed). */
+static int split_subseg(mesh *m, int32_t r, int notify) {
+    mesh_subseg s = m->ss[r];
+    const double *pu = X(m, s.u), *pv = X(m, s.v);
+    double p[2];
+    int32_t nl = -1;
+    int64_t k0 = 0, k1 = 0;
+    int iface = m->siface[s.seg];
+    int cu = !iface && is_corner(m, s.u), cv = !iface && is_corner(m, s.v);
+    if (cu != cv) {
+        const double *a = cu ? pu : pv, *w = cu ? pv : pu;
+        double L = sqrt(geom_dist2(a, w));
+        double d = exp2(floor(log2(L * (2.0 / 3.0))));
+        double f = d / L;
+        if (!(f > 0.3 && f < 0.7)) f = 0.5;
+        p[0] = a[0] + (w[0] - a[0]) * f;
+        p[1] = a[1] + (w[1] - a[1]) * f;
+    } else if (s.level >= 0 && s.level < 52) {
+        mesh_dyadic_point(X(m, m->seg[2 * s.seg]), X(m, m->seg[2 * s.seg + 1]), s.level, s.k, p);
+        nl = s.level + 1;
+        k0 = 2 * s.k;
+        k1 = 2 * s.k + 1;
+    } else {
+        geom_midpoint(pu, pv, p);
+    }
+    if ((p[0] == pu[0] && p[1] == pu[1]) || (p[0] == pv[0] && p[1] == pv[1])) {
+        m->stats.failed++;
+        return -1;
+    }
+    int32_t e = mesh_find_edge(m, s.u, s.v);
+    if (e < 0) MESH_BUG("subsegment %d-%d has no edge", s.u, s.v);
+    int32_t bad = -1;
+    int st = mesh_cavity_collect(m, p, e / 3, e, &bad);
+    if (st != CAV_OK) {
+        mesh_cavity_abort(m);
+        m->stats.failed++;
+        return -1;
+    }
+    int32_t v = mesh_vert_add(m, p[0], p[1], s.seg);
+    mesh_cavity_commit(m, v, s.u, s.v);
+    mesh_ss_del(m, r);
+    mesh_ss_add(m, s.u, v, s.seg, nl, k0);
+    mesh_ss_add(m, v, s.v, s.seg, nl, k1);
+    m->stats.seg_splits++;
+    m->rf->since_poll++;
+    push_enc(m, s.u, v, 0);
+    push_enc(m, v, s.v, 0);
+    for (int32_t i = 0; i < m->nnewt; i++) {
+        int32_t t = m->newt[i];
+        if ((m->tf[t] & 1) && enc_test(m, X(m, m->tv[3 * t]), X(m, m->tv[3 * t + 1]), p))
+            push_enc(m, m->tv[3 * t], m->tv[3 * t + 1], 0);
+    }
+    push_new(m);
+    if (iface && notify) {
+        m->stats.iface_splits++;
+        if (m->hooks.on_split)
+            m->hooks.on_split(m->hooks.ctx, s.seg, s.level, s.k, MESH_SPLIT_INTERFACE);
+    }
+    return 0;
+}
+
+static int steiner_limit(const mesh *m) {
+    return m->q.max_steiner >= 0 && (int64_t)(m->nv - m->ninput) >= m->q.max_steiner;
+}
+
+/* Drains the encroached-subsegment queue.  Returns the number of subsegments split; stops
+ * early (leaving the queue) when respect_limit and the Steiner limit is reached. */
+static int64_t drain_enc(mesh *m, int respect_limit) {
+    mesh_refine_state *r = m->rf;
+    int64_t done = 0;
+    while (r->enchead < r->nenc) {
+        if (respect_limit && steiner_limit(m)) return done;
+        int32_t u = r->enc[r->enchead], v = r->enc[r->enchead + 1];
+        int forced = r->enc[r->enchead + 2];
+        r->enchead += 3;
+        int32_t rec = mesh_ss_find_pair(m, u, v);
+        if (rec < 0) continue;
+        int32_t e = mesh_find_edge(m, u, v);
+        if (e < 0) MESH_BUG("subsegment %d-%d has a record but no edge", u, v);
+        if (!forced && !encroached(m, e)) continue;
+        if (split_subseg(m, rec, 1) == 0) done++;
+    }
+    r->nenc = r->enchead = 0;
+    return done;
+}
+
+/* Splits the subsegments queued because of bad triangle t; t goes back to the queue only if
+ * something was split, so an unsplittable subsegment (precision exhausted) cannot loop. */
+static void split_for(mesh *m, int32_t t) {
+    if (drain_enc(m, 1) > 0) push_bad(m, t);
+}
+
+/* ---- bad triangles --------------------------------------------------------------------------*/
+
+/* 1 iff no other segment at corner a points strictly inside the wedge o1-a-o2 (< 180 deg):
+ * s1 and s2 are neighbours around a, as the validator's corner rule requires. */
+static int consecutive(const mesh *m, int32_t a, int32_t o1, int32_t o2) {
+    double s = geom_orient2d(X(m, a), X(m, o1), X(m, o2));
+    for (int32_t i = m->inc_off[a]; i < m->inc_off[a + 1]; i++) {
+        int32_t s3 = m->inc_seg[i];
+        int32_t o3 = m->seg[2 * s3] == a ? m->seg[2 * s3 + 1] : m->seg[2 * s3];
+        if (o3 == o1 || o3 == o2) continue;
+        double x1 = geom_orient2d(X(m, a), X(m, o1), X(m, o3));
+        double x2 = geom_orient2d(X(m, a), X(m, o3), X(m, o2));
+        if ((s > 0 && x1 > 0 && x2 > 0) || (s < 0 && x1 < 0 && x2 < 0)) return 0;
+    }
+    return 1;
+}
+
+static int on_corner_segments(const mesh *m, int32_t u, int32_t v) {
+    if (!m->has_corners) return 0;
+    int32_t su1 = 0, su2 = 0, sv1 = 0, sv2 = 0;
+    int32_t one_u = -1, one_v = -1;
+    if (u < m->ninput)
+        su1 = m->inc_off[u], su2 = m->inc_off[u + 1];
+    else if (m->vseg[u] >= 0)
+        one_u = m->vseg[u];
+    else
+        return 0;
+    if (v < m->ninput)
+        sv1 = m->inc_off[v], sv2 = m->inc_off[v + 1];
+    else if (m->vseg[v] >= 0)
+        one_v = m->vseg[v];
+    else
+        return 0;
+    int32_t nu = one_u >= 0 ? 1 : su2 - su1, nv = one_v >= 0 ? 1 : sv2 - sv1;
+    for (int32_t i = 0; i < nu; i++) {
+        int32_t s1 = one_u >= 0 ? one_u : m->inc_seg[su1 + i];
+        for (int32_t j = 0; j < nv; j++) {
+            int32_t s2 = one_v >= 0 ? one_v : m->inc_seg[sv1 + j];
+            if (s1 == s2) continue;
+            for (int x = 0; x < 2; x++)
+                for (int y = 0; y < 2; y++) {
+                    int32_t a = m->seg[2 * s1 + x];
+                    if (a != m->seg[2 * s2 + y] || a == u || a == v || !is_corner(m, a)) continue;
+                    int32_t o1 = m->seg[2 * s1 + 1 - x], o2 = m->seg[2 * s2 + 1 - y];
+                    if (geom_angle_deg(X(m, o1), X(m, a), X(m, o2)) >= 60.0) continue;
+                    if (!consecutive(m, a, o1, o2)) continue;
+                    double du = sqrt(geom_dist2(X(m, a), X(m, u)));
+                    double dv = sqrt(geom_dist2(X(m, a), X(m, v)));
+                    if (fabs(du - dv) <= 0.01 * fmax(du, dv)) return 1;
+                }
+        }
+    }
+    return 0;
+}
+
+/* Steiner point of bad triangle t: circumcenter or off-center.  Returns 0, -1 if degenerate. */
+static int steiner_point(const mesh *m, int32_t t, int sh, double out[2]) {
+    const int32_t *tv = m->tv + 3 * (size_t)t;
+    if (geom_circumcenter(X(m, tv[0]), X(m, tv[1]), X(m, tv[2]), out) != 0) return -1;
+    if (!m->q.offcenter || m->rf->offfac <= 0) return 0;
+    const double *p = X(m, tv[sh]), *q = X(m, tv[(sh + 1) % 3]);
+    double mid[2];
+    geom_midpoint(p, q, mid);
+    double dc = sqrt(geom_dist2(mid, out)), h = m->rf->offfac * sqrt(geom_dist2(p, q));
+    if (dc > h) {
+        out[0] = mid[0] + (out[0] - mid[0]) * (h / dc);
+        out[1] = mid[1] + (out[1] - mid[1]) * (h / dc);
+    }
+    return 0;
+}
+
+static void process_bad(mesh *m, int32_t t) {
+    int sh = 0;
+    int why = quality(m, m->rf->cosb, t, NULL, &sh);
+    if (!why) return;
+    if (why == 1 && m->has_corners) { /* skinny but not too large */
+        int32_t u = m->tv[3 * t + sh], v = m->tv[3 * t + (sh + 1) % 3];
+        if (on_corner_segments(m, u, v)) {
+            m->stats.skipped_small++;
+            return;
+        }
+    }
+    double c[2];
+    if (steiner_point(m, t, sh, c) != 0) {
+        m->stats.failed++;
+        return;
+    }
+    int32_t blocked = -1;
+    int32_t tc = mesh_walk(m, c, t, 1, &blocked);
+    if (tc < 0) {
+        m->stats.blocked++;
+        if (blocked >= 0) {
+            push_enc(m, m->tv[blocked], mesh_dest(m, blocked), 1);
+            split_for(m, t);
+        } else {
+            m->stats.failed++;
+        }
+        return;
+    }
+    const int32_t *tv = m->tv + 3 * (size_t)tc;
+    for (int j = 0; j < 3; j++)
+        if (X(m, tv[j])[0] == c[0] && X(m, tv[j])[1] == c[1]) {
+            m->stats.failed++;
+            return;
+        }
+    int32_t bad = -1;
+    int st = mesh_cavity_collect(m, c, tc, -1, &bad);
+    if (st != CAV_OK) {
+        mesh_cavity_abort(m);
+        if (st == CAV_NOT_STAR && bad >= 0 && mesh_edge_constrained(m, bad)) {
+            m->stats.rejected++;
+            push_enc(m, m->tv[bad], mesh_dest(m, bad), 1);
+            split_for(m, t);
+        } else {
+            m->stats.failed++;
+        }
+        return;
+    }
+    int enc = 0;
+    for (int32_t i = 0; i < m->nbnd; i++) {
+        const mesh_bedge *b = &m->bnd[i];
+        if (b->cons && enc_test(m, X(m, b->org), X(m, b->dest), c)) {
+            push_enc(m, b->org, b->dest, 1);
+            enc = 1;
+        }
+    }
+    if (enc) {
+        mesh_cavity_abort(m);
+        m->stats.rejected++;
+        split_for(m, t);
+        return;
+    }
+    int32_t v = mesh_vert_add(m, c[0], c[1], -1);
+    mesh_cavity_commit(m, v, -1, -1);
+    m->stats.inserted++;
+    m->rf->since_poll++;
+    push_new(m);
+}
+
+static void scan(mesh *m) {
+    mesh_refine_state *r = m->rf;
+    for (int32_t t = 0; t < m->nt; t++)
+        if (mesh_tri_alive(m, t)) push_bad(m, t);
+    for (int32_t i = 0; i < m->nss; i++) {
+        const mesh_subseg *s = &m->ss[i];
+        if (s->level == -2) continue;
+        int32_t e = mesh_find_edge(m, s->u, s->v);
+        if (e >= 0 && encroached(m, e)) push_enc(m, s->u, s->v, 0);
+    }
+    r->need_scan = 0;
+}
+
+mesh_refine_result mesh_refine(mesh *m) {
+    mesh_refine_state *r = rf_get(m);
+    if (r->need_scan) scan(m);
+    for (;;) {
+        drain_enc(m, 1);
+        if (r->enchead < r->nenc) return MESH_REFINE_STEINER_LIMIT;
+        if (r->since_poll >= m->hooks.poll_every && m->hooks.poll) {
+            r->since_poll = 0;
+            m->stats.polls++;
+            if (m->hooks.poll(m->hooks.ctx)) return MESH_REFINE_STOPPED;
+            continue;
+        }
+        if (steiner_limit(m)) return MESH_REFINE_STEINER_LIMIT;
+        int32_t t = pop_bad(m);
+        if (t < 0) {
+            if (r->enchead < r->nenc) continue;
+            return MESH_REFINE_DONE;
+        }
+        if (!mesh_tri_alive(m, t)) continue;
+        process_bad(m, t);
+    }
+}
+
+mesh_split_result mesh_split_subsegment_named(mesh *m, int32_t seg, int32_t level, int64_t k) {
+    rf_get(m);
+    if (seg < 0 || seg >= m->nseg || level < 0 || level > 60 || k < 0 ||
+        k >= ((int64_t)1 << level)) {
+        m->stats.named_not_found++;
+        return MESH_SPLIT_NOT_FOUND;
+    }
+    int32_t r = mesh_ss_find_name(m, seg, level, k);
+    if (r < 0) {
+        /* a coarser ancestor still whole here: split down to the named subsegment */
+        for (int32_t j = level - 1; j >= 0 && r < 0; j--) {
+            r = mesh_ss_find_name(m, seg, j, k >> (level - j));
+            if (r < 0) continue;
+            while (m->ss[r].level < level) {
+                int32_t jl = m->ss[r].level;
+                if (split_subseg(m, r, 0) != 0) {
+                    m->stats.named_already++;
+                    drain_enc(m, 0);
+                    return MESH_SPLIT_ALREADY;
+                }
+                r = mesh_ss_find_name(m, seg, jl + 1, k >> (level - jl - 1));
+                if (r < 0) { /* not dyadic below (a shell split): nothing named is left */
+                    m->stats.named_already++;
+                    drain_enc(m, 0);
+                    return MESH_SPLIT_ALREADY;
+                }
+            }
+        }
+    }
+    if (r < 0) {
+        if (m->seg_nsub[seg] > 0) {
+            m->stats.named_already++;
+            return MESH_SPLIT_ALREADY;
+        }
+        m->stats.named_not_found++;
+        return MESH_SPLIT_NOT_FOUND;
+    }
+    if (split_subseg(m, r, 0) != 0) {
+        m->stats.named_already++;
+        drain_enc(m, 0);
+        return MESH_SPLIT_ALREADY;
+    }
+    m->stats.named_done++;
+    drain_enc(m, 0);
+    return MESH_SPLIT_DONE;
+}

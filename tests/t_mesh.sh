@@ -1,0 +1,73 @@
+#!/usr/bin/env bash
+# ./mesh end to end: every domain in data/ at -q 20.7 and -q 30, each with two area bounds
+# (domain area / 200 and / 2000), written as Triangle files and validated by ./meshcheck with
+# the same bounds; then bad input (missing file, every file in tests/bad/, bad options) must
+# give one message naming the file and a non-zero exit.
+set -u
+cd "$(dirname "$0")/.."
+BIN=${BIN:-.}
+M=$BIN/mesh
+MC=$BIN/meshcheck
+T=$(mktemp -d "${TMPDIR:-/tmp}/t_mesh.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+nfail=0
+fail() {
+    echo "FAIL: $*"
+    nfail=$((nfail + 1))
+}
+
+for f in data/*.poly; do
+    name=$(basename "$f" .poly)
+    # the domain's area, as the validator computes it from the PSLG alone
+    area=$("$M" --cdt-only --check "$f" | sed -n 's/.* domain_area=\([^ ]*\).*/\1/p')
+    [ -n "$area" ] || { fail "$f: no domain area from ./mesh --cdt-only --check"; continue; }
+    for q in 20.7 30; do
+        for div in 200 2000; do
+            a=$(awk -v A="$area" -v d="$div" 'BEGIN { printf "%.6g", A / d }')
+            out="$T/$name.q$q.a$div"
+            if ! "$M" -q "$q" -a "$a" -o "$out" --stats "$f" >"$out.log" 2>&1; then
+                fail "$M -q $q -a $a $f"
+                cat "$out.log"
+                continue
+            fi
+            res=$("$MC" "$f" "$out" -q "$q" -a "$a" 2>&1)
+            rc=$?
+            echo "$name -q $q -a $a: $(tail -n 1 "$out.log" | cut -c1-80) | ${res:0:60}"
+            [ "$rc" -eq 0 ] || fail "meshcheck $f $out -q $q -a $a: $res"
+        done
+    done
+done
+
+# ./mesh --check runs the validator in-process too
+res=$("$M" --check -q 33 -a 0.001 data/lake.poly 2>&1) || fail "./mesh --check -q 33 lake: $res"
+
+# a .node file (point set): the convex hull is the domain
+awk 'BEGIN { srand(7); print 200, 2, 0, 0; for (i = 1; i <= 200; i++) print i, rand(), rand() }' \
+    >"$T/points.node"
+res=$("$M" --stats -q 25 -o "$T/points" "$T/points.node" 2>&1) || fail "./mesh points.node: $res"
+grep -q '^stats: triangles=[1-9]' <<<"$res" || fail "./mesh points.node: no triangles: $res"
+
+# bad input: one clear message naming the file, non-zero exit
+expect_fail() { # pattern command...
+    local pat=$1 out rc
+    shift
+    out=$("$@" 2>&1)
+    rc=$?
+    [ "$rc" -ne 0 ] || fail "exit 0, expected failure: $*"
+    grep -q -- "$pat" <<<"$out" || fail "message lacks '$pat': $* -> $out"
+}
+expect_fail "$T/nosuch.poly" "$M" "$T/nosuch.poly"
+expect_fail "nosuch.poly: cannot open" "$M" -q 30 "$T/nosuch.poly"
+for f in tests/bad/*; do
+    case $(basename "$f") in duplicate_points.poly) continue ;; esac # merged with a warning
+    expect_fail "$f:[0-9]*:" "$M" "$f"
+done
+expect_fail "unknown option" "$M" --bogus data/square.poly
+expect_fail "at most 60" "$M" -q 70 data/square.poly
+expect_fail "bad value" "$M" -a -1 data/square.poly
+expect_fail "usage" "$M"
+"$M" tests/bad/duplicate_points.poly >/dev/null 2>&1 || fail "duplicate points should be merged"
+"$M" --help | grep -q "usage: ./mesh" || fail "--help"
+
+echo "t_mesh: $nfail failure(s)"
+[ "$nfail" -eq 0 ]

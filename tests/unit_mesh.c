@@ -1,0 +1,686 @@
+/* unit_mesh: Check suite for the mesher core (mesher/mesh.h): Delaunay triangulation of point
+ * sets (square, collinear, cocircular lattice, random), constrained Delaunay triangulation of
+ * PSLGs (polygons with holes, random non-crossing segments, vertices lying exactly on
+ * segments), refinement, the PCDM hooks (named splits, on_split, poll, resumable refinement,
+ * regions) and the flat output.  Every mesh goes through a structural check of the mesh
+ * itself (orientation, neighbour involution, constraint bits, boundary, local Delaunay with
+ * exact incircle) and, when it comes from a PSLG, through mesh_validate (validate.h).
+ */
+#include "geom.h"
+#include "mesh.h"
+#include "meshio.h"
+#include "pslg.h"
+#include "validate.h"
+
+#include <check.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- helpers ---------------------------------------------------------------------------- */
+
+static uint64_t rng_state = 88172645463325252ull;
+static double urand(void) {
+    rng_state ^= rng_state << 13;
+    rng_state ^= rng_state >> 7;
+    rng_state ^= rng_state << 17;
+    return (double)(rng_state >> 11) * 0x1p-53;
+}
+
+static const double *P(const mesh *m, int32_t v) {
+    return mesh_vertex_xy(m, v);
+}
+
+/* Structural check of the mesh; returns the number of non-Delaunay unconstrained edges
+ * (which must be 0) and fails the test on any structural problem. */
+static void check_structure(const mesh *m) {
+    int32_t live = 0;
+    for (int32_t t = 0; t < m->nt; t++) {
+        if (!mesh_tri_alive(m, t)) continue;
+        live++;
+        const int32_t *v = m->tv + 3 * t;
+        for (int j = 0; j < 3; j++)
+            ck_assert_msg(v[j] >= 0 && v[j] < m->nv, "triangle %d vertex %d out of range", t, v[j]);
+        double o = geom_orient2d(P(m, v[0]), P(m, v[1]), P(m, v[2]));
+        ck_assert_msg(o > 0, "triangle %d (%d %d %d) not counter-clockwise (%g)", t, v[0], v[1],
+                      v[2], o);
+        for (int j = 0; j < 3; j++) {
+            int32_t e = 3 * t + j, f = mesh_sym(m, e);
+            if (f < 0) {
+                ck_assert_msg(mesh_edge_constrained(m, e), "boundary edge %d-%d not constrained",
+                              mesh_org(m, e), mesh_dest(m, e));
+                continue;
+            }
+            ck_assert_msg(mesh_tri_alive(m, mesh_edge_tri(f)), "edge %d neighbour dead", e);
+            ck_assert_int_eq(mesh_sym(m, f), e);
+            ck_assert_int_eq(mesh_org(m, f), mesh_dest(m, e));
+            ck_assert_int_eq(mesh_dest(m, f), mesh_org(m, e));
+            ck_assert_int_eq(mesh_edge_constrained(m, f), mesh_edge_constrained(m, e));
+            if (!mesh_edge_constrained(m, e)) {
+                double ic =
+                    geom_incircle(P(m, v[0]), P(m, v[1]), P(m, v[2]), P(m, mesh_apex(m, f)));
+                ck_assert_msg(ic <= 0, "edge %d-%d not locally Delaunay", mesh_org(m, e),
+                              mesh_dest(m, e));
+            } else {
+                ck_assert_msg(mesh_subseg_of_edge(m, e) != NULL,
+                              "constraint edge %d-%d has no subsegment record", mesh_org(m, e),
+                              mesh_dest(m, e));
+            }
+        }
+    }
+    ck_assert_int_eq(live, m->nlive);
+    for (int32_t v = 0; v < m->nv; v++) {
+        int32_t t = m->vtri[v];
+        if (t < 0) continue;
+        ck_assert(mesh_tri_alive(m, t));
+        ck_assert(m->tv[3 * t] == v || m->tv[3 * t + 1] == v || m->tv[3 * t + 2] == v);
+    }
+    for (int32_t r = 0; r < m->nss; r++) {
+        const mesh_subseg *s = &m->ss[r];
+        if (s->level == -2) continue;
+        int32_t e = mesh_find_edge(m, s->u, s->v);
+        ck_assert_msg(e >= 0 && mesh_edge_constrained(m, e), "subsegment %d-%d not an edge", s->u,
+                      s->v);
+    }
+}
+
+static pslg make_pslg(int32_t nv, const double *xy, int32_t ns, const int32_t *seg, int32_t nh,
+                      const double *holes) {
+    pslg g;
+    memset(&g, 0, sizeof g);
+    g.nverts = nv;
+    g.xy = calloc(2 * (size_t)nv + 1, sizeof(double));
+    memcpy(g.xy, xy, 2 * (size_t)nv * sizeof(double));
+    g.vmarker = calloc((size_t)nv + 1, sizeof(int32_t));
+    g.vline = calloc((size_t)nv + 1, sizeof(int32_t));
+    g.nsegs = ns;
+    g.seg = calloc(2 * (size_t)ns + 1, sizeof(int32_t));
+    if (ns) memcpy(g.seg, seg, 2 * (size_t)ns * sizeof(int32_t));
+    g.smarker = calloc((size_t)ns + 1, sizeof(int32_t));
+    for (int32_t s = 0; s < ns; s++)
+        g.smarker[s] = 1;
+    g.sline = calloc((size_t)ns + 1, sizeof(int32_t));
+    g.nholes = nh;
+    g.holes = calloc(2 * (size_t)nh + 1, sizeof(double));
+    if (nh) memcpy(g.holes, holes, 2 * (size_t)nh * sizeof(double));
+    snprintf(g.path, sizeof g.path, "(test)");
+    return g;
+}
+
+/* Validates m against g with the given bounds; fails the test with the report if not ok. */
+static void validate(const mesh *m, const pslg *g, double qmin, double amax) {
+    check_structure(m);
+    mesh_flat f;
+    ck_assert_int_eq(mesh_to_flat(m, &f), 0);
+    validate_opts o = {qmin, amax, 0};
+    validate_report r;
+    int ok = mesh_validate(g, &f, &o, &r);
+    ck_assert_msg(ok, "mesh_validate failed: %s (ntris %ld)", r.first_problem, r.ntris);
+    mesh_flat_free(&f);
+}
+
+static int use_lens; /* refine with diametral lenses instead of circles */
+
+/* CDT of g, validated; then refined at (q, a), validated. */
+static void mesh_and_refine(pslg *g, double q, double a) {
+    char err[512];
+    ck_assert_msg(pslg_check(g, err, sizeof err) == 0, "pslg_check: %s", err);
+    mesh m;
+    mesh_init(&m);
+    ck_assert_msg(mesh_build_cdt(&m, g, NULL, err, sizeof err) == 0, "cdt: %s", err);
+    validate(&m, g, 0, 0);
+    mesh_quality mq = {q, a, 2000000, 1, use_lens};
+    mesh_set_quality(&m, &mq);
+    ck_assert_int_eq(mesh_refine(&m), MESH_REFINE_DONE);
+    validate(&m, g, q, a);
+    mesh_free(&m);
+}
+
+static const double square_xy[] = {0, 0, 1, 0, 1, 1, 0, 1};
+static const int32_t square_seg[] = {0, 1, 1, 2, 2, 3, 3, 0};
+
+/* ---- Delaunay of point sets ---------------------------------------------------------------- */
+
+START_TEST(test_square_points) {
+    mesh m;
+    mesh_init(&m);
+    char err[256];
+    ck_assert_int_eq(mesh_build_delaunay(&m, 4, square_xy, err, sizeof err), 0);
+    ck_assert_int_eq(m.nlive, 2);
+    check_structure(&m);
+    mesh_free(&m);
+}
+END_TEST
+
+START_TEST(test_triangle_pslg) {
+    const double xy[] = {0, 0, 3, 0, 1, 2};
+    const int32_t seg[] = {0, 1, 1, 2, 2, 0};
+    pslg g = make_pslg(3, xy, 3, seg, 0, NULL);
+    mesh_and_refine(&g, 25, 0.01);
+    pslg_free(&g);
+}
+END_TEST
+
+START_TEST(test_collinear) {
+    double xy[20];
+    for (int i = 0; i < 10; i++)
+        xy[2 * i] = 0.1 * i, xy[2 * i + 1] = 0.2 * i;
+    mesh m;
+    mesh_init(&m);
+    char err[256] = "";
+    ck_assert_int_eq(mesh_build_delaunay(&m, 10, xy, err, sizeof err), -1);
+    ck_assert_msg(strstr(err, "collinear") != NULL, "message: %s", err);
+    mesh_free(&m);
+    /* collinear points plus one off the line: all but the apex on the hull */
+    xy[18] = 5, xy[19] = -3;
+    mesh_init(&m);
+    ck_assert_int_eq(mesh_build_delaunay(&m, 10, xy, err, sizeof err), 0);
+    ck_assert_int_eq(m.nlive, 8);
+    check_structure(&m);
+    mesh_free(&m);
+}
+END_TEST
+
+START_TEST(test_lattice_cocircular) {
+    double xy[200];
+    for (int i = 0; i < 10; i++)
+        for (int j = 0; j < 10; j++)
+            xy[2 * (10 * i + j)] = i, xy[2 * (10 * i + j) + 1] = j;
+    mesh m;
+    mesh_init(&m);
+    char err[256];
+    ck_assert_int_eq(mesh_build_delaunay(&m, 100, xy, err, sizeof err), 0);
+    ck_assert_int_eq(m.nlive, 2 * 81); /* 2n - h - 2 = 200 - 36 - 2 */
+    check_structure(&m);
+    /* the same lattice as a PSLG (square boundary through lattice points), refined */
+    const int32_t seg[] = {0, 9, 9, 99, 99, 90, 90, 0};
+    pslg g = make_pslg(100, xy, 4, seg, 0, NULL);
+    mesh_and_refine(&g, 30, 0.2);
+    pslg_free(&g);
+    mesh_free(&m);
+}
+END_TEST
+
+START_TEST(test_random_points) {
+    int n = _i == 0 ? 1000 : 30000;
+    double *xy = malloc(2 * (size_t)n * sizeof(double));
+    for (int i = 0; i < 2 * n; i++)
+        xy[i] = urand();
+    /* a few exact duplicates and points on a coarse grid (degenerate incircle cases) */
+    for (int i = 0; i < n / 10; i++) {
+        xy[2 * i] = floor(xy[2 * i] * 8) / 8;
+        xy[2 * i + 1] = floor(xy[2 * i + 1] * 8) / 8;
+    }
+    xy[2 * (n - 1)] = xy[2 * (n - 2)], xy[2 * (n - 1) + 1] = xy[2 * (n - 2) + 1];
+    mesh m;
+    mesh_init(&m);
+    char err[256];
+    ck_assert_int_eq(mesh_build_delaunay(&m, n, xy, err, sizeof err), 0);
+    check_structure(&m);
+    int isolated = 0;
+    for (int32_t v = 0; v < m.nv; v++)
+        isolated += m.vtri[v] < 0;
+    ck_assert_int_ge(isolated, 1); /* the duplicates */
+    /* insert free points and re-check */
+    for (int i = 0; i < 200; i++) {
+        double p[2] = {0.1 + 0.8 * urand(), 0.1 + 0.8 * urand()};
+        int32_t v;
+        mesh_insert_result r = mesh_insert_point(&m, p, -1, &v);
+        ck_assert(r == MESH_INSERTED || r == MESH_DUPLICATE);
+    }
+    double out[2] = {5, 5};
+    ck_assert_int_eq(mesh_insert_point(&m, out, -1, NULL), MESH_OUTSIDE);
+    check_structure(&m);
+    mesh_free(&m);
+    free(xy);
+}
+END_TEST
+
+/* ---- CDT of PSLGs ---------------------------------------------------------------------------- */
+
+START_TEST(test_square_pslg) {
+    pslg g = make_pslg(4, square_xy, 4, square_seg, 0, NULL);
+    mesh_and_refine(&g, 20.7, 0);
+    mesh_and_refine(&g, 30, 0.001);
+    pslg_free(&g);
+}
+END_TEST
+
+/* Star-shaped polygon with a star-shaped hole. */
+START_TEST(test_polygon_with_hole) {
+    int n = 40, h = 12;
+    double xy[2 * 52];
+    int32_t seg[2 * 52];
+    for (int i = 0; i < n; i++) {
+        double a = 2 * M_PI * i / n, r = 0.5 + 0.5 * urand();
+        xy[2 * i] = r * cos(a), xy[2 * i + 1] = r * sin(a);
+        seg[2 * i] = i, seg[2 * i + 1] = (i + 1) % n;
+    }
+    for (int i = 0; i < h; i++) {
+        double a = 2 * M_PI * i / h, r = 0.1 + 0.1 * urand();
+        xy[2 * (n + i)] = r * cos(a), xy[2 * (n + i) + 1] = r * sin(a);
+        seg[2 * (n + i)] = n + i, seg[2 * (n + i) + 1] = n + (i + 1) % h;
+    }
+    double hole[2] = {0, 0};
+    pslg g = make_pslg(n + h, xy, n + h, seg, 1, hole);
+    mesh_and_refine(&g, 28, 0.002);
+    use_lens = 1;
+    mesh_and_refine(&g, 33, 0);
+    use_lens = 0;
+    pslg_free(&g);
+}
+END_TEST
+
+static int segs_conflict(const double *xy, int32_t a, int32_t b, int32_t c, int32_t d) {
+    const double *A = xy + 2 * a, *B = xy + 2 * b, *C = xy + 2 * c, *D = xy + 2 * d;
+    if (a == c || a == d || b == c || b == d) {
+        /* shared endpoint: conflict only if collinear and overlapping */
+        int32_t s = (a == c || a == d) ? a : b, o1 = s == a ? b : a, o2 = (s == c) ? d : c;
+        const double *S = xy + 2 * s, *O1 = xy + 2 * o1, *O2 = xy + 2 * o2;
+        if (geom_orient2d(S, O1, O2) != 0) return 0;
+        return (O1[0] - S[0]) * (O2[0] - S[0]) + (O1[1] - S[1]) * (O2[1] - S[1]) > 0;
+    }
+    double o1 = geom_orient2d(A, B, C), o2 = geom_orient2d(A, B, D);
+    double o3 = geom_orient2d(C, D, A), o4 = geom_orient2d(C, D, B);
+    if (((o1 > 0 && o2 > 0) || (o1 < 0 && o2 < 0)) || ((o3 > 0 && o4 > 0) || (o3 < 0 && o4 < 0)))
+        return 0;
+    return 1; /* crossing, touching or collinear overlap: reject to be safe */
+}
+
+/* Random points in the unit square with random non-crossing segments, some of them passing
+ * exactly through other vertices (points placed on a coarse grid). */
+START_TEST(test_random_pslg) {
+    int n = 60 + 20 * _i;
+    double *xy = malloc(2 * (size_t)(n + 4) * sizeof(double));
+    int32_t *seg = malloc(2 * (size_t)(n * 3 + 4) * sizeof(int32_t));
+    memcpy(xy, square_xy, sizeof square_xy);
+    for (int i = 4; i < n + 4; i++) {
+        xy[2 * i] = 0.05 + 0.9 * urand(), xy[2 * i + 1] = 0.05 + 0.9 * urand();
+        if (i % 3 == 0) { /* dyadic grid points: exact collinearities */
+            xy[2 * i] = 0.125 * (1 + (int)(urand() * 7));
+            xy[2 * i + 1] = 0.125 * (1 + (int)(urand() * 7));
+        }
+    }
+    /* drop exact duplicates among grid points by nudging them */
+    for (int i = 4; i < n + 4; i++)
+        for (int j = 4; j < i; j++)
+            if (xy[2 * i] == xy[2 * j] && xy[2 * i + 1] == xy[2 * j + 1])
+                xy[2 * i] += 0.0625 * urand();
+    int ns = 4;
+    memcpy(seg, square_seg, sizeof square_seg);
+    for (int tries = 0; tries < 40 * n && ns < n; tries++) {
+        int32_t a = 4 + (int32_t)(urand() * n), b = 4 + (int32_t)(urand() * n);
+        if (a == b) continue;
+        int ok = 1;
+        for (int s = 0; s < ns && ok; s++)
+            if (segs_conflict(xy, a, b, seg[2 * s], seg[2 * s + 1])) ok = 0;
+        if (!ok) continue;
+        seg[2 * ns] = a, seg[2 * ns + 1] = b;
+        ns++;
+    }
+    pslg g = make_pslg(n + 4, xy, ns, seg, 0, NULL);
+    if (getenv("UNIT_MESH_DUMP")) {
+        char name[64];
+        snprintf(name, sizeof name, "/tmp/random_pslg_%d.poly", _i);
+        FILE *f = fopen(name, "w");
+        fprintf(f, "%d 2 0 0\n", n + 4);
+        for (int i = 0; i < n + 4; i++)
+            fprintf(f, "%d %.17g %.17g\n", i + 1, xy[2 * i], xy[2 * i + 1]);
+        fprintf(f, "%d 0\n", ns);
+        for (int s = 0; s < ns; s++)
+            fprintf(f, "%d %d %d\n", s + 1, seg[2 * s] + 1, seg[2 * s + 1] + 1);
+        fprintf(f, "0\n");
+        fclose(f);
+    }
+    mesh_and_refine(&g, 25, 0.0005);
+    pslg_free(&g);
+    free(xy);
+    free(seg);
+}
+END_TEST
+
+/* Vertices lying exactly on segments: the segments are split there. */
+START_TEST(test_vertex_on_segment) {
+    const double xy[] = {0, 0, 1, 0, 1, 1, 0, 1, 0.5, 0, 0, 0.5, 1, 0.5, 0.25, 0.5, 0.75, 0.5};
+    const int32_t seg[] = {0, 1, 1, 2, 2, 3, 3, 0, 5, 6};
+    pslg g = make_pslg(9, xy, 5, seg, 0, NULL);
+    char err[256];
+    ck_assert_int_eq(pslg_check(&g, err, sizeof err), 0);
+    mesh m;
+    mesh_init(&m);
+    ck_assert_int_eq(mesh_build_cdt(&m, &g, NULL, err, sizeof err), 0);
+    validate(&m, &g, 0, 0);
+    /* the bottom segment is two subsegments, the middle one three */
+    ck_assert_int_ge(mesh_find_edge(&m, 0, 4), 0);
+    ck_assert_int_ge(mesh_find_edge(&m, 4, 1), 0);
+    ck_assert_int_ge(mesh_find_edge(&m, 5, 7), 0);
+    ck_assert_int_ge(mesh_find_edge(&m, 7, 8), 0);
+    ck_assert_int_ge(mesh_find_edge(&m, 8, 6), 0);
+    ck_assert(mesh_edge_constrained(&m, mesh_find_edge(&m, 7, 8)));
+    mesh_free(&m);
+    mesh_and_refine(&g, 30, 0.01);
+    pslg_free(&g);
+}
+END_TEST
+
+/* A segment crossing many triangles of a dense point set (long flip sequences). */
+START_TEST(test_long_segment) {
+    int n = 2000;
+    double *xy = malloc(2 * (size_t)(n + 6) * sizeof(double));
+    memcpy(xy, square_xy, sizeof square_xy);
+    xy[8] = 0.01, xy[9] = 0.013, xy[10] = 0.99, xy[11] = 0.987;
+    for (int i = 6; i < n + 6; i++)
+        xy[2 * i] = 0.02 + 0.96 * urand(), xy[2 * i + 1] = 0.02 + 0.96 * urand();
+    const int32_t seg[] = {0, 1, 1, 2, 2, 3, 3, 0, 4, 5};
+    pslg g = make_pslg(n + 6, xy, 5, seg, 0, NULL);
+    char err[256];
+    ck_assert_int_eq(pslg_check(&g, err, sizeof err), 0);
+    mesh m;
+    mesh_init(&m);
+    ck_assert_int_eq(mesh_build_cdt(&m, &g, NULL, err, sizeof err), 0);
+    validate(&m, &g, 0, 0);
+    mesh_free(&m);
+    pslg_free(&g);
+    free(xy);
+}
+END_TEST
+
+START_TEST(test_bad_input) {
+    mesh m;
+    mesh_init(&m);
+    char err[256] = "";
+    const double xy[] = {0, 0, 1, 1};
+    ck_assert_int_eq(mesh_build_delaunay(&m, 2, xy, err, sizeof err), -1);
+    ck_assert(err[0] != 0);
+    mesh_free(&m);
+    /* every triangle in a hole: empty domain */
+    double hole[2] = {0.5, 0.5};
+    pslg g = make_pslg(4, square_xy, 4, square_seg, 1, hole);
+    mesh_init(&m);
+    ck_assert_int_eq(mesh_build_cdt(&m, &g, NULL, err, sizeof err), -1);
+    ck_assert_msg(strstr(err, "empty") != NULL, "message: %s", err);
+    mesh_free(&m);
+    pslg_free(&g);
+}
+END_TEST
+
+/* ---- small input angles ---------------------------------------------------------------------- */
+
+START_TEST(test_small_angles) {
+    /* two wedges of 5 and 15 degrees sharing the apex, and a needle polygon */
+    double xy[10];
+    xy[0] = 0, xy[1] = 0;
+    double ang[4] = {0, 5, 20, 80};
+    for (int i = 0; i < 4; i++)
+        xy[2 + 2 * i] = cos(ang[i] * M_PI / 180), xy[3 + 2 * i] = sin(ang[i] * M_PI / 180);
+    const int32_t seg[] = {0, 1, 1, 2, 0, 2, 2, 3, 3, 4, 4, 0};
+    pslg g = make_pslg(5, xy, 6, seg, 0, NULL);
+    mesh_and_refine(&g, 30, 0.001);
+    mesh_and_refine(&g, 25, 0);
+    pslg_free(&g);
+}
+END_TEST
+
+/* ---- PCDM hooks --------------------------------------------------------------------------------
+ */
+
+typedef struct hookctx {
+    int splits, polls, stop_first;
+    int32_t last_seg, last_level;
+    int64_t last_k;
+} hookctx;
+
+static void on_split(void *ctx, int32_t seg, int32_t level, int64_t k, unsigned flags) {
+    hookctx *h = ctx;
+    ck_assert(flags & MESH_SPLIT_INTERFACE);
+    h->splits++;
+    h->last_seg = seg, h->last_level = level, h->last_k = k;
+}
+
+static int poll_cb(void *ctx) {
+    hookctx *h = ctx;
+    h->polls++;
+    if (h->stop_first) {
+        h->stop_first = 0;
+        return 1;
+    }
+    return 0;
+}
+
+static const double iface_xy[] = {0, 0, 1, 0, 1, 1, 0, 1, 0, 0.5, 1, 0.5};
+static const int32_t iface_seg[] = {0, 1, 1, 2, 2, 3, 3, 0, 4, 5};
+static const uint8_t iface_flag[] = {0, 0, 0, 0, 1};
+
+START_TEST(test_named_split) {
+    pslg g = make_pslg(6, iface_xy, 5, iface_seg, 0, NULL);
+    char err[256];
+    ck_assert_int_eq(pslg_check(&g, err, sizeof err), 0);
+    mesh m;
+    mesh_init(&m);
+    ck_assert_int_eq(mesh_build_cdt(&m, &g, iface_flag, err, sizeof err), 0);
+    int32_t *label = malloc((size_t)m.nt * sizeof(int32_t));
+    ck_assert_int_eq(mesh_label_regions(&m, label), 2);
+    free(label);
+    hookctx h = {0};
+    mesh_hooks hk = {on_split, poll_cb, 10, &h};
+    mesh_set_hooks(&m, &hk);
+    ck_assert_int_eq(mesh_split_subsegment_named(&m, 4, 0, 0), MESH_SPLIT_DONE);
+    ck_assert_int_eq(mesh_split_subsegment_named(&m, 4, 0, 0), MESH_SPLIT_ALREADY);
+    ck_assert_int_eq(mesh_split_subsegment_named(&m, 4, 1, 1), MESH_SPLIT_DONE);
+    /* an ancestor still whole here is split down to the request */
+    ck_assert_int_eq(mesh_split_subsegment_named(&m, 4, 4, 5), MESH_SPLIT_DONE);
+    ck_assert_int_eq(mesh_split_subsegment_named(&m, 4, 4, 5), MESH_SPLIT_ALREADY);
+    ck_assert_int_eq(mesh_split_subsegment_named(&m, 9, 0, 0), MESH_SPLIT_NOT_FOUND);
+    ck_assert_int_eq(mesh_split_subsegment_named(&m, 4, 2, 7), MESH_SPLIT_NOT_FOUND);
+    ck_assert_int_eq(h.splits, 0); /* requested splits are not echoed */
+    ck_assert_int_eq(m.stats.named_done, 3);
+    ck_assert_int_eq(m.stats.named_already, 2);
+    /* the midpoint of (4, 5) is a vertex, bit for bit */
+    double p[2];
+    mesh_dyadic_point(iface_xy + 8, iface_xy + 10, 4, 5, p);
+    int found = 0;
+    for (int32_t v = 0; v < m.nv; v++)
+        if (P(&m, v)[0] == p[0] && P(&m, v)[1] == p[1]) found = 1;
+    ck_assert(found);
+    ck_assert_double_eq(p[0], 11.0 / 32.0);
+    validate(&m, &g, 0, 0);
+    /* refinement stops at the first poll, then resumes to the end */
+    h.stop_first = 1;
+    mesh_quality q = {30, 0.0005, -1, 1, 0};
+    mesh_set_quality(&m, &q);
+    ck_assert_int_eq(mesh_refine(&m), MESH_REFINE_STOPPED);
+    ck_assert_int_eq(mesh_refine(&m), MESH_REFINE_DONE);
+    ck_assert_int_gt(h.polls, 1);
+    ck_assert_int_gt(h.splits, 0);
+    ck_assert_int_eq(h.splits, m.stats.iface_splits);
+    ck_assert_int_eq(h.last_seg, 4);
+    validate(&m, &g, 30, 0.0005);
+    /* a split arriving after refinement queues work; refinement picks it up */
+    int32_t r = -1;
+    for (int32_t i = 0; i < m.nss; i++)
+        if (m.ss[i].level >= 0 && m.ss[i].seg == 4) r = i;
+    ck_assert_int_ge(r, 0);
+    ck_assert_int_eq(mesh_split_subsegment_named(&m, 4, m.ss[r].level, m.ss[r].k), MESH_SPLIT_DONE);
+    ck_assert_int_eq(mesh_refine(&m), MESH_REFINE_DONE);
+    validate(&m, &g, 30, 0.0005);
+    mesh_free(&m);
+    pslg_free(&g);
+}
+END_TEST
+
+/* Two ranks' worth of subdomains in one process: mesh each half separately, exchanging the
+ * on_split requests by hand, and check the interface subsegments agree bit for bit. */
+typedef struct side {
+    mesh m;
+    int32_t q[4096][3];
+    int64_t qk[4096];
+    int nq;
+} side;
+
+static void side_split(void *ctx, int32_t seg, int32_t level, int64_t k, unsigned flags) {
+    side *s = ctx;
+    ck_assert_int_lt(s->nq, 4096);
+    s->q[s->nq][0] = seg, s->q[s->nq][1] = level, s->qk[s->nq] = k;
+    s->nq++;
+}
+
+START_TEST(test_two_halves) {
+    pslg g = make_pslg(6, iface_xy, 5, iface_seg, 0, NULL);
+    char err[256];
+    ck_assert_int_eq(pslg_check(&g, err, sizeof err), 0);
+    side *sd = calloc(2, sizeof(side));
+    const double seeds[2][2] = {{0.5, 0.25}, {0.5, 0.75}};
+    for (int i = 0; i < 2; i++) {
+        mesh *m = &sd[i].m;
+        mesh_init(m);
+        ck_assert_int_eq(mesh_build_cdt(m, &g, iface_flag, err, sizeof err), 0);
+        int32_t *label = malloc((size_t)m->nt * sizeof(int32_t));
+        int32_t nr = mesh_label_regions(m, label);
+        uint8_t keep[8] = {0};
+        int32_t t = mesh_locate(m, seeds[i], -1);
+        ck_assert_int_ge(t, 0);
+        keep[label[t]] = 1;
+        ck_assert_int_eq(nr, 2);
+        mesh_keep_regions(m, label, keep);
+        free(label);
+        check_structure(m);
+        mesh_hooks hk = {side_split, NULL, 50, &sd[i]};
+        mesh_set_hooks(m, &hk);
+        mesh_quality q = {25, i == 0 ? 0.0004 : 0.004, -1, 1, 1};
+        mesh_set_quality(m, &q);
+    }
+    for (int round = 0; round < 100; round++) {
+        int work = 0;
+        for (int i = 0; i < 2; i++) {
+            ck_assert_int_eq(mesh_refine(&sd[i].m), MESH_REFINE_DONE);
+            side *o = &sd[1 - i];
+            for (int j = 0; j < sd[i].nq; j++) {
+                mesh_split_subsegment_named(&o->m, sd[i].q[j][0], sd[i].q[j][1], sd[i].qk[j]);
+                work = 1;
+            }
+            sd[i].nq = 0;
+        }
+        if (!work) break;
+    }
+    /* the interface vertices of the two halves coincide */
+    for (int i = 0; i < 2; i++) {
+        const mesh *a = &sd[i].m, *b = &sd[1 - i].m;
+        int na = 0;
+        for (int32_t r = 0; r < a->nss; r++) {
+            const mesh_subseg *s = &a->ss[r];
+            if (s->level == -2 || s->seg != 4) continue;
+            na++;
+            ck_assert_int_ge(s->level, 0);
+            int32_t rb = -1;
+            for (int32_t x = 0; x < b->nss; x++)
+                if (b->ss[x].seg == 4 && b->ss[x].level == s->level && b->ss[x].k == s->k) rb = x;
+            ck_assert_msg(rb >= 0, "interface subsegment (%d,%lld) missing on the other side",
+                          s->level, (long long)s->k);
+            ck_assert(P(a, s->u)[0] == P(b, b->ss[rb].u)[0] &&
+                      P(a, s->u)[1] == P(b, b->ss[rb].u)[1]);
+            ck_assert(P(a, s->v)[0] == P(b, b->ss[rb].v)[0] &&
+                      P(a, s->v)[1] == P(b, b->ss[rb].v)[1]);
+        }
+        ck_assert_int_gt(na, 4);
+        check_structure(a);
+    }
+    for (int i = 0; i < 2; i++)
+        mesh_free(&sd[i].m);
+    free(sd);
+    pslg_free(&g);
+}
+END_TEST
+
+START_TEST(test_regions_keep) {
+    pslg g = make_pslg(6, iface_xy, 5, iface_seg, 0, NULL);
+    char err[256];
+    ck_assert_int_eq(pslg_check(&g, err, sizeof err), 0);
+    mesh m;
+    mesh_init(&m);
+    ck_assert_int_eq(mesh_build_cdt(&m, &g, iface_flag, err, sizeof err), 0);
+    mesh_quality q = {25, 0.01, -1, 1, 0};
+    mesh_set_quality(&m, &q);
+    ck_assert_int_eq(mesh_refine(&m), MESH_REFINE_DONE);
+    int32_t *label = malloc((size_t)m.nt * sizeof(int32_t));
+    ck_assert_int_eq(mesh_label_regions(&m, label), 2);
+    double lower[2] = {0.3, 0.1};
+    int32_t t = mesh_locate(&m, lower, -1);
+    uint8_t keep[2] = {0, 0};
+    keep[label[t]] = 1;
+    mesh_keep_regions(&m, label, keep);
+    free(label);
+    check_structure(&m);
+    double area = 0;
+    for (int32_t i = 0; i < m.nt; i++)
+        if (mesh_tri_alive(&m, i))
+            area += geom_area(P(&m, m.tv[3 * i]), P(&m, m.tv[3 * i + 1]), P(&m, m.tv[3 * i + 2]));
+    ck_assert_double_eq_tol(area, 0.5, 1e-12);
+    mesh_flat f;
+    ck_assert_int_eq(mesh_to_flat(&m, &f), 0);
+    int iface = 0;
+    for (int32_t s = 0; s < f.nsegs; s++)
+        iface += f.sinterface[s];
+    ck_assert_int_gt(iface, 0);
+    mesh_flat_free(&f);
+    mesh_free(&m);
+    pslg_free(&g);
+}
+END_TEST
+
+START_TEST(test_data_files) {
+    static const char *files[] = {"data/square.poly",  "data/lshape.poly", "data/wedge.poly",
+                                  "data/channel.poly", "data/holes.poly",  "data/lake.poly"};
+    for (int i = 0; i < 6; i++) {
+        pslg g;
+        char err[512];
+        if (pslg_read(files[i], &g, err, sizeof err) != 0) {
+            /* run from another directory: skip quietly */
+            continue;
+        }
+        ck_assert_msg(pslg_check(&g, err, sizeof err) == 0, "%s", err);
+        mesh_and_refine(&g, 30, 0.002);
+        pslg_free(&g);
+    }
+}
+END_TEST
+
+static TCase *tcase(Suite *s, const char *name) {
+    TCase *tc = tcase_create(name);
+    tcase_set_timeout(tc, 120);
+    suite_add_tcase(s, tc);
+    return tc;
+}
+
+static Suite *suite(void) {
+    Suite *s = suite_create("mesh");
+    TCase *tc = tcase(s, "delaunay");
+    tcase_add_test(tc, test_square_points);
+    tcase_add_test(tc, test_collinear);
+    tcase_add_test(tc, test_lattice_cocircular);
+    tcase_add_loop_test(tc, test_random_points, 0, 2);
+    tc = tcase(s, "cdt");
+    tcase_add_test(tc, test_triangle_pslg);
+    tcase_add_test(tc, test_square_pslg);
+    tcase_add_test(tc, test_polygon_with_hole);
+    tcase_add_test(tc, test_vertex_on_segment);
+    tcase_add_test(tc, test_long_segment);
+    tcase_add_test(tc, test_bad_input);
+    tcase_add_test(tc, test_small_angles);
+    tc = tcase(s, "random");
+    tcase_add_loop_test(tc, test_random_pslg, 0, 6);
+    tc = tcase(s, "hooks");
+    tcase_add_test(tc, test_named_split);
+    tcase_add_test(tc, test_two_halves);
+    tcase_add_test(tc, test_regions_keep);
+    tc = tcase(s, "data");
+    tcase_add_test(tc, test_data_files);
+    return s;
+}
+
+int main(void) {
+    SRunner *sr = srunner_create(suite());
+    srunner_run_all(sr, CK_NORMAL);
+    int nf = srunner_ntests_failed(sr);
+    srunner_free(sr);
+    return nf == 0 ? 0 : 1;
+}
