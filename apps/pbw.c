@@ -61,6 +61,7 @@ enum {
     RS_MESHBYTES,
     RS_WALL,
     RS_PHASE1,
+    RS_CPU,
     RS_MPI,
     RS_RSR,
     RS_KIND0,
@@ -108,7 +109,7 @@ int main(int argc, char **argv) {
     }
 
     MPI_Barrier(comm);
-    double t0 = rt_wtime();
+    double t0 = rt_wtime(), c0 = par_cpu_seconds();
     rt_stats_reset();
     mesh_flat local, global;
     pbw_result res;
@@ -146,6 +147,7 @@ int main(int argc, char **argv) {
     rs[RS_MESHBYTES] = (double)res.mesh_bytes;
     rs[RS_WALL] = t1 - t0;
     rs[RS_PHASE1] = res.phase1_s;
+    rs[RS_CPU] = par_cpu_seconds() - c0;
     rs[RS_MPI] = (double)st.mpi_sent;
     rs[RS_RSR] = (double)st.rsr_sent;
     for (int k = 0; k < PBW_RSR_NKINDS; k++)
@@ -198,14 +200,15 @@ int main(int argc, char **argv) {
             printf("stats: ranks=%d triangles=%ld vertices=%ld rsr=%.0f undone=%.0f "
                    "min_angle=%.4f wall_s=%.3f busy_max_s=%.3f busy_sum_s=%.3f comm_pct=%.2f "
                    "undo_pct=%.2f speedup_model=%.2f peak_rss_mb=%.1f bytes_per_tri=%.1f "
-                   "mesh_bytes_per_tri=%.1f phase1_s=%.3f\n",
+                   "mesh_bytes_per_tri=%.1f phase1_s=%.3f cpu_max_s=%.3f cpu_sum_s=%.3f\n",
                    size, (long)global.ntris, (long)global.nverts, tot[RS_RSR],
                    tot[RS_ULOCAL] + tot[RS_UREMOTE], min_angle_of(&global), mx[RS_WALL],
                    mx[RS_BUSY], tot[RS_BUSY],
                    nonidle > 0 ? 100.0 * (tot[RS_HANDLER] + tot[RS_COMM]) / nonidle : 0.0,
                    nonidle > 0 ? 100.0 * tot[RS_UNDO] / nonidle : 0.0,
                    mx[RS_BUSY] > 0 ? tot[RS_BUSY] / mx[RS_BUSY] : 0.0, mx[RS_RSS] / 1048576.0,
-                   tot[RS_RSS] / nt, tot[RS_MESHBYTES] / nt, mx[RS_PHASE1]);
+                   tot[RS_RSS] / nt, tot[RS_MESHBYTES] / nt, mx[RS_PHASE1], mx[RS_CPU],
+                   tot[RS_CPU]);
         }
         fflush(stdout);
     }

@@ -60,14 +60,6 @@ enum {
 
 static double min_angle_of(const mesh_flat *g, double *max_area);
 
-/* CPU seconds (user + system) of this process so far, all threads. */
-static double cpu_seconds(void) {
-    struct rusage ru;
-    if (getrusage(RUSAGE_SELF, &ru) != 0) return 0;
-    return (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec +
-           (double)ru.ru_stime.tv_sec + 1e-6 * (double)ru.ru_stime.tv_usec;
-}
-
 int main(int argc, char **argv) {
     int rc = rt_init(&argc, &argv, NULL);
     if (rc != RT_OK) {
@@ -103,7 +95,7 @@ int main(int argc, char **argv) {
 
     /* wall_s starts here: input read, checked and decomposed on every rank */
     MPI_Barrier(comm);
-    double t0 = rt_wtime(), c0 = cpu_seconds();
+    double t0 = rt_wtime(), c0 = par_cpu_seconds();
     char err[1024], msg[1200];
     pcdm_part part;
     rc = pcdm_part_build(&part, &d, rank, err, sizeof err);
@@ -156,7 +148,7 @@ int main(int argc, char **argv) {
     rs[RS_INSERTED] = (double)part.m.stats.inserted;
     rs[RS_MPI] = (double)st.mpi_sent;
     rs[RS_WALL] = t1 - t0;
-    rs[RS_CPU] = cpu_seconds() - c0;
+    rs[RS_CPU] = par_cpu_seconds() - c0;
     if (rank == 0) all = malloc(sizeof(double) * RS_N * (size_t)size);
     MPI_Gather(rs, RS_N, MPI_DOUBLE, all, RS_N, MPI_DOUBLE, 0, comm);
     int limit_any = 0;

@@ -74,6 +74,12 @@ int par_validate(const par_opts *o, const pslg *in, const mesh_flat *global,
  * any rank; the first failing rank's message (msg, may be NULL) is printed by rank 0. */
 int par_fail_any(int local_fail, const char *msg);
 
+/* Local.  CPU seconds (user + system, all threads) this process has used so far.  The
+ * "modelled" times of the benchmarks are built on it: unlike wall-clock busy time it does not
+ * grow while a rank waits for a core, so with more ranks than cores the busiest rank's CPU
+ * time still estimates what that rank would take on a core of its own. */
+double par_cpu_seconds(void);
+
 /* Local.  Peak resident set size of this process in bytes (getrusage). */
 long par_peak_rss_bytes(void);
 
