@@ -13,7 +13,8 @@
  *    the neighbouring triangle (opposite direction), or -1 on the domain boundary, so stepping
  *    to the neighbour is one load and the neighbour's triangle is tn[e]/3.
  *  - tf[t]: bit j (j = 0, 1, 2) set iff edge 3t+j is a constraint edge (a subsegment); bit 3 is
- *    scratch (cavity / flood marks; always clear between calls).
+ *    scratch (cavity / flood marks; always clear between calls); bit 4 means "in the refinement
+ *    queue" (cleared whenever the slot is rewritten, so stale queue entries cost one byte).
  *  - A dead triangle has tv[3t] == MESH_DEAD and sits on a free list threaded through tn[3t];
  *    slots are reused first, so triangle ids stay dense and a triangle can be named across
  *    ranks by (rank, int32 index).  Ghost triangles (one vertex == MESH_GHOST, the vertex at
@@ -214,7 +215,7 @@ typedef enum {
 
 /* Ruppert/Chew refinement.  First every encroached subsegment (a vertex strictly inside its
  * diametral circle; in a CDT testing the apexes on both sides suffices) is split, then bad
- * triangles (smallest angle below min_angle, or area above max_area) are taken shortest
+ * triangles (smallest angle below min_angle, or area above max_area) are taken
  * shortest edge first (4096 buckets by its binary exponent, LIFO within a bucket): the
  * circumcenter (or off-center) is located by walking from the triangle; if the walk must cross
  * a constraint edge, that subsegment is split instead; if the point would encroach a
@@ -223,8 +224,10 @@ typedef enum {
  * original segment's endpoints (always for interface segments); a non-interface subsegment
  * with exactly one endpoint at a small-angle input corner (< 60 degrees) is split on a
  * concentric shell (at a power-of-two distance from the corner, Ruppert 1995).  A skinny
- * triangle whose shortest edge joins two vertices on two segments that meet at such a corner,
- * at the same distance from it, is left alone (its small angle is forced by the input).
+ * triangle whose shortest edge joins two vertices on two neighbouring segments that meet at
+ * such a corner, at the same distance from it (within 1%), is left alone unless it is also too
+ * large (its small angle is forced by the input; the validator exempts it).  With q.lens,
+ * diametral lenses (Shewchuk 2002) replace the circles in every encroachment test.
  * Resumable: returns when the queues are empty; new work (named splits) is queued and picked up
  * by the next call. */
 mesh_refine_result mesh_refine(mesh *m);

@@ -8,7 +8,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#define MESH_MARK 8u /* tf scratch bit */
+#define MESH_MARK 8u    /* tf scratch bit */
+#define MESH_QUEUED 16u /* tf: queued as a bad triangle since the slot was last written */
 
 /* A bug: report and abort. */
 #define MESH_BUG(...)                                                                              \

@@ -140,6 +140,7 @@ static void push_bad(mesh *m, int32_t t) {
     mesh_refine_state *r = m->rf;
     int k;
     if (!quality(m, r->cosb, t, &k, NULL)) return;
+    m->tf[t] |= MESH_QUEUED;
     int32_t i;
     if (r->pool_free >= 0) {
         i = r->pool_free;
@@ -484,7 +485,9 @@ mesh_refine_result mesh_refine(mesh *m) {
             if (r->enchead < r->nenc) continue;
             return MESH_REFINE_DONE;
         }
-        if (!mesh_tri_alive(m, t)) continue;
+        /* a slot rewritten since it was queued lost its bit: skip it without touching it */
+        if (!(m->tf[t] & MESH_QUEUED)) continue;
+        m->tf[t] &= (uint8_t)~MESH_QUEUED;
         process_bad(m, t);
     }
 }

@@ -41,6 +41,13 @@ done
 # ./mesh --check runs the validator in-process too
 res=$("$M" --check -q 33 -a 0.001 data/lake.poly 2>&1) || fail "./mesh --check -q 33 lake: $res"
 
+# other outputs, and the Steiner point limit
+"$M" -q 30 -a 0.01 --vtk "$T/l.vtk" --svg "$T/l.svg" data/lake.poly || fail "--vtk/--svg"
+[ -s "$T/l.vtk" ] && [ -s "$T/l.svg" ] || fail "--vtk/--svg wrote nothing"
+res=$("$M" --stats -S 100 -a 0.0001 data/square.poly 2>&1)
+[ "$(sed -n 's/.* steiner=\([0-9]*\).*/\1/p' <<<"$res")" = 100 ] || fail "-S 100: $res"
+grep -q "Steiner point limit" <<<"$res" || fail "-S 100: no warning: $res"
+
 # a .node file (point set): the convex hull is the domain
 awk 'BEGIN { srand(7); print 200, 2, 0, 0; for (i = 1; i <= 200; i++) print i, rand(), rand() }' \
     >"$T/points.node"

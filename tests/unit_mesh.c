@@ -202,7 +202,7 @@ START_TEST(test_lattice_cocircular) {
 END_TEST
 
 START_TEST(test_random_points) {
-    int n = _i == 0 ? 1000 : 30000;
+    int n = _i == 0 ? 1000 : 20000;
     double *xy = malloc(2 * (size_t)n * sizeof(double));
     for (int i = 0; i < 2 * n; i++)
         xy[i] = urand();
@@ -290,7 +290,7 @@ static int segs_conflict(const double *xy, int32_t a, int32_t b, int32_t c, int3
 /* Random points in the unit square with random non-crossing segments, some of them passing
  * exactly through other vertices (points placed on a coarse grid). */
 START_TEST(test_random_pslg) {
-    int n = 60 + 20 * _i;
+    int n = 40 + 12 * _i;
     double *xy = malloc(2 * (size_t)(n + 4) * sizeof(double));
     int32_t *seg = malloc(2 * (size_t)(n * 3 + 4) * sizeof(int32_t));
     memcpy(xy, square_xy, sizeof square_xy);
