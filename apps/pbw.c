@@ -68,18 +68,6 @@ enum {
     RS_N = RS_KIND0 + PBW_RSR_NKINDS
 };
 
-static double min_angle_of(const mesh_flat *g) {
-    double amin = 180;
-    for (int32_t t = 0; t < g->ntris; t++) {
-        const double *a = g->xy + 2 * (size_t)g->tri[3 * (size_t)t],
-                     *b = g->xy + 2 * (size_t)g->tri[3 * (size_t)t + 1],
-                     *c = g->xy + 2 * (size_t)g->tri[3 * (size_t)t + 2];
-        double an = geom_min_angle_deg(a, b, c);
-        if (an < amin) amin = an;
-    }
-    return amin;
-}
-
 int main(int argc, char **argv) {
     int rc = rt_init(&argc, &argv, NULL);
     if (rc != RT_OK) {
@@ -202,7 +190,7 @@ int main(int argc, char **argv) {
                    "undo_pct=%.2f speedup_model=%.2f peak_rss_mb=%.1f bytes_per_tri=%.1f "
                    "mesh_bytes_per_tri=%.1f phase1_s=%.3f cpu_max_s=%.3f cpu_sum_s=%.3f\n",
                    size, (long)global.ntris, (long)global.nverts, tot[RS_RSR],
-                   tot[RS_ULOCAL] + tot[RS_UREMOTE], min_angle_of(&global), mx[RS_WALL],
+                   tot[RS_ULOCAL] + tot[RS_UREMOTE], par_mesh_quality(&global, NULL), mx[RS_WALL],
                    mx[RS_BUSY], tot[RS_BUSY],
                    nonidle > 0 ? 100.0 * (tot[RS_HANDLER] + tot[RS_COMM]) / nonidle : 0.0,
                    nonidle > 0 ? 100.0 * tot[RS_UNDO] / nonidle : 0.0,

@@ -27,7 +27,6 @@
  * 2 bad usage.
  */
 #include "pcdm.h"
-#include "geom.h"
 #include "mesh.h"
 #include "par.h"
 #include "rt.h"
@@ -57,8 +56,6 @@ enum {
     RS_CPU,
     RS_N
 };
-
-static double min_angle_of(const mesh_flat *g, double *max_area);
 
 int main(int argc, char **argv) {
     int rc = rt_init(&argc, &argv, NULL);
@@ -203,7 +200,7 @@ int main(int argc, char **argv) {
             if (tot[RS_NOTFOUND] > 0)
                 fprintf(stderr, "pcdm: warning: %.0f split requests named no subsegment\n",
                         tot[RS_NOTFOUND]);
-            double amax = 0, amin = min_angle_of(&global, &amax);
+            double amax = 0, amin = par_mesh_quality(&global, &amax);
             double nt = global.ntris > 0 ? (double)global.ntris : 1;
             printf("stats: ranks=%d triangles=%ld vertices=%ld rsr=%.0f min_angle=%.4f "
                    "wall_s=%.3f busy_max_s=%.3f busy_sum_s=%.3f subdomains=%d idle_max_s=%.3f "
@@ -227,17 +224,3 @@ int main(int argc, char **argv) {
     return status;
 }
 
-/* Smallest angle (degrees) over the merged mesh; *max_area gets the largest area. */
-static double min_angle_of(const mesh_flat *g, double *max_area) {
-    double amin = 180, amax = 0;
-    for (int32_t t = 0; t < g->ntris; t++) {
-        const double *a = g->xy + 2 * (size_t)g->tri[3 * (size_t)t],
-                     *b = g->xy + 2 * (size_t)g->tri[3 * (size_t)t + 1],
-                     *c = g->xy + 2 * (size_t)g->tri[3 * (size_t)t + 2];
-        double an = geom_min_angle_deg(a, b, c), ar = geom_area(a, b, c);
-        if (an < amin) amin = an;
-        if (ar > amax) amax = ar;
-    }
-    *max_area = amax;
-    return amin;
-}

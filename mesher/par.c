@@ -609,6 +609,20 @@ int par_validate(const par_opts *o, const pslg *in, const mesh_flat *global, val
     return ok;
 }
 
+double par_mesh_quality(const mesh_flat *g, double *max_area) {
+    double amin = 180, amax = 0;
+    for (int32_t t = 0; t < g->ntris; t++) {
+        const double *a = g->xy + 2 * (size_t)g->tri[3 * (size_t)t],
+                     *b = g->xy + 2 * (size_t)g->tri[3 * (size_t)t + 1],
+                     *c = g->xy + 2 * (size_t)g->tri[3 * (size_t)t + 2];
+        double an = geom_min_angle_deg(a, b, c), ar = geom_area(a, b, c);
+        if (an < amin) amin = an;
+        if (ar > amax) amax = ar;
+    }
+    if (max_area) *max_area = amax;
+    return amin;
+}
+
 double par_cpu_seconds(void) {
     struct rusage ru;
     if (getrusage(RUSAGE_SELF, &ru) != 0) return 0;

@@ -74,6 +74,10 @@ int par_validate(const par_opts *o, const pslg *in, const mesh_flat *global,
  * any rank; the first failing rank's message (msg, may be NULL) is printed by rank 0. */
 int par_fail_any(int local_fail, const char *msg);
 
+/* Local.  Smallest angle (degrees) over the triangles of g; *max_area (may be NULL) gets the
+ * largest triangle area.  For stats lines; the validator decides correctness. */
+double par_mesh_quality(const mesh_flat *g, double *max_area);
+
 /* Local.  CPU seconds (user + system, all threads) this process has used so far.  The
  * "modelled" times of the benchmarks are built on it: unlike wall-clock busy time it does not
  * grow while a rank waits for a core, so with more ranks than cores the busiest rank's CPU
