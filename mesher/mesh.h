@@ -223,10 +223,14 @@ typedef enum {
  * Split points: the exact dyadic midpoint a + (b - a) * ((2k+1) / 2^(j+1)) computed from the
  * original segment's endpoints (always for interface segments); a non-interface subsegment
  * with exactly one endpoint at a small-angle input corner (< 60 degrees) is split on a
- * concentric shell (at a power-of-two distance from the corner, Ruppert 1995).  A skinny
- * triangle whose shortest edge joins two vertices on two neighbouring segments that meet at
- * such a corner, at the same distance from it (within 1%), is left alone unless it is also too
- * large (its small angle is forced by the input; the validator exempts it).  With q.lens,
+ * concentric shell (at a power-of-two distance from the corner, Ruppert 1995; when an
+ * interface segment s ends at the corner, at |s| times a power of two, so the shells match
+ * the dyadic pieces of s there).  A skinny triangle whose shortest edge joins two vertices on
+ * two neighbouring non-interface segments that meet at such a corner, at the same distance
+ * from it (within 1%), is left alone unless it is also too large (its small angle is forced by
+ * the input; the validator exempts it); corners with an interface segment are not exempt.  An
+ * interface subsegment whose halves would be below 2^-36 of the coordinates' magnitude is not
+ * split (counted in stats.failed; the same decision on every rank).  With q.lens,
  * diametral lenses (Shewchuk 2002) replace the circles in every encroachment test.
  * Resumable: returns when the queues are empty; new work (named splits) is queued and picked up
  * by the next call. */

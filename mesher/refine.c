@@ -19,9 +19,14 @@
  * subsegment on the cavity boundary (geom_encroaches, exact), it is discarded and those subsegments
  * are split. Subsegments are split at the exact dyadic midpoint of their original segment, except a
  * non-interface subsegment with one endpoint at a small-angle input corner, which is split on
- * a concentric shell around it (power-of-two distance, Ruppert 1995 / Shewchuk 2002 sec. 5).
- * A skinny triangle whose shortest edge joins vertices on two segments of such a corner at the
- * same distance from it is left alone: its small angle is forced by the input.  Invariants:
+ * a concentric shell around it (power-of-two distance, Ruppert 1995 / Shewchuk 2002 sec. 5;
+ * at a corner shared with an interface segment s the shells have radii |s| * 2^j, the lengths
+ * of the dyadic pieces of s at that corner, so the pieces on both sides can become equal).
+ * A skinny triangle whose shortest edge joins vertices on two input (non-interface) segments of
+ * such a corner at the same distance from it is left alone: its small angle is forced by the
+ * input.  Corners involving an interface segment get no such exemption (they are not corners
+ * of the input).  Interface splits that would exhaust precision are refused identically on
+ * every rank (decided from the name and the input coordinates).  Invariants:
  * the mesh stays a CDT; encroached subsegments never wait behind bad triangles; a split is never
  * undone; interface subsegments are only split at dyadic midpoints.
  */
@@ -222,6 +227,36 @@ static int is_corner(const mesh *m, int32_t v) {
     return v < m->ninput && m->corner && m->corner[v];
 }
 
+/* The unit of the concentric shells around corner a: shells have radius unit * 2^j.  With no
+ * interface segment at a the unit is 1 (Ruppert's powers of two).  An interface segment is
+ * only ever split at dyadic midpoints (both ranks must name its pieces alike), so the pieces
+ * of an interface segment s at a have lengths |s| * 2^-j; the boundary segments at a then use
+ * unit |s| (for the interface segment meeting a boundary segment at a at the smallest angle;
+ * ties: the lowest id), so the subsegments on both sides of the corner come in the same
+ * lengths and can become equal.  With mismatched units (ratio r in (1, 2) between the two
+ * families) the shorter piece's end encroaches the longer piece at every scale, and the two
+ * split each other down to the corner until precision runs out.  Deterministic and local:
+ * computed from the input coordinates only. */
+static double shell_unit(const mesh *m, int32_t a) {
+    double unit = 1.0, best = 180.0;
+    for (int32_t i = m->inc_off[a]; i < m->inc_off[a + 1]; i++) {
+        int32_t si = m->inc_seg[i];
+        if (!m->siface[si]) continue;
+        int32_t oi = m->seg[2 * si] == a ? m->seg[2 * si + 1] : m->seg[2 * si];
+        for (int32_t j = m->inc_off[a]; j < m->inc_off[a + 1]; j++) {
+            int32_t sb = m->inc_seg[j];
+            if (m->siface[sb]) continue;
+            int32_t ob = m->seg[2 * sb] == a ? m->seg[2 * sb + 1] : m->seg[2 * sb];
+            double ang = geom_angle_deg(X(m, oi), X(m, a), X(m, ob));
+            if (ang < best) {
+                best = ang;
+                unit = sqrt(geom_dist2(X(m, a), X(m, oi)));
+            }
+        }
+    }
+    return unit > 0 ? unit : 1.0;
+}
+
 /* Splits subsegment record r.  notify: call on_split for an interface subsegment.  Returns 0,
  * or -1 if it cannot be split (precision exhausted; counted as failed). */
 static int split_subseg(mesh *m, int32_t r, int notify) {
@@ -231,11 +266,25 @@ static int split_subseg(mesh *m, int32_t r, int notify) {
     int32_t nl = -1;
     int64_t k0 = 0, k1 = 0;
     int iface = m->siface[s.seg];
+    if (iface) {
+        /* Interface pieces must stay dyadic and nameable by both ranks: refuse, on the name and
+         * the input coordinates alone (so every rank refuses alike), a split whose halves would
+         * be shorter than 2^-36 of the coordinates' magnitude.  Refinement cannot need it (the
+         * shells at corners match the interface, see shell_unit); a split one rank made and the
+         * other could not would leave the merged mesh non-conforming. */
+        const double *a = X(m, m->seg[2 * s.seg]), *b = X(m, m->seg[2 * s.seg + 1]);
+        double mag = fmax(fmax(fabs(a[0]), fabs(a[1])), fmax(fabs(b[0]), fabs(b[1])));
+        double L = sqrt(geom_dist2(a, b));
+        if (s.level < 0 || s.level >= 48 || ldexp(L, -(s.level + 1)) < 0x1p-36 * fmax(mag, L)) {
+            m->stats.failed++;
+            return -1;
+        }
+    }
     int cu = !iface && is_corner(m, s.u), cv = !iface && is_corner(m, s.v);
     if (cu != cv) {
         const double *a = cu ? pu : pv, *w = cu ? pv : pu;
-        double L = sqrt(geom_dist2(a, w));
-        double d = exp2(floor(log2(L * (2.0 / 3.0))));
+        double L = sqrt(geom_dist2(a, w)), unit = shell_unit(m, cu ? s.u : s.v);
+        double d = unit * exp2(floor(log2(L * (2.0 / 3.0) / unit)));
         double f = d / L;
         if (!(f > 0.3 && f < 0.7)) f = 0.5;
         p[0] = a[0] + (w[0] - a[0]) * f;
@@ -317,12 +366,15 @@ static void split_for(mesh *m, int32_t t) {
 
 /* ---- bad triangles --------------------------------------------------------------------------*/
 
-/* 1 iff no other segment at corner a points strictly inside the wedge o1-a-o2 (< 180 deg):
- * s1 and s2 are neighbours around a, as the validator's corner rule requires. */
+/* 1 iff no other input segment at corner a points strictly inside the wedge o1-a-o2
+ * (< 180 deg): s1 and s2 are neighbours around a, as the validator's corner rule requires.
+ * Interface segments are not input segments (the validator checks against the input without
+ * the PCDM cuts), so they do not separate s1 from s2. */
 static int consecutive(const mesh *m, int32_t a, int32_t o1, int32_t o2) {
     double s = geom_orient2d(X(m, a), X(m, o1), X(m, o2));
     for (int32_t i = m->inc_off[a]; i < m->inc_off[a + 1]; i++) {
         int32_t s3 = m->inc_seg[i];
+        if (m->siface[s3]) continue;
         int32_t o3 = m->seg[2 * s3] == a ? m->seg[2 * s3 + 1] : m->seg[2 * s3];
         if (o3 == o1 || o3 == o2) continue;
         double x1 = geom_orient2d(X(m, a), X(m, o1), X(m, o3));
@@ -332,6 +384,12 @@ static int consecutive(const mesh *m, int32_t a, int32_t o1, int32_t o2) {
     return 1;
 }
 
+/* 1 iff u and v lie on two angularly consecutive input segments meeting at a corner below 60
+ * degrees, at the same distance from it (within 1%).  Only input segments count: a corner
+ * between an interface segment and another segment is a corner of the augmented PSLG, not of
+ * the input, so the validator does not exempt it and the angle bound must be met there
+ * (possible: cuts meet other segments at >= the angle bound, and the shells on both sides
+ * match, see shell_unit). */
 static int on_corner_segments(const mesh *m, int32_t u, int32_t v) {
     if (!m->has_corners) return 0;
     int32_t su1 = 0, su2 = 0, sv1 = 0, sv2 = 0;
@@ -353,7 +411,7 @@ static int on_corner_segments(const mesh *m, int32_t u, int32_t v) {
         int32_t s1 = one_u >= 0 ? one_u : m->inc_seg[su1 + i];
         for (int32_t j = 0; j < nv; j++) {
             int32_t s2 = one_v >= 0 ? one_v : m->inc_seg[sv1 + j];
-            if (s1 == s2) continue;
+            if (s1 == s2 || m->siface[s1] || m->siface[s2]) continue;
             for (int x = 0; x < 2; x++)
                 for (int y = 0; y < 2; y++) {
                     int32_t a = m->seg[2 * s1 + x];

@@ -99,6 +99,15 @@ done
 name="lake np=2 --subdomains 5"
 run_case "$name" 2 30 "$(area lake)" --subdomains 5 data/lake.poly &&
     ok "$name: valid, subdomains=$(field subdomains <"$tmp/last_stats")"
+# regression: with 6 subdomains no 60-degree cuts exist for lake, and the fallback cut ends on
+# input segment 41 at 31.5 degrees; the interface (split at dyadic midpoints) and the boundary
+# piece (concentric shells) at that corner used to split each other down to the corner until
+# precision ran out (failed splits, missing segment 41, min angle 0.85)
+for np in 1 3; do
+    name="lake np=$np -q 30 -a 0.0002 --subdomains 6 (interface at 31.5 degrees)"
+    run_case "$name" "$np" 30 0.0002 --subdomains 6 data/lake.poly &&
+        ok "$name: valid, min_angle=$(field min_angle <"$tmp/last_stats")"
+done
 name="square np=4 --subdomains 8"
 run_case "$name" 4 30 "$(area square)" --subdomains 8 data/square.poly &&
     ok "$name: valid, subdomains=$(field subdomains <"$tmp/last_stats")"

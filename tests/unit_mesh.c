@@ -421,6 +421,53 @@ START_TEST(test_small_angles) {
 }
 END_TEST
 
+/* An interface segment (PCDM cut) meeting boundary segments at 35 and 55 degrees: the unit
+ * square with a cut from (0.42, 0) to the right side (length 0.708: about sqrt(2) times a
+ * power of two, the worst case for mismatched shells).  The interface is split only at dyadic
+ * midpoints, the boundary pieces at the two corners on concentric shells; the shells must
+ * match the interface's dyadic lengths (else the two sides encroach each other at every scale
+ * down to the corner until precision runs out: failed splits, degenerate chains), and the
+ * angle bound must be met at the corners (they are not corners of the input, so the validator,
+ * run against the square without the cut, exempts nothing there). */
+START_TEST(test_iface_corner) {
+    double t35 = tan(35 * M_PI / 180);
+    const double xy[] = {0, 0, 1, 0, 1, 1, 0, 1, 0.42, 0, 1, 0.58 * t35};
+    const int32_t seg[] = {0, 4, 4, 1, 1, 5, 5, 2, 2, 3, 3, 0, 4, 5};
+    const uint8_t flag[] = {0, 0, 0, 0, 0, 0, 1};
+    pslg g = make_pslg(6, xy, 7, seg, 0, NULL);
+    pslg in = make_pslg(4, square_xy, 4, square_seg, 0, NULL);
+    char err[256];
+    ck_assert_int_eq(pslg_check(&g, err, sizeof err), 0);
+    ck_assert_int_eq(pslg_check(&in, err, sizeof err), 0);
+    const double qa[][2] = {{30, 0.0002}, {30, 0.00002}, {20.7, 0.0001}, {30, 0}};
+    for (int c = 0; c < 4; c++) {
+        mesh m;
+        mesh_init(&m);
+        ck_assert_int_eq(mesh_build_cdt(&m, &g, flag, err, sizeof err), 0);
+        mesh_quality q = {qa[c][0], qa[c][1], 2000000, 1, use_lens};
+        mesh_set_quality(&m, &q);
+        ck_assert_int_eq(mesh_refine(&m), MESH_REFINE_DONE);
+        ck_assert_msg(m.stats.failed == 0, "-q %g -a %g: %lld failed splits", qa[c][0], qa[c][1],
+                      (long long)m.stats.failed);
+        ck_assert_int_eq(m.stats.skipped_small, 0);
+        for (int32_t r = 0; r < m.nss; r++)
+            if (m.ss[r].level != -2 && m.ss[r].seg == 6) ck_assert_int_ge(m.ss[r].level, 0);
+        /* no cascade toward a corner: the local feature size is about 0.01 everywhere */
+        double emin = INFINITY;
+        for (int32_t t = 0; t < m.nt; t++)
+            for (int j = 0; mesh_tri_alive(&m, t) && j < 3; j++)
+                emin =
+                    fmin(emin, geom_dist2(P(&m, m.tv[3 * t + j]), P(&m, mesh_dest(&m, 3 * t + j))));
+        ck_assert_msg(sqrt(emin) > 1e-3, "-q %g -a %g: an edge of length %g", qa[c][0], qa[c][1],
+                      sqrt(emin));
+        validate(&m, &in, qa[c][0], qa[c][1]);
+        mesh_free(&m);
+    }
+    pslg_free(&g);
+    pslg_free(&in);
+}
+END_TEST
+
 /* ---- PCDM hooks --------------------------------------------------------------------------------
  */
 
@@ -666,6 +713,7 @@ static Suite *suite(void) {
     tcase_add_test(tc, test_long_segment);
     tcase_add_test(tc, test_bad_input);
     tcase_add_test(tc, test_small_angles);
+    tcase_add_test(tc, test_iface_corner);
     tc = tcase(s, "random");
     tcase_add_loop_test(tc, test_random_pslg, 0, 6);
     tc = tcase(s, "hooks");
