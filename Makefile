@@ -107,7 +107,7 @@ bench-seq: deps
 
 bench-primitives: deps
 	@$(MAKE) --no-print-directory all
-	@bash bench/primitives.sh
+	@B=$(B) bash bench/primitives.sh
 
 format:
 	clang-format -i $(wildcard runtime/*.[ch] mesher/*.[ch] apps/*.c tests/*.[ch] bench/*.c)

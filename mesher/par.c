@@ -290,7 +290,7 @@ int par_load(const par_opts *o, pslg *in, pcdm_decomp *d) {
             char tmp[sizeof err];
             memcpy(tmp, err, sizeof tmp);
             tmp[sizeof tmp - 200] = 0; /* room for the prefix below */
-            snprintf(err, sizeof err, "cannot decompose %.150s for %d ranks: %s", o->input,
+            snprintf(err, sizeof err, "cannot decompose %.150s for %d ranks: %.800s", o->input,
                      rt_size(), tmp);
         }
     }

@@ -22,6 +22,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <cpuid.h>
+#include <x86intrin.h>
+#endif
 
 rt_global rt_g;
 
@@ -100,6 +104,43 @@ double rt_wtime(void) {
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* The main thread's interval clock (laps, inline handler times): on x86-64 with an invariant
+ * TSC, rdtsc scaled by a rate measured against CLOCK_MONOTONIC at rt_init (a few ns instead
+ * of a clock_gettime on the path of every message); elsewhere rt_wtime. */
+#if defined(__x86_64__) && defined(__GNUC__)
+static double tsc_scale; /* seconds per tick; 0: use rt_wtime */
+static uint64_t tsc_base;
+static double tsc_base_s;
+
+static void clock_calibrate(void) {
+    unsigned a, b, c, d;
+    tsc_scale = 0;
+    if (!__get_cpuid(0x80000000u, &a, &b, &c, &d) || a < 0x80000007u) return;
+    __get_cpuid(0x80000007u, &a, &b, &c, &d);
+    if (!(d & (1u << 8))) return; /* not invariant: may change rate or stop */
+    double s0 = rt_wtime();
+    uint64_t c0 = __rdtsc();
+    struct timespec ts = {0, 2000000};
+    nanosleep(&ts, NULL);
+    double s1 = rt_wtime();
+    uint64_t c1 = __rdtsc();
+    if (c1 <= c0 || s1 - s0 < 1e-3) return;
+    tsc_scale = (s1 - s0) / (double)(c1 - c0);
+    tsc_base = c1;
+    tsc_base_s = s1;
+}
+
+double rt_now(void) {
+    if (tsc_scale == 0) return rt_wtime();
+    return tsc_base_s + tsc_scale * (double)(int64_t)(__rdtsc() - tsc_base);
+}
+#else
+static void clock_calibrate(void) {}
+double rt_now(void) {
+    return rt_wtime();
+}
+#endif
+
 /* ---- configuration and life cycle ----------------------------------------------------- */
 
 void rt_config_default(rt_config *cfg) {
@@ -176,9 +217,10 @@ int rt_init(int *argc, char ***argv, const rt_config *cfg) {
     if (MPI_Comm_dup(MPI_COMM_WORLD, &rt_g.comm) != MPI_SUCCESS) return RT_EMPI;
     MPI_Comm_rank(rt_g.comm, &rt_g.rank);
     MPI_Comm_size(rt_g.comm, &rt_g.size);
+    clock_calibrate();
     rt_htable_init(&rt_g.ht);
     rt_tasks_init(&rt_g.tasks);
-    rt_term_init(&rt_g.term);
+    rt_term_init(&rt_g.term, rt_g.rank);
     rt_g.perturbing = c->perturb_seed != 0;
     if (rt_g.perturbing)
         rt_perturb_init(&rt_g.pert, c->perturb_seed * 1000003u + (uint64_t)rt_g.rank, rt_g.size);
@@ -356,11 +398,11 @@ int rt_perturb_set(uint64_t seed) {
 
 /* ---- scheduler ------------------------------------------------------------------------- */
 
-#define RT_WAVE_DELAY 20e-6 /* seconds of quiet before this rank joins a termination wave */
+#define RT_WAVE_DELAY 20e-6 /* seconds of quiet before rank 0 starts a termination round */
 
 static bool passive(bool local_busy) {
     return !local_busy && rt_queue_empty(&rt_g.tasks.ready) && rt_g.tasks.nblocked == 0 &&
-           rt_g.wk_outstanding == 0 && rt_comm_flushed() &&
+           rt_g.wk_outstanding == 0 && rt_g.ndirty == 0 && rt_queue_empty(&rt_g.selfq) &&
            (!rt_g.perturbing || rt_g.pert.nheld == 0);
 }
 
@@ -375,42 +417,55 @@ int rt_run(rt_work_fn work, void *ctx) {
     unsigned spins = 0;
     /* Time accounting by laps: each stretch between two clock readings goes to one bucket;
      * non-threaded handler time is taken out of the communication laps. */
-    double lap = rt_wtime(), inl = rt_g.inline_time, now;
-#define RT_LAP(bucket) (now = rt_wtime(), rt_g.st.time[bucket] += now - lap, lap = now)
+    double lap = rt_now(), inl = rt_g.inline_time, now;
+#define RT_LAP(bucket) (now = rt_now(), rt_g.st.time[bucket] += now - lap, lap = now)
 #define RT_COMM_LAP()                                                                              \
     (RT_LAP(RT_TIME_COMM), rt_g.st.time[RT_TIME_COMM] -= rt_g.inline_time - inl,                   \
      inl = rt_g.inline_time)
     for (;;) {
         bool did = rt_comm_progress();
         if (rt_g.perturbing && rt_perturb_release(&rt_g.pert, rt_dispatch_item) > 0) did = true;
-        did |= rt_local_deliver();
-        did |= rt_workers_drain();
+        if (rt_g.selfq.head) did |= rt_local_deliver();
+        if (rt_g.nthreads > 0 && atomic_load_explicit(&rt_g.wposted, memory_order_acquire) != 0)
+            did |= rt_workers_drain();
         bool local_busy = false;
         if (!rt_queue_empty(&rt_g.tasks.ready) || work) {
             /* Clock reads are kept off the empty-poll path: a lap is closed only around
              * real work, and the time of an empty poll goes with the idle lap. */
             if (did) RT_COMM_LAP();
-            bool ran = rt_tasks_run(&rt_g.tasks, rt_g.tasks.ready.n) > 0;
+            bool ran = rt_g.tasks.ready.head && rt_tasks_run(&rt_g.tasks, rt_g.tasks.ready.n) > 0;
             if (work) local_busy = work(ctx) != RT_WORK_IDLE;
             if (ran || local_busy) {
                 RT_LAP(RT_TIME_BUSY);
                 did = true;
             }
         }
-        rt_comm_flush_all();
+        if (rt_g.ndirty) rt_comm_flush_all();
         if (did) {
             rt_g.term.active = true;
             backoff = rt_g.cfg.idle_min_ns;
             idle_since = -1;
             continue;
         }
-        /* A wave is started only after RT_WAVE_DELAY of quiet, so that ranks exchanging
-         * messages quickly do not run a collective between every two of them. */
-        if (passive(local_busy)) {
+        bool pas = passive(local_busy);
+        if (rt_g.term.done) { /* rank 0 declared termination (TERM) */
+            if (!pas)
+                RT_FATAL("termination announced while this rank was active (local work returned "
+                         "BUSY without a message, or a runtime bug)");
+            rt_g.term.done = false;
+            rt_g.term.active = true;
+            break;
+        }
+        /* Rank 0 starts a round only after RT_WAVE_DELAY of quiet, so that ranks exchanging
+         * messages quickly do not pass the token around between every two of them; others
+         * pass a token on as soon as they are passive. */
+        if (pas && rt_g.term.have_token) {
             if (idle_since < 0) idle_since = lap;
-            if ((rt_g.term.wave_open || lap - idle_since >= RT_WAVE_DELAY) &&
-                rt_term_step(&rt_g.term, rt_g.comm, rt_g.sent, rt_g.recvd))
+            if (rt_term_step(&rt_g.term, rt_g.rank, rt_g.size, rt_g.sent, rt_g.recvd,
+                             lap - idle_since >= RT_WAVE_DELAY))
                 break;
+        } else if (pas && idle_since < 0) {
+            idle_since = lap;
         }
         if (rt_g.cfg.idle_spin) {
             /* busy-poll, but let this rank's workers run while they have jobs; read the

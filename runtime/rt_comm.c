@@ -10,7 +10,10 @@
  * are copied to a local FIFO and dispatched by the same code as remote ones.
  * Receiving: RT_NPOST receives (ANY_SOURCE) stay preposted into buffers of the largest
  * aggregation size of any rank, so a message lands without a probe; they are consumed in
- * posting order, which is MPI's matching order, so the order from each source is kept.  A
+ * posting order, which is MPI's matching order, so the order from each source is kept (a
+ * consumed one is reposted at the next call, in the same order, off the path to the reply).
+ * Control records (rt_send_ctl: the termination token and TERM, rt_term.c) share the stream
+ * under handler ids above the table and are neither counted nor activity.  A
  * record too large for an aggregation buffer is announced by a small control record in the
  * ordinary stream and follows as its own message on RT_TAG_BIG, received (blocking, it is
  * already on its way) when the control record is unpacked.  Each record is checked against
@@ -66,8 +69,11 @@ int rt_comm_init(void) {
                          rt_g.comm, &rt_g.preq[i]));
     }
     rt_g.phead = 0;
+    rt_g.nrepost = 0;
     return RT_OK;
 }
+
+static void repost_pending(void);
 
 static void sendbuf_free(rt_sendbuf *sb) {
     rt_xfree(sb->buf);
@@ -85,6 +91,7 @@ void rt_comm_destroy(void) {
     rt_qnode *n;
     while ((n = rt_queue_pop(&rt_g.selfq)))
         rt_xfree(RT_CONTAINER(n, rt_item, q));
+    repost_pending(); /* every slot active again, then cancelled */
     for (int i = 0; i < RT_NPOST; i++) {
         MPI_Cancel(&rt_g.preq[i]);
         MPI_Wait(&rt_g.preq[i], MPI_STATUS_IGNORE);
@@ -246,6 +253,27 @@ void rt_send_hdr(int to, rt_hdr *h, const void *payload) {
     if (!rt_g.cfg.aggregate || rt_g.agg[to]->used == rt_g.agg[to]->cap) flush_dest(to);
 }
 
+void rt_send_ctl(int to, uint16_t id, const void *payload, uint32_t len) {
+    RT_CHECK(!rt_in_worker && to != rt_g.rank && rt_wire_size(len) <= rt_g.cfg.agg_bytes);
+    rt_hdr c = {.handler = id, .src = rt_g.rank, .len = len, .tok_rank = -1};
+    append_record(to, &c, payload);
+    flush_dest(to);
+}
+
+/* A control record from src (rt_send_ctl): the termination token or TERM. */
+static void control_record(const rt_hdr *h, const void *payload) {
+    if (h->handler == RT_CTL_TOKEN && h->len == 3 * sizeof(int64_t)) {
+        int64_t tok[3];
+        memcpy(tok, payload, sizeof tok);
+        rt_term_token(&rt_g.term, tok);
+    } else if (h->handler == RT_CTL_TERM && h->len == 0 && h->src == 0 && rt_g.rank != 0) {
+        rt_g.term.done = true;
+    } else {
+        RT_FATAL("malformed control record %u (length %u) from rank %d", (unsigned)h->handler,
+                 (unsigned)h->len, (int)h->src);
+    }
+}
+
 void rt_complete(const rt_hdr *h, double elapsed) {
     rt_hentry *e = &rt_g.ht.e[h->handler];
     e->recv++;
@@ -300,9 +328,9 @@ static void run_inline(const rt_hdr *h, const void *payload) {
     }
     bool nested = rt_g.in_handler;
     rt_g.in_handler = true;
-    double t0 = rt_wtime();
+    double t0 = rt_now();
     e->fn(&m, e->arg);
-    double dt = rt_wtime() - t0;
+    double dt = rt_now() - t0;
     rt_g.inline_time += dt;
     rt_g.in_handler = nested;
     rt_complete(h, dt);
@@ -376,11 +404,23 @@ static void receive_big(int src, const void *payload) {
     deliver(&h, p, NULL);
 }
 
+/* Reposts, in completion order, the receives consumed since the last call: they are the
+ * nrepost slots before phead, so MPI's matching order stays phead, phead+1, ... */
+static void repost_pending(void) {
+    for (int i = rt_g.nrepost; i > 0; i--) {
+        int k = (rt_g.phead - i + RT_NPOST) % RT_NPOST;
+        RT_MPI(MPI_Irecv(rt_g.pbuf[k], (int)rt_g.pcap, MPI_BYTE, MPI_ANY_SOURCE, RT_TAG_MSG,
+                         rt_g.comm, &rt_g.preq[k]));
+    }
+    rt_g.nrepost = 0;
+}
+
 bool rt_comm_progress(void) {
     bool any = false;
-    test_sends();
+    if (rt_g.nrepost) repost_pending();
     for (int k = 0; k < RT_RECV_BURST; k++) {
         int flag = 0, n = 0;
+        if (rt_g.nrepost == RT_NPOST) repost_pending(); /* phead's own receive is consumed */
         MPI_Status st;
         MPI_Request *req = &rt_g.preq[rt_g.phead];
         RT_MPI(MPI_Test(req, &flag, &st));
@@ -390,25 +430,44 @@ bool rt_comm_progress(void) {
         unsigned char *buf = rt_g.pbuf[rt_g.phead];
         rt_g.st.mpi_recv++;
         rt_g.st.mpi_bytes_recv += (uint64_t)n;
-        any = true;
         size_t off = 0;
         rt_hdr h;
         const unsigned char *payload;
-        int rc;
+        int rc, nrec = 0;
         while ((rc = rt_unpack(buf, (size_t)n, &off, &h, &payload)) == 1) {
+            nrec++;
             if (h.handler == RT_BIG_ID && h.len == sizeof(uint64_t) && h.src == st.MPI_SOURCE) {
                 receive_big(st.MPI_SOURCE, payload);
+                any = true;
+                continue;
+            }
+            if ((h.handler == RT_CTL_TOKEN || h.handler == RT_CTL_TERM) && h.src == st.MPI_SOURCE) {
+                control_record(&h, payload);
                 continue;
             }
             check_record(&h, st.MPI_SOURCE);
             deliver(&h, payload, NULL);
+            any = true; /* an RSR: control records alone are not activity */
         }
         if (rc != 0)
             RT_FATAL("malformed message of %d bytes from rank %d at offset %zu", n, st.MPI_SOURCE,
                      off);
-        RT_MPI(
-            MPI_Irecv(buf, (int)rt_g.pcap, MPI_BYTE, MPI_ANY_SOURCE, RT_TAG_MSG, rt_g.comm, req));
+        /* Reposted later (repost_pending), off the path from this message to the reply. */
         rt_g.phead = (rt_g.phead + 1) % RT_NPOST;
+        rt_g.nrepost++;
+        /* The replies to the first message leave before the next test (which progresses
+         * MPI): a lone request is answered at once; those of a burst are aggregated.  A
+         * first message of one record (light traffic) ends the burst: the scheduler comes
+         * straight back after one local-work step, which may be what answers it. */
+        if (k == 0) {
+            if (rt_g.ndirty) rt_comm_flush_all();
+            if (nrec == 1) break;
+        }
     }
+    /* Replies the handlers just produced leave now (not after the rest of the scheduler
+     * iteration); the sends are tested after the receive, the latency-critical test of an
+     * empty poll, and while messages flow only when many are outstanding. */
+    if (rt_g.ndirty) rt_comm_flush_all();
+    if (rt_g.nreq && (!any || rt_g.nreq > 16)) test_sends();
     return any;
 }

@@ -26,6 +26,8 @@ __attribute__((noreturn, format(printf, 3, 4)))
 #endif
 void rt_fatal_at(const char *file, int line, const char *fmt, ...);
 #define RT_FATAL(...) rt_fatal_at(__FILE__, __LINE__, __VA_ARGS__)
+/* Seconds, for intervals measured on the main thread (cheaper than rt_wtime where it can). */
+double rt_now(void);
 #define RT_CHECK(c)                                                                                \
     do {                                                                                           \
         if (!(c)) RT_FATAL("check failed: %s", #c);                                                \
@@ -48,7 +50,9 @@ typedef struct rt_queue {
 } rt_queue;
 
 void rt_queue_init(rt_queue *q);
-bool rt_queue_empty(const rt_queue *q);
+static inline bool rt_queue_empty(const rt_queue *q) { /* inline: on every poll */
+    return q->head == NULL;
+}
 void rt_queue_push(rt_queue *q, rt_qnode *n);       /* append at the tail */
 rt_qnode *rt_queue_pop(rt_queue *q);                /* remove the head, NULL if empty */
 void rt_queue_append(rt_queue *dst, rt_queue *src); /* move all of src to dst's tail */
@@ -168,21 +172,28 @@ void rt_tasks_reply(rt_tasks *ts, rt_task *t);        /* pending--; BLOCKED -> R
 
 /* ---- termination detection (rt_term.c) -------------------------------------------------- */
 
+/* Control records: handler ids above the table, sent with rt_send_ctl (not counted as RSRs). */
+#define RT_CTL_TOKEN 0xFFFEu /* payload int64_t[3]: the termination token */
+#define RT_CTL_TERM 0xFFFDu  /* empty: rank 0 declared termination */
+
 typedef struct rt_term {
-    MPI_Request req;
-    bool wave_open;
-    bool active;        /* activity since this rank's last contribution */
-    int64_t contrib[3]; /* sent, received, active */
-    int64_t result[3];
-    uint64_t waves;
+    bool active;     /* black: activity since this rank last passed (or started) the token */
+    bool have_token; /* the token is here */
+    bool round_open; /* rank 0: a round is under way */
+    bool done;       /* rank != 0: TERM received */
+    int64_t tok[3];  /* the token while here: sent, received, black */
+    uint64_t waves;  /* rounds started (rank 0) or tokens passed on (other ranks) */
 } rt_term;
 
-void rt_term_init(rt_term *t);
-/* The decision on a completed wave's reduced {sent, received, active}. */
+void rt_term_init(rt_term *t, int rank);
+/* The decision on a returned round's {sent, received, black}. */
 bool rt_term_decide(const int64_t result[3]);
-/* Call only while locally passive.  Starts a wave if none is open, else tests the open one.
- * Returns true when termination is declared (the same wave on every rank). */
-bool rt_term_step(rt_term *t, MPI_Comm comm, uint64_t sent, uint64_t recvd);
+/* A token record arrived (main thread, from the transport). */
+void rt_term_token(rt_term *t, const int64_t tok[3]);
+/* Call only while locally passive.  Passes on a held token; on rank 0 decides a returned
+ * round and, if may_start, starts a new one.  True on rank 0 when termination is declared
+ * (TERM has then been sent to every other rank). */
+bool rt_term_step(rt_term *t, int rank, int size, uint64_t sent, uint64_t recvd, bool may_start);
 
 /* ---- perturbation (rt_perturb.c) --------------------------------------------------------- */
 
@@ -219,7 +230,9 @@ int rt_comm_init(void);
 void rt_comm_destroy(void);
 /* Main thread: sends one RSR to rank to (h->src is set here) and counts it. */
 void rt_send_hdr(int to, rt_hdr *h, const void *payload);
-bool rt_comm_progress(void); /* receive, deliver, complete sends */
+/* Main thread: sends a control record (RT_CTL_*) to rank to at once; not counted. */
+void rt_send_ctl(int to, uint16_t id, const void *payload, uint32_t len);
+bool rt_comm_progress(void); /* receive, deliver, complete sends; true if an RSR came */
 void rt_comm_flush_all(void);
 bool rt_comm_flushed(void);
 void rt_comm_wait_sends(void);
@@ -260,7 +273,8 @@ typedef struct rt_global {
     unsigned char **pbuf; /* preposted receive buffers, RT_NPOST of pcap bytes */
     MPI_Request *preq;
     size_t pcap;
-    int phead; /* oldest preposted receive: completes (is matched) first */
+    int phead;   /* oldest preposted receive: completes (is matched) first */
+    int nrepost; /* consumed receives before phead not yet reposted (rt_comm.c) */
     rt_queue selfq;
 
     /* worker pool (rt_worker.c) */

@@ -13,10 +13,6 @@ void rt_queue_init(rt_queue *q) {
     q->n = 0;
 }
 
-bool rt_queue_empty(const rt_queue *q) {
-    return q->head == NULL;
-}
-
 void rt_queue_push(rt_queue *q, rt_qnode *n) {
     n->next = NULL;
     if (q->tail)

@@ -115,6 +115,23 @@ START_TEST(test_term_decide) {
 }
 END_TEST
 
+/* One rank: the token is back at once, so a round opened while passive is decided at the
+ * next passive step; activity or an unprocessed RSR in between makes it fail. */
+START_TEST(test_term_ring_one_rank) {
+    rt_term t;
+    rt_term_init(&t, 0);
+    ck_assert(t.have_token);
+    ck_assert(!rt_term_step(&t, 0, 1, 5, 5, false)); /* no round before the quiet delay */
+    ck_assert(!rt_term_step(&t, 0, 1, 5, 5, true));  /* opens a round, rank turns white */
+    ck_assert(t.round_open && !t.active);
+    t.active = true;                                /* activity during the round */
+    ck_assert(!rt_term_step(&t, 0, 1, 6, 6, true)); /* fails, opens another */
+    ck_assert(!rt_term_step(&t, 0, 1, 7, 6, true)); /* an RSR not yet processed */
+    ck_assert(rt_term_step(&t, 0, 1, 7, 7, false)); /* quiet and balanced: declared */
+    ck_assert(t.active && !t.round_open && t.have_token);
+}
+END_TEST
+
 static int released[64], nrel;
 
 static void collect(rt_item *it) {
@@ -156,6 +173,7 @@ int main(void) {
     tcase_add_test(tc, test_malformed);
     tcase_add_test(tc, test_item_copy);
     tcase_add_test(tc, test_term_decide);
+    tcase_add_test(tc, test_term_ring_one_rank);
     tcase_add_test(tc, test_perturb_keeps_source_order);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);
