@@ -223,4 +223,3 @@ int main(int argc, char **argv) {
     rt_finalize();
     return status;
 }
-

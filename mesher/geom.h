@@ -29,8 +29,7 @@ double geom_orient2d(const double a[2], const double b[2], const double c[2]);
 
 /* > 0 if d lies inside the circle through a, b, c (given counter-clockwise), < 0 outside,
  * 0 on it.  Sign exact.  For clockwise a, b, c the sign is reversed. */
-double geom_incircle(const double a[2], const double b[2], const double c[2],
-                     const double d[2]);
+double geom_incircle(const double a[2], const double b[2], const double c[2], const double d[2]);
 
 /* Sign of (a - p) . (b - p), exact: < 0 iff p lies strictly inside the circle whose diameter
  * is the segment ab (p "encroaches" ab), 0 on it, > 0 outside. */

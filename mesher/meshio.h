@@ -18,13 +18,13 @@ typedef struct mesh_flat {
     double *xy;       /* 2 * nverts */
     int32_t *vmarker; /* nverts (may be NULL) */
     int nattr;
-    double *vattr;    /* nattr * nverts (may be NULL) */
+    double *vattr; /* nattr * nverts (may be NULL) */
     int32_t ntris;
-    int32_t *tri;     /* 3 * ntris, counter-clockwise, 0-based */
-    int32_t *trank;   /* ntris owning rank (may be NULL: all 0) */
+    int32_t *tri;   /* 3 * ntris, counter-clockwise, 0-based */
+    int32_t *trank; /* ntris owning rank (may be NULL: all 0) */
     int32_t nsegs;
-    int32_t *seg;     /* 2 * nsegs subsegment endpoints */
-    int32_t *smarker; /* nsegs (may be NULL) */
+    int32_t *seg;        /* 2 * nsegs subsegment endpoints */
+    int32_t *smarker;    /* nsegs (may be NULL) */
     int32_t *sinterface; /* nsegs: 1 if an artificial (interface) constraint (may be NULL) */
 } mesh_flat;
 

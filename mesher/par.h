@@ -21,23 +21,23 @@
 #include "validate.h"
 
 typedef struct par_opts {
-    const char *prog;     /* "pcdm" or "pbw" (for messages and --help) */
-    const char *input;    /* input .poly */
-    double min_angle;     /* -q DEG (default 20.7) */
-    double max_area;      /* -a AREA (0 = none) */
-    int64_t max_steiner;  /* -S N (< 0: none) */
+    const char *prog;       /* "pcdm" or "pbw" (for messages and --help) */
+    const char *input;      /* input .poly */
+    double min_angle;       /* -q DEG (default 20.7) */
+    double max_area;        /* -a AREA (0 = none) */
+    int64_t max_steiner;    /* -S N (< 0: none) */
     const char *out_prefix; /* -o PREFIX: PREFIX.node/.ele/.poly */
-    const char *vtk;      /* --vtk FILE */
-    const char *svg;      /* --svg FILE */
-    int stats;            /* --stats */
-    int check;            /* --check: validate the merged mesh on rank 0, fail if it fails */
-    int progress;         /* --progress: progress lines on stderr */
-    int32_t nsub;         /* --subdomains K (0 = ranks) */
-    double imbalance;     /* --imbalance R (default 1) */
-    const char *cuts;     /* --cuts FILE */
+    const char *vtk;        /* --vtk FILE */
+    const char *svg;        /* --svg FILE */
+    int stats;              /* --stats */
+    int check;              /* --check: validate the merged mesh on rank 0, fail if it fails */
+    int progress;           /* --progress: progress lines on stderr */
+    int32_t nsub;           /* --subdomains K (0 = ranks) */
+    double imbalance;       /* --imbalance R (default 1) */
+    const char *cuts;       /* --cuts FILE */
     const char *write_cuts; /* --write-cuts FILE */
-    int phases;           /* --phases (pbw only) */
-    uint64_t perturb;     /* --perturb SEED (0 = off; also env RT_PERTURB) */
+    int phases;             /* --phases (pbw only) */
+    uint64_t perturb;       /* --perturb SEED (0 = off; also env RT_PERTURB) */
 } par_opts;
 
 /* Local.  Parses argv for program prog ("pcdm" or "pbw").  Returns 0 to go on; 1 when the
@@ -67,8 +67,7 @@ int par_write_outputs(const par_opts *o, const mesh_flat *global);
 
 /* Rank 0 only (Local).  Runs the validator with o's bounds; prints the summary line if
  * o->check or o->stats; returns 1 if the mesh passes. */
-int par_validate(const par_opts *o, const pslg *in, const mesh_flat *global,
-                 validate_report *r);
+int par_validate(const par_opts *o, const pslg *in, const mesh_flat *global, validate_report *r);
 
 /* Collective.  Agreement on failure: returns nonzero on every rank if local_fail is nonzero on
  * any rank; the first failing rank's message (msg, may be NULL) is printed by rank 0. */
