@@ -69,32 +69,13 @@ enum {
 };
 
 int main(int argc, char **argv) {
-    int rc = rt_init(&argc, &argv, NULL);
-    if (rc != RT_OK) {
-        fprintf(stderr, "pbw: runtime initialisation failed: %s\n", rt_strerror(rc));
-        return 1;
-    }
-    int rank = rt_rank(), size = rt_size();
-    MPI_Comm comm = rt_comm();
     par_opts o;
-    int code = 0;
-    if (par_parse_args(argc, argv, "pbw", rank, &o, &code)) {
-        rt_finalize();
-        return code;
-    }
-    if ((rc = pbw_register()) != 0) {
-        fprintf(stderr, "pbw: cannot register the handlers: %s\n", rt_strerror(rc));
-        rt_finalize();
-        return 1;
-    }
-    if (o.perturb) rt_perturb_set(o.perturb);
-    geom_init();
     pslg in;
     pcdm_decomp d;
-    if (par_load(&o, &in, &d) != 0) {
-        rt_finalize();
-        return 1;
-    }
+    int code;
+    if (par_startup(&argc, &argv, "pbw", 1, pbw_register, &o, &in, &d, &code)) return code;
+    int rank = rt_rank(), size = rt_size();
+    MPI_Comm comm = rt_comm();
 
     MPI_Barrier(comm);
     double t0 = rt_wtime(), c0 = par_cpu_seconds();

@@ -58,37 +58,13 @@ enum {
 };
 
 int main(int argc, char **argv) {
-    int rc = rt_init(&argc, &argv, NULL);
-    if (rc != RT_OK) {
-        fprintf(stderr, "pcdm: runtime initialisation failed: %s\n", rt_strerror(rc));
-        return 1;
-    }
-    int rank = rt_rank(), size = rt_size();
-    MPI_Comm comm = rt_comm();
     par_opts o;
-    int code = 0;
-    if (par_parse_args(argc, argv, "pcdm", rank, &o, &code)) {
-        rt_finalize();
-        return code;
-    }
-    if (o.phases) {
-        if (rank == 0) fprintf(stderr, "pcdm: --phases is a ./pbw option\n");
-        rt_finalize();
-        return 2;
-    }
-    if ((rc = pcdm_register()) != 0) {
-        fprintf(stderr, "pcdm: cannot register the split handler: %s\n", rt_strerror(rc));
-        rt_finalize();
-        return 1;
-    }
-    if (o.perturb) rt_perturb_set(o.perturb);
-
     pslg in;
     pcdm_decomp d;
-    if (par_load(&o, &in, &d) != 0) {
-        rt_finalize();
-        return 1;
-    }
+    int code, rc;
+    if (par_startup(&argc, &argv, "pcdm", 0, pcdm_register, &o, &in, &d, &code)) return code;
+    int rank = rt_rank(), size = rt_size();
+    MPI_Comm comm = rt_comm();
 
     /* wall_s starts here: input read, checked and decomposed on every rank */
     MPI_Barrier(comm);

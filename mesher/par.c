@@ -609,6 +609,42 @@ int par_validate(const par_opts *o, const pslg *in, const mesh_flat *global, val
     return ok;
 }
 
+int par_startup(int *argc, char ***argv, const char *prog, int phases_ok, int (*reg)(void),
+                par_opts *o, pslg *in, pcdm_decomp *d, int *code) {
+    int rc = rt_init(argc, argv, NULL);
+    if (rc != RT_OK) {
+        fprintf(stderr, "%s: runtime initialisation failed: %s\n", prog, rt_strerror(rc));
+        *code = 1;
+        return 1;
+    }
+    int rank = rt_rank();
+    *code = 0;
+    if (par_parse_args(*argc, *argv, prog, rank, o, code)) {
+        rt_finalize();
+        return 1;
+    }
+    if (o->phases && !phases_ok) {
+        if (rank == 0) fprintf(stderr, "%s: --phases is a ./pbw option\n", prog);
+        rt_finalize();
+        *code = 2;
+        return 1;
+    }
+    if ((rc = reg()) != 0) {
+        fprintf(stderr, "%s: cannot register the handlers: %s\n", prog, rt_strerror(rc));
+        rt_finalize();
+        *code = 1;
+        return 1;
+    }
+    if (o->perturb) rt_perturb_set(o->perturb);
+    geom_init();
+    if (par_load(o, in, d) != 0) {
+        rt_finalize();
+        *code = 1;
+        return 1;
+    }
+    return 0;
+}
+
 double par_mesh_quality(const mesh_flat *g, double *max_area) {
     double amin = 180, amax = 0;
     for (int32_t t = 0; t < g->ntris; t++) {

@@ -49,6 +49,14 @@ int par_parse_args(int argc, char **argv, const char *prog, int rank, par_opts *
  * grows steeply with K, and every rank computes it); more is refused with a clear message. */
 #define PAR_MAX_SUBDOMAINS 256
 
+/* Collective over MPI_COMM_WORLD.  The common start of ./pcdm and ./pbw: rt_init, argument
+ * parsing (par_parse_args), refusing --phases unless phases_ok, the program's handler
+ * registration (reg, before rt_start), the --perturb seed, and par_load.  Returns 0 to go on
+ * (the runtime is up; *in and *d are loaded and owned by the caller), or 1 when the program
+ * must exit with *code (the runtime is already finalised; messages printed on rank 0). */
+int par_startup(int *argc, char ***argv, const char *prog, int phases_ok, int (*reg)(void),
+                par_opts *o, pslg *in, pcdm_decomp *d, int *code);
+
 /* Collective.  Every rank reads and checks o->input and builds the decomposition (auto or
  * --cuts) for rt_size() ranks.  On any error rank 0 prints the one message and every rank
  * returns -1 (the caller then exits non-zero after rt_finalize). */
