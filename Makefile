@@ -45,6 +45,8 @@ BENCHES := $(patsubst bench/%.c,$(B)/bench/%,$(BENCH_SRC))
 
 .PHONY: all deps test check-deps demo bench bench-quick bench-seq bench-primitives format clean
 .DEFAULT_GOAL := all
+# Keep the objects of programs and tests (they are intermediate files to make otherwise).
+.SECONDARY:
 
 all: $(APPS) $(TESTS) $(BENCHES)
 
