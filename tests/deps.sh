@@ -1,13 +1,12 @@
 #!/bin/sh
 # Installs the build's dependencies from Debian packages when they are missing; silent otherwise.
-# Needs: mpicc/mpirun (Open MPI), Check (pkg-config check), GMP (exact arithmetic in tests).
+# Needs: mpicc/mpirun (Open MPI), Check (pkg-config check).
 set -e
 missing=""
 command -v mpicc >/dev/null 2>&1 || missing="$missing openmpi-bin libopenmpi-dev"
 command -v mpirun >/dev/null 2>&1 || missing="$missing openmpi-bin"
 command -v pkg-config >/dev/null 2>&1 || missing="$missing pkg-config"
 pkg-config --exists check 2>/dev/null || missing="$missing check"
-[ -f /usr/include/gmp.h ] || [ -f /usr/include/x86_64-linux-gnu/gmp.h ] || missing="$missing libgmp-dev"
 command -v make >/dev/null 2>&1 || missing="$missing make"
 [ -z "$missing" ] && exit 0
 echo "deps: installing$missing"
