@@ -46,9 +46,9 @@ BENCHES := $(patsubst bench/%.c,$(B)/bench/%,$(BENCH_SRC))
 .PHONY: all deps test check-deps demo bench bench-quick bench-seq bench-primitives format clean
 .DEFAULT_GOAL := all
 # Keep the objects of programs and tests (they are intermediate files to make otherwise).
-.SECONDARY:
+.SECONDARY: $(patsubst %.c,$(B)/obj/%.o,$(APP_SRC) $(TEST_SRC) $(BENCH_SRC))
 
-all: $(APPS) $(TESTS) $(BENCHES)
+all: $(patsubst %,$(B)/bin/%,$(APPS)) $(APPS) $(TESTS) $(BENCHES)
 
 # Install what the build needs when it is missing (Debian); does nothing otherwise.
 deps:
