@@ -181,11 +181,6 @@ int main(int argc, char **argv) {
         }
         fflush(stdout);
     }
-    MPI_Bcast(&status, 1, MPI_INT, 0, comm);
-    if (rank == 0) mesh_flat_free(&global);
     free(all);
-    pcdm_decomp_free(&d);
-    pslg_free(&in);
-    rt_finalize();
-    return status;
+    return par_finish(status, &global, &d, &in);
 }

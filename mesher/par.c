@@ -645,6 +645,15 @@ int par_startup(int *argc, char ***argv, const char *prog, int phases_ok, int (*
     return 0;
 }
 
+int par_finish(int status, mesh_flat *global, pcdm_decomp *d, pslg *in) {
+    MPI_Bcast(&status, 1, MPI_INT, 0, rt_comm());
+    mesh_flat_free(global);
+    pcdm_decomp_free(d);
+    pslg_free(in);
+    rt_finalize();
+    return status;
+}
+
 double par_mesh_quality(const mesh_flat *g, double *max_area) {
     double amin = 180, amax = 0;
     for (int32_t t = 0; t < g->ntris; t++) {

@@ -81,6 +81,11 @@ int par_validate(const par_opts *o, const pslg *in, const mesh_flat *global, val
  * any rank; the first failing rank's message (msg, may be NULL) is printed by rank 0. */
 int par_fail_any(int local_fail, const char *msg);
 
+/* Collective.  The common end of ./pcdm and ./pbw: rank 0's status is broadcast, global (rank
+ * 0's merged mesh; zeroed elsewhere), d and in are freed, the runtime is finalised.  Returns the
+ * exit status every rank must return. */
+int par_finish(int status, mesh_flat *global, pcdm_decomp *d, pslg *in);
+
 /* Local.  Smallest angle (degrees) over the triangles of g; *max_area (may be NULL) gets the
  * largest triangle area.  For stats lines; the validator decides correctness. */
 double par_mesh_quality(const mesh_flat *g, double *max_area);
