@@ -5,6 +5,7 @@
 #   make            build everything            make test        build and run every test
 #   make demo       ./pcdm on 4 ranks           make bench       the paper's tables and more
 #   make deps       install Open MPI and Check  make SANITIZE=1 test   ASan + UBSan build
+#   make DEBUG=1    debug build (build/debug, MESH_ASSERT on)
 #   make format     clang-format the tree       make clean
 
 CC := mpicc
@@ -18,11 +19,15 @@ LDLIBS := -lpthread -lm
 
 ifeq ($(SANITIZE),1)
 B := build/san
+# MESH_DEBUG turns on the debug-only assertion tier (MESH_ASSERT, mesher/base/base.h).
 OPT := -O1 -g -ffp-contract=off -fno-omit-frame-pointer -fsanitize=address,undefined \
-       -fno-sanitize-recover=undefined
+       -fno-sanitize-recover=undefined -DMESH_DEBUG
 LDFLAGS += -fsanitize=address,undefined
 export ASAN_OPTIONS := detect_leaks=0:abort_on_error=1
 export UBSAN_OPTIONS := print_stacktrace=1:halt_on_error=1
+else ifeq ($(DEBUG),1)
+B := build/debug
+OPT := -O1 -g -ffp-contract=off -fno-omit-frame-pointer -DMESH_DEBUG
 else
 B := build
 endif
@@ -32,7 +37,7 @@ CHECK_CFLAGS = $(shell pkg-config --cflags check 2>/dev/null)
 CHECK_LIBS = $(shell pkg-config --libs check 2>/dev/null)
 
 RT_SRC := $(wildcard runtime/*.c)
-MESH_SRC := $(wildcard mesher/*.c)
+MESH_SRC := $(wildcard mesher/*/*.c)
 APP_SRC := $(wildcard apps/*.c)
 TEST_SRC := $(wildcard tests/unit_*.c tests/mpi_*.c)
 BENCH_SRC := $(wildcard bench/*.c)
@@ -70,8 +75,8 @@ $(B)/bin/%: $(B)/obj/apps/%.o $(MESH_LIB) $(RT_LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $< $(MESH_LIB) $(RT_LIB) $(LDLIBS) -o $@
 
-# Programs live at the root; in a sanitizer build they stay under build/san/bin.
-ifneq ($(SANITIZE),1)
+# Programs live at the root; sanitizer and debug builds keep theirs under $(B)/bin.
+ifeq ($(B),build)
 $(APPS): %: $(B)/bin/%
 	cp $< $@
 else
@@ -111,8 +116,9 @@ bench-primitives: deps
 	@$(MAKE) --no-print-directory all
 	@B=$(B) bash bench/primitives.sh
 
+CLANG_FORMAT ?= $(shell command -v clang-format || command -v clang-format-14)
 format:
-	clang-format -i $(wildcard runtime/*.[ch] mesher/*.[ch] apps/*.c tests/*.[ch] bench/*.c)
+	$(CLANG_FORMAT) -i $(wildcard runtime/*.[ch] mesher/*/*.[ch] apps/*.c tests/*.[ch] bench/*.c)
 
 clean:
 	rm -rf build $(APPS)

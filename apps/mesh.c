@@ -1,7 +1,7 @@
 /* mesh: the sequential quality mesher.  ./mesh [options] input.poly
  *
  * Reads a PSLG (Triangle's .poly or .node), builds its constrained Delaunay triangulation and
- * refines it with Ruppert/Chew Delaunay refinement (mesher/mesh.h), then writes the requested
+ * refines it with Ruppert/Chew Delaunay refinement (mesher/seq/mesh.h), then writes the requested
  * outputs.  Bad input: one message "FILE:LINE: problem" and exit status 1.  With --stats the
  * last line printed is
  *   stats: triangles=N vertices=N steiner=N min_angle=D max_area=A wall_s=T peak_rss_mb=M
@@ -9,11 +9,11 @@
  * (one line) where wall_s is the meshing time (triangulation + refinement, no file I/O) and
  * bytes_per_tri is the process's peak resident memory divided by the number of triangles.
  */
-#include "mesh.h"
-#include "geom.h"
-#include "meshio.h"
-#include "pslg.h"
-#include "validate.h"
+#include "seq/mesh.h"
+#include "geom/geom.h"
+#include "geom/pslg.h"
+#include "io/meshio.h"
+#include "io/validate.h"
 
 #include <stdio.h>
 #include <stdlib.h>

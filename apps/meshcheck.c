@@ -6,10 +6,10 @@
  * present) with meshio_read_triangle, runs mesh_validate and prints its one-line summary.
  * Exit status: 0 the mesh passes, 1 it fails, 2 bad usage or unreadable files.
  */
-#include "geom.h"
-#include "meshio.h"
-#include "pslg.h"
-#include "validate.h"
+#include "geom/geom.h"
+#include "geom/pslg.h"
+#include "io/meshio.h"
+#include "io/validate.h"
 
 #include <errno.h>
 #include <math.h>

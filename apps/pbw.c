@@ -3,7 +3,7 @@
  *   mpirun -np P ./pbw [options] input.poly        (options: ./pbw --help; same as ./pcdm)
  *
  * SPMD main: every rank reads the input and the decomposition (par_load; the decomposition
- * only says which rank owns which triangle of the initial CDT), then mesher/pbw.c refines the
+ * only says which rank owns which triangle of the initial CDT), then mesher/pbw/pbw.c refines the
  * one distributed mesh with remote cavity expansions, locks and undo.  After the runtime's
  * termination detector ends rt_run everywhere, the pieces are merged on rank 0
  * (par_gather_mesh), written (par_write_outputs) and optionally validated (par_validate, every
@@ -29,9 +29,11 @@
  *                      distribution, refinement, termination; no gather, no output).
  * Exit status: 0 success; 1 bad input, failed --check, output error (every rank); 2 usage.
  */
-#include "pbw.h"
-#include "geom.h"
-#include "par.h"
+#include "pbw/pbw.h"
+
+#include "base/base.h"
+#include "geom/geom.h"
+#include "par/par.h"
 #include "rt.h"
 
 #include <stdio.h>
@@ -75,9 +77,9 @@ int main(int argc, char **argv) {
     int code;
     if (par_startup(&argc, &argv, "pbw", 1, pbw_register, &o, &in, &d, &code)) return code;
     int rank = rt_rank(), size = rt_size();
-    MPI_Comm comm = rt_comm();
+    MPI_Comm comm = rt_app_comm();
 
-    MPI_Barrier(comm);
+    MESH_MPI(MPI_Barrier(comm));
     double t0 = rt_wtime(), c0 = par_cpu_seconds();
     rt_stats_reset();
     mesh_flat local, global;
@@ -121,8 +123,8 @@ int main(int argc, char **argv) {
     rs[RS_RSR] = (double)st.rsr_sent;
     for (int k = 0; k < PBW_RSR_NKINDS; k++)
         rs[RS_KIND0 + k] = (double)res.rsr_sent[k];
-    if (rank == 0) all = malloc(sizeof(double) * RS_N * (size_t)size);
-    MPI_Gather(rs, RS_N, MPI_DOUBLE, all, RS_N, MPI_DOUBLE, 0, comm);
+    if (rank == 0) all = mesh_xmalloc(sizeof(double) * RS_N * (size_t)size, 1);
+    MESH_MPI(MPI_Gather(rs, RS_N, MPI_DOUBLE, all, RS_N, MPI_DOUBLE, 0, comm));
 
     int fail = par_gather_mesh(&local, &in, &global) != 0;
     mesh_flat_free(&local);

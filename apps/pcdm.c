@@ -4,7 +4,7 @@
  *
  * SPMD main: every rank reads the input and computes the same decomposition (par_load), builds
  * the coarse CDT of the augmented PSLG, keeps its own subdomains and refines them; the only
- * remote service request is "split constraint edge" (mesher/pcdm.c).  After the runtime's
+ * remote service request is "split constraint edge" (mesher/pcdm/pcdm.c).  After the runtime's
  * termination detector ends rt_run on every rank, the pieces are merged on rank 0
  * (par_gather_mesh), written (par_write_outputs) and optionally validated with interface edges
  * required to be locally Delaunay too.
@@ -26,10 +26,12 @@
  * Exit status: 0 success; 1 bad input, a failed --check, or an output error (every rank);
  * 2 bad usage.
  */
-#include "pcdm.h"
-#include "mesh.h"
-#include "par.h"
+#include "pcdm/pcdm.h"
+
+#include "base/base.h"
+#include "par/par.h"
 #include "rt.h"
+#include "seq/mesh.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -64,10 +66,10 @@ int main(int argc, char **argv) {
     int code, rc;
     if (par_startup(&argc, &argv, "pcdm", 0, pcdm_register, &o, &in, &d, &code)) return code;
     int rank = rt_rank(), size = rt_size();
-    MPI_Comm comm = rt_comm();
+    MPI_Comm comm = rt_app_comm();
 
     /* wall_s starts here: input read, checked and decomposed on every rank */
-    MPI_Barrier(comm);
+    MESH_MPI(MPI_Barrier(comm));
     double t0 = rt_wtime(), c0 = par_cpu_seconds();
     char err[1024], msg[1200];
     pcdm_part part;
@@ -122,10 +124,10 @@ int main(int argc, char **argv) {
     rs[RS_MPI] = (double)st.mpi_sent;
     rs[RS_WALL] = t1 - t0;
     rs[RS_CPU] = par_cpu_seconds() - c0;
-    if (rank == 0) all = malloc(sizeof(double) * RS_N * (size_t)size);
-    MPI_Gather(rs, RS_N, MPI_DOUBLE, all, RS_N, MPI_DOUBLE, 0, comm);
+    if (rank == 0) all = mesh_xmalloc(sizeof(double) * RS_N * (size_t)size, 1);
+    MESH_MPI(MPI_Gather(rs, RS_N, MPI_DOUBLE, all, RS_N, MPI_DOUBLE, 0, comm));
     int limit_any = 0;
-    MPI_Reduce(&part.limit_hit, &limit_any, 1, MPI_INT, MPI_MAX, 0, comm);
+    MESH_MPI(MPI_Reduce(&part.limit_hit, &limit_any, 1, MPI_INT, MPI_MAX, 0, comm));
 
     /* merge on rank 0 */
     double tg0 = rt_wtime();

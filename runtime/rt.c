@@ -203,10 +203,10 @@ int rt_init(int *argc, char ***argv, const rt_config *cfg) {
         }
         rt_g.mpi_by_us = true;
     } else {
-        MPI_Query_thread(&provided);
+        RT_MPI(MPI_Query_thread(&provided));
     }
     int is_main = 0;
-    MPI_Is_thread_main(&is_main);
+    RT_MPI(MPI_Is_thread_main(&is_main));
     if (provided < MPI_THREAD_FUNNELED || !is_main) {
         fprintf(stderr,
                 "rt_init: MPI provides thread level %d (need MPI_THREAD_FUNNELED = %d) and "
@@ -214,9 +214,15 @@ int rt_init(int *argc, char ***argv, const rt_config *cfg) {
                 provided, MPI_THREAD_FUNNELED, is_main ? "it does" : "it does not");
         return RT_EMPI;
     }
-    if (MPI_Comm_dup(MPI_COMM_WORLD, &rt_g.comm) != MPI_SUCCESS) return RT_EMPI;
-    MPI_Comm_rank(rt_g.comm, &rt_g.rank);
-    MPI_Comm_size(rt_g.comm, &rt_g.size);
+    /* Every communicator returns errors, so the checks on each MPI call can fire. */
+    if (MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN) != MPI_SUCCESS ||
+        MPI_Comm_dup(MPI_COMM_WORLD, &rt_g.comm) != MPI_SUCCESS ||
+        MPI_Comm_dup(MPI_COMM_WORLD, &rt_g.app_comm) != MPI_SUCCESS ||
+        MPI_Comm_set_errhandler(rt_g.comm, MPI_ERRORS_RETURN) != MPI_SUCCESS ||
+        MPI_Comm_set_errhandler(rt_g.app_comm, MPI_ERRORS_RETURN) != MPI_SUCCESS ||
+        MPI_Comm_rank(rt_g.comm, &rt_g.rank) != MPI_SUCCESS ||
+        MPI_Comm_size(rt_g.comm, &rt_g.size) != MPI_SUCCESS)
+        return RT_EMPI;
     clock_calibrate();
     rt_htable_init(&rt_g.ht);
     rt_tasks_init(&rt_g.tasks);
@@ -240,13 +246,14 @@ void rt_finalize(void) {
     rt_comm_destroy();
     if (rt_g.perturbing) rt_perturb_destroy(&rt_g.pert);
     rt_tasks_destroy(&rt_g.tasks);
-    MPI_Comm_free(&rt_g.comm);
+    RT_MPI(MPI_Comm_free(&rt_g.comm));
+    RT_MPI(MPI_Comm_free(&rt_g.app_comm));
     rt_g.initialised = false;
     long live = atomic_load(&rt_live_allocs);
     if (live != 0)
         fprintf(stderr, "rt_finalize: rank %d: %ld runtime allocations not freed\n", rt_g.rank,
                 live);
-    if (rt_g.mpi_by_us) MPI_Finalize();
+    if (rt_g.mpi_by_us) RT_MPI(MPI_Finalize());
 }
 
 static void need_init(const char *fn) {
@@ -263,6 +270,10 @@ int rt_size(void) {
 
 MPI_Comm rt_comm(void) {
     return rt_g.comm;
+}
+
+MPI_Comm rt_app_comm(void) {
+    return rt_g.app_comm;
 }
 
 /* ---- handlers ----------------------------------------------------------------------------- */
@@ -300,7 +311,7 @@ void rt_start(void) {
                 (unsigned)a->size, who, b->name[0] ? b->name : "(nothing)", (unsigned)b->flags,
                 (unsigned)b->size);
         fflush(stderr);
-        MPI_Barrier(rt_g.comm);
+        (void)MPI_Barrier(rt_g.comm); /* let every rank print first; aborting anyway */
         MPI_Abort(MPI_COMM_WORLD, 71);
     }
     rt_xfree(all);

@@ -86,6 +86,13 @@ int rt_rank(void);
 int rt_size(void);
 MPI_Comm rt_comm(void);
 
+/* Local.  The communicator the layers above own (another dup of MPI_COMM_WORLD, same ranks):
+ * any collective and point-to-point message with any tag, outside rt_run (inside rt_run only
+ * from the main thread, and never blocking on a rank that is inside rt_run).  Like rt_comm()
+ * and MPI_COMM_WORLD it has MPI_ERRORS_RETURN set, so every call's return code must be
+ * checked.  Freed by rt_finalize. */
+MPI_Comm rt_app_comm(void);
+
 /* Local, any thread.  Wall-clock seconds (monotonic). */
 double rt_wtime(void);
 

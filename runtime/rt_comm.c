@@ -93,8 +93,8 @@ void rt_comm_destroy(void) {
         rt_xfree(RT_CONTAINER(n, rt_item, q));
     repost_pending(); /* every slot active again, then cancelled */
     for (int i = 0; i < RT_NPOST; i++) {
-        MPI_Cancel(&rt_g.preq[i]);
-        MPI_Wait(&rt_g.preq[i], MPI_STATUS_IGNORE);
+        RT_MPI(MPI_Cancel(&rt_g.preq[i]));
+        RT_MPI(MPI_Wait(&rt_g.preq[i], MPI_STATUS_IGNORE));
         rt_xfree(rt_g.pbuf[i]);
     }
     rt_xfree(rt_g.pbuf);

@@ -248,7 +248,8 @@ typedef struct rt_sendbuf rt_sendbuf;
 typedef struct rt_global {
     bool initialised, started, mpi_by_us, in_run, in_handler;
     int rank, size;
-    MPI_Comm comm;
+    MPI_Comm comm;     /* the runtime's own messages */
+    MPI_Comm app_comm; /* handed to the layers above (rt_app_comm) */
     rt_config cfg;
     rt_htable ht;
     rt_tasks tasks;

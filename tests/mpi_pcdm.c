@@ -1,5 +1,5 @@
 // ranks: 1 2 4 8
-/* mpi_pcdm: Check suite for the PCDM layer under MPI (mesher/par.c, mesher/pcdm.c).
+/* mpi_pcdm: Check suite for the PCDM layer under MPI (mesher/par/par.c, mesher/pcdm/pcdm.c).
  *
  *  - par_fail_any: agreement on failure from any one rank;
  *  - par_gather_mesh: pieces sharing vertices (bit-equal coordinates) and listing the same
@@ -11,9 +11,9 @@
  * another rank skipped.  Runs with CK_NOFORK (MPI does not survive fork); run from the
  * repository root (tests/run.sh does).
  */
-#include "geom.h"
-#include "par.h"
-#include "pcdm.h"
+#include "geom/geom.h"
+#include "par/par.h"
+#include "pcdm/pcdm.h"
 #include "rt.h"
 
 #include <check.h>

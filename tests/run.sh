@@ -11,10 +11,9 @@ export OMPI_MCA_rmaps_base_oversubscribe=1 PRTE_MCA_rmaps_default_mapping_policy
 export TMPDIR=${TMPDIR:-/tmp}
 if [ "${SANITIZE:-}" = 1 ]; then
     export ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-    export BIN=$B/bin
-else
-    export BIN=.
 fi
+# The normal build puts the programs at the root; sanitizer and debug builds keep them in $B/bin.
+if [ "$B" = build ]; then export BIN=.; else export BIN=$B/bin; fi
 export B
 MPIRUN="mpirun --oversubscribe"
 export MPIRUN

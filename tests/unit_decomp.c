@@ -7,9 +7,9 @@
  * theorem over its boundary) and must match the domain area in total and the target within
  * 10% each; seeds have winding number 1 in their own subdomain only; owners are contiguous.
  */
-#include "geom.h"
-#include "pcdm_decomp.h"
-#include "pslg.h"
+#include "decomp/decomp.h"
+#include "geom/geom.h"
+#include "geom/pslg.h"
 
 #include <check.h>
 #include <math.h>

@@ -1,4 +1,4 @@
-/* unit_geom: Check suite for mesher/geom.c.
+/* unit_geom: Check suite for mesher/geom/geom.c.
  *
  * The predicates are compared in sign against an exact reference.  Every double is a dyadic
  * rational m * 2^e, so after shifting all inputs of one call to their smallest exponent E the
@@ -14,7 +14,7 @@
  * rounded helpers (circumcenter, angles, midpoint, area) are checked against known values and
  * invariants.
  */
-#include "geom.h"
+#include "geom/geom.h"
 
 #include <check.h>
 #include <math.h>

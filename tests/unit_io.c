@@ -6,9 +6,9 @@
  * input angle, and round-trips a mesh through the Triangle writers and reader.  Run from the
  * repository root (tests/run.sh does).
  */
-#include "geom.h"
-#include "meshio.h"
-#include "pslg.h"
+#include "geom/geom.h"
+#include "geom/pslg.h"
+#include "io/meshio.h"
 
 #include <check.h>
 #include <dirent.h>

@@ -1,4 +1,4 @@
-/* unit_mesh: Check suite for the mesher core (mesher/mesh.h): Delaunay triangulation of point
+/* unit_mesh: Check suite for the mesher core (mesher/seq/mesh.h): Delaunay triangulation of point
  * sets (square, collinear, cocircular lattice, random), constrained Delaunay triangulation of
  * PSLGs (polygons with holes, random non-crossing segments, vertices lying exactly on
  * segments), refinement, the PCDM hooks (named splits, on_split, poll, resumable refinement,
@@ -6,11 +6,11 @@
  * itself (orientation, neighbour involution, constraint bits, boundary, local Delaunay with
  * exact incircle) and, when it comes from a PSLG, through mesh_validate (validate.h).
  */
-#include "geom.h"
-#include "mesh.h"
-#include "meshio.h"
-#include "pslg.h"
-#include "validate.h"
+#include "geom/geom.h"
+#include "geom/pslg.h"
+#include "io/meshio.h"
+#include "io/validate.h"
+#include "seq/mesh.h"
 
 #include <check.h>
 #include <math.h>

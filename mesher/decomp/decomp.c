@@ -41,7 +41,9 @@
  * input segment; exactly, on an earlier cut); no two vertices coincide; cuts are straight and
  * axis-parallel (auto mode); all choices are made by deterministic scans.
  */
-#include "pcdm_decomp.h"
+#include "decomp/decomp.h"
+
+#include "base/base.h"
 
 #include <errno.h>
 #include <math.h>
@@ -61,29 +63,7 @@
 #define PI 3.14159265358979323846
 
 /* ------------------------------------------------------------------------------------------ */
-/* Allocation funnel and messages                                                             */
-
-static void *xrealloc(void *p, size_t n) {
-    void *q = realloc(p, n ? n : 1);
-    if (!q) {
-        fprintf(stderr, "pcdm_decomp: out of memory (%zu bytes)\n", n);
-        abort();
-    }
-    return q;
-}
-
-static void *xmalloc(size_t n) {
-    return xrealloc(NULL, n);
-}
-
-static void *xcalloc(size_t n, size_t size) {
-    void *p = calloc(n ? n : 1, size ? size : 1);
-    if (!p) {
-        fprintf(stderr, "pcdm_decomp: out of memory (%zu x %zu bytes)\n", n, size);
-        abort();
-    }
-    return p;
-}
+/* Messages                                                                                    */
 
 #if defined(__GNUC__)
 __attribute__((format(printf, 3, 4)))
@@ -110,9 +90,9 @@ typedef struct eset {
 static void eset_push(eset *e, int32_t u, int32_t v, int32_t par) {
     if (e->n == e->cap) {
         int32_t nc = e->cap ? 2 * e->cap : 16;
-        e->u = xrealloc(e->u, (size_t)nc * sizeof *e->u);
-        e->v = xrealloc(e->v, (size_t)nc * sizeof *e->v);
-        e->par = xrealloc(e->par, (size_t)nc * sizeof *e->par);
+        e->u = mesh_xrealloc(e->u, (size_t)nc * sizeof *e->u, 1);
+        e->v = mesh_xrealloc(e->v, (size_t)nc * sizeof *e->v, 1);
+        e->par = mesh_xrealloc(e->par, (size_t)nc * sizeof *e->par, 1);
         e->cap = nc;
     }
     e->u[e->n] = u;
@@ -168,10 +148,10 @@ typedef struct ctx {
 static int32_t ctx_add_vertex(ctx *c, double x, double y, int32_t par) {
     if (c->nv == c->capv) {
         c->capv = c->capv ? 2 * c->capv : 64;
-        c->xy = xrealloc(c->xy, 2 * (size_t)c->capv * sizeof *c->xy);
-        c->vpar = xrealloc(c->vpar, (size_t)c->capv * sizeof *c->vpar);
-        c->vscale = xrealloc(c->vscale, (size_t)c->capv * sizeof *c->vscale);
-        c->vnext = xrealloc(c->vnext, (size_t)c->capv * sizeof *c->vnext);
+        c->xy = mesh_xrealloc(c->xy, 2 * (size_t)c->capv * sizeof *c->xy, 1);
+        c->vpar = mesh_xrealloc(c->vpar, (size_t)c->capv * sizeof *c->vpar, 1);
+        c->vscale = mesh_xrealloc(c->vscale, (size_t)c->capv * sizeof *c->vscale, 1);
+        c->vnext = mesh_xrealloc(c->vnext, (size_t)c->capv * sizeof *c->vnext, 1);
     }
     c->vnext[c->nv] = -1;
     if (par >= 0) {
@@ -188,12 +168,12 @@ static int32_t ctx_add_vertex(ctx *c, double x, double y, int32_t par) {
 static int32_t ctx_add_parent(ctx *c, int32_t a, int32_t b, int32_t axis, int32_t line) {
     if (c->npar == c->capp) {
         c->capp = c->capp ? 2 * c->capp : 64;
-        c->pa = xrealloc(c->pa, (size_t)c->capp * sizeof *c->pa);
-        c->pb = xrealloc(c->pb, (size_t)c->capp * sizeof *c->pb);
-        c->paxis = xrealloc(c->paxis, (size_t)c->capp * sizeof *c->paxis);
-        c->pline = xrealloc(c->pline, (size_t)c->capp * sizeof *c->pline);
-        c->plen = xrealloc(c->plen, (size_t)c->capp * sizeof *c->plen);
-        c->phead = xrealloc(c->phead, (size_t)c->capp * sizeof *c->phead);
+        c->pa = mesh_xrealloc(c->pa, (size_t)c->capp * sizeof *c->pa, 1);
+        c->pb = mesh_xrealloc(c->pb, (size_t)c->capp * sizeof *c->pb, 1);
+        c->paxis = mesh_xrealloc(c->paxis, (size_t)c->capp * sizeof *c->paxis, 1);
+        c->pline = mesh_xrealloc(c->pline, (size_t)c->capp * sizeof *c->pline, 1);
+        c->plen = mesh_xrealloc(c->plen, (size_t)c->capp * sizeof *c->plen, 1);
+        c->phead = mesh_xrealloc(c->phead, (size_t)c->capp * sizeof *c->phead, 1);
     }
     c->phead[c->npar] = -1;
     c->plen[c->npar] = a >= 0 && b >= 0
@@ -225,10 +205,10 @@ static void ctx_init(ctx *c, const pslg *in, char *err, size_t errlen) {
             hi[k] = fmax(hi[k], in->xy[2 * i + k]);
         }
     c->scale = in->nverts ? hypot(hi[0] - lo[0], hi[1] - lo[1]) : 0;
-    int32_t *deg = xcalloc((size_t)in->nverts, sizeof *deg);
+    int32_t *deg = mesh_xcalloc((size_t)in->nverts, sizeof *deg);
     for (int32_t s = 0; s < 2 * in->nsegs; s++)
         deg[in->seg[s]]++;
-    c->freev = xmalloc((size_t)in->nverts * sizeof *c->freev);
+    c->freev = mesh_xmalloc((size_t)in->nverts * sizeof *c->freev, 1);
     for (int32_t i = 0; i < in->nverts; i++)
         if (!deg[i]) c->freev[c->nfree++] = i;
     free(deg);
@@ -337,8 +317,9 @@ static int32_t faces_of(const ctx *c, int32_t nv0, const double *tmp, const eset
                         int32_t *face) {
     int32_t n = e->n, result = -1;
     if (n < 3) return -1;
-    pairi *byu = xmalloc((size_t)n * sizeof *byu);
-    int32_t *next = xmalloc((size_t)n * sizeof *next), *ring = xmalloc((size_t)n * sizeof *ring);
+    pairi *byu = mesh_xmalloc((size_t)n * sizeof *byu, 1);
+    int32_t *next = mesh_xmalloc((size_t)n * sizeof *next, 1),
+            *ring = mesh_xmalloc((size_t)n * sizeof *ring, 1);
     for (int32_t i = 0; i < n; i++) {
         byu[i].key = e->u[i];
         byu[i].idx = i;
@@ -365,7 +346,7 @@ static int32_t faces_of(const ctx *c, int32_t nv0, const double *tmp, const eset
         if (at < 0) goto out;
         next[i] = at;
     }
-    rfirst = xmalloc((size_t)n * sizeof *rfirst);
+    rfirst = mesh_xmalloc((size_t)n * sizeof *rfirst, 1);
     for (int32_t i = 0; i < n; i++) {
         if (ring[i] >= 0) continue;
         int32_t j = i;
@@ -376,8 +357,8 @@ static int32_t faces_of(const ctx *c, int32_t nv0, const double *tmp, const eset
         } while (j != i);
         rfirst[nring++] = i;
     }
-    rarea = xcalloc((size_t)nring, sizeof *rarea);
-    rface = xmalloc((size_t)nring * sizeof *rface);
+    rarea = mesh_xcalloc((size_t)nring, sizeof *rarea);
+    rface = mesh_xmalloc((size_t)nring * sizeof *rface, 1);
     for (int32_t i = 0; i < n; i++) {
         const double *a = vxy(c, nv0, tmp, e->u[i]), *b = vxy(c, nv0, tmp, e->v[i]);
         rarea[ring[i]] += 0.5 * (a[0] * b[1] - a[1] * b[0]);
@@ -420,7 +401,7 @@ static void face_seed(const ctx *c, const eset *e, double out[2]) {
             lo[k] = fmin(lo[k], c->xy[2 * e->u[i] + k]);
             hi[k] = fmax(hi[k], c->xy[2 * e->u[i] + k]);
         }
-    double best = -1, *xs = xmalloc((size_t)e->n * sizeof *xs);
+    double best = -1, *xs = mesh_xmalloc((size_t)e->n * sizeof *xs, 1);
     out[0] = 0.5 * (lo[0] + hi[0]);
     out[1] = 0.5 * (lo[1] + hi[1]);
     for (int k = 0; k < 2; k++) /* k: coordinate held fixed by the scanline */
@@ -568,7 +549,7 @@ static int eval_cut(const ctx *c, const eset *f, int axis, double cv, double h, 
     ev->cv = cv;
     ev->nv0 = c->nv;
     int32_t n = f->n;
-    ev->x = xmalloc((size_t)n * sizeof *ev->x);
+    ev->x = mesh_xmalloc((size_t)n * sizeof *ev->x, 1);
     double up[2] = {axis == 0 ? 0 : -1, axis == 0 ? 1 : 0}; /* direction of increasing a */
     double down[2] = {-up[0], -up[1]};
     for (int32_t i = 0; i < n; i++) {
@@ -617,8 +598,8 @@ static int eval_cut(const ctx *c, const eset *f, int axis, double cv, double h, 
         if (ev->x[k].enter != !(k % 2)) return -1;
     }
     ev->nch = ev->nx / 2;
-    ev->xp = xmalloc(2 * (size_t)ev->nx * sizeof *ev->xp);
-    int32_t *xe = xmalloc((size_t)n * sizeof *xe);
+    ev->xp = mesh_xmalloc(2 * (size_t)ev->nx * sizeof *ev->xp, 1);
+    int32_t *xe = mesh_xmalloc((size_t)n * sizeof *xe, 1);
     for (int32_t i = 0; i < n; i++)
         xe[i] = -1;
     for (int32_t k = 0; k < ev->nx; k++) {
@@ -652,13 +633,13 @@ static int eval_cut(const ctx *c, const eset *f, int axis, double cv, double h, 
     int rc = -1;
     int32_t *fc[2] = {NULL, NULL}, nf[2];
     for (int k = 0; k < 2; k++) {
-        fc[k] = xmalloc((size_t)side[k].n * sizeof *fc[k]);
+        fc[k] = mesh_xmalloc((size_t)side[k].n * sizeof *fc[k], 1);
         nf[k] = faces_of(c, ev->nv0, ev->xp, &side[k], fc[k]);
         if (nf[k] < 1) goto out;
     }
     if (nf[0] + nf[1] > MAX_CELLS) goto out;
     ev->ncell = nf[0] + nf[1];
-    ev->chcell = xmalloc(2 * (size_t)ev->nch * sizeof *ev->chcell);
+    ev->chcell = mesh_xmalloc(2 * (size_t)ev->nch * sizeof *ev->chcell, 1);
     for (int k = 0; k < 2; k++)
         for (int32_t i = 0; i < side[k].n; i++) {
             int32_t cell = fc[k][i] + (k ? nf[0] : 0);
@@ -679,9 +660,9 @@ static int eval_cut(const ctx *c, const eset *f, int axis, double cv, double h, 
         }
     }
     /* chord measures: length, angles with the segments met, clearance */
-    ev->ang = xmalloc((size_t)ev->nch * sizeof *ev->ang);
-    ev->spc = xmalloc((size_t)ev->nch * sizeof *ev->spc);
-    ev->len = xmalloc((size_t)ev->nch * sizeof *ev->len);
+    ev->ang = mesh_xmalloc((size_t)ev->nch * sizeof *ev->ang, 1);
+    ev->spc = mesh_xmalloc((size_t)ev->nch * sizeof *ev->spc, 1);
+    ev->len = mesh_xmalloc((size_t)ev->nch * sizeof *ev->len, 1);
     for (int32_t j = 0; j < ev->nch; j++) {
         const xing *xp = &ev->x[2 * j], *xq = &ev->x[2 * j + 1];
         ev->len[j] = fabs(xq->a - xp->a);
@@ -879,8 +860,8 @@ static void score_splits(const ctx *c, const cutev *ev, double f1, double rarea,
 /* Applies split (ev, mask): creates the vertices and cuts of the used chords, and returns the
  * two groups as faces with global ids.  Returns 0, or -1 if a group is not a single face. */
 static int apply_split(ctx *c, const eset *f, const cutev *ev, uint32_t mask, eset out[2]) {
-    int32_t *gid = xmalloc((size_t)ev->nx * sizeof *gid);
-    int32_t *cutid = xmalloc((size_t)ev->nch * sizeof *cutid);
+    int32_t *gid = mesh_xmalloc((size_t)ev->nx * sizeof *gid, 1);
+    int32_t *cutid = mesh_xmalloc((size_t)ev->nch * sizeof *cutid, 1);
     for (int32_t j = 0; j < ev->nch; j++) {
         int ina = !!(mask & (1u << ev->chcell[2 * j]));
         int inb = !!(mask & (1u << ev->chcell[2 * j + 1]));
@@ -908,7 +889,7 @@ static int apply_split(ctx *c, const eset *f, const cutev *ev, uint32_t mask, es
             }
         }
         /* contract unused crossings: x -> w -> y becomes x -> y */
-        int32_t *outedge = xmalloc((size_t)ev->nx * sizeof *outedge);
+        int32_t *outedge = mesh_xmalloc((size_t)ev->nx * sizeof *outedge, 1);
         for (int32_t k = 0; k < ev->nx; k++)
             outedge[k] = -1;
         for (int32_t i = 0; i < tmp.n; i++)
@@ -932,7 +913,7 @@ static int apply_split(ctx *c, const eset *f, const cutev *ev, uint32_t mask, es
         }
         free(outedge);
         eset_free(&tmp);
-        int32_t *fc = xmalloc(((size_t)out[g].n + 1) * sizeof *fc);
+        int32_t *fc = mesh_xmalloc(((size_t)out[g].n + 1) * sizeof *fc, 1);
         if (faces_of(c, c->nv, NULL, &out[g], fc) != 1) rc = -1;
         free(fc);
     }
@@ -1024,7 +1005,7 @@ static int split_region(ctx *c, const eset *f, int32_t i0, int32_t i1, double de
     int ntol = levels == 1 ? 1 : levels == 2 ? 2 : 3;
     /* new vertices on the parents of f's edges that are not vertices of f: put there by
      * neighbours' cuts */
-    int32_t nnb = 0, capnb = 16, *nb = xmalloc((size_t)capnb * sizeof *nb);
+    int32_t nnb = 0, capnb = 16, *nb = mesh_xmalloc((size_t)capnb * sizeof *nb, 1);
     for (int32_t i = 0; i < f->n; i++)
         for (int32_t w = c->phead[f->par[i]]; w >= 0; w = c->vnext[w]) {
             int dup = 0;
@@ -1035,7 +1016,7 @@ static int split_region(ctx *c, const eset *f, int32_t i0, int32_t i1, double de
             if (dup) continue;
             if (nnb == capnb) {
                 capnb *= 2;
-                nb = xrealloc(nb, (size_t)capnb * sizeof *nb);
+                nb = mesh_xrealloc(nb, (size_t)capnb * sizeof *nb, 1);
             }
             nb[nnb++] = w;
         }
@@ -1193,14 +1174,14 @@ static void trace_build(const double *xy, int32_t nv, const int32_t *seg, int32_
     memset(t, 0, sizeof *t);
     t->nh = 2 * ns;
     int32_t nh = t->nh;
-    int32_t *start = xcalloc((size_t)nv + 1, sizeof *start),
-            *pos = xmalloc((size_t)nh * sizeof *pos);
-    angi *list = xmalloc((size_t)nh * sizeof *list);
+    int32_t *start = mesh_xcalloc((size_t)nv + 1, sizeof *start),
+            *pos = mesh_xmalloc((size_t)nh * sizeof *pos, 1);
+    angi *list = mesh_xmalloc((size_t)nh * sizeof *list, 1);
     for (int32_t h = 0; h < nh; h++)
         start[h_org(seg, h) + 1]++;
     for (int32_t v = 0; v < nv; v++)
         start[v + 1] += start[v];
-    int32_t *fill = xmalloc(((size_t)nv + 1) * sizeof *fill);
+    int32_t *fill = mesh_xmalloc(((size_t)nv + 1) * sizeof *fill, 1);
     memcpy(fill, start, (size_t)nv * sizeof *fill);
     for (int32_t h = 0; h < nh; h++) {
         const double *a = xy + 2 * h_org(seg, h), *b = xy + 2 * h_dst(seg, h);
@@ -1212,13 +1193,13 @@ static void trace_build(const double *xy, int32_t nv, const int32_t *seg, int32_
         qsort(list + start[v], (size_t)(start[v + 1] - start[v]), sizeof *list, cmp_angi);
     for (int32_t i = 0; i < nh; i++)
         pos[list[i].h] = i;
-    t->next = xmalloc((size_t)nh * sizeof *t->next);
+    t->next = mesh_xmalloc((size_t)nh * sizeof *t->next, 1);
     for (int32_t h = 0; h < nh; h++) {
         int32_t tw = h ^ 1, v = h_org(seg, tw), i = pos[tw];
         int32_t j = i == start[v] ? start[v + 1] - 1 : i - 1; /* clockwise from the twin */
         t->next[h] = list[j].h;
     }
-    t->cyc = xmalloc((size_t)nh * sizeof *t->cyc);
+    t->cyc = mesh_xmalloc((size_t)nh * sizeof *t->cyc, 1);
     for (int32_t h = 0; h < nh; h++)
         t->cyc[h] = -1;
     for (int32_t h = 0; h < nh; h++) {
@@ -1230,10 +1211,10 @@ static void trace_build(const double *xy, int32_t nv, const int32_t *seg, int32_
         } while (g != h && t->cyc[g] < 0);
         t->ncyc++;
     }
-    t->carea = xcalloc((size_t)t->ncyc, sizeof *t->carea);
-    t->cstart = xcalloc((size_t)t->ncyc + 1, sizeof *t->cstart);
-    t->clist = xmalloc(((size_t)nh + 1) * sizeof *t->clist);
-    t->cbox = xmalloc(4 * ((size_t)t->ncyc + 1) * sizeof *t->cbox);
+    t->carea = mesh_xcalloc((size_t)t->ncyc, sizeof *t->carea);
+    t->cstart = mesh_xcalloc((size_t)t->ncyc + 1, sizeof *t->cstart);
+    t->clist = mesh_xmalloc(((size_t)nh + 1) * sizeof *t->clist, 1);
+    t->cbox = mesh_xmalloc(4 * ((size_t)t->ncyc + 1) * sizeof *t->cbox, 1);
     for (int32_t cy = 0; cy < t->ncyc; cy++) {
         t->cbox[4 * cy] = t->cbox[4 * cy + 2] = HUGE_VAL;
         t->cbox[4 * cy + 1] = t->cbox[4 * cy + 3] = -HUGE_VAL;
@@ -1251,14 +1232,14 @@ static void trace_build(const double *xy, int32_t nv, const int32_t *seg, int32_
     for (int32_t cy = 0; cy < t->ncyc; cy++)
         t->cstart[cy + 1] += t->cstart[cy];
     {
-        int32_t *cf = xmalloc(((size_t)t->ncyc + 1) * sizeof *cf);
+        int32_t *cf = mesh_xmalloc(((size_t)t->ncyc + 1) * sizeof *cf, 1);
         memcpy(cf, t->cstart, (size_t)t->ncyc * sizeof *cf);
         for (int32_t h = 0; h < nh; h++)
             t->clist[cf[t->cyc[h]]++] = h;
         free(cf);
     }
-    t->cface = xmalloc((size_t)t->ncyc * sizeof *t->cface);
-    t->fouter = xmalloc((size_t)t->ncyc * sizeof *t->fouter);
+    t->cface = mesh_xmalloc((size_t)t->ncyc * sizeof *t->cface, 1);
+    t->fouter = mesh_xmalloc((size_t)t->ncyc * sizeof *t->fouter, 1);
     for (int32_t cy = 0; cy < t->ncyc; cy++) {
         t->cface[cy] = -1;
         if (t->carea[cy] > 0) {
@@ -1267,7 +1248,7 @@ static void trace_build(const double *xy, int32_t nv, const int32_t *seg, int32_
         }
     }
     /* a cycle of non-positive area bounds a hole of the smallest positive cycle around it */
-    int32_t *first = xmalloc((size_t)t->ncyc * sizeof *first);
+    int32_t *first = mesh_xmalloc((size_t)t->ncyc * sizeof *first, 1);
     for (int32_t cy = 0; cy < t->ncyc; cy++)
         first[cy] = -1;
     for (int32_t h = nh - 1; h >= 0; h--)
@@ -1341,12 +1322,13 @@ static void build_segments(const ctx *c, pcdm_decomp *d) {
     const pslg *in = c->in;
     pslg *g = &d->g;
     g->nverts = c->nv;
-    g->xy = xmalloc(2 * (size_t)c->nv * sizeof *g->xy);
+    g->xy = mesh_xmalloc(2 * (size_t)c->nv * sizeof *g->xy, 1);
     memcpy(g->xy, c->xy, 2 * (size_t)c->nv * sizeof *g->xy);
-    g->vmarker = xcalloc((size_t)c->nv, sizeof *g->vmarker);
-    g->vline = xcalloc((size_t)c->nv, sizeof *g->vline);
+    g->vmarker = mesh_xcalloc((size_t)c->nv, sizeof *g->vmarker);
+    g->vline = mesh_xcalloc((size_t)c->nv, sizeof *g->vline);
     g->nattr = in->nattr;
-    if (in->nattr > 0 && in->vattr) g->vattr = xcalloc((size_t)c->nv * in->nattr, sizeof *g->vattr);
+    if (in->nattr > 0 && in->vattr)
+        g->vattr = mesh_xcalloc((size_t)c->nv * in->nattr, sizeof *g->vattr);
     for (int32_t i = 0; i < c->nv; i++) {
         if (i < in->nverts) {
             g->vmarker[i] = in->vmarker ? in->vmarker[i] : 0;
@@ -1376,24 +1358,24 @@ static void build_segments(const ctx *c, pcdm_decomp *d) {
         }
     }
     /* vertices on each parent, by counting sort */
-    int32_t *cnt = xcalloc((size_t)c->npar + 1, sizeof *cnt);
+    int32_t *cnt = mesh_xcalloc((size_t)c->npar + 1, sizeof *cnt);
     for (int32_t i = in->nverts; i < c->nv; i++)
         if (c->vpar[i] >= 0) cnt[c->vpar[i] + 1]++;
     for (int32_t p = 0; p < c->npar; p++)
         cnt[p + 1] += cnt[p];
     int32_t nnew = c->nv - in->nverts;
-    int32_t *onpar = xmalloc(((size_t)nnew + 1) * sizeof *onpar);
-    int32_t *fill = xmalloc(((size_t)c->npar + 1) * sizeof *fill);
+    int32_t *onpar = mesh_xmalloc(((size_t)nnew + 1) * sizeof *onpar, 1);
+    int32_t *fill = mesh_xmalloc(((size_t)c->npar + 1) * sizeof *fill, 1);
     memcpy(fill, cnt, (size_t)c->npar * sizeof *fill);
     for (int32_t i = in->nverts; i < c->nv; i++)
         if (c->vpar[i] >= 0) onpar[fill[c->vpar[i]]++] = i;
     int32_t cap = c->npar + nnew;
-    g->seg = xmalloc(2 * (size_t)cap * sizeof *g->seg);
-    g->smarker = xmalloc((size_t)cap * sizeof *g->smarker);
-    g->sline = xmalloc((size_t)cap * sizeof *g->sline);
-    d->seg_parent = xmalloc((size_t)cap * sizeof *d->seg_parent);
-    d->seg_iface = xmalloc((size_t)cap * sizeof *d->seg_iface);
-    tpos *tp = xmalloc(((size_t)nnew + 2) * sizeof *tp);
+    g->seg = mesh_xmalloc(2 * (size_t)cap * sizeof *g->seg, 1);
+    g->smarker = mesh_xmalloc((size_t)cap * sizeof *g->smarker, 1);
+    g->sline = mesh_xmalloc((size_t)cap * sizeof *g->sline, 1);
+    d->seg_parent = mesh_xmalloc((size_t)cap * sizeof *d->seg_parent, 1);
+    d->seg_iface = mesh_xmalloc((size_t)cap * sizeof *d->seg_iface, 1);
+    tpos *tp = mesh_xmalloc(((size_t)nnew + 2) * sizeof *tp, 1);
     int32_t ns = 0;
     for (int32_t p = 0; p < c->npar; p++) {
         const double *A = c->xy + 2 * c->pa[p], *B = c->xy + 2 * c->pb[p];
@@ -1421,10 +1403,10 @@ static void build_segments(const ctx *c, pcdm_decomp *d) {
     }
     g->nsegs = ns;
     g->nholes = in->nholes;
-    g->holes = xmalloc(2 * ((size_t)in->nholes + 1) * sizeof *g->holes);
+    g->holes = mesh_xmalloc(2 * ((size_t)in->nholes + 1) * sizeof *g->holes, 1);
     if (in->nholes) memcpy(g->holes, in->holes, 2 * (size_t)in->nholes * sizeof *g->holes);
     g->nregions = in->nregions;
-    g->regions = xmalloc(4 * ((size_t)in->nregions + 1) * sizeof *g->regions);
+    g->regions = mesh_xmalloc(4 * ((size_t)in->nregions + 1) * sizeof *g->regions, 1);
     if (in->nregions)
         memcpy(g->regions, in->regions, 4 * (size_t)in->nregions * sizeof *g->regions);
     g->first_index = in->first_index;
@@ -1433,7 +1415,7 @@ static void build_segments(const ctx *c, pcdm_decomp *d) {
     d->ninput_verts = in->nverts;
     d->ninput_segs = in->nsegs;
     d->ncuts = c->npar - in->nsegs;
-    d->cut_xy = xmalloc(4 * ((size_t)d->ncuts + 1) * sizeof *d->cut_xy);
+    d->cut_xy = mesh_xmalloc(4 * ((size_t)d->ncuts + 1) * sizeof *d->cut_xy, 1);
     for (int32_t k = 0; k < d->ncuts; k++) {
         int32_t p = in->nsegs + k;
         memcpy(d->cut_xy + 4 * k, c->xy + 2 * c->pa[p], 2 * sizeof(double));
@@ -1450,13 +1432,13 @@ static double iface_min_angle(const pcdm_decomp *d, int32_t *worst_seg) {
     const pslg *g = &d->g;
     double best = 180;
     *worst_seg = -1;
-    int32_t *start = xcalloc((size_t)g->nverts + 1, sizeof *start);
+    int32_t *start = mesh_xcalloc((size_t)g->nverts + 1, sizeof *start);
     for (int32_t s = 0; s < 2 * g->nsegs; s++)
         start[g->seg[s] + 1]++;
     for (int32_t v = 0; v < g->nverts; v++)
         start[v + 1] += start[v];
-    int32_t *fill = xmalloc(((size_t)g->nverts + 1) * sizeof *fill),
-            *inc = xmalloc(((size_t)2 * g->nsegs + 1) * sizeof *inc);
+    int32_t *fill = mesh_xmalloc(((size_t)g->nverts + 1) * sizeof *fill, 1),
+            *inc = mesh_xmalloc(((size_t)2 * g->nsegs + 1) * sizeof *inc, 1);
     memcpy(fill, start, (size_t)g->nverts * sizeof *fill);
     for (int32_t s = 0; s < 2 * g->nsegs; s++)
         inc[fill[g->seg[s]]++] = s; /* s = 2 * segment + end */
@@ -1511,9 +1493,9 @@ static int finish(ctx *c, pcdm_decomp *d, int auto_mode, const double *in_densit
     pslg *g = &d->g;
     trace t;
     trace_build(g->xy, g->nverts, g->seg, g->nsegs, &t);
-    uint8_t *isdom = xcalloc((size_t)t.nface + 1, 1);
+    uint8_t *isdom = mesh_xcalloc((size_t)t.nface + 1, 1);
     int32_t ndom = domain_faces(g->xy, g->seg, &t, c->in, isdom);
-    int32_t *f2s = xmalloc(((size_t)t.nface + 1) * sizeof *f2s);
+    int32_t *f2s = mesh_xmalloc(((size_t)t.nface + 1) * sizeof *f2s, 1);
     int rc = 0;
     const char *path = c->in->path[0] ? c->in->path : "(input)";
     for (int32_t f = 0; f < t.nface; f++)
@@ -1539,9 +1521,9 @@ static int finish(ctx *c, pcdm_decomp *d, int auto_mode, const double *in_densit
         }
     } else {
         d->nsub = ndom;
-        d->sub_seed = xmalloc(2 * ((size_t)ndom + 1) * sizeof *d->sub_seed);
-        double *seeds = xmalloc(2 * ((size_t)ndom + 1) * sizeof *seeds);
-        int32_t *fid = xmalloc(((size_t)ndom + 1) * sizeof *fid), n = 0;
+        d->sub_seed = mesh_xmalloc(2 * ((size_t)ndom + 1) * sizeof *d->sub_seed, 1);
+        double *seeds = mesh_xmalloc(2 * ((size_t)ndom + 1) * sizeof *seeds, 1);
+        int32_t *fid = mesh_xmalloc(((size_t)ndom + 1) * sizeof *fid, 1), n = 0;
         for (int32_t f = 0; f < t.nface; f++) {
             if (!isdom[f]) continue;
             eset e = {0};
@@ -1574,14 +1556,14 @@ static int finish(ctx *c, pcdm_decomp *d, int auto_mode, const double *in_densit
         free(seeds);
         free(fid);
     }
-    d->seg_sub = xmalloc(2 * ((size_t)g->nsegs + 1) * sizeof *d->seg_sub);
+    d->seg_sub = mesh_xmalloc(2 * ((size_t)g->nsegs + 1) * sizeof *d->seg_sub, 1);
     for (int32_t h = 0; h < t.nh; h++) {
         int32_t f = t.cface[t.cyc[h]];
         d->seg_sub[h] = f >= 0 ? f2s[f] : -1; /* h = 2s: left of s; 2s + 1: right of s */
     }
     int32_t K = d->nsub;
-    d->sub_area = xcalloc((size_t)K + 1, sizeof *d->sub_area);
-    d->sub_weight = xcalloc((size_t)K + 1, sizeof *d->sub_weight);
+    d->sub_area = mesh_xcalloc((size_t)K + 1, sizeof *d->sub_area);
+    d->sub_weight = mesh_xcalloc((size_t)K + 1, sizeof *d->sub_weight);
     for (int32_t h = 0; h < t.nh; h++) {
         int32_t s = d->seg_sub[h];
         if (s < 0) continue;
@@ -1667,9 +1649,9 @@ static int check_opts(const pslg *in, const pcdm_decomp_opts *o, char *err, size
 static int32_t input_faces(const pslg *in, const pcdm_decomp_opts *o, trace *t, double **density,
                            double *area_total) {
     trace_build(in->xy, in->nverts, in->seg, in->nsegs, t);
-    uint8_t *isdom = xcalloc((size_t)t->nface + 1, 1);
+    uint8_t *isdom = mesh_xcalloc((size_t)t->nface + 1, 1);
     int32_t n = domain_faces(in->xy, in->seg, t, in, isdom);
-    *density = xcalloc((size_t)t->nface + 1, sizeof **density);
+    *density = mesh_xcalloc((size_t)t->nface + 1, sizeof **density);
     *area_total = 0;
     for (int32_t f = 0; f < t->nface; f++) {
         if (!isdom[f]) continue;
@@ -1719,22 +1701,22 @@ int pcdm_decomp_auto(const pslg *in, const pcdm_decomp_opts *o, pcdm_decomp *out
     c.min_cut = MIN_CUT_REL * sqrt(atot);
     c.retries = 64;
     c.nsub = K;
-    c.target = xmalloc((size_t)K * sizeof *c.target);
-    c.owner = xmalloc((size_t)K * sizeof *c.owner);
-    c.sub = xcalloc((size_t)K, sizeof *c.sub);
-    c.density = xcalloc((size_t)K, sizeof *c.density);
+    c.target = mesh_xmalloc((size_t)K * sizeof *c.target, 1);
+    c.owner = mesh_xmalloc((size_t)K * sizeof *c.owner, 1);
+    c.sub = mesh_xcalloc((size_t)K, sizeof *c.sub);
+    c.density = mesh_xcalloc((size_t)K, sizeof *c.density);
     plan_targets(K, P, o->imbalance, c.target, c.owner);
     /* domain faces become regions; each takes a contiguous range of subdomains */
     double wtot = 0, wacc = 0, tacc = 0;
-    eset *reg = xcalloc((size_t)nf, sizeof *reg);
-    double *rw = xcalloc((size_t)nf, sizeof *rw), *rd = xcalloc((size_t)nf, sizeof *rd);
+    eset *reg = mesh_xcalloc((size_t)nf, sizeof *reg);
+    double *rw = mesh_xcalloc((size_t)nf, sizeof *rw), *rd = mesh_xcalloc((size_t)nf, sizeof *rd);
     int32_t r = 0;
     for (int32_t f = 0; f < tin.nface; f++) {
         if (!(dens[f] > 0)) continue;
         for (int32_t h = 0; h < tin.nh; h++)
             if (tin.cface[tin.cyc[h]] == f)
                 eset_push(&reg[r], h_org(in->seg, h), h_dst(in->seg, h), h / 2);
-        int32_t *fc = xmalloc((size_t)reg[r].n * sizeof *fc);
+        int32_t *fc = mesh_xmalloc((size_t)reg[r].n * sizeof *fc, 1);
         int32_t got = faces_of(&c, c.nv, NULL, &reg[r], fc);
         free(fc);
         if (got != 1) {
@@ -1771,14 +1753,14 @@ int pcdm_decomp_auto(const pslg *in, const pcdm_decomp_opts *o, pcdm_decomp *out
     if (rc) goto out;
     out->nsub = K;
     out->nranks = P;
-    out->sub_seed = xmalloc(2 * (size_t)K * sizeof *out->sub_seed);
+    out->sub_seed = mesh_xmalloc(2 * (size_t)K * sizeof *out->sub_seed, 1);
     for (int32_t s = 0; s < K; s++)
         face_seed(&c, &c.sub[s], out->sub_seed + 2 * s);
     build_segments(&c, out);
     rc = finish(&c, out, 1, dens, &tin);
     if (rc) goto out;
-    out->sub_target = xmalloc((size_t)K * sizeof *out->sub_target);
-    out->sub_owner = xmalloc((size_t)K * sizeof *out->sub_owner);
+    out->sub_target = mesh_xmalloc((size_t)K * sizeof *out->sub_target, 1);
+    out->sub_owner = mesh_xmalloc((size_t)K * sizeof *out->sub_owner, 1);
     memcpy(out->sub_target, c.target, (size_t)K * sizeof *c.target);
     memcpy(out->sub_owner, c.owner, (size_t)K * sizeof *c.owner);
 out:
@@ -1876,7 +1858,7 @@ int pcdm_decomp_read_cuts(const char *path, const pslg *in, const pcdm_decomp_op
         }
         if (ncut == capc) {
             capc = capc ? 2 * capc : 16;
-            cuts = xrealloc(cuts, (size_t)capc * sizeof *cuts);
+            cuts = mesh_xrealloc(cuts, (size_t)capc * sizeof *cuts, 1);
         }
         rawcut *rc_ = &cuts[ncut++];
         rc_->p[0][0] = v[0];
@@ -1910,7 +1892,7 @@ int pcdm_decomp_read_cuts(const char *path, const pslg *in, const pcdm_decomp_op
     /* parents first (endpoints filled below), so that T-junctions can name them */
     for (int32_t i = 0; i < ncut; i++)
         cuts[i].par = ctx_add_parent(&c, -1, -1, -1, cuts[i].line);
-    onb = xcalloc(2 * (size_t)ncut + 1, 1);
+    onb = mesh_xcalloc(2 * (size_t)ncut + 1, 1);
     for (int32_t i = 0; i < ncut; i++)
         for (int e = 0; e < 2; e++) {
             cuts[i].v[e] = resolve_endpoint(&c, cuts, ncut, i, e, tol, &onb[2 * i + e]);
@@ -2009,8 +1991,8 @@ int pcdm_decomp_read_cuts(const char *path, const pslg *in, const pcdm_decomp_op
         goto out;
     }
     out->nranks = P;
-    out->sub_owner = xmalloc((size_t)K * sizeof *out->sub_owner);
-    out->sub_target = xmalloc((size_t)K * sizeof *out->sub_target);
+    out->sub_owner = mesh_xmalloc((size_t)K * sizeof *out->sub_owner, 1);
+    out->sub_target = mesh_xmalloc((size_t)K * sizeof *out->sub_target, 1);
     assign_owners(out->sub_weight, K, P, o->imbalance, out->sub_owner);
     for (int32_t s = 0; s < K; s++)
         out->sub_target[s] = out->sub_weight[s] / out->total_weight;

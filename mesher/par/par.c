@@ -24,9 +24,11 @@
  * failing rank, then that rank's message broadcast), so no rank can wait in a collective that
  * another rank skipped.
  */
-#include "par.h"
+#include "par/par.h"
 
-#include "geom.h"
+#include "base/base.h"
+
+#include "geom/geom.h"
 #include "rt.h"
 
 #include <errno.h>
@@ -38,34 +40,9 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
-#define PAR_TAG_GATHER 4711
+#define PAR_TAG_GATHER 1 /* on rt_app_comm(), which this layer owns */
 
 /* ---- small helpers --------------------------------------------------------------------- */
-
-static void *xmalloc(size_t n) {
-    void *p = malloc(n ? n : 1);
-    if (!p) {
-        fprintf(stderr, "par: out of memory (%zu bytes) on rank %d\n", n, rt_rank());
-        MPI_Abort(MPI_COMM_WORLD, 1);
-    }
-    return p;
-}
-
-static void *xrealloc(void *p, size_t n) {
-    void *q = realloc(p, n ? n : 1);
-    if (!q) {
-        fprintf(stderr, "par: out of memory (%zu bytes) on rank %d\n", n, rt_rank());
-        MPI_Abort(MPI_COMM_WORLD, 1);
-    }
-    return q;
-}
-
-static void mpi_check(int rc, const char *what) {
-    if (rc != MPI_SUCCESS) {
-        fprintf(stderr, "par: %s failed (MPI error %d) on rank %d\n", what, rc, rt_rank());
-        MPI_Abort(MPI_COMM_WORLD, 1);
-    }
-}
 
 static int parse_double(const char *s, double *out) {
     char *end;
@@ -212,15 +189,15 @@ int par_parse_args(int argc, char **argv, const char *prog, int rank, par_opts *
 /* ---- collective failure ----------------------------------------------------------------- */
 
 int par_fail_any(int local_fail, const char *msg) {
-    MPI_Comm c = rt_comm();
+    MPI_Comm c = rt_app_comm();
     int rank = rt_rank(), size = rt_size();
     int mine = local_fail ? rank : size, first = size;
-    mpi_check(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, c), "MPI_Allreduce");
+    MESH_MPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, c));
     if (first == size) return 0;
     char buf[1024];
     memset(buf, 0, sizeof buf);
     if (rank == first && msg) snprintf(buf, sizeof buf, "%s", msg);
-    mpi_check(MPI_Bcast(buf, (int)sizeof buf, MPI_CHAR, first, c), "MPI_Bcast");
+    MESH_MPI(MPI_Bcast(buf, (int)sizeof buf, MPI_CHAR, first, c));
     if (rank == 0 && buf[0]) fprintf(stderr, "%s\n", buf);
     return 1;
 }
@@ -358,8 +335,8 @@ static int32_t gb_vertex(gbuild *b, const double p[2], int32_t mk) {
     }
     if (g->nverts == b->vcap) {
         b->vcap = b->vcap ? 2 * b->vcap : 1024;
-        g->xy = xrealloc(g->xy, 2 * (size_t)b->vcap * sizeof(double));
-        g->vmarker = xrealloc(g->vmarker, (size_t)b->vcap * sizeof(int32_t));
+        g->xy = mesh_xrealloc(g->xy, 2 * (size_t)b->vcap * sizeof(double), 1);
+        g->vmarker = mesh_xrealloc(g->vmarker, (size_t)b->vcap * sizeof(int32_t), 1);
     }
     int32_t id = g->nverts++;
     g->xy[2 * (size_t)id] = p[0];
@@ -385,9 +362,9 @@ static void gb_segment(gbuild *b, int32_t u, int32_t v, int32_t mk, int32_t ifac
     }
     if (g->nsegs == b->scap) {
         b->scap = b->scap ? 2 * b->scap : 1024;
-        g->seg = xrealloc(g->seg, 2 * (size_t)b->scap * sizeof(int32_t));
-        g->smarker = xrealloc(g->smarker, (size_t)b->scap * sizeof(int32_t));
-        g->sinterface = xrealloc(g->sinterface, (size_t)b->scap * sizeof(int32_t));
+        g->seg = mesh_xrealloc(g->seg, 2 * (size_t)b->scap * sizeof(int32_t), 1);
+        g->smarker = mesh_xrealloc(g->smarker, (size_t)b->scap * sizeof(int32_t), 1);
+        g->sinterface = mesh_xrealloc(g->sinterface, (size_t)b->scap * sizeof(int32_t), 1);
     }
     int32_t s = g->nsegs++;
     g->seg[2 * (size_t)s] = u;
@@ -401,27 +378,24 @@ static void gb_segment(gbuild *b, int32_t u, int32_t v, int32_t mk, int32_t ifac
 /* Merges one piece (rank r) into the global mesh. */
 static void gb_piece(gbuild *b, const mesh_flat *p, int r) {
     mesh_flat *g = b->g;
-    int32_t *map = xmalloc(((size_t)p->nverts + 1) * sizeof(int32_t));
+    int32_t *map = mesh_xmalloc(((size_t)p->nverts + 1) * sizeof(int32_t), 1);
     for (int32_t v = 0; v < p->nverts; v++)
         map[v] = -1;
     if (g->ntris + (int64_t)p->ntris > INT32_MAX) {
-        fprintf(stderr, "par: merged mesh exceeds 2^31 triangles\n");
-        MPI_Abort(MPI_COMM_WORLD, 1);
+        MESH_BUG("merged mesh exceeds 2^31 triangles (the gather's limit)");
     }
     int32_t need = g->ntris + p->ntris;
     if (need > b->tcap) {
         while (b->tcap < need)
             b->tcap = b->tcap ? 2 * b->tcap : 1024;
-        g->tri = xrealloc(g->tri, 3 * (size_t)b->tcap * sizeof(int32_t));
-        g->trank = xrealloc(g->trank, (size_t)b->tcap * sizeof(int32_t));
+        g->tri = mesh_xrealloc(g->tri, 3 * (size_t)b->tcap * sizeof(int32_t), 1);
+        g->trank = mesh_xrealloc(g->trank, (size_t)b->tcap * sizeof(int32_t), 1);
     }
     for (int32_t t = 0; t < p->ntris; t++) {
         for (int j = 0; j < 3; j++) {
             int32_t v = p->tri[3 * (size_t)t + j];
             if (v < 0 || v >= p->nverts) {
-                fprintf(stderr, "par: rank %d sent a triangle with vertex %d of %d\n", r, v,
-                        p->nverts);
-                MPI_Abort(MPI_COMM_WORLD, 1);
+                MESH_BUG("rank %d sent a triangle with vertex %d of %d", r, v, p->nverts);
             }
             if (map[v] < 0) map[v] = gb_vertex(b, p->xy + 2 * (size_t)v, p->vmarker[v]);
             g->tri[3 * (size_t)g->ntris + j] = map[v];
@@ -450,71 +424,65 @@ static uint64_t pow2_at_least(uint64_t n) {
 /* Piece transfer: counts [nverts, ntris, nsegs, has_trank], then xy, vmarker, tri, trank, seg,
  * smarker, sinterface (each only if non-empty). */
 static void send_piece(const mesh_flat *f) {
-    MPI_Comm c = rt_comm();
+    MPI_Comm c = rt_app_comm();
     int32_t cnt[4] = {f->nverts, f->ntris, f->nsegs, f->trank ? 1 : 0};
-    mpi_check(MPI_Send(cnt, 4, MPI_INT32_T, 0, PAR_TAG_GATHER, c), "MPI_Send");
+    MESH_MPI(MPI_Send(cnt, 4, MPI_INT32_T, 0, PAR_TAG_GATHER, c));
     if (f->nverts) {
-        mpi_check(MPI_Send(f->xy, 2 * f->nverts, MPI_DOUBLE, 0, PAR_TAG_GATHER, c), "MPI_Send");
-        int32_t *mk = xmalloc((size_t)f->nverts * sizeof(int32_t));
+        MESH_MPI(MPI_Send(f->xy, 2 * f->nverts, MPI_DOUBLE, 0, PAR_TAG_GATHER, c));
+        int32_t *mk = mesh_xmalloc((size_t)f->nverts * sizeof(int32_t), 1);
         for (int32_t v = 0; v < f->nverts; v++)
             mk[v] = f->vmarker ? f->vmarker[v] : 0;
-        mpi_check(MPI_Send(mk, f->nverts, MPI_INT32_T, 0, PAR_TAG_GATHER, c), "MPI_Send");
+        MESH_MPI(MPI_Send(mk, f->nverts, MPI_INT32_T, 0, PAR_TAG_GATHER, c));
         free(mk);
     }
     if (f->ntris) {
-        mpi_check(MPI_Send(f->tri, 3 * f->ntris, MPI_INT32_T, 0, PAR_TAG_GATHER, c), "MPI_Send");
-        if (f->trank)
-            mpi_check(MPI_Send(f->trank, f->ntris, MPI_INT32_T, 0, PAR_TAG_GATHER, c), "MPI_Send");
+        MESH_MPI(MPI_Send(f->tri, 3 * f->ntris, MPI_INT32_T, 0, PAR_TAG_GATHER, c));
+        if (f->trank) MESH_MPI(MPI_Send(f->trank, f->ntris, MPI_INT32_T, 0, PAR_TAG_GATHER, c));
     }
     if (f->nsegs) {
-        int32_t *a = xmalloc(4 * (size_t)f->nsegs * sizeof(int32_t));
+        int32_t *a = mesh_xmalloc(4 * (size_t)f->nsegs * sizeof(int32_t), 1);
         for (int32_t s = 0; s < f->nsegs; s++) {
             a[4 * (size_t)s] = f->seg[2 * (size_t)s];
             a[4 * (size_t)s + 1] = f->seg[2 * (size_t)s + 1];
             a[4 * (size_t)s + 2] = f->smarker ? f->smarker[s] : 0;
             a[4 * (size_t)s + 3] = f->sinterface ? f->sinterface[s] : 0;
         }
-        mpi_check(MPI_Send(a, 4 * f->nsegs, MPI_INT32_T, 0, PAR_TAG_GATHER, c), "MPI_Send");
+        MESH_MPI(MPI_Send(a, 4 * f->nsegs, MPI_INT32_T, 0, PAR_TAG_GATHER, c));
         free(a);
     }
 }
 
 static void recv_piece(int src, mesh_flat *f) {
-    MPI_Comm c = rt_comm();
+    MPI_Comm c = rt_app_comm();
     int32_t cnt[4];
     memset(f, 0, sizeof *f);
-    mpi_check(MPI_Recv(cnt, 4, MPI_INT32_T, src, PAR_TAG_GATHER, c, MPI_STATUS_IGNORE), "MPI_Recv");
+    MESH_MPI(MPI_Recv(cnt, 4, MPI_INT32_T, src, PAR_TAG_GATHER, c, MPI_STATUS_IGNORE));
     f->nverts = cnt[0];
     f->ntris = cnt[1];
     f->nsegs = cnt[2];
-    f->xy = xmalloc(2 * (size_t)f->nverts * sizeof(double));
-    f->vmarker = xmalloc((size_t)f->nverts * sizeof(int32_t));
-    f->tri = xmalloc(3 * (size_t)f->ntris * sizeof(int32_t));
-    f->trank = cnt[3] ? xmalloc((size_t)f->ntris * sizeof(int32_t)) : NULL;
+    f->xy = mesh_xmalloc(2 * (size_t)f->nverts * sizeof(double), 1);
+    f->vmarker = mesh_xmalloc((size_t)f->nverts * sizeof(int32_t), 1);
+    f->tri = mesh_xmalloc(3 * (size_t)f->ntris * sizeof(int32_t), 1);
+    f->trank = cnt[3] ? mesh_xmalloc((size_t)f->ntris * sizeof(int32_t), 1) : NULL;
     if (f->nverts) {
-        mpi_check(
-            MPI_Recv(f->xy, 2 * f->nverts, MPI_DOUBLE, src, PAR_TAG_GATHER, c, MPI_STATUS_IGNORE),
-            "MPI_Recv");
-        mpi_check(
-            MPI_Recv(f->vmarker, f->nverts, MPI_INT32_T, src, PAR_TAG_GATHER, c, MPI_STATUS_IGNORE),
-            "MPI_Recv");
+        MESH_MPI(
+            MPI_Recv(f->xy, 2 * f->nverts, MPI_DOUBLE, src, PAR_TAG_GATHER, c, MPI_STATUS_IGNORE));
+        MESH_MPI(MPI_Recv(f->vmarker, f->nverts, MPI_INT32_T, src, PAR_TAG_GATHER, c,
+                          MPI_STATUS_IGNORE));
     }
     if (f->ntris) {
-        mpi_check(
-            MPI_Recv(f->tri, 3 * f->ntris, MPI_INT32_T, src, PAR_TAG_GATHER, c, MPI_STATUS_IGNORE),
-            "MPI_Recv");
+        MESH_MPI(
+            MPI_Recv(f->tri, 3 * f->ntris, MPI_INT32_T, src, PAR_TAG_GATHER, c, MPI_STATUS_IGNORE));
         if (f->trank)
-            mpi_check(MPI_Recv(f->trank, f->ntris, MPI_INT32_T, src, PAR_TAG_GATHER, c,
-                               MPI_STATUS_IGNORE),
-                      "MPI_Recv");
+            MESH_MPI(MPI_Recv(f->trank, f->ntris, MPI_INT32_T, src, PAR_TAG_GATHER, c,
+                              MPI_STATUS_IGNORE));
     }
-    f->seg = xmalloc(2 * (size_t)f->nsegs * sizeof(int32_t));
-    f->smarker = xmalloc((size_t)f->nsegs * sizeof(int32_t));
-    f->sinterface = xmalloc((size_t)f->nsegs * sizeof(int32_t));
+    f->seg = mesh_xmalloc(2 * (size_t)f->nsegs * sizeof(int32_t), 1);
+    f->smarker = mesh_xmalloc((size_t)f->nsegs * sizeof(int32_t), 1);
+    f->sinterface = mesh_xmalloc((size_t)f->nsegs * sizeof(int32_t), 1);
     if (f->nsegs) {
-        int32_t *a = xmalloc(4 * (size_t)f->nsegs * sizeof(int32_t));
-        mpi_check(MPI_Recv(a, 4 * f->nsegs, MPI_INT32_T, src, PAR_TAG_GATHER, c, MPI_STATUS_IGNORE),
-                  "MPI_Recv");
+        int32_t *a = mesh_xmalloc(4 * (size_t)f->nsegs * sizeof(int32_t), 1);
+        MESH_MPI(MPI_Recv(a, 4 * f->nsegs, MPI_INT32_T, src, PAR_TAG_GATHER, c, MPI_STATUS_IGNORE));
         for (int32_t s = 0; s < f->nsegs; s++) {
             f->seg[2 * (size_t)s] = a[4 * (size_t)s];
             f->seg[2 * (size_t)s + 1] = a[4 * (size_t)s + 1];
@@ -526,18 +494,18 @@ static void recv_piece(int src, mesh_flat *f) {
 }
 
 int par_gather_mesh(const mesh_flat *local, const pslg *in, mesh_flat *global) {
-    MPI_Comm c = rt_comm();
+    MPI_Comm c = rt_app_comm();
     int rank = rt_rank(), size = rt_size();
     memset(global, 0, sizeof *global);
     int too_big = (int64_t)2 * local->nverts > INT_MAX || (int64_t)4 * local->nsegs > INT_MAX ||
                   (int64_t)3 * local->ntris > INT_MAX;
     if (par_fail_any(too_big, "par: a rank's piece of the mesh is too large to gather")) return -1;
     int64_t mine[3] = {local->nverts, local->ntris, local->nsegs}, tot[3];
-    mpi_check(MPI_Reduce(mine, tot, 3, MPI_INT64_T, MPI_SUM, 0, c), "MPI_Reduce");
+    MESH_MPI(MPI_Reduce(mine, tot, 3, MPI_INT64_T, MPI_SUM, 0, c));
     if (rank != 0) {
         /* wait for rank 0's go-ahead so pieces arrive one at a time */
         int go;
-        mpi_check(MPI_Recv(&go, 1, MPI_INT, 0, PAR_TAG_GATHER, c, MPI_STATUS_IGNORE), "MPI_Recv");
+        MESH_MPI(MPI_Recv(&go, 1, MPI_INT, 0, PAR_TAG_GATHER, c, MPI_STATUS_IGNORE));
         send_piece(local);
         return 0;
     }
@@ -545,13 +513,13 @@ int par_gather_mesh(const mesh_flat *local, const pslg *in, mesh_flat *global) {
     memset(&b, 0, sizeof b);
     b.g = global;
     uint64_t vslots = pow2_at_least(2 * (uint64_t)(tot[0] + in->nverts) + 16);
-    b.vh.slot = xmalloc(vslots * sizeof(int32_t));
+    b.vh.slot = mesh_xmalloc(vslots * sizeof(int32_t), 1);
     for (uint64_t i = 0; i < vslots; i++)
         b.vh.slot[i] = -1;
     b.vh.mask = vslots - 1;
     uint64_t sslots = pow2_at_least(2 * (uint64_t)tot[2] + 16);
-    b.shash = xmalloc(sslots * sizeof(int64_t));
-    b.sidx = xmalloc(sslots * sizeof(int32_t));
+    b.shash = mesh_xmalloc(sslots * sizeof(int64_t), 1);
+    b.sidx = mesh_xmalloc(sslots * sizeof(int32_t), 1);
     for (uint64_t i = 0; i < sslots; i++)
         b.shash[i] = -1;
     b.smask = sslots - 1;
@@ -559,14 +527,13 @@ int par_gather_mesh(const mesh_flat *local, const pslg *in, mesh_flat *global) {
     for (int32_t v = 0; v < in->nverts; v++) {
         int32_t id = gb_vertex(&b, in->xy + 2 * (size_t)v, in->vmarker ? in->vmarker[v] : 0);
         if (id != v) {
-            fprintf(stderr, "par: input vertex %d repeats vertex %d (unchecked input?)\n", v, id);
-            MPI_Abort(MPI_COMM_WORLD, 1);
+            MESH_BUG("input vertex %d repeats vertex %d (unchecked input?)", v, id);
         }
     }
     gb_piece(&b, local, 0);
     for (int r = 1; r < size; r++) {
         int go = 1;
-        mpi_check(MPI_Send(&go, 1, MPI_INT, r, PAR_TAG_GATHER, c), "MPI_Send");
+        MESH_MPI(MPI_Send(&go, 1, MPI_INT, r, PAR_TAG_GATHER, c));
         mesh_flat p;
         recv_piece(r, &p);
         gb_piece(&b, &p, r);
@@ -646,7 +613,7 @@ int par_startup(int *argc, char ***argv, const char *prog, int phases_ok, int (*
 }
 
 int par_finish(int status, mesh_flat *global, pcdm_decomp *d, pslg *in) {
-    MPI_Bcast(&status, 1, MPI_INT, 0, rt_comm());
+    MESH_MPI(MPI_Bcast(&status, 1, MPI_INT, 0, rt_app_comm()));
     mesh_flat_free(global);
     pcdm_decomp_free(d);
     pslg_free(in);

@@ -20,7 +20,7 @@
  */
 #include "mesh_impl.h"
 
-#include "geom.h"
+#include "geom/geom.h"
 
 #include <math.h>
 #include <stdarg.h>

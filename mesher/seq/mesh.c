@@ -18,22 +18,12 @@
  */
 #include "mesh_impl.h"
 
-#include "geom.h"
+#include "geom/geom.h"
 
 #include <math.h>
 #include <string.h>
 
 /* ---- allocation ------------------------------------------------------------------------ */
-
-void *mesh_xrealloc(void *p, size_t n, size_t size) {
-    if (n == 0) n = 1;
-    void *q = realloc(p, n * size);
-    if (!q) {
-        fprintf(stderr, "%s:%d: mesh: out of memory (%zu bytes)\n", __FILE__, __LINE__, n * size);
-        abort();
-    }
-    return q;
-}
 
 uint64_t mesh_rand(mesh *m) {
     /* xorshift64* */
@@ -712,17 +702,17 @@ void mesh_keep_regions(mesh *m, const int32_t *label, const uint8_t *keep) {
 int mesh_to_flat(const mesh *m, mesh_flat *f) {
     memset(f, 0, sizeof *f);
     f->nverts = m->nv;
-    f->xy = malloc(2 * (size_t)m->nv * sizeof(double) + 1);
-    f->vmarker = malloc((size_t)m->nv * sizeof(int32_t) + 1);
+    f->xy = mesh_xmalloc(2 * (size_t)m->nv * sizeof(double) + 1, 1);
+    f->vmarker = mesh_xmalloc((size_t)m->nv * sizeof(int32_t) + 1, 1);
     int32_t nt = 0;
     for (int32_t t = 0; t < m->nt; t++)
         if (mesh_tri_alive(m, t) && ghost_index(m, t) < 0) nt++;
     f->ntris = nt;
-    f->tri = malloc(3 * (size_t)nt * sizeof(int32_t) + 1);
+    f->tri = mesh_xmalloc(3 * (size_t)nt * sizeof(int32_t) + 1, 1);
     f->nsegs = m->ss_live;
-    f->seg = malloc(2 * (size_t)m->ss_live * sizeof(int32_t) + 1);
-    f->smarker = malloc((size_t)m->ss_live * sizeof(int32_t) + 1);
-    f->sinterface = malloc((size_t)m->ss_live * sizeof(int32_t) + 1);
+    f->seg = mesh_xmalloc(2 * (size_t)m->ss_live * sizeof(int32_t) + 1, 1);
+    f->smarker = mesh_xmalloc((size_t)m->ss_live * sizeof(int32_t) + 1, 1);
+    f->sinterface = mesh_xmalloc((size_t)m->ss_live * sizeof(int32_t) + 1, 1);
     if (!f->xy || !f->vmarker || !f->tri || !f->seg || !f->smarker || !f->sinterface) {
         free(f->xy), free(f->vmarker), free(f->tri), free(f->seg), free(f->smarker);
         free(f->sinterface);

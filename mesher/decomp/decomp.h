@@ -35,7 +35,7 @@
 #ifndef PCDM_DECOMP_H
 #define PCDM_DECOMP_H
 
-#include "pslg.h"
+#include "geom/pslg.h"
 
 #include <stddef.h>
 #include <stdint.h>

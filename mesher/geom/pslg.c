@@ -12,9 +12,11 @@
  * distinct vertex coordinates, distinct non-degenerate segments, no two segments meeting
  * except at shared endpoints or at a vertex lying inside a segment.
  */
-#include "pslg.h"
+#include "geom/pslg.h"
 
-#include "geom.h"
+#include "base/base.h"
+
+#include "geom/geom.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -59,7 +61,7 @@ static int reader_open(reader *r, const char *path, char *err, size_t errlen) {
         return -1;
     }
     size_t cap = 1 << 16, n = 0;
-    char *buf = malloc(cap);
+    char *buf = mesh_xmalloc(cap, 1);
     for (;;) {
         if (!buf) {
             fclose(f);
@@ -68,7 +70,7 @@ static int reader_open(reader *r, const char *path, char *err, size_t errlen) {
         }
         n += fread(buf + n, 1, cap - n - 1, f);
         if (n < cap - 1) break;
-        char *nb = cap > SIZE_MAX / 2 ? NULL : realloc(buf, cap * 2);
+        char *nb = cap > SIZE_MAX / 2 ? NULL : mesh_xrealloc(buf, cap * 2, 1);
         if (!nb) free(buf);
         buf = nb;
         cap *= 2;
@@ -248,10 +250,6 @@ void pslg_free(pslg *g) {
     memset(g, 0, sizeof *g);
 }
 
-static void *xcalloc(size_t n, size_t size) {
-    return calloc(n ? n : 1, size ? size : 1);
-}
-
 /* Reads the vertex section whose header line is current in r. */
 static int read_vertices(reader *r, pslg *g) {
     long n, dim = 2, nattr = 0, nmark = 0;
@@ -270,10 +268,10 @@ static int read_vertices(reader *r, pslg *g) {
         return rfail(r, "vertex count %ld is more than the rest of the file can hold", n);
     g->nverts = (int32_t)n;
     g->nattr = (int)nattr;
-    g->xy = xcalloc((size_t)n * 2, sizeof(double));
-    g->vmarker = xcalloc((size_t)n, sizeof(int32_t));
-    g->vline = xcalloc((size_t)n, sizeof(int32_t));
-    g->vattr = nattr ? xcalloc((size_t)n * (size_t)nattr, sizeof(double)) : NULL;
+    g->xy = mesh_xcalloc((size_t)n * 2, sizeof(double));
+    g->vmarker = mesh_xcalloc((size_t)n, sizeof(int32_t));
+    g->vline = mesh_xcalloc((size_t)n, sizeof(int32_t));
+    g->vattr = nattr ? mesh_xcalloc((size_t)n * (size_t)nattr, sizeof(double)) : NULL;
     if (!g->xy || !g->vmarker || !g->vline || (nattr && !g->vattr))
         return rfail(r, "out of memory for %ld vertices", n);
     for (long i = 0; i < n; i++) {
@@ -392,9 +390,9 @@ static int read_poly(const char *path, pslg *g, int skip_node, int32_t nv, int f
         goto out;
     }
     g->nsegs = (int32_t)ns;
-    g->seg = xcalloc((size_t)ns * 2, sizeof(int32_t));
-    g->smarker = xcalloc((size_t)ns, sizeof(int32_t));
-    g->sline = xcalloc((size_t)ns, sizeof(int32_t));
+    g->seg = mesh_xcalloc((size_t)ns * 2, sizeof(int32_t));
+    g->smarker = mesh_xcalloc((size_t)ns, sizeof(int32_t));
+    g->sline = mesh_xcalloc((size_t)ns, sizeof(int32_t));
     if (!g->seg || !g->smarker || !g->sline) {
         rfail(&r, "out of memory for %ld segments", ns);
         goto out;
@@ -430,7 +428,7 @@ static int read_poly(const char *path, pslg *g, int skip_node, int32_t nv, int f
         check_count(&r, "hole", nh, 5))
         goto out;
     g->nholes = (int32_t)nh;
-    g->holes = xcalloc((size_t)nh * 2, sizeof(double));
+    g->holes = mesh_xcalloc((size_t)nh * 2, sizeof(double));
     if (!g->holes) {
         rfail(&r, "out of memory for %ld holes", nh);
         goto out;
@@ -456,7 +454,7 @@ static int read_poly(const char *path, pslg *g, int skip_node, int32_t nv, int f
         check_count(&r, "region", nr, 5))
         goto out;
     g->nregions = (int32_t)nr;
-    g->regions = xcalloc((size_t)nr * 4, sizeof(double));
+    g->regions = mesh_xcalloc((size_t)nr * 4, sizeof(double));
     if (!g->regions) {
         rfail(&r, "out of memory for %ld regions", nr);
         goto out;
@@ -637,7 +635,7 @@ static int grid_build_segments(grid *gr, const double *xy, const int32_t *seg, c
     if (n == 0) x0 = y0 = x1 = y1 = 0;
     grid_setup(gr, x0, y0, x1, y1, n);
     size_t ncell = (size_t)gr->nx * gr->ny;
-    gr->start = calloc(ncell + 1, sizeof(int32_t));
+    gr->start = mesh_xcalloc(ncell + 1, sizeof(int32_t));
     if (!gr->start) return -1;
     fill_ctx c = {gr, 0, 1};
     for (int32_t i = 0; i < n; i++) {
@@ -648,7 +646,7 @@ static int grid_build_segments(grid *gr, const double *xy, const int32_t *seg, c
     }
     for (size_t i = 0; i < ncell; i++)
         gr->start[i + 1] += gr->start[i];
-    gr->item = malloc(((size_t)gr->start[ncell] + 1) * sizeof(int32_t));
+    gr->item = mesh_xmalloc(((size_t)gr->start[ncell] + 1) * sizeof(int32_t), 1);
     if (!gr->item) return -1;
     c.counting = 0;
     for (int32_t i = 0; i < n; i++) {
@@ -769,8 +767,8 @@ int pslg_check(pslg *g, char *err, size_t errlen) {
                              g->sline ? g->sline[s] : 0, s + g->first_index,
                              g->seg[2 * s + k] + g->first_index);
     /* 1. merge duplicate vertices */
-    vkey *vk = malloc((size_t)(n ? n : 1) * sizeof *vk);
-    int32_t *map = malloc((size_t)(n ? n : 1) * sizeof *map);
+    vkey *vk = mesh_xmalloc((size_t)(n ? n : 1) * sizeof *vk, 1);
+    int32_t *map = mesh_xmalloc((size_t)(n ? n : 1) * sizeof *map, 1);
     if (!vk || !map) {
         free(vk);
         free(map);
@@ -797,7 +795,7 @@ int pslg_check(pslg *g, char *err, size_t errlen) {
     free(vk);
     if (ndup) {
         int32_t m = 0;
-        int32_t *newidx = malloc((size_t)n * sizeof *newidx);
+        int32_t *newidx = mesh_xmalloc((size_t)n * sizeof *newidx, 1);
         if (!newidx) {
             free(map);
             return gfail(err, errlen, "%s: out of memory", vf);
@@ -829,9 +827,9 @@ int pslg_check(pslg *g, char *err, size_t errlen) {
             return gfail(err, errlen, "%s:%d: segment %d has zero length (both endpoints are %s)",
                          sf, g->sline ? g->sline[s] : 0, s + g->first_index,
                          ndup ? "the same point" : "the same vertex");
-    skey *sk = malloc((size_t)(ns ? ns : 1) * sizeof *sk);
-    int32_t *ids = malloc((size_t)(ns ? ns : 1) * sizeof *ids);
-    char *keep = malloc((size_t)(ns ? ns : 1));
+    skey *sk = mesh_xmalloc((size_t)(ns ? ns : 1) * sizeof *sk, 1);
+    int32_t *ids = mesh_xmalloc((size_t)(ns ? ns : 1) * sizeof *ids, 1);
+    char *keep = mesh_xmalloc((size_t)(ns ? ns : 1), 1);
     if (!sk || !ids || !keep) {
         free(sk);
         free(ids);
@@ -961,7 +959,7 @@ static void split_visit(void *vctx, int32_t cell) {
         /* each vertex lives in one cell and a segment visits a cell once: no repeats */
         if (c->nhits == c->cap) {
             size_t nc = c->cap ? 2 * c->cap : 64;
-            int32_t *nh = realloc(c->hits, nc * 2 * sizeof(int32_t));
+            int32_t *nh = mesh_xrealloc(c->hits, nc * 2 * sizeof(int32_t), 1);
             if (!nh) {
                 c->oom = 1;
                 return;
@@ -1019,8 +1017,8 @@ static int arr_build(const pslg *g, arr *A) {
     if (n == 0) x0 = x1 = y0 = y1 = 0;
     grid_setup(&vg, x0, y0, x1, y1, n);
     size_t ncell = (size_t)vg.nx * vg.ny;
-    vg.start = calloc(ncell + 1, sizeof(int32_t));
-    vg.item = malloc((size_t)(n ? n : 1) * sizeof(int32_t));
+    vg.start = mesh_xcalloc(ncell + 1, sizeof(int32_t));
+    vg.item = mesh_xmalloc((size_t)(n ? n : 1) * sizeof(int32_t), 1);
     if (!vg.start || !vg.item) goto out;
     for (int32_t i = 0; i < n; i++)
         vg.start[grid_cy(&vg, g->xy[2 * i + 1]) * vg.nx + grid_cx(&vg, g->xy[2 * i]) + 1]++;
@@ -1043,9 +1041,9 @@ static int arr_build(const pslg *g, arr *A) {
     }
     /* sub-edges: hits are grouped by segment already (segments visited in order) */
     size_t nsub = (size_t)(ns > 0 ? ns : 0) + sc.nhits;
-    ek = malloc((nsub ? nsub : 1) * sizeof *ek);
-    order = malloc((sc.nhits ? sc.nhits : 1) * sizeof *order);
-    tmp = malloc((sc.nhits ? sc.nhits : 1) * sizeof *tmp);
+    ek = mesh_xmalloc((nsub ? nsub : 1) * sizeof *ek, 1);
+    order = mesh_xmalloc((sc.nhits ? sc.nhits : 1) * sizeof *order, 1);
+    tmp = mesh_xmalloc((sc.nhits ? sc.nhits : 1) * sizeof *tmp, 1);
     if (!ek || !order || !tmp) goto out;
     size_t ne = 0, h = 0;
     for (int32_t s = 0; s < ns; s++) {
@@ -1071,12 +1069,12 @@ static int arr_build(const pslg *g, arr *A) {
         if (m == 0 || ek[i].lo != ek[m - 1].lo || ek[i].hi != ek[m - 1].hi) ek[m++] = ek[i];
     ne = m;
     A->ne = (int32_t)ne;
-    A->org = malloc((2 * ne + 1) * sizeof(int32_t));
-    A->out = malloc((2 * ne + 1) * sizeof(int32_t));
-    A->pos = malloc((2 * ne + 1) * sizeof(int32_t));
-    A->vstart = calloc((size_t)n + 2, sizeof(int32_t));
+    A->org = mesh_xmalloc((2 * ne + 1) * sizeof(int32_t), 1);
+    A->out = mesh_xmalloc((2 * ne + 1) * sizeof(int32_t), 1);
+    A->pos = mesh_xmalloc((2 * ne + 1) * sizeof(int32_t), 1);
+    A->vstart = mesh_xcalloc((size_t)n + 2, sizeof(int32_t));
     free(tmp);
-    tmp = malloc((2 * ne + 1) * sizeof(int32_t));
+    tmp = mesh_xmalloc((2 * ne + 1) * sizeof(int32_t), 1);
     if (!A->org || !A->out || !A->pos || !A->vstart || !tmp) goto out;
     for (size_t e = 0; e < ne; e++) {
         A->org[2 * e] = ek[e].lo;
@@ -1125,10 +1123,10 @@ double pslg_input_angles(const pslg *g, double bound_deg,
     double best = 360;
     arr A = {0};
     A.xy = g->xy;
-    A.org = malloc((2 * (size_t)ns + 1) * sizeof(int32_t));
-    A.out = malloc((2 * (size_t)ns + 1) * sizeof(int32_t));
-    A.vstart = calloc((size_t)n + 2, sizeof(int32_t));
-    int32_t *tmp = malloc((2 * (size_t)ns + 1) * sizeof(int32_t));
+    A.org = mesh_xmalloc((2 * (size_t)ns + 1) * sizeof(int32_t), 1);
+    A.out = mesh_xmalloc((2 * (size_t)ns + 1) * sizeof(int32_t), 1);
+    A.vstart = mesh_xcalloc((size_t)n + 2, sizeof(int32_t));
+    int32_t *tmp = mesh_xmalloc((2 * (size_t)ns + 1) * sizeof(int32_t), 1);
     if (!A.org || !A.out || !A.vstart || !tmp) goto out;
     for (int32_t s = 0; s < ns; s++) {
         A.org[2 * s] = g->seg[2 * s];
@@ -1216,9 +1214,9 @@ double pslg_domain_area(const pslg *g) {
     arr A;
     if (g->nsegs == 0 || arr_build(g, &A)) return 0;
     int32_t nh = 2 * A.ne, n = g->nverts;
-    int32_t *cid = malloc((size_t)nh * sizeof(int32_t));
-    int32_t *uf = malloc((size_t)(n ? n : 1) * sizeof(int32_t));
-    cycle *cy = malloc((size_t)nh * sizeof(cycle));
+    int32_t *cid = mesh_xmalloc((size_t)nh * sizeof(int32_t), 1);
+    int32_t *uf = mesh_xmalloc((size_t)(n ? n : 1) * sizeof(int32_t), 1);
+    cycle *cy = mesh_xmalloc((size_t)nh * sizeof(cycle), 1);
     double total = 0;
     if (!cid || !uf || !cy) goto out;
     for (int32_t v = 0; v < n; v++)

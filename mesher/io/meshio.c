@@ -10,9 +10,11 @@
  * a million triangles stays a few tens of megabytes.  The reader takes .node (and .poly
  * segments) through pslg.c and parses .ele itself with the same full-token checks.
  */
-#include "meshio.h"
+#include "io/meshio.h"
 
-#include "pslg.h"
+#include "base/base.h"
+
+#include "geom/pslg.h"
 
 #include <errno.h>
 #include <math.h>
@@ -67,7 +69,7 @@ static int wopen(wfile *w, const char *path, char *err, size_t errlen) {
         unlink(w->tmp);
         return efail(err, errlen, "%s: cannot open temporary file: %s", path, strerror(e));
     }
-    w->vbuf = malloc(1 << 20);
+    w->vbuf = mesh_xmalloc(1 << 20, 1);
     if (w->vbuf) setvbuf(w->f, w->vbuf, _IOFBF, 1 << 20);
     return 0;
 }
@@ -145,7 +147,7 @@ static int write_node(const mesh_flat *m, const char *path, char *err, size_t er
     if (wopen(&w, path, err, errlen)) return -1;
     int nattr = m->vattr ? m->nattr : 0;
     fprintf(w.f, "%d 2 %d 1\n", (int)m->nverts, nattr);
-    char *line = malloc(64 + 32 * (size_t)nattr);
+    char *line = mesh_xmalloc(64 + 32 * (size_t)nattr, 1);
     if (!line) {
         efail(err, errlen, "%s: out of memory", path);
         return wclose(&w, 1);
@@ -287,7 +289,7 @@ static int read_ele(const char *path, mesh_flat *m, int first, char *err, size_t
     FILE *f = fopen(path, "rb");
     if (!f) return efail(err, errlen, "%s: cannot open: %s", path, strerror(errno));
     size_t cap = 1 << 16, n = 0;
-    char *buf = malloc(cap);
+    char *buf = mesh_xmalloc(cap, 1);
     for (;;) {
         if (!buf) {
             fclose(f);
@@ -295,7 +297,7 @@ static int read_ele(const char *path, mesh_flat *m, int first, char *err, size_t
         }
         n += fread(buf + n, 1, cap - n - 1, f);
         if (n < cap - 1) break;
-        char *nb = realloc(buf, cap * 2);
+        char *nb = mesh_xrealloc(buf, cap * 2, 1);
         if (!nb) free(buf);
         buf = nb;
         cap *= 2;
@@ -330,8 +332,8 @@ static int read_ele(const char *path, mesh_flat *m, int first, char *err, size_t
         goto out;
     }
     m->ntris = (int32_t)nt;
-    m->tri = malloc(((size_t)nt * 3 + 1) * sizeof(int32_t));
-    m->trank = nattr ? malloc(((size_t)nt + 1) * sizeof(int32_t)) : NULL;
+    m->tri = mesh_xmalloc(((size_t)nt * 3 + 1) * sizeof(int32_t), 1);
+    m->trank = nattr ? mesh_xmalloc(((size_t)nt + 1) * sizeof(int32_t), 1) : NULL;
     if (!m->tri || (nattr && !m->trank)) {
         lfail(err, errlen, path, line, "out of memory for %ld triangles", nt);
         goto out;
@@ -513,8 +515,8 @@ int meshio_write_svg(const mesh_flat *m, const char *path, char *err, size_t err
     int32_t maxr = 0;
     for (int32_t t = 0; m->trank && t < m->ntris; t++)
         if (m->trank[t] > maxr) maxr = m->trank[t];
-    int32_t *start = calloc((size_t)maxr + 2, sizeof(int32_t));
-    int32_t *order = malloc(((size_t)m->ntris + 1) * sizeof(int32_t));
+    int32_t *start = mesh_xcalloc((size_t)maxr + 2, sizeof(int32_t));
+    int32_t *order = mesh_xmalloc(((size_t)m->ntris + 1) * sizeof(int32_t), 1);
     if (!start || !order) {
         free(start);
         free(order);

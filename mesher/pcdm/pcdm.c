@@ -27,7 +27,9 @@
  * conforms.  The work function returns IDLE only when mesh_refine returned DONE (or hit the
  * Steiner limit) and no request arrived since, honouring rt_run's termination contract.
  */
-#include "pcdm.h"
+#include "pcdm/pcdm.h"
+
+#include "base/base.h"
 
 #include "rt.h"
 
@@ -48,9 +50,7 @@ static void split_handler(const rt_msg *msg, void *arg) {
     pcdm_slot *s = arg;
     pcdm_part *p = s->active;
     if (!p) {
-        fprintf(stderr, "pcdm: rank %d: split request from rank %d outside refinement\n", rt_rank(),
-                msg->src);
-        abort();
+        MESH_BUG("split request from rank %d outside refinement", msg->src);
     }
     pcdm_split_msg r;
     memcpy(&r, msg->data, sizeof r);
@@ -102,15 +102,15 @@ int pcdm_part_build(pcdm_part *p, const pcdm_decomp *d, int rank, char *err, siz
         mesh_free(m);
         return -1;
     }
-    int32_t *label = malloc(((size_t)m->nt + 1) * sizeof(int32_t));
+    int32_t *label = mesh_xmalloc(((size_t)m->nt + 1) * sizeof(int32_t), 1);
     if (!label) {
         snprintf(err, errlen, "pcdm: out of memory");
         mesh_free(m);
         return -1;
     }
     int32_t nreg = mesh_label_regions(m, label);
-    int32_t *regsub = malloc(((size_t)nreg + 1) * sizeof(int32_t));
-    uint8_t *keep = malloc((size_t)nreg + 1);
+    int32_t *regsub = mesh_xmalloc(((size_t)nreg + 1) * sizeof(int32_t), 1);
+    uint8_t *keep = mesh_xmalloc((size_t)nreg + 1, 1);
     if (!regsub || !keep) {
         snprintf(err, errlen, "pcdm: out of memory");
         free(label), free(regsub), free(keep);
@@ -238,8 +238,7 @@ int pcdm_part_refine(pcdm_part *p, const mesh_quality *q, int32_t poll_every) {
     p->dirty = 1;
     p->t_start = p->t_last = rt_wtime();
     if (slot.handler < 0) {
-        fprintf(stderr, "pcdm: pcdm_register was not called\n");
-        abort();
+        MESH_BUG("pcdm_register was not called");
     }
     slot.active = p;
     rt_run(work, p);
@@ -249,7 +248,7 @@ int pcdm_part_refine(pcdm_part *p, const mesh_quality *q, int32_t poll_every) {
 
 int pcdm_part_flat(const pcdm_part *p, mesh_flat *f) {
     if (mesh_to_flat(&p->m, f) != 0) return -1;
-    f->trank = malloc(((size_t)f->ntris + 1) * sizeof(int32_t));
+    f->trank = mesh_xmalloc(((size_t)f->ntris + 1) * sizeof(int32_t), 1);
     if (!f->trank) {
         mesh_flat_free(f);
         return -1;

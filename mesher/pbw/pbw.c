@@ -69,11 +69,13 @@
  * stay on their rank, phase 2 the rest (the paper's data-parallel variant, Figure 1 bottom).
  * Env PBW_DEBUG=DIR: each rank writes its queue/lock state to DIR/pbw.RANK.log every 2 s.
  */
-#include "pbw.h"
+#include "pbw/pbw.h"
 
-#include "geom.h"
-#include "mesh.h"
+#include "base/base.h"
+
+#include "geom/geom.h"
 #include "rt.h"
+#include "seq/mesh.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -82,29 +84,6 @@
 
 const char *const pbw_rsr_kind_name[PBW_RSR_NKINDS] = {"expansion", "reply", "release",
                                                        "commit",    "split", "wake"};
-
-#define PBW_BUG(...)                                                                               \
-    do {                                                                                           \
-        fprintf(stderr, "pbw: bug on rank %d (%s:%d): ", rt_rank(), __FILE__, __LINE__);           \
-        fprintf(stderr, __VA_ARGS__);                                                              \
-        fputc('\n', stderr);                                                                       \
-        fflush(stderr);                                                                            \
-        MPI_Abort(MPI_COMM_WORLD, 70);                                                             \
-    } while (0)
-
-static void *xrealloc(void *p, size_t n) {
-    void *q = realloc(p, n ? n : 1);
-    if (!q) PBW_BUG("out of memory (%zu bytes)", n);
-    return q;
-}
-
-#define GROW(p, n, cap)                                                                            \
-    do {                                                                                           \
-        if ((n) >= (cap)) {                                                                        \
-            (cap) = (cap) ? 2 * (cap) : 16;                                                        \
-            (p) = xrealloc((p), (size_t)(cap) * sizeof *(p));                                      \
-        }                                                                                          \
-    } while (0)
 
 /* ---- references and ids ---------------------------------------------------------------- */
 
@@ -339,7 +318,7 @@ static int32_t vt_find(int64_t gid) {
 static void vt_rehash(uint32_t cap) {
     free(G.vh);
     G.vhcap = cap;
-    G.vh = xrealloc(NULL, (size_t)cap * sizeof(int32_t));
+    G.vh = mesh_xrealloc(NULL, (size_t)cap * sizeof(int32_t), 1);
     for (uint32_t i = 0; i < cap; i++)
         G.vh[i] = -1;
     for (int32_t v = 0; v < G.nv; v++) {
@@ -355,9 +334,9 @@ static int32_t vt_add(int64_t gid, double x, double y, int32_t vseg) {
     if (v >= 0) return v;
     if (G.nv >= G.vcap) {
         G.vcap = G.vcap ? 2 * G.vcap : 1024;
-        G.xy = xrealloc(G.xy, 2 * (size_t)G.vcap * sizeof(double));
-        G.vgid = xrealloc(G.vgid, (size_t)G.vcap * sizeof(int64_t));
-        G.vseg = xrealloc(G.vseg, (size_t)G.vcap * sizeof(int32_t));
+        G.xy = mesh_xrealloc(G.xy, 2 * (size_t)G.vcap * sizeof(double), 1);
+        G.vgid = mesh_xrealloc(G.vgid, (size_t)G.vcap * sizeof(int64_t), 1);
+        G.vseg = mesh_xrealloc(G.vseg, (size_t)G.vcap * sizeof(int32_t), 1);
     }
     v = G.nv++;
     G.xy[2 * v] = x;
@@ -392,13 +371,13 @@ static int32_t slot_alloc(void) {
         if (G.nt >= G.tcap) {
             G.tcap = G.tcap ? 2 * G.tcap : 1024;
             size_t c = (size_t)G.tcap;
-            G.tv = xrealloc(G.tv, 3 * c * sizeof(int32_t));
-            G.tn = xrealloc(G.tn, 3 * c * sizeof(int64_t));
-            G.cs = xrealloc(G.cs, 3 * c * sizeof(int32_t));
-            G.cl = xrealloc(G.cl, 3 * c * sizeof(int32_t));
-            G.ck = xrealloc(G.ck, 3 * c * sizeof(int64_t));
-            G.lk = xrealloc(G.lk, c * sizeof(int32_t));
-            G.role = xrealloc(G.role, c);
+            G.tv = mesh_xrealloc(G.tv, 3 * c * sizeof(int32_t), 1);
+            G.tn = mesh_xrealloc(G.tn, 3 * c * sizeof(int64_t), 1);
+            G.cs = mesh_xrealloc(G.cs, 3 * c * sizeof(int32_t), 1);
+            G.cl = mesh_xrealloc(G.cl, 3 * c * sizeof(int32_t), 1);
+            G.ck = mesh_xrealloc(G.ck, 3 * c * sizeof(int64_t), 1);
+            G.lk = mesh_xrealloc(G.lk, c * sizeof(int32_t), 1);
+            G.role = mesh_xrealloc(G.role, c, 1);
         }
         s = G.nt++;
     }
@@ -412,7 +391,7 @@ static void slot_free(int32_t s) {
     G.tv[3 * (size_t)s] = -1;
     G.lk[s] = -1;
     G.role[s] = ROLE_NONE;
-    GROW(G.fre, G.nfree, G.frecap);
+    MESH_GROW(G.fre, G.nfree, G.frecap);
     G.fre[G.nfree++] = s;
 }
 
@@ -469,7 +448,7 @@ static void push_bad(int32_t t) {
         i = G.pool_free;
         G.pool_free = G.pool[i].next;
     } else {
-        GROW(G.pool, G.npool, G.poolcap);
+        MESH_GROW(G.pool, G.npool, G.poolcap);
         i = G.npool++;
     }
     G.pool[i].t = t;
@@ -562,7 +541,7 @@ static void iv_push(ivec *q, const pbw_item *it) {
         q->n -= q->head;
         q->head = 0;
     }
-    GROW(q->a, q->n, q->cap);
+    MESH_GROW(q->a, q->n, q->cap);
     q->a[q->n++] = *it;
 }
 
@@ -663,7 +642,7 @@ static int32_t hold_new(int64_t key, uint64_t stamp, int32_t origin) {
     for (i = 0; i < G.nhd; i++)
         if (!G.hd[i].active) break;
     if (i == G.nhd) {
-        GROW(G.hd, G.nhd, G.hdcap);
+        MESH_GROW(G.hd, G.nhd, G.hdcap);
         memset(&G.hd[G.nhd], 0, sizeof(pbw_hold));
         G.nhd++;
     }
@@ -681,7 +660,7 @@ static int32_t hold_new(int64_t key, uint64_t stamp, int32_t origin) {
 static void lock_slot(int32_t s, int32_t hi, int role) {
     if (G.lk[s] != hi) {
         pbw_hold *h = &G.hd[hi];
-        GROW(h->slots, h->n, h->cap);
+        MESH_GROW(h->slots, h->n, h->cap);
         h->slots[h->n++] = s;
         G.lk[s] = hi;
     }
@@ -691,7 +670,7 @@ static void lock_slot(int32_t s, int32_t hi, int role) {
 static void waiter_add(int64_t key, int32_t rank) {
     for (int32_t i = 0; i < G.nwt; i++)
         if (G.wt[i].key == key && G.wt[i].rank == rank) return;
-    GROW(G.wt, G.nwt, G.wtcap);
+    MESH_GROW(G.wt, G.nwt, G.wtcap);
     G.wt[G.nwt].key = key;
     G.wt[G.nwt].rank = rank;
     G.nwt++;
@@ -737,7 +716,7 @@ static void release_local(int32_t hi, int undo, int bump) {
 /* ---- cavity state -------------------------------------------------------------------------- */
 
 static pbw_cav *cav_new(void) {
-    pbw_cav *c = xrealloc(NULL, sizeof *c);
+    pbw_cav *c = mesh_xrealloc(NULL, sizeof *c, 1);
     memset(c, 0, sizeof *c);
     c->h.su = c->h.sv = c->h.holder = -1;
     return c;
@@ -756,7 +735,7 @@ static void cav_free(pbw_cav *c) {
 static void part_add(pbw_cav *c, int32_t r) {
     for (int32_t i = 0; i < c->np; i++)
         if (c->parts[i] == r) return;
-    GROW(c->parts, c->np, c->pcap);
+    MESH_GROW(c->parts, c->np, c->pcap);
     c->parts[c->np++] = r;
 }
 
@@ -771,10 +750,10 @@ static void part_remove(pbw_cav *c, int32_t r) {
 static void push_seed(pbw_cav *c, int64_t target, int64_t from, int64_t ga, int64_t gb, int mode) {
     pbw_seed s = {target, from, ga, gb, mode, 0};
     if (ref_rank(target) == G.rank) {
-        GROW(c->stk, c->nstk, c->scap);
+        MESH_GROW(c->stk, c->nstk, c->scap);
         c->stk[c->nstk++] = s;
     } else {
-        GROW(c->todo, c->ntodo, c->tcap);
+        MESH_GROW(c->todo, c->ntodo, c->tcap);
         c->todo[c->ntodo++] = s;
     }
 }
@@ -791,8 +770,8 @@ static void *cav_pack(pbw_cav *c, int full, uint32_t *len) {
     size_t pl = pad8((size_t)c->np * sizeof(int32_t));
     size_t n = sizeof(pbw_whdr) + pl + (size_t)c->h.nbnd * sizeof(pbw_bnd) +
                (size_t)c->h.nseed * sizeof(pbw_seed);
-    if (n > MAXMSG) PBW_BUG("cavity message of %zu bytes", n);
-    char *buf = xrealloc(NULL, n), *q = buf;
+    if (n > MAXMSG) MESH_BUG("cavity message of %zu bytes", n);
+    char *buf = mesh_xrealloc(NULL, n, 1), *q = buf;
     memset(buf, 0, n);
     memcpy(q, &c->h, sizeof c->h);
     q += sizeof c->h;
@@ -808,25 +787,25 @@ static void *cav_pack(pbw_cav *c, int full, uint32_t *len) {
 /* Replaces c's header and arrays by the serialised state data. */
 static void cav_unpack_into(pbw_cav *c, const void *data, uint32_t len) {
     const char *q = data;
-    if (len < sizeof(pbw_whdr)) PBW_BUG("short cavity message (%u bytes)", (unsigned)len);
+    if (len < sizeof(pbw_whdr)) MESH_BUG("short cavity message (%u bytes)", (unsigned)len);
     memcpy(&c->h, q, sizeof c->h);
     q += sizeof c->h;
     size_t pl = pad8((size_t)c->h.nparts * sizeof(int32_t));
     size_t need = sizeof(pbw_whdr) + pl + (size_t)c->h.nbnd * sizeof(pbw_bnd) +
                   (size_t)c->h.nseed * sizeof(pbw_seed);
     if (c->h.nparts < 0 || c->h.nbnd < 0 || c->h.nseed < 0 || need != len)
-        PBW_BUG("malformed cavity message (%u bytes, expected %zu)", (unsigned)len, need);
+        MESH_BUG("malformed cavity message (%u bytes, expected %zu)", (unsigned)len, need);
     c->np = c->nb = c->ntodo = 0;
     for (int32_t i = 0; i < c->h.nparts; i++)
         part_add(c, ((const int32_t *)q)[i]);
     q += pl;
     for (int32_t i = 0; i < c->h.nbnd; i++) {
-        GROW(c->b, c->nb, c->bcap);
+        MESH_GROW(c->b, c->nb, c->bcap);
         memcpy(&c->b[c->nb++], q, sizeof(pbw_bnd));
         q += sizeof(pbw_bnd);
     }
     for (int32_t i = 0; i < c->h.nseed; i++) {
-        GROW(c->todo, c->ntodo, c->tcap);
+        MESH_GROW(c->todo, c->ntodo, c->tcap);
         memcpy(&c->todo[c->ntodo++], q, sizeof(pbw_seed));
         q += sizeof(pbw_seed);
     }
@@ -852,7 +831,7 @@ static void report(pbw_cav *c, int32_t hi, int32_t la, int32_t lb, int64_t out, 
     r.ck = ck;
     if (geom_orient2d(VX(la), VX(lb), c->h.p) <= 0) r.flags |= BF_BEYOND;
     if (cseg >= 0 && geom_encroaches(VX(la), VX(lb), c->h.p)) r.flags |= BF_ENC;
-    GROW(c->b, c->nb, c->bcap);
+    MESH_GROW(c->b, c->nb, c->bcap);
     c->b[c->nb++] = r;
 }
 
@@ -895,7 +874,7 @@ static int process(pbw_cav *c, int32_t hi, int initial) {
         pbw_seed s = c->stk[c->nstk - 1];
         int32_t x = ref_idx(s.target);
         if (ref_rank(s.target) != G.rank || x < 0 || x >= G.nt)
-            PBW_BUG("seed names triangle (%d, %d)", ref_rank(s.target), x);
+            MESH_BUG("seed names triangle (%d, %d)", ref_rank(s.target), x);
         int32_t h = G.lk[x];
         if (h >= 0 && h != hi) {
             c->h.holder = G.hd[h].key;
@@ -903,13 +882,13 @@ static int process(pbw_cav *c, int32_t hi, int initial) {
             return older(c->h.stamp, c->h.key, G.hd[h].stamp, G.hd[h].key) ? PR_PARK : PR_DIE;
         }
         c->nstk--;
-        if (!alive(x)) PBW_BUG("seed names dead triangle %d (mode %d)", x, s.mode);
+        if (!alive(x)) MESH_BUG("seed names dead triangle %d (mode %d)", x, s.mode);
         int j = -1;
         if (s.mode != SEED_START) {
             j = find_edge(x, s.gb, s.ga);
             if (j < 0)
-                PBW_BUG("triangle %d has no edge %lld->%lld (mode %d)", x, (long long)s.gb,
-                        (long long)s.ga, s.mode);
+                MESH_BUG("triangle %d has no edge %lld->%lld (mode %d)", x, (long long)s.gb,
+                         (long long)s.ga, s.mode);
         }
         int role = h == hi ? G.role[x] : ROLE_NONE;
         switch (s.mode) {
@@ -944,7 +923,7 @@ static int process(pbw_cav *c, int32_t hi, int initial) {
             }
             break;
         default:
-            PBW_BUG("bad seed mode %d", s.mode);
+            MESH_BUG("bad seed mode %d", s.mode);
         }
     }
     return PR_DONE;
@@ -978,7 +957,7 @@ static void check_new_triangle(int32_t t) {
  * halos get their link to the new triangle, everything is unlocked. */
 static void apply_commit(const pbw_commit_hdr *ch, const pbw_newtri *nt, int bump) {
     int32_t hi = hold_find(ch->key);
-    if (hi < 0) PBW_BUG("commit for unknown cavity %llx", (unsigned long long)ch->key);
+    if (hi < 0) MESH_BUG("commit for unknown cavity %llx", (unsigned long long)ch->key);
     pbw_hold *h = &G.hd[hi];
     vt_add(ch->pgid, ch->p[0], ch->p[1], ch->pvseg);
     for (int32_t i = 0; i < h->n; i++) {
@@ -992,10 +971,10 @@ static void apply_commit(const pbw_commit_hdr *ch, const pbw_newtri *nt, int bum
         const pbw_newtri *r = &nt[i];
         int32_t s = r->slot;
         if (s < 0 || s >= G.nt || G.lk[s] != hi || G.role[s] != ROLE_RES)
-            PBW_BUG("commit writes slot %d not reserved by the cavity", s);
+            MESH_BUG("commit writes slot %d not reserved by the cavity", s);
         for (int j = 0; j < 3; j++) {
             int32_t v = vt_find(r->g[j]);
-            if (v < 0) PBW_BUG("commit names unknown vertex %lld", (long long)r->g[j]);
+            if (v < 0) MESH_BUG("commit names unknown vertex %lld", (long long)r->g[j]);
             size_t e = 3 * (size_t)s + (size_t)j;
             G.tv[e] = v;
             G.tn[e] = r->nb[j];
@@ -1007,18 +986,18 @@ static void apply_commit(const pbw_commit_hdr *ch, const pbw_newtri *nt, int bum
         G.role[s] = ROLE_NONE;
         G.nlive++;
         if (r->nb[0] != NOREF) {
-            if (ref_rank(r->nb[0]) != G.rank) PBW_BUG("halo of a new triangle on another rank");
+            if (ref_rank(r->nb[0]) != G.rank) MESH_BUG("halo of a new triangle on another rank");
             int32_t x = ref_idx(r->nb[0]);
             int j = alive(x) ? find_edge(x, r->g[1], r->g[0]) : -1;
             if (j < 0 || G.lk[x] != hi || G.role[x] != ROLE_HALO)
-                PBW_BUG("halo %d of the new triangle is not the cavity's", x);
+                MESH_BUG("halo %d of the new triangle is not the cavity's", x);
             G.tn[3 * (size_t)x + (size_t)j] = mkref(G.rank, s);
         }
     }
     for (int32_t i = 0; i < h->n; i++) {
         int32_t s = h->slots[i];
         if (G.lk[s] != hi) continue;
-        if (G.role[s] == ROLE_RES) PBW_BUG("reserved slot %d left unused by the commit", s);
+        if (G.role[s] == ROLE_RES) MESH_BUG("reserved slot %d left unused by the commit", s);
         G.lk[s] = -1;
         G.role[s] = ROLE_NONE;
     }
@@ -1051,8 +1030,8 @@ static void gmap_init(gmap *m, int32_t n) {
     uint32_t cap = 16;
     while (cap < 2 * (uint32_t)n + 2)
         cap *= 2;
-    m->key = xrealloc(NULL, cap * sizeof(int64_t));
-    m->val = xrealloc(NULL, cap * sizeof(int32_t));
+    m->key = mesh_xrealloc(NULL, cap * sizeof(int64_t), 1);
+    m->val = mesh_xrealloc(NULL, cap * sizeof(int32_t), 1);
     m->mask = cap - 1;
     for (uint32_t i = 0; i < cap; i++)
         m->val[i] = -1;
@@ -1101,7 +1080,7 @@ static int commit_all(pbw_cav *c) {
     int bad = n < 1;
     for (int32_t i = 0; i < n && !bad; i++)
         if (gmap_put(&A, c->b[i].ga, i) != 0 || gmap_put(&B, c->b[i].gb, i) != 0) bad = 1;
-    pbw_newtri *nt = xrealloc(NULL, (size_t)(n > 0 ? n : 1) * sizeof *nt);
+    pbw_newtri *nt = mesh_xrealloc(NULL, (size_t)(n > 0 ? n : 1) * sizeof *nt, 1);
     int64_t pgid = ((int64_t)(G.rank + 1) << 32) | G.nvown;
     for (int32_t i = 0; i < n && !bad; i++) {
         const pbw_bnd *b = &c->b[i];
@@ -1144,7 +1123,7 @@ static int commit_all(pbw_cav *c) {
     G.nvown++;
     G.res.steiner++;
     /* one message per participant, with the new triangles it owns */
-    pbw_newtri *mine = xrealloc(NULL, (size_t)(n > 0 ? n : 1) * sizeof *mine);
+    pbw_newtri *mine = mesh_xrealloc(NULL, (size_t)(n > 0 ? n : 1) * sizeof *mine, 1);
     for (int32_t pi = 0; pi < c->np; pi++) {
         int32_t r = c->parts[pi];
         int32_t m = 0;
@@ -1163,7 +1142,7 @@ static int commit_all(pbw_cav *c) {
             apply_commit(&ch, mine, hi >= 0 && G.hd[hi].distributed);
         } else {
             size_t len = sizeof ch + (size_t)m * sizeof(pbw_newtri);
-            char *buf = xrealloc(NULL, len);
+            char *buf = mesh_xrealloc(NULL, len, 1);
             memcpy(buf, &ch, sizeof ch);
             if (m > 0) memcpy(buf + sizeof ch, mine, (size_t)m * sizeof(pbw_newtri));
             rt_rsr(r, G.hid[PBW_RSR_COMMIT], buf, (uint32_t)len);
@@ -1266,7 +1245,7 @@ static void chain_continue(pbw_cav *c, int32_t hi) {
     int r = process(c, hi, 0);
     G.hd[hi].t_spent += rt_wtime() - t0;
     if (r == PR_PARK) {
-        GROW(G.pk, G.npk, G.pkcap);
+        MESH_GROW(G.pk, G.npk, G.pkcap);
         G.pk[G.npk++] = c;
         G.res.parked++;
         return;
@@ -1312,7 +1291,7 @@ static void drain_parked(void) {
         pbw_cav *c = G.pk[best];
         G.pk[best] = G.pk[--G.npk];
         int32_t hi = hold_find(c->h.key);
-        if (hi < 0) PBW_BUG("parked cavity lost its locks");
+        if (hi < 0) MESH_BUG("parked cavity lost its locks");
         chain_continue(c, hi);
     }
     G.draining = 0;
@@ -1335,7 +1314,7 @@ static void h_expand(const rt_msg *m, void *arg) {
     for (int32_t i = 0; i < c->ntodo; i++) {
         pbw_seed s = c->todo[i];
         if (ref_rank(s.target) == G.rank) {
-            GROW(c->stk, c->nstk, c->scap);
+            MESH_GROW(c->stk, c->nstk, c->scap);
             c->stk[c->nstk++] = s;
         } else {
             c->todo[k++] = s;
@@ -1350,20 +1329,20 @@ static void h_expand(const rt_msg *m, void *arg) {
 
 static void h_reply(const rt_msg *m, void *arg) {
     (void)arg;
-    if (!m->task) PBW_BUG("cavity reply without a waiting task");
+    if (!m->task) MESH_BUG("cavity reply without a waiting task");
     pbw_cav *c = rt_task_data(m->task);
     free(c->reply);
-    c->reply = xrealloc(NULL, m->len);
+    c->reply = mesh_xrealloc(NULL, m->len, 1);
     memcpy(c->reply, m->data, m->len);
     c->replylen = m->len;
     pbw_whdr h;
-    if (m->len < sizeof h) PBW_BUG("short cavity reply");
+    if (m->len < sizeof h) MESH_BUG("short cavity reply");
     memcpy(&h, m->data, sizeof h);
     if (h.status == ST_DIE && h.died_at != G.rank) {
         /* the WAKE for the holder may overtake the task's run: note it (wake_key) */
         c->die_holder = h.holder;
         c->woken = 0;
-        GROW(G.dy, G.ndy, G.dycap);
+        MESH_GROW(G.dy, G.ndy, G.dycap);
         G.dy[G.ndy++] = c;
     }
 }
@@ -1380,7 +1359,7 @@ static void h_commit(const rt_msg *m, void *arg) {
     (void)arg;
     const pbw_commit_hdr *ch = m->data;
     if (m->len < sizeof *ch || m->len != sizeof *ch + (size_t)ch->n * sizeof(pbw_newtri))
-        PBW_BUG("malformed commit (%u bytes)", (unsigned)m->len);
+        MESH_BUG("malformed commit (%u bytes)", (unsigned)m->len);
     apply_commit(ch, (const pbw_newtri *)(ch + 1), 1);
     drain_parked();
 }
@@ -1419,7 +1398,7 @@ static rt_task_status cav_task(rt_task *t, void *state) {
         free(buf);
         return RT_TASK_WAIT;
     }
-    if (!c->reply) PBW_BUG("cavity task resumed without a reply");
+    if (!c->reply) MESH_BUG("cavity task resumed without a reply");
     for (int32_t i = 0; i < G.ndy; i++)
         if (G.dy[i] == c) {
             G.dy[i] = G.dy[--G.ndy];
@@ -1721,9 +1700,9 @@ static int owners(const mesh *m0, const pcdm_decomp *d, int32_t *own, char *err,
         mesh_free(&md);
         return -1;
     }
-    int32_t *lab = xrealloc(NULL, ((size_t)md.nt + 1) * sizeof(int32_t));
+    int32_t *lab = mesh_xrealloc(NULL, ((size_t)md.nt + 1) * sizeof(int32_t), 1);
     int32_t nreg = mesh_label_regions(&md, lab);
-    int32_t *rsub = xrealloc(NULL, ((size_t)nreg + 1) * sizeof(int32_t));
+    int32_t *rsub = mesh_xrealloc(NULL, ((size_t)nreg + 1) * sizeof(int32_t), 1);
     for (int32_t i = 0; i < nreg; i++)
         rsub[i] = -1;
     for (int32_t t = 0; t < md.nt; t++) {
@@ -1765,7 +1744,7 @@ static int owners(const mesh *m0, const pcdm_decomp *d, int32_t *own, char *err,
 }
 
 static int32_t *dup_i32(const int32_t *a, size_t n) {
-    int32_t *b = xrealloc(NULL, (n + 1) * sizeof(int32_t));
+    int32_t *b = mesh_xrealloc(NULL, (n + 1) * sizeof(int32_t), 1);
     if (n) memcpy(b, a, n * sizeof(int32_t));
     return b;
 }
@@ -1804,14 +1783,14 @@ static int setup(const pbw_setup_opts *so, const pslg *in, const pcdm_decomp *d,
         mesh_refine(&m0);
         G.res.pre_tris = m0.nlive;
     }
-    int32_t *own = xrealloc(NULL, ((size_t)m0.nt + 1) * sizeof(int32_t));
+    int32_t *own = mesh_xrealloc(NULL, ((size_t)m0.nt + 1) * sizeof(int32_t), 1);
     if (owners(&m0, d, own, err, errlen) != 0) {
         free(own);
         mesh_free(&m0);
         return -1;
     }
-    int32_t *lidx = xrealloc(NULL, ((size_t)m0.nt + 1) * sizeof(int32_t));
-    int32_t *cnt = xrealloc(NULL, (size_t)G.size * sizeof(int32_t));
+    int32_t *lidx = mesh_xrealloc(NULL, ((size_t)m0.nt + 1) * sizeof(int32_t), 1);
+    int32_t *cnt = mesh_xrealloc(NULL, (size_t)G.size * sizeof(int32_t), 1);
     memset(cnt, 0, (size_t)G.size * sizeof(int32_t));
     for (int32_t t = 0; t < m0.nt; t++)
         lidx[t] = own[t] >= 0 ? cnt[own[t]]++ : -1;
@@ -1823,7 +1802,7 @@ static int setup(const pbw_setup_opts *so, const pslg *in, const pcdm_decomp *d,
     G.in_vmarker = dup_i32(m0.in_vmarker, (size_t)m0.ninput);
     G.inc_off = dup_i32(m0.inc_off, (size_t)m0.ninput + 1);
     G.inc_seg = dup_i32(m0.inc_seg, (size_t)m0.inc_off[m0.ninput]);
-    G.corner = xrealloc(NULL, (size_t)m0.ninput + 1);
+    G.corner = mesh_xrealloc(NULL, (size_t)m0.ninput + 1, 1);
     memcpy(G.corner, m0.corner, (size_t)m0.ninput);
     G.has_corners = m0.has_corners;
     /* initial vertices keep their index as global id (input vertices first) */
@@ -1836,7 +1815,7 @@ static int setup(const pbw_setup_opts *so, const pslg *in, const pcdm_decomp *d,
     for (int32_t t = 0; t < m0.nt; t++) {
         if (own[t] != G.rank) continue;
         int32_t s = slot_alloc();
-        if (s != lidx[t]) PBW_BUG("slot %d for triangle %d (expected %d)", s, t, lidx[t]);
+        if (s != lidx[t]) MESH_BUG("slot %d for triangle %d (expected %d)", s, t, lidx[t]);
         for (int j = 0; j < 3; j++) {
             int32_t e = 3 * t + j;
             size_t f = 3 * (size_t)s + (size_t)j;
@@ -1844,7 +1823,7 @@ static int setup(const pbw_setup_opts *so, const pslg *in, const pcdm_decomp *d,
             int32_t nb = m0.tn[e];
             G.tn[f] = nb >= 0 ? mkref(own[nb / 3], lidx[nb / 3]) : NOREF;
             const mesh_subseg *ss = mesh_subseg_of_edge(&m0, e);
-            if (mesh_edge_constrained(&m0, e) && !ss) PBW_BUG("constraint edge without record");
+            if (mesh_edge_constrained(&m0, e) && !ss) MESH_BUG("constraint edge without record");
             G.cs[f] = ss ? ss->seg : -1;
             G.cl[f] = ss ? ss->level : -1;
             G.ck[f] = ss ? ss->k : 0;
@@ -1864,7 +1843,7 @@ static int setup(const pbw_setup_opts *so, const pslg *in, const pcdm_decomp *d,
 /* This rank's triangles as a mesh_flat (local numbering of the vertices they use). */
 static int to_flat(mesh_flat *f) {
     memset(f, 0, sizeof *f);
-    int32_t *map = xrealloc(NULL, ((size_t)G.nv + 1) * sizeof(int32_t));
+    int32_t *map = mesh_xrealloc(NULL, ((size_t)G.nv + 1) * sizeof(int32_t), 1);
     for (int32_t v = 0; v < G.nv; v++)
         map[v] = -1;
     int32_t nv = 0, ntri = 0, nseg = 0;
@@ -1878,8 +1857,8 @@ static int to_flat(mesh_flat *f) {
         }
     }
     f->nverts = nv;
-    f->xy = xrealloc(NULL, 2 * ((size_t)nv + 1) * sizeof(double));
-    f->vmarker = xrealloc(NULL, ((size_t)nv + 1) * sizeof(int32_t));
+    f->xy = mesh_xrealloc(NULL, 2 * ((size_t)nv + 1) * sizeof(double), 1);
+    f->vmarker = mesh_xrealloc(NULL, ((size_t)nv + 1) * sizeof(int32_t), 1);
     for (int32_t v = 0; v < G.nv; v++) {
         int32_t o = map[v];
         if (o < 0) continue;
@@ -1891,12 +1870,12 @@ static int to_flat(mesh_flat *f) {
                                                  : 0;
     }
     f->ntris = ntri;
-    f->tri = xrealloc(NULL, 3 * ((size_t)ntri + 1) * sizeof(int32_t));
-    f->trank = xrealloc(NULL, ((size_t)ntri + 1) * sizeof(int32_t));
+    f->tri = mesh_xrealloc(NULL, 3 * ((size_t)ntri + 1) * sizeof(int32_t), 1);
+    f->trank = mesh_xrealloc(NULL, ((size_t)ntri + 1) * sizeof(int32_t), 1);
     f->nsegs = nseg;
-    f->seg = xrealloc(NULL, 2 * ((size_t)nseg + 1) * sizeof(int32_t));
-    f->smarker = xrealloc(NULL, ((size_t)nseg + 1) * sizeof(int32_t));
-    f->sinterface = xrealloc(NULL, ((size_t)nseg + 1) * sizeof(int32_t));
+    f->seg = mesh_xrealloc(NULL, 2 * ((size_t)nseg + 1) * sizeof(int32_t), 1);
+    f->smarker = mesh_xrealloc(NULL, ((size_t)nseg + 1) * sizeof(int32_t), 1);
+    f->sinterface = mesh_xrealloc(NULL, ((size_t)nseg + 1) * sizeof(int32_t), 1);
     ntri = nseg = 0;
     for (int32_t t = 0; t < G.nt; t++) {
         if (!alive(t) || G.lk[t] >= 0) continue;
@@ -2013,10 +1992,10 @@ int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat 
     }
     rt_run(work, NULL);
     if (G.npk != 0 || G.inflight != 0)
-        PBW_BUG("%d parked, %d in flight at the end", G.npk, G.inflight);
+        MESH_BUG("%d parked, %d in flight at the end", G.npk, G.inflight);
     for (int32_t i = 0; i < G.nhd; i++)
         if (G.hd[i].active)
-            PBW_BUG("cavity %llx still holds locks", (unsigned long long)G.hd[i].key);
+            MESH_BUG("cavity %llx still holds locks", (unsigned long long)G.hd[i].key);
     to_flat(local);
     G.res.ntris = G.nlive;
     G.res.mesh_bytes = mesh_bytes();

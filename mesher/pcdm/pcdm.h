@@ -22,9 +22,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "mesh.h"
-#include "meshio.h"
-#include "pcdm_decomp.h"
+#include "decomp/decomp.h"
+#include "io/meshio.h"
+#include "seq/mesh.h"
 
 /* The one RSR payload: split the subsegment [k/2^level, (k+1)/2^level] of segment seg (an
  * interface piece of the decomposition's PSLG, d.g numbering). */

@@ -56,8 +56,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "meshio.h"
-#include "pslg.h"
+#include "geom/pslg.h"
+#include "io/meshio.h"
 
 #define MESH_GHOST (-1) /* the vertex at infinity (only while building) */
 #define MESH_DEAD (-2)  /* tv[3t] of a dead triangle */

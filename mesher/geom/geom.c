@@ -22,7 +22,9 @@
  * underflow and overflow; see geom.h for the sufficient coordinate ranges.  All state is
  * compile-time constant, so every function is thread-safe and Local.
  */
-#include "geom.h"
+#include "geom/geom.h"
+
+#include "base/base.h"
 
 #include <float.h>
 #include <math.h>
@@ -71,9 +73,7 @@ void geom_init(void) {
     volatile double three_eps = 3.0 * EPS, one = 1.0;
     if (eps != EPS || splitter != SPLITTER || one + three_eps != 1.0 + 4.0 * EPS ||
         one + EPS != 1.0) {
-        fprintf(stderr, "%s:%d: geom_init: floating point is not IEEE binary64 round-to-even\n",
-                __FILE__, __LINE__);
-        abort();
+        MESH_BUG("geom_init: floating point is not IEEE binary64 round-to-even");
     }
 }
 
@@ -208,9 +208,7 @@ static int exp_mul(int elen, const double *e, int flen, const double *f, double 
         e = f, elen = flen, f = t, flen = tn;
     }
     if (elen > 16 || elen * flen > EXP_MUL_MAX) {
-        fprintf(stderr, "%s:%d: exp_mul: operands too long (%d x %d)\n", __FILE__, __LINE__, elen,
-                flen);
-        abort();
+        MESH_BUG("exp_mul: operands too long (%d x %d)", elen, flen);
     }
     for (int j = 0; j < flen; j++) {
         int sn = exp_scale(elen, e, f[j], scaled);

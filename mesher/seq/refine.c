@@ -32,7 +32,7 @@
  */
 #include "mesh_impl.h"
 
-#include "geom.h"
+#include "geom/geom.h"
 
 #include <math.h>
 #include <string.h>

@@ -31,8 +31,8 @@
 #ifndef VALIDATE_H
 #define VALIDATE_H
 
-#include "meshio.h"
-#include "pslg.h"
+#include "geom/pslg.h"
+#include "io/meshio.h"
 
 #include <stdio.h>
 

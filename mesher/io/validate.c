@@ -13,9 +13,11 @@
  * to a relative 1e-9.  Quality checks exempt triangles at small input angles (rule in
  * validate.h).
  */
-#include "validate.h"
+#include "io/validate.h"
 
-#include "geom.h"
+#include "base/base.h"
+
+#include "geom/geom.h"
 
 #include <float.h>
 #include <math.h>
@@ -94,7 +96,7 @@ static int32_t etab_find(const etab *T, int32_t u, int32_t v) {
 
 static int etab_grow(etab *T) {
     size_t ns = T->nslot ? T->nslot * 2 : 1024;
-    int32_t *sl = malloc(ns * sizeof *sl);
+    int32_t *sl = mesh_xmalloc(ns * sizeof *sl, 1);
     if (!sl) return -1;
     memset(sl, 0xff, ns * sizeof *sl);
     for (int32_t k = 0; k < T->n; k++) {
@@ -125,7 +127,7 @@ static int32_t etab_get(etab *T, int32_t u, int32_t v) {
     }
     if (T->n == T->cap) {
         int32_t nc = T->cap ? 2 * T->cap : 1024;
-        erec *nr = realloc(T->rec, (size_t)nc * sizeof *nr);
+        erec *nr = mesh_xrealloc(T->rec, (size_t)nc * sizeof *nr, 1);
         if (!nr) return -1;
         T->rec = nr;
         T->cap = nc;
@@ -170,7 +172,7 @@ static void gap_cb(void *ctx, int32_t v, int32_t s1, int32_t s2, double deg) {
     gaplist *L = ctx;
     if (L->n == L->cap) {
         int32_t nc = L->cap ? 2 * L->cap : 16;
-        gap *ng = realloc(L->g, (size_t)nc * sizeof *ng);
+        gap *ng = mesh_xrealloc(L->g, (size_t)nc * sizeof *ng, 1);
         if (!ng) {
             L->oom = 1;
             return;
@@ -276,7 +278,7 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
     if (r->bad_conform) goto done;
 
     /* 2. orientation and areas */
-    tbad = calloc((size_t)nt + 1, 1);
+    tbad = mesh_xcalloc((size_t)nt + 1, 1);
     if (!tbad) {
         oom(r);
         goto done;
@@ -297,8 +299,8 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
     r->mesh_area = ksum_get(&area);
 
     /* 3. directed edges bucketed by their smaller vertex, each bucket sorted by the larger */
-    bstart = calloc((size_t)nv + 2, sizeof *bstart);
-    bhe = malloc((3 * (size_t)nt + 1) * sizeof *bhe);
+    bstart = mesh_xcalloc((size_t)nv + 2, sizeof *bstart);
+    bhe = mesh_xmalloc((3 * (size_t)nt + 1) * sizeof *bhe, 1);
     if (!bstart || !bhe) {
         oom(r);
         goto done;
@@ -319,7 +321,7 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
     for (int32_t v = nv; v > 0; v--)
         bstart[v] = bstart[v - 1];
     bstart[0] = 0;
-    scratch = malloc(((size_t)maxdeg + 1) * sizeof *scratch);
+    scratch = mesh_xmalloc(((size_t)maxdeg + 1) * sizeof *scratch, 1);
     if (!scratch) {
         oom(r);
         goto done;
@@ -426,11 +428,11 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
 
     /* 6. input vertices: exact coordinates, by hash */
     int32_t gn = g ? g->nverts : 0;
-    gmap = malloc(((size_t)gn + 1) * sizeof *gmap);
+    gmap = mesh_xmalloc(((size_t)gn + 1) * sizeof *gmap, 1);
     size_t gns = 16;
     while (gns < 2 * (size_t)gn + 2)
         gns *= 2;
-    gslot = malloc(gns * sizeof *gslot);
+    gslot = mesh_xmalloc(gns * sizeof *gslot, 1);
     if (!gmap || !gslot) {
         oom(r);
         goto done;
@@ -475,7 +477,7 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
     }
 
     /* 7. small input corners and the segments that form them */
-    vflag = calloc((size_t)nv + 1, 1);
+    vflag = mesh_xcalloc((size_t)nv + 1, 1);
     if (!vflag) {
         oom(r);
         goto done;
@@ -486,8 +488,8 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
         goto done;
     }
     int32_t gsn = g ? g->nsegs : 0;
-    tstart = calloc((size_t)gsn + 2, sizeof *tstart);
-    tags = malloc(((size_t)gl.n * 2 + 1) * sizeof *tags);
+    tstart = mesh_xcalloc((size_t)gsn + 2, sizeof *tstart);
+    tags = mesh_xmalloc(((size_t)gl.n * 2 + 1) * sizeof *tags, 1);
     if (!tstart || !tags) {
         oom(r);
         goto done;
@@ -511,10 +513,10 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
     tstart[0] = 0;
 
     /* 8. input segments as chains over segment and boundary edges */
-    astart = calloc((size_t)nv + 2, sizeof *astart);
-    adj = malloc(((size_t)T.n * 2 + 1) * sizeof *adj);
-    chain = malloc(((size_t)T.n + 1) * sizeof *chain);
-    chainv = malloc(((size_t)T.n + 2) * sizeof *chainv);
+    astart = mesh_xcalloc((size_t)nv + 2, sizeof *astart);
+    adj = mesh_xmalloc(((size_t)T.n * 2 + 1) * sizeof *adj, 1);
+    chain = mesh_xmalloc(((size_t)T.n + 1) * sizeof *chain, 1);
+    chainv = mesh_xmalloc(((size_t)T.n + 2) * sizeof *chainv, 1);
     if (!astart || !adj || !chain || !chainv) {
         oom(r);
         goto done;
@@ -595,7 +597,7 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
             for (int32_t i = 0; i <= nch; i++) {
                 if (nvt == capvt) {
                     size_t nc = capvt ? 2 * capvt : 256;
-                    vtag *nvtag = realloc(vt, nc * sizeof *vt);
+                    vtag *nvtag = mesh_xrealloc(vt, nc * sizeof *vt, 1);
                     if (!nvtag) {
                         oom(r);
                         goto done;

@@ -3,22 +3,14 @@
 #ifndef MESH_IMPL_H
 #define MESH_IMPL_H
 
-#include "mesh.h"
+#include "base/base.h"
+#include "seq/mesh.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 
 #define MESH_MARK 8u    /* tf scratch bit */
 #define MESH_QUEUED 16u /* tf: queued as a bad triangle since the slot was last written */
-
-/* A bug: report and abort. */
-#define MESH_BUG(...)                                                                              \
-    do {                                                                                           \
-        fprintf(stderr, "%s:%d: mesh bug: ", __FILE__, __LINE__);                                  \
-        fprintf(stderr, __VA_ARGS__);                                                              \
-        fputc('\n', stderr);                                                                       \
-        abort();                                                                                   \
-    } while (0)
 
 /* One boundary edge of a cavity, in counter-clockwise order around it. */
 typedef struct mesh_bedge {
@@ -31,7 +23,6 @@ typedef struct mesh_bedge {
 /* Cavity outcome. */
 enum { CAV_OK = 0, CAV_NOT_STAR = -1, CAV_CYCLE = -2 };
 
-void *mesh_xrealloc(void *p, size_t n, size_t size);
 uint64_t mesh_rand(mesh *m);
 
 int32_t mesh_vert_add(mesh *m, double x, double y, int32_t vseg);

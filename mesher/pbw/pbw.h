@@ -8,17 +8,17 @@
  * everywhere or released everywhere (undo).  See pbw.c for the protocol and its progress
  * argument.
  *
- * Collective = every rank of rt_comm() calls it; Local otherwise.
+ * Collective = every rank of rt_app_comm() calls it; Local otherwise.
  */
 #ifndef PBW_H
 #define PBW_H
 
 #include <stdint.h>
 
-#include "meshio.h"
-#include "par.h"
-#include "pcdm_decomp.h"
-#include "pslg.h"
+#include "decomp/decomp.h"
+#include "geom/pslg.h"
+#include "io/meshio.h"
+#include "par/par.h"
 
 /* RSR kinds, in handler registration order (the per-kind counts in pbw_result). */
 enum {

@@ -7,7 +7,7 @@
  * detected identically on every rank; only rank 0 prints them, and every rank exits non-zero.
  * Errors found on one rank only go through par_fail_any(), a collective agreement.
  *
- * Collective = every rank of rt_comm() calls it; Local otherwise.
+ * Collective = every rank of rt_app_comm() calls it; Local otherwise.
  */
 #ifndef PAR_H
 #define PAR_H
@@ -15,10 +15,10 @@
 #include <stdint.h>
 #include <stdio.h>
 
-#include "meshio.h"
-#include "pcdm_decomp.h"
-#include "pslg.h"
-#include "validate.h"
+#include "decomp/decomp.h"
+#include "geom/pslg.h"
+#include "io/meshio.h"
+#include "io/validate.h"
 
 typedef struct par_opts {
     const char *prog;       /* "pcdm" or "pbw" (for messages and --help) */

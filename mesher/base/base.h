@@ -1,0 +1,74 @@
+/* base: the plumbing every layer of mesher/ shares -- one allocation funnel, one bug report,
+ * one MPI error check, and the debug-only assertion tier.
+ *
+ * Three tiers of errors (house style):
+ *  - bugs (a broken invariant, an impossible state, out of memory) go through MESH_BUG /
+ *    MESH_CHECK: one line "pcdm: bug on rank R (FILE:LINE): message" on stderr naming the
+ *    caller's file and line, then MPI_Abort when MPI is running (so no rank hangs), abort()
+ *    otherwise;
+ *  - recoverable failures (bad input, I/O) are return codes with a "FILE:LINE: problem"
+ *    message, decided by each layer;
+ *  - algorithm outcomes are enums.
+ * MESH_ASSERT is the debug tier: checked in `make SANITIZE=1` and `make DEBUG=1` builds (which
+ * define MESH_DEBUG), compiled out of the normal build; use it for checks too costly to run
+ * always.  MESH_MPI checks an MPI call; every communicator the project uses has
+ * MPI_ERRORS_RETURN set (rt_init does it), so a failing call reaches the check.
+ *
+ * All functions here are Local and thread-safe.
+ */
+#ifndef MESH_BASE_H
+#define MESH_BASE_H
+
+#include <stddef.h>
+
+#if defined(__GNUC__)
+#define MESH_NORETURN __attribute__((noreturn))
+#define MESH_PRINTF(a, b) __attribute__((format(printf, a, b)))
+#else
+#define MESH_NORETURN
+#define MESH_PRINTF(a, b)
+#endif
+
+/* Reports a bug at file:line of the caller and stops the program (every rank, via
+ * MPI_Abort, when MPI is initialised and not finalised).  Never returns. */
+MESH_NORETURN MESH_PRINTF(3, 4) void mesh_bug_at(const char *file, int line, const char *fmt, ...);
+#define MESH_BUG(...) mesh_bug_at(__FILE__, __LINE__, __VA_ARGS__)
+#define MESH_CHECK(c)                                                                              \
+    do {                                                                                           \
+        if (!(c)) mesh_bug_at(__FILE__, __LINE__, "check failed: %s", #c);                         \
+    } while (0)
+#ifdef MESH_DEBUG
+#define MESH_ASSERT(c) MESH_CHECK(c)
+#else
+#define MESH_ASSERT(c) ((void)0)
+#endif
+
+/* Checks an MPI call's return code; a failure is reported as a bug with MPI's error string. */
+void mesh_mpi_fail_at(const char *file, int line, const char *call, int rc);
+#define MESH_MPI(call)                                                                             \
+    do {                                                                                           \
+        int mesh_mpi_rc_ = (call);                                                                 \
+        if (mesh_mpi_rc_ != 0) mesh_mpi_fail_at(__FILE__, __LINE__, #call, mesh_mpi_rc_);          \
+    } while (0)
+
+/* The allocation funnel.  n elements of size bytes (overflow-checked); a zero-size request
+ * still returns a unique pointer.  Out of memory is reported at the caller's file and line.
+ * Free with free() (or mesh_xfree). */
+void *mesh_xrealloc_at(const char *file, int line, void *p, size_t n, size_t size);
+void *mesh_xcalloc_at(const char *file, int line, size_t n, size_t size);
+#define mesh_xrealloc(p, n, size) mesh_xrealloc_at(__FILE__, __LINE__, (p), (n), (size))
+#define mesh_xmalloc(n, size) mesh_xrealloc_at(__FILE__, __LINE__, NULL, (n), (size))
+#define mesh_xcalloc(n, size) mesh_xcalloc_at(__FILE__, __LINE__, (n), (size))
+void mesh_xfree(void *p);
+
+/* Grows array p (of element type *p) so that index n is valid; cap doubles (16 at first). */
+#define MESH_GROW(p, n, cap)                                                                       \
+    do {                                                                                           \
+        if ((size_t)(n) >= (size_t)(cap)) {                                                        \
+            (cap) = (cap) ? 2 * (cap) : 16;                                                        \
+            if ((size_t)(n) >= (size_t)(cap)) (cap) = (n) + 1;                                     \
+            (p) = mesh_xrealloc((p), (size_t)(cap), sizeof *(p));                                  \
+        }                                                                                          \
+    } while (0)
+
+#endif
