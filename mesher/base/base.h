@@ -20,6 +20,7 @@
 #define MESH_BASE_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #if defined(__GNUC__)
 #define MESH_NORETURN __attribute__((noreturn))
@@ -70,5 +71,16 @@ void mesh_xfree(void *p);
             (p) = mesh_xrealloc((p), (size_t)(cap), sizeof *(p));                                  \
         }                                                                                          \
     } while (0)
+
+/* A 64-bit mixing function (the finaliser of MurmurHash3) for hash tables keyed by ids or
+ * coordinate bits.  Local, pure. */
+static inline uint64_t mesh_hash64(uint64_t x) {
+    x ^= x >> 33;
+    x *= 0xff51afd7ed558ccdULL;
+    x ^= x >> 33;
+    x *= 0xc4ceb9fe1a85ec53ULL;
+    x ^= x >> 33;
+    return x;
+}
 
 #endif

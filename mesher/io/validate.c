@@ -50,15 +50,6 @@ static double ksum_get(const ksum *k) {
     return k->s + k->c;
 }
 
-static uint64_t mix64(uint64_t x) {
-    x ^= x >> 33;
-    x *= 0xff51afd7ed558ccdULL;
-    x ^= x >> 33;
-    x *= 0xc4ceb9fe1a85ec53ULL;
-    x ^= x >> 33;
-    return x;
-}
-
 /* Edge records, reachable by an open-addressing hash on the undirected key. */
 enum { E_MSEG = 1, E_BND = 2, E_INMESH = 4, E_INPUT = 8 };
 
@@ -86,7 +77,7 @@ static int32_t etab_find(const etab *T, int32_t u, int32_t v) {
         u = v;
         v = x;
     }
-    size_t mask = T->nslot - 1, i = mix64(ekey(u, v)) & mask;
+    size_t mask = T->nslot - 1, i = mesh_hash64(ekey(u, v)) & mask;
     for (;; i = (i + 1) & mask) {
         int32_t k = T->slot[i];
         if (k < 0) return -1;
@@ -100,7 +91,7 @@ static int etab_grow(etab *T) {
     if (!sl) return -1;
     memset(sl, 0xff, ns * sizeof *sl);
     for (int32_t k = 0; k < T->n; k++) {
-        size_t i = mix64(ekey(T->rec[k].u, T->rec[k].v)) & (ns - 1);
+        size_t i = mesh_hash64(ekey(T->rec[k].u, T->rec[k].v)) & (ns - 1);
         while (sl[i] >= 0)
             i = (i + 1) & (ns - 1);
         sl[i] = k;
@@ -119,7 +110,7 @@ static int32_t etab_get(etab *T, int32_t u, int32_t v) {
         v = x;
     }
     if ((size_t)(T->n + 1) * 2 > T->nslot && etab_grow(T)) return -1;
-    size_t mask = T->nslot - 1, i = mix64(ekey(u, v)) & mask;
+    size_t mask = T->nslot - 1, i = mesh_hash64(ekey(u, v)) & mask;
     for (;; i = (i + 1) & mask) {
         int32_t k = T->slot[i];
         if (k < 0) break;
@@ -443,7 +434,7 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
         uint64_t bx, by;
         memcpy(&bx, &x, 8);
         memcpy(&by, &y, 8);
-        size_t h = mix64(bx ^ mix64(by)) & (gns - 1);
+        size_t h = mesh_hash64(bx ^ mesh_hash64(by)) & (gns - 1);
         gmap[i] = -1;
         while (gslot[h] >= 0 && !(g->xy[2 * gslot[h]] == x && g->xy[2 * gslot[h] + 1] == y))
             h = (h + 1) & (gns - 1);
@@ -457,7 +448,7 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
         uint64_t bx, by;
         memcpy(&bx, &x, 8);
         memcpy(&by, &y, 8);
-        size_t h = mix64(bx ^ mix64(by)) & (gns - 1);
+        size_t h = mesh_hash64(bx ^ mesh_hash64(by)) & (gns - 1);
         while (gslot[h] >= 0) {
             int32_t gi = gslot[h];
             if (g->xy[2 * gi] == x && g->xy[2 * gi + 1] == y) {

@@ -297,17 +297,8 @@ static uint64_t key_bits(double x) {
     return u;
 }
 
-static uint64_t mix64(uint64_t x) {
-    x ^= x >> 33;
-    x *= 0xff51afd7ed558ccdULL;
-    x ^= x >> 33;
-    x *= 0xc4ceb9fe1a85ec53ULL;
-    x ^= x >> 33;
-    return x;
-}
-
 static uint64_t point_hash(const double p[2]) {
-    return mix64(key_bits(p[0]) * 0x9e3779b97f4a7c15ULL ^ mix64(key_bits(p[1])));
+    return mesh_hash64(key_bits(p[0]) * 0x9e3779b97f4a7c15ULL ^ mesh_hash64(key_bits(p[1])));
 }
 
 static int same_point(const double *a, const double *b) {
@@ -350,7 +341,7 @@ static void gb_segment(gbuild *b, int32_t u, int32_t v, int32_t mk, int32_t ifac
     mesh_flat *g = b->g;
     int64_t lo = u < v ? u : v, hi = u < v ? v : u;
     int64_t key = (lo << 32) | hi;
-    uint64_t h = mix64((uint64_t)key) & b->smask;
+    uint64_t h = mesh_hash64((uint64_t)key) & b->smask;
     for (;;) {
         if (b->shash[h] < 0) break;
         if (b->shash[h] == key) {

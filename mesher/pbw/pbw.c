@@ -297,17 +297,8 @@ static pbw_ctx G;
 
 /* ---- vertices ---------------------------------------------------------------------------- */
 
-static uint64_t mix64(uint64_t x) {
-    x ^= x >> 33;
-    x *= 0xff51afd7ed558ccdull;
-    x ^= x >> 33;
-    x *= 0xc4ceb9fe1a85ec53ull;
-    x ^= x >> 33;
-    return x;
-}
-
 static int32_t vt_find(int64_t gid) {
-    uint32_t mask = G.vhcap - 1, h = (uint32_t)mix64((uint64_t)gid) & mask;
+    uint32_t mask = G.vhcap - 1, h = (uint32_t)mesh_hash64((uint64_t)gid) & mask;
     while (G.vh[h] >= 0) {
         if (G.vgid[G.vh[h]] == gid) return G.vh[h];
         h = (h + 1) & mask;
@@ -322,7 +313,7 @@ static void vt_rehash(uint32_t cap) {
     for (uint32_t i = 0; i < cap; i++)
         G.vh[i] = -1;
     for (int32_t v = 0; v < G.nv; v++) {
-        uint32_t h = (uint32_t)mix64((uint64_t)G.vgid[v]) & (cap - 1);
+        uint32_t h = (uint32_t)mesh_hash64((uint64_t)G.vgid[v]) & (cap - 1);
         while (G.vh[h] >= 0)
             h = (h + 1) & (cap - 1);
         G.vh[h] = v;
@@ -346,7 +337,7 @@ static int32_t vt_add(int64_t gid, double x, double y, int32_t vseg) {
     if (2 * (uint32_t)G.nv >= G.vhcap) {
         vt_rehash(G.vhcap ? 2 * G.vhcap : 2048);
     } else {
-        uint32_t h = (uint32_t)mix64((uint64_t)gid) & (G.vhcap - 1);
+        uint32_t h = (uint32_t)mesh_hash64((uint64_t)gid) & (G.vhcap - 1);
         while (G.vh[h] >= 0)
             h = (h + 1) & (G.vhcap - 1);
         G.vh[h] = v;
@@ -1038,7 +1029,7 @@ static void gmap_init(gmap *m, int32_t n) {
 }
 
 static int gmap_put(gmap *m, int64_t k, int32_t v) { /* 0, or -1 if k is present */
-    uint32_t h = (uint32_t)mix64((uint64_t)k) & m->mask;
+    uint32_t h = (uint32_t)mesh_hash64((uint64_t)k) & m->mask;
     while (m->val[h] >= 0) {
         if (m->key[h] == k) return -1;
         h = (h + 1) & m->mask;
@@ -1049,7 +1040,7 @@ static int gmap_put(gmap *m, int64_t k, int32_t v) { /* 0, or -1 if k is present
 }
 
 static int32_t gmap_get(const gmap *m, int64_t k) {
-    uint32_t h = (uint32_t)mix64((uint64_t)k) & m->mask;
+    uint32_t h = (uint32_t)mesh_hash64((uint64_t)k) & m->mask;
     while (m->val[h] >= 0) {
         if (m->key[h] == k) return m->val[h];
         h = (h + 1) & m->mask;
