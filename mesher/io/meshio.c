@@ -15,6 +15,8 @@
 #include "base/base.h"
 
 #include "geom/pslg.h"
+#include "io/fmt.h"
+#include "io/wfile.h"
 
 #include <errno.h>
 #include <math.h>
@@ -28,15 +30,6 @@
 
 /* ---------------------------------------------------------------- atomic output --------- */
 
-typedef struct wfile {
-    FILE *f;
-    char tmp[1100];
-    const char *path;
-    char *vbuf;
-    char *err;
-    size_t errlen;
-} wfile;
-
 __attribute__((format(printf, 3, 4))) static int efail(char *err, size_t errlen, const char *fmt,
                                                        ...) {
     va_list ap;
@@ -46,22 +39,26 @@ __attribute__((format(printf, 3, 4))) static int efail(char *err, size_t errlen,
     return -1;
 }
 
-static int wopen(wfile *w, const char *path, char *err, size_t errlen) {
+int meshio_mktemp(const char *path, char *tmp, size_t tmplen, char *err, size_t errlen) {
+    if (strlen(path) + 12 > tmplen) return efail(err, errlen, "%s: path too long", path);
+    snprintf(tmp, tmplen, "%s.tmpXXXXXX", path);
+    int fd = mkstemp(tmp);
+    if (fd < 0)
+        return efail(err, errlen, "%s: cannot create temporary file: %s", path, strerror(errno));
+    mode_t um = umask(0);
+    umask(um);
+    (void)fchmod(fd, 0666 & ~um); /* mkstemp makes 0600; the usual permissions, not fatal */
+    return fd;
+}
+
+int meshio_wopen(wfile *w, const char *path, char *err, size_t errlen) {
     memset(w, 0, sizeof *w);
     w->path = path;
     w->err = err;
     w->errlen = errlen;
     if (errlen) err[0] = '\0';
-    if (strlen(path) + 12 > sizeof w->tmp) return efail(err, errlen, "%s: path too long", path);
-    snprintf(w->tmp, sizeof w->tmp, "%s.tmpXXXXXX", path);
-    int fd = mkstemp(w->tmp);
-    if (fd < 0)
-        return efail(err, errlen, "%s: cannot create temporary file: %s", path, strerror(errno));
-    mode_t um = umask(0);
-    umask(um);
-    if (fchmod(fd, 0666 & ~um) != 0) { /* mkstemp makes 0600; give the usual permissions */
-        /* not fatal */
-    }
+    int fd = meshio_mktemp(path, w->tmp, sizeof w->tmp, err, errlen);
+    if (fd < 0) return -1;
     w->f = fdopen(fd, "w");
     if (!w->f) {
         int e = errno;
@@ -74,8 +71,7 @@ static int wopen(wfile *w, const char *path, char *err, size_t errlen) {
     return 0;
 }
 
-/* Finishes the file: flush, close, rename.  On any failure removes the temporary file. */
-static int wclose(wfile *w, int failed) {
+int meshio_wclose(wfile *w, int failed) {
     int bad = failed || ferror(w->f);
     int e = bad ? EIO : 0;
     if (fclose(w->f) != 0 && !bad) {
@@ -98,30 +94,6 @@ static int wclose(wfile *w, int failed) {
 
 /* ---------------------------------------------------------------- fast formatting ------- */
 
-/* Appends the decimal form of v to p; returns the new end. */
-static char *put_int(char *p, long long v) {
-    char tmp[24];
-    int n = 0;
-    unsigned long long u = v < 0 ? 0ULL - (unsigned long long)v : (unsigned long long)v;
-    do {
-        tmp[n++] = (char)('0' + u % 10);
-        u /= 10;
-    } while (u);
-    if (v < 0) *p++ = '-';
-    while (n)
-        *p++ = tmp[--n];
-    return p;
-}
-
-/* Appends v with 17 significant digits (round-trips exactly). */
-static char *put_dbl(char *p, double v) {
-    if (v == 0) { /* also turns -0 into 0 */
-        *p++ = '0';
-        return p;
-    }
-    return p + snprintf(p, 32, "%.17g", v);
-}
-
 /* SVG coordinates: two decimals, by integer arithmetic (snprintf dominates otherwise). */
 static char *put_fix(char *p, double v) {
     if (!(fabs(v) < 1e15)) return p + snprintf(p, 32, "%.2f", v);
@@ -130,7 +102,7 @@ static char *put_fix(char *p, double v) {
         *p++ = '-';
         q = -q;
     }
-    p = put_int(p, q / 100);
+    p = fmt_int(p, q / 100);
     int f = (int)(q % 100);
     if (f) {
         *p++ = '.';
@@ -144,74 +116,74 @@ static char *put_fix(char *p, double v) {
 
 static int write_node(const mesh_flat *m, const char *path, char *err, size_t errlen) {
     wfile w;
-    if (wopen(&w, path, err, errlen)) return -1;
+    if (meshio_wopen(&w, path, err, errlen)) return -1;
     int nattr = m->vattr ? m->nattr : 0;
     fprintf(w.f, "%d 2 %d 1\n", (int)m->nverts, nattr);
     char *line = mesh_xmalloc(64 + 32 * (size_t)nattr, 1);
     if (!line) {
         efail(err, errlen, "%s: out of memory", path);
-        return wclose(&w, 1);
+        return meshio_wclose(&w, 1);
     }
     for (int32_t i = 0; i < m->nverts; i++) {
-        char *p = put_int(line, (long long)i + 1);
+        char *p = fmt_int(line, (long long)i + 1);
         *p++ = ' ';
-        p = put_dbl(p, m->xy[2 * i]);
+        p = fmt_dbl(p, m->xy[2 * i]);
         *p++ = ' ';
-        p = put_dbl(p, m->xy[2 * i + 1]);
+        p = fmt_dbl(p, m->xy[2 * i + 1]);
         for (int k = 0; k < nattr; k++) {
             *p++ = ' ';
-            p = put_dbl(p, m->vattr[(size_t)i * nattr + k]);
+            p = fmt_dbl(p, m->vattr[(size_t)i * nattr + k]);
         }
         *p++ = ' ';
-        p = put_int(p, m->vmarker ? m->vmarker[i] : 0);
+        p = fmt_int(p, m->vmarker ? m->vmarker[i] : 0);
         *p++ = '\n';
         fwrite(line, 1, (size_t)(p - line), w.f);
     }
     free(line);
     fprintf(w.f, "# written by pcdm\n");
-    return wclose(&w, 0);
+    return meshio_wclose(&w, 0);
 }
 
 static int write_ele(const mesh_flat *m, const char *path, char *err, size_t errlen) {
     wfile w;
-    if (wopen(&w, path, err, errlen)) return -1;
+    if (meshio_wopen(&w, path, err, errlen)) return -1;
     fprintf(w.f, "%d 3 %d\n", (int)m->ntris, m->trank ? 1 : 0);
     char line[128];
     for (int32_t t = 0; t < m->ntris; t++) {
-        char *p = put_int(line, (long long)t + 1);
+        char *p = fmt_int(line, (long long)t + 1);
         for (int k = 0; k < 3; k++) {
             *p++ = ' ';
-            p = put_int(p, (long long)m->tri[3 * t + k] + 1);
+            p = fmt_int(p, (long long)m->tri[3 * t + k] + 1);
         }
         if (m->trank) {
             *p++ = ' ';
-            p = put_int(p, m->trank[t]);
+            p = fmt_int(p, m->trank[t]);
         }
         *p++ = '\n';
         fwrite(line, 1, (size_t)(p - line), w.f);
     }
     fprintf(w.f, "# written by pcdm%s\n", m->trank ? " (attribute: owning rank)" : "");
-    return wclose(&w, 0);
+    return meshio_wclose(&w, 0);
 }
 
 static int write_poly(const mesh_flat *m, const char *path, char *err, size_t errlen) {
     wfile w;
-    if (wopen(&w, path, err, errlen)) return -1;
+    if (meshio_wopen(&w, path, err, errlen)) return -1;
     fprintf(w.f, "0 2 0 1\n%d 1\n", (int)m->nsegs);
     char line[128];
     for (int32_t s = 0; s < m->nsegs; s++) {
-        char *p = put_int(line, (long long)s + 1);
+        char *p = fmt_int(line, (long long)s + 1);
         for (int k = 0; k < 2; k++) {
             *p++ = ' ';
-            p = put_int(p, (long long)m->seg[2 * s + k] + 1);
+            p = fmt_int(p, (long long)m->seg[2 * s + k] + 1);
         }
         *p++ = ' ';
-        p = put_int(p, m->smarker ? m->smarker[s] : 0);
+        p = fmt_int(p, m->smarker ? m->smarker[s] : 0);
         *p++ = '\n';
         fwrite(line, 1, (size_t)(p - line), w.f);
     }
     fprintf(w.f, "0\n");
-    return wclose(&w, 0);
+    return meshio_wclose(&w, 0);
 }
 
 int meshio_write_triangle(const mesh_flat *m, const char *prefix, char *err, size_t errlen) {
@@ -449,14 +421,14 @@ fail:
 
 int meshio_write_vtk(const mesh_flat *m, const char *path, char *err, size_t errlen) {
     wfile w;
-    if (wopen(&w, path, err, errlen)) return -1;
+    if (meshio_wopen(&w, path, err, errlen)) return -1;
     fprintf(w.f, "# vtk DataFile Version 3.0\npcdm mesh\nASCII\nDATASET UNSTRUCTURED_GRID\n");
     fprintf(w.f, "POINTS %d double\n", (int)m->nverts);
     char line[160];
     for (int32_t i = 0; i < m->nverts; i++) {
-        char *p = put_dbl(line, m->xy[2 * i]);
+        char *p = fmt_dbl(line, m->xy[2 * i]);
         *p++ = ' ';
-        p = put_dbl(p, m->xy[2 * i + 1]);
+        p = fmt_dbl(p, m->xy[2 * i + 1]);
         memcpy(p, " 0\n", 3);
         fwrite(line, 1, (size_t)(p + 3 - line), w.f);
     }
@@ -466,7 +438,7 @@ int meshio_write_vtk(const mesh_flat *m, const char *path, char *err, size_t err
         *p++ = '3';
         for (int k = 0; k < 3; k++) {
             *p++ = ' ';
-            p = put_int(p, m->tri[3 * t + k]);
+            p = fmt_int(p, m->tri[3 * t + k]);
         }
         *p++ = '\n';
         fwrite(line, 1, (size_t)(p - line), w.f);
@@ -476,11 +448,11 @@ int meshio_write_vtk(const mesh_flat *m, const char *path, char *err, size_t err
         fputs("5\n", w.f);
     fprintf(w.f, "CELL_DATA %d\nSCALARS rank int 1\nLOOKUP_TABLE default\n", (int)m->ntris);
     for (int32_t t = 0; t < m->ntris; t++) {
-        char *p = put_int(line, m->trank ? m->trank[t] : 0);
+        char *p = fmt_int(line, m->trank ? m->trank[t] : 0);
         *p++ = '\n';
         fwrite(line, 1, (size_t)(p - line), w.f);
     }
-    return wclose(&w, 0);
+    return meshio_wclose(&w, 0);
 }
 
 /* ---------------------------------------------------------------- SVG ------------------- */
@@ -532,7 +504,7 @@ int meshio_write_svg(const mesh_flat *m, const char *path, char *err, size_t err
         start[r] = start[r - 1];
     start[0] = 0;
     wfile wf;
-    if (wopen(&wf, path, err, errlen)) {
+    if (meshio_wopen(&wf, path, err, errlen)) {
         free(start);
         free(order);
         return -1;
@@ -590,5 +562,5 @@ int meshio_write_svg(const mesh_flat *m, const char *path, char *err, size_t err
     fputs("</svg>\n", wf.f);
     free(start);
     free(order);
-    return wclose(&wf, 0);
+    return meshio_wclose(&wf, 0);
 }

@@ -1,0 +1,57 @@
+/* pwrite: writing a distributed mesh without gathering it (design.md "output").
+ *
+ * Each rank holds a part of the mesh in global numbering and writes that part itself:
+ *  - Triangle's PREFIX.node/.ele/.poly as single files, written collectively with MPI-IO: each
+ *    rank formats its lines in memory and writes them at the byte offset an MPI_Exscan of the
+ *    byte counts gives.  Ranks write in rank order, so a rank's vertices (and triangles and
+ *    segments) must carry consecutive global numbers, rank 0's first: vertex i of rank r is
+ *    number (sum of nverts of ranks < r) + i.  The bytes are the same as meshio_write_triangle
+ *    writes for the gathered mesh.
+ *  - ParaView's PREFIX.pvtu: one XML piece PREFIX_R.vtu per rank (binary appended data or
+ *    ASCII), with the rank as cell data and the boundary marker as point data.
+ * Every file appears whole or not at all: the data goes to a temporary name and rank 0 renames
+ * it only after every rank reports success.
+ *
+ * All functions are Collective over comm and return the same status on every rank: 0, or -1
+ * with the message (of the first rank that failed) in err on every rank.
+ */
+#ifndef MESH_IO_PWRITE_H
+#define MESH_IO_PWRITE_H
+
+#include <mpi.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "io/meshio.h"
+
+/* One rank's part of a distributed mesh, in global 0-based numbering.  Arrays are borrowed. */
+typedef struct mesh_part {
+    int64_t nverts;         /* vertices this rank writes (numbers: see above) */
+    const double *xy;       /* 2 * nverts */
+    const int32_t *vmarker; /* nverts (NULL: all 0) */
+    int nattr;              /* vertex attributes per vertex (same on every rank) */
+    const double *vattr;    /* nattr * nverts (NULL when nattr == 0) */
+    int64_t ntris;
+    const int64_t *tri;   /* 3 * ntris global vertex numbers, counter-clockwise */
+    const int32_t *trank; /* ntris triangle attribute (NULL: none; same choice on every rank) */
+    int64_t nsegs;
+    const int64_t *seg;     /* 2 * nsegs global vertex numbers */
+    const int32_t *smarker; /* nsegs (NULL: all 0) */
+} mesh_part;
+
+/* Collective.  Writes PREFIX.node, PREFIX.ele and PREFIX.poly from every rank's part. */
+int meshio_pwrite_triangle(MPI_Comm comm, const mesh_part *p, const char *prefix, char *err,
+                           size_t errlen);
+
+/* Local.  Writes one VTK XML unstructured grid (.vtu) of m: points, triangles, cell data "rank"
+ * (m->trank, or all `rank`), point data "marker".  binary: raw appended data (little-endian,
+ * UInt64 headers); else ASCII. */
+int meshio_write_vtu(const mesh_flat *m, int rank, int binary, const char *path, char *err,
+                     size_t errlen);
+
+/* Collective.  Each rank writes its local mesh as PREFIX_R.vtu (R = its rank in comm) and rank
+ * 0 writes PREFIX.pvtu naming every piece (file names relative to the .pvtu's folder). */
+int meshio_pwrite_pvtu(MPI_Comm comm, const mesh_flat *local, int binary, const char *prefix,
+                       char *err, size_t errlen);
+
+#endif
