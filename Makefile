@@ -38,12 +38,15 @@ CHECK_LIBS = $(shell pkg-config --libs check 2>/dev/null)
 
 RT_SRC := $(wildcard runtime/*.c)
 MESH_SRC := $(wildcard mesher/*/*.c)
-APP_SRC := $(wildcard apps/*.c)
+# apps/: the programs' mains, and the front end they share (apps/cli.c, linked into each).
+APP_LIB_SRC := apps/cli.c
+APP_SRC := $(filter-out $(APP_LIB_SRC),$(wildcard apps/*.c))
 TEST_SRC := $(wildcard tests/unit_*.c tests/mpi_*.c)
 BENCH_SRC := $(wildcard bench/*.c)
 
 RT_LIB := $(B)/libpcdm_rt.a
 MESH_LIB := $(B)/libpcdm_mesher.a
+APP_LIB := $(B)/libpcdm_apps.a
 APPS := $(patsubst apps/%.c,%,$(APP_SRC))
 TESTS := $(patsubst tests/%.c,$(B)/tests/%,$(TEST_SRC))
 BENCHES := $(patsubst bench/%.c,$(B)/bench/%,$(BENCH_SRC))
@@ -71,9 +74,13 @@ $(MESH_LIB): $(patsubst %.c,$(B)/obj/%.o,$(MESH_SRC))
 	@mkdir -p $(dir $@)
 	rm -f $@ && ar rcs $@ $^
 
-$(B)/bin/%: $(B)/obj/apps/%.o $(MESH_LIB) $(RT_LIB)
+$(APP_LIB): $(patsubst %.c,$(B)/obj/%.o,$(APP_LIB_SRC))
 	@mkdir -p $(dir $@)
-	$(CC) $(LDFLAGS) $< $(MESH_LIB) $(RT_LIB) $(LDLIBS) -o $@
+	rm -f $@ && ar rcs $@ $^
+
+$(B)/bin/%: $(B)/obj/apps/%.o $(APP_LIB) $(MESH_LIB) $(RT_LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS) $< $(APP_LIB) $(MESH_LIB) $(RT_LIB) $(LDLIBS) -o $@
 
 # Programs live at the root; sanitizer and debug builds keep theirs under $(B)/bin.
 ifeq ($(B),build)
@@ -84,9 +91,9 @@ $(APPS): %: $(B)/bin/%
 	@true
 endif
 
-$(B)/tests/%: $(B)/obj/tests/%.o $(MESH_LIB) $(RT_LIB)
+$(B)/tests/%: $(B)/obj/tests/%.o $(APP_LIB) $(MESH_LIB) $(RT_LIB)
 	@mkdir -p $(dir $@)
-	$(CC) $(LDFLAGS) $< $(MESH_LIB) $(RT_LIB) $(CHECK_LIBS) $(LDLIBS) -o $@
+	$(CC) $(LDFLAGS) $< $(APP_LIB) $(MESH_LIB) $(RT_LIB) $(CHECK_LIBS) $(LDLIBS) -o $@
 
 $(B)/bench/%: $(B)/obj/bench/%.o $(MESH_LIB) $(RT_LIB)
 	@mkdir -p $(dir $@)
@@ -118,7 +125,7 @@ bench-primitives: deps
 
 CLANG_FORMAT ?= $(shell command -v clang-format || command -v clang-format-14)
 format:
-	$(CLANG_FORMAT) -i $(wildcard runtime/*.[ch] mesher/*/*.[ch] apps/*.c tests/*.[ch] bench/*.c)
+	$(CLANG_FORMAT) -i $(wildcard runtime/*.[ch] mesher/*/*.[ch] apps/*.[ch] tests/*.[ch] bench/*.c)
 
 clean:
 	rm -rf build $(APPS)
