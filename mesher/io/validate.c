@@ -247,7 +247,8 @@ typedef struct vctx {
     gaplist gl;      /* small input corners */
     int32_t *tstart; /* per input segment: its corner tags tags[tstart[s]..] */
     int32_t (*tags)[2];
-    vtag *vt; /* mesh vertices on small corners' segments, sorted */
+    uint8_t *border; /* per input segment: 0 if it lies inside the removed region */
+    vtag *vt;        /* mesh vertices on small corners' segments, sorted */
     size_t nvt, capvt;
 } vctx;
 
@@ -652,7 +653,14 @@ static int check_input_segments(vctx *c) {
     for (int32_t v = nv; v > 0; v--)
         astart[v] = astart[v - 1];
     astart[0] = 0;
+    c->border = mesh_xmalloc((size_t)gsn + 1, 1);
+    if (!c->border || (gsn > 0 && pslg_segments_bordering(g, c->border) != 0)) {
+        oom(r);
+        res = -1;
+        goto out;
+    }
     for (int32_t s = 0; s < gsn; s++) {
+        if (!c->border[s]) continue; /* inside the removed region: the mesh has no edge there */
         int32_t A = c->gmap[g->seg[2 * s]], B = c->gmap[g->seg[2 * s + 1]];
         if (A < 0 || B < 0 || A == B) {
             r->missing_segs++;
@@ -933,6 +941,7 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
     free(c.tstart);
     free(c.tags);
     free(c.vt);
+    free(c.border);
     if (use_hull) free(hull.seg);
     return r->ok;
 }
