@@ -238,7 +238,8 @@ typedef struct vctx {
     gaplist gl;      /* small input corners */
     int32_t *tstart; /* per input segment: its corner tags tags[tstart[s]..] */
     int32_t (*tags)[2];
-    vtag *vt; /* mesh vertices on small corners' segments, sorted */
+    uint8_t *border; /* per input segment: 0 if it lies inside the removed region */
+    vtag *vt;        /* mesh vertices on small corners' segments, sorted */
     size_t nvt, capvt;
 } vctx;
 
@@ -643,7 +644,14 @@ static int check_input_segments(vctx *c) {
     for (int32_t v = nv; v > 0; v--)
         astart[v] = astart[v - 1];
     astart[0] = 0;
+    c->border = mesh_xmalloc((size_t)gsn + 1, 1);
+    if (!c->border || (gsn > 0 && pslg_segments_bordering(g, c->border) != 0)) {
+        oom(r);
+        res = -1;
+        goto out;
+    }
     for (int32_t s = 0; s < gsn; s++) {
+        if (!c->border[s]) continue; /* inside the removed region: the mesh has no edge there */
         int32_t A = c->gmap[g->seg[2 * s]], B = c->gmap[g->seg[2 * s + 1]];
         if (A < 0 || B < 0 || A == B) {
             r->missing_segs++;
@@ -811,6 +819,75 @@ static int check_domain_area(vctx *c) {
     return 0;
 }
 
+typedef struct hsort {
+    double x, y;
+    int32_t i;
+} hsort;
+
+static int cmp_hsort(const void *pa, const void *pb) {
+    const hsort *a = pa, *b = pb;
+    if (a->x != b->x) return a->x < b->x ? -1 : 1;
+    if (a->y != b->y) return a->y < b->y ? -1 : 1;
+    return (a->i > b->i) - (a->i < b->i);
+}
+
+/* A point set (no segments) is meshed over its convex hull, whose edges the mesher makes
+ * segments (and may split, and splits at input points on them).  So the validator checks the
+ * mesh against the same PSLG with the hull edges as segments: *h shares g's arrays except seg,
+ * which the caller frees.  Andrew's monotone chain with exact orientation; collinear points
+ * are not hull vertices (a hull segment passing through them is split there, as in the mesh).
+ * Returns 0, or -1 (out of memory). */
+static int hull_pslg(const pslg *g, pslg *h) {
+    *h = *g;
+    h->seg = NULL;
+    h->smarker = NULL;
+    h->sline = NULL;
+    h->nsegs = 0;
+    int32_t n = g->nverts;
+    hsort *v = mesh_xmalloc(((size_t)n + 1) * sizeof *v, 1);
+    int32_t *st = mesh_xmalloc((2 * (size_t)n + 2) * sizeof *st, 1);
+    h->seg = mesh_xmalloc((4 * (size_t)n + 4) * sizeof *h->seg, 1);
+    if (!v || !st || !h->seg) {
+        free(v);
+        free(st);
+        free(h->seg);
+        h->seg = NULL;
+        return -1;
+    }
+    for (int32_t i = 0; i < n; i++)
+        v[i] = (hsort){g->xy[2 * i], g->xy[2 * i + 1], i};
+    qsort(v, (size_t)n, sizeof *v, cmp_hsort);
+    int32_t k = 0;
+    for (int pass = 0; pass < 2; pass++) { /* lower hull left to right, upper right to left */
+        int32_t base = k;
+        for (int32_t j = 0; j < n; j++) {
+            int32_t i = v[pass ? n - 1 - j : j].i;
+            while (k >= base + 2 &&
+                   geom_orient2d(g->xy + 2 * st[k - 2], g->xy + 2 * st[k - 1], g->xy + 2 * i) <= 0)
+                k--;
+            if (k > base && g->xy[2 * st[k - 1]] == g->xy[2 * i] &&
+                g->xy[2 * st[k - 1] + 1] == g->xy[2 * i + 1])
+                continue; /* a duplicate point */
+            st[k++] = i;
+        }
+        if (k - base >= 1 && pass == 0)
+            k--; /* the last lower point starts the upper hull */
+        else if (pass == 1)
+            k--; /* ... and the first ends it */
+    }
+    for (int32_t i = 0; i < k; i++) {
+        int32_t a = st[i], b = st[(i + 1) % k];
+        if (a == b || (g->xy[2 * a] == g->xy[2 * b] && g->xy[2 * a + 1] == g->xy[2 * b + 1]))
+            continue;
+        h->seg[2 * h->nsegs] = a;
+        h->seg[2 * h->nsegs + 1] = b;
+        h->nsegs++;
+    }
+    free(v);
+    free(st);
+    return 0;
+}
+
 int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, validate_report *r) {
     geom_init();
     memset(r, 0, sizeof *r);
@@ -827,6 +904,16 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
     r->nverts = m->nverts;
     r->min_angle = 180;
     r->min_angle_unforced = 180;
+    pslg hull;
+    int use_hull = g && g->nsegs == 0 && g->nverts >= 3;
+    if (use_hull) {
+        if (hull_pslg(g, &hull) != 0) {
+            oom(r);
+            r->ok = 0;
+            return 0;
+        }
+        c.g = &hull;
+    }
     if (!check_indices(&c) && !check_orientation(&c) && !build_edge_buckets(&c) &&
         !add_segment_edges(&c) && !check_conformity(&c) && !check_input_vertices(&c) &&
         !find_small_corners(&c) && !check_input_segments(&c) && !check_delaunay(&c) &&
@@ -845,6 +932,8 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
     free(c.tstart);
     free(c.tags);
     free(c.vt);
+    free(c.border);
+    if (use_hull) free(hull.seg);
     return r->ok;
 }
 
