@@ -23,8 +23,8 @@
  * peak_rss_mb is the largest rank's peak RSS before the gather, bytes_per_tri the sum over
  * ranks of that peak RSS divided by the number of triangles, mesh_bytes_per_tri the mesh
  * arrays alone (mesh_memory_bytes summed over ranks / triangles).
- * Exit status: 0 success; 1 bad input, a failed --check, or an output error (every rank);
- * 2 bad usage.
+ * Options, usage errors and exit statuses (the same on every rank): the front end, apps/cli.c
+ * (./pcdm --help).
  */
 #include "pcdm/pcdm.h"
 
