@@ -10,14 +10,14 @@
  * final mesh; then, with an area bound, with an area bound that gives about per_sub triangles
  * per subdomain (never below 4 times the final bound, so the interfaces stay coarser than the
  * final mesh); without one, only when that leaves fewer than 8 triangles per subdomain (the
- * final mesh is then about as coarse as this one, and every interface vertex stays in it).  (2) Each coarse triangle's
- * work is max(1, area / max_area) with an area bound, else 1.  (3) METIS_PartGraphKway splits
- * the dual graph (vertex weights: work; edge weights: shared edge length; target fractions from
- * the imbalance; contiguous parts when the graph is connected; fixed seed) into K parts.
- * (4) Triangles around an input corner sharper than 60 degrees join one part, so no interface
- * ends in a corner whose coarse triangles are exempt from the angle bound.  (5) decomp_build
- * turns the labels into interface segments.  Every angle an interface makes with another
- * segment then contains a corner of a coarse triangle, hence is at least the coarse bound.
+ * final mesh is then about as coarse as this one, and every interface vertex stays in it).  (2)
+ * Each coarse triangle's work is max(1, area / max_area) with an area bound, else 1.  (3)
+ * METIS_PartGraphKway splits the dual graph (vertex weights: work; edge weights: shared edge
+ * length; target fractions from the imbalance; contiguous parts when the graph is connected; fixed
+ * seed) into K parts. (4) Triangles around an input corner sharper than 60 degrees join one part,
+ * so no interface ends in a corner whose coarse triangles are exempt from the angle bound.  (5)
+ * decomp_build turns the labels into interface segments.  Every angle an interface makes with
+ * another segment then contains a corner of a coarse triangle, hence is at least the coarse bound.
  *
  * Invariants: topology comes from the mesher's exact predicates; METIS and the mesher are
  * deterministic, so every rank computes the same decomposition without communication.
