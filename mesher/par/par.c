@@ -73,6 +73,27 @@ static int check_quietly(pslg *g, char *err, size_t errlen) {
     return rc;
 }
 
+static uint64_t hash_bytes(uint64_t h, const void *p, size_t n) {
+    const unsigned char *b = p;
+    for (size_t i = 0; i < n; i++)
+        h = mesh_hash64(h ^ b[i]);
+    return h;
+}
+
+/* Collective.  Every rank computed its decomposition alone (deterministic code, no
+ * communication); this compares a hash of what the meshers consume across the ranks. */
+static int decomp_agrees(const pcdm_decomp *d) {
+    uint64_t h = 0;
+    h = hash_bytes(h, d->g.xy, 2 * (size_t)d->g.nverts * sizeof(double));
+    h = hash_bytes(h, d->g.seg, 2 * (size_t)d->g.nsegs * sizeof(int32_t));
+    h = hash_bytes(h, d->seg_sub, 2 * (size_t)d->g.nsegs * sizeof(int32_t));
+    h = hash_bytes(h, d->sub_owner, (size_t)d->nsub * sizeof(int32_t));
+    uint64_t lo = 0, hi = 0;
+    MESH_MPI(MPI_Allreduce(&h, &lo, 1, MPI_UINT64_T, MPI_MIN, rt_app_comm()));
+    MESH_MPI(MPI_Allreduce(&h, &hi, 1, MPI_UINT64_T, MPI_MAX, rt_app_comm()));
+    return lo == hi;
+}
+
 int par_load(const par_opts *o, pslg *in, pcdm_decomp *d) {
     char err[1024], msg[1200];
     memset(in, 0, sizeof *in);
@@ -111,6 +132,13 @@ int par_load(const par_opts *o, pslg *in, pcdm_decomp *d) {
             snprintf(err, sizeof err, "cannot decompose %.150s for %d ranks: %.800s", o->input,
                      rt_size(), tmp);
         }
+    }
+    int failed = rc != 0, failed_any = 0;
+    MESH_MPI(MPI_Allreduce(&failed, &failed_any, 1, MPI_INT, MPI_MAX, rt_app_comm()));
+    if (!failed_any && !decomp_agrees(d)) {
+        snprintf(err, sizeof err, "the ranks computed different decompositions of %.200s",
+                 o->input);
+        rc = -1;
     }
     if (rc == 0 && o->write_cuts && rt_rank() == 0) {
         if (pcdm_decomp_write_cuts(d, o->write_cuts, err, sizeof err) != 0) rc = -1;
