@@ -19,6 +19,7 @@
 #include "geom/geom.h"
 
 #include <errno.h>
+#include <float.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
@@ -750,6 +751,87 @@ __attribute__((format(printf, 3, 4))) static int gfail(char *err, size_t errlen,
     return -1;
 }
 
+/* ---------------------------------------------------------------- scaling --------------- */
+
+/* 1 iff x * 2^e is a multiple of 2^PSLG_GRID_EXP (0 included); x * 2^e is at most 2^100. */
+static int on_grid(double x, int e) {
+    if (x == 0) return 1;
+    double y = ldexp(x, e - PSLG_GRID_EXP);
+    return y != 0 && y == floor(y);
+}
+
+static double scale_area(double a, int e) {
+    if (!(a > 0)) return a;
+    double s = ldexp(a, 2 * e);
+    return s > 0 ? s : DBL_MIN; /* a bound that underflowed stays a bound */
+}
+
+/* Scales g by an exact power of two into the predicates' working range (pslg.h). */
+static int pslg_scale(pslg *g, char *err, size_t errlen) {
+    const char *vf = g->path[0] ? g->path : "(input)";
+    const char *sf = g->segpath[0] ? g->segpath : vf;
+    double big = 0;
+    for (int32_t i = 0; i < 2 * g->nverts; i++)
+        big = fmax(big, fabs(g->xy[i]));
+    for (int32_t i = 0; i < 2 * g->nholes; i++)
+        if (isfinite(g->holes[i])) big = fmax(big, fabs(g->holes[i]));
+    for (int32_t i = 0; i < g->nregions; i++)
+        for (int k = 0; k < 2; k++)
+            if (isfinite(g->regions[4 * i + k])) big = fmax(big, fabs(g->regions[4 * i + k]));
+    if (big == 0) return 0;
+    int e = 0, k;
+    if (big > 0x1p100) {
+        e = 1; /* below */
+    } else {
+        for (int32_t i = 0; i < 2 * g->nverts && !e; i++)
+            if (!on_grid(g->xy[i], 0)) e = 1;
+        for (int32_t i = 0; i < 2 * g->nholes && !e; i++)
+            if (isfinite(g->holes[i]) && !on_grid(g->holes[i], 0)) e = 1;
+        for (int32_t i = 0; i < g->nregions && !e; i++)
+            for (int j = 0; j < 2; j++)
+                if (isfinite(g->regions[4 * i + j]) && !on_grid(g->regions[4 * i + j], 0)) e = 1;
+    }
+    if (!e) return 0; /* already in range: nothing moves, not even by a bit */
+    frexp(big, &k);   /* big < 2^k */
+    e = PSLG_TOP_EXP - k;
+    if (e > PSLG_MAX_SCALE)
+        return gfail(err, errlen,
+                     "%s: the largest coordinate magnitude %.17g is below the supported range "
+                     "(at least 2^%d, about 1.8e-218)",
+                     vf, big, PSLG_TOP_EXP - 1 - PSLG_MAX_SCALE);
+    for (int32_t i = 0; i < 2 * g->nverts; i++)
+        if (!on_grid(g->xy[i], e))
+            return gfail(err, errlen,
+                         "%s:%d: vertex %d: coordinate %.17g is too small next to the largest "
+                         "coordinate magnitude %.17g (supported: nonzero magnitudes down to "
+                         "2^-247, about 4.4e-75, times the largest)",
+                         vf, g->vline ? g->vline[i / 2] : 0, i / 2 + g->first_index, g->xy[i], big);
+    for (int32_t i = 0; i < 2 * g->nholes; i++)
+        if (isfinite(g->holes[i]) && !on_grid(g->holes[i], e))
+            return gfail(err, errlen,
+                         "%s: hole %d: coordinate %.17g is too small next to the largest "
+                         "coordinate magnitude %.17g",
+                         sf, i / 2 + g->first_index, g->holes[i], big);
+    for (int32_t i = 0; i < g->nregions; i++)
+        for (int j = 0; j < 2; j++)
+            if (isfinite(g->regions[4 * i + j]) && !on_grid(g->regions[4 * i + j], e))
+                return gfail(err, errlen,
+                             "%s: region %d: coordinate %.17g is too small next to the largest "
+                             "coordinate magnitude %.17g",
+                             sf, i + g->first_index, g->regions[4 * i + j], big);
+    for (int32_t i = 0; i < 2 * g->nverts; i++)
+        g->xy[i] = ldexp(g->xy[i], e);
+    for (int32_t i = 0; i < 2 * g->nholes; i++)
+        g->holes[i] = ldexp(g->holes[i], e);
+    for (int32_t i = 0; i < g->nregions; i++) {
+        g->regions[4 * i] = ldexp(g->regions[4 * i], e);
+        g->regions[4 * i + 1] = ldexp(g->regions[4 * i + 1], e);
+        g->regions[4 * i + 3] = scale_area(g->regions[4 * i + 3], e);
+    }
+    g->scale_exp += e;
+    return 0;
+}
+
 int pslg_check(pslg *g, char *err, size_t errlen) {
     geom_init();
     if (errlen) err[0] = '\0';
@@ -766,6 +848,7 @@ int pslg_check(pslg *g, char *err, size_t errlen) {
                 return gfail(err, errlen, "%s:%d: segment %d: vertex %d out of range", sf,
                              g->sline ? g->sline[s] : 0, s + g->first_index,
                              g->seg[2 * s + k] + g->first_index);
+    if (pslg_scale(g, err, errlen) != 0) return -1;
     /* 1. merge duplicate vertices */
     vkey *vk = mesh_xmalloc((size_t)(n ? n : 1) * sizeof *vk, 1);
     int32_t *map = mesh_xmalloc((size_t)(n ? n : 1) * sizeof *map, 1);

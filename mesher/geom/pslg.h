@@ -35,6 +35,7 @@ typedef struct pslg {
     int32_t nregions;
     double *regions;   /* 4 * nregions: x, y, attribute, max area */
     int first_index;   /* 0 or 1: the numbering the file used */
+    int scale_exp;     /* pslg_check multiplied every coordinate by 2^scale_exp (0: untouched) */
     char path[512];    /* file the vertices came from (for messages) */
     char segpath[512]; /* file the segments, holes and regions came from (= path unless a .poly
                         * with no vertices took them from its .node file) */
@@ -44,6 +45,18 @@ typedef struct pslg {
  * -1 and writes "FILE:LINE: problem" into err (errlen bytes).  *out is zeroed first and owns
  * its arrays on success; on failure it holds nothing. */
 int pslg_read(const char *path, pslg *out, char *err, size_t errlen);
+
+/* Coordinates (pslg_check): any finite doubles whose largest magnitude is at least 2^-723
+ * (about 1.8e-218) and whose nonzero magnitudes are at least 2^-247 (about 4.4e-75) times the
+ * largest (smaller ones only when they are multiples of 2^-300 of its power-of-two scale).
+ * Inputs already within the predicates' working range (every coordinate a multiple of
+ * 2^PSLG_GRID_EXP and at most 2^PSLG_TOP_EXP) are left untouched; any other input is scaled by
+ * an exact power of two 2^scale_exp so that its largest magnitude lies in [2^99, 2^100), and
+ * writers of the mesh undo the scaling exactly (mesh_flat.scale_exp).  In that range every
+ * predicate is exact (geom.h, "working range"). */
+#define PSLG_TOP_EXP 100
+#define PSLG_GRID_EXP (-200)
+#define PSLG_MAX_SCALE 822 /* 2^(GRID - MAX_SCALE) = 2^-1022: unscaled points stay normal */
 
 /* Validates and normalises geometry (see above).  Returns 0, or -1 with a message in err.
  * Warnings (merged duplicates) go to stderr prefixed with the file and line. */

@@ -892,11 +892,30 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
     geom_init();
     memset(r, 0, sizeof *r);
     validate_opts none = {0};
+    if (!o) o = &none;
+    /* Work where the mesher worked: in g's coordinates, scaled by pslg_check (exact powers of
+     * two, so the mesh's vertices land on the input's bits); areas go back at the end. */
+    int e = g ? g->scale_exp : 0;
+    double *sxy = NULL;
+    validate_opts so = *o;
+    if (e && so.max_area > 0) {
+        so.max_area = ldexp(o->max_area, 2 * e);
+        if (so.max_area == 0) so.max_area = DBL_MIN;
+    }
+    if (e != m->scale_exp) {
+        sxy = mesh_xmalloc(2 * (size_t)m->nverts * sizeof *sxy + 1, 1);
+        if (!sxy) {
+            oom(r);
+            return 0;
+        }
+        for (int64_t i = 0; i < 2 * (int64_t)m->nverts; i++)
+            sxy[i] = ldexp(m->xy[i], e - m->scale_exp);
+    }
     vctx c = {.g = g,
               .m = m,
-              .o = o ? o : &none,
+              .o = &so,
               .r = r,
-              .xy = m->xy,
+              .xy = sxy ? sxy : m->xy,
               .tri = m->tri,
               .nv = m->nverts,
               .nt = m->ntris};
@@ -933,7 +952,11 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
     free(c.tags);
     free(c.vt);
     free(c.border);
+    free(sxy);
     if (use_hull) free(hull.seg);
+    r->mesh_area = ldexp(r->mesh_area, -2 * e);
+    r->domain_area = ldexp(r->domain_area, -2 * e);
+    r->max_area = ldexp(r->max_area, -2 * e);
     return r->ok;
 }
 

@@ -720,6 +720,7 @@ int mesh_to_flat(const mesh *m, mesh_flat *f) {
         return -1;
     }
     memcpy(f->xy, m->xy, 2 * (size_t)m->nv * sizeof(double));
+    f->scale_exp = m->scale_exp;
     for (int32_t v = 0; v < m->nv; v++)
         f->vmarker[v] = v < m->ninput     ? (m->in_vmarker ? m->in_vmarker[v] : 0)
                         : m->vseg[v] >= 0 ? m->smarker[m->vseg[v]]

@@ -132,6 +132,7 @@ typedef struct mesh {
     int32_t *inc_off, *inc_seg; /* CSR: original segments incident to each input vertex */
     uint8_t *corner;            /* ninput: 1 if two segments meet there at < 60 degrees */
     int has_corners;
+    int scale_exp; /* xy = input coordinates * 2^scale_exp (pslg.scale_exp; areas by 2^2e) */
     /* subsegment side table */
     mesh_subseg *ss;
     int32_t nss, sscap, ss_free, ss_live;

@@ -39,6 +39,7 @@
 #include "geom/geom.h"
 #include "seq/rules.h"
 
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -86,10 +87,18 @@ void mesh_refine_free(mesh *m) {
     m->rf = NULL;
 }
 
+/* An area bound in input units, in the mesh's (scaled) units; one that underflows stays a
+ * bound. */
+static double scaled_area(const mesh *m, double a) {
+    if (!(a > 0) || m->scale_exp == 0) return a;
+    double s = ldexp(a, 2 * m->scale_exp);
+    return s > 0 ? s : DBL_MIN;
+}
+
 void mesh_set_quality(mesh *m, const mesh_quality *q) {
     mesh_refine_state *r = rf_get(m);
     m->q = *q;
-    mesh_rules_init(&r->R, q->min_angle, q->max_area, q->offcenter, q->lens);
+    mesh_rules_init(&r->R, q->min_angle, scaled_area(m, q->max_area), q->offcenter, q->lens);
     r->need_scan = 1;
 }
 
@@ -119,7 +128,7 @@ static int quality(const mesh *m, const mesh_rules *R, int32_t t, int *bucket, i
 
 int mesh_tri_bad(const mesh *m, int32_t t) {
     mesh_rules R;
-    mesh_rules_init(&R, m->q.min_angle, m->q.max_area, 0, 0);
+    mesh_rules_init(&R, m->q.min_angle, scaled_area(m, m->q.max_area), 0, 0);
     return quality(m, &R, t, NULL, NULL);
 }
 
@@ -266,7 +275,8 @@ static int split_subseg(mesh *m, int32_t r, int notify) {
     } else {
         geom_midpoint(pu, pv, p);
     }
-    if ((p[0] == pu[0] && p[1] == pu[1]) || (p[0] == pv[0] && p[1] == pv[1])) {
+    if (geom_working_point(p) != 0 || (p[0] == pu[0] && p[1] == pu[1]) ||
+        (p[0] == pv[0] && p[1] == pv[1])) {
         m->stats.failed++;
         return -1;
     }
@@ -411,7 +421,7 @@ static void process_bad(mesh *m, int32_t t) {
         }
     }
     double c[2];
-    if (steiner_point(m, t, sh, c) != 0) {
+    if (steiner_point(m, t, sh, c) != 0 || geom_working_point(c) != 0) {
         m->stats.failed++;
         return;
     }

@@ -38,7 +38,8 @@ static void cleanup(void) {
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if (size < 1 || size > 20000) return 0;
     if (!dir[0]) {
-        snprintf(dir, sizeof dir, "%s/fuzz_mesh.XXXXXX", getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
+        snprintf(dir, sizeof dir, "%s/fuzz_mesh.XXXXXX",
+                 getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
         if (!mkdtemp(dir)) abort();
         atexit(cleanup);
         geom_init();
