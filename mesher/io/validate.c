@@ -563,9 +563,11 @@ static int tag_vertex(vctx *c, int32_t v, int32_t k, int32_t side) {
 }
 
 /* The chain of mesh edges (indices into T) along input segment s: from the mesh vertex of its
- * first endpoint, each step to the nearest neighbour farther along the segment that lies within
- * rounding distance of it.  Returns the number of edges, or -1 if the chain does not reach the
- * other endpoint.  chainv gets the chain's vertices. */
+ * first endpoint, each step to a neighbour farther along the segment that lies within rounding
+ * distance of it; among those, the step whose direction deviates least from the segment's (so
+ * a neighbouring segment at a tiny angle, whose vertices are also within rounding distance,
+ * does not lure the walk away), then the nearest.  Returns the number of edges, or -1 if the
+ * chain does not reach the other endpoint.  chainv gets the chain's vertices. */
 static int32_t trace_chain(const vctx *c, int32_t s, const int32_t *astart, const int32_t (*adj)[2],
                            int32_t *chain, int32_t *chainv) {
     const pslg *g = c->g;
@@ -580,20 +582,24 @@ static int32_t trace_chain(const vctx *c, int32_t s, const int32_t *astart, cons
     chainv[0] = A;
     while (cur != B && nch < c->T.n) {
         int32_t best = -1, brec = -1;
-        double bt = INFINITY;
+        double bt = INFINITY, bdev = INFINITY;
+        const double *pc = xy + 2 * cur;
         for (int32_t i = astart[cur]; i < astart[cur + 1]; i++) {
             int32_t w = adj[i][0];
+            const double *q = xy + 2 * w;
             double t;
             if (w == B) {
                 t = 1;
             } else {
-                const double *q = xy + 2 * w;
                 double qx = q[0] - pa[0], qy = q[1] - pa[1];
                 if (fabs(dx * qy - dy * qx) > tol) continue;
                 t = (qx * dx + qy * dy) / L2;
                 if (!(t > tcur && t < 1)) continue;
             }
-            if (t < bt) {
+            double sx = q[0] - pc[0], sy = q[1] - pc[1];
+            double dev = fabs(dx * sy - dy * sx) / (L * sqrt(sx * sx + sy * sy));
+            if (dev < bdev || (dev == bdev && t < bt)) {
+                bdev = dev;
                 bt = t;
                 best = w;
                 brec = adj[i][1];
