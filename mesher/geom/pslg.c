@@ -554,9 +554,10 @@ static void grid_setup(grid *gr, double x0, double y0, double x1, double y1, lon
     double w = x1 - x0, h = y1 - y0;
     long nx = 1, ny = 1;
     if (n < 1) n = 1;
-    if (w > 0 && h > 0) {
-        nx = (long)ceil(sqrt((double)n * w / h));
-        ny = (long)ceil(sqrt((double)n * h / w));
+    if (w > 0 && h > 0) { /* clamped as doubles: a thin box's ratio may exceed a long */
+        double fx = ceil(sqrt((double)n * w / h)), fy = ceil(sqrt((double)n * h / w));
+        nx = fx >= 1 && fx <= 2048 ? (long)fx : fx > 2048 ? 2048 : 1;
+        ny = fy >= 1 && fy <= 2048 ? (long)fy : fy > 2048 ? 2048 : 1;
     } else if (w > 0) {
         nx = n;
     } else if (h > 0) {
