@@ -1427,38 +1427,71 @@ static int borders_domain(const faces *F, int32_t h) {
     return (f1 >= 0 && !F->cy[f1].removed) || (f2 >= 0 && !F->cy[f2].removed);
 }
 
-int pslg_segments_bordering(const pslg *g, uint8_t *out) {
+void pslg_pieces_free(pslg_pieces *P) {
+    free(P->start);
+    free(P->vert);
+    free(P->border);
+    memset(P, 0, sizeof *P);
+}
+
+/* Appends vertex v (and, after the first, the border flag of the piece ending there). */
+static int piece_push(pslg_pieces *P, int32_t *cap, int32_t v, uint8_t border, int first) {
+    if (P->nvert == *cap) {
+        int32_t nc = *cap ? 2 * *cap : 64;
+        int32_t *nv = mesh_xrealloc(P->vert, (size_t)nc * sizeof *nv, 1);
+        if (!nv) return -1;
+        P->vert = nv;
+        uint8_t *nb = mesh_xrealloc(P->border, (size_t)nc, 1);
+        if (!nb) return -1;
+        P->border = nb;
+        *cap = nc;
+    }
+    if (!first) P->border[P->nvert - 1] = border;
+    P->border[P->nvert] = 0;
+    P->vert[P->nvert++] = v;
+    return 0;
+}
+
+int pslg_segment_pieces(const pslg *g, pslg_pieces *P) {
     geom_init();
+    memset(P, 0, sizeof *P);
+    int32_t cap = 0;
+    P->start = mesh_xmalloc(((size_t)g->nsegs + 1) * sizeof *P->start, 1);
+    if (!P->start) return -1;
+    P->start[0] = 0;
     faces F;
-    for (int32_t s = 0; s < g->nsegs; s++)
-        out[s] = 1;
-    if (g->nsegs == 0) return 0;
-    if (faces_build(g, &F)) return -1;
-    const arr *A = &F.A;
+    int have = g->nsegs > 0 && faces_build(g, &F) == 0;
     for (int32_t s = 0; s < g->nsegs; s++) {
-        int32_t a = g->seg[2 * s], b = g->seg[2 * s + 1], cur = a, any = 0;
+        int32_t a = g->seg[2 * s], b = g->seg[2 * s + 1], cur = a;
         const double *pb = g->xy + 2 * b;
+        int32_t first = P->nvert;
+        if (piece_push(P, &cap, a, 0, 1)) goto oom;
         /* walk the pieces of s from a to b: at each vertex the outgoing half-edge pointing at
          * b (collinear, same direction) */
-        for (int32_t steps = 0; cur != b && steps <= A->ne; steps++) {
+        for (int32_t steps = 0; have && cur != b && steps <= F.A.ne; steps++) {
             int32_t next = -1;
-            for (int32_t i = A->vstart[cur]; i < A->vstart[cur + 1]; i++) {
-                int32_t h = A->out[i], w = A->org[h ^ 1];
+            for (int32_t i = F.A.vstart[cur]; i < F.A.vstart[cur + 1]; i++) {
+                int32_t h = F.A.out[i], w = F.A.org[h ^ 1];
                 const double *pc = g->xy + 2 * cur, *pw = g->xy + 2 * w;
                 if (w != b && !(geom_orient2d(pc, pb, pw) == 0 && strictly_between(pc, pb, pw)))
                     continue;
-                any |= borders_domain(&F, h);
+                if (piece_push(P, &cap, w, (uint8_t)borders_domain(&F, h), 0)) goto oom;
                 next = w;
                 break;
             }
-            if (next < 0) {
-                any = 1; /* not found (should not happen): keep the segment required */
-                break;
-            }
+            if (next < 0) break;
             cur = next;
         }
-        out[s] = (uint8_t)any;
+        if (cur != b) { /* no arrangement (should not happen): the whole segment, required */
+            P->nvert = first;
+            if (piece_push(P, &cap, a, 0, 1) || piece_push(P, &cap, b, 1, 0)) goto oom;
+        }
+        P->start[s + 1] = P->nvert;
     }
-    faces_free(&F);
+    if (have) faces_free(&F);
     return 0;
+oom:
+    if (have) faces_free(&F);
+    pslg_pieces_free(P);
+    return -1;
 }

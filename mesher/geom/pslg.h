@@ -68,10 +68,21 @@ int pslg_check(pslg *g, char *err, size_t errlen);
  * whose closure contains it (as the mesher's carving does).  Used by the validator. */
 double pslg_domain_area(const pslg *g);
 
-/* out[s] (g->nsegs bytes) = 1 iff some piece of segment s has the domain on at least one side;
- * 0 for a segment inside the removed region (both sides outside, e.g. all around a hole point
- * placed on it or on its vertex).  Returns 0, or -1 (out of memory; out is all 1). */
-int pslg_segments_bordering(const pslg *g, uint8_t *out);
+/* The pieces of every segment (cut at the vertices lying on it) and whether each borders the
+ * domain: segment s runs through vertices vert[start[s] .. start[s+1]) in order from its
+ * first endpoint; the piece from vert[i] to vert[i+1] has the domain on at least one side iff
+ * border[i] (0: inside the removed region, e.g. around a hole point on it).  The validator asks
+ * the mesh for the bordering pieces only. */
+typedef struct pslg_pieces {
+    int32_t *start; /* nsegs + 1 */
+    int32_t *vert;
+    uint8_t *border;
+    int32_t nvert;
+} pslg_pieces;
+
+/* Fills P (caller frees with pslg_pieces_free).  Returns 0, or -1 (out of memory). */
+int pslg_segment_pieces(const pslg *g, pslg_pieces *P);
+void pslg_pieces_free(pslg_pieces *P);
 
 /* Like pslg_read for a .poly, except that when the .poly declares 0 vertices its .node file is
  * not read: segment endpoints are checked against nverts vertices numbered from first_index
