@@ -9,17 +9,12 @@ BIN=${BIN:-.}
 M=$BIN/mesh
 D=tests/fuzz/regress
 nfail=0 n=0
-while read -r file rest; do
+while IFS='|' read -r file optstr want pat; do
+    file=$(echo $file)
     case "$file" in '' | '#'*) continue ;; esac
-    read -r -a f <<<"$rest"
-    # options up to the status (the first bare integer), then the pattern
-    opts=() i=0
-    while [[ ! ${f[$i]} =~ ^[0-9]+$ ]] || [[ $i -gt 0 && ${f[$((i - 1))]} == -* ]]; do
-        opts+=("${f[$i]}")
-        i=$((i + 1))
-    done
-    want=${f[$i]}
-    pat=${f[*]:$((i + 1))}
+    read -r -a opts <<<"$optstr"
+    want=$(echo $want)
+    pat=$(echo "$pat" | sed 's/^ *//; s/ *$//')
     extra=()
     [ "$want" = 0 ] && extra=(--check)
     n=$((n + 1))
