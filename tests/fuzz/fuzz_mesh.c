@@ -9,7 +9,8 @@
  * mesh_count_unmet() == 0) the validator must accept the mesh at the bounds asked for, or the
  * harness traps.  Bad input is
  * fine (the reader or the checks reject it); a mesh bug aborts through MESH_BUG, which libFuzzer
- * reports as a crash.  The input file lives in a private temporary directory.
+ * reports as a crash.  The input file lives in a private temporary directory made and removed
+ * by each call (no state survives a call).
  */
 #include "geom/geom.h"
 #include "geom/pslg.h"
@@ -25,26 +26,12 @@
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-static char dir[256];
-
-static void cleanup(void) {
-    char p[300];
-    snprintf(p, sizeof p, "%s/in.poly", dir);
-    unlink(p);
-    snprintf(p, sizeof p, "%s/in.node", dir);
-    unlink(p);
-    rmdir(dir);
-}
-
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if (size < 1 || size > 20000) return 0;
-    if (!dir[0]) {
-        snprintf(dir, sizeof dir, "%s/fuzz_mesh.XXXXXX",
-                 getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
-        if (!mkdtemp(dir)) abort();
-        atexit(cleanup);
-        geom_init();
-    }
+    geom_init();
+    char dir[256];
+    snprintf(dir, sizeof dir, "%s/fuzz_mesh.XXXXXX", getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
+    if (!mkdtemp(dir)) abort();
     static const double qs[8] = {0, 20.7, 25, 30, 33, 20.7, 25, 28.6};
     unsigned opt = data[0];
     char path[300];
@@ -99,5 +86,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     pslg_free(&g);
 out:
     unlink(path);
+    rmdir(dir);
     return 0;
 }
