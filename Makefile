@@ -4,7 +4,7 @@
 #
 #   make            build everything            make test        build and run every test
 #   make demo       ./pcdm on 4 ranks           make bench       the paper's tables and more
-#   make deps       install Open MPI and Check  make SANITIZE=1 test   ASan + UBSan build
+#   make deps       install Open MPI, Check, METIS  make SANITIZE=1 test   ASan + UBSan build
 #   make DEBUG=1    debug build (build/debug, MESH_ASSERT on)
 #   make format     clang-format the tree       make clean
 
@@ -15,7 +15,7 @@ WARN := -Wall -Wextra -Wshadow -Wstrict-prototypes -Wmissing-prototypes -Wpointe
 # -ffp-contract=off: the exact predicates rely on every product and sum being rounded once.
 OPT := -O2 -g -ffp-contract=off -fno-fast-math
 CFLAGS ?=
-LDLIBS := -lpthread -lm
+LDLIBS := -lmetis -lpthread -lm
 
 ifeq ($(SANITIZE),1)
 B := build/san

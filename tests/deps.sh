@@ -1,6 +1,6 @@
 #!/bin/sh
 # Installs the build's dependencies from Debian packages when they are missing; silent otherwise.
-# Needs: mpicc/mpirun (Open MPI), Check (pkg-config check).
+# Needs: mpicc/mpirun (Open MPI), Check (pkg-config check), METIS 5 (libmetis-dev).
 set -e
 missing=""
 command -v mpicc >/dev/null 2>&1 || missing="$missing openmpi-bin libopenmpi-dev"
@@ -8,6 +8,7 @@ command -v mpirun >/dev/null 2>&1 || missing="$missing openmpi-bin"
 command -v pkg-config >/dev/null 2>&1 || missing="$missing pkg-config"
 pkg-config --exists check 2>/dev/null || missing="$missing check"
 command -v make >/dev/null 2>&1 || missing="$missing make"
+[ -e /usr/include/metis.h ] || missing="$missing libmetis-dev"
 [ -z "$missing" ] && exit 0
 echo "deps: installing$missing"
 if [ "$(id -u)" -eq 0 ]; then SUDO=""; else SUDO="sudo"; fi

@@ -14,10 +14,9 @@
  * vertex ids; a pair listed by both sides keeps the first marker and is an interface if either
  * side says so.  Invariant: the merged vertex count equals the number of distinct points.
  *
- * Decomposition: the automatic one is asked first for interfaces meeting every other segment
- * at >= 60 degrees (Ruppert's refinement then never ping-pongs across a corner between an
- * interface, which is only split at dyadic midpoints, and a boundary segment), and falls back
- * to the -q bound when no such cuts exist; more than PAR_MAX_SUBDOMAINS subdomains are refused.
+ * Decomposition: the automatic one (a coarse quality mesh partitioned by METIS, decomp.h) or
+ * a cuts file; more than PAR_MAX_SUBDOMAINS subdomains are refused.  Whether the domain is
+ * empty is the triangulator's exact decision, not a floating-point area.
  *
  * Errors: every rank reads the same input, so input errors are found on every rank; the
  * decision to fail is still taken collectively (par_fail_any: an MPI_Allreduce of the lowest
@@ -226,10 +225,6 @@ int par_load(const par_opts *o, pslg *in, pcdm_decomp *d) {
     geom_init();
     int rc = pslg_read(o->input, in, err, sizeof err);
     if (rc == 0) rc = check_quietly(in, err, sizeof err);
-    if (rc == 0 && in->nsegs > 0 && !(pslg_domain_area(in) > 0)) {
-        snprintf(err, sizeof err, "%s: empty domain (its area is zero)", o->input);
-        rc = -1;
-    }
     if (rc == 0) {
         pcdm_decomp_opts dopt;
         pcdm_decomp_opts_default(&dopt);
@@ -252,16 +247,7 @@ int par_load(const par_opts *o, pslg *in, pcdm_decomp *d) {
         } else if (o->cuts) {
             rc = pcdm_decomp_read_cuts(o->cuts, in, &dopt, d, err, sizeof err);
         } else {
-            /* Interfaces meeting other segments at 60 degrees or more keep Ruppert's
-             * refinement free of ping-pong splitting across a narrow corner (interface pieces
-             * are only ever split at dyadic midpoints, never on concentric shells), so ask for
-             * that first; fall back to the quality bound when no such cut exists. */
-            dopt.min_angle = 60;
             rc = pcdm_decomp_auto(in, &dopt, d, err, sizeof err);
-            if (rc != 0 && o->min_angle < 60) {
-                dopt.min_angle = o->min_angle;
-                rc = pcdm_decomp_auto(in, &dopt, d, err, sizeof err);
-            }
         }
         if (rc != 0) {
             char tmp[sizeof err];
