@@ -62,12 +62,23 @@ int par_startup(int *argc, char ***argv, const char *prog, int phases_ok, int (*
  * returns -1 (the caller then exits non-zero after rt_finalize). */
 int par_load(const par_opts *o, pslg *in, pcdm_decomp *d);
 
-/* Collective.  Every rank contributes its part of the mesh (local numbering; xy of every vertex
+/* Collective.  First par_check_interfaces (a disagreement: the message printed by rank 0, -1
+ * returned on every rank).  Then every rank contributes its part of the mesh (local numbering; xy of every vertex
  * it uses; triangles ccw with trank set to its rank; its constraint subsegments).  Rank 0
  * receives the pieces, merges vertices with identical coordinates (bit-equal: interface
  * vertices are computed identically on both sides), renumbers globally (input vertices first,
  * in input order), de-duplicates subsegments, and fills *global (other ranks: zeroed). */
 int par_gather_mesh(const mesh_flat *local, const pslg *in, mesh_flat *global);
+
+/* Collective over rt_app_comm().  The cheap check that always runs before any output: every
+ * open edge of a rank's piece (an edge of exactly one local triangle) that is not a
+ * non-interface constraint (a domain-boundary subsegment) must be the open edge of exactly one
+ * other rank's piece, with the same vertex coordinates bit for bit; so both sides of every
+ * interface agree on its subsegments and vertices.  Each open edge travels once, to the rank
+ * its coordinates hash to (O(interface) data, two all-to-all calls).  Returns 0, or -1 on the
+ * ranks that found a disagreement, with a message in msg (callers agree through
+ * par_fail_any). */
+int par_check_interfaces(const mesh_flat *local, char *msg, size_t msglen);
 
 /* Rank 0 only (Local).  Writes the files asked for in o (-o, --vtk, --svg).  Returns 0, or -1
  * after printing the error. */

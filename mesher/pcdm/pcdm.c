@@ -88,6 +88,8 @@ int pcdm_part_build(pcdm_part *p, const pcdm_decomp *d, int rank, char *err, siz
     memset(p, 0, sizeof *p);
     p->d = d;
     p->rank = rank;
+    const char *fault = getenv("PCDM_TEST_DROP_SPLIT");
+    if (fault && rank == 1) p->fault_drop = (int32_t)atoi(fault);
     for (int32_t s = 0; s < d->nsub; s++)
         if (d->sub_owner[s] == rank) p->nsub_owned++;
     mesh_init(&p->m);
@@ -190,6 +192,10 @@ static void on_split(void *ctx, int32_t seg, int32_t level, int64_t k, unsigned 
     r.level = level;
     r.k = k;
     int sent_to = -1;
+    if (p->fault_drop > 0) { /* test-only fault (PCDM_TEST_DROP_SPLIT): lose this request */
+        p->fault_drop--;
+        return;
+    }
     for (int side = 0; side < 2; side++) {
         int32_t sub = d->seg_sub[2 * (size_t)seg + side];
         if (sub < 0) continue;

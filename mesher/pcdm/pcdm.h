@@ -53,6 +53,9 @@ typedef struct pcdm_part {
     uint64_t split_ignored;  /* of those, subsegment already split here (dropped) */
     uint64_t split_notfound; /* of those, segment not present here (a protocol error) */
     uint64_t work_steps;     /* calls of the local work function that refined */
+    int32_t fault_drop;      /* test-only: split requests still to drop (env PCDM_TEST_DROP_SPLIT=N
+                              * drops rank 1's first N split requests: breaks an interface so
+                              * the interface check must fail) */
 } pcdm_part;
 
 /* Local, SPMD: every rank calls it once, in the same position of its handler registration
