@@ -25,8 +25,8 @@
  * of another cut's endpoint or of a segment (input or cut) is moved onto it (the segment is
  * split there).  Cuts must not cross each other or the input segments except at their
  * endpoints, must lie inside the domain, and every cut must separate two different
- * subdomains; the subdomains are the connected parts of the domain minus the cuts (input
- * segments do not separate subdomains).  Any violation is reported as "FILE:LINE: problem".
+ * subdomains; the subdomains are the faces of the arrangement of the input segments and the
+ * cuts.  Any violation is reported as "FILE:LINE: problem".
  *
  * All functions are Local (no communication).  Out of memory aborts.
  */

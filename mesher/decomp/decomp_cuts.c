@@ -7,8 +7,9 @@
  * (1e-6 of the bounding box's diagonal) an input vertex or an earlier endpoint becomes that
  * point, one near a segment is projected onto it and splits it.  The input plus the cuts form
  * an augmented PSLG that pslg_check validates (crossings) and mesh_build_cdt triangulates.  The
- * subdomains are the components of its triangles under adjacency across every edge that is not
- * a cut; a cut edge with the same subdomain (or the outside) on both sides is an error naming
+ * subdomains are the faces of that arrangement (components of its triangles under adjacency
+ * across non-constraint edges), so the cuts written by --write-cuts read back to a
+ * decomposition at least as fine as the one written; a cut edge with the same subdomain (or the outside) on both sides is an error naming
  * its line.  decomp_build then extracts the pieces exactly as for the automatic route.
  *
  * Invariants: segment identity survives pslg_check's normalisation through the marker field
@@ -166,8 +167,9 @@ static int read_cuts(const char *path, double **xy, int32_t **lines, int32_t *n,
     return 0;
 }
 
-/* Components of m's triangles across every edge that is not a cut; returns their number. */
-static int32_t label(const mesh *m, const segrec *sr, int32_t *lab) {
+/* Components of m's triangles across non-constraint edges (the faces of the arrangement of
+ * the input segments and the cuts); returns their number. */
+static int32_t label(const mesh *m, int32_t *lab) {
     int32_t *stk = mesh_xmalloc((size_t)m->nt + 1, sizeof(int32_t)), K = 0;
     for (int32_t t = 0; t < m->nt; t++)
         lab[t] = -1;
@@ -180,11 +182,7 @@ static int32_t label(const mesh *m, const segrec *sr, int32_t *lab) {
             int32_t t = stk[--ns];
             for (int j = 0; j < 3; j++) {
                 int32_t e = 3 * t + j, n = m->tn[e];
-                if (n < 0 || lab[n / 3] >= 0) continue;
-                if (mesh_edge_constrained(m, e)) {
-                    const mesh_subseg *s = mesh_subseg_of_edge(m, e);
-                    if (s && sr[m->smarker[s->seg]].is_cut) continue;
-                }
+                if (n < 0 || lab[n / 3] >= 0 || mesh_edge_constrained(m, e)) continue;
                 lab[n / 3] = K;
                 stk[ns++] = n / 3;
             }
@@ -254,7 +252,7 @@ int pcdm_decomp_read_cuts(const char *path, const pslg *in, const pcdm_decomp_op
     int32_t K = 0;
     if (rc == 0) {
         lab = mesh_xmalloc((size_t)m.nt + 1, sizeof(int32_t));
-        K = label(&m, a.sr, lab);
+        K = label(&m, lab);
         for (int32_t t = 0; rc == 0 && t < m.nt; t++)
             for (int j = 0; rc == 0 && mesh_tri_alive(&m, t) && j < 3; j++) {
                 int32_t e = 3 * t + j, n = m.tn[e];

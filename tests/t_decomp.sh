@@ -1,0 +1,100 @@
+#!/usr/bin/env bash
+# t_decomp: the decomposition on inputs of every class (tests/inputs/: a letter with a hole, an
+# inclusion with two materials, separate faces, internal and dangling segments, many small
+# regions, far-from-origin coordinates, a thin sliver, small input angles, a point set), each
+# meshed by ./pcdm and ./pbw at 1, 2, 3, 4 and 8 ranks with --check (the point set without it:
+# the validator has no hull segments to compare with), runs with --perturb seeds, --subdomains
+# and --imbalance, --write-cuts read back with --cuts, and the test-only fault switch
+# (PCDM_TEST_DROP_SPLIT) that must make the always-on interface check fail on every rank.
+# Env: BIN (programs, default .), MPIRUN (default "mpirun --oversubscribe"), SANITIZE=1 (fewer
+# rank counts).  One line per case; exit status 1 if any case failed.
+set -u
+cd "$(dirname "$0")/.."
+BIN=${BIN:-.}
+MPIRUN=${MPIRUN:-mpirun --oversubscribe}
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0}
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/t_decomp.XXXXXX")
+trap 'rm -rf "$tmp"' EXIT
+pass=0 fail=0
+ok() { pass=$((pass + 1)); printf 'ok   %s\n' "$*"; }
+bad() { fail=$((fail + 1)); printf 'FAIL %s\n' "$*"; }
+
+# area bounds: about 1-3K triangles each
+declare -A AREA=([letter_a.poly]=0.005 [inclusion.poly]=0.001 [map.poly]=0.003
+    [segments.poly]=0.002 [grid.poly]=0.001 [far.poly]=0.00000006 [sliver.poly]=0.00002
+    [angles.poly]=0.0003 [points.node]=0.001)
+NPS="1 2 3 4 8"
+[ "${SANITIZE:-}" = 1 ] && NPS="1 3 8"
+
+run() { # prog np input extra-args...
+    local prog=$1 np=$2 f=$3
+    shift 3
+    local a=${AREA[$(basename "$f")]} chk=--check
+    [ "${f##*.}" = node ] && chk=
+    local name="$prog np=$np $(basename "$f") -q 30 -a $a $*"
+    timeout 120 $MPIRUN -np "$np" "$BIN/$prog" -q 30 -a "$a" $chk --stats "$@" "$f" \
+        >"$tmp/out" 2>"$tmp/err"
+    local rc=$?
+    if [ $rc -ne 0 ]; then
+        bad "$name: exit $rc: $(grep -v '^-\|^ \|^$\|mpirun\|Process\|Exit code\|Primary' "$tmp/err" "$tmp/out" | head -2 | tr '\n' ' ')"
+    elif [ -n "$chk" ] && ! grep -q '^meshcheck: OK' "$tmp/out"; then
+        bad "$name: validator did not report OK: $(grep meshcheck "$tmp/out" | head -c 300)"
+    else
+        ok "$name: $(grep '^stats:' "$tmp/out" | tail -1 | cut -d' ' -f2-6)"
+    fi
+}
+
+for f in tests/inputs/*.poly tests/inputs/*.node; do
+    for np in $NPS; do
+        run pcdm "$np" "$f"
+        run pbw "$np" "$f"
+    done
+done
+for seed in 1 2 3; do
+    run pcdm 4 tests/inputs/inclusion.poly --perturb "$seed"
+    run pbw 4 tests/inputs/letter_a.poly --perturb "$seed"
+done
+run pcdm 3 tests/inputs/map.poly --subdomains 12
+run pbw 2 tests/inputs/grid.poly --subdomains 5
+run pcdm 3 tests/inputs/letter_a.poly --imbalance 2
+
+# --write-cuts, then the same decomposition read back with --cuts
+f=tests/inputs/inclusion.poly
+if timeout 60 $MPIRUN -np 3 "$BIN/pcdm" -q 30 -a 0.001 --write-cuts "$tmp/cuts" "$f" \
+    >/dev/null 2>&1 && [ -s "$tmp/cuts" ]; then
+    run pcdm 3 "$f" --cuts "$tmp/cuts"
+    run pbw 2 "$f" --cuts "$tmp/cuts"
+else
+    bad "--write-cuts wrote nothing"
+fi
+printf '# one cut\n0.15 0 0.15 1\n' >"$tmp/square.cuts"
+run pcdm 2 tests/inputs/segments.poly --cuts "$tmp/square.cuts"
+printf '0.1 0.1 0.2 0.8\n' >"$tmp/dangling.cuts"
+if timeout 60 $MPIRUN -np 2 "$BIN/pcdm" --cuts "$tmp/dangling.cuts" tests/inputs/segments.poly \
+    >"$tmp/out" 2>&1; then
+    bad "a dangling cut was accepted"
+elif grep -q "dangling.cuts:1: the cut does not separate" "$tmp/out"; then
+    ok "a dangling cut is refused: $(grep -m1 'dangling.cuts:1' "$tmp/out")"
+else
+    bad "dangling cut: no FILE:LINE message: $(head -c 300 "$tmp/out")"
+fi
+
+# the fault switch: rank 1 drops its split requests; the interface check must fail everywhere
+for prog_np in 2 4; do
+    PCDM_TEST_DROP_SPLIT=1000000 timeout 60 $MPIRUN -x PCDM_TEST_DROP_SPLIT -np "$prog_np" \
+        "$BIN/pcdm" -q 30 -a 0.001 -o "$tmp/broken" tests/inputs/inclusion.poly >"$tmp/out" 2>&1
+    rc=$?
+    if [ $rc -eq 0 ] || [ $rc -eq 124 ]; then
+        bad "fault switch np=$prog_np: exit $rc (a broken interface went unnoticed)"
+    elif ! grep -q 'interface check failed' "$tmp/out"; then
+        bad "fault switch np=$prog_np: exit $rc without the interface-check message"
+    elif [ -e "$tmp/broken.ele" ]; then
+        bad "fault switch np=$prog_np: the broken mesh was written"
+    else
+        ok "fault switch np=$prog_np: exit $rc: $(grep -m1 -o 'interface check failed.*' "$tmp/out" | cut -c1-120)"
+    fi
+done
+
+echo "t_decomp: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
