@@ -367,9 +367,9 @@ int decomp_map_owners(pcdm_decomp *d, int32_t P, double R, const int32_t *planne
     int32_t K = d->nsub;
     d->nranks = P;
     if (K < P) return decomp_fail(err, errlen, "%d subdomains for %d ranks", (int)K, (int)P);
-    if (planned || K == P) {
+    if (planned || K == P || P == 1) { /* (METIS cannot make one part) */
         for (int32_t s = 0; s < K; s++)
-            d->sub_owner[s] = planned ? planned[s] : s;
+            d->sub_owner[s] = planned ? planned[s] : P == 1 ? 0 : s;
         return 0;
     }
     idx_t *xadj = mesh_xmalloc((size_t)K + 1, sizeof(idx_t)), *adj = NULL;

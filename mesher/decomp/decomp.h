@@ -24,7 +24,8 @@
  * An endpoint within 1e-6 times the diagonal of the input's bounding box of an input vertex,
  * of another cut's endpoint or of a segment (input or cut) is moved onto it (the segment is
  * split there).  Cuts must not cross each other or the input segments except at their
- * endpoints, must lie inside the domain, and every cut must separate two different
+ * endpoints, must lie inside the domain, must meet every other segment at an angle of at least
+ * the -q bound (opts.min_angle), and every cut must separate two different
  * subdomains; the subdomains are the faces of the arrangement of the input segments and the
  * cuts.  Any violation is reported as "FILE:LINE: problem".
  *

@@ -143,8 +143,9 @@ static int read_cuts(const char *path, double **xy, int32_t **lines, int32_t *n,
         char *end = s;
         for (int k = 0; k < 4; k++) {
             errno = 0;
-            v[k] = strtod(end, &end);
-            if (errno || !isfinite(v[k]) || (*end && !strchr(" \t\r\n", *end))) {
+            char *from = end;
+            v[k] = strtod(from, &end);
+            if (end == from || errno || !isfinite(v[k]) || (*end && !strchr(" \t\r\n", *end))) {
                 fclose(fp);
                 return decomp_fail(err, errlen, "%s:%d: expected four finite numbers x1 y1 x2 y2",
                                    path, (int)line);
@@ -165,6 +166,28 @@ static int read_cuts(const char *path, double **xy, int32_t **lines, int32_t *n,
     fclose(fp);
     if (*n == 0) return decomp_fail(err, errlen, "%s: no cuts", path);
     return 0;
+}
+
+typedef struct angle_ctx {
+    const pslg *g;
+    const segrec *sr;
+    const char *path;
+    char *err;
+    size_t errlen;
+    int bad;
+} angle_ctx;
+
+/* pslg_input_angles callback: a cut meeting another segment below the bound is an error. */
+static void sharp(void *vctx, int32_t v, int32_t s1, int32_t s2, double deg) {
+    angle_ctx *c = vctx;
+    const segrec *a = &c->sr[c->g->smarker[s1]], *b = &c->sr[c->g->smarker[s2]];
+    if (c->bad || (!a->is_cut && !b->is_cut)) return;
+    const segrec *k = a->is_cut ? a : b, *o = a->is_cut ? b : a;
+    c->bad = 1;
+    decomp_fail(c->err, c->errlen,
+                "%s:%d: the cut meets %s at %.2f degrees at (%.17g, %.17g), below the -q bound",
+                c->path, (int)k->line, o->is_cut ? "another cut" : "an input segment", deg,
+                c->g->xy[2 * (size_t)v], c->g->xy[2 * (size_t)v + 1]);
 }
 
 /* Components of m's triangles across non-constraint edges (the faces of the arrangement of
@@ -248,7 +271,23 @@ int pcdm_decomp_read_cuts(const char *path, const pslg *in, const pcdm_decomp_op
     uint8_t *iscut = NULL;
     double *tw = NULL;
     int rc = pslg_check(g, err, errlen);
+    if (rc == 0 && o->min_angle > 0) {
+        angle_ctx ac = {g, a.sr, path, err, errlen, 0};
+        pslg_input_angles(g, o->min_angle, sharp, &ac);
+        if (ac.bad) rc = -1;
+    }
     if (rc == 0) rc = mesh_build_cdt(&m, g, NULL, err, errlen);
+    for (int32_t s = 0; rc == 0 && s < m.nseg; s++) /* a cut in a hole or outside is eaten */
+        if (a.sr[m.smarker[s]].is_cut && m.seg_nsub[s] == 0)
+            rc = decomp_fail(err, errlen, "%s:%d: the cut lies outside the domain", path,
+                             (int)a.sr[m.smarker[s]].line);
+    for (int32_t i = 0; rc == 0 && i < m.nss; i++) {
+        const mesh_subseg *r = &m.ss[i];
+        if (r->level == -2 || !a.sr[m.smarker[r->seg]].is_cut) continue;
+        if (mesh_find_edge(&m, r->u, r->v) < 0)
+            rc = decomp_fail(err, errlen, "%s:%d: the cut lies (partly) outside the domain", path,
+                             (int)a.sr[m.smarker[r->seg]].line);
+    }
     int32_t K = 0;
     if (rc == 0) {
         lab = mesh_xmalloc((size_t)m.nt + 1, sizeof(int32_t));
