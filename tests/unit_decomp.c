@@ -19,12 +19,21 @@
 #include <string.h>
 #include <unistd.h>
 
-static const char *const inputs[] = {
-    "data/square.poly",          "data/lshape.poly",          "data/wedge.poly",
-    "data/lake.poly",            "data/holes.poly",           "data/channel.poly",
-    "tests/inputs/letter_a.poly", "tests/inputs/inclusion.poly", "tests/inputs/map.poly",
-    "tests/inputs/segments.poly", "tests/inputs/grid.poly",     "tests/inputs/far.poly",
-    "tests/inputs/sliver.poly",   "tests/inputs/angles.poly",   "tests/inputs/points.node"};
+static const char *const inputs[] = {"data/square.poly",
+                                     "data/lshape.poly",
+                                     "data/wedge.poly",
+                                     "data/lake.poly",
+                                     "data/holes.poly",
+                                     "data/channel.poly",
+                                     "tests/inputs/letter_a.poly",
+                                     "tests/inputs/inclusion.poly",
+                                     "tests/inputs/map.poly",
+                                     "tests/inputs/segments.poly",
+                                     "tests/inputs/grid.poly",
+                                     "tests/inputs/far.poly",
+                                     "tests/inputs/sliver.poly",
+                                     "tests/inputs/angles.poly",
+                                     "tests/inputs/points.node"};
 #define NIN ((int)(sizeof inputs / sizeof inputs[0]))
 
 static void load(const char *path, pslg *g) {
@@ -169,8 +178,8 @@ static void run_auto(const char *path, int32_t K, int32_t P, double R, double ar
     }
     printf("%-28s K=%-3d P=%-3d R=%g coarse=%d iface=%d min_angle=%.2f max_rank_dev=%.1f%% "
            "rank0=%.3f\n",
-           path, (int)K, (int)P, R, (int)d.ncoarse, (int)(d.g.nsegs - d.nboundary), amin,
-           100 * dev, r0);
+           path, (int)K, (int)P, R, (int)d.ncoarse, (int)(d.g.nsegs - d.nboundary), amin, 100 * dev,
+           r0);
     if (area > 0 && K <= 16) ck_assert_msg(dev <= 0.10, "rank work off its target by %.3f", dev);
     /* determinism */
     ck_assert(pcdm_decomp_auto(&in, &o, &d2, err, sizeof err) == 0);
@@ -299,14 +308,13 @@ START_TEST(test_cuts_good) {
         ck_assert_msg(fabs(d.sub_area[k] - 0.25) < 1e-12, "%.17g", d.sub_area[k]);
     pcdm_decomp_free(&d);
     /* an endpoint a hair off the boundary is moved onto it */
-    ck_assert_msg(cuts_try("data/square.poly", "0.5 1e-9 0.5 1\n", 0, 2, &d, err, sizeof err) ==
-                      0,
+    ck_assert_msg(cuts_try("data/square.poly", "0.5 1e-9 0.5 1\n", 0, 2, &d, err, sizeof err) == 0,
                   "%s", err);
     ck_assert_int_eq(d.nsub, 2);
     pcdm_decomp_free(&d);
     /* the inclusion: its circle already separates two faces; two cuts make three */
-    ck_assert_msg(cuts_try("tests/inputs/inclusion.poly", "0 0.5 0.25 0.5\n0.75 0.5 1 0.5\n", 3, 3, &d, err,
-                           sizeof err) == 0,
+    ck_assert_msg(cuts_try("tests/inputs/inclusion.poly", "0 0.5 0.25 0.5\n0.75 0.5 1 0.5\n", 3, 3,
+                           &d, err, sizeof err) == 0,
                   "%s", err);
     pcdm_decomp_free(&d);
 }

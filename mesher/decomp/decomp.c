@@ -152,8 +152,7 @@ static void copy_pslg_extras(const pslg *in, pslg *g) {
     if (in->nholes) memcpy(g->holes, in->holes, 2 * (size_t)in->nholes * sizeof(double));
     g->nregions = in->nregions;
     g->regions = mesh_xmalloc(4 * (size_t)in->nregions + 1, sizeof(double));
-    if (in->nregions)
-        memcpy(g->regions, in->regions, 4 * (size_t)in->nregions * sizeof(double));
+    if (in->nregions) memcpy(g->regions, in->regions, 4 * (size_t)in->nregions * sizeof(double));
     g->first_index = in->first_index;
     memcpy(g->path, in->path, sizeof g->path);
     memcpy(g->segpath, in->segpath, sizeof g->segpath);
@@ -161,8 +160,7 @@ static void copy_pslg_extras(const pslg *in, pslg *g) {
 
 /* Vertices of g: the input's, then every kept vertex of m beyond them (gid[v], -1 if dropped). */
 static void build_vertices(const pslg *in, const mesh *m, const int32_t *mseg_marker,
-                           const uint8_t *keep, int32_t *gid,
-                           pcdm_decomp *d) {
+                           const uint8_t *keep, int32_t *gid, pcdm_decomp *d) {
     int32_t n = in->nverts;
     for (int32_t v = 0; v < m->nv; v++)
         gid[v] = v < in->nverts ? v : (keep[v] ? n++ : -1);
@@ -177,8 +175,7 @@ static void build_vertices(const pslg *in, const mesh *m, const int32_t *mseg_ma
         memcpy(g->xy, in->xy, 2 * (size_t)in->nverts * sizeof(double));
         memcpy(g->vmarker, in->vmarker, (size_t)in->nverts * sizeof(int32_t));
         memcpy(g->vline, in->vline, (size_t)in->nverts * sizeof(int32_t));
-        if (in->nattr)
-            memcpy(g->vattr, in->vattr, (size_t)in->nattr * in->nverts * sizeof(double));
+        if (in->nattr) memcpy(g->vattr, in->vattr, (size_t)in->nattr * in->nverts * sizeof(double));
     }
     for (int32_t v = in->nverts; v < m->nv; v++) {
         if (gid[v] < 0) continue;
@@ -192,8 +189,8 @@ static void build_vertices(const pslg *in, const mesh *m, const int32_t *mseg_ma
 
 /* The pieces of the non-cut segments of m (in segment order), split at kept vertices. */
 static void build_pieces(const pslg *in, const mesh *m, const uint8_t *mseg_cut,
-                         const int32_t *mseg_parent, const int32_t *mseg_marker, const int32_t *part, const uint8_t *keep,
-                         const int32_t *gid, gbuild *b) {
+                         const int32_t *mseg_parent, const int32_t *mseg_marker,
+                         const int32_t *part, const uint8_t *keep, const int32_t *gid, gbuild *b) {
     rec *r = mesh_xmalloc((size_t)m->nss + 1, sizeof(rec));
     int32_t nr = 0;
     for (int32_t i = 0; i < m->nss; i++) {
@@ -215,8 +212,7 @@ static void build_pieces(const pslg *in, const mesh *m, const uint8_t *mseg_cut,
         while (j < nr && r[j].seg == s)
             j++;
         if (j == i) { /* not in the triangulation (e.g. inside a hole): keep it whole */
-            add_seg(b, gid[m->seg[2 * s]], gid[m->seg[2 * s + 1]], mark, line, parent, -1, -1,
-                    0);
+            add_seg(b, gid[m->seg[2 * s]], gid[m->seg[2 * s + 1]], mark, line, parent, -1, -1, 0);
             continue;
         }
         int32_t start = r[i].u, l = -1, rr = -1;
@@ -236,8 +232,8 @@ static void build_pieces(const pslg *in, const mesh *m, const uint8_t *mseg_cut,
     mesh_xfree(r);
 }
 
-int decomp_build(const pslg *in, const mesh *m, const uint8_t *mseg_cut,
-                 const int32_t *mseg_parent, const int32_t *mseg_marker, const int32_t *part, const double *tw, int32_t K,
+int decomp_build(const pslg *in, const mesh *m, const uint8_t *mseg_cut, const int32_t *mseg_parent,
+                 const int32_t *mseg_marker, const int32_t *part, const double *tw, int32_t K,
                  pcdm_decomp *d, char *err, size_t errlen) {
     memset(d, 0, sizeof *d);
     d->nsub = K;
@@ -259,7 +255,8 @@ int decomp_build(const pslg *in, const mesh *m, const uint8_t *mseg_cut,
         if (!mesh_tri_alive(m, t)) continue;
         int32_t p = part[t];
         if (p < 0 || p >= K) MESH_BUG("triangle %d has label %d of %d", t, p, K);
-        const double *a = mesh_vertex_xy(m, m->tv[3 * t]), *bb = mesh_vertex_xy(m, m->tv[3 * t + 1]),
+        const double *a = mesh_vertex_xy(m, m->tv[3 * t]),
+                     *bb = mesh_vertex_xy(m, m->tv[3 * t + 1]),
                      *c = mesh_vertex_xy(m, m->tv[3 * t + 2]);
         double ar = geom_area(a, bb, c);
         d->sub_area[p] += ar;
@@ -375,8 +372,8 @@ int decomp_map_owners(pcdm_decomp *d, int32_t P, double R, const int32_t *planne
     idx_t *xadj = mesh_xmalloc((size_t)K + 1, sizeof(idx_t)), *adj = NULL;
     double *len = NULL;
     sub_graph(d, xadj, &adj, &len);
-    idx_t *vw = mesh_xmalloc((size_t)K, sizeof(idx_t)), *ew = mesh_xmalloc(
-                                                               (size_t)xadj[K] + 1, sizeof(idx_t));
+    idx_t *vw = mesh_xmalloc((size_t)K, sizeof(idx_t)),
+          *ew = mesh_xmalloc((size_t)xadj[K] + 1, sizeof(idx_t));
     decomp_int_weights(d->sub_weight, K, vw);
     decomp_int_weights(len, (int32_t)xadj[K], ew);
     real_t *tp = mesh_xmalloc((size_t)P, sizeof(real_t));

@@ -69,7 +69,7 @@ typedef struct pcdm_decomp {
                           * (from its first to its second vertex); -1 = outside the domain */
     /* The interface edges as straight cuts (x1 y1 x2 y2 each), what --write-cuts writes. */
     int32_t ncuts;
-    double *cut_xy; /* 4 * ncuts */
+    double *cut_xy;     /* 4 * ncuts */
     int32_t nsub;       /* K */
     int32_t nranks;     /* P */
     double *sub_seed;   /* 2 * K: a point strictly inside each subdomain */

@@ -81,8 +81,8 @@ static int partition(const mesh *m, const int32_t *id, int32_t n, const double *
                      const double *target, int32_t K, int32_t *part, char *err, size_t errlen) {
     idx_t *xadj = mesh_xmalloc((size_t)n + 1, sizeof(idx_t));
     idx_t *adj = mesh_xmalloc(3 * (size_t)n + 1, sizeof(idx_t));
-    double *len = mesh_xmalloc(3 * (size_t)n + 1, sizeof(double)), *w = mesh_xmalloc(
-                                                                        (size_t)n + 1, sizeof(double));
+    double *len = mesh_xmalloc(3 * (size_t)n + 1, sizeof(double)),
+           *w = mesh_xmalloc((size_t)n + 1, sizeof(double));
     int32_t ne = 0;
     for (int32_t t = 0; t < m->nt; t++) {
         if (id[t] < 0) continue;
@@ -92,8 +92,8 @@ static int partition(const mesh *m, const int32_t *id, int32_t n, const double *
             int32_t e = 3 * t + j, nb = m->tn[e];
             if (nb < 0) continue;
             adj[ne] = id[nb / 3];
-            len[ne++] = sqrt(geom_dist2(mesh_vertex_xy(m, mesh_org(m, e)),
-                                        mesh_vertex_xy(m, mesh_dest(m, e))));
+            len[ne++] = sqrt(
+                geom_dist2(mesh_vertex_xy(m, mesh_org(m, e)), mesh_vertex_xy(m, mesh_dest(m, e))));
         }
     }
     xadj[n] = ne;
@@ -130,8 +130,7 @@ static int partition(const mesh *m, const int32_t *id, int32_t n, const double *
     int rc = METIS_PartGraphKway(&nn, &ncon, xadj, adj, vw, NULL, ew, &np, tp, NULL, opt, &cut, pp);
     if (rc != METIS_OK && opt[METIS_OPTION_CONTIG]) {
         opt[METIS_OPTION_CONTIG] = 0;
-        rc = METIS_PartGraphKway(&nn, &ncon, xadj, adj, vw, NULL, ew, &np, tp, NULL, opt, &cut,
-                                 pp);
+        rc = METIS_PartGraphKway(&nn, &ncon, xadj, adj, vw, NULL, ew, &np, tp, NULL, opt, &cut, pp);
     }
     for (int32_t t = 0; t < m->nt; t++)
         part[t] = id[t] >= 0 ? (int32_t)pp[id[t]] : -1;
@@ -144,8 +143,9 @@ static int partition(const mesh *m, const int32_t *id, int32_t n, const double *
     mesh_xfree(pp);
     mesh_xfree(tp);
     if (rc != METIS_OK)
-        return decomp_fail(err, errlen, "METIS could not partition %d coarse triangles into %d "
-                                        "parts (error %d)",
+        return decomp_fail(err, errlen,
+                           "METIS could not partition %d coarse triangles into %d "
+                           "parts (error %d)",
                            (int)n, (int)K, rc);
     return 0;
 }

@@ -9,8 +9,9 @@
  * an augmented PSLG that pslg_check validates (crossings) and mesh_build_cdt triangulates.  The
  * subdomains are the faces of that arrangement (components of its triangles under adjacency
  * across non-constraint edges), so the cuts written by --write-cuts read back to a
- * decomposition at least as fine as the one written; a cut edge with the same subdomain (or the outside) on both sides is an error naming
- * its line.  decomp_build then extracts the pieces exactly as for the automatic route.
+ * decomposition at least as fine as the one written; a cut edge with the same subdomain (or the
+ * outside) on both sides is an error naming its line.  decomp_build then extracts the pieces
+ * exactly as for the automatic route.
  *
  * Invariants: segment identity survives pslg_check's normalisation through the marker field
  * (temporarily the index into a side table); sides and components come from the CDT's exact
@@ -66,7 +67,8 @@ static double dist_point_seg(const double *p, const double *a, const double *b, 
 
 /* Endpoint p: an input vertex or earlier point within tol, else a new vertex (projected onto
  * the first segment within tol, input segments first, then earlier cuts). */
-static int32_t place(aug *a, const pslg *in, const cut *c, int32_t nc, const double *p, double tol) {
+static int32_t place(aug *a, const pslg *in, const cut *c, int32_t nc, const double *p,
+                     double tol) {
     for (int32_t v = 0; v < a->g.nverts; v++)
         if (sqrt(geom_dist2(p, a->g.xy + 2 * (size_t)v)) <= tol) return v;
     double q[2];
@@ -75,8 +77,7 @@ static int32_t place(aug *a, const pslg *in, const cut *c, int32_t nc, const dou
                            in->xy + 2 * (size_t)in->seg[2 * s + 1], q) <= tol)
             return add_vertex(a, q);
     for (int32_t k = 0; k < nc; k++)
-        if (dist_point_seg(p, a->g.xy + 2 * (size_t)c[k].a, a->g.xy + 2 * (size_t)c[k].b, q) <=
-            tol)
+        if (dist_point_seg(p, a->g.xy + 2 * (size_t)c[k].a, a->g.xy + 2 * (size_t)c[k].b, q) <= tol)
             return add_vertex(a, q);
     return add_vertex(a, p);
 }
@@ -299,16 +300,17 @@ int pcdm_decomp_read_cuts(const char *path, const pslg *in, const pcdm_decomp_op
                 const mesh_subseg *s = mesh_subseg_of_edge(&m, e);
                 if (!s || !a.sr[m.smarker[s->seg]].is_cut) continue;
                 if (n < 0 || lab[n / 3] == lab[t])
-                    rc = decomp_fail(err, errlen, "%s:%d: the cut does not separate two "
-                                                  "subdomains (%s)",
+                    rc = decomp_fail(err, errlen,
+                                     "%s:%d: the cut does not separate two "
+                                     "subdomains (%s)",
                                      path, (int)a.sr[m.smarker[s->seg]].line,
                                      n < 0 ? "it lies on the domain boundary"
                                            : "the same subdomain is on both sides");
             }
     }
     if (rc == 0 && o->nsub > 0 && o->nsub != K)
-        rc = decomp_fail(err, errlen, "%s: the cuts make %d subdomains, not the %d asked for",
-                         path, (int)K, (int)o->nsub);
+        rc = decomp_fail(err, errlen, "%s: the cuts make %d subdomains, not the %d asked for", path,
+                         (int)K, (int)o->nsub);
     if (rc == 0 && K < o->nranks)
         rc = decomp_fail(err, errlen, "%s: the cuts make %d subdomains, fewer than the %d ranks",
                          path, (int)K, (int)o->nranks);
@@ -325,17 +327,17 @@ int pcdm_decomp_read_cuts(const char *path, const pslg *in, const pcdm_decomp_op
         tw = mesh_xcalloc((size_t)m.nt + 1, sizeof(double));
         for (int32_t t = 0; t < m.nt; t++)
             if (mesh_tri_alive(&m, t)) {
-                double ar = geom_area(mesh_vertex_xy(&m, m.tv[3 * t]),
-                                      mesh_vertex_xy(&m, m.tv[3 * t + 1]),
-                                      mesh_vertex_xy(&m, m.tv[3 * t + 2]));
+                double ar =
+                    geom_area(mesh_vertex_xy(&m, m.tv[3 * t]), mesh_vertex_xy(&m, m.tv[3 * t + 1]),
+                              mesh_vertex_xy(&m, m.tv[3 * t + 2]));
                 tw[t] = o->max_area > 0 ? ar / o->max_area : ar;
             }
         rc = decomp_build(in, &m, iscut, parent, marker, lab, tw, K, out, err, errlen);
     }
     if (rc == 0) {
         for (int32_t k = 0; k < K; k++)
-            out->sub_target[k] = out->total_weight > 0 ? out->sub_weight[k] / out->total_weight
-                                                       : 1.0 / K;
+            out->sub_target[k] =
+                out->total_weight > 0 ? out->sub_weight[k] / out->total_weight : 1.0 / K;
         out->ncoarse = m.nlive;
         rc = decomp_map_owners(out, o->nranks, o->imbalance > 0 ? o->imbalance : 1, NULL, err,
                                errlen);

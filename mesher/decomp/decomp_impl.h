@@ -20,8 +20,8 @@
  * edges are the edges between triangles of different parts that are not pieces of input
  * segments.  Every part must hold a triangle.  Fills everything but sub_target and sub_owner.
  * Returns 0, or -1 with a message in err. */
-int decomp_build(const pslg *in, const mesh *m, const uint8_t *mseg_cut,
-                 const int32_t *mseg_parent, const int32_t *mseg_marker, const int32_t *part, const double *tw, int32_t K,
+int decomp_build(const pslg *in, const mesh *m, const uint8_t *mseg_cut, const int32_t *mseg_parent,
+                 const int32_t *mseg_marker, const int32_t *part, const double *tw, int32_t K,
                  pcdm_decomp *d, char *err, size_t errlen);
 
 /* Assigns d->sub_owner for P = nranks ranks and imbalance R (rank 0 gets R/(R+P-1) of the

@@ -676,8 +676,8 @@ static int32_t open_edges(const mesh_flat *f, int rank, open_edge **out) {
         }
     for (int32_t s = 0; s < f->nsegs; s++) { /* n = 1: a boundary subsegment; 2: an interface */
         int32_t a = f->seg[2 * s], b = f->seg[2 * s + 1];
-        k[n++] = (ekey){a < b ? a : b, a < b ? b : a,
-                        1 + (f->sinterface ? f->sinterface[s] != 0 : 0)};
+        k[n++] =
+            (ekey){a < b ? a : b, a < b ? b : a, 1 + (f->sinterface ? f->sinterface[s] != 0 : 0)};
     }
     qsort(k, (size_t)n, sizeof *k, cmp_ekey);
     open_edge *o = mesh_xmalloc((size_t)n + 1, sizeof(open_edge));

@@ -45,8 +45,9 @@ typedef struct par_opts {
  * `rank` == 0 prints. */
 int par_parse_args(int argc, char **argv, const char *prog, int rank, par_opts *o, int *code);
 
-/* Largest number of subdomains par_load lets the automatic decomposition attempt (its cost
- * grows steeply with K, and every rank computes it); more is refused with a clear message. */
+/* Largest number of subdomains par_load lets the automatic decomposition attempt (every rank
+ * computes it, on a coarse mesh of about 200 K triangles); more is refused with a clear
+ * message. */
 #define PAR_MAX_SUBDOMAINS 256
 
 /* Collective over MPI_COMM_WORLD.  The common start of ./pcdm and ./pbw: rt_init, argument
@@ -63,9 +64,9 @@ int par_startup(int *argc, char ***argv, const char *prog, int phases_ok, int (*
 int par_load(const par_opts *o, pslg *in, pcdm_decomp *d);
 
 /* Collective.  First par_check_interfaces (a disagreement: the message printed by rank 0, -1
- * returned on every rank).  Then every rank contributes its part of the mesh (local numbering; xy of every vertex
- * it uses; triangles ccw with trank set to its rank; its constraint subsegments).  Rank 0
- * receives the pieces, merges vertices with identical coordinates (bit-equal: interface
+ * returned on every rank).  Then every rank contributes its part of the mesh (local numbering; xy
+ * of every vertex it uses; triangles ccw with trank set to its rank; its constraint subsegments).
+ * Rank 0 receives the pieces, merges vertices with identical coordinates (bit-equal: interface
  * vertices are computed identically on both sides), renumbers globally (input vertices first,
  * in input order), de-duplicates subsegments, and fills *global (other ranks: zeroed). */
 int par_gather_mesh(const mesh_flat *local, const pslg *in, mesh_flat *global);
