@@ -7,6 +7,8 @@
 #   make deps       install Open MPI, Check, METIS  make SANITIZE=1 test   ASan + UBSan build
 #   make DEBUG=1    debug build (build/debug, MESH_ASSERT on)
 #   make format     clang-format the tree       make clean
+#   make fuzz       libFuzzer run of ./mesh's reader and mesher (FUZZ_TIME seconds, default 90;
+#                   clang-14; corpus tests/fuzz/corpus, findings in build/fuzz/artifacts)
 
 CC := mpicc
 STD := -std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE
@@ -38,17 +40,20 @@ CHECK_LIBS = $(shell pkg-config --libs check 2>/dev/null)
 
 RT_SRC := $(wildcard runtime/*.c)
 MESH_SRC := $(wildcard mesher/*/*.c)
-APP_SRC := $(wildcard apps/*.c)
+# apps/: the programs' mains, and the front end they share (apps/cli.c, linked into each).
+APP_LIB_SRC := apps/cli.c
+APP_SRC := $(filter-out $(APP_LIB_SRC),$(wildcard apps/*.c))
 TEST_SRC := $(wildcard tests/unit_*.c tests/mpi_*.c)
 BENCH_SRC := $(wildcard bench/*.c)
 
 RT_LIB := $(B)/libpcdm_rt.a
 MESH_LIB := $(B)/libpcdm_mesher.a
+APP_LIB := $(B)/libpcdm_apps.a
 APPS := $(patsubst apps/%.c,%,$(APP_SRC))
 TESTS := $(patsubst tests/%.c,$(B)/tests/%,$(TEST_SRC))
 BENCHES := $(patsubst bench/%.c,$(B)/bench/%,$(BENCH_SRC))
 
-.PHONY: all deps test check-deps demo bench bench-quick bench-seq bench-primitives format clean
+.PHONY: all deps fuzz fuzz-deps test check-deps demo bench bench-quick bench-seq bench-primitives format clean
 .DEFAULT_GOAL := all
 # Keep the objects of programs and tests (they are intermediate files to make otherwise).
 .SECONDARY: $(patsubst %.c,$(B)/obj/%.o,$(APP_SRC) $(TEST_SRC) $(BENCH_SRC))
@@ -71,9 +76,13 @@ $(MESH_LIB): $(patsubst %.c,$(B)/obj/%.o,$(MESH_SRC))
 	@mkdir -p $(dir $@)
 	rm -f $@ && ar rcs $@ $^
 
-$(B)/bin/%: $(B)/obj/apps/%.o $(MESH_LIB) $(RT_LIB)
+$(APP_LIB): $(patsubst %.c,$(B)/obj/%.o,$(APP_LIB_SRC))
 	@mkdir -p $(dir $@)
-	$(CC) $(LDFLAGS) $< $(MESH_LIB) $(RT_LIB) $(LDLIBS) -o $@
+	rm -f $@ && ar rcs $@ $^
+
+$(B)/bin/%: $(B)/obj/apps/%.o $(APP_LIB) $(MESH_LIB) $(RT_LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS) $< $(APP_LIB) $(MESH_LIB) $(RT_LIB) $(LDLIBS) -o $@
 
 # Programs live at the root; sanitizer and debug builds keep theirs under $(B)/bin.
 ifeq ($(B),build)
@@ -84,9 +93,9 @@ $(APPS): %: $(B)/bin/%
 	@true
 endif
 
-$(B)/tests/%: $(B)/obj/tests/%.o $(MESH_LIB) $(RT_LIB)
+$(B)/tests/%: $(B)/obj/tests/%.o $(APP_LIB) $(MESH_LIB) $(RT_LIB)
 	@mkdir -p $(dir $@)
-	$(CC) $(LDFLAGS) $< $(MESH_LIB) $(RT_LIB) $(CHECK_LIBS) $(LDLIBS) -o $@
+	$(CC) $(LDFLAGS) $< $(APP_LIB) $(MESH_LIB) $(RT_LIB) $(CHECK_LIBS) $(LDLIBS) -o $@
 
 $(B)/bench/%: $(B)/obj/bench/%.o $(MESH_LIB) $(RT_LIB)
 	@mkdir -p $(dir $@)
@@ -118,7 +127,33 @@ bench-primitives: deps
 
 CLANG_FORMAT ?= $(shell command -v clang-format || command -v clang-format-14)
 format:
-	$(CLANG_FORMAT) -i $(wildcard runtime/*.[ch] mesher/*/*.[ch] apps/*.c tests/*.[ch] bench/*.c)
+	$(CLANG_FORMAT) -i $(wildcard runtime/*.[ch] mesher/*/*.[ch] apps/*.[ch] tests/*.[ch] bench/*.c)
+
+# ---- fuzzing (issue 10): clang's libFuzzer with ASan + UBSan over the reader and the mesher.
+# The seed corpus lives in git (tests/fuzz/corpus); the run works on a copy in build/fuzz, so
+# the tree is never written; crashes, timeouts and leaks land in build/fuzz/artifacts (copy
+# each one into tests/fuzz/regress with its expected outcome, tests/t_fuzz_regress.sh).
+FUZZ_CC ?= clang-14
+FUZZ_TIME ?= 90
+FUZZ_FLAGS := -g -O1 -ffp-contract=off -fno-omit-frame-pointer \
+              -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined -DMESH_DEBUG
+FUZZ_SRC := $(wildcard mesher/base/*.c mesher/geom/*.c mesher/io/*.c mesher/seq/*.c)
+build/fuzz/fuzz_mesh: tests/fuzz/fuzz_mesh.c $(FUZZ_SRC) $(wildcard mesher/*/*.h)
+	@mkdir -p $(dir $@)
+	$(FUZZ_CC) $(STD) $(FUZZ_FLAGS) -Imesher $(shell mpicc -showme:compile) $< $(FUZZ_SRC) \
+	    $(shell mpicc -showme:link) -lm -o $@
+
+fuzz-deps:
+	@FUZZ=1 sh tests/deps.sh
+
+fuzz: fuzz-deps
+	@$(MAKE) --no-print-directory build/fuzz/fuzz_mesh
+	@mkdir -p build/fuzz/corpus build/fuzz/artifacts
+	cp -n tests/fuzz/corpus/* build/fuzz/corpus/ 2>/dev/null || true
+	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	    build/fuzz/fuzz_mesh -max_total_time=$(FUZZ_TIME) -timeout=20 -rss_limit_mb=2048 \
+	    -max_len=8192 -print_final_stats=1 \
+	    -artifact_prefix=build/fuzz/artifacts/ -dict=tests/fuzz/poly.dict build/fuzz/corpus
 
 clean:
 	rm -rf build $(APPS)

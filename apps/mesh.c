@@ -2,7 +2,8 @@
  *
  * Reads a PSLG (Triangle's .poly or .node), builds its constrained Delaunay triangulation and
  * refines it with Ruppert/Chew Delaunay refinement (mesher/seq/mesh.h), then writes the requested
- * outputs.  Bad input: one message "FILE:LINE: problem" and exit status 1.  With --stats the
+ * outputs.  Options, usage errors and exit statuses: the front end (apps/cli.c; ./mesh --help).
+ * Bad input: one message "FILE:LINE: problem" and exit status 1.  With --stats the
  * last line printed is
  *   stats: triangles=N vertices=N steiner=N min_angle=D max_area=A wall_s=T peak_rss_mb=M
  *          bytes_per_tri=B
@@ -15,6 +16,8 @@
 #include "io/meshio.h"
 #include "io/validate.h"
 
+#include "cli.h"
+
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -26,26 +29,6 @@ static double now(void) {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static void usage(FILE *f) {
-    fprintf(f,
-            "usage: ./mesh [options] input.poly\n"
-            "Constrained Delaunay triangulation + Ruppert/Chew quality refinement.\n"
-            "  -q DEG        minimum angle bound in degrees (default 20.7; -q 0: no angle bound)\n"
-            "  -a AREA       maximum triangle area (default: none)\n"
-            "  -S N          at most N Steiner points\n"
-            "  -o PREFIX     write PREFIX.node, PREFIX.ele, PREFIX.poly\n"
-            "  --vtk FILE    write a legacy VTK file\n"
-            "  --svg FILE    write an SVG picture\n"
-            "  --stats       print the statistics line last\n"
-            "  --check       validate the mesh (exit 1 if it fails)\n"
-            "  --progress    progress on stderr even when it is not a terminal\n"
-            "  --circumcenters  insert circumcenters only (no off-centers)\n"
-            "  --lens        diametral lenses decide encroachment (as Triangle -q); default:\n"
-            "                diametral circles (Ruppert)\n"
-            "  --cdt-only    no refinement at all\n"
-            "  --help        this text\n");
 }
 
 typedef struct progress {
@@ -66,89 +49,14 @@ static int poll_progress(void *ctx) {
     return 0;
 }
 
-static int parse_double(const char *s, double *out) {
-    char *end;
-    double v = strtod(s, &end);
-    if (end == s || *end) return -1;
-    *out = v;
-    return 0;
-}
-
 int main(int argc, char **argv) {
-    double qdeg = 20.7, area = 0;
-    long long steiner = -1;
-    const char *input = NULL, *prefix = NULL, *vtk = NULL, *svg = NULL;
-    int stats = 0, check = 0, prog = 0, offc = 1, cdt_only = 0, lens = 0;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        const char *val = NULL;
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            usage(stdout);
-            return 0;
-        } else if (!strcmp(a, "--stats")) {
-            stats = 1;
-        } else if (!strcmp(a, "--check")) {
-            check = 1;
-        } else if (!strcmp(a, "--progress")) {
-            prog = 1;
-        } else if (!strcmp(a, "--circumcenters")) {
-            offc = 0;
-        } else if (!strcmp(a, "--lens")) {
-            lens = 1;
-        } else if (!strcmp(a, "--cdt-only")) {
-            cdt_only = 1;
-        } else if (!strcmp(a, "--vtk") || !strcmp(a, "--svg")) {
-            if (i + 1 >= argc) {
-                fprintf(stderr, "mesh: %s needs a file name\n", a);
-                return 1;
-            }
-            if (!strcmp(a, "--vtk"))
-                vtk = argv[++i];
-            else
-                svg = argv[++i];
-        } else if (a[0] == '-' && (a[1] == 'q' || a[1] == 'a' || a[1] == 'S' || a[1] == 'o') &&
-                   a[1] != 0) {
-            if (a[2])
-                val = a + 2;
-            else if (i + 1 < argc)
-                val = argv[++i];
-            else {
-                fprintf(stderr, "mesh: option %s needs a value\n", a);
-                return 1;
-            }
-            double d = 0;
-            if (a[1] == 'o') {
-                prefix = val;
-            } else if (parse_double(val, &d) != 0 || d < 0) {
-                fprintf(stderr, "mesh: option -%c: bad value '%s'\n", a[1], val);
-                return 1;
-            } else if (a[1] == 'q') {
-                if (d > 60) {
-                    fprintf(stderr, "mesh: -q %g: the angle bound must be at most 60 degrees\n", d);
-                    return 1;
-                }
-                qdeg = d;
-            } else if (a[1] == 'a') {
-                area = d;
-            } else {
-                steiner = (long long)d;
-            }
-        } else if (a[0] == '-') {
-            fprintf(stderr, "mesh: unknown option '%s' (try --help)\n", a);
-            return 1;
-        } else if (!input) {
-            input = a;
-        } else {
-            fprintf(stderr, "mesh: more than one input file ('%s', '%s')\n", input, a);
-            return 1;
-        }
-    }
-    if (!input) {
-        usage(stderr);
-        return 1;
-    }
-    if (qdeg > 34)
-        fprintf(stderr, "mesh: warning: -q %g above about 34 degrees may not terminate\n", qdeg);
+    cli_opts o;
+    int code;
+    if (cli_parse(&cli_mesh, argc, argv, stdout, stderr, &o, &code)) return code;
+    const char *input = o.par.input, *prefix = o.par.out_prefix, *vtk = o.par.vtk, *svg = o.par.svg;
+    double qdeg = o.par.min_angle, area = o.par.max_area;
+    long long steiner = (long long)o.par.max_steiner;
+    int stats = o.par.stats, check = o.par.check, cdt_only = o.cdt_only;
 
     geom_init();
     char err[1024];
@@ -171,14 +79,15 @@ int main(int argc, char **argv) {
         pslg_free(&g);
         return 1;
     }
-    progress pr = {prog || isatty(2), t0, t0, &m};
+    progress pr = {o.par.progress || isatty(2), t0, t0, &m};
     mesh_hooks h = {NULL, poll_progress, 4096, &pr};
     mesh_set_hooks(&m, &h);
     mesh_refine_result rr = MESH_REFINE_DONE;
     if (!cdt_only) {
         /* the refiner's bound sits a hair above the requested one so rounding in the quality
          * test can never leave a triangle a few ulps below it */
-        mesh_quality q = {qdeg > 0 ? qdeg * (1 + 1e-9) + 1e-12 : 0, area, steiner, offc, lens};
+        mesh_quality q = {qdeg > 0 ? qdeg * (1 + 1e-9) + 1e-12 : 0, area, steiner, !o.circumcenters,
+                          o.lens};
         mesh_set_quality(&m, &q);
         rr = mesh_refine(&m);
     }

@@ -32,6 +32,7 @@
 #include "pbw/pbw.h"
 
 #include "base/base.h"
+#include "cli.h"
 #include "geom/geom.h"
 #include "par/par.h"
 #include "rt.h"
@@ -75,7 +76,9 @@ int main(int argc, char **argv) {
     pslg in;
     pcdm_decomp d;
     int code;
-    if (par_startup(&argc, &argv, "pbw", 1, pbw_register, &o, &in, &d, &code)) return code;
+    if (par_startup(&argc, &argv, cli_pbw.name, cli_par_parse, &cli_pbw, pbw_register, &o, &in, &d,
+                    &code))
+        return code;
     int rank = rt_rank(), size = rt_size();
     MPI_Comm comm = rt_app_comm();
 

@@ -29,6 +29,7 @@
 #include "pcdm/pcdm.h"
 
 #include "base/base.h"
+#include "cli.h"
 #include "par/par.h"
 #include "rt.h"
 #include "seq/mesh.h"
@@ -64,7 +65,9 @@ int main(int argc, char **argv) {
     pslg in;
     pcdm_decomp d;
     int code, rc;
-    if (par_startup(&argc, &argv, "pcdm", 0, pcdm_register, &o, &in, &d, &code)) return code;
+    if (par_startup(&argc, &argv, cli_pcdm.name, cli_par_parse, &cli_pcdm, pcdm_register, &o, &in,
+                    &d, &code))
+        return code;
     int rank = rt_rank(), size = rt_size();
     MPI_Comm comm = rt_app_comm();
 

@@ -1,6 +1,7 @@
 #!/bin/sh
 # Installs the build's dependencies from Debian packages when they are missing; silent otherwise.
-# Needs: mpicc/mpirun (Open MPI), Check (pkg-config check), METIS 5 (libmetis-dev).
+# Needs: mpicc/mpirun (Open MPI), Check (pkg-config check), METIS 5 (libmetis-dev); with FUZZ=1
+# also clang-14 and libFuzzer (libclang-rt-14-dev).
 set -e
 missing=""
 command -v mpicc >/dev/null 2>&1 || missing="$missing openmpi-bin libopenmpi-dev"
@@ -9,6 +10,12 @@ command -v pkg-config >/dev/null 2>&1 || missing="$missing pkg-config"
 pkg-config --exists check 2>/dev/null || missing="$missing check"
 command -v make >/dev/null 2>&1 || missing="$missing make"
 [ -e /usr/include/metis.h ] || missing="$missing libmetis-dev"
+if [ "${FUZZ:-}" = 1 ]; then # make fuzz: clang with libFuzzer and the sanitizer runtimes
+    command -v clang-14 >/dev/null 2>&1 || missing="$missing clang-14"
+    [ -e /usr/lib/llvm-14/lib/clang/14.0.0/lib/linux/libclang_rt.fuzzer-x86_64.a ] ||
+        ls /usr/lib/llvm-14/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a >/dev/null 2>&1 ||
+        missing="$missing libclang-rt-14-dev"
+fi
 [ -z "$missing" ] && exit 0
 echo "deps: installing$missing"
 if [ "$(id -u)" -eq 0 ]; then SUDO=""; else SUDO="sudo"; fi

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# meshcheck end to end: usage and exit codes (0 valid, 1 invalid, 2 usage or input error) and
-# the one-line summary, on small meshes written here in Triangle's format.
+# meshcheck end to end: usage and exit codes (0 valid; 1 invalid, or an unreadable or bad input;
+# 2 usage error) and the one-line summary, on small meshes written here in Triangle's format.
 set -u
 cd "$(dirname "$0")/.."
 MC=${BIN:-.}/meshcheck
@@ -35,8 +35,8 @@ expect 1 'meshcheck: FAIL triangle 0 has smallest angle 45 < 50 degrees bad_angl
 expect 1 'bad_area=2' "$MC" data/square.poly "$T/sq" -a 0.25
 expect 1 'meshcheck: FAIL triangle 0 (0 2 1) is clockwise bad_orient=1' "$MC" data/square.poly "$T/flip/sq"
 expect 1 'area_mismatch=1' "$MC" data/lshape.poly "$T/sq"
-expect 2 'nosuch.node: cannot open: No such file or directory' "$MC" data/square.poly "$T/nosuch"
-expect 2 'tests/bad/self_intersecting.poly:11: segment 4 crosses segment 2 (line 9)' \
+expect 1 'nosuch.node: cannot open: No such file or directory' "$MC" data/square.poly "$T/nosuch"
+expect 1 'tests/bad/self_intersecting.poly:11: segment 4 crosses segment 2 (line 9)' \
     "$MC" tests/bad/self_intersecting.poly "$T/sq"
 rm "$T/sq.poly" # without the .poly the boundary edges still carry the input segments
 expect 0 'meshcheck: OK' "$MC" data/square.poly "$T/sq"

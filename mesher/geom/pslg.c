@@ -1186,6 +1186,7 @@ typedef struct cycle {
     double area, face; /* signed area of the walk; face area (outer minus inner) */
     double x0, y0, x1, y1;
     int removed;
+    int32_t encl; /* negative walks: the enclosing bounded face, or -1 */
 } cycle;
 
 static int32_t uf_find(int32_t *p, int32_t x) {
@@ -1209,20 +1210,70 @@ static int32_t enclosing(const arr *A, const cycle *cy, int32_t nc, const double
     return best;
 }
 
-double pslg_domain_area(const pslg *g) {
-    geom_init();
+/* The faces of the arrangement and which of them the domain keeps: cy[i] for each closed walk
+ * (positive: a bounded face's outer boundary; negative or zero: the outer boundary of a
+ * component, or a tree of dangling segments, whose face is cy[i].encl, -1 for the unbounded
+ * face), cid[h] the walk of half-edge h (the
+ * face to its left).  Hole points remove the face strictly containing them; one exactly on an
+ * arrangement vertex or edge removes every face whose closure contains it (as the mesher's
+ * carving does, cdt.c). */
+typedef struct faces {
     arr A;
-    if (g->nsegs == 0 || arr_build(g, &A)) return 0;
-    int32_t nh = 2 * A.ne, n = g->nverts;
-    int32_t *cid = mesh_xmalloc((size_t)nh * sizeof(int32_t), 1);
+    cycle *cy;
+    int32_t *cid, nc;
+} faces;
+
+static void faces_free(faces *F) {
+    arr_free(&F->A);
+    free(F->cy);
+    free(F->cid);
+}
+
+/* The bounded face to the left of half-edge h, or -1 (unbounded). */
+static int32_t face_left(const faces *F, int32_t h) {
+    const cycle *c = F->cy + F->cid[h];
+    return c->area > 0 ? F->cid[h] : c->encl;
+}
+
+static void remove_face(faces *F, int32_t f) {
+    if (f >= 0) F->cy[f].removed = 1;
+}
+
+/* Applies hole point p (see faces). */
+static void faces_hole(faces *F, const pslg *g, const double *p) {
+    const arr *A = &F->A;
+    int on = 0;
+    for (int32_t h = 0; h < 2 * A->ne; h += 2) {
+        const double *a = g->xy + 2 * A->org[h], *b = g->xy + 2 * A->org[h + 1];
+        int at_a = a[0] == p[0] && a[1] == p[1], at_b = b[0] == p[0] && b[1] == p[1];
+        if (at_a || at_b || (geom_orient2d(a, b, p) == 0 && strictly_between(a, b, p))) {
+            remove_face(F, face_left(F, h));
+            remove_face(F, face_left(F, h + 1));
+            on = 1;
+        }
+    }
+    if (!on) remove_face(F, enclosing(A, F->cy, F->nc, p, -1));
+}
+
+static int faces_build(const pslg *g, faces *F) {
+    memset(F, 0, sizeof *F);
+    if (g->nsegs == 0 || arr_build(g, &F->A)) return -1;
+    arr *A = &F->A;
+    int32_t nh = 2 * A->ne, n = g->nverts;
+    F->cid = mesh_xmalloc((size_t)nh * sizeof(int32_t) + 1, 1);
     int32_t *uf = mesh_xmalloc((size_t)(n ? n : 1) * sizeof(int32_t), 1);
-    cycle *cy = mesh_xmalloc((size_t)nh * sizeof(cycle), 1);
-    double total = 0;
-    if (!cid || !uf || !cy) goto out;
+    F->cy = mesh_xmalloc((size_t)nh * sizeof(cycle) + 1, 1);
+    if (!F->cid || !uf || !F->cy) {
+        free(uf);
+        faces_free(F);
+        return -1;
+    }
+    int32_t *cid = F->cid;
+    cycle *cy = F->cy;
     for (int32_t v = 0; v < n; v++)
         uf[v] = v;
-    for (int32_t e = 0; e < A.ne; e++) {
-        int32_t a = uf_find(uf, A.org[2 * e]), b = uf_find(uf, A.org[2 * e + 1]);
+    for (int32_t e = 0; e < A->ne; e++) {
+        int32_t a = uf_find(uf, A->org[2 * e]), b = uf_find(uf, A->org[2 * e + 1]);
         if (a != b) uf[a] = b;
     }
     for (int32_t h = 0; h < nh; h++)
@@ -1231,14 +1282,14 @@ double pslg_domain_area(const pslg *g) {
     for (int32_t h0 = 0; h0 < nh; h0++) {
         if (cid[h0] >= 0) continue;
         cycle *c = cy + nc;
-        const double *o = g->xy + 2 * A.org[h0];
+        const double *o = g->xy + 2 * A->org[h0];
         double sum = 0, comp = 0; /* Neumaier summation of the shoelace terms */
         c->x0 = c->x1 = o[0];
         c->y0 = c->y1 = o[1];
         int32_t h = h0;
         do {
             cid[h] = nc;
-            const double *a = g->xy + 2 * A.org[h], *b = g->xy + 2 * A.org[h ^ 1];
+            const double *a = g->xy + 2 * A->org[h], *b = g->xy + 2 * A->org[h ^ 1];
             double t = (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
             double s = sum + t;
             comp += fabs(sum) >= fabs(t) ? (sum - s) + t : (t - s) + sum;
@@ -1247,36 +1298,83 @@ double pslg_domain_area(const pslg *g) {
             c->x1 = fmax(c->x1, a[0]);
             c->y0 = fmin(c->y0, a[1]);
             c->y1 = fmax(c->y1, a[1]);
-            h = arr_next(&A, h);
+            h = arr_next(A, h);
         } while (h != h0);
         c->h0 = h0;
         c->area = c->face = 0.5 * (sum + comp);
-        c->comp = uf_find(uf, A.org[h0]);
+        c->comp = uf_find(uf, A->org[h0]);
         c->removed = 0;
+        c->encl = -1;
         nc++;
     }
+    free(uf);
+    F->nc = nc;
     /* outer boundaries of components (negative walks) go to their enclosing face */
     for (int32_t i = 0; i < nc; i++) {
-        if (cy[i].area >= 0) continue;
-        int32_t f = enclosing(&A, cy, nc, g->xy + 2 * A.org[cy[i].h0], cy[i].comp);
+        if (cy[i].area > 0) continue; /* zero: a tree of dangling segments */
+        int32_t f = enclosing(A, cy, nc, g->xy + 2 * A->org[cy[i].h0], cy[i].comp);
+        cy[i].encl = f;
         if (f >= 0) cy[f].face += cy[i].area;
     }
-    for (int32_t k = 0; k < g->nholes; k++) {
-        int32_t f = enclosing(&A, cy, nc, g->holes + 2 * k, -1);
-        if (f >= 0) cy[f].removed = 1;
-    }
-    double comp = 0;
-    for (int32_t i = 0; i < nc; i++)
-        if (cy[i].area > 0 && !cy[i].removed) {
-            double t = cy[i].face, s = total + t;
+    for (int32_t k = 0; k < g->nholes; k++)
+        faces_hole(F, g, g->holes + 2 * k);
+    return 0;
+}
+
+double pslg_domain_area(const pslg *g) {
+    geom_init();
+    faces F;
+    if (faces_build(g, &F)) return 0;
+    double total = 0, comp = 0;
+    for (int32_t i = 0; i < F.nc; i++)
+        if (F.cy[i].area > 0 && !F.cy[i].removed) {
+            double t = F.cy[i].face, s = total + t;
             comp += fabs(total) >= fabs(t) ? (total - s) + t : (t - s) + total;
             total = s;
         }
     total += comp;
-out:
-    free(cid);
-    free(uf);
-    free(cy);
-    arr_free(&A);
+    faces_free(&F);
     return total;
+}
+
+/* 1 iff the half-edge h borders a kept face on one side or the other. */
+static int borders_domain(const faces *F, int32_t h) {
+    int32_t f1 = face_left(F, h), f2 = face_left(F, h ^ 1);
+    return (f1 >= 0 && !F->cy[f1].removed) || (f2 >= 0 && !F->cy[f2].removed);
+}
+
+int pslg_segments_bordering(const pslg *g, uint8_t *out) {
+    geom_init();
+    faces F;
+    for (int32_t s = 0; s < g->nsegs; s++)
+        out[s] = 1;
+    if (g->nsegs == 0) return 0;
+    if (faces_build(g, &F)) return -1;
+    const arr *A = &F.A;
+    for (int32_t s = 0; s < g->nsegs; s++) {
+        int32_t a = g->seg[2 * s], b = g->seg[2 * s + 1], cur = a, any = 0;
+        const double *pb = g->xy + 2 * b;
+        /* walk the pieces of s from a to b: at each vertex the outgoing half-edge pointing at
+         * b (collinear, same direction) */
+        for (int32_t steps = 0; cur != b && steps <= A->ne; steps++) {
+            int32_t next = -1;
+            for (int32_t i = A->vstart[cur]; i < A->vstart[cur + 1]; i++) {
+                int32_t h = A->out[i], w = A->org[h ^ 1];
+                const double *pc = g->xy + 2 * cur, *pw = g->xy + 2 * w;
+                if (w != b && !(geom_orient2d(pc, pb, pw) == 0 && strictly_between(pc, pb, pw)))
+                    continue;
+                any |= borders_domain(&F, h);
+                next = w;
+                break;
+            }
+            if (next < 0) {
+                any = 1; /* not found (should not happen): keep the segment required */
+                break;
+            }
+            cur = next;
+        }
+        out[s] = (uint8_t)any;
+    }
+    faces_free(&F);
+    return 0;
 }

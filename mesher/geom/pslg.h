@@ -51,8 +51,14 @@ int pslg_check(pslg *g, char *err, size_t errlen);
 
 /* Area of the domain the PSLG describes, computed from the PSLG alone (independently of any
  * mesh): the union of the bounded faces of the segment arrangement, minus the faces that
- * contain a hole point.  Used by the validator. */
+ * contain a hole point.  A hole point exactly on a segment or a vertex removes every face
+ * whose closure contains it (as the mesher's carving does).  Used by the validator. */
 double pslg_domain_area(const pslg *g);
+
+/* out[s] (g->nsegs bytes) = 1 iff some piece of segment s has the domain on at least one side;
+ * 0 for a segment inside the removed region (both sides outside, e.g. all around a hole point
+ * placed on it or on its vertex).  Returns 0, or -1 (out of memory; out is all 1). */
+int pslg_segments_bordering(const pslg *g, uint8_t *out);
 
 /* Like pslg_read for a .poly, except that when the .poly declares 0 vertices its .node file is
  * not read: segment endpoints are checked against nverts vertices numbered from first_index

@@ -1,8 +1,8 @@
 /* fmt: number formatting shared by the writers of mesher/io (internal to io/).
  *
  * Integers are formatted by hand (the big meshes have tens of millions of them and snprintf
- * dominates otherwise).  Doubles are written with 17 significant digits, which reads back to
- * the same bits with any correctly rounding strtod; -0 is written as 0.  The functions append
+ * dominates otherwise).  Doubles are written in the fewest digits that read back to the same
+ * bits with any correctly rounding strtod (fmt.c); -0 is written as 0.  The functions append
  * to a caller's buffer and return the new end; the caller guarantees room (24 bytes for an
  * integer, 32 for a double).
  */
@@ -26,13 +26,8 @@ static inline char *fmt_int(char *p, long long v) {
     return p;
 }
 
-/* Appends v with 17 significant digits (round-trips exactly). */
-static inline char *fmt_dbl(char *p, double v) {
-    if (v == 0) { /* also turns -0 into 0 */
-        *p++ = '0';
-        return p;
-    }
-    return p + snprintf(p, 32, "%.17g", v);
-}
+/* Appends the shortest decimal form of v that strtod reads back to the same bits (fmt.c);
+ * -0 is written as 0.  Needs 32 bytes of room. */
+char *fmt_dbl(char *p, double v);
 
 #endif

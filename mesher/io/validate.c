@@ -218,85 +218,98 @@ static void oom(validate_report *r) {
     problem(r, "validator out of memory");
 }
 
-int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, validate_report *r) {
-    geom_init();
-    memset(r, 0, sizeof *r);
-    validate_opts none = {0};
-    if (!o) o = &none;
-    r->ntris = m->ntris;
-    r->nverts = m->nverts;
-    r->min_angle = 180;
-    r->min_angle_unforced = 180;
-    const double *xy = m->xy;
-    const int32_t *tri = m->tri;
-    int32_t nv = m->nverts, nt = m->ntris;
+/* Everything one validation run builds, handed from check to check.  Each check below returns
+ * 0 to go on, or -1 when a later check could not run (out of memory, or indices out of range). */
+typedef struct vctx {
+    const pslg *g;
+    const mesh_flat *m;
+    const validate_opts *o;
+    validate_report *r;
+    const double *xy;
+    const int32_t *tri;
+    int32_t nv, nt;
+    uint8_t *tbad;   /* per triangle: not counter-clockwise (skipped by later checks) */
+    uint8_t *vflag;  /* per vertex: 1 small corner, 2 on a small corner's segment chain */
+    int32_t *bstart; /* directed edges bucketed by their smaller vertex: bhe[bstart[v]..] */
+    uint32_t *bhe;
+    int32_t maxdeg;
+    etab T;          /* segment and boundary edges */
+    int32_t *gmap;   /* input vertex -> mesh vertex, or -1 */
+    gaplist gl;      /* small input corners */
+    int32_t *tstart; /* per input segment: its corner tags tags[tstart[s]..] */
+    int32_t (*tags)[2];
+    uint8_t *border; /* per input segment: 0 if it lies inside the removed region */
+    vtag *vt;        /* mesh vertices on small corners' segments, sorted */
+    size_t nvt, capvt;
+} vctx;
 
-    uint8_t *tbad = NULL, *vflag = NULL;
-    int32_t *bstart = NULL, *gmap = NULL, *astart = NULL, *gslot = NULL, *chain = NULL,
-            *chainv = NULL;
-    uint32_t *bhe = NULL;
-    pair64 *scratch = NULL;
-    int32_t(*adj)[2] = NULL;
-    etab T = {0};
-    gaplist gl = {0};
-    int32_t *tstart = NULL;
-    int32_t(*tags)[2] = NULL;
-    vtag *vt = NULL;
-    size_t nvt = 0, capvt = 0;
-
-    /* 1. indices and coordinates */
-    for (int32_t i = 0; i < nv; i++)
-        if (!isfinite(xy[2 * i]) || !isfinite(xy[2 * i + 1])) {
+/* 1. indices and coordinates */
+static int check_indices(vctx *c) {
+    validate_report *r = c->r;
+    const mesh_flat *m = c->m;
+    for (int32_t i = 0; i < c->nv; i++)
+        if (!isfinite(c->xy[2 * i]) || !isfinite(c->xy[2 * i + 1])) {
             r->bad_conform++;
             problem(r, "vertex %d has a non-finite coordinate", i);
         }
-    for (int64_t i = 0; i < 3 * (int64_t)nt; i++)
-        if (tri[i] < 0 || tri[i] >= nv) {
+    for (int64_t i = 0; i < 3 * (int64_t)c->nt; i++)
+        if (c->tri[i] < 0 || c->tri[i] >= c->nv) {
             r->bad_conform++;
             problem(r, "triangle %lld uses vertex %d, out of range [0, %d)", (long long)(i / 3),
-                    tri[i], nv);
+                    c->tri[i], c->nv);
         }
     for (int64_t i = 0; i < 2 * (int64_t)m->nsegs; i++)
-        if (m->seg[i] < 0 || m->seg[i] >= nv) {
+        if (m->seg[i] < 0 || m->seg[i] >= c->nv) {
             r->bad_conform++;
             problem(r, "segment %lld uses vertex %d, out of range [0, %d)", (long long)(i / 2),
-                    m->seg[i], nv);
+                    m->seg[i], c->nv);
         }
-    if (nt > INT32_MAX / 3) {
+    if (c->nt > INT32_MAX / 3) {
         r->bad_conform++;
-        problem(r, "too many triangles (%d) for the validator", nt);
+        problem(r, "too many triangles (%d) for the validator", c->nt);
     }
-    if (r->bad_conform) goto done;
+    return r->bad_conform ? -1 : 0;
+}
 
-    /* 2. orientation and areas */
-    tbad = mesh_xcalloc((size_t)nt + 1, 1);
-    if (!tbad) {
+/* 2. orientation and areas */
+static int check_orientation(vctx *c) {
+    validate_report *r = c->r;
+    const int32_t *tri = c->tri;
+    c->tbad = mesh_xcalloc((size_t)c->nt + 1, 1);
+    if (!c->tbad) {
         oom(r);
-        goto done;
+        return -1;
     }
     ksum area = {0, 0};
-    for (int32_t t = 0; t < nt; t++) {
-        const double *a = xy + 2 * tri[3 * t], *b = xy + 2 * tri[3 * t + 1],
-                     *c = xy + 2 * tri[3 * t + 2];
-        if (geom_orient2d(a, b, c) <= 0) {
-            tbad[t] = 1;
+    for (int32_t t = 0; t < c->nt; t++) {
+        const double *a = c->xy + 2 * tri[3 * t], *b = c->xy + 2 * tri[3 * t + 1],
+                     *p = c->xy + 2 * tri[3 * t + 2];
+        if (geom_orient2d(a, b, p) <= 0) {
+            c->tbad[t] = 1;
             r->bad_orient++;
             problem(r, "triangle %d (%d %d %d) is %s", t, tri[3 * t], tri[3 * t + 1],
                     tri[3 * t + 2],
-                    geom_orient2d(a, b, c) < 0 ? "clockwise" : "degenerate (zero area)");
+                    geom_orient2d(a, b, p) < 0 ? "clockwise" : "degenerate (zero area)");
         }
-        ksum_add(&area, 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])));
+        ksum_add(&area, 0.5 * ((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])));
     }
     r->mesh_area = ksum_get(&area);
+    return 0;
+}
 
-    /* 3. directed edges bucketed by their smaller vertex, each bucket sorted by the larger */
-    bstart = mesh_xcalloc((size_t)nv + 2, sizeof *bstart);
-    bhe = mesh_xmalloc((3 * (size_t)nt + 1) * sizeof *bhe, 1);
-    if (!bstart || !bhe) {
-        oom(r);
-        goto done;
+/* 3. directed edges bucketed by their smaller vertex, each bucket sorted by the larger */
+static int build_edge_buckets(vctx *c) {
+    const int32_t *tri = c->tri;
+    int32_t nv = c->nv;
+    c->bstart = mesh_xcalloc((size_t)nv + 2, sizeof *c->bstart);
+    c->bhe = mesh_xmalloc((3 * (size_t)c->nt + 1) * sizeof *c->bhe, 1);
+    if (!c->bstart || !c->bhe) {
+        oom(c->r);
+        return -1;
     }
-    for (uint32_t he = 0; he < 3 * (uint32_t)nt; he++) {
+    int32_t *bstart = c->bstart;
+    uint32_t *bhe = c->bhe;
+    for (uint32_t he = 0; he < 3 * (uint32_t)c->nt; he++) {
         int32_t a = he_org(tri, he), b = he_dst(tri, he);
         if (a != b) bstart[(a < b ? a : b) + 1]++;
     }
@@ -305,17 +318,17 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
         if (bstart[v + 1] > maxdeg) maxdeg = bstart[v + 1];
         bstart[v + 1] += bstart[v];
     }
-    for (uint32_t he = 0; he < 3 * (uint32_t)nt; he++) {
+    for (uint32_t he = 0; he < 3 * (uint32_t)c->nt; he++) {
         int32_t a = he_org(tri, he), b = he_dst(tri, he);
         if (a != b) bhe[bstart[a < b ? a : b]++] = he;
     }
     for (int32_t v = nv; v > 0; v--)
         bstart[v] = bstart[v - 1];
     bstart[0] = 0;
-    scratch = mesh_xmalloc(((size_t)maxdeg + 1) * sizeof *scratch, 1);
+    pair64 *scratch = mesh_xmalloc(((size_t)maxdeg + 1) * sizeof *scratch, 1);
     if (!scratch) {
-        oom(r);
-        goto done;
+        oom(c->r);
+        return -1;
     }
     for (int32_t v = 0; v < nv; v++) {
         uint32_t *e = bhe + bstart[v];
@@ -338,25 +351,39 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
                 e[i] = scratch[i].he;
         }
     }
+    free(scratch);
+    c->maxdeg = maxdeg;
+    return 0;
+}
 
-    /* 4. segment edges into the table */
+/* 4. segment edges into the table */
+static int add_segment_edges(vctx *c) {
+    const mesh_flat *m = c->m;
     for (int32_t s = 0; s < m->nsegs; s++) {
         int32_t a = m->seg[2 * s], b = m->seg[2 * s + 1];
         if (a == b) {
-            r->bad_conform++;
-            problem(r, "segment %d has equal endpoints (%d)", s, a);
+            c->r->bad_conform++;
+            problem(c->r, "segment %d has equal endpoints (%d)", s, a);
             continue;
         }
-        int32_t k = etab_get(&T, a, b);
+        int32_t k = etab_get(&c->T, a, b);
         if (k < 0) {
-            oom(r);
-            goto done;
+            oom(c->r);
+            return -1;
         }
-        T.rec[k].flags |= E_MSEG;
-        if (T.rec[k].mseg < 0) T.rec[k].mseg = s;
+        c->T.rec[k].flags |= E_MSEG;
+        if (c->T.rec[k].mseg < 0) c->T.rec[k].mseg = s;
     }
+    return 0;
+}
 
-    /* 5. conformity; boundary edges */
+/* 5. conformity; boundary edges */
+static int check_conformity(vctx *c) {
+    validate_report *r = c->r;
+    const double *xy = c->xy;
+    const int32_t *tri = c->tri;
+    int32_t nv = c->nv;
+    etab *T = &c->T;
     double cx = 0, cy = 0;
     if (nv > 0) {
         double x0 = xy[0], x1 = xy[0], y0 = xy[1], y1 = xy[1];
@@ -371,35 +398,35 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
     }
     ksum barea = {0, 0};
     for (int32_t v = 0; v < nv; v++) {
-        for (int32_t i = bstart[v]; i < bstart[v + 1];) {
-            int32_t w = he_hi(tri, bhe[i]), j = i + 1;
-            while (j < bstart[v + 1] && he_hi(tri, bhe[j]) == w)
+        for (int32_t i = c->bstart[v]; i < c->bstart[v + 1];) {
+            int32_t w = he_hi(tri, c->bhe[i]), j = i + 1;
+            while (j < c->bstart[v + 1] && he_hi(tri, c->bhe[j]) == w)
                 j++;
             int32_t cnt = j - i;
             if (cnt == 1) {
-                uint32_t he = bhe[i];
-                int32_t k = etab_get(&T, v, w);
+                uint32_t he = c->bhe[i];
+                int32_t k = etab_get(T, v, w);
                 if (k < 0) {
                     oom(r);
-                    goto done;
+                    return -1;
                 }
-                T.rec[k].flags |= E_BND | E_INMESH;
-                T.rec[k].from = he_org(tri, he);
+                T->rec[k].flags |= E_BND | E_INMESH;
+                T->rec[k].from = he_org(tri, he);
                 const double *p = xy + 2 * he_org(tri, he), *q = xy + 2 * he_dst(tri, he);
                 ksum_add(&barea, 0.5 * ((p[0] - cx) * (q[1] - cy) - (p[1] - cy) * (q[0] - cx)));
             } else {
                 if (cnt > 2) {
                     r->bad_conform++;
                     problem(r, "edge (%d, %d) is shared by %d triangles", v, w, cnt);
-                } else if (he_org(tri, bhe[i]) == he_org(tri, bhe[i + 1])) {
+                } else if (he_org(tri, c->bhe[i]) == he_org(tri, c->bhe[i + 1])) {
                     r->bad_conform++;
                     problem(r,
                             "edge (%d, %d) is used twice in the same direction (triangles %u "
                             "and %u overlap)",
-                            v, w, bhe[i] / 3, bhe[i + 1] / 3);
+                            v, w, c->bhe[i] / 3, c->bhe[i + 1] / 3);
                 }
-                int32_t k = T.n ? etab_find(&T, v, w) : -1;
-                if (k >= 0) T.rec[k].flags |= E_INMESH;
+                int32_t k = T->n ? etab_find(T, v, w) : -1;
+                if (k >= 0) T->rec[k].flags |= E_INMESH;
             }
             i = j;
         }
@@ -410,23 +437,29 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
         problem(r, "triangles overlap: their areas sum to %.17g but the boundary encloses %.17g",
                 r->mesh_area, benc);
     }
-    for (int32_t k = 0; k < T.n; k++)
-        if (!(T.rec[k].flags & E_INMESH)) {
+    for (int32_t k = 0; k < T->n; k++)
+        if (!(T->rec[k].flags & E_INMESH)) {
             r->bad_conform++;
-            problem(r, "segment %d (%d, %d) is not an edge of the mesh", T.rec[k].mseg, T.rec[k].u,
-                    T.rec[k].v);
+            problem(r, "segment %d (%d, %d) is not an edge of the mesh", T->rec[k].mseg,
+                    T->rec[k].u, T->rec[k].v);
         }
+    return 0;
+}
 
-    /* 6. input vertices: exact coordinates, by hash */
+/* 6. input vertices: exact coordinates, by hash */
+static int check_input_vertices(vctx *c) {
+    const pslg *g = c->g;
+    const double *xy = c->xy;
     int32_t gn = g ? g->nverts : 0;
-    gmap = mesh_xmalloc(((size_t)gn + 1) * sizeof *gmap, 1);
+    c->gmap = mesh_xmalloc(((size_t)gn + 1) * sizeof *c->gmap, 1);
     size_t gns = 16;
     while (gns < 2 * (size_t)gn + 2)
         gns *= 2;
-    gslot = mesh_xmalloc(gns * sizeof *gslot, 1);
+    int32_t *gslot = mesh_xmalloc(gns * sizeof *gslot, 1), *gmap = c->gmap;
     if (!gmap || !gslot) {
-        oom(r);
-        goto done;
+        free(gslot);
+        oom(c->r);
+        return -1;
     }
     memset(gslot, 0xff, gns * sizeof *gslot);
     for (int32_t i = 0; i < gn; i++) {
@@ -443,7 +476,7 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
         else
             gmap[i] = -2 - gslot[h]; /* duplicate input vertex: resolved below */
     }
-    for (int32_t i = 0; i < nv; i++) {
+    for (int32_t i = 0; i < c->nv; i++) {
         double x = xy[2 * i] + 0.0, y = xy[2 * i + 1] + 0.0;
         uint64_t bx, by;
         memcpy(&bx, &x, 8);
@@ -458,42 +491,49 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
             h = (h + 1) & (gns - 1);
         }
     }
+    free(gslot);
     for (int32_t i = 0; i < gn; i++) {
         if (gmap[i] <= -2) gmap[i] = gmap[-2 - gmap[i]];
         if (gmap[i] < 0) {
-            r->missing_verts++;
-            problem(r, "input vertex %d (line %d) at (%.17g, %.17g) is not a mesh vertex",
+            c->r->missing_verts++;
+            problem(c->r, "input vertex %d (line %d) at (%.17g, %.17g) is not a mesh vertex",
                     i + g->first_index, g->vline ? g->vline[i] : 0, g->xy[2 * i], g->xy[2 * i + 1]);
         }
     }
+    return 0;
+}
 
-    /* 7. small input corners and the segments that form them */
-    vflag = mesh_xcalloc((size_t)nv + 1, 1);
-    if (!vflag) {
-        oom(r);
-        goto done;
+/* 7. small input corners and the segments that form them */
+static int find_small_corners(vctx *c) {
+    const pslg *g = c->g;
+    c->vflag = mesh_xcalloc((size_t)c->nv + 1, 1);
+    if (!c->vflag) {
+        oom(c->r);
+        return -1;
     }
-    if (g && g->nsegs > 0) pslg_input_angles(g, 60.0, gap_cb, &gl);
-    if (gl.oom) {
-        oom(r);
-        goto done;
+    gaplist *gl = &c->gl;
+    if (g && g->nsegs > 0) pslg_input_angles(g, 60.0, gap_cb, gl);
+    if (gl->oom) {
+        oom(c->r);
+        return -1;
     }
     int32_t gsn = g ? g->nsegs : 0;
-    tstart = mesh_xcalloc((size_t)gsn + 2, sizeof *tstart);
-    tags = mesh_xmalloc(((size_t)gl.n * 2 + 1) * sizeof *tags, 1);
-    if (!tstart || !tags) {
-        oom(r);
-        goto done;
+    c->tstart = mesh_xcalloc((size_t)gsn + 2, sizeof *c->tstart);
+    c->tags = mesh_xmalloc(((size_t)gl->n * 2 + 1) * sizeof *c->tags, 1);
+    if (!c->tstart || !c->tags) {
+        oom(c->r);
+        return -1;
     }
-    for (int32_t k = 0; k < gl.n; k++) {
-        tstart[gl.g[k].s1 + 1]++;
-        tstart[gl.g[k].s2 + 1]++;
-        if (gmap[gl.g[k].v] >= 0) vflag[gmap[gl.g[k].v]] |= 1;
+    int32_t *tstart = c->tstart;
+    for (int32_t k = 0; k < gl->n; k++) {
+        tstart[gl->g[k].s1 + 1]++;
+        tstart[gl->g[k].s2 + 1]++;
+        if (c->gmap[gl->g[k].v] >= 0) c->vflag[c->gmap[gl->g[k].v]] |= 1;
     }
     for (int32_t s = 0; s < gsn; s++)
         tstart[s + 1] += tstart[s];
-    for (int32_t k = 0; k < gl.n; k++) {
-        int32_t *p1 = tags[tstart[gl.g[k].s1]++], *p2 = tags[tstart[gl.g[k].s2]++];
+    for (int32_t k = 0; k < gl->n; k++) {
+        int32_t *p1 = c->tags[tstart[gl->g[k].s1]++], *p2 = c->tags[tstart[gl->g[k].s2]++];
         p1[0] = k;
         p1[1] = 0;
         p2[0] = k;
@@ -502,79 +542,126 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
     for (int32_t s = gsn; s > 0; s--)
         tstart[s] = tstart[s - 1];
     tstart[0] = 0;
+    return 0;
+}
 
-    /* 8. input segments as chains over segment and boundary edges */
-    astart = mesh_xcalloc((size_t)nv + 2, sizeof *astart);
-    adj = mesh_xmalloc(((size_t)T.n * 2 + 1) * sizeof *adj, 1);
-    chain = mesh_xmalloc(((size_t)T.n + 1) * sizeof *chain, 1);
-    chainv = mesh_xmalloc(((size_t)T.n + 2) * sizeof *chainv, 1);
+/* Records that mesh vertex v lies on side `side` of small corner k. */
+static int tag_vertex(vctx *c, int32_t v, int32_t k, int32_t side) {
+    if (c->nvt == c->capvt) {
+        size_t nc = c->capvt ? 2 * c->capvt : 256;
+        vtag *nvtag = mesh_xrealloc(c->vt, nc * sizeof *c->vt, 1);
+        if (!nvtag) {
+            oom(c->r);
+            return -1;
+        }
+        c->vt = nvtag;
+        c->capvt = nc;
+    }
+    c->vt[c->nvt++] = (vtag){v, k, side};
+    c->vflag[v] |= 2;
+    return 0;
+}
+
+/* The chain of mesh edges (indices into T) along input segment s: from the mesh vertex of its
+ * first endpoint, each step to the nearest neighbour farther along the segment that lies within
+ * rounding distance of it.  Returns the number of edges, or -1 if the chain does not reach the
+ * other endpoint.  chainv gets the chain's vertices. */
+static int32_t trace_chain(const vctx *c, int32_t s, const int32_t *astart, const int32_t (*adj)[2],
+                           int32_t *chain, int32_t *chainv) {
+    const pslg *g = c->g;
+    const double *xy = c->xy;
+    int32_t A = c->gmap[g->seg[2 * s]], B = c->gmap[g->seg[2 * s + 1]];
+    const double *pa = xy + 2 * A, *pb = xy + 2 * B;
+    double dx = pb[0] - pa[0], dy = pb[1] - pa[1], L2 = dx * dx + dy * dy, L = sqrt(L2);
+    double mag = fmax(fmax(fabs(pa[0]), fabs(pa[1])), fmax(fabs(pb[0]), fabs(pb[1])));
+    double tol = (1e-9 * L + 8 * DBL_EPSILON * mag) * L; /* bound on |cross| */
+    int32_t cur = A, nch = 0;
+    double tcur = 0;
+    chainv[0] = A;
+    while (cur != B && nch < c->T.n) {
+        int32_t best = -1, brec = -1;
+        double bt = INFINITY;
+        for (int32_t i = astart[cur]; i < astart[cur + 1]; i++) {
+            int32_t w = adj[i][0];
+            double t;
+            if (w == B) {
+                t = 1;
+            } else {
+                const double *q = xy + 2 * w;
+                double qx = q[0] - pa[0], qy = q[1] - pa[1];
+                if (fabs(dx * qy - dy * qx) > tol) continue;
+                t = (qx * dx + qy * dy) / L2;
+                if (!(t > tcur && t < 1)) continue;
+            }
+            if (t < bt) {
+                bt = t;
+                best = w;
+                brec = adj[i][1];
+            }
+        }
+        if (best < 0) break;
+        chain[nch++] = brec;
+        chainv[nch] = best;
+        cur = best;
+        tcur = bt;
+    }
+    return cur == B ? nch : -1;
+}
+
+/* 8. input segments as chains over segment and boundary edges */
+static int check_input_segments(vctx *c) {
+    const pslg *g = c->g;
+    validate_report *r = c->r;
+    const double *xy = c->xy;
+    etab *T = &c->T;
+    int32_t nv = c->nv, gsn = g ? g->nsegs : 0;
+    int32_t *astart = mesh_xcalloc((size_t)nv + 2, sizeof *astart);
+    int32_t(*adj)[2] = mesh_xmalloc(((size_t)T->n * 2 + 1) * sizeof *adj, 1);
+    int32_t *chain = mesh_xmalloc(((size_t)T->n + 1) * sizeof *chain, 1);
+    int32_t *chainv = mesh_xmalloc(((size_t)T->n + 2) * sizeof *chainv, 1);
+    int res = 0;
     if (!astart || !adj || !chain || !chainv) {
         oom(r);
-        goto done;
+        res = -1;
+        goto out;
     }
-    for (int32_t k = 0; k < T.n; k++) { /* chains use real mesh edges only */
-        if (!(T.rec[k].flags & E_INMESH)) continue;
-        astart[T.rec[k].u + 1]++;
-        astart[T.rec[k].v + 1]++;
+    for (int32_t k = 0; k < T->n; k++) { /* chains use real mesh edges only */
+        if (!(T->rec[k].flags & E_INMESH)) continue;
+        astart[T->rec[k].u + 1]++;
+        astart[T->rec[k].v + 1]++;
     }
     for (int32_t v = 0; v < nv; v++)
         astart[v + 1] += astart[v];
-    for (int32_t k = 0; k < T.n; k++) {
-        if (!(T.rec[k].flags & E_INMESH)) continue;
-        int32_t *p = adj[astart[T.rec[k].u]++];
-        p[0] = T.rec[k].v;
+    for (int32_t k = 0; k < T->n; k++) {
+        if (!(T->rec[k].flags & E_INMESH)) continue;
+        int32_t *p = adj[astart[T->rec[k].u]++];
+        p[0] = T->rec[k].v;
         p[1] = k;
-        p = adj[astart[T.rec[k].v]++];
-        p[0] = T.rec[k].u;
+        p = adj[astart[T->rec[k].v]++];
+        p[0] = T->rec[k].u;
         p[1] = k;
     }
     for (int32_t v = nv; v > 0; v--)
         astart[v] = astart[v - 1];
     astart[0] = 0;
+    c->border = mesh_xmalloc((size_t)gsn + 1, 1);
+    if (!c->border || (gsn > 0 && pslg_segments_bordering(g, c->border) != 0)) {
+        oom(r);
+        res = -1;
+        goto out;
+    }
     for (int32_t s = 0; s < gsn; s++) {
-        int32_t a = g->seg[2 * s], b = g->seg[2 * s + 1];
-        int32_t A = gmap[a], B = gmap[b];
+        if (!c->border[s]) continue; /* inside the removed region: the mesh has no edge there */
+        int32_t A = c->gmap[g->seg[2 * s]], B = c->gmap[g->seg[2 * s + 1]];
         if (A < 0 || B < 0 || A == B) {
             r->missing_segs++;
             problem(r, "input segment %d (line %d) is missing: an endpoint is not in the mesh",
                     s + g->first_index, g->sline ? g->sline[s] : 0);
             continue;
         }
-        const double *pa = xy + 2 * A, *pb = xy + 2 * B;
-        double dx = pb[0] - pa[0], dy = pb[1] - pa[1], L2 = dx * dx + dy * dy, L = sqrt(L2);
-        double mag = fmax(fmax(fabs(pa[0]), fabs(pa[1])), fmax(fabs(pb[0]), fabs(pb[1])));
-        double tol = (1e-9 * L + 8 * DBL_EPSILON * mag) * L; /* bound on |cross| */
-        int32_t cur = A, nch = 0;
-        double tcur = 0;
-        chainv[0] = A;
-        while (cur != B && nch < T.n) {
-            int32_t best = -1, brec = -1;
-            double bt = INFINITY;
-            for (int32_t i = astart[cur]; i < astart[cur + 1]; i++) {
-                int32_t w = adj[i][0];
-                double t;
-                if (w == B) {
-                    t = 1;
-                } else {
-                    const double *q = xy + 2 * w;
-                    double qx = q[0] - pa[0], qy = q[1] - pa[1];
-                    if (fabs(dx * qy - dy * qx) > tol) continue;
-                    t = (qx * dx + qy * dy) / L2;
-                    if (!(t > tcur && t < 1)) continue;
-                }
-                if (t < bt) {
-                    bt = t;
-                    best = w;
-                    brec = adj[i][1];
-                }
-            }
-            if (best < 0) break;
-            chain[nch++] = brec;
-            chainv[nch] = best;
-            cur = best;
-            tcur = bt;
-        }
-        if (cur != B) {
+        int32_t nch = trace_chain(c, s, astart, (const int32_t(*)[2])adj, chain, chainv);
+        if (nch < 0) {
+            const double *pa = xy + 2 * A, *pb = xy + 2 * B;
             r->missing_segs++;
             problem(r,
                     "input segment %d (line %d) from (%.17g, %.17g) to (%.17g, %.17g) is not "
@@ -583,64 +670,67 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
             continue;
         }
         for (int32_t i = 0; i < nch; i++)
-            T.rec[chain[i]].flags |= E_INPUT;
-        for (int32_t q = tstart[s]; q < tstart[s + 1]; q++) /* tag the chain's vertices */
-            for (int32_t i = 0; i <= nch; i++) {
-                if (nvt == capvt) {
-                    size_t nc = capvt ? 2 * capvt : 256;
-                    vtag *nvtag = mesh_xrealloc(vt, nc * sizeof *vt, 1);
-                    if (!nvtag) {
-                        oom(r);
-                        goto done;
-                    }
-                    vt = nvtag;
-                    capvt = nc;
+            T->rec[chain[i]].flags |= E_INPUT;
+        for (int32_t q = c->tstart[s]; q < c->tstart[s + 1]; q++) /* tag the chain's vertices */
+            for (int32_t i = 0; i <= nch; i++)
+                if (tag_vertex(c, chainv[i], c->tags[q][0], c->tags[q][1])) {
+                    res = -1;
+                    goto out;
                 }
-                vt[nvt++] = (vtag){chainv[i], tags[q][0], tags[q][1]};
-                vflag[chainv[i]] |= 2;
-            }
     }
-    for (int32_t k = 0; k < T.n; k++)
-        if ((T.rec[k].flags & E_BND) && !(T.rec[k].flags & E_INPUT)) {
+    for (int32_t k = 0; k < T->n; k++)
+        if ((T->rec[k].flags & E_BND) && !(T->rec[k].flags & E_INPUT)) {
             r->stray_boundary++;
-            const double *p = xy + 2 * T.rec[k].u, *q = xy + 2 * T.rec[k].v;
+            const double *p = xy + 2 * T->rec[k].u, *q = xy + 2 * T->rec[k].v;
             problem(r,
                     "boundary edge (%d, %d) from (%.17g, %.17g) to (%.17g, %.17g) lies on no "
                     "input segment",
-                    T.rec[k].u, T.rec[k].v, p[0], p[1], q[0], q[1]);
+                    T->rec[k].u, T->rec[k].v, p[0], p[1], q[0], q[1]);
         }
-    if (nvt > 1) { /* sort and drop repeats */
-        qsort(vt, nvt, sizeof *vt, cmp_vtag);
+    if (c->nvt > 1) { /* sort and drop repeats */
+        qsort(c->vt, c->nvt, sizeof *c->vt, cmp_vtag);
         size_t w = 1;
-        for (size_t i = 1; i < nvt; i++)
-            if (cmp_vtag(&vt[i], &vt[w - 1]) != 0) vt[w++] = vt[i];
-        nvt = w;
+        for (size_t i = 1; i < c->nvt; i++)
+            if (cmp_vtag(&c->vt[i], &c->vt[w - 1]) != 0) c->vt[w++] = c->vt[i];
+        c->nvt = w;
     }
+out:
+    free(astart);
+    free(adj);
+    free(chain);
+    free(chainv);
+    return res;
+}
 
-    /* 9. local Delaunay property of unconstrained interior edges */
-    for (int32_t v = 0; v < nv; v++) {
-        for (int32_t i = bstart[v]; i < bstart[v + 1];) {
-            int32_t w = he_hi(tri, bhe[i]), j = i + 1;
-            while (j < bstart[v + 1] && he_hi(tri, bhe[j]) == w)
+/* 9. local Delaunay property of unconstrained interior edges */
+static int check_delaunay(vctx *c) {
+    const mesh_flat *m = c->m;
+    const double *xy = c->xy;
+    const int32_t *tri = c->tri;
+    const etab *T = &c->T;
+    for (int32_t v = 0; v < c->nv; v++) {
+        for (int32_t i = c->bstart[v]; i < c->bstart[v + 1];) {
+            int32_t w = he_hi(tri, c->bhe[i]), j = i + 1;
+            while (j < c->bstart[v + 1] && he_hi(tri, c->bhe[j]) == w)
                 j++;
             if (j - i == 2) {
-                uint32_t h1 = bhe[i], h2 = bhe[i + 1];
+                uint32_t h1 = c->bhe[i], h2 = c->bhe[i + 1];
                 uint32_t t1 = h1 / 3, t2 = h2 / 3;
-                int32_t k = T.n ? etab_find(&T, v, w) : -1;
+                int32_t k = T->n ? etab_find(T, v, w) : -1;
                 int exempt = 0;
                 if (k >= 0) {
-                    const erec *e = T.rec + k;
+                    const erec *e = T->rec + k;
                     int iface = !m->sinterface || e->mseg < 0 || m->sinterface[e->mseg];
                     exempt = (e->flags & E_INPUT) ||
-                             ((e->flags & E_MSEG) && !(o->check_delaunay_interfaces && iface));
+                             ((e->flags & E_MSEG) && !(c->o->check_delaunay_interfaces && iface));
                 }
-                if (!exempt && !tbad[t1] && !tbad[t2] && he_org(tri, h1) != he_org(tri, h2)) {
+                if (!exempt && !c->tbad[t1] && !c->tbad[t2] && he_org(tri, h1) != he_org(tri, h2)) {
                     uint32_t k2 = h2 % 3;
                     int32_t opp = tri[3 * t2 + (k2 + 2) % 3];
                     if (geom_incircle(xy + 2 * tri[3 * t1], xy + 2 * tri[3 * t1 + 1],
                                       xy + 2 * tri[3 * t1 + 2], xy + 2 * opp) > 0) {
-                        r->non_delaunay++;
-                        problem(r,
+                        c->r->non_delaunay++;
+                        problem(c->r,
                                 "edge (%d, %d) is not locally Delaunay: vertex %d lies inside "
                                 "the circumcircle of triangle %u",
                                 v, w, opp, t1);
@@ -650,50 +740,60 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
             i = j;
         }
     }
+    return 0;
+}
 
-    /* 10. quality */
+/* The first entry of the sorted tags not below key. */
+static size_t vtag_lower_bound(const vctx *c, const vtag *key) {
+    size_t lo = 0, hi = c->nvt;
+    while (lo < hi) {
+        size_t mid = (lo + hi) / 2;
+        if (cmp_vtag(&c->vt[mid], key) < 0)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* 1 iff triangle tv's small angle is forced by the input (rule in validate.h). */
+static int angle_exempt(const vctx *c, const int32_t *tv) {
+    const uint8_t *vflag = c->vflag;
+    int exempt = (vflag[tv[0]] | vflag[tv[1]] | vflag[tv[2]]) & 1;
+    for (int x = 0; x < 3 && !exempt; x++) {
+        int32_t p = tv[x], q = tv[(x + 1) % 3];
+        if (!(vflag[p] & 2) || !(vflag[q] & 2)) continue;
+        vtag key = {p, -1, 0};
+        for (size_t i1 = vtag_lower_bound(c, &key); i1 < c->nvt && c->vt[i1].v == p && !exempt;
+             i1++) {
+            vtag k2 = {q, c->vt[i1].k, 1 - c->vt[i1].side};
+            size_t l2 = vtag_lower_bound(c, &k2);
+            exempt = l2 < c->nvt && cmp_vtag(&c->vt[l2], &k2) == 0;
+        }
+    }
+    return exempt;
+}
+
+/* 10. quality */
+static int check_quality(vctx *c) {
+    validate_report *r = c->r;
+    const validate_opts *o = c->o;
     double abound = o->max_area > 0 ? o->max_area * (1 + 1e-12) : INFINITY;
     double qbound = o->min_angle > 0 ? o->min_angle - 1e-6 : -INFINITY;
     r->max_area = 0;
-    for (int32_t t = 0; t < nt; t++) {
-        if (tbad[t]) continue;
-        const int32_t *tv = tri + 3 * t;
-        const double *a = xy + 2 * tv[0], *b = xy + 2 * tv[1], *c = xy + 2 * tv[2];
-        double ar = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
-        double ang = tri_min_angle(a, b, c);
+    for (int32_t t = 0; t < c->nt; t++) {
+        if (c->tbad[t]) continue;
+        const int32_t *tv = c->tri + 3 * t;
+        const double *a = c->xy + 2 * tv[0], *b = c->xy + 2 * tv[1], *p = c->xy + 2 * tv[2];
+        double ar = 0.5 * ((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]));
+        double ang = tri_min_angle(a, b, p);
         if (ar > r->max_area) r->max_area = ar;
         if (ang < r->min_angle) r->min_angle = ang;
         if (ar > abound) {
             r->bad_area++;
             problem(r, "triangle %d has area %.6g > %.6g", t, ar, o->max_area);
         }
-        int exempt = (vflag[tv[0]] | vflag[tv[1]] | vflag[tv[2]]) & 1;
-        for (int x = 0; x < 3 && !exempt; x++) {
-            int32_t p = tv[x], q = tv[(x + 1) % 3];
-            if (!(vflag[p] & 2) || !(vflag[q] & 2)) continue;
-            vtag key = {p, -1, 0};
-            size_t lo = 0, hi = nvt; /* first tag of p */
-            while (lo < hi) {
-                size_t mid = (lo + hi) / 2;
-                if (cmp_vtag(&vt[mid], &key) < 0)
-                    lo = mid + 1;
-                else
-                    hi = mid;
-            }
-            for (size_t i1 = lo; i1 < nvt && vt[i1].v == p && !exempt; i1++) {
-                vtag k2 = {q, vt[i1].k, 1 - vt[i1].side};
-                size_t l2 = 0, h2 = nvt;
-                while (l2 < h2) {
-                    size_t mid = (l2 + h2) / 2;
-                    if (cmp_vtag(&vt[mid], &k2) < 0)
-                        l2 = mid + 1;
-                    else
-                        h2 = mid;
-                }
-                exempt = l2 < nvt && cmp_vtag(&vt[l2], &k2) == 0;
-            }
-        }
-        if (exempt) {
+        if (angle_exempt(c, tv)) {
             r->nexempt++;
             continue;
         }
@@ -703,36 +803,137 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
             problem(r, "triangle %d has smallest angle %.6g < %.6g degrees", t, ang, o->min_angle);
         }
     }
+    return 0;
+}
 
-    /* 11. area of the domain */
-    r->domain_area = g ? pslg_domain_area(g) : 0;
-    if (g && !(fabs(r->mesh_area - r->domain_area) <=
-               1e-9 * fmax(fabs(r->mesh_area), fabs(r->domain_area)))) {
+/* 11. area of the domain */
+static int check_domain_area(vctx *c) {
+    validate_report *r = c->r;
+    r->domain_area = c->g ? pslg_domain_area(c->g) : 0;
+    if (c->g && !(fabs(r->mesh_area - r->domain_area) <=
+                  1e-9 * fmax(fabs(r->mesh_area), fabs(r->domain_area)))) {
         r->area_mismatch = 1;
         problem(r, "mesh area %.17g differs from the domain area %.17g", r->mesh_area,
                 r->domain_area);
     }
+    return 0;
+}
 
-done:
+typedef struct hsort {
+    double x, y;
+    int32_t i;
+} hsort;
+
+static int cmp_hsort(const void *pa, const void *pb) {
+    const hsort *a = pa, *b = pb;
+    if (a->x != b->x) return a->x < b->x ? -1 : 1;
+    if (a->y != b->y) return a->y < b->y ? -1 : 1;
+    return (a->i > b->i) - (a->i < b->i);
+}
+
+/* A point set (no segments) is meshed over its convex hull, whose edges the mesher makes
+ * segments (and may split, and splits at input points on them).  So the validator checks the
+ * mesh against the same PSLG with the hull edges as segments: *h shares g's arrays except seg,
+ * which the caller frees.  Andrew's monotone chain with exact orientation; collinear points
+ * are not hull vertices (a hull segment passing through them is split there, as in the mesh).
+ * Returns 0, or -1 (out of memory). */
+static int hull_pslg(const pslg *g, pslg *h) {
+    *h = *g;
+    h->seg = NULL;
+    h->smarker = NULL;
+    h->sline = NULL;
+    h->nsegs = 0;
+    int32_t n = g->nverts;
+    hsort *v = mesh_xmalloc(((size_t)n + 1) * sizeof *v, 1);
+    int32_t *st = mesh_xmalloc((2 * (size_t)n + 2) * sizeof *st, 1);
+    h->seg = mesh_xmalloc((4 * (size_t)n + 4) * sizeof *h->seg, 1);
+    if (!v || !st || !h->seg) {
+        free(v);
+        free(st);
+        free(h->seg);
+        h->seg = NULL;
+        return -1;
+    }
+    for (int32_t i = 0; i < n; i++)
+        v[i] = (hsort){g->xy[2 * i], g->xy[2 * i + 1], i};
+    qsort(v, (size_t)n, sizeof *v, cmp_hsort);
+    int32_t k = 0;
+    for (int pass = 0; pass < 2; pass++) { /* lower hull left to right, upper right to left */
+        int32_t base = k;
+        for (int32_t j = 0; j < n; j++) {
+            int32_t i = v[pass ? n - 1 - j : j].i;
+            while (k >= base + 2 &&
+                   geom_orient2d(g->xy + 2 * st[k - 2], g->xy + 2 * st[k - 1], g->xy + 2 * i) <= 0)
+                k--;
+            if (k > base && g->xy[2 * st[k - 1]] == g->xy[2 * i] &&
+                g->xy[2 * st[k - 1] + 1] == g->xy[2 * i + 1])
+                continue; /* a duplicate point */
+            st[k++] = i;
+        }
+        if (k - base >= 1 && pass == 0)
+            k--; /* the last lower point starts the upper hull */
+        else if (pass == 1)
+            k--; /* ... and the first ends it */
+    }
+    for (int32_t i = 0; i < k; i++) {
+        int32_t a = st[i], b = st[(i + 1) % k];
+        if (a == b || (g->xy[2 * a] == g->xy[2 * b] && g->xy[2 * a + 1] == g->xy[2 * b + 1]))
+            continue;
+        h->seg[2 * h->nsegs] = a;
+        h->seg[2 * h->nsegs + 1] = b;
+        h->nsegs++;
+    }
+    free(v);
+    free(st);
+    return 0;
+}
+
+int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, validate_report *r) {
+    geom_init();
+    memset(r, 0, sizeof *r);
+    validate_opts none = {0};
+    vctx c = {.g = g,
+              .m = m,
+              .o = o ? o : &none,
+              .r = r,
+              .xy = m->xy,
+              .tri = m->tri,
+              .nv = m->nverts,
+              .nt = m->ntris};
+    r->ntris = m->ntris;
+    r->nverts = m->nverts;
+    r->min_angle = 180;
+    r->min_angle_unforced = 180;
+    pslg hull;
+    int use_hull = g && g->nsegs == 0 && g->nverts >= 3;
+    if (use_hull) {
+        if (hull_pslg(g, &hull) != 0) {
+            oom(r);
+            r->ok = 0;
+            return 0;
+        }
+        c.g = &hull;
+    }
+    if (!check_indices(&c) && !check_orientation(&c) && !build_edge_buckets(&c) &&
+        !add_segment_edges(&c) && !check_conformity(&c) && !check_input_vertices(&c) &&
+        !find_small_corners(&c) && !check_input_segments(&c) && !check_delaunay(&c) &&
+        !check_quality(&c))
+        check_domain_area(&c);
     r->ok = !(r->bad_orient || r->bad_conform || r->missing_verts || r->missing_segs ||
               r->stray_boundary || r->non_delaunay || r->bad_angle || r->bad_area ||
               r->area_mismatch || r->first_problem[0]);
-    free(tbad);
-    free(vflag);
-    free(bstart);
-    free(bhe);
-    free(gmap);
-    free(gslot);
-    free(astart);
-    free(adj);
-    free(chain);
-    free(chainv);
-    free(scratch);
-    etab_free(&T);
-    free(gl.g);
-    free(tstart);
-    free(tags);
-    free(vt);
+    free(c.tbad);
+    free(c.vflag);
+    free(c.bstart);
+    free(c.bhe);
+    free(c.gmap);
+    etab_free(&c.T);
+    free(c.gl.g);
+    free(c.tstart);
+    free(c.tags);
+    free(c.vt);
+    free(c.border);
+    if (use_hull) free(hull.seg);
     return r->ok;
 }
 

@@ -1,5 +1,6 @@
 /* par.c: the layer ./pcdm and ./pbw share around their algorithms (TR-97-17 sections 3-4 leave
- * it implicit): argument parsing, collective input loading and decomposition, the gather of the
+ * it implicit): start-up (around the caller's argument parser), collective input loading and
+ * decomposition, the gather of the
  * per-rank pieces into one conforming mesh on rank 0, output files, validation and collective
  * error agreement.
  *
@@ -30,160 +31,14 @@
 #include "geom/geom.h"
 #include "rt.h"
 
-#include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
 #define PAR_TAG_GATHER 1 /* on rt_app_comm(), which this layer owns */
-
-/* ---- small helpers --------------------------------------------------------------------- */
-
-static int parse_double(const char *s, double *out) {
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (end == s || *end || errno == ERANGE || !isfinite(v)) return -1;
-    *out = v;
-    return 0;
-}
-
-static int parse_u64(const char *s, uint64_t *out) {
-    char *end;
-    errno = 0;
-    if (*s == '-') return -1;
-    unsigned long long v = strtoull(s, &end, 10);
-    if (end == s || *end || errno == ERANGE) return -1;
-    *out = (uint64_t)v;
-    return 0;
-}
-
-/* ---- arguments ------------------------------------------------------------------------- */
-
-static void usage(FILE *f, const char *prog) {
-    fprintf(f,
-            "usage: mpirun -np P ./%s [options] input.poly\n"
-            "Parallel Delaunay meshing (%s).\n"
-            "  -q DEG            minimum angle bound in degrees (default 20.7; 0: none)\n"
-            "  -a AREA           maximum triangle area (default: none)\n"
-            "  -S N              at most N Steiner points (shared among the ranks)\n"
-            "  -o PREFIX         write PREFIX.node, PREFIX.ele, PREFIX.poly (merged mesh)\n"
-            "  --vtk FILE        write a legacy VTK file (cell scalar: rank)\n"
-            "  --svg FILE        write an SVG picture coloured by rank\n"
-            "  --stats           per-rank lines and the statistics line last\n"
-            "  --check           validate the merged mesh (exit 1 if it fails)\n"
-            "  --progress        progress lines on stderr\n"
-            "  --subdomains K    number of subdomains (default: number of ranks; K >= P)\n"
-            "  --imbalance R     rank 0 gets R times the work of every other rank (default 1)\n"
-            "  --cuts FILE       take the subdomain cuts from FILE (x1 y1 x2 y2 per line)\n"
-            "  --write-cuts FILE write the cuts used to FILE (rank 0)\n"
-            "%s"
-            "  --perturb SEED    perturb message delivery (delays, reordering), seeded\n"
-            "  --help            this text\n",
-            prog,
-            !strcmp(prog, "pcdm") ? "PCDM: constrained subdomains, TR-97-17"
-                                  : "PBW: distributed Bowyer-Watson, TR-97-17",
-            !strcmp(prog, "pbw") ? "  --phases          run refinement in phases (pbw)\n" : "");
-}
-
-int par_parse_args(int argc, char **argv, const char *prog, int rank, par_opts *o, int *code) {
-    memset(o, 0, sizeof *o);
-    o->prog = prog;
-    o->min_angle = 20.7;
-    o->max_steiner = -1;
-    o->imbalance = 1.0;
-#define USAGE_ERR(...)                                                                             \
-    do {                                                                                           \
-        if (rank == 0) {                                                                           \
-            fprintf(stderr, "%s: ", prog);                                                         \
-            fprintf(stderr, __VA_ARGS__);                                                          \
-            fprintf(stderr, " (try --help)\n");                                                    \
-        }                                                                                          \
-        *code = 2;                                                                                 \
-        return 1;                                                                                  \
-    } while (0)
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            if (rank == 0) usage(stdout, prog);
-            *code = 0;
-            return 1;
-        } else if (!strcmp(a, "--stats")) {
-            o->stats = 1;
-        } else if (!strcmp(a, "--check")) {
-            o->check = 1;
-        } else if (!strcmp(a, "--progress")) {
-            o->progress = 1;
-        } else if (!strcmp(a, "--phases")) {
-            o->phases = 1;
-        } else if (!strcmp(a, "--vtk") || !strcmp(a, "--svg") || !strcmp(a, "--cuts") ||
-                   !strcmp(a, "--write-cuts") || !strcmp(a, "--subdomains") ||
-                   !strcmp(a, "--imbalance") || !strcmp(a, "--perturb")) {
-            if (i + 1 >= argc) USAGE_ERR("option %s needs a value", a);
-            const char *v = argv[++i];
-            double d;
-            uint64_t u;
-            if (!strcmp(a, "--vtk"))
-                o->vtk = v;
-            else if (!strcmp(a, "--svg"))
-                o->svg = v;
-            else if (!strcmp(a, "--cuts"))
-                o->cuts = v;
-            else if (!strcmp(a, "--write-cuts"))
-                o->write_cuts = v;
-            else if (!strcmp(a, "--subdomains")) {
-                if (parse_double(v, &d) || d < 1 || d > 1e6 || d != floor(d))
-                    USAGE_ERR("--subdomains: bad value '%s' (a positive integer)", v);
-                o->nsub = (int32_t)d;
-            } else if (!strcmp(a, "--imbalance")) {
-                if (parse_double(v, &d) || !(d > 0) || d > 1e6)
-                    USAGE_ERR("--imbalance: bad value '%s' (a positive number)", v);
-                o->imbalance = d;
-            } else {
-                if (parse_u64(v, &u)) USAGE_ERR("--perturb: bad seed '%s'", v);
-                o->perturb = u;
-            }
-        } else if (a[0] == '-' && (a[1] == 'q' || a[1] == 'a' || a[1] == 'S' || a[1] == 'o')) {
-            const char *v;
-            if (a[2])
-                v = a + 2;
-            else if (i + 1 < argc)
-                v = argv[++i];
-            else
-                USAGE_ERR("option %s needs a value", a);
-            double d = 0;
-            if (a[1] == 'o') {
-                o->out_prefix = v;
-            } else if (parse_double(v, &d) || d < 0) {
-                USAGE_ERR("option -%c: bad value '%s'", a[1], v);
-            } else if (a[1] == 'q') {
-                if (d > 60) USAGE_ERR("-q %g: the angle bound must be at most 60 degrees", d);
-                o->min_angle = d;
-            } else if (a[1] == 'a') {
-                o->max_area = d;
-            } else {
-                if (d > 9e18) USAGE_ERR("-S: bad value '%s'", v);
-                o->max_steiner = (int64_t)d;
-            }
-        } else if (a[0] == '-' && a[1]) {
-            USAGE_ERR("unknown option '%s'", a);
-        } else if (!o->input) {
-            o->input = a;
-        } else {
-            USAGE_ERR("more than one input file ('%s', '%s')", o->input, a);
-        }
-    }
-    if (!o->input) USAGE_ERR("no input file");
-#undef USAGE_ERR
-    if (rank == 0 && o->min_angle > 34)
-        fprintf(stderr, "%s: warning: -q %g above about 34 degrees may not terminate\n", prog,
-                o->min_angle);
-    return 0;
-}
 
 /* ---- collective failure ----------------------------------------------------------------- */
 
@@ -559,24 +414,22 @@ int par_validate(const par_opts *o, const pslg *in, const mesh_flat *global, val
     return ok;
 }
 
-int par_startup(int *argc, char ***argv, const char *prog, int phases_ok, int (*reg)(void),
-                par_opts *o, pslg *in, pcdm_decomp *d, int *code) {
+int par_startup(int *argc, char ***argv, const char *prog, par_parse_fn parse, const void *ctx,
+                int (*reg)(void), par_opts *o, pslg *in, pcdm_decomp *d, int *code) {
     int rc = rt_init(argc, argv, NULL);
     if (rc != RT_OK) {
         fprintf(stderr, "%s: runtime initialisation failed: %s\n", prog, rt_strerror(rc));
         *code = 1;
         return 1;
     }
-    int rank = rt_rank();
-    *code = 0;
-    if (par_parse_args(*argc, *argv, prog, rank, o, code)) {
+    /* every rank parses the same arguments; the agreement below only guards against a rank
+     * that saw others (every rank must stop, or none, with one status) */
+    int status = 0, stop = parse(*argc, *argv, rt_rank(), ctx, o, &status) ? status : -1;
+    int agreed = stop;
+    MESH_MPI(MPI_Allreduce(&stop, &agreed, 1, MPI_INT, MPI_MAX, rt_app_comm()));
+    if (agreed >= 0) {
         rt_finalize();
-        return 1;
-    }
-    if (o->phases && !phases_ok) {
-        if (rank == 0) fprintf(stderr, "%s: --phases is a ./pbw option\n", prog);
-        rt_finalize();
-        *code = 2;
+        *code = agreed;
         return 1;
     }
     if ((rc = reg()) != 0) {
@@ -592,6 +445,7 @@ int par_startup(int *argc, char ***argv, const char *prog, int phases_ok, int (*
         *code = 1;
         return 1;
     }
+    *code = 0;
     return 0;
 }
 

@@ -1,4 +1,4 @@
-/* par: what ./pcdm and ./pbw share around their algorithms -- command line, input, the
+/* par: what ./pcdm and ./pbw share around their algorithms -- start-up, input, the
  * decomposition, gathering the pieces of the mesh into one conforming mesh on rank 0, the
  * output files, the quality check, and collective error exits.
  *
@@ -20,8 +20,10 @@
 #include "io/meshio.h"
 #include "io/validate.h"
 
+/* What the parallel meshers are told; filled by the programs' front end (apps/cli.h), which
+ * owns the options' names, defaults and checks. */
 typedef struct par_opts {
-    const char *prog;       /* "pcdm" or "pbw" (for messages and --help) */
+    const char *prog;       /* "pcdm" or "pbw" (for messages) */
     const char *input;      /* input .poly */
     double min_angle;       /* -q DEG (default 20.7) */
     double max_area;        /* -a AREA (0 = none) */
@@ -40,23 +42,26 @@ typedef struct par_opts {
     uint64_t perturb;       /* --perturb SEED (0 = off; also env RT_PERTURB) */
 } par_opts;
 
-/* Local.  Parses argv for program prog ("pcdm" or "pbw").  Returns 0 to go on; 1 when the
- * program should exit with *code (--help printed: 0; usage error printed: 2).  Only rank
- * `rank` == 0 prints. */
-int par_parse_args(int argc, char **argv, const char *prog, int rank, par_opts *o, int *code);
+/* Local.  How par_startup reads the command line (the front end lives above this layer): called
+ * on every rank once the runtime is up, with the arguments MPI left, this rank's number (only
+ * rank 0 may print) and ctx.  Fills *o; returns 0 to go on, or 1 when the program must exit
+ * now with *status (0: --help printed; 2: usage error). */
+typedef int (*par_parse_fn)(int argc, char **argv, int rank, const void *ctx, par_opts *o,
+                            int *status);
 
 /* Largest number of subdomains par_load lets the automatic decomposition attempt (every rank
  * computes it, on a coarse mesh of about 200 K triangles); more is refused with a clear
  * message. */
 #define PAR_MAX_SUBDOMAINS 256
 
-/* Collective over MPI_COMM_WORLD.  The common start of ./pcdm and ./pbw: rt_init, argument
- * parsing (par_parse_args), refusing --phases unless phases_ok, the program's handler
- * registration (reg, before rt_start), the --perturb seed, and par_load.  Returns 0 to go on
- * (the runtime is up; *in and *d are loaded and owned by the caller), or 1 when the program
- * must exit with *code (the runtime is already finalised; messages printed on rank 0). */
-int par_startup(int *argc, char ***argv, const char *prog, int phases_ok, int (*reg)(void),
-                par_opts *o, pslg *in, pcdm_decomp *d, int *code);
+/* Collective over MPI_COMM_WORLD.  The common start of ./pcdm and ./pbw: rt_init, the
+ * command line (parse, with ctx; every rank stops, or none, with the same status), the
+ * program's handler registration (reg, before rt_start), the --perturb seed, and par_load.
+ * Returns 0 to go on (the runtime is up; *o, *in and *d are filled, *in and *d owned by the
+ * caller), or 1 when the program must exit with *code (the runtime is already finalised;
+ * messages printed on rank 0). */
+int par_startup(int *argc, char ***argv, const char *prog, par_parse_fn parse, const void *ctx,
+                int (*reg)(void), par_opts *o, pslg *in, pcdm_decomp *d, int *code);
 
 /* Collective.  Every rank reads and checks o->input and builds the decomposition (auto or
  * --cuts) for rt_size() ranks.  On any error rank 0 prints the one message and every rank

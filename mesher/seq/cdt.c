@@ -317,6 +317,49 @@ static void insert_segment(mesh *m, int32_t s, ivec *pieces, ivec *cross) {
 
 /* ---- removing the exterior ----------------------------------------------------------------- */
 
+static void seed(mesh *m, int32_t t, int32_t *stk, int32_t *n) {
+    if (t < 0 || mesh_tri_is_ghost(m, t) || (m->tf[t] & MESH_MARK)) return;
+    m->tf[t] |= MESH_MARK;
+    stk[(*n)++] = t;
+}
+
+/* 1 iff p lies in the closed triangle t (exact). */
+static int in_closure(const mesh *m, int32_t t, const double *p) {
+    for (int j = 0; j < 3; j++)
+        if (geom_orient2d(X(m, m->tv[3 * t + j]), X(m, m->tv[3 * t + (j + 1) % 3]), p) < 0)
+            return 0;
+    return 1;
+}
+
+/* Seeds the carving flood from hole point p, found in (or next to) triangle t: every
+ * triangle whose closure contains p, so a hole point exactly on a segment removes the regions
+ * on both sides and one on a vertex every region around it (the rule pslg_domain_area and
+ * the validator apply).  Ghost triangles are never seeded.  The fan around a vertex is closed
+ * while the CDT is built (ghosts included), so rotating through tn comes back to t. */
+static void seed_hole(mesh *m, const double *p, int32_t t, int32_t *stk, int32_t *n) {
+    int32_t cand[4] = {t, -1, -1, -1};
+    for (int j = 0; j < 3; j++)
+        cand[j + 1] = m->tn[3 * t + j] >= 0 ? m->tn[3 * t + j] / 3 : -1;
+    for (int c = 0; c < 4; c++) {
+        int32_t r = cand[c];
+        if (r < 0 || mesh_tri_is_ghost(m, r) || !in_closure(m, r, p)) continue;
+        seed(m, r, stk, n);
+        for (int j = 0; j < 3; j++) {
+            int32_t v = m->tv[3 * r + j];
+            if (X(m, v)[0] != p[0] || X(m, v)[1] != p[1]) continue;
+            int32_t cur = r, k = j;
+            for (int32_t guard = 0; guard < m->nt; guard++) { /* rotate around v */
+                int32_t e = m->tn[3 * cur + k];
+                if (e < 0) break;
+                cur = e / 3;
+                if (cur == r) break;
+                seed(m, cur, stk, n);
+                k = (e % 3 + 1) % 3; /* v is the destination of e, so the origin of the next */
+            }
+        }
+    }
+}
+
 static void carve(mesh *m, const double *holes, int32_t nholes, int keep_hull) {
     int32_t *stk = mesh_xrealloc(NULL, (size_t)m->nt + 1, sizeof(int32_t));
     int32_t n = 0;
@@ -324,9 +367,7 @@ static void carve(mesh *m, const double *holes, int32_t nholes, int keep_hull) {
         const double *p = holes + 2 * h;
         if (!isfinite(p[0]) || !isfinite(p[1])) continue;
         int32_t t = mesh_walk(m, p, m->last, 0, NULL);
-        if (t < 0 || mesh_tri_is_ghost(m, t) || (m->tf[t] & MESH_MARK)) continue;
-        m->tf[t] |= MESH_MARK;
-        stk[n++] = t;
+        if (t >= 0) seed_hole(m, p, t, stk, &n);
     }
     for (int32_t t = 0; t < m->nt; t++) {
         if (!mesh_tri_alive(m, t) || !mesh_tri_is_ghost(m, t)) continue;

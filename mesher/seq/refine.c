@@ -6,6 +6,10 @@
  * (SoCG 1993); Shewchuk, "Delaunay refinement algorithms for triangular mesh generation"
  * (CGTA 22, 2002); Ungor, "Off-centers" (LATIN 2004).
  *
+ * The rules themselves (what is bad, the Steiner point, encroachment, shell split points, the
+ * forced-angle test) live in rules.c, shared with the other meshers; this file owns the queues,
+ * the mesh surgery and the corner bookkeeping.
+ *
  * Work queues: encroached subsegments (a FIFO of vertex pairs, always drained first) and bad
  * triangles in 4096 buckets by the binary exponent of the squared shortest edge, shortest
  * first (as Triangle orders them), last-in first-out inside a bucket (the newest triangles are
@@ -33,6 +37,7 @@
 #include "mesh_impl.h"
 
 #include "geom/geom.h"
+#include "seq/rules.h"
 
 #include <math.h>
 #include <string.h>
@@ -50,8 +55,7 @@ struct mesh_refine_state {
     int32_t cursor;
     int32_t *enc; /* triples u, v, forced */
     int32_t nenc, enccap, enchead;
-    double cosb, offfac;
-    double cos2b; /* cos(2 * min_angle), for diametral lenses (1: circles) */
+    mesh_rules R; /* the bounds, as the shared refinement rules take them */
     int need_scan;
     int32_t since_poll;
 };
@@ -68,7 +72,7 @@ static mesh_refine_state *rf_get(mesh *m) {
         r->head[i] = -1;
     r->pool_free = -1;
     r->cursor = NBUCKET + 1;
-    r->cosb = 1.0;
+    mesh_rules_init(&r->R, 0, 0, 0, 0);
     r->need_scan = 1;
     m->rf = r;
     return r;
@@ -85,12 +89,7 @@ void mesh_refine_free(mesh *m) {
 void mesh_set_quality(mesh *m, const mesh_quality *q) {
     mesh_refine_state *r = rf_get(m);
     m->q = *q;
-    double b = q->min_angle > 0 ? q->min_angle : 0;
-    if (b > 60) b = 60;
-    r->cosb = cos(b * M_PI / 180.0);
-    /* off-center: apex angle exactly b at height |pq| / (2 tan(b/2)); keep 5% inside */
-    r->offfac = b > 0 ? 0.95 / (2.0 * tan(b * M_PI / 360.0)) : 0;
-    r->cos2b = (q->lens && b > 0 && b < 45) ? cos(2 * b * M_PI / 180.0) : 1.0;
+    mesh_rules_init(&r->R, q->min_angle, q->max_area, q->offcenter, q->lens);
     r->need_scan = 1;
 }
 
@@ -101,50 +100,33 @@ void mesh_set_hooks(mesh *m, const mesh_hooks *h) {
 
 /* ---- quality ------------------------------------------------------------------------------ */
 
-/* Bit 1: smallest angle below the bound; bit 2: area above the bound; 0: good.  *bucket:
- * queue priority (0 = worst; triangles bad only by area go to the last bucket).  *sh: index j
+/* MESH_BAD_ANGLE / MESH_BAD_AREA bits (mesh_rules_bad), 0: good.  *bucket: queue priority
+ * (0 = worst; the binary exponent of the squared shortest edge, shortest first).  *sh: index j
  * of the shortest edge (edge 3t+j). */
-static int quality(const mesh *m, double cosb, int32_t t, int *bucket, int *sh) {
+static int quality(const mesh *m, const mesh_rules *R, int32_t t, int *bucket, int *sh) {
     const int32_t *tv = m->tv + 3 * (size_t)t;
     const double *p[3] = {X(m, tv[0]), X(m, tv[1]), X(m, tv[2])};
-    double ex[3], ey[3], l[3];
-    for (int j = 0; j < 3; j++) { /* edge j: p[j] -> p[j+1] */
-        ex[j] = p[(j + 1) % 3][0] - p[j][0];
-        ey[j] = p[(j + 1) % 3][1] - p[j][1];
-        l[j] = ex[j] * ex[j] + ey[j] * ey[j];
-    }
-    int j = (l[0] <= l[1] && l[0] <= l[2]) ? 0 : (l[1] <= l[2]) ? 1 : 2;
-    if (sh) *sh = j;
-    int res = 0, k = NBUCKET;
-    if (cosb < 1.0) {
-        /* the smallest angle is at the apex of the shortest edge, between edges j+1 and j+2 */
-        int a = (j + 1) % 3, b = (j + 2) % 3;
-        double dot = -(ex[a] * ex[b] + ey[a] * ey[b]);
-        if (dot > 0 && dot * dot > cosb * cosb * l[a] * l[b]) res = 1;
-    }
-    if (m->q.max_area > 0) {
-        double area = 0.5 * (ex[0] * -ey[2] - ey[0] * -ex[2]);
-        if (area > m->q.max_area) res |= 2;
-    }
+    double l2;
+    int res = mesh_rules_bad(R, p, sh, &l2);
     if (res && bucket) {
-        /* shortest edges first: bucket = binary exponent of the squared shortest edge */
         uint64_t bits;
-        memcpy(&bits, &l[j], sizeof bits);
-        k = (int)((bits >> 52) & 0x7ff) - 1023 + NBUCKET / 2; /* binary exponent */
+        memcpy(&bits, &l2, sizeof bits);
+        int k = (int)((bits >> 52) & 0x7ff) - 1023 + NBUCKET / 2; /* binary exponent */
         *bucket = k < 0 ? 0 : k >= NBUCKET ? NBUCKET - 1 : k;
     }
     return res;
 }
 
 int mesh_tri_bad(const mesh *m, int32_t t) {
-    double b = m->q.min_angle > 0 ? fmin(m->q.min_angle, 60) : 0;
-    return quality(m, cos(b * M_PI / 180.0), t, NULL, NULL);
+    mesh_rules R;
+    mesh_rules_init(&R, m->q.min_angle, m->q.max_area, 0, 0);
+    return quality(m, &R, t, NULL, NULL);
 }
 
 static void push_bad(mesh *m, int32_t t) {
     mesh_refine_state *r = m->rf;
     int k;
-    if (!quality(m, r->cosb, t, &k, NULL)) return;
+    if (!quality(m, &r->R, t, &k, NULL)) return;
     m->tf[t] |= MESH_QUEUED;
     int32_t i;
     if (r->pool_free >= 0) {
@@ -201,17 +183,10 @@ static void push_enc(mesh *m, int32_t u, int32_t v, int forced) {
     r->enc[r->nenc++] = forced;
 }
 
-/* Does p encroach subsegment ab?  Diametral circle (exact, geom_encroaches), or with
- * q.lens the diametral lens of Shewchuk 2002 (sec. 4): p encroaches only if the angle apb
- * exceeds 180 - 2*min_angle, i.e. p lies in the intersection of the two disks through a and b
- * whose arcs meet ab at min_angle.  The lens test is rounded: it only decides whether to split,
- * never topology; on the circle's boundary and beyond, the exact test has the last word. */
+/* Does p encroach subsegment ab?  Diametral circle, or with q.lens the diametral lens
+ * (mesh_rules_encroaches). */
 static int enc_test(const mesh *m, const double *a, const double *b, const double *p) {
-    if (!geom_encroaches(a, b, p)) return 0;
-    if (!m->q.lens || m->rf->cos2b >= 1.0) return 1;
-    double ax = a[0] - p[0], ay = a[1] - p[1], bx = b[0] - p[0], by = b[1] - p[1];
-    double dot = ax * bx + ay * by; /* < 0: obtuse at p */
-    return dot * dot >= m->rf->cos2b * m->rf->cos2b * (ax * ax + ay * ay) * (bx * bx + by * by);
+    return mesh_rules_encroaches(&m->rf->R, a, b, p);
 }
 
 /* Constraint edge e encroached by the apex of a triangle on either side. */
@@ -282,13 +257,7 @@ static int split_subseg(mesh *m, int32_t r, int notify) {
     }
     int cu = !iface && is_corner(m, s.u), cv = !iface && is_corner(m, s.v);
     if (cu != cv) {
-        const double *a = cu ? pu : pv, *w = cu ? pv : pu;
-        double L = sqrt(geom_dist2(a, w)), unit = shell_unit(m, cu ? s.u : s.v);
-        double d = unit * exp2(floor(log2(L * (2.0 / 3.0) / unit)));
-        double f = d / L;
-        if (!(f > 0.3 && f < 0.7)) f = 0.5;
-        p[0] = a[0] + (w[0] - a[0]) * f;
-        p[1] = a[1] + (w[1] - a[1]) * f;
+        mesh_rules_shell_point(cu ? pu : pv, cu ? pv : pu, shell_unit(m, cu ? s.u : s.v), p);
     } else if (s.level >= 0 && s.level < 52) {
         mesh_dyadic_point(X(m, m->seg[2 * s.seg]), X(m, m->seg[2 * s.seg + 1]), s.level, s.k, p);
         nl = s.level + 1;
@@ -371,15 +340,12 @@ static void split_for(mesh *m, int32_t t) {
  * Interface segments are not input segments (the validator checks against the input without
  * the PCDM cuts), so they do not separate s1 from s2. */
 static int consecutive(const mesh *m, int32_t a, int32_t o1, int32_t o2) {
-    double s = geom_orient2d(X(m, a), X(m, o1), X(m, o2));
     for (int32_t i = m->inc_off[a]; i < m->inc_off[a + 1]; i++) {
         int32_t s3 = m->inc_seg[i];
         if (m->siface[s3]) continue;
         int32_t o3 = m->seg[2 * s3] == a ? m->seg[2 * s3 + 1] : m->seg[2 * s3];
         if (o3 == o1 || o3 == o2) continue;
-        double x1 = geom_orient2d(X(m, a), X(m, o1), X(m, o3));
-        double x2 = geom_orient2d(X(m, a), X(m, o3), X(m, o2));
-        if ((s > 0 && x1 > 0 && x2 > 0) || (s < 0 && x1 < 0 && x2 < 0)) return 0;
+        if (mesh_rules_in_wedge(X(m, a), X(m, o1), X(m, o2), X(m, o3))) return 0;
     }
     return 1;
 }
@@ -417,38 +383,27 @@ static int on_corner_segments(const mesh *m, int32_t u, int32_t v) {
                     int32_t a = m->seg[2 * s1 + x];
                     if (a != m->seg[2 * s2 + y] || a == u || a == v || !is_corner(m, a)) continue;
                     int32_t o1 = m->seg[2 * s1 + 1 - x], o2 = m->seg[2 * s2 + 1 - y];
-                    if (geom_angle_deg(X(m, o1), X(m, a), X(m, o2)) >= 60.0) continue;
                     if (!consecutive(m, a, o1, o2)) continue;
-                    double du = sqrt(geom_dist2(X(m, a), X(m, u)));
-                    double dv = sqrt(geom_dist2(X(m, a), X(m, v)));
-                    if (fabs(du - dv) <= 0.01 * fmax(du, dv)) return 1;
+                    if (mesh_rules_corner_forced(X(m, a), X(m, o1), X(m, o2), X(m, u), X(m, v)))
+                        return 1;
                 }
         }
     }
     return 0;
 }
 
-/* Steiner point of bad triangle t: circumcenter or off-center.  Returns 0, -1 if degenerate. */
+/* Steiner point of bad triangle t (mesh_rules_steiner).  Returns 0, -1 if degenerate. */
 static int steiner_point(const mesh *m, int32_t t, int sh, double out[2]) {
     const int32_t *tv = m->tv + 3 * (size_t)t;
-    if (geom_circumcenter(X(m, tv[0]), X(m, tv[1]), X(m, tv[2]), out) != 0) return -1;
-    if (!m->q.offcenter || m->rf->offfac <= 0) return 0;
-    const double *p = X(m, tv[sh]), *q = X(m, tv[(sh + 1) % 3]);
-    double mid[2];
-    geom_midpoint(p, q, mid);
-    double dc = sqrt(geom_dist2(mid, out)), h = m->rf->offfac * sqrt(geom_dist2(p, q));
-    if (dc > h) {
-        out[0] = mid[0] + (out[0] - mid[0]) * (h / dc);
-        out[1] = mid[1] + (out[1] - mid[1]) * (h / dc);
-    }
-    return 0;
+    const double *p[3] = {X(m, tv[0]), X(m, tv[1]), X(m, tv[2])};
+    return mesh_rules_steiner(&m->rf->R, p, sh, out);
 }
 
 static void process_bad(mesh *m, int32_t t) {
     int sh = 0;
-    int why = quality(m, m->rf->cosb, t, NULL, &sh);
+    int why = quality(m, &m->rf->R, t, NULL, &sh);
     if (!why) return;
-    if (why == 1 && m->has_corners) { /* skinny but not too large */
+    if (why == MESH_BAD_ANGLE && m->has_corners) { /* skinny but not too large */
         int32_t u = m->tv[3 * t + sh], v = m->tv[3 * t + (sh + 1) % 3];
         if (on_corner_segments(m, u, v)) {
             m->stats.skipped_small++;

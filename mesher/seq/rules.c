@@ -1,0 +1,103 @@
+/* rules: the refinement rules (what is bad, where Steiner points go, encroachment, shells,
+ * forced small angles), shared by every mesher; contracts in rules.h.
+ *
+ * Bad triangles (Ruppert 1995; Chew 1993): the smallest angle sits at the apex of the shortest
+ * edge, so one comparison of cos^2 against the bound decides it without trigonometry.  Steiner
+ * point: the circumcenter, or Ungor's off-center (LATIN 2004) -- the point on the bisector of
+ * the shortest edge pq at height |pq| / (2 tan(b/2)), where the new triangle on pq has apex
+ * angle exactly b; we keep 5% inside.  Encroachment: the diametral circle by the exact
+ * predicate, or Shewchuk's diametral lens (CGTA 22, 2002, sec. 4), a rounded test that only
+ * ever narrows the exact circle.  Small input angles: concentric shells at powers of two
+ * (Ruppert 1995; Shewchuk 2002 sec. 5), and the forced-angle rule the validator mirrors (two
+ * vertices on the two neighbouring segments of a corner below 60 degrees, equally far from
+ * it).  Invariant: every function depends on its arguments only, so all meshers that call it
+ * make the same decision on the same bits.
+ */
+#include "seq/rules.h"
+
+#include "geom/geom.h"
+
+#include <math.h>
+
+void mesh_rules_init(mesh_rules *R, double min_angle, double max_area, int offcenter, int lens) {
+    double b = min_angle > 0 ? min_angle : 0;
+    if (b > 60) b = 60;
+    R->min_angle = b;
+    R->max_area = max_area > 0 ? max_area : 0;
+    R->offcenter = offcenter;
+    R->lens = lens;
+    R->cosb = cos(b * M_PI / 180.0);
+    R->offfac = b > 0 ? 0.95 / (2.0 * tan(b * M_PI / 360.0)) : 0;
+    R->cos2b = (lens && b > 0 && b < 45) ? cos(2 * b * M_PI / 180.0) : 1.0;
+}
+
+int mesh_rules_bad(const mesh_rules *R, const double *const p[3], int *sh, double *short2) {
+    double ex[3], ey[3], l[3];
+    for (int j = 0; j < 3; j++) { /* edge j: p[j] -> p[j+1] */
+        ex[j] = p[(j + 1) % 3][0] - p[j][0];
+        ey[j] = p[(j + 1) % 3][1] - p[j][1];
+        l[j] = ex[j] * ex[j] + ey[j] * ey[j];
+    }
+    int j = (l[0] <= l[1] && l[0] <= l[2]) ? 0 : (l[1] <= l[2]) ? 1 : 2;
+    if (sh) *sh = j;
+    if (short2) *short2 = l[j];
+    int res = 0;
+    if (R->cosb < 1.0) {
+        /* the smallest angle is at the apex of the shortest edge, between edges j+1 and j+2 */
+        int a = (j + 1) % 3, b = (j + 2) % 3;
+        double dot = -(ex[a] * ex[b] + ey[a] * ey[b]);
+        if (dot > 0 && dot * dot > R->cosb * R->cosb * l[a] * l[b]) res = MESH_BAD_ANGLE;
+    }
+    if (R->max_area > 0) {
+        double area = 0.5 * (ex[0] * -ey[2] - ey[0] * -ex[2]);
+        if (area > R->max_area) res |= MESH_BAD_AREA;
+    }
+    return res;
+}
+
+int mesh_rules_steiner(const mesh_rules *R, const double *const p[3], int sh, double out[2]) {
+    if (geom_circumcenter(p[0], p[1], p[2], out) != 0) return -1;
+    if (!R->offcenter || R->offfac <= 0) return 0;
+    const double *a = p[sh], *b = p[(sh + 1) % 3];
+    double mid[2];
+    geom_midpoint(a, b, mid);
+    double dc = sqrt(geom_dist2(mid, out)), h = R->offfac * sqrt(geom_dist2(a, b));
+    if (dc > h) {
+        out[0] = mid[0] + (out[0] - mid[0]) * (h / dc);
+        out[1] = mid[1] + (out[1] - mid[1]) * (h / dc);
+    }
+    return 0;
+}
+
+int mesh_rules_encroaches(const mesh_rules *R, const double a[2], const double b[2],
+                          const double p[2]) {
+    if (!geom_encroaches(a, b, p)) return 0;
+    if (!R->lens || R->cos2b >= 1.0) return 1;
+    double ax = a[0] - p[0], ay = a[1] - p[1], bx = b[0] - p[0], by = b[1] - p[1];
+    double dot = ax * bx + ay * by; /* < 0: obtuse at p */
+    return dot * dot >= R->cos2b * R->cos2b * (ax * ax + ay * ay) * (bx * bx + by * by);
+}
+
+void mesh_rules_shell_point(const double a[2], const double w[2], double unit, double out[2]) {
+    double L = sqrt(geom_dist2(a, w));
+    double d = unit * exp2(floor(log2(L * (2.0 / 3.0) / unit)));
+    double f = d / L;
+    if (!(f > 0.3 && f < 0.7)) f = 0.5;
+    out[0] = a[0] + (w[0] - a[0]) * f;
+    out[1] = a[1] + (w[1] - a[1]) * f;
+}
+
+int mesh_rules_in_wedge(const double a[2], const double o1[2], const double o2[2],
+                        const double o3[2]) {
+    double s = geom_orient2d(a, o1, o2);
+    double x1 = geom_orient2d(a, o1, o3);
+    double x2 = geom_orient2d(a, o3, o2);
+    return (s > 0 && x1 > 0 && x2 > 0) || (s < 0 && x1 < 0 && x2 < 0);
+}
+
+int mesh_rules_corner_forced(const double a[2], const double o1[2], const double o2[2],
+                             const double u[2], const double v[2]) {
+    if (geom_angle_deg(o1, a, o2) >= 60.0) return 0;
+    double du = sqrt(geom_dist2(a, u)), dv = sqrt(geom_dist2(a, v));
+    return fabs(du - dv) <= 0.01 * fmax(du, dv);
+}

@@ -1,0 +1,209 @@
+#!/usr/bin/env bash
+# The one front end (apps/cli.c) seen from outside, for ./mesh, ./meshcheck, ./pcdm and ./pbw
+# (the parallel ones at 1 and 2 ranks): --help exits 0 and lists the exit statuses; usage
+# errors (unknown option, missing value, -q nan, -q inf, -a -1, -a 1e400, integer overflow,
+# missing input argument) exit 2 with one line "PROG: ... (try --help)"; a missing input file
+# exits 1 naming the file; every rank of a parallel run exits with the same status, and none
+# hangs (timeout); the shared options' help lines are the same in every mesher.
+set -u
+cd "$(dirname "$0")/.."
+BIN=${BIN:-.}
+MPIRUN=${MPIRUN:-mpirun --oversubscribe}
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+T=$(mktemp -d "${TMPDIR:-/tmp}/t_cli.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+nfail=0 nok=0
+fail() { echo "FAIL: $*"; nfail=$((nfail + 1)); }
+ok() { nok=$((nok + 1)); }
+
+# run PROG NP ARGS...: runs the program (NP = 0: directly; else under mpirun with NP ranks, each
+# rank writing its own exit status to $T/rc.RANK and leaving 0 to mpirun, so mpirun lets every
+# rank finish instead of killing the others when one fails); sets rc (the status every rank
+# agreed on), out (stdout) and err (stderr).
+run() {
+    local prog=$1 np=$2
+    shift 2
+    rm -f "$T"/rc.*
+    if [ "$np" = 0 ]; then
+        timeout 60 "$BIN/$prog" "$@" >"$T/out" 2>"$T/err"
+        rc=$?
+    else
+        timeout 60 $MPIRUN -np "$np" sh -c \
+            '"$0" "$@"; echo $? >"'"$T"'/rc.${OMPI_COMM_WORLD_RANK:-${PMIX_RANK:-x}}"' \
+            "$BIN/$prog" "$@" >"$T/out" 2>"$T/err"
+        rc=$?
+        [ "$rc" -eq 0 ] || fail "$prog -np $np $*: mpirun exit $rc $([ "$rc" -eq 124 ] && echo '(hang: killed by timeout)')"
+        local r n=0
+        for ((r = 0; r < np; r++)); do
+            if [ ! -e "$T/rc.$r" ]; then
+                fail "$prog -np $np $*: rank $r left no exit status"
+            else
+                n=$((n + 1))
+                rc=$(cat "$T/rc.$r") # every rank must agree; checked against rank 0's below
+                [ "$rc" = "$(cat "$T/rc.0" 2>/dev/null)" ] ||
+                    fail "$prog -np $np $*: rank $r exits $rc, rank 0 $(cat "$T/rc.0")"
+            fi
+        done
+        [ "$n" -eq "$np" ] || rc=255
+    fi
+    out=$(cat "$T/out")
+    err=$(cat "$T/err")
+}
+
+# expect_usage PROG NP PATTERN ARGS...: exit 2 and one "PROG: ...PATTERN... (try --help)" line.
+expect_usage() {
+    local prog=$1 np=$2 pat=$3
+    shift 3
+    run "$prog" "$np" "$@"
+    local lines
+    lines=$(grep -c "^$prog: " <<<"$err")
+    if [ "$rc" -ne 2 ]; then
+        fail "$prog (np $np) $*: exit $rc, expected 2: $err"
+    elif [ "$lines" -ne 1 ]; then
+        fail "$prog (np $np) $*: $lines '$prog:' lines on stderr, expected one: $err"
+    elif ! grep "^$prog: " <<<"$err" | grep -q -- "$pat.*(try --help)$"; then
+        fail "$prog (np $np) $*: message lacks '$pat ... (try --help)': $err"
+    else
+        ok
+    fi
+}
+
+# expect_input_error PROG NP ARGS...: exit 1, the missing file named in a "PROG:" line.
+expect_missing_file() {
+    local prog=$1 np=$2
+    shift 2
+    run "$prog" "$np" "$@"
+    if [ "$rc" -ne 1 ]; then
+        fail "$prog (np $np) $*: exit $rc, expected 1: $err"
+    elif [ "$(grep -c "^$prog: .*$T/nosuch" <<<"$err")" -ne 1 ]; then
+        fail "$prog (np $np) $*: no single '$prog:' line naming $T/nosuch: $err"
+    else
+        ok
+    fi
+}
+
+expect_help() {
+    local prog=$1 np=$2
+    run "$prog" "$np" --help
+    if [ "$rc" -ne 0 ]; then
+        fail "$prog (np $np) --help: exit $rc"
+    elif ! grep -q "^usage: .*$prog" <<<"$out"; then
+        fail "$prog (np $np) --help: no usage line: $out"
+    elif ! grep -q "^Exit status: 0 success; 1 bad input" <<<"$out" ||
+        ! grep -q "2 usage error" <<<"$out"; then
+        fail "$prog (np $np) --help: exit statuses not listed: $out"
+    elif [ "$np" -gt 1 ] && [ "$(grep -c '^usage:' <<<"$out")" -ne 1 ]; then
+        fail "$prog (np $np) --help: printed by more than one rank"
+    else
+        ok
+    fi
+    run "$prog" "$np" -h
+    [ "$rc" -eq 0 ] && grep -q "^usage: " <<<"$out" || fail "$prog (np $np) -h: exit $rc"
+}
+
+# Usage errors every program shares (the brief list: for the parallel programs at 1 and 2 ranks).
+# meshcheck takes two arguments.
+common_cases() {
+    local prog=$1 np=$2
+    shift 2
+    local args=("$@")
+    expect_help "$prog" "$np"
+    expect_usage "$prog" "$np" "unknown option '--no-such-option'" --no-such-option "${args[@]}"
+    expect_usage "$prog" "$np" "option -a needs a value" "${args[@]}" -a
+    expect_usage "$prog" "$np" "bad value 'nan': -q needs a non-negative number" -q nan "${args[@]}"
+    expect_usage "$prog" "$np" "bad value 'inf': -q" -q inf "${args[@]}"
+    expect_usage "$prog" "$np" "bad value '-1': -a needs a non-negative number" -a -1 "${args[@]}"
+    expect_usage "$prog" "$np" "bad value '1e400': -a" -a 1e400 "${args[@]}"
+}
+
+# The parser's finer points; the parser is one, so the parallel programs run these at 2 ranks.
+more_cases() {
+    local prog=$1 np=$2
+    shift 2
+    local args=("$@")
+    expect_usage "$prog" "$np" "unknown option '-Z'" -Z "${args[@]}"
+    expect_usage "$prog" "$np" "bad value '-inf': -q" -q -inf "${args[@]}"
+    expect_usage "$prog" "$np" "bad value '30x': -q" -q 30x "${args[@]}"
+    expect_usage "$prog" "$np" "bad value '70': -q .*at most 60" -q 70 "${args[@]}"
+    expect_usage "$prog" "$np" "bad value 'NaN': -a" -aNaN "${args[@]}"
+    expect_usage "$prog" "$np" "missing input.poly; usage: " -q 20
+}
+
+mesher_cases() {
+    local prog=$1 np=$2
+    expect_usage "$prog" "$np" "bad value '99999999999999999999': -S needs a non-negative integer" \
+        -S 99999999999999999999 data/square.poly
+    expect_usage "$prog" "$np" "bad value '1.5': -S" -S 1.5 data/square.poly
+    expect_usage "$prog" "$np" "option --vtk needs a value" data/square.poly --vtk
+    expect_usage "$prog" "$np" "option --stats takes no value" --stats=1 data/square.poly
+    expect_usage "$prog" "$np" "unexpected argument 'data/lake.poly'" data/square.poly data/lake.poly
+    expect_missing_file "$prog" "$np" -q30 -a0.1 "$T/nosuch.poly"
+    # accepted forms: glued values, --name=value, "--" before a name starting with '-'
+    run "$prog" "$np" -q30 -a0.05 --vtk="$T/v.vtk" -- data/square.poly
+    [ "$rc" -eq 0 ] && [ -s "$T/v.vtk" ] && ok || fail "$prog (np $np) -q30 -a0.05 --vtk=F: exit $rc: $err"
+    # -q above what refinement can promise warns (once) and runs
+    run "$prog" "$np" -q 35 -a 0.05 data/square.poly
+    [ "$rc" -eq 0 ] && [ "$(grep -c "^$prog: warning: -q 35 above about 34" <<<"$err")" -eq 1 ] && ok ||
+        fail "$prog (np $np) -q 35: exit $rc, expected one warning: $err"
+}
+
+parallel_cases() {
+    local prog=$1 np=$2
+    expect_usage "$prog" "$np" "bad value '2.5': --subdomains needs a positive integer" \
+        --subdomains 2.5 data/square.poly
+    expect_usage "$prog" "$np" "bad value '9999999999': --subdomains" \
+        --subdomains 9999999999 data/square.poly
+    expect_usage "$prog" "$np" "bad value '0': --imbalance needs a positive number" \
+        --imbalance 0 data/square.poly
+    expect_usage "$prog" "$np" "bad value '-1': --perturb" --perturb -1 data/square.poly
+    expect_usage "$prog" "$np" "bad value '18446744073709551616': --perturb" \
+        --perturb 18446744073709551616 data/square.poly
+    expect_usage "$prog" "$np" "option --cuts needs a value" data/square.poly --cuts
+}
+
+common_cases mesh 0 data/square.poly
+more_cases mesh 0 data/square.poly
+expect_missing_file mesh 0 "$T/nosuch.poly"
+mesher_cases mesh 0
+expect_usage mesh 0 "unknown option '--phases'" --phases data/square.poly
+expect_usage mesh 0 "unknown option '--subdomains'" --subdomains 2 data/square.poly
+
+common_cases meshcheck 0 data/square.poly "$T/m"
+more_cases meshcheck 0 data/square.poly "$T/m"
+expect_usage meshcheck 0 "missing PREFIX; usage: meshcheck" data/square.poly
+expect_usage meshcheck 0 "unknown option '--stats'" --stats data/square.poly "$T/m"
+"$BIN/mesh" -q 30 -o "$T/m" data/square.poly >/dev/null 2>&1 || fail "./mesh -o $T/m"
+expect_missing_file meshcheck 0 "$T/nosuch.poly" "$T/m"
+expect_missing_file meshcheck 0 data/square.poly "$T/nosuch"
+run meshcheck 0 -q 30 data/square.poly "$T/m"
+[ "$rc" -eq 0 ] || fail "meshcheck -q 30 on ./mesh -q 30: exit $rc: $out $err"
+run meshcheck 0 -q 59 data/square.poly "$T/m"
+[ "$rc" -eq 1 ] || fail "meshcheck -q 59 (a bound the mesh misses): exit $rc, expected 1"
+
+for np in 1 2; do
+    for prog in pcdm pbw; do
+        common_cases "$prog" "$np" data/square.poly
+        expect_missing_file "$prog" "$np" "$T/nosuch.poly"
+    done
+done
+for prog in pcdm pbw; do
+    more_cases "$prog" 2 data/square.poly
+    mesher_cases "$prog" 2
+    parallel_cases "$prog" 2
+done
+expect_usage pcdm 2 "unknown option '--phases'" --phases data/square.poly
+expect_usage pcdm 2 "unknown option '--circumcenters'" --circumcenters data/square.poly
+
+# the shared options are one set of rows: the same help lines in every mesher
+for prog in mesh pcdm pbw; do
+    "$BIN/$prog" --help | awk '/^  (-[qaSo] |--(vtk|svg|stats|check|progress|help)|-h,)/ { p = 1 }
+        /^  -/ && !/^  (-[qaSo] |--(vtk|svg|stats|check|progress)|-h,)/ { p = 0 }
+        /^[^ ]/ { p = 0 } p' >"$T/help.$prog"
+    [ -s "$T/help.$prog" ] || fail "$prog --help: no shared option lines"
+done
+cmp -s "$T/help.mesh" "$T/help.pcdm" || fail "shared help differs: mesh vs pcdm: $(diff "$T/help.mesh" "$T/help.pcdm")"
+cmp -s "$T/help.mesh" "$T/help.pbw" || fail "shared help differs: mesh vs pbw: $(diff "$T/help.mesh" "$T/help.pbw")"
+[ "$(grep -c '^  -' "$T/help.mesh")" -eq 10 ] || fail "expected 10 shared options in --help: $(cat "$T/help.mesh")"
+
+echo "t_cli: $nok passed, $nfail failed"
+[ "$nfail" -eq 0 ]
