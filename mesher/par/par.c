@@ -1,19 +1,12 @@
 /* par.c: the layer ./pcdm and ./pbw share around their algorithms (TR-97-17 sections 3-4 leave
  * it implicit): start-up (around the caller's argument parser), collective input loading and
- * decomposition, the gather of the
- * per-rank pieces into one conforming mesh on rank 0, output files, validation and collective
- * error agreement.
+ * decomposition, the interface check and collective error agreement.  The mesh is never
+ * gathered: numbering, output and --check work on each rank's part (pout.c).
  *
- * Gather algorithm: every rank sends its local mesh_flat (all its vertices, its triangles, its
- * subsegments) to rank 0, one rank at a time (rank 0 merges piece by piece, so it never holds
- * more than one foreign piece).  Vertices are merged by their exact coordinate bits in an
- * open-addressing hash table (-0.0 is folded onto +0.0): an interface vertex is computed by
- * both neighbours with the same expression from the same operands, so it has the same bits on
- * both sides.  The input's vertices are entered first, in input order, so they keep their input
- * numbers; other vertices get numbers in order of first reference (unreferenced Steiner
- * vertices are dropped).  Subsegments are de-duplicated by their unordered pair of global
- * vertex ids; a pair listed by both sides keeps the first marker and is an interface if either
- * side says so.  Invariant: the merged vertex count equals the number of distinct points.
+ * Interface check: an interface vertex is computed by both neighbours with the same expression
+ * from the same operands, so it has the same bits on both sides; every open edge of a part
+ * travels to the rank its exact coordinates hash to (-0.0 folded onto +0.0), where the two
+ * sides of an interface meet.
  *
  * Decomposition: the automatic one (a coarse quality mesh partitioned by METIS, decomp.h) or
  * a cuts file; more than PAR_MAX_SUBDOMAINS subdomains are refused.  Whether the domain is
@@ -37,8 +30,6 @@
 #include <string.h>
 #include <sys/resource.h>
 #include <unistd.h>
-
-#define PAR_TAG_GATHER 1 /* on rt_app_comm(), which this layer owns */
 
 /* ---- collective failure ----------------------------------------------------------------- */
 
@@ -124,294 +115,13 @@ int par_load(const par_opts *o, pslg *in, pcdm_decomp *d) {
     return 0;
 }
 
-/* ---- gather ----------------------------------------------------------------------------- */
-
-typedef struct vhash {
-    int32_t *slot; /* global vertex id or -1 */
-    uint64_t mask;
-} vhash;
+/* ---- exact coordinate keys --------------------------------------------------------------- */
 
 static uint64_t key_bits(double x) {
     if (x == 0) x = 0; /* -0.0 and +0.0 are one point */
     uint64_t u;
     memcpy(&u, &x, sizeof u);
     return u;
-}
-
-static uint64_t point_hash(const double p[2]) {
-    return mesh_hash64(key_bits(p[0]) * 0x9e3779b97f4a7c15ULL ^ mesh_hash64(key_bits(p[1])));
-}
-
-static int same_point(const double *a, const double *b) {
-    return key_bits(a[0]) == key_bits(b[0]) && key_bits(a[1]) == key_bits(b[1]);
-}
-
-typedef struct gbuild {
-    mesh_flat *g;
-    int32_t vcap, tcap, scap;
-    vhash vh;
-    int64_t *shash; /* segment pair keys, -1 empty */
-    int32_t *sidx;
-    uint64_t smask;
-} gbuild;
-
-/* Global id of point p (vertex marker mk), added if new. */
-static int32_t gb_vertex(gbuild *b, const double p[2], int32_t mk) {
-    mesh_flat *g = b->g;
-    uint64_t h = point_hash(p) & b->vh.mask;
-    for (;;) {
-        int32_t id = b->vh.slot[h];
-        if (id < 0) break;
-        if (same_point(g->xy + 2 * (size_t)id, p)) return id;
-        h = (h + 1) & b->vh.mask;
-    }
-    if (g->nverts == b->vcap) {
-        b->vcap = b->vcap ? 2 * b->vcap : 1024;
-        g->xy = mesh_xrealloc(g->xy, 2 * (size_t)b->vcap * sizeof(double), 1);
-        g->vmarker = mesh_xrealloc(g->vmarker, (size_t)b->vcap * sizeof(int32_t), 1);
-    }
-    int32_t id = g->nverts++;
-    g->xy[2 * (size_t)id] = p[0];
-    g->xy[2 * (size_t)id + 1] = p[1];
-    g->vmarker[id] = mk;
-    b->vh.slot[h] = id;
-    return id;
-}
-
-static void gb_segment(gbuild *b, int32_t u, int32_t v, int32_t mk, int32_t iface) {
-    mesh_flat *g = b->g;
-    int64_t lo = u < v ? u : v, hi = u < v ? v : u;
-    int64_t key = (lo << 32) | hi;
-    uint64_t h = mesh_hash64((uint64_t)key) & b->smask;
-    for (;;) {
-        if (b->shash[h] < 0) break;
-        if (b->shash[h] == key) {
-            int32_t s = b->sidx[h];
-            if (iface) g->sinterface[s] = 1;
-            return;
-        }
-        h = (h + 1) & b->smask;
-    }
-    if (g->nsegs == b->scap) {
-        b->scap = b->scap ? 2 * b->scap : 1024;
-        g->seg = mesh_xrealloc(g->seg, 2 * (size_t)b->scap * sizeof(int32_t), 1);
-        g->smarker = mesh_xrealloc(g->smarker, (size_t)b->scap * sizeof(int32_t), 1);
-        g->sinterface = mesh_xrealloc(g->sinterface, (size_t)b->scap * sizeof(int32_t), 1);
-    }
-    int32_t s = g->nsegs++;
-    g->seg[2 * (size_t)s] = u;
-    g->seg[2 * (size_t)s + 1] = v;
-    g->smarker[s] = mk;
-    g->sinterface[s] = iface ? 1 : 0;
-    b->shash[h] = key;
-    b->sidx[h] = s;
-}
-
-/* Merges one piece (rank r) into the global mesh. */
-static void gb_piece(gbuild *b, const mesh_flat *p, int r) {
-    mesh_flat *g = b->g;
-    int32_t *map = mesh_xmalloc(((size_t)p->nverts + 1) * sizeof(int32_t), 1);
-    for (int32_t v = 0; v < p->nverts; v++)
-        map[v] = -1;
-    if (g->ntris + (int64_t)p->ntris > INT32_MAX) {
-        MESH_BUG("merged mesh exceeds 2^31 triangles (the gather's limit)");
-    }
-    int32_t need = g->ntris + p->ntris;
-    if (need > b->tcap) {
-        while (b->tcap < need)
-            b->tcap = b->tcap ? 2 * b->tcap : 1024;
-        g->tri = mesh_xrealloc(g->tri, 3 * (size_t)b->tcap * sizeof(int32_t), 1);
-        g->trank = mesh_xrealloc(g->trank, (size_t)b->tcap * sizeof(int32_t), 1);
-    }
-    for (int32_t t = 0; t < p->ntris; t++) {
-        for (int j = 0; j < 3; j++) {
-            int32_t v = p->tri[3 * (size_t)t + j];
-            if (v < 0 || v >= p->nverts) {
-                MESH_BUG("rank %d sent a triangle with vertex %d of %d", r, v, p->nverts);
-            }
-            if (map[v] < 0) map[v] = gb_vertex(b, p->xy + 2 * (size_t)v, p->vmarker[v]);
-            g->tri[3 * (size_t)g->ntris + j] = map[v];
-        }
-        g->trank[g->ntris] = p->trank ? p->trank[t] : r;
-        g->ntris++;
-    }
-    for (int32_t s = 0; s < p->nsegs; s++) {
-        int32_t u = p->seg[2 * (size_t)s], v = p->seg[2 * (size_t)s + 1];
-        if (u < 0 || u >= p->nverts || v < 0 || v >= p->nverts) continue;
-        if (map[u] < 0) map[u] = gb_vertex(b, p->xy + 2 * (size_t)u, p->vmarker[u]);
-        if (map[v] < 0) map[v] = gb_vertex(b, p->xy + 2 * (size_t)v, p->vmarker[v]);
-        gb_segment(b, map[u], map[v], p->smarker ? p->smarker[s] : 0,
-                   p->sinterface ? p->sinterface[s] : 0);
-    }
-    free(map);
-}
-
-static uint64_t pow2_at_least(uint64_t n) {
-    uint64_t c = 1024;
-    while (c < n)
-        c <<= 1;
-    return c;
-}
-
-/* Piece transfer: counts [nverts, ntris, nsegs, has_trank], then xy, vmarker, tri, trank, seg,
- * smarker, sinterface (each only if non-empty). */
-static void send_piece(const mesh_flat *f) {
-    MPI_Comm c = rt_app_comm();
-    int32_t cnt[4] = {f->nverts, f->ntris, f->nsegs, f->trank ? 1 : 0};
-    MESH_MPI(MPI_Send(cnt, 4, MPI_INT32_T, 0, PAR_TAG_GATHER, c));
-    if (f->nverts) {
-        MESH_MPI(MPI_Send(f->xy, 2 * f->nverts, MPI_DOUBLE, 0, PAR_TAG_GATHER, c));
-        int32_t *mk = mesh_xmalloc((size_t)f->nverts * sizeof(int32_t), 1);
-        for (int32_t v = 0; v < f->nverts; v++)
-            mk[v] = f->vmarker ? f->vmarker[v] : 0;
-        MESH_MPI(MPI_Send(mk, f->nverts, MPI_INT32_T, 0, PAR_TAG_GATHER, c));
-        free(mk);
-    }
-    if (f->ntris) {
-        MESH_MPI(MPI_Send(f->tri, 3 * f->ntris, MPI_INT32_T, 0, PAR_TAG_GATHER, c));
-        if (f->trank) MESH_MPI(MPI_Send(f->trank, f->ntris, MPI_INT32_T, 0, PAR_TAG_GATHER, c));
-    }
-    if (f->nsegs) {
-        int32_t *a = mesh_xmalloc(4 * (size_t)f->nsegs * sizeof(int32_t), 1);
-        for (int32_t s = 0; s < f->nsegs; s++) {
-            a[4 * (size_t)s] = f->seg[2 * (size_t)s];
-            a[4 * (size_t)s + 1] = f->seg[2 * (size_t)s + 1];
-            a[4 * (size_t)s + 2] = f->smarker ? f->smarker[s] : 0;
-            a[4 * (size_t)s + 3] = f->sinterface ? f->sinterface[s] : 0;
-        }
-        MESH_MPI(MPI_Send(a, 4 * f->nsegs, MPI_INT32_T, 0, PAR_TAG_GATHER, c));
-        free(a);
-    }
-}
-
-static void recv_piece(int src, mesh_flat *f) {
-    MPI_Comm c = rt_app_comm();
-    int32_t cnt[4];
-    memset(f, 0, sizeof *f);
-    MESH_MPI(MPI_Recv(cnt, 4, MPI_INT32_T, src, PAR_TAG_GATHER, c, MPI_STATUS_IGNORE));
-    f->nverts = cnt[0];
-    f->ntris = cnt[1];
-    f->nsegs = cnt[2];
-    f->xy = mesh_xmalloc(2 * (size_t)f->nverts * sizeof(double), 1);
-    f->vmarker = mesh_xmalloc((size_t)f->nverts * sizeof(int32_t), 1);
-    f->tri = mesh_xmalloc(3 * (size_t)f->ntris * sizeof(int32_t), 1);
-    f->trank = cnt[3] ? mesh_xmalloc((size_t)f->ntris * sizeof(int32_t), 1) : NULL;
-    if (f->nverts) {
-        MESH_MPI(
-            MPI_Recv(f->xy, 2 * f->nverts, MPI_DOUBLE, src, PAR_TAG_GATHER, c, MPI_STATUS_IGNORE));
-        MESH_MPI(MPI_Recv(f->vmarker, f->nverts, MPI_INT32_T, src, PAR_TAG_GATHER, c,
-                          MPI_STATUS_IGNORE));
-    }
-    if (f->ntris) {
-        MESH_MPI(
-            MPI_Recv(f->tri, 3 * f->ntris, MPI_INT32_T, src, PAR_TAG_GATHER, c, MPI_STATUS_IGNORE));
-        if (f->trank)
-            MESH_MPI(MPI_Recv(f->trank, f->ntris, MPI_INT32_T, src, PAR_TAG_GATHER, c,
-                              MPI_STATUS_IGNORE));
-    }
-    f->seg = mesh_xmalloc(2 * (size_t)f->nsegs * sizeof(int32_t), 1);
-    f->smarker = mesh_xmalloc((size_t)f->nsegs * sizeof(int32_t), 1);
-    f->sinterface = mesh_xmalloc((size_t)f->nsegs * sizeof(int32_t), 1);
-    if (f->nsegs) {
-        int32_t *a = mesh_xmalloc(4 * (size_t)f->nsegs * sizeof(int32_t), 1);
-        MESH_MPI(MPI_Recv(a, 4 * f->nsegs, MPI_INT32_T, src, PAR_TAG_GATHER, c, MPI_STATUS_IGNORE));
-        for (int32_t s = 0; s < f->nsegs; s++) {
-            f->seg[2 * (size_t)s] = a[4 * (size_t)s];
-            f->seg[2 * (size_t)s + 1] = a[4 * (size_t)s + 1];
-            f->smarker[s] = a[4 * (size_t)s + 2];
-            f->sinterface[s] = a[4 * (size_t)s + 3];
-        }
-        free(a);
-    }
-}
-
-int par_gather_mesh(const mesh_flat *local, const pslg *in, mesh_flat *global) {
-    MPI_Comm c = rt_app_comm();
-    int rank = rt_rank(), size = rt_size();
-    memset(global, 0, sizeof *global);
-    int too_big = (int64_t)2 * local->nverts > INT_MAX || (int64_t)4 * local->nsegs > INT_MAX ||
-                  (int64_t)3 * local->ntris > INT_MAX;
-    if (par_fail_any(too_big, "par: a rank's piece of the mesh is too large to gather")) return -1;
-    /* never a silent broken mesh: both sides of every interface must agree first */
-    char imsg[600];
-    int ibad = par_check_interfaces(local, imsg, sizeof imsg) != 0;
-    char fmsg[1300];
-    snprintf(fmsg, sizeof fmsg, "%s: rank %d: %s", in->path[0] ? in->path : "mesh", rank, imsg);
-    if (par_fail_any(ibad, fmsg)) return -1;
-    int64_t mine[3] = {local->nverts, local->ntris, local->nsegs}, tot[3];
-    MESH_MPI(MPI_Reduce(mine, tot, 3, MPI_INT64_T, MPI_SUM, 0, c));
-    if (rank != 0) {
-        /* wait for rank 0's go-ahead so pieces arrive one at a time */
-        int go;
-        MESH_MPI(MPI_Recv(&go, 1, MPI_INT, 0, PAR_TAG_GATHER, c, MPI_STATUS_IGNORE));
-        send_piece(local);
-        return 0;
-    }
-    gbuild b;
-    memset(&b, 0, sizeof b);
-    b.g = global;
-    uint64_t vslots = pow2_at_least(2 * (uint64_t)(tot[0] + in->nverts) + 16);
-    b.vh.slot = mesh_xmalloc(vslots * sizeof(int32_t), 1);
-    for (uint64_t i = 0; i < vslots; i++)
-        b.vh.slot[i] = -1;
-    b.vh.mask = vslots - 1;
-    uint64_t sslots = pow2_at_least(2 * (uint64_t)tot[2] + 16);
-    b.shash = mesh_xmalloc(sslots * sizeof(int64_t), 1);
-    b.sidx = mesh_xmalloc(sslots * sizeof(int32_t), 1);
-    for (uint64_t i = 0; i < sslots; i++)
-        b.shash[i] = -1;
-    b.smask = sslots - 1;
-    /* input vertices first, in input order */
-    for (int32_t v = 0; v < in->nverts; v++) {
-        int32_t id = gb_vertex(&b, in->xy + 2 * (size_t)v, in->vmarker ? in->vmarker[v] : 0);
-        if (id != v) {
-            MESH_BUG("input vertex %d repeats vertex %d (unchecked input?)", v, id);
-        }
-    }
-    gb_piece(&b, local, 0);
-    for (int r = 1; r < size; r++) {
-        int go = 1;
-        MESH_MPI(MPI_Send(&go, 1, MPI_INT, r, PAR_TAG_GATHER, c));
-        mesh_flat p;
-        recv_piece(r, &p);
-        gb_piece(&b, &p, r);
-        mesh_flat_free(&p);
-    }
-    free(b.vh.slot);
-    free(b.shash);
-    free(b.sidx);
-    return 0;
-}
-
-/* ---- outputs and validation -------------------------------------------------------------- */
-
-int par_write_outputs(const par_opts *o, const mesh_flat *global) {
-    char err[1024];
-    int rc = 0;
-    if (o->out_prefix && meshio_write_triangle(global, o->out_prefix, err, sizeof err) != 0) {
-        fprintf(stderr, "%s: %s\n", o->prog, err);
-        rc = -1;
-    }
-    if (o->vtk && meshio_write_vtk(global, o->vtk, err, sizeof err) != 0) {
-        fprintf(stderr, "%s: %s\n", o->prog, err);
-        rc = -1;
-    }
-    if (o->svg && meshio_write_svg(global, o->svg, err, sizeof err) != 0) {
-        fprintf(stderr, "%s: %s\n", o->prog, err);
-        rc = -1;
-    }
-    return rc;
-}
-
-int par_validate(const par_opts *o, const pslg *in, const mesh_flat *global, validate_report *r) {
-    validate_opts vo;
-    memset(&vo, 0, sizeof vo);
-    vo.min_angle = o->min_angle;
-    vo.max_area = o->max_area;
-    vo.check_delaunay_interfaces = 1;
-    int ok = mesh_validate(in, global, &vo, r);
-    if (o->check || o->stats) validate_report_print(r, stdout);
-    return ok;
 }
 
 int par_startup(int *argc, char ***argv, const char *prog, par_parse_fn parse, const void *ctx,
@@ -447,15 +157,6 @@ int par_startup(int *argc, char ***argv, const char *prog, par_parse_fn parse, c
     }
     *code = 0;
     return 0;
-}
-
-int par_finish(int status, mesh_flat *global, pcdm_decomp *d, pslg *in) {
-    MESH_MPI(MPI_Bcast(&status, 1, MPI_INT, 0, rt_app_comm()));
-    mesh_flat_free(global);
-    pcdm_decomp_free(d);
-    pslg_free(in);
-    rt_finalize();
-    return status;
 }
 
 double par_mesh_quality(const mesh_flat *g, double *max_area) {

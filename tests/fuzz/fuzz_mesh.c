@@ -82,7 +82,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         mesh_refine_result rr = mesh_refine(&m);
         mesh_flat fl;
         if (rr == MESH_REFINE_DONE && mesh_to_flat(&m, &fl) == 0) {
-            validate_opts vo = {q, area, 0};
+            validate_opts vo = {q, area, 0, 0};
             validate_report vr;
             if (!mesh_validate(&g, &fl, &vo, &vr)) {
                 validate_report_print(&vr, stderr);
