@@ -608,6 +608,26 @@ static int32_t trace_chain(const vctx *c, int32_t s, const int32_t *astart, cons
     return cur == B ? nch : -1;
 }
 
+/* Part mode (validate.h): the chain of input segment s is not whole in this part, so its
+ * corner tags go to every vertex of a segment or boundary edge that lies on s, by the chain's
+ * own distance test.  Returns 0, or -1 (out of memory). */
+static int tag_partial_chain(vctx *c, int32_t s, const int32_t *astart) {
+    if (c->tstart[s] == c->tstart[s + 1]) return 0; /* s forms no small corner */
+    const double *pa = c->g->xy + 2 * c->g->seg[2 * s], *pb = c->g->xy + 2 * c->g->seg[2 * s + 1];
+    double dx = pb[0] - pa[0], dy = pb[1] - pa[1], L2 = dx * dx + dy * dy, L = sqrt(L2);
+    double mag = fmax(fmax(fabs(pa[0]), fabs(pa[1])), fmax(fabs(pb[0]), fabs(pb[1])));
+    double tol = (1e-9 * L + 8 * DBL_EPSILON * mag) * L;
+    for (int32_t v = 0; v < c->nv; v++) {
+        if (astart[v] == astart[v + 1]) continue; /* on no segment or boundary edge */
+        double qx = c->xy[2 * v] - pa[0], qy = c->xy[2 * v + 1] - pa[1];
+        double t = (qx * dx + qy * dy) / L2;
+        if (fabs(dx * qy - dy * qx) > tol || t < 0 || t > 1) continue;
+        for (int32_t q = c->tstart[s]; q < c->tstart[s + 1]; q++)
+            if (tag_vertex(c, v, c->tags[q][0], c->tags[q][1])) return -1;
+    }
+    return 0;
+}
+
 /* 8. input segments as chains over segment and boundary edges */
 static int check_input_segments(vctx *c) {
     const pslg *g = c->g;
@@ -653,7 +673,13 @@ static int check_input_segments(vctx *c) {
     for (int32_t s = 0; s < gsn; s++) {
         if (!c->border[s]) continue; /* inside the removed region: the mesh has no edge there */
         int32_t A = c->gmap[g->seg[2 * s]], B = c->gmap[g->seg[2 * s + 1]];
-        if (c->o->part && (A < 0 || B < 0)) continue; /* an endpoint in another part */
+        if (c->o->part && (A < 0 || B < 0)) { /* an endpoint in another part */
+            if (tag_partial_chain(c, s, astart)) {
+                res = -1;
+                goto out;
+            }
+            continue;
+        }
         if (A < 0 || B < 0 || A == B) {
             r->missing_segs++;
             problem(r, "input segment %d (line %d) is missing: an endpoint is not in the mesh",
@@ -661,7 +687,13 @@ static int check_input_segments(vctx *c) {
             continue;
         }
         int32_t nch = trace_chain(c, s, astart, (const int32_t(*)[2])adj, chain, chainv);
-        if (nch < 0 && c->o->part) continue; /* the chain leaves this part */
+        if (nch < 0 && c->o->part) { /* the chain leaves this part */
+            if (tag_partial_chain(c, s, astart)) {
+                res = -1;
+                goto out;
+            }
+            continue;
+        }
         if (nch < 0) {
             const double *pa = xy + 2 * A, *pb = xy + 2 * B;
             r->missing_segs++;

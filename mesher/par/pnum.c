@@ -303,10 +303,8 @@ static void number_vertices(const mesh_flat *f, const pslg *in, const vtris *x,
     vn *learn = exchange(fwd, sizeof(vn), rdest, nf, &nl);
     for (int64_t i = 0; i < nl; i++)
         gid[learn[i].idx] = learn[i].gid;
-    for (int32_t v = 0; v < nv; v++)
-        if ((st[v] & 1) && gid[v] < 0)
-            MESH_BUG("vertex %d (%.17g, %.17g) got no global number", (int)v, f->xy[2 * (size_t)v],
-                     f->xy[2 * (size_t)v + 1]);
+    for (int32_t v = 0; v < nv && !num->unnumbered; v++)
+        if ((st[v] & 1) && gid[v] < 0) num->unnumbered = v + 1;
     num->nshared = nshared;
     free(st);
     free(q);
@@ -406,6 +404,7 @@ int par_number(const mesh_flat *local, const pslg *in, const uint8_t *artificial
     MPI_Comm c = rt_app_comm();
     int rank = rt_rank();
     memset(num, 0, sizeof *num);
+    if (errlen) err[0] = '\0';
     num->nin = in->nverts;
     num->gid = input_ids(local, in);
     vtris x;
@@ -413,12 +412,27 @@ int par_number(const mesh_flat *local, const pslg *in, const uint8_t *artificial
     number_vertices(local, in, &x, num);
     number_segments(local, artificial, &x, num);
     vtris_free(&x);
+    /* a holder that did not see a shared vertex on its part's boundary owns it too, and the
+     * other holders then wait for a number in vain: the parts disagree */
+    int32_t u = num->unnumbered - 1;
+    char m[300] = "";
+    if (u >= 0)
+        snprintf(m, sizeof m,
+                 "rank %d: vertex (%.17g, %.17g) has no number: the parts disagree about it", rank,
+                 local->xy[2 * (size_t)u], local->xy[2 * (size_t)u + 1]);
+    if (par_fail_any(u >= 0, NULL) != 0) {
+        int first_bad = u >= 0 ? rank : rt_size(), who = 0;
+        MESH_MPI(MPI_Allreduce(&first_bad, &who, 1, MPI_INT, MPI_MIN, c));
+        MESH_MPI(MPI_Bcast(m, (int)sizeof m, MPI_CHAR, who, c));
+        snprintf(err, errlen, "%s", m);
+        par_numbering_free(num);
+        return -1;
+    }
     int64_t nt = local->ntris, first = 0;
     MESH_MPI(MPI_Exscan(&nt, &first, 1, MPI_INT64_T, MPI_SUM, c));
     if (rank == 0) first = 0;
     num->tfirst = first;
     MESH_MPI(MPI_Allreduce(&nt, &num->ntris, 1, MPI_INT64_T, MPI_SUM, c));
-    if (errlen) err[0] = '\0';
     return 0;
 }
 

@@ -38,24 +38,26 @@
  *    one listed by two ranks (an input segment between their parts) is written by the lower
  *    rank only (decided at a rendezvous like the vertices'). */
 typedef struct par_numbering {
-    int64_t nin;     /* input vertices */
-    int64_t nverts;  /* vertices in the output (all ranks) */
-    int64_t ntris;   /* triangles (all ranks) */
-    int64_t nsegs;   /* segments written (all ranks) */
-    int64_t vfirst;  /* number of this rank's first owned non-input vertex */
-    int64_t tfirst;  /* number of this rank's first triangle */
-    int32_t nowned;  /* owned non-input vertices */
-    int32_t *owned;  /* nowned local ids, in the order of their numbers (owned by this struct) */
-    int64_t *gid;    /* per local vertex: its number, or -1 (unused, not written) */
-    int32_t nwseg;   /* segments this rank writes */
-    int32_t *wseg;   /* nwseg local segment ids */
-    int32_t nshared; /* local vertices another rank also holds (for --stats) */
+    int64_t nin;        /* input vertices */
+    int64_t nverts;     /* vertices in the output (all ranks) */
+    int64_t ntris;      /* triangles (all ranks) */
+    int64_t nsegs;      /* segments written (all ranks) */
+    int64_t vfirst;     /* number of this rank's first owned non-input vertex */
+    int64_t tfirst;     /* number of this rank's first triangle */
+    int32_t nowned;     /* owned non-input vertices */
+    int32_t *owned;     /* nowned local ids, in the order of their numbers (owned by this struct) */
+    int64_t *gid;       /* per local vertex: its number, or -1 (unused, not written) */
+    int32_t nwseg;      /* segments this rank writes */
+    int32_t *wseg;      /* nwseg local segment ids */
+    int32_t nshared;    /* local vertices another rank also holds (for --stats) */
+    int32_t unnumbered; /* 1 + a used local vertex left without a number (0: none) */
 } par_numbering;
 
 /* Collective.  Numbers local (this rank's part) as above.  artificial (local->nsegs flags, may
  * be NULL: none) marks the subsegments that are not input constraints (PCDM's interface
  * edges).  Returns 0 and fills *num (free with par_numbering_free), or -1 on every rank with
- * a message in err (a vertex number beyond int64 or a part beyond int32 counts). */
+ * the same message in err (*num then holds nothing) when the parts disagree about a shared
+ * vertex (one holder does not have it on its part's boundary). */
 int par_number(const mesh_flat *local, const pslg *in, const uint8_t *artificial,
                par_numbering *num, char *err, size_t errlen);
 
