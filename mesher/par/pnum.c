@@ -205,8 +205,7 @@ static int64_t *input_ids(const mesh_flat *f, const pslg *in) {
 /* ---- vertices ------------------------------------------------------------------------------ */
 
 /* Steps (2)-(4) of the header: fills num->gid, owned, nowned, vfirst, nverts, nshared. */
-static void number_vertices(const mesh_flat *f, const pslg *in, const vtris *x,
-                            par_numbering *num) {
+static void number_vertices(const mesh_flat *f, const vtris *x, par_numbering *num) {
     int rank = rt_rank(), P = rt_size();
     MPI_Comm c = rt_app_comm();
     int32_t nv = f->nverts;
@@ -409,7 +408,7 @@ int par_number(const mesh_flat *local, const pslg *in, const uint8_t *artificial
     num->gid = input_ids(local, in);
     vtris x;
     vtris_build(local, &x);
-    number_vertices(local, in, &x, num);
+    number_vertices(local, &x, num);
     number_segments(local, artificial, &x, num);
     vtris_free(&x);
     /* a holder that did not see a shared vertex on its part's boundary owns it too, and the
