@@ -1,6 +1,6 @@
 /* pbw: the Parallel Meshing Algorithm (parallel Bowyer-Watson, TR-97-17 section 2).
  *
- *   mpirun -np P ./pbw [options] input.poly        (options: ./pbw --help; same as ./pcdm)
+ *   mpirun -np P ./pbw [options] input.poly        (options: ./pbw --help: ./pcdm's and --phases)
  *
  * SPMD main: every rank reads the input and the decomposition (par_load; the decomposition
  * only says which rank owns which triangle of the initial CDT), then mesher/pbw/pbw.c refines the
@@ -27,7 +27,8 @@
  *   rsr              = every RSR sent by every rank (self-sends included).
  *   wall_s           = from a barrier after loading to the last rank leaving pbw_mesh (CDT,
  *                      distribution, refinement, termination; no gather, no output).
- * Exit status: 0 success; 1 bad input, failed --check, output error (every rank); 2 usage.
+ * Options, usage errors and exit statuses (the same on every rank): the front end, apps/cli.c
+ * (./pbw --help).
  */
 #include "pbw/pbw.h"
 

@@ -25,8 +25,8 @@
  * peak over its own triangles), mesh_bytes_per_tri the mesh arrays alone (mesh_memory_bytes
  * summed over ranks / triangles); output_s the slowest rank's seconds in par_output
  * (numbering, --check, writing).
- * Exit status: 0 success; 1 bad input, a failed --check, or an output error (every rank);
- * 2 bad usage.
+ * Options, usage errors and exit statuses (the same on every rank): the front end, apps/cli.c
+ * (./pcdm --help).
  */
 #include "pcdm/pcdm.h"
 

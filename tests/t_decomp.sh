@@ -2,8 +2,7 @@
 # t_decomp: the decomposition on inputs of every class (tests/inputs/: a letter with a hole, an
 # inclusion with two materials, separate faces, internal and dangling segments, many small
 # regions, far-from-origin coordinates, a thin sliver, small input angles, a point set), each
-# meshed by ./pcdm and ./pbw at 1, 2, 3, 4 and 8 ranks with --check (the point set without it:
-# the validator has no hull segments to compare with), runs with --perturb seeds, --subdomains
+# meshed by ./pcdm and ./pbw at 1, 2, 3, 4 and 8 ranks with --check, runs with --perturb seeds, --subdomains
 # and --imbalance, --write-cuts read back with --cuts, and the test-only fault switch
 # (PCDM_TEST_DROP_SPLIT) that must make the always-on interface check fail on every rank.
 # Env: BIN (programs, default .), MPIRUN (default "mpirun --oversubscribe"), SANITIZE=1 (fewer
@@ -30,15 +29,14 @@ NPS="1 2 3 4 8"
 run() { # prog np input extra-args...
     local prog=$1 np=$2 f=$3
     shift 3
-    local a=${AREA[$(basename "$f")]} chk=--check
-    [ "${f##*.}" = node ] && chk=
+    local a=${AREA[$(basename "$f")]}
     local name="$prog np=$np $(basename "$f") -q 30 -a $a $*"
-    timeout 120 $MPIRUN -np "$np" "$BIN/$prog" -q 30 -a "$a" $chk --stats "$@" "$f" \
+    timeout 120 $MPIRUN -np "$np" "$BIN/$prog" -q 30 -a "$a" --check --stats "$@" "$f" \
         >"$tmp/out" 2>"$tmp/err"
     local rc=$?
     if [ $rc -ne 0 ]; then
         bad "$name: exit $rc: $(grep -v '^-\|^ \|^$\|mpirun\|Process\|Exit code\|Primary' "$tmp/err" "$tmp/out" | head -2 | tr '\n' ' ')"
-    elif [ -n "$chk" ] && ! grep -q '^meshcheck: OK' "$tmp/out"; then
+    elif ! grep -q '^meshcheck: OK' "$tmp/out"; then
         bad "$name: validator did not report OK: $(grep meshcheck "$tmp/out" | head -c 300)"
     else
         ok "$name: $(grep '^stats:' "$tmp/out" | tail -1 | cut -d' ' -f2-6)"

@@ -6,17 +6,18 @@
  * sets, far-from-origin coordinates), because it only ever asks that mesher for a mesh.
  *
  * Algorithm: (1) the CDT of the input is refined with the angle bound alone (at least 30
- * degrees, a little above the final bound), which grades it by the local feature size, then,
- * when that leaves fewer than about per_sub triangles per subdomain or an area bound is given,
- * with an area bound that gives about per_sub triangles per subdomain (never below 4 times the
- * final bound, so the interfaces stay coarser than the final mesh).  (2) Each coarse triangle's
- * work is max(1, area / max_area) with an area bound, else 1.  (3) METIS_PartGraphKway splits
- * the dual graph (vertex weights: work; edge weights: shared edge length; target fractions from
- * the imbalance; contiguous parts when the graph is connected; fixed seed) into K parts.
- * (4) Triangles around an input corner sharper than 60 degrees join one part, so no interface
- * ends in a corner whose coarse triangles are exempt from the angle bound.  (5) decomp_build
- * turns the labels into interface segments.  Every angle an interface makes with another
- * segment then contains a corner of a coarse triangle, hence is at least the coarse bound.
+ * degrees, a little above the final bound), which grades it by the local feature size like the
+ * final mesh; then, with an area bound, with an area bound that gives about per_sub triangles
+ * per subdomain (never below 4 times the final bound, so the interfaces stay coarser than the
+ * final mesh); without one, only when that leaves fewer than 8 triangles per subdomain (the
+ * final mesh is then about as coarse as this one, and every interface vertex stays in it).  (2)
+ * Each coarse triangle's work is max(1, area / max_area) with an area bound, else 1.  (3)
+ * METIS_PartGraphKway splits the dual graph (vertex weights: work; edge weights: shared edge
+ * length; target fractions from the imbalance; contiguous parts when the graph is connected; fixed
+ * seed) into K parts. (4) Triangles around an input corner sharper than 60 degrees join one part,
+ * so no interface ends in a corner whose coarse triangles are exempt from the angle bound.  (5)
+ * decomp_build turns the labels into interface segments.  Every angle an interface makes with
+ * another segment then contains a corner of a coarse triangle, hence is at least the coarse bound.
  *
  * Invariants: topology comes from the mesher's exact predicates; METIS and the mesher are
  * deterministic, so every rank computes the same decomposition without communication.
@@ -31,6 +32,7 @@
 #include <string.h>
 
 #define PER_SUB_DEFAULT 200
+#define MIN_PER_SUB 8 /* with no area bound: coarse triangles per subdomain at least */
 
 /* Rank 0 gets k0 ~ K R / (R + P - 1) subdomains (at least one, leaving one per other rank);
  * the others share the rest; a rank's work share is split evenly over its subdomains. */
@@ -191,10 +193,14 @@ int pcdm_decomp_auto(const pslg *in, const pcdm_decomp_opts *o, pcdm_decomp *out
         int64_t limit = 40 * (int64_t)K * per + 20 * (int64_t)m.nv + 1000;
         refine(&m, qc, 0, limit);
         double A = live_area(&m);
-        if (o->max_area > 0 || m.nlive < (int64_t)K * per / 2) {
+        if (o->max_area > 0) {
             double ac = A / ((double)K * per);
-            if (o->max_area > 0 && ac < 4 * o->max_area) ac = 4 * o->max_area;
-            if (o->max_area <= 0 || ac < A) refine(&m, qc, ac, limit);
+            if (ac < 4 * o->max_area) ac = 4 * o->max_area;
+            if (ac < A) refine(&m, qc, ac, limit);
+        } else if (m.nlive < (int64_t)K * MIN_PER_SUB) {
+            /* the final mesh will be about as coarse as this one: refine only as far as the
+             * partition needs, since every interface vertex stays in the final mesh */
+            refine(&m, qc, A / ((double)K * MIN_PER_SUB), limit);
         }
     }
     int32_t *id = mesh_xmalloc((size_t)m.nt + 1, sizeof(int32_t));

@@ -64,7 +64,8 @@ int par_startup(int *argc, char ***argv, const char *prog, par_parse_fn parse, c
                 int (*reg)(void), par_opts *o, pslg *in, pcdm_decomp *d, int *code);
 
 /* Collective.  Every rank reads and checks o->input and builds the decomposition (auto or
- * --cuts) for rt_size() ranks.  On any error rank 0 prints the one message and every rank
+ * --cuts) for rt_size() ranks, then the ranks compare a hash of it (they must agree bit for
+ * bit; a difference is an error).  On any error rank 0 prints the one message and every rank
  * returns -1 (the caller then exits non-zero after rt_finalize). */
 int par_load(const par_opts *o, pslg *in, pcdm_decomp *d);
 
