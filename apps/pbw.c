@@ -12,7 +12,8 @@
  * --stats prints one line per rank, then the RSRs by kind and the cavity counters, and last:
  *   stats: ranks=P triangles=N vertices=N rsr=TOTAL_RSRS undone=CAVITIES_UNDONE min_angle=D
  *          wall_s=T busy_max_s=B busy_sum_s=S comm_pct=C undo_pct=U speedup_model=X
- *          peak_rss_mb=R bytes_per_tri=Y mesh_bytes_per_tri=Z phase1_s=F
+ *          peak_rss_mb=R bytes_per_tri=Y mesh_bytes_per_tri=Z phase1_s=F cpu_max_s=C
+ *          cpu_sum_s=E output_s=W
  * (one line).  Definitions (rt_stats time buckets, summed over ranks, inside rt_run):
  *   busy (per rank)  = RT_TIME_BUSY + RT_TIME_HANDLER (local work, tasks and handlers), as
  *                      ./pcdm; speedup_model = busy_sum / busy_max.
@@ -140,53 +141,42 @@ int main(int argc, char **argv) {
     /* statistics: reductions of per-rank figures; memory taken now, after the output */
     rs[RS_RSS] = (double)par_peak_rss_bytes();
     rs[RS_OUT] = sum.number_s + sum.check_s + sum.write_s;
-    if (o.stats && rank == 0) all = mesh_xmalloc(sizeof(double) * RS_N * (size_t)size, 1);
-    if (o.stats) MESH_MPI(MPI_Gather(rs, RS_N, MPI_DOUBLE, all, RS_N, MPI_DOUBLE, 0, comm));
-    if (o.stats && rank == 0) {
-        double tot[RS_N], mx[RS_N];
-        for (int k = 0; k < RS_N; k++)
-            tot[k] = mx[k] = 0;
-        for (int r = 0; r < size; r++)
-            for (int k = 0; k < RS_N; k++) {
-                double x = all[(size_t)r * RS_N + (size_t)k];
-                tot[k] += x;
-                if (x > mx[k]) mx[k] = x;
-            }
-        if (o.stats) {
-            for (int r = 0; r < size; r++) {
-                const double *x = all + (size_t)r * RS_N;
-                printf("rank %d: triangles=%.0f inserted=%.0f splits=%.0f cav_local=%.0f "
-                       "cav_remote=%.0f undone_local=%.0f undone_remote=%.0f parked=%.0f "
-                       "rsr_sent=%.0f busy_s=%.3f idle_s=%.3f handler_s=%.3f comm_s=%.3f "
-                       "undo_s=%.4f output_s=%.3f peak_rss_mb=%.1f bytes_per_tri=%.1f\n",
-                       r, x[RS_NTRIS], x[RS_INSERTED], x[RS_SPLITS], x[RS_CLOCAL], x[RS_CREMOTE],
-                       x[RS_ULOCAL], x[RS_UREMOTE], x[RS_PARKED], x[RS_RSR], x[RS_BUSY], x[RS_IDLE],
-                       x[RS_HANDLER], x[RS_COMM], x[RS_UNDO], x[RS_OUT], x[RS_RSS] / 1048576.0,
-                       x[RS_RSS] / (x[RS_NTRIS] > 0 ? x[RS_NTRIS] : 1));
-            }
-            printf("rsr:");
-            for (int k = 0; k < PBW_RSR_NKINDS; k++)
-                printf(" %s=%.0f", pbw_rsr_kind_name[k], tot[RS_KIND0 + k]);
-            printf(" mpi_msgs=%.0f\n", tot[RS_MPI]);
-            printf("cavities: local=%.0f remote=%.0f undone_local=%.0f undone_remote=%.0f "
-                   "parked=%.0f rejected=%.0f failed=%.0f skipped_small=%.0f postponed=%.0f\n",
-                   tot[RS_CLOCAL], tot[RS_CREMOTE], tot[RS_ULOCAL], tot[RS_UREMOTE], tot[RS_PARKED],
-                   tot[RS_REJECTED], tot[RS_FAILED], tot[RS_SKIPPED], tot[RS_POSTPONED]);
-            double nonidle = tot[RS_BUSY] + tot[RS_COMM];
-            double nt = sum.ntris > 0 ? (double)sum.ntris : 1;
-            printf("stats: ranks=%d triangles=%ld vertices=%ld rsr=%.0f undone=%.0f "
-                   "min_angle=%.4f wall_s=%.3f busy_max_s=%.3f busy_sum_s=%.3f comm_pct=%.2f "
-                   "undo_pct=%.2f speedup_model=%.2f peak_rss_mb=%.1f bytes_per_tri=%.1f "
-                   "mesh_bytes_per_tri=%.1f phase1_s=%.3f cpu_max_s=%.3f cpu_sum_s=%.3f\n",
-                   size, (long)sum.ntris, (long)sum.nverts, tot[RS_RSR],
-                   tot[RS_ULOCAL] + tot[RS_UREMOTE], sum.min_angle, mx[RS_WALL], mx[RS_BUSY],
-                   tot[RS_BUSY],
-                   nonidle > 0 ? 100.0 * (tot[RS_HANDLER] + tot[RS_COMM]) / nonidle : 0.0,
-                   nonidle > 0 ? 100.0 * tot[RS_UNDO] / nonidle : 0.0,
-                   mx[RS_BUSY] > 0 ? tot[RS_BUSY] / mx[RS_BUSY] : 0.0, mx[RS_RSS] / 1048576.0,
-                   tot[RS_RSS] / nt, tot[RS_MESHBYTES] / nt, mx[RS_PHASE1], mx[RS_CPU],
-                   tot[RS_CPU]);
+    double tot[RS_N], mx[RS_N];
+    all = par_stats_collect(rs, RS_N, o.stats, tot, mx);
+    if (all) {
+        for (int r = 0; r < size; r++) {
+            const double *x = all + (size_t)r * RS_N;
+            printf("rank %d: triangles=%.0f inserted=%.0f splits=%.0f cav_local=%.0f "
+                   "cav_remote=%.0f undone_local=%.0f undone_remote=%.0f parked=%.0f "
+                   "rsr_sent=%.0f busy_s=%.3f idle_s=%.3f handler_s=%.3f comm_s=%.3f "
+                   "undo_s=%.4f output_s=%.3f peak_rss_mb=%.1f bytes_per_tri=%.1f\n",
+                   r, x[RS_NTRIS], x[RS_INSERTED], x[RS_SPLITS], x[RS_CLOCAL], x[RS_CREMOTE],
+                   x[RS_ULOCAL], x[RS_UREMOTE], x[RS_PARKED], x[RS_RSR], x[RS_BUSY], x[RS_IDLE],
+                   x[RS_HANDLER], x[RS_COMM], x[RS_UNDO], x[RS_OUT], x[RS_RSS] / 1048576.0,
+                   x[RS_RSS] / (x[RS_NTRIS] > 0 ? x[RS_NTRIS] : 1));
         }
+        printf("rsr:");
+        for (int k = 0; k < PBW_RSR_NKINDS; k++)
+            printf(" %s=%.0f", pbw_rsr_kind_name[k], tot[RS_KIND0 + k]);
+        printf(" mpi_msgs=%.0f\n", tot[RS_MPI]);
+        printf("cavities: local=%.0f remote=%.0f undone_local=%.0f undone_remote=%.0f "
+               "parked=%.0f rejected=%.0f failed=%.0f skipped_small=%.0f postponed=%.0f\n",
+               tot[RS_CLOCAL], tot[RS_CREMOTE], tot[RS_ULOCAL], tot[RS_UREMOTE], tot[RS_PARKED],
+               tot[RS_REJECTED], tot[RS_FAILED], tot[RS_SKIPPED], tot[RS_POSTPONED]);
+        double nonidle = tot[RS_BUSY] + tot[RS_COMM];
+        double nt = sum.ntris > 0 ? (double)sum.ntris : 1;
+        printf(
+            "stats: ranks=%d triangles=%ld vertices=%ld rsr=%.0f undone=%.0f "
+            "min_angle=%.4f wall_s=%.3f busy_max_s=%.3f busy_sum_s=%.3f comm_pct=%.2f "
+            "undo_pct=%.2f speedup_model=%.2f peak_rss_mb=%.1f bytes_per_tri=%.1f "
+            "mesh_bytes_per_tri=%.1f phase1_s=%.3f cpu_max_s=%.3f cpu_sum_s=%.3f output_s=%.3f\n",
+            size, (long)sum.ntris, (long)sum.nverts, tot[RS_RSR], tot[RS_ULOCAL] + tot[RS_UREMOTE],
+            sum.min_angle, mx[RS_WALL], mx[RS_BUSY], tot[RS_BUSY],
+            nonidle > 0 ? 100.0 * (tot[RS_HANDLER] + tot[RS_COMM]) / nonidle : 0.0,
+            nonidle > 0 ? 100.0 * tot[RS_UNDO] / nonidle : 0.0,
+            mx[RS_BUSY] > 0 ? tot[RS_BUSY] / mx[RS_BUSY] : 0.0, mx[RS_RSS] / 1048576.0,
+            tot[RS_RSS] / nt, tot[RS_MESHBYTES] / nt, mx[RS_PHASE1], mx[RS_CPU], tot[RS_CPU],
+            mx[RS_OUT]);
         fflush(stdout);
     }
     free(all);

@@ -154,12 +154,9 @@ int main(int argc, char **argv) {
     /* statistics: reductions of per-rank figures; memory taken now, after the output */
     rs[RS_RSS] = (double)par_peak_rss_bytes();
     rs[RS_OUT] = sum.number_s + sum.check_s + sum.write_s;
-    if (o.stats && rank == 0) all = mesh_xmalloc(sizeof(double) * RS_N * (size_t)size, 1);
-    if (o.stats) MESH_MPI(MPI_Gather(rs, RS_N, MPI_DOUBLE, all, RS_N, MPI_DOUBLE, 0, comm));
-    if (o.stats && rank == 0) {
-        double tot[RS_N], mx[RS_N];
-        for (int k = 0; k < RS_N; k++)
-            tot[k] = mx[k] = 0;
+    double tot[RS_N], mx[RS_N];
+    all = par_stats_collect(rs, RS_N, o.stats, tot, mx);
+    if (all) {
         for (int r = 0; r < size; r++) {
             const double *x = all + (size_t)r * RS_N;
             printf("rank %d: subdomains=%.0f triangles=%.0f vertices=%.0f inserted=%.0f "
@@ -170,10 +167,6 @@ int main(int argc, char **argv) {
                    x[RS_IGNORED], x[RS_BUSY], x[RS_IDLE], x[RS_HANDLER], x[RS_COMM], x[RS_CPU],
                    x[RS_MPI], x[RS_OUT], x[RS_RSS] / 1048576.0,
                    x[RS_RSS] / (x[RS_NTRIS] > 0 ? x[RS_NTRIS] : 1));
-            for (int k = 0; k < RS_N; k++) {
-                tot[k] += x[k];
-                if (x[k] > mx[k]) mx[k] = x[k];
-            }
         }
         if (tot[RS_NOTFOUND] > 0)
             fprintf(stderr, "pcdm: warning: %.0f split requests named no subsegment\n",

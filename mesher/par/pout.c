@@ -366,3 +366,20 @@ int par_output(const par_opts *o, const pslg *in, mesh_flat *local, const uint8_
     sum->write_s = t3 - t2;
     return status;
 }
+
+double *par_stats_collect(const double *mine, int n, int on, double *tot, double *mx) {
+    if (!on) return NULL;
+    int rank = rt_rank(), P = rt_size();
+    double *all = rank == 0 ? mesh_xmalloc((size_t)n * (size_t)P, sizeof(double)) : NULL;
+    MESH_MPI(MPI_Gather(mine, n, MPI_DOUBLE, all, n, MPI_DOUBLE, 0, rt_app_comm()));
+    if (rank != 0) return NULL;
+    for (int k = 0; k < n; k++)
+        tot[k] = mx[k] = 0;
+    for (int r = 0; r < P; r++)
+        for (int k = 0; k < n; k++) {
+            double x = all[(size_t)r * (size_t)n + (size_t)k];
+            tot[k] += x;
+            if (x > mx[k]) mx[k] = x;
+        }
+    return all;
+}

@@ -89,6 +89,12 @@ int par_write_parts(const par_opts *o, const pslg *in, const mesh_flat *local,
  * rank). */
 void par_quality_all(const mesh_flat *local, double *min_angle, double *max_area);
 
+/* Collective.  The --stats figures: when on, rank 0 receives every rank's n figures (returned,
+ * rank-major, free with free()) and tot/mx (n entries each) get their sums and maxima over the
+ * ranks; other ranks, or on == 0: returns NULL and leaves tot/mx alone.  The mesh never moves:
+ * only these few numbers per rank. */
+double *par_stats_collect(const double *mine, int n, int on, double *tot, double *mx);
+
 /* What par_output found (the same on every rank). */
 typedef struct par_summary {
     int64_t ntris, nverts, nsegs;      /* the whole mesh as written */
