@@ -61,6 +61,8 @@ enum {
     RS_WALL,
     RS_CPU,
     RS_OUT,
+    RS_NUMBER,
+    RS_WRITE,
     RS_N
 };
 
@@ -154,6 +156,8 @@ int main(int argc, char **argv) {
     /* statistics: reductions of per-rank figures; memory taken now, after the output */
     rs[RS_RSS] = (double)par_peak_rss_bytes();
     rs[RS_OUT] = sum.number_s + sum.check_s + sum.write_s;
+    rs[RS_NUMBER] = sum.number_s;
+    rs[RS_WRITE] = sum.write_s;
     double tot[RS_N], mx[RS_N];
     all = par_stats_collect(rs, RS_N, o.stats, tot, mx);
     if (all) {
@@ -162,10 +166,11 @@ int main(int argc, char **argv) {
             printf("rank %d: subdomains=%.0f triangles=%.0f vertices=%.0f inserted=%.0f "
                    "split_sent=%.0f split_recv=%.0f split_ignored=%.0f busy_s=%.3f "
                    "idle_s=%.3f handler_s=%.3f comm_s=%.3f cpu_s=%.3f mpi_msgs=%.0f "
-                   "output_s=%.3f peak_rss_mb=%.1f bytes_per_tri=%.1f\n",
+                   "output_s=%.3f number_s=%.3f write_s=%.3f peak_rss_mb=%.1f "
+                   "bytes_per_tri=%.1f\n",
                    r, x[RS_NSUB], x[RS_NTRIS], x[RS_NVERTS], x[RS_INSERTED], x[RS_SENT], x[RS_RECV],
                    x[RS_IGNORED], x[RS_BUSY], x[RS_IDLE], x[RS_HANDLER], x[RS_COMM], x[RS_CPU],
-                   x[RS_MPI], x[RS_OUT], x[RS_RSS] / 1048576.0,
+                   x[RS_MPI], x[RS_OUT], x[RS_NUMBER], x[RS_WRITE], x[RS_RSS] / 1048576.0,
                    x[RS_RSS] / (x[RS_NTRIS] > 0 ? x[RS_NTRIS] : 1));
         }
         if (tot[RS_NOTFOUND] > 0)

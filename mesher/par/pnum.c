@@ -18,6 +18,7 @@
  * is O(part boundary), never the mesh.  All messages on rt_app_comm().
  */
 #include "par/pout.h"
+#include "par/ptopo.h"
 
 #include "base/base.h"
 #include "rt.h"
@@ -81,41 +82,6 @@ static void *exchange(const void *recs, size_t sz, const int *dest, int64_t n, i
     free(fill);
     *nout = rtot / (int64_t)sz;
     return rb;
-}
-
-/* ---- local topology ------------------------------------------------------------------------ */
-
-/* Vertex -> incident triangles (CSR). */
-typedef struct vtris {
-    int32_t *start; /* nverts + 1 */
-    int32_t *t;     /* 3 * ntris */
-} vtris;
-
-static void vtris_build(const mesh_flat *f, vtris *x) {
-    x->start = mesh_xcalloc((size_t)f->nverts + 2, sizeof(int32_t));
-    x->t = mesh_xmalloc(3 * (size_t)f->ntris + 1, sizeof(int32_t));
-    for (size_t i = 0; i < 3 * (size_t)f->ntris; i++)
-        x->start[f->tri[i] + 2]++;
-    for (int32_t v = 0; v < f->nverts; v++)
-        x->start[v + 2] += x->start[v + 1];
-    for (int32_t t = 0; t < f->ntris; t++)
-        for (int j = 0; j < 3; j++)
-            x->t[x->start[f->tri[3 * (size_t)t + (size_t)j] + 1]++] = t;
-}
-
-static void vtris_free(vtris *x) {
-    free(x->start);
-    free(x->t);
-}
-
-/* Number of local triangles with the undirected edge {a, b}. */
-static int edge_uses(const mesh_flat *f, const vtris *x, int32_t a, int32_t b) {
-    int n = 0;
-    for (int32_t i = x->start[a]; i < x->start[a + 1]; i++) {
-        const int32_t *tv = f->tri + 3 * (size_t)x->t[i];
-        n += tv[0] == b || tv[1] == b || tv[2] == b;
-    }
-    return n;
 }
 
 /* ---- records ------------------------------------------------------------------------------- */
@@ -205,7 +171,7 @@ static int64_t *input_ids(const mesh_flat *f, const pslg *in) {
 /* ---- vertices ------------------------------------------------------------------------------ */
 
 /* Steps (2)-(4) of the header: fills num->gid, owned, nowned, vfirst, nverts, nshared. */
-static void number_vertices(const mesh_flat *f, const vtris *x, par_numbering *num) {
+static void number_vertices(const mesh_flat *f, const par_vtris *x, par_numbering *num) {
     int rank = rt_rank(), P = rt_size();
     MPI_Comm c = rt_app_comm();
     int32_t nv = f->nverts;
@@ -218,7 +184,7 @@ static void number_vertices(const mesh_flat *f, const vtris *x, par_numbering *n
         for (int j = 0; j < 3; j++) {
             int32_t a = f->tri[3 * (size_t)t + (size_t)j], b = f->tri[3 * (size_t)t + (j + 1) % 3];
             if (gid[a] >= 0 && gid[b] >= 0) continue;
-            if (edge_uses(f, x, a, b) == 1) {
+            if (par_edge_uses(f, x, a, b) == 1) {
                 if (gid[a] < 0) st[a] |= 2;
                 if (gid[b] < 0) st[b] |= 2;
             }
@@ -320,7 +286,7 @@ static void number_vertices(const mesh_flat *f, const vtris *x, par_numbering *n
 /* ---- segments ------------------------------------------------------------------------------ */
 
 /* Step (5): fills num->wseg, nwseg, nsegs. */
-static void number_segments(const mesh_flat *f, const uint8_t *artificial, const vtris *x,
+static void number_segments(const mesh_flat *f, const uint8_t *artificial, const par_vtris *x,
                             par_numbering *num) {
     int rank = rt_rank(), P = rt_size();
     /* listed input subsegments, each pair once (a part may list one from both its sides):
@@ -345,7 +311,8 @@ static void number_segments(const mesh_flat *f, const uint8_t *artificial, const
             continue;
         }
         int32_t s = (int32_t)kp[2 * i + 1];
-        if (edge_uses(f, x, f->seg[2 * (size_t)s], f->seg[2 * (size_t)s + 1]) == 1) cand[nc++] = s;
+        if (par_edge_uses(f, x, f->seg[2 * (size_t)s], f->seg[2 * (size_t)s + 1]) == 1)
+            cand[nc++] = s;
     }
     free(kp);
     /* open listed subsegments to their rendezvous: all but the lowest holder skip them */
@@ -406,11 +373,11 @@ int par_number(const mesh_flat *local, const pslg *in, const uint8_t *artificial
     if (errlen) err[0] = '\0';
     num->nin = in->nverts;
     num->gid = input_ids(local, in);
-    vtris x;
-    vtris_build(local, &x);
+    par_vtris x;
+    par_vtris_build(local, &x);
     number_vertices(local, &x, num);
     number_segments(local, artificial, &x, num);
-    vtris_free(&x);
+    par_vtris_free(&x);
     /* a holder that did not see a shared vertex on its part's boundary owns it too, and the
      * other holders then wait for a number in vain: the parts disagree */
     int32_t u = num->unnumbered - 1;
