@@ -293,7 +293,6 @@ static void number_segments(const mesh_flat *f, const uint8_t *artificial, const
      * sort (pair, id) and keep the first of each pair */
     int32_t nk = 0;
     int64_t *kp = mesh_xmalloc(2 * (size_t)f->nsegs + 1, sizeof(int64_t));
-    nk = 0;
     for (int32_t s = 0; s < f->nsegs; s++) {
         if (artificial && artificial[s]) continue;
         int64_t a = f->seg[2 * (size_t)s], b = f->seg[2 * (size_t)s + 1];
