@@ -67,10 +67,50 @@ static uint64_t edge_hash(const open_edge *e) {
     return h;
 }
 
+/* What add_open needs: the part, its listed subsegments sorted by vertex pair, the growing
+ * list of open edges. */
+typedef struct open_ctx {
+    const mesh_flat *f;
+    const ekey *k;
+    int rank;
+    open_edge *o;
+    int32_t n, cap;
+} open_ctx;
+
+/* par_open_edges visitor: records open edge a -> b with its coordinates in lexicographic
+ * order; a listed subsegment's kind (1 boundary, 2 interface; the larger if listed twice)
+ * decides whether it must be matched. */
+static void add_open(void *ctx, int32_t a, int32_t b) {
+    open_ctx *c = ctx;
+    const mesh_flat *f = c->f;
+    ekey key = {a < b ? a : b, a < b ? b : a, 0};
+    const ekey *hit =
+        f->nsegs ? bsearch(&key, c->k, (size_t)f->nsegs, sizeof *c->k, cmp_ekey) : NULL;
+    int segkind = 0;
+    if (hit) { /* every listing of the pair */
+        const ekey *lo = hit, *hi = hit;
+        while (lo > c->k && !cmp_ekey(lo - 1, &key))
+            lo--;
+        while (hi + 1 < c->k + f->nsegs && !cmp_ekey(hi + 1, &key))
+            hi++;
+        for (; lo <= hi; lo++)
+            if (lo->n > segkind) segkind = lo->n;
+    }
+    const double *p = f->xy + 2 * (size_t)key.lo, *q = f->xy + 2 * (size_t)key.hi;
+    int sw = p[0] > q[0] || (p[0] == q[0] && p[1] > q[1]);
+    MESH_GROW(c->o, c->n, c->cap);
+    open_edge *e = &c->o[c->n++];
+    memset(e, 0, sizeof *e);
+    e->x[0] = sw ? q[0] : p[0];
+    e->x[1] = sw ? q[1] : p[1];
+    e->x[2] = sw ? p[0] : q[0];
+    e->x[3] = sw ? p[1] : q[1];
+    e->rank = c->rank;
+    e->must = segkind != 1;
+}
+
 /* The open edges of local (edges of exactly one local triangle), found through the
- * vertex-to-triangle rows (ptopo.h: O(n), no sort of all edges); each open edge is seen once,
- * from its one triangle.  A listed subsegment's kind (1 boundary, 2 interface; the larger if
- * listed twice) decides whether it must be matched. */
+ * vertex-to-triangle rows (ptopo.h: one pass, no sort of all edges). */
 static int32_t open_edges(const mesh_flat *f, int rank, open_edge **out) {
     ekey *k = mesh_xmalloc((size_t)f->nsegs + 1, sizeof(ekey));
     for (int32_t s = 0; s < f->nsegs; s++) { /* n = 1: a boundary subsegment; 2: an interface */
@@ -81,37 +121,10 @@ static int32_t open_edges(const mesh_flat *f, int rank, open_edge **out) {
     qsort(k, (size_t)f->nsegs, sizeof *k, cmp_ekey);
     par_vtris x;
     par_vtris_build(f, &x);
-    open_edge *o = NULL;
-    int32_t no = 0, cap = 0;
-    for (int32_t t = 0; t < f->ntris; t++)
-        for (int j = 0; j < 3; j++) {
-            int32_t a = f->tri[3 * t + j], b = f->tri[3 * t + (j + 1) % 3];
-            if (par_edge_uses(f, &x, a, b) != 1) continue;
-            ekey key = {a < b ? a : b, a < b ? b : a, 0};
-            const ekey *hit =
-                f->nsegs ? bsearch(&key, k, (size_t)f->nsegs, sizeof *k, cmp_ekey) : NULL;
-            int segkind = 0;
-            if (hit) { /* every listing of the pair */
-                const ekey *lo = hit, *hi = hit;
-                while (lo > k && !cmp_ekey(lo - 1, &key))
-                    lo--;
-                while (hi + 1 < k + f->nsegs && !cmp_ekey(hi + 1, &key))
-                    hi++;
-                for (; lo <= hi; lo++)
-                    if (lo->n > segkind) segkind = lo->n;
-            }
-            const double *p = f->xy + 2 * (size_t)key.lo, *q = f->xy + 2 * (size_t)key.hi;
-            int sw = p[0] > q[0] || (p[0] == q[0] && p[1] > q[1]);
-            MESH_GROW(o, no, cap);
-            open_edge *e = &o[no++];
-            memset(e, 0, sizeof *e);
-            e->x[0] = sw ? q[0] : p[0];
-            e->x[1] = sw ? q[1] : p[1];
-            e->x[2] = sw ? p[0] : q[0];
-            e->x[3] = sw ? p[1] : q[1];
-            e->rank = rank;
-            e->must = segkind != 1;
-        }
+    open_ctx oc = {f, k, rank, NULL, 0, 0};
+    par_open_edges(f, &x, add_open, &oc);
+    open_edge *o = oc.o;
+    int32_t no = oc.n;
     par_vtris_free(&x);
     if (!o) o = mesh_xmalloc(1, sizeof(open_edge));
     mesh_xfree(k);

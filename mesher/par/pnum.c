@@ -170,6 +170,18 @@ static int64_t *input_ids(const mesh_flat *f, const pslg *in) {
 
 /* ---- vertices ------------------------------------------------------------------------------ */
 
+typedef struct mark_ctx {
+    uint8_t *st;
+    const int64_t *gid;
+} mark_ctx;
+
+/* par_open_edges visitor: the non-input ends of an open edge are candidates (st bit 2). */
+static void mark_open(void *ctx, int32_t a, int32_t b) {
+    mark_ctx *m = ctx;
+    if (m->gid[a] < 0) m->st[a] |= 2;
+    if (m->gid[b] < 0) m->st[b] |= 2;
+}
+
 /* Steps (2)-(4) of the header: fills num->gid, owned, nowned, vfirst, nverts, nshared. */
 static void number_vertices(const mesh_flat *f, const par_vtris *x, par_numbering *num) {
     int rank = rt_rank(), P = rt_size();
@@ -180,15 +192,8 @@ static void number_vertices(const mesh_flat *f, const par_vtris *x, par_numberin
     uint8_t *st = mesh_xcalloc((size_t)nv + 1, 1); /* 1 used, 2 candidate, 4 owned elsewhere */
     for (size_t i = 0; i < 3 * (size_t)f->ntris; i++)
         st[f->tri[i]] |= 1;
-    for (int32_t t = 0; t < f->ntris; t++)
-        for (int j = 0; j < 3; j++) {
-            int32_t a = f->tri[3 * (size_t)t + (size_t)j], b = f->tri[3 * (size_t)t + (j + 1) % 3];
-            if (gid[a] >= 0 && gid[b] >= 0) continue;
-            if (par_edge_uses(f, x, a, b) == 1) {
-                if (gid[a] < 0) st[a] |= 2;
-                if (gid[b] < 0) st[b] |= 2;
-            }
-        }
+    mark_ctx mc = {st, gid};
+    par_open_edges(f, x, mark_open, &mc);
     int64_t nq = 0;
     for (int32_t v = 0; v < nv; v++)
         nq += (st[v] & 2) != 0;

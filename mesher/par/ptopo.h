@@ -21,6 +21,13 @@ typedef struct par_vtris {
 void par_vtris_build(const mesh_flat *f, par_vtris *x);
 void par_vtris_free(par_vtris *x);
 
+/* Calls visit(ctx, a, b) once for every open edge of f (an edge of exactly one triangle),
+ * directed as in that triangle (the part on its left).  Each vertex's row is read once and its
+ * edges counted among the row's triangles, so the work is O(sum of squared degrees) with one
+ * pass over the triangles -- no search per edge.  Returns the number of open edges. */
+int64_t par_open_edges(const mesh_flat *f, const par_vtris *x,
+                       void (*visit)(void *ctx, int32_t a, int32_t b), void *ctx);
+
 /* Number of f's triangles that have the (undirected) edge {a, b}. */
 int par_edge_uses(const mesh_flat *f, const par_vtris *x, int32_t a, int32_t b);
 
