@@ -180,7 +180,12 @@ const cli_prog cli_mesh = {"mesh",
                            "Constrained Delaunay triangulation + Ruppert/Chew quality refinement.",
                            mesh_tables,
                            {"input.poly", NULL},
-                           NULL};
+                           "Coordinates: any finite doubles whose largest magnitude is at least "
+                           "2^-723 (about 1.8e-218); nonzero coordinates below 2^-247 (about "
+                           "4.4e-75) times the largest are rejected (FILE:LINE message).  Features "
+                           "below about 2^-44 of the coordinates' magnitude cannot be resolved: "
+                           "such inputs, and angle bounds refinement cannot reach, end with an "
+                           "error (exit 1), never with a mesh outside the bounds."};
 const cli_prog cli_meshcheck = {
     "meshcheck",
     "meshcheck [options] input.poly PREFIX",

@@ -18,6 +18,7 @@
 
 #include "cli.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -95,6 +96,18 @@ int main(int argc, char **argv) {
     if (rr == MESH_REFINE_STEINER_LIMIT)
         fprintf(stderr, "mesh: warning: Steiner point limit (%lld) reached; quality not met\n",
                 steiner);
+    /* never a silent success outside the bounds (issue 10): what is left is forced or an error */
+    int64_t forced = 0, unmet = cdt_only ? 0 : mesh_count_unmet(&m, &forced);
+    if (unmet > 0 && rr != MESH_REFINE_STEINER_LIMIT) {
+        fprintf(stderr,
+                "mesh: %s: cannot meet the bounds: %lld triangles still violate them after %lld "
+                "refused splits (features below the precision of the coordinates, or -q %g "
+                "beyond what refinement reaches on this input)\n",
+                input, (long long)unmet, (long long)m.stats.unresolved, qdeg);
+        mesh_free(&m);
+        pslg_free(&g);
+        return 1;
+    }
 
     int rc = 0;
     mesh_flat f;
@@ -130,18 +143,21 @@ int main(int argc, char **argv) {
                          *c = mesh_vertex_xy(&m, m.tv[3 * t + 2]);
             double an = geom_min_angle_deg(a, b, c), ar = geom_area(a, b, c);
             if (an < amin) amin = an;
+            ar = ldexp(ar, -2 * m.scale_exp); /* in input units */
             if (ar > amax) amax = ar;
         }
         struct rusage ru;
         getrusage(RUSAGE_SELF, &ru);
         double rss = (double)ru.ru_maxrss * 1024.0;
         const mesh_stats *s = &m.stats;
-        fprintf(stderr,
-                "mesh: inserted=%lld seg_splits=%lld rejected=%lld blocked=%lld "
-                "skipped_small=%lld failed=%lld mesh_bytes_per_tri=%.1f\n",
-                (long long)s->inserted, (long long)s->seg_splits, (long long)s->rejected,
-                (long long)s->blocked, (long long)s->skipped_small, (long long)s->failed,
-                m.nlive ? (double)mesh_memory_bytes(&m) / m.nlive : 0.0);
+        fprintf(
+            stderr,
+            "mesh: inserted=%lld seg_splits=%lld rejected=%lld blocked=%lld "
+            "skipped_small=%lld failed=%lld unresolved=%lld forced=%lld mesh_bytes_per_tri=%.1f\n",
+            (long long)s->inserted, (long long)s->seg_splits, (long long)s->rejected,
+            (long long)s->blocked, (long long)s->skipped_small, (long long)s->failed,
+            (long long)s->unresolved, (long long)forced,
+            m.nlive ? (double)mesh_memory_bytes(&m) / m.nlive : 0.0);
         printf("stats: triangles=%ld vertices=%ld steiner=%ld min_angle=%.4f max_area=%.6g "
                "wall_s=%.3f peak_rss_mb=%.1f bytes_per_tri=%.1f\n",
                (long)m.nlive, (long)m.nv, (long)(m.nv - m.ninput), amin, amax, wall,

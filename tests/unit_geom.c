@@ -608,6 +608,53 @@ START_TEST(test_incircle_scales) {
 }
 END_TEST
 
+/* The mesher's working range (geom.h): every coordinate a multiple of 2^-200, magnitude at most
+ * 2^250 (pslg_check scales inputs into it; geom_working_point keeps new points on it).  Points
+ * mixing the extremes: tiny grid multiples next to huge coordinates, near-degenerate too. */
+static double grid_coord(void) {
+    switch ((int)urand(0, 4)) {
+    case 0: /* a small multiple of the grid step */
+        return ldexp(floor(urand(-1000, 1000)), -200);
+    case 1: /* the largest magnitudes */
+        return ldexp(urand(-1, 1), 250);
+    case 2: /* everyday numbers */
+        return urand(-1, 1);
+    default: /* anywhere in between: 53 bits at exponents -147..197, all on the grid */
+        return ldexp(nearbyint(ldexp(urand(-1, 1), 53)), (int)urand(-147, 197) - 53);
+    }
+}
+
+START_TEST(test_working_range) {
+    rng_seed(21);
+    for (int t = 0; t < 4000; t++) {
+        double p[4][2];
+        for (int i = 0; i < 4; i++) {
+            p[i][0] = grid_coord();
+            p[i][1] = grid_coord();
+        }
+        if (t % 3 == 0) { /* d on or next to the line ab: the sign is in doubt */
+            p[2][0] = p[0][0] + (p[1][0] - p[0][0]) * 0.5;
+            p[2][1] = p[0][1] + (p[1][1] - p[0][1]) * 0.5;
+            if (geom_working_point(p[2]) != 0) continue; /* beyond 2^200: not a new point */
+        }
+        double o = geom_orient2d(p[0], p[1], p[2]);
+        ck_assert_int_eq((o > 0) - (o < 0), ref_orient(p[0], p[1], p[2]));
+        if (o > 0) check_incircle(p[0], p[1], p[2], p[3]);
+    }
+    /* geom_working_point: rounds only magnitudes below 2^-147, refuses what is out of range */
+    double q[2] = {0x1.8p-210, 0.3};
+    ck_assert_int_eq(geom_working_point(q), 0);
+    ck_assert(q[0] == 0x1p-200 * nearbyint(0x1.8p-10) && q[1] == 0.3);
+    double r[2] = {0x1.123456789abcdp-140, -0x1p-1074};
+    ck_assert_int_eq(geom_working_point(r), 0);
+    ck_assert(r[0] == 0x1.123456789abcdp-140 && r[1] == 0);
+    double far[2] = {0x1p201, 0}, nan_[2] = {NAN, 0};
+    ck_assert_int_eq(geom_working_point(far), -1);
+    ck_assert_int_eq(geom_working_point(nan_), -1);
+    report("working range: grid 2^-200, magnitudes to 2^250");
+}
+END_TEST
+
 /* ---- diametral circle -------------------------------------------------------------------- */
 
 START_TEST(test_diametral_simple) {
@@ -806,6 +853,7 @@ static Suite *geom_suite(void) {
         {"incircle_lattice", test_incircle_lattice},
         {"incircle_near_cocircular", test_incircle_near_cocircular},
         {"incircle_scales", test_incircle_scales},
+        {"working_range", test_working_range},
         {"diametral_simple", test_diametral_simple},
         {"diametral", test_diametral},
         {"circumcenter", test_circumcenter},

@@ -19,6 +19,19 @@
 #ifndef GEOM_H
 #define GEOM_H
 
+/* Working range of the mesher (sufficient for every predicate here, incircle included): every
+ * coordinate a multiple of 2^-200 with magnitude at most 2^250.  Then every product of up to
+ * four coordinate differences is a multiple of 2^-800 below 2^1010: no intermediate of the
+ * expansions or of the error bounds underflows or overflows.  pslg_check scales inputs into
+ * [-2^100, 2^100] on that grid; geom_working_point keeps every new point on it. */
+#define GEOM_WORK_MAX 0x1p200
+
+/* Puts a new point p (a circumcenter or a split point) into the working range: a coordinate
+ * of magnitude below 2^-147 is rounded to the nearest multiple of 2^-200 (a no-op for every
+ * other double).  Returns 0, or -1 if p is not finite or farther than GEOM_WORK_MAX from the
+ * origin on either axis (the point is then unusable). */
+int geom_working_point(double p[2]);
+
 /* Computes the machine constants of the filters.  Idempotent; call once before anything
  * else (the mesher and the programs do). */
 void geom_init(void);

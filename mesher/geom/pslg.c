@@ -19,6 +19,7 @@
 #include "geom/geom.h"
 
 #include <errno.h>
+#include <float.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
@@ -553,9 +554,10 @@ static void grid_setup(grid *gr, double x0, double y0, double x1, double y1, lon
     double w = x1 - x0, h = y1 - y0;
     long nx = 1, ny = 1;
     if (n < 1) n = 1;
-    if (w > 0 && h > 0) {
-        nx = (long)ceil(sqrt((double)n * w / h));
-        ny = (long)ceil(sqrt((double)n * h / w));
+    if (w > 0 && h > 0) { /* clamped as doubles: a thin box's ratio may exceed a long */
+        double fx = ceil(sqrt((double)n * w / h)), fy = ceil(sqrt((double)n * h / w));
+        nx = fx >= 1 && fx <= 2048 ? (long)fx : fx > 2048 ? 2048 : 1;
+        ny = fy >= 1 && fy <= 2048 ? (long)fy : fy > 2048 ? 2048 : 1;
     } else if (w > 0) {
         nx = n;
     } else if (h > 0) {
@@ -750,6 +752,87 @@ __attribute__((format(printf, 3, 4))) static int gfail(char *err, size_t errlen,
     return -1;
 }
 
+/* ---------------------------------------------------------------- scaling --------------- */
+
+/* 1 iff x * 2^e is a multiple of 2^PSLG_GRID_EXP (0 included); x * 2^e is at most 2^100. */
+static int on_grid(double x, int e) {
+    if (x == 0) return 1;
+    double y = ldexp(x, e - PSLG_GRID_EXP);
+    return y != 0 && y == floor(y);
+}
+
+static double scale_area(double a, int e) {
+    if (!(a > 0)) return a;
+    double s = ldexp(a, 2 * e);
+    return s > 0 ? s : DBL_MIN; /* a bound that underflowed stays a bound */
+}
+
+/* Scales g by an exact power of two into the predicates' working range (pslg.h). */
+static int pslg_scale(pslg *g, char *err, size_t errlen) {
+    const char *vf = g->path[0] ? g->path : "(input)";
+    const char *sf = g->segpath[0] ? g->segpath : vf;
+    double big = 0;
+    for (int32_t i = 0; i < 2 * g->nverts; i++)
+        big = fmax(big, fabs(g->xy[i]));
+    for (int32_t i = 0; i < 2 * g->nholes; i++)
+        if (isfinite(g->holes[i])) big = fmax(big, fabs(g->holes[i]));
+    for (int32_t i = 0; i < g->nregions; i++)
+        for (int k = 0; k < 2; k++)
+            if (isfinite(g->regions[4 * i + k])) big = fmax(big, fabs(g->regions[4 * i + k]));
+    if (big == 0) return 0;
+    int e = 0, k;
+    if (big > 0x1p100) {
+        e = 1; /* below */
+    } else {
+        for (int32_t i = 0; i < 2 * g->nverts && !e; i++)
+            if (!on_grid(g->xy[i], 0)) e = 1;
+        for (int32_t i = 0; i < 2 * g->nholes && !e; i++)
+            if (isfinite(g->holes[i]) && !on_grid(g->holes[i], 0)) e = 1;
+        for (int32_t i = 0; i < g->nregions && !e; i++)
+            for (int j = 0; j < 2; j++)
+                if (isfinite(g->regions[4 * i + j]) && !on_grid(g->regions[4 * i + j], 0)) e = 1;
+    }
+    if (!e) return 0; /* already in range: nothing moves, not even by a bit */
+    frexp(big, &k);   /* big < 2^k */
+    e = PSLG_TOP_EXP - k;
+    if (e > PSLG_MAX_SCALE)
+        return gfail(err, errlen,
+                     "%s: the largest coordinate magnitude %.17g is below the supported range "
+                     "(at least 2^%d, about 1.8e-218)",
+                     vf, big, PSLG_TOP_EXP - 1 - PSLG_MAX_SCALE);
+    for (int32_t i = 0; i < 2 * g->nverts; i++)
+        if (!on_grid(g->xy[i], e))
+            return gfail(err, errlen,
+                         "%s:%d: vertex %d: coordinate %.17g is too small next to the largest "
+                         "coordinate magnitude %.17g (supported: nonzero magnitudes down to "
+                         "2^-247, about 4.4e-75, times the largest)",
+                         vf, g->vline ? g->vline[i / 2] : 0, i / 2 + g->first_index, g->xy[i], big);
+    for (int32_t i = 0; i < 2 * g->nholes; i++)
+        if (isfinite(g->holes[i]) && !on_grid(g->holes[i], e))
+            return gfail(err, errlen,
+                         "%s: hole %d: coordinate %.17g is too small next to the largest "
+                         "coordinate magnitude %.17g",
+                         sf, i / 2 + g->first_index, g->holes[i], big);
+    for (int32_t i = 0; i < g->nregions; i++)
+        for (int j = 0; j < 2; j++)
+            if (isfinite(g->regions[4 * i + j]) && !on_grid(g->regions[4 * i + j], e))
+                return gfail(err, errlen,
+                             "%s: region %d: coordinate %.17g is too small next to the largest "
+                             "coordinate magnitude %.17g",
+                             sf, i + g->first_index, g->regions[4 * i + j], big);
+    for (int32_t i = 0; i < 2 * g->nverts; i++)
+        g->xy[i] = ldexp(g->xy[i], e);
+    for (int32_t i = 0; i < 2 * g->nholes; i++)
+        g->holes[i] = ldexp(g->holes[i], e);
+    for (int32_t i = 0; i < g->nregions; i++) {
+        g->regions[4 * i] = ldexp(g->regions[4 * i], e);
+        g->regions[4 * i + 1] = ldexp(g->regions[4 * i + 1], e);
+        g->regions[4 * i + 3] = scale_area(g->regions[4 * i + 3], e);
+    }
+    g->scale_exp += e;
+    return 0;
+}
+
 int pslg_check(pslg *g, char *err, size_t errlen) {
     geom_init();
     if (errlen) err[0] = '\0';
@@ -766,6 +849,7 @@ int pslg_check(pslg *g, char *err, size_t errlen) {
                 return gfail(err, errlen, "%s:%d: segment %d: vertex %d out of range", sf,
                              g->sline ? g->sline[s] : 0, s + g->first_index,
                              g->seg[2 * s + k] + g->first_index);
+    if (pslg_scale(g, err, errlen) != 0) return -1;
     /* 1. merge duplicate vertices */
     vkey *vk = mesh_xmalloc((size_t)(n ? n : 1) * sizeof *vk, 1);
     int32_t *map = mesh_xmalloc((size_t)(n ? n : 1) * sizeof *map, 1);
@@ -1343,38 +1427,71 @@ static int borders_domain(const faces *F, int32_t h) {
     return (f1 >= 0 && !F->cy[f1].removed) || (f2 >= 0 && !F->cy[f2].removed);
 }
 
-int pslg_segments_bordering(const pslg *g, uint8_t *out) {
+void pslg_pieces_free(pslg_pieces *P) {
+    free(P->start);
+    free(P->vert);
+    free(P->border);
+    memset(P, 0, sizeof *P);
+}
+
+/* Appends vertex v (and, after the first, the border flag of the piece ending there). */
+static int piece_push(pslg_pieces *P, int32_t *cap, int32_t v, uint8_t border, int first) {
+    if (P->nvert == *cap) {
+        int32_t nc = *cap ? 2 * *cap : 64;
+        int32_t *nv = mesh_xrealloc(P->vert, (size_t)nc * sizeof *nv, 1);
+        if (!nv) return -1;
+        P->vert = nv;
+        uint8_t *nb = mesh_xrealloc(P->border, (size_t)nc, 1);
+        if (!nb) return -1;
+        P->border = nb;
+        *cap = nc;
+    }
+    if (!first) P->border[P->nvert - 1] = border;
+    P->border[P->nvert] = 0;
+    P->vert[P->nvert++] = v;
+    return 0;
+}
+
+int pslg_segment_pieces(const pslg *g, pslg_pieces *P) {
     geom_init();
+    memset(P, 0, sizeof *P);
+    int32_t cap = 0;
+    P->start = mesh_xmalloc(((size_t)g->nsegs + 1) * sizeof *P->start, 1);
+    if (!P->start) return -1;
+    P->start[0] = 0;
     faces F;
-    for (int32_t s = 0; s < g->nsegs; s++)
-        out[s] = 1;
-    if (g->nsegs == 0) return 0;
-    if (faces_build(g, &F)) return -1;
-    const arr *A = &F.A;
+    int have = g->nsegs > 0 && faces_build(g, &F) == 0;
     for (int32_t s = 0; s < g->nsegs; s++) {
-        int32_t a = g->seg[2 * s], b = g->seg[2 * s + 1], cur = a, any = 0;
+        int32_t a = g->seg[2 * s], b = g->seg[2 * s + 1], cur = a;
         const double *pb = g->xy + 2 * b;
+        int32_t first = P->nvert;
+        if (piece_push(P, &cap, a, 0, 1)) goto oom;
         /* walk the pieces of s from a to b: at each vertex the outgoing half-edge pointing at
          * b (collinear, same direction) */
-        for (int32_t steps = 0; cur != b && steps <= A->ne; steps++) {
+        for (int32_t steps = 0; have && cur != b && steps <= F.A.ne; steps++) {
             int32_t next = -1;
-            for (int32_t i = A->vstart[cur]; i < A->vstart[cur + 1]; i++) {
-                int32_t h = A->out[i], w = A->org[h ^ 1];
+            for (int32_t i = F.A.vstart[cur]; i < F.A.vstart[cur + 1]; i++) {
+                int32_t h = F.A.out[i], w = F.A.org[h ^ 1];
                 const double *pc = g->xy + 2 * cur, *pw = g->xy + 2 * w;
                 if (w != b && !(geom_orient2d(pc, pb, pw) == 0 && strictly_between(pc, pb, pw)))
                     continue;
-                any |= borders_domain(&F, h);
+                if (piece_push(P, &cap, w, (uint8_t)borders_domain(&F, h), 0)) goto oom;
                 next = w;
                 break;
             }
-            if (next < 0) {
-                any = 1; /* not found (should not happen): keep the segment required */
-                break;
-            }
+            if (next < 0) break;
             cur = next;
         }
-        out[s] = (uint8_t)any;
+        if (cur != b) { /* no arrangement (should not happen): the whole segment, required */
+            P->nvert = first;
+            if (piece_push(P, &cap, a, 0, 1) || piece_push(P, &cap, b, 1, 0)) goto oom;
+        }
+        P->start[s + 1] = P->nvert;
     }
-    faces_free(&F);
+    if (have) faces_free(&F);
     return 0;
+oom:
+    if (have) faces_free(&F);
+    pslg_pieces_free(P);
+    return -1;
 }

@@ -35,6 +35,7 @@ typedef struct pslg {
     int32_t nregions;
     double *regions;   /* 4 * nregions: x, y, attribute, max area */
     int first_index;   /* 0 or 1: the numbering the file used */
+    int scale_exp;     /* pslg_check multiplied every coordinate by 2^scale_exp (0: untouched) */
     char path[512];    /* file the vertices came from (for messages) */
     char segpath[512]; /* file the segments, holes and regions came from (= path unless a .poly
                         * with no vertices took them from its .node file) */
@@ -44,6 +45,18 @@ typedef struct pslg {
  * -1 and writes "FILE:LINE: problem" into err (errlen bytes).  *out is zeroed first and owns
  * its arrays on success; on failure it holds nothing. */
 int pslg_read(const char *path, pslg *out, char *err, size_t errlen);
+
+/* Coordinates (pslg_check): any finite doubles whose largest magnitude is at least 2^-723
+ * (about 1.8e-218) and whose nonzero magnitudes are at least 2^-247 (about 4.4e-75) times the
+ * largest (smaller ones only when they are multiples of 2^-300 of its power-of-two scale).
+ * Inputs already within the predicates' working range (every coordinate a multiple of
+ * 2^PSLG_GRID_EXP and at most 2^PSLG_TOP_EXP) are left untouched; any other input is scaled by
+ * an exact power of two 2^scale_exp so that its largest magnitude lies in [2^99, 2^100), and
+ * writers of the mesh undo the scaling exactly (mesh_flat.scale_exp).  In that range every
+ * predicate is exact (geom.h, "working range"). */
+#define PSLG_TOP_EXP 100
+#define PSLG_GRID_EXP (-200)
+#define PSLG_MAX_SCALE 822 /* 2^(GRID - MAX_SCALE) = 2^-1022: unscaled points stay normal */
 
 /* Validates and normalises geometry (see above).  Returns 0, or -1 with a message in err.
  * Warnings (merged duplicates) go to stderr prefixed with the file and line. */
@@ -55,10 +68,21 @@ int pslg_check(pslg *g, char *err, size_t errlen);
  * whose closure contains it (as the mesher's carving does).  Used by the validator. */
 double pslg_domain_area(const pslg *g);
 
-/* out[s] (g->nsegs bytes) = 1 iff some piece of segment s has the domain on at least one side;
- * 0 for a segment inside the removed region (both sides outside, e.g. all around a hole point
- * placed on it or on its vertex).  Returns 0, or -1 (out of memory; out is all 1). */
-int pslg_segments_bordering(const pslg *g, uint8_t *out);
+/* The pieces of every segment (cut at the vertices lying on it) and whether each borders the
+ * domain: segment s runs through vertices vert[start[s] .. start[s+1]) in order from its
+ * first endpoint; the piece from vert[i] to vert[i+1] has the domain on at least one side iff
+ * border[i] (0: inside the removed region, e.g. around a hole point on it).  The validator asks
+ * the mesh for the bordering pieces only. */
+typedef struct pslg_pieces {
+    int32_t *start; /* nsegs + 1 */
+    int32_t *vert;
+    uint8_t *border;
+    int32_t nvert;
+} pslg_pieces;
+
+/* Fills P (caller frees with pslg_pieces_free).  Returns 0, or -1 (out of memory). */
+int pslg_segment_pieces(const pslg *g, pslg_pieces *P);
+void pslg_pieces_free(pslg_pieces *P);
 
 /* Like pslg_read for a .poly, except that when the .poly declares 0 vertices its .node file is
  * not read: segment endpoints are checked against nverts vertices numbered from first_index

@@ -127,9 +127,9 @@ static int write_node(const mesh_flat *m, const char *path, char *err, size_t er
     for (int32_t i = 0; i < m->nverts; i++) {
         char *p = fmt_int(line, (long long)i + 1);
         *p++ = ' ';
-        p = fmt_dbl(p, m->xy[2 * i]);
+        p = fmt_dbl(p, ldexp(m->xy[2 * i], -m->scale_exp));
         *p++ = ' ';
-        p = fmt_dbl(p, m->xy[2 * i + 1]);
+        p = fmt_dbl(p, ldexp(m->xy[2 * i + 1], -m->scale_exp));
         for (int k = 0; k < nattr; k++) {
             *p++ = ' ';
             p = fmt_dbl(p, m->vattr[(size_t)i * nattr + k]);
@@ -426,9 +426,9 @@ int meshio_write_vtk(const mesh_flat *m, const char *path, char *err, size_t err
     fprintf(w.f, "POINTS %d double\n", (int)m->nverts);
     char line[160];
     for (int32_t i = 0; i < m->nverts; i++) {
-        char *p = fmt_dbl(line, m->xy[2 * i]);
+        char *p = fmt_dbl(line, ldexp(m->xy[2 * i], -m->scale_exp));
         *p++ = ' ';
-        p = fmt_dbl(p, m->xy[2 * i + 1]);
+        p = fmt_dbl(p, ldexp(m->xy[2 * i + 1], -m->scale_exp));
         memcpy(p, " 0\n", 3);
         fwrite(line, 1, (size_t)(p + 3 - line), w.f);
     }

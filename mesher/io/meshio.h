@@ -26,6 +26,8 @@ typedef struct mesh_flat {
     int32_t *seg;        /* 2 * nsegs subsegment endpoints */
     int32_t *smarker;    /* nsegs (may be NULL) */
     int32_t *sinterface; /* nsegs: 1 if an artificial (interface) constraint (may be NULL) */
+    int scale_exp;       /* xy holds the true coordinates times 2^scale_exp (pslg_check's scaling);
+                          * the writers undo it exactly.  0 for meshes read from files. */
 } mesh_flat;
 
 /* Writes PREFIX.node, PREFIX.ele and PREFIX.poly (1-based, as Triangle writes them). */

@@ -21,6 +21,7 @@
 #include "io/wfile.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -173,9 +174,9 @@ static void fmt_node(const mesh_part *p, long long tot, long long base, int firs
         char *q = tb_room(t, 64 + 32 * (size_t)nattr);
         q = fmt_int(q, base + i + 1);
         *q++ = ' ';
-        q = fmt_dbl(q, p->xy[2 * i]);
+        q = fmt_dbl(q, ldexp(p->xy[2 * i], -p->scale_exp));
         *q++ = ' ';
-        q = fmt_dbl(q, p->xy[2 * i + 1]);
+        q = fmt_dbl(q, ldexp(p->xy[2 * i + 1], -p->scale_exp));
         for (int k = 0; k < nattr; k++) {
             *q++ = ' ';
             q = fmt_dbl(q, p->vattr[(size_t)i * (size_t)nattr + (size_t)k]);
@@ -277,8 +278,8 @@ int meshio_write_vtu(const mesh_flat *m, int rank, int binary, const char *path,
     uint8_t *type = mesh_xmalloc(nt + 1, 1);
     int32_t *crank = mesh_xmalloc(nt + 1, sizeof *crank);
     for (size_t v = 0; v < nv; v++) {
-        pts[3 * v] = m->xy[2 * v];
-        pts[3 * v + 1] = m->xy[2 * v + 1];
+        pts[3 * v] = ldexp(m->xy[2 * v], -m->scale_exp);
+        pts[3 * v + 1] = ldexp(m->xy[2 * v + 1], -m->scale_exp);
         pts[3 * v + 2] = 0;
         mark[v] = m->vmarker ? m->vmarker[v] : 0;
     }

@@ -37,6 +37,8 @@ typedef struct mesh_part {
     int64_t nsegs;
     const int64_t *seg;     /* 2 * nsegs global vertex numbers */
     const int32_t *smarker; /* nsegs (NULL: all 0) */
+    int scale_exp; /* xy holds the true coordinates times 2^scale_exp (pslg.scale_exp: an input
+                    * pslg_check scaled); the writer undoes it exactly.  0: unscaled */
 } mesh_part;
 
 /* Collective.  Writes PREFIX.node, PREFIX.ele and PREFIX.poly from every rank's part. */

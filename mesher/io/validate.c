@@ -238,8 +238,8 @@ typedef struct vctx {
     gaplist gl;      /* small input corners */
     int32_t *tstart; /* per input segment: its corner tags tags[tstart[s]..] */
     int32_t (*tags)[2];
-    uint8_t *border; /* per input segment: 0 if it lies inside the removed region */
-    vtag *vt;        /* mesh vertices on small corners' segments, sorted */
+    pslg_pieces pc; /* input segments cut at the input vertices on them; which border the domain */
+    vtag *vt;       /* mesh vertices on small corners' segments, sorted */
     size_t nvt, capvt;
 } vctx;
 
@@ -563,37 +563,42 @@ static int tag_vertex(vctx *c, int32_t v, int32_t k, int32_t side) {
 }
 
 /* The chain of mesh edges (indices into T) along input segment s: from the mesh vertex of its
- * first endpoint, each step to the nearest neighbour farther along the segment that lies within
- * rounding distance of it.  Returns the number of edges, or -1 if the chain does not reach the
- * other endpoint.  chainv gets the chain's vertices. */
-static int32_t trace_chain(const vctx *c, int32_t s, const int32_t *astart, const int32_t (*adj)[2],
-                           int32_t *chain, int32_t *chainv) {
-    const pslg *g = c->g;
+ * first endpoint, each step to a neighbour farther along the segment that lies within rounding
+ * distance of it; among those, the step whose direction deviates least from the segment's (so
+ * a neighbouring segment at a tiny angle, whose vertices are also within rounding distance,
+ * does not lure the walk away), then the nearest.  Returns the number of edges, or -1 if the
+ * chain does not reach the other endpoint.  chainv gets the chain's vertices. */
+static int32_t trace_chain(const vctx *c, int32_t S0, int32_t S1, int32_t A, int32_t B,
+                           const int32_t *astart, const int32_t (*adj)[2], int32_t *chain,
+                           int32_t *chainv) {
     const double *xy = c->xy;
-    int32_t A = c->gmap[g->seg[2 * s]], B = c->gmap[g->seg[2 * s + 1]];
-    const double *pa = xy + 2 * A, *pb = xy + 2 * B;
+    const double *pa = xy + 2 * S0, *pb = xy + 2 * S1;
     double dx = pb[0] - pa[0], dy = pb[1] - pa[1], L2 = dx * dx + dy * dy, L = sqrt(L2);
     double mag = fmax(fmax(fabs(pa[0]), fabs(pa[1])), fmax(fabs(pb[0]), fabs(pb[1])));
     double tol = (1e-9 * L + 8 * DBL_EPSILON * mag) * L; /* bound on |cross| */
     int32_t cur = A, nch = 0;
-    double tcur = 0;
+    double tcur = ((xy[2 * A] - pa[0]) * dx + (xy[2 * A + 1] - pa[1]) * dy) / L2;
     chainv[0] = A;
     while (cur != B && nch < c->T.n) {
         int32_t best = -1, brec = -1;
-        double bt = INFINITY;
+        double bt = INFINITY, bdev = INFINITY;
+        const double *pc = xy + 2 * cur;
         for (int32_t i = astart[cur]; i < astart[cur + 1]; i++) {
             int32_t w = adj[i][0];
+            const double *q = xy + 2 * w;
             double t;
+            double qx = q[0] - pa[0], qy = q[1] - pa[1];
             if (w == B) {
-                t = 1;
+                t = (qx * dx + qy * dy) / L2;
             } else {
-                const double *q = xy + 2 * w;
-                double qx = q[0] - pa[0], qy = q[1] - pa[1];
                 if (fabs(dx * qy - dy * qx) > tol) continue;
                 t = (qx * dx + qy * dy) / L2;
                 if (!(t > tcur && t < 1)) continue;
             }
-            if (t < bt) {
+            double sx = q[0] - pc[0], sy = q[1] - pc[1];
+            double dev = fabs(dx * sy - dy * sx) / (L * sqrt(sx * sx + sy * sy));
+            if (dev < bdev || (dev == bdev && t < bt)) {
+                bdev = dev;
                 bt = t;
                 best = w;
                 brec = adj[i][1];
@@ -664,14 +669,12 @@ static int check_input_segments(vctx *c) {
     for (int32_t v = nv; v > 0; v--)
         astart[v] = astart[v - 1];
     astart[0] = 0;
-    c->border = mesh_xmalloc((size_t)gsn + 1, 1);
-    if (!c->border || (gsn > 0 && pslg_segments_bordering(g, c->border) != 0)) {
+    if (g && pslg_segment_pieces(g, &c->pc) != 0) {
         oom(r);
         res = -1;
         goto out;
     }
     for (int32_t s = 0; s < gsn; s++) {
-        if (!c->border[s]) continue; /* inside the removed region: the mesh has no edge there */
         int32_t A = c->gmap[g->seg[2 * s]], B = c->gmap[g->seg[2 * s + 1]];
         if (c->o->part && (A < 0 || B < 0)) { /* an endpoint in another part */
             if (tag_partial_chain(c, s, astart)) {
@@ -686,31 +689,43 @@ static int check_input_segments(vctx *c) {
                     s + g->first_index, g->sline ? g->sline[s] : 0);
             continue;
         }
-        int32_t nch = trace_chain(c, s, astart, (const int32_t(*)[2])adj, chain, chainv);
-        if (nch < 0 && c->o->part) { /* the chain leaves this part */
+        /* each piece that borders the domain (pieces inside the removed region have no edges):
+         * its chain's edges are input edges, its vertices lie on s (tags of s's corners) */
+        int ok = 1;
+        for (int32_t i = c->pc.start[s]; i + 1 < c->pc.start[s + 1] && ok; i++) {
+            if (!c->pc.border[i]) continue;
+            int32_t P = c->gmap[c->pc.vert[i]], Q = c->gmap[c->pc.vert[i + 1]];
+            int32_t nch = P < 0 || Q < 0 ? -1
+                                         : trace_chain(c, A, B, P, Q, astart,
+                                                       (const int32_t(*)[2])adj, chain, chainv);
+            if (nch < 0) {
+                ok = 0;
+                break;
+            }
+            for (int32_t j = 0; j < nch; j++)
+                T->rec[chain[j]].flags |= E_INPUT;
+            for (int32_t q = c->tstart[s]; q < c->tstart[s + 1]; q++)
+                for (int32_t j = 0; j <= nch; j++)
+                    if (tag_vertex(c, chainv[j], c->tags[q][0], c->tags[q][1])) {
+                        res = -1;
+                        goto out;
+                    }
+        }
+        if (!ok && c->o->part) { /* the chain leaves this part */
             if (tag_partial_chain(c, s, astart)) {
                 res = -1;
                 goto out;
             }
             continue;
         }
-        if (nch < 0) {
+        if (!ok) {
             const double *pa = xy + 2 * A, *pb = xy + 2 * B;
             r->missing_segs++;
             problem(r,
                     "input segment %d (line %d) from (%.17g, %.17g) to (%.17g, %.17g) is not "
                     "a chain of mesh segment/boundary edges",
                     s + g->first_index, g->sline ? g->sline[s] : 0, pa[0], pa[1], pb[0], pb[1]);
-            continue;
         }
-        for (int32_t i = 0; i < nch; i++)
-            T->rec[chain[i]].flags |= E_INPUT;
-        for (int32_t q = c->tstart[s]; q < c->tstart[s + 1]; q++) /* tag the chain's vertices */
-            for (int32_t i = 0; i <= nch; i++)
-                if (tag_vertex(c, chainv[i], c->tags[q][0], c->tags[q][1])) {
-                    res = -1;
-                    goto out;
-                }
     }
     for (int32_t k = 0; k < T->n; k++)
         if ((T->rec[k].flags & E_BND) && !(T->rec[k].flags & E_INPUT) && !c->o->part) {
@@ -927,11 +942,30 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
     geom_init();
     memset(r, 0, sizeof *r);
     validate_opts none = {0};
+    if (!o) o = &none;
+    /* Work where the mesher worked: in g's coordinates, scaled by pslg_check (exact powers of
+     * two, so the mesh's vertices land on the input's bits); areas go back at the end. */
+    int e = g ? g->scale_exp : 0;
+    double *sxy = NULL;
+    validate_opts so = *o;
+    if (e && so.max_area > 0) {
+        so.max_area = ldexp(o->max_area, 2 * e);
+        if (so.max_area == 0) so.max_area = DBL_MIN;
+    }
+    if (e != m->scale_exp) {
+        sxy = mesh_xmalloc(2 * (size_t)m->nverts * sizeof *sxy + 1, 1);
+        if (!sxy) {
+            oom(r);
+            return 0;
+        }
+        for (int64_t i = 0; i < 2 * (int64_t)m->nverts; i++)
+            sxy[i] = ldexp(m->xy[i], e - m->scale_exp);
+    }
     vctx c = {.g = g,
               .m = m,
-              .o = o ? o : &none,
+              .o = &so,
               .r = r,
-              .xy = m->xy,
+              .xy = sxy ? sxy : m->xy,
               .tri = m->tri,
               .nv = m->nverts,
               .nt = m->ntris};
@@ -967,8 +1001,12 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
     free(c.tstart);
     free(c.tags);
     free(c.vt);
-    free(c.border);
+    pslg_pieces_free(&c.pc);
+    free(sxy);
     if (use_hull) free(hull.seg);
+    r->mesh_area = ldexp(r->mesh_area, -2 * e);
+    r->domain_area = ldexp(r->domain_area, -2 * e);
+    r->max_area = ldexp(r->max_area, -2 * e);
     return r->ok;
 }
 

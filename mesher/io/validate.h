@@ -5,7 +5,11 @@
  *  - conforming: every edge shared by at most two triangles, with opposite orientations; no
  *    two triangles overlap (total area equals the area enclosed by the boundary edges);
  *  - every input vertex present (as a mesh vertex with the same coordinates);
- *  - every input segment present as a chain of mesh edges along it;
+ *  - every input segment present as a chain of mesh edges along it (piece by piece, cut at
+ *    the input vertices on it; a piece inside the removed region, both sides outside the
+ *    domain, must be absent instead: pslg_segment_pieces);
+ *  - a point set (no segments) is checked against its convex hull, whose edges are then its
+ *    segments (the mesher makes them so);
  *  - every boundary edge of the mesh (one triangle) lies on an input segment;
  *  - area equal to the domain's (pslg_domain_area), to a relative 1e-9;
  *  - every interior edge that is not on an input segment (or on an interface constraint

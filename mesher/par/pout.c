@@ -12,9 +12,10 @@
  * Check: the exact validator runs on every part in part mode (validate.h); what a part alone
  * cannot show is decided over all parts: the sum of the parts' areas against the input's
  * domain area (relative 1e-9, as the validator), and every endpoint of an input segment that
- * borders the domain (every vertex of a point set) used by some part (an MPI_MAX reduction of
- * one byte per input vertex).  Interfaces were compared across ranks before (the always-on
- * par_check_interfaces).  Invariant: every function returns the same result on every rank.
+ * piece that borders the domain (every vertex of a point set) used by some part (an MPI_MAX
+ * reduction of one byte per input vertex).  Interfaces were compared across ranks before (the
+ * always-on par_check_interfaces).  Invariant: every function returns the same result on every
+ * rank.
  */
 #include "par/pout.h"
 
@@ -37,11 +38,16 @@ static uint8_t *needed_inputs(const pslg *in) {
         memset(need, 1, (size_t)in->nverts);
         return need;
     }
-    uint8_t *border = mesh_xmalloc((size_t)in->nsegs + 1, 1);
-    if (pslg_segments_bordering(in, border) != 0) memset(border, 1, (size_t)in->nsegs);
-    for (int32_t s = 0; s < in->nsegs; s++)
-        if (border[s]) need[in->seg[2 * (size_t)s]] = need[in->seg[2 * (size_t)s + 1]] = 1;
-    free(border);
+    pslg_pieces pc;
+    if (pslg_segment_pieces(in, &pc) != 0) { /* out of memory: ask for the segments' ends */
+        for (int32_t s = 0; s < in->nsegs; s++)
+            need[in->seg[2 * (size_t)s]] = need[in->seg[2 * (size_t)s + 1]] = 1;
+        return need;
+    }
+    for (int32_t s = 0; s < in->nsegs; s++) /* both ends of every bordering piece */
+        for (int32_t i = pc.start[s]; i + 1 < pc.start[s + 1]; i++)
+            if (pc.border[i]) need[pc.vert[i]] = need[pc.vert[i + 1]] = 1;
+    pslg_pieces_free(&pc);
     return need;
 }
 

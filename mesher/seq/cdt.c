@@ -496,6 +496,7 @@ static int build(mesh *m, int32_t n, const double *xy, const int32_t *vmarker, i
 }
 
 int mesh_build_cdt(mesh *m, const pslg *g, const uint8_t *iface, char *err, size_t errlen) {
+    m->scale_exp = g->scale_exp;
     int r = build(m, g->nverts, g->xy, g->vmarker, g->nsegs, g->seg, g->smarker, iface, g->holes,
                   g->nholes, err, errlen);
     if (r != 0 && err && errlen > 0) {

@@ -478,8 +478,10 @@ void mesh_flip(mesh *m, int32_t e) {
 
 /* ---- edges ------------------------------------------------------------------------------ */
 
-int32_t mesh_find_edge(const mesh *m, int32_t u, int32_t v) {
-    if (u < 0 || u >= m->nv || v < 0 || v >= m->nv) return -1;
+/* Edge uv by rotating around u from vtri[u] (both ways).  Returns the edge, -1 if absent from
+ * that fan, or -2 if it is absent and the fan is open on both sides (u on the boundary: the
+ * domain may touch u in another fan too, a pinch vertex). */
+static int32_t find_edge_fan(const mesh *m, int32_t u, int32_t v) {
     int32_t t = m->vtri[u];
     if (t < 0 || !mesh_tri_alive(m, t)) return -1;
     int j = m->tv[3 * t] == u ? 0 : m->tv[3 * t + 1] == u ? 1 : m->tv[3 * t + 2] == u ? 2 : -1;
@@ -500,13 +502,33 @@ int32_t mesh_find_edge(const mesh *m, int32_t u, int32_t v) {
     e = e0;
     for (;;) {
         int32_t n = m->tn[e];
-        if (n < 0) return -1;
+        if (n < 0) return -2;
         e = mesh_edge_next(n);
         if (e == e0 || --guard < 0) return -1;
         if (mesh_dest(m, e) == v) return e;
         int32_t pe = mesh_edge_prev(e);
         if (m->tv[pe] == v) return pe;
     }
+}
+
+int32_t mesh_find_edge(const mesh *m, int32_t u, int32_t v) {
+    if (u < 0 || u >= m->nv || v < 0 || v >= m->nv) return -1;
+    int32_t e = find_edge_fan(m, u, v);
+    if (e >= 0 || e == -1) return e;
+    e = find_edge_fan(m, v, u);
+    if (e >= 0 || e == -1) return e;
+    /* both on the boundary and not in the fans vtri names: where the domain pinches a vertex
+     * (touches it in two fans, e.g. a hole touching the boundary there) the edge may lie in
+     * another fan.  Rare; a scan decides. */
+    for (int32_t t = 0; t < m->nt; t++) {
+        if (!mesh_tri_alive(m, t)) continue;
+        for (int j = 0; j < 3; j++)
+            if (m->tv[3 * t + j] == u && m->tv[3 * t + (j + 1) % 3] == v)
+                return 3 * t + j;
+            else if (m->tv[3 * t + j] == v && m->tv[3 * t + (j + 1) % 3] == u)
+                return 3 * t + j;
+    }
+    return -1;
 }
 
 /* ---- subsegment side table ---------------------------------------------------------------- */
@@ -720,6 +742,7 @@ int mesh_to_flat(const mesh *m, mesh_flat *f) {
         return -1;
     }
     memcpy(f->xy, m->xy, 2 * (size_t)m->nv * sizeof(double));
+    f->scale_exp = m->scale_exp;
     for (int32_t v = 0; v < m->nv; v++)
         f->vmarker[v] = v < m->ninput     ? (m->in_vmarker ? m->in_vmarker[v] : 0)
                         : m->vseg[v] >= 0 ? m->smarker[m->vseg[v]]

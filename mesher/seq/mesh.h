@@ -105,6 +105,7 @@ typedef struct mesh_stats {
     int64_t blocked;       /* walks toward a Steiner point stopped by a constraint edge */
     int64_t skipped_small; /* bad triangles left alone: small angle forced by the input */
     int64_t failed;        /* insertions abandoned (not star-shaped / precision exhausted) */
+    int64_t unresolved;    /* insertions and splits refused below the length floor (refine.c) */
     int64_t named_done, named_already, named_not_found; /* mesh_split_subsegment_named */
     int64_t polls;
 } mesh_stats;
@@ -132,6 +133,7 @@ typedef struct mesh {
     int32_t *inc_off, *inc_seg; /* CSR: original segments incident to each input vertex */
     uint8_t *corner;            /* ninput: 1 if two segments meet there at < 60 degrees */
     int has_corners;
+    int scale_exp; /* xy = input coordinates * 2^scale_exp (pslg.scale_exp; areas by 2^2e) */
     /* subsegment side table */
     mesh_subseg *ss;
     int32_t nss, sscap, ss_free, ss_live;
@@ -210,7 +212,10 @@ void mesh_set_hooks(mesh *m, const mesh_hooks *h);
 typedef enum {
     MESH_REFINE_DONE,          /* no bad triangle and no encroached subsegment left */
     MESH_REFINE_STEINER_LIMIT, /* max_steiner reached */
-    MESH_REFINE_STOPPED        /* the poll hook asked to stop */
+    MESH_REFINE_STOPPED,       /* the poll hook asked to stop */
+    MESH_REFINE_UNRESOLVED     /* gave up: too many splits refused below the length floor
+                                * (features below the coordinates' precision, or a bound the
+                                * refinement cannot reach); the bounds are not met */
 } mesh_refine_result;
 
 /* Ruppert/Chew refinement.  First every encroached subsegment (a vertex strictly inside its
@@ -269,6 +274,14 @@ const mesh_subseg *mesh_subseg_of_edge(const mesh *m, int32_t e);
 
 /* Smallest-angle and area test used by the refiner: 0 good, 1 bad angle, 2 bad area only. */
 int mesh_tri_bad(const mesh *m, int32_t t);
+
+/* After mesh_refine: the number of live triangles that still break the bounds of
+ * mesh_set_quality (area above the bound, or smallest angle below it where the input does not
+ * force it).  *forced (may be NULL): triangles whose small angle the input forces (a vertex at
+ * a small input corner, or the refiner's concentric-shell exemption); they are not counted as
+ * unmet.  A mesher must not report success while this is non-zero: refinement stopped short
+ * (Steiner limit, a refused split below the precision floor, a failed insertion). */
+int64_t mesh_count_unmet(mesh *m, int64_t *forced);
 
 static inline int32_t mesh_edge_tri(int32_t e) {
     return e / 3;

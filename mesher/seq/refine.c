@@ -39,10 +39,12 @@
 #include "geom/geom.h"
 #include "seq/rules.h"
 
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
 #define NBUCKET 4096
+#define UNRESOLVED_BUDGET 256
 
 typedef struct qent {
     int32_t t, next;
@@ -57,6 +59,7 @@ struct mesh_refine_state {
     int32_t nenc, enccap, enchead;
     mesh_rules R; /* the bounds, as the shared refinement rules take them */
     int need_scan;
+    double floor2; /* squared length floor: no new edge shorter (0: not computed yet) */
     int32_t since_poll;
 };
 
@@ -86,10 +89,18 @@ void mesh_refine_free(mesh *m) {
     m->rf = NULL;
 }
 
+/* An area bound in input units, in the mesh's (scaled) units; one that underflows stays a
+ * bound. */
+static double scaled_area(const mesh *m, double a) {
+    if (!(a > 0) || m->scale_exp == 0) return a;
+    double s = ldexp(a, 2 * m->scale_exp);
+    return s > 0 ? s : DBL_MIN;
+}
+
 void mesh_set_quality(mesh *m, const mesh_quality *q) {
     mesh_refine_state *r = rf_get(m);
     m->q = *q;
-    mesh_rules_init(&r->R, q->min_angle, q->max_area, q->offcenter, q->lens);
+    mesh_rules_init(&r->R, q->min_angle, scaled_area(m, q->max_area), q->offcenter, q->lens);
     r->need_scan = 1;
 }
 
@@ -119,7 +130,7 @@ static int quality(const mesh *m, const mesh_rules *R, int32_t t, int *bucket, i
 
 int mesh_tri_bad(const mesh *m, int32_t t) {
     mesh_rules R;
-    mesh_rules_init(&R, m->q.min_angle, m->q.max_area, 0, 0);
+    mesh_rules_init(&R, m->q.min_angle, scaled_area(m, m->q.max_area), 0, 0);
     return quality(m, &R, t, NULL, NULL);
 }
 
@@ -232,6 +243,34 @@ static double shell_unit(const mesh *m, int32_t a) {
     return unit > 0 ? unit : 1.0;
 }
 
+/* The length floor (squared) below which refinement refuses to go, computed once from the
+ * initial triangulation: the larger of 2^-24 times its smallest altitude (a bound on the
+ * input's local feature size; Ruppert's refinement never needs edges that much shorter, so
+ * reaching it means the refinement diverges, e.g. an angle bound beyond what it can reach) and
+ * 2^-44 times the coordinates' magnitude (features below that are below the precision of the
+ * coordinates: circumcenters and midpoints there are mostly rounding).  Deciding whether to
+ * refine, never topology, so a rounded measure is fine. */
+static double length_floor2(const mesh *m) {
+    double mag = 0, alt2 = INFINITY;
+    for (int32_t v = 0; v < m->nv; v++)
+        mag = fmax(mag, fmax(fabs(X(m, v)[0]), fabs(X(m, v)[1])));
+    for (int32_t t = 0; t < m->nt; t++) {
+        if (!mesh_tri_alive(m, t)) continue;
+        const int32_t *tv = m->tv + 3 * (size_t)t;
+        const double *a = X(m, tv[0]), *b = X(m, tv[1]), *c = X(m, tv[2]);
+        double l = fmax(geom_dist2(a, b), fmax(geom_dist2(b, c), geom_dist2(c, a)));
+        double ar = geom_area(a, b, c);
+        if (l > 0) alt2 = fmin(alt2, 4 * ar * ar / l);
+    }
+    double f = fmax(isfinite(alt2) ? alt2 * 0x1p-48 : 0, mag * mag * 0x1p-88);
+    return f > 0 ? f : DBL_MIN;
+}
+
+/* 1 iff a new vertex at p would make an edge to a shorter than the floor. */
+static int below_floor(const mesh *m, const double *p, const double *a) {
+    return geom_dist2(p, a) < m->rf->floor2;
+}
+
 /* Splits subsegment record r.  notify: call on_split for an interface subsegment.  Returns 0,
  * or -1 if it cannot be split (precision exhausted; counted as failed). */
 static int split_subseg(mesh *m, int32_t r, int notify) {
@@ -266,8 +305,13 @@ static int split_subseg(mesh *m, int32_t r, int notify) {
     } else {
         geom_midpoint(pu, pv, p);
     }
-    if ((p[0] == pu[0] && p[1] == pu[1]) || (p[0] == pv[0] && p[1] == pv[1])) {
+    if (geom_working_point(p) != 0 || (p[0] == pu[0] && p[1] == pu[1]) ||
+        (p[0] == pv[0] && p[1] == pv[1])) {
         m->stats.failed++;
+        return -1;
+    }
+    if (!iface && m->rf->floor2 > 0 && (below_floor(m, p, pu) || below_floor(m, p, pv))) {
+        m->stats.unresolved++;
         return -1;
     }
     int32_t e = mesh_find_edge(m, s.u, s.v);
@@ -411,8 +455,16 @@ static void process_bad(mesh *m, int32_t t) {
         }
     }
     double c[2];
-    if (steiner_point(m, t, sh, c) != 0) {
+    if (steiner_point(m, t, sh, c) != 0 || geom_working_point(c) != 0) {
         m->stats.failed++;
+        return;
+    }
+    /* the new vertex is at least the circumradius away from every vertex (empty circle): its
+     * distance to t's vertices is the length of the shortest edge it creates */
+    const int32_t *tt = m->tv + 3 * (size_t)t;
+    if (below_floor(m, c, X(m, tt[0])) || below_floor(m, c, X(m, tt[1])) ||
+        below_floor(m, c, X(m, tt[2]))) {
+        m->stats.unresolved++;
         return;
     }
     int32_t blocked = -1;
@@ -469,6 +521,7 @@ static void process_bad(mesh *m, int32_t t) {
 
 static void scan(mesh *m) {
     mesh_refine_state *r = m->rf;
+    if (r->floor2 == 0) r->floor2 = length_floor2(m);
     for (int32_t t = 0; t < m->nt; t++)
         if (mesh_tri_alive(m, t)) push_bad(m, t);
     for (int32_t i = 0; i < m->nss; i++) {
@@ -493,6 +546,9 @@ mesh_refine_result mesh_refine(mesh *m) {
             continue;
         }
         if (steiner_limit(m)) return MESH_REFINE_STEINER_LIMIT;
+        /* every refusal leaves a triangle bad; past a budget the refinement is diverging (it
+         * fills the region at the floor's resolution): stop instead of running forever */
+        if (m->stats.unresolved > UNRESOLVED_BUDGET + m->ninput / 4) return MESH_REFINE_UNRESOLVED;
         int32_t t = pop_bad(m);
         if (t < 0) {
             if (r->enchead < r->nenc) continue;
@@ -503,6 +559,29 @@ mesh_refine_result mesh_refine(mesh *m) {
         m->tf[t] &= (uint8_t)~MESH_QUEUED;
         process_bad(m, t);
     }
+}
+
+int64_t mesh_count_unmet(mesh *m, int64_t *forced) {
+    mesh_refine_state *r = rf_get(m);
+    int64_t unmet = 0, nforced = 0;
+    for (int32_t t = 0; t < m->nt; t++) {
+        if (!mesh_tri_alive(m, t)) continue;
+        int sh = 0;
+        int why = quality(m, &r->R, t, NULL, &sh);
+        if (!why) continue;
+        if (why == MESH_BAD_ANGLE) {
+            const int32_t *tv = m->tv + 3 * (size_t)t;
+            int32_t u = tv[sh], v = tv[(sh + 1) % 3];
+            if (is_corner(m, tv[0]) || is_corner(m, tv[1]) || is_corner(m, tv[2]) ||
+                on_corner_segments(m, u, v)) {
+                nforced++;
+                continue;
+            }
+        }
+        unmet++;
+    }
+    if (forced) *forced = nforced;
+    return unmet;
 }
 
 mesh_split_result mesh_split_subsegment_named(mesh *m, int32_t seg, int32_t level, int64_t k) {

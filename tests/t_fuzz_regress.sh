@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Every crash, hang or wrong answer the fuzzer (tests/fuzz) or issue 10 found, kept: each row
+# of tests/fuzz/regress/TABLE runs ./mesh with a 30 s timeout (a hang is a failure) and checks
+# the exit status and a pattern in the output; exit-0 rows run with --check (the validator
+# must accept the mesh).  Any other status (a crash, a sanitizer report) is a failure.
+set -u
+cd "$(dirname "$0")/.."
+BIN=${BIN:-.}
+M=$BIN/mesh
+D=tests/fuzz/regress
+nfail=0 n=0
+while IFS='|' read -r file optstr want pat; do
+    file=$(echo $file)
+    case "$file" in '' | '#'*) continue ;; esac
+    read -r -a opts <<<"$optstr"
+    want=$(echo $want)
+    pat=$(echo "$pat" | sed 's/^ *//; s/ *$//')
+    extra=()
+    [ "$want" = 0 ] && extra=(--check)
+    n=$((n + 1))
+    out=$(timeout 30 "$M" "${opts[@]}" "${extra[@]}" "$D/$file" 2>&1)
+    rc=$?
+    if [ "$rc" != "$want" ]; then
+        echo "FAIL: $M ${opts[*]} ${extra[*]} $D/$file: exit $rc, expected $want: ${out:0:300}"
+        nfail=$((nfail + 1))
+    elif [ "$pat" != - ] && ! grep -Eq -- "$pat" <<<"$out"; then
+        echo "FAIL: $M ${opts[*]} $D/$file: output lacks /$pat/: ${out:0:300}"
+        nfail=$((nfail + 1))
+    else
+        echo "ok: $file ${opts[*]} -> $rc"
+    fi
+done <"$D/TABLE"
+echo "t_fuzz_regress: $n rows, $nfail failure(s)"
+[ "$nfail" -eq 0 ]
