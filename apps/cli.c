@@ -14,6 +14,7 @@
 #include "cli.h"
 
 #include "base/base.h"
+#include "par/pout.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -43,6 +44,8 @@ static const cli_opt common_rows[] = {
     {.help = NULL}};
 
 /* What every mesher (./mesh, ./pcdm, ./pbw) is told. */
+_Static_assert(PAR_SVG_MAX_TRIS == 2000000, "--svg's help text states the cap");
+
 static const cli_opt mesher_rows[] = {
     {.letter = 'q',
      .value = &v_angle,
@@ -71,11 +74,13 @@ static const cli_opt mesher_rows[] = {
     {.name = "vtk",
      .value = &v_file,
      .at = CLI_AT(par.vtk),
-     .help = "write a legacy VTK file (parallel meshers: cell scalar rank)"},
+     .help = "write VTK (./mesh: legacy FILE; ./pcdm, ./pbw: FILE's .pvtu index, e.g. F.pvtu "
+             "for F.vtk, with one piece F_R.vtu per rank, cell data rank; no gather)"},
     {.name = "svg",
      .value = &v_file,
      .at = CLI_AT(par.svg),
-     .help = "write an SVG picture (parallel meshers: coloured by rank, interfaces drawn)"},
+     .help = "write an SVG picture (parallel meshers: coloured by rank, interfaces drawn; "
+             "collected on rank 0, at most 2000000 triangles)"},
     {.name = "stats",
      .value = &v_flag,
      .at = CLI_AT(par.stats),
@@ -83,7 +88,8 @@ static const cli_opt mesher_rows[] = {
     {.name = "check",
      .value = &v_flag,
      .at = CLI_AT(par.check),
-     .help = "validate the mesh as ./meshcheck does; exit 1 if it fails"},
+     .help = "validate the mesh as ./meshcheck does (parallel meshers: each rank its own "
+             "part, interfaces compared, results reduced); exit 1 if it fails"},
     {.name = "progress",
      .value = &v_flag,
      .at = CLI_AT(par.progress),

@@ -129,7 +129,7 @@ int main(int argc, char **argv) {
         rc = 1;
     }
     if (check) {
-        validate_opts vo = {cdt_only ? 0 : qdeg, cdt_only ? 0 : area, 0};
+        validate_opts vo = {cdt_only ? 0 : qdeg, cdt_only ? 0 : area, 0, 0};
         validate_report vr;
         if (!mesh_validate(&g, &f, &vo, &vr)) rc = 1;
         validate_report_print(&vr, stdout);

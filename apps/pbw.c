@@ -5,14 +5,15 @@
  * SPMD main: every rank reads the input and the decomposition (par_load; the decomposition
  * only says which rank owns which triangle of the initial CDT), then mesher/pbw/pbw.c refines the
  * one distributed mesh with remote cavity expansions, locks and undo.  After the runtime's
- * termination detector ends rt_run everywhere, the pieces are merged on rank 0
- * (par_gather_mesh), written (par_write_outputs) and optionally validated (par_validate, every
- * non-input edge locally Delaunay).
+ * termination detector ends rt_run everywhere, each rank keeps its own triangles: the
+ * interfaces are compared across ranks, the parts numbered by prefix sums, checked where they
+ * live (--check) and written in parallel (par_output, mesher/par/pout.h); no gather.
  *
  * --stats prints one line per rank, then the RSRs by kind and the cavity counters, and last:
  *   stats: ranks=P triangles=N vertices=N rsr=TOTAL_RSRS undone=CAVITIES_UNDONE min_angle=D
  *          wall_s=T busy_max_s=B busy_sum_s=S comm_pct=C undo_pct=U speedup_model=X
- *          peak_rss_mb=R bytes_per_tri=Y mesh_bytes_per_tri=Z phase1_s=F
+ *          peak_rss_mb=R bytes_per_tri=Y mesh_bytes_per_tri=Z phase1_s=F cpu_max_s=C
+ *          cpu_sum_s=E output_s=W
  * (one line).  Definitions (rt_stats time buckets, summed over ranks, inside rt_run):
  *   busy (per rank)  = RT_TIME_BUSY + RT_TIME_HANDLER (local work, tasks and handlers), as
  *                      ./pcdm; speedup_model = busy_sum / busy_max.
@@ -36,6 +37,7 @@
 #include "cli.h"
 #include "geom/geom.h"
 #include "par/par.h"
+#include "par/pout.h"
 #include "rt.h"
 
 #include <stdio.h>
@@ -68,6 +70,7 @@ enum {
     RS_CPU,
     RS_MPI,
     RS_RSR,
+    RS_OUT,
     RS_KIND0,
     RS_N = RS_KIND0 + PBW_RSR_NKINDS
 };
@@ -86,7 +89,7 @@ int main(int argc, char **argv) {
     MESH_MPI(MPI_Barrier(comm));
     double t0 = rt_wtime(), c0 = par_cpu_seconds();
     rt_stats_reset();
-    mesh_flat local, global;
+    mesh_flat local;
     pbw_result res;
     if (pbw_mesh(&o, &in, &d, &local, &res) != 0) {
         pcdm_decomp_free(&d);
@@ -118,7 +121,6 @@ int main(int argc, char **argv) {
     rs[RS_HANDLER] = st.time[RT_TIME_HANDLER];
     rs[RS_COMM] = st.time[RT_TIME_COMM];
     rs[RS_UNDO] = st.time[RT_TIME_UNDO];
-    rs[RS_RSS] = (double)par_peak_rss_bytes();
     rs[RS_MESHBYTES] = (double)res.mesh_bytes;
     rs[RS_WALL] = t1 - t0;
     rs[RS_PHASE1] = res.phase1_s;
@@ -127,66 +129,59 @@ int main(int argc, char **argv) {
     rs[RS_RSR] = (double)st.rsr_sent;
     for (int k = 0; k < PBW_RSR_NKINDS; k++)
         rs[RS_KIND0 + k] = (double)res.rsr_sent[k];
-    if (rank == 0) all = mesh_xmalloc(sizeof(double) * RS_N * (size_t)size, 1);
-    MESH_MPI(MPI_Gather(rs, RS_N, MPI_DOUBLE, all, RS_N, MPI_DOUBLE, 0, comm));
-
-    int fail = par_gather_mesh(&local, &in, &global) != 0;
+    int limit_any = 0;
+    MESH_MPI(MPI_Allreduce(&res.limit_hit, &limit_any, 1, MPI_INT, MPI_MAX, comm));
+    if (limit_any && rank == 0)
+        fprintf(stderr, "pbw: warning: Steiner point limit (%lld) reached; quality not met\n",
+                (long long)o.max_steiner);
+    /* the common end: interface check, numbering, --check, output (no gather) */
+    par_summary sum;
+    int status = par_output(&o, &in, &local, NULL, &sum);
     mesh_flat_free(&local);
-    int status = fail ? 1 : 0;
-    if (rank == 0 && !fail) {
-        double tot[RS_N], mx[RS_N];
-        for (int k = 0; k < RS_N; k++)
-            tot[k] = mx[k] = 0;
-        for (int r = 0; r < size; r++)
-            for (int k = 0; k < RS_N; k++) {
-                double x = all[(size_t)r * RS_N + (size_t)k];
-                tot[k] += x;
-                if (x > mx[k]) mx[k] = x;
-            }
-        if (tot[RS_LIMIT] > 0)
-            fprintf(stderr, "pbw: warning: Steiner point limit (%lld) reached; quality not met\n",
-                    (long long)o.max_steiner);
-        if (par_write_outputs(&o, &global) != 0) status = 1;
-        if (o.check || o.stats) {
-            validate_report vr;
-            if (!par_validate(&o, &in, &global, &vr) && o.check) status = 1;
+    /* statistics: reductions of per-rank figures; memory taken now, after the output */
+    rs[RS_RSS] = (double)par_peak_rss_bytes();
+    rs[RS_OUT] = sum.number_s + sum.check_s + sum.write_s;
+    double tot[RS_N], mx[RS_N];
+    all = par_stats_collect(rs, RS_N, o.stats, tot, mx);
+    if (all) {
+        for (int r = 0; r < size; r++) {
+            const double *x = all + (size_t)r * RS_N;
+            printf("rank %d: triangles=%.0f inserted=%.0f splits=%.0f cav_local=%.0f "
+                   "cav_remote=%.0f undone_local=%.0f undone_remote=%.0f parked=%.0f "
+                   "rsr_sent=%.0f busy_s=%.3f idle_s=%.3f handler_s=%.3f comm_s=%.3f "
+                   "undo_s=%.4f output_s=%.3f peak_rss_mb=%.1f bytes_per_tri=%.1f\n",
+                   r, x[RS_NTRIS], x[RS_INSERTED], x[RS_SPLITS], x[RS_CLOCAL], x[RS_CREMOTE],
+                   x[RS_ULOCAL], x[RS_UREMOTE], x[RS_PARKED], x[RS_RSR], x[RS_BUSY], x[RS_IDLE],
+                   x[RS_HANDLER], x[RS_COMM], x[RS_UNDO], x[RS_OUT], x[RS_RSS] / 1048576.0,
+                   x[RS_RSS] / (x[RS_NTRIS] > 0 ? x[RS_NTRIS] : 1));
         }
-        if (o.stats) {
-            for (int r = 0; r < size; r++) {
-                const double *x = all + (size_t)r * RS_N;
-                printf("rank %d: triangles=%.0f inserted=%.0f splits=%.0f cav_local=%.0f "
-                       "cav_remote=%.0f undone_local=%.0f undone_remote=%.0f parked=%.0f "
-                       "rsr_sent=%.0f busy_s=%.3f idle_s=%.3f handler_s=%.3f comm_s=%.3f "
-                       "undo_s=%.4f peak_rss_mb=%.1f\n",
-                       r, x[RS_NTRIS], x[RS_INSERTED], x[RS_SPLITS], x[RS_CLOCAL], x[RS_CREMOTE],
-                       x[RS_ULOCAL], x[RS_UREMOTE], x[RS_PARKED], x[RS_RSR], x[RS_BUSY], x[RS_IDLE],
-                       x[RS_HANDLER], x[RS_COMM], x[RS_UNDO], x[RS_RSS] / 1048576.0);
-            }
-            printf("rsr:");
-            for (int k = 0; k < PBW_RSR_NKINDS; k++)
-                printf(" %s=%.0f", pbw_rsr_kind_name[k], tot[RS_KIND0 + k]);
-            printf(" mpi_msgs=%.0f\n", tot[RS_MPI]);
-            printf("cavities: local=%.0f remote=%.0f undone_local=%.0f undone_remote=%.0f "
-                   "parked=%.0f rejected=%.0f failed=%.0f skipped_small=%.0f postponed=%.0f\n",
-                   tot[RS_CLOCAL], tot[RS_CREMOTE], tot[RS_ULOCAL], tot[RS_UREMOTE], tot[RS_PARKED],
-                   tot[RS_REJECTED], tot[RS_FAILED], tot[RS_SKIPPED], tot[RS_POSTPONED]);
-            double nonidle = tot[RS_BUSY] + tot[RS_COMM];
-            double nt = global.ntris > 0 ? (double)global.ntris : 1;
-            printf("stats: ranks=%d triangles=%ld vertices=%ld rsr=%.0f undone=%.0f "
-                   "min_angle=%.4f wall_s=%.3f busy_max_s=%.3f busy_sum_s=%.3f comm_pct=%.2f "
-                   "undo_pct=%.2f speedup_model=%.2f peak_rss_mb=%.1f bytes_per_tri=%.1f "
-                   "mesh_bytes_per_tri=%.1f phase1_s=%.3f cpu_max_s=%.3f cpu_sum_s=%.3f\n",
-                   size, (long)global.ntris, (long)global.nverts, tot[RS_RSR],
-                   tot[RS_ULOCAL] + tot[RS_UREMOTE], par_mesh_quality(&global, NULL), mx[RS_WALL],
-                   mx[RS_BUSY], tot[RS_BUSY],
-                   nonidle > 0 ? 100.0 * (tot[RS_HANDLER] + tot[RS_COMM]) / nonidle : 0.0,
-                   nonidle > 0 ? 100.0 * tot[RS_UNDO] / nonidle : 0.0,
-                   mx[RS_BUSY] > 0 ? tot[RS_BUSY] / mx[RS_BUSY] : 0.0, mx[RS_RSS] / 1048576.0,
-                   tot[RS_RSS] / nt, tot[RS_MESHBYTES] / nt, mx[RS_PHASE1], mx[RS_CPU],
-                   tot[RS_CPU]);
-        }
+        printf("rsr:");
+        for (int k = 0; k < PBW_RSR_NKINDS; k++)
+            printf(" %s=%.0f", pbw_rsr_kind_name[k], tot[RS_KIND0 + k]);
+        printf(" mpi_msgs=%.0f\n", tot[RS_MPI]);
+        printf("cavities: local=%.0f remote=%.0f undone_local=%.0f undone_remote=%.0f "
+               "parked=%.0f rejected=%.0f failed=%.0f skipped_small=%.0f postponed=%.0f\n",
+               tot[RS_CLOCAL], tot[RS_CREMOTE], tot[RS_ULOCAL], tot[RS_UREMOTE], tot[RS_PARKED],
+               tot[RS_REJECTED], tot[RS_FAILED], tot[RS_SKIPPED], tot[RS_POSTPONED]);
+        double nonidle = tot[RS_BUSY] + tot[RS_COMM];
+        double nt = sum.ntris > 0 ? (double)sum.ntris : 1;
+        printf(
+            "stats: ranks=%d triangles=%ld vertices=%ld rsr=%.0f undone=%.0f "
+            "min_angle=%.4f wall_s=%.3f busy_max_s=%.3f busy_sum_s=%.3f comm_pct=%.2f "
+            "undo_pct=%.2f speedup_model=%.2f peak_rss_mb=%.1f bytes_per_tri=%.1f "
+            "mesh_bytes_per_tri=%.1f phase1_s=%.3f cpu_max_s=%.3f cpu_sum_s=%.3f output_s=%.3f\n",
+            size, (long)sum.ntris, (long)sum.nverts, tot[RS_RSR], tot[RS_ULOCAL] + tot[RS_UREMOTE],
+            sum.min_angle, mx[RS_WALL], mx[RS_BUSY], tot[RS_BUSY],
+            nonidle > 0 ? 100.0 * (tot[RS_HANDLER] + tot[RS_COMM]) / nonidle : 0.0,
+            nonidle > 0 ? 100.0 * tot[RS_UNDO] / nonidle : 0.0,
+            mx[RS_BUSY] > 0 ? tot[RS_BUSY] / mx[RS_BUSY] : 0.0, mx[RS_RSS] / 1048576.0,
+            tot[RS_RSS] / nt, tot[RS_MESHBYTES] / nt, mx[RS_PHASE1], mx[RS_CPU], tot[RS_CPU],
+            mx[RS_OUT]);
         fflush(stdout);
     }
     free(all);
-    return par_finish(status, &global, &d, &in);
+    pcdm_decomp_free(&d);
+    pslg_free(&in);
+    rt_finalize();
+    return status;
 }

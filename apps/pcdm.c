@@ -5,24 +5,26 @@
  * SPMD main: every rank reads the input and computes the same decomposition (par_load), builds
  * the coarse CDT of the augmented PSLG, keeps its own subdomains and refines them; the only
  * remote service request is "split constraint edge" (mesher/pcdm/pcdm.c).  After the runtime's
- * termination detector ends rt_run on every rank, the pieces are merged on rank 0
- * (par_gather_mesh), written (par_write_outputs) and optionally validated with interface edges
- * required to be locally Delaunay too.
+ * termination detector ends rt_run on every rank, each rank keeps its own part: the interfaces
+ * are compared across ranks, the parts numbered by prefix sums, checked where they live
+ * (--check) and written in parallel (par_output, mesher/par/pout.h); no rank gathers the mesh.
  *
  * --stats prints one line per rank ("rank R: ...") and last, on rank 0:
  *   stats: ranks=P triangles=N vertices=N rsr=S min_angle=D wall_s=T busy_max_s=B busy_sum_s=U
  *          subdomains=K idle_max_s=I max_area=A ignored=G mpi_msgs=M speedup_model=X
- *          peak_rss_mb=R bytes_per_tri=Y mesh_bytes_per_tri=Z gather_s=W cpu_max_s=C
+ *          peak_rss_mb=R bytes_per_tri=Y mesh_bytes_per_tri=Z output_s=W cpu_max_s=C
  *          cpu_sum_s=E
  * (one line).  wall_s runs from a barrier after input loading and decomposition to the moment
  * the last rank left rt_run (CDT build + region selection + refinement + termination; no
- * gather, no file output) -- the same span as ./mesh's wall_s.  busy = time in local work and
+ * numbering, no file output) -- the same span as ./mesh's wall_s.  busy = time in local work and
  * handlers (rt_stats RT_TIME_BUSY + RT_TIME_HANDLER); speedup_model = busy_sum / busy_max.
  * cpu = CPU seconds (getrusage) over the wall_s span: unlike busy, it does not grow when the
  * machine is oversubscribed, so it measures work, not contention.
- * peak_rss_mb is the largest rank's peak RSS before the gather, bytes_per_tri the sum over
- * ranks of that peak RSS divided by the number of triangles, mesh_bytes_per_tri the mesh
- * arrays alone (mesh_memory_bytes summed over ranks / triangles).
+ * peak_rss_mb is the largest rank's peak RSS at the end (after the output), bytes_per_tri the
+ * sum over ranks of that peak RSS divided by the number of triangles (per rank lines: its own
+ * peak over its own triangles), mesh_bytes_per_tri the mesh arrays alone (mesh_memory_bytes
+ * summed over ranks / triangles); output_s the slowest rank's seconds in par_output
+ * (numbering, --check, writing).
  * Options, usage errors and exit statuses (the same on every rank): the front end, apps/cli.c
  * (./pcdm --help).
  */
@@ -31,6 +33,7 @@
 #include "base/base.h"
 #include "cli.h"
 #include "par/par.h"
+#include "par/pout.h"
 #include "rt.h"
 #include "seq/mesh.h"
 
@@ -57,6 +60,9 @@ enum {
     RS_MPI,
     RS_WALL,
     RS_CPU,
+    RS_OUT,
+    RS_NUMBER,
+    RS_WRITE,
     RS_N
 };
 
@@ -105,7 +111,18 @@ int main(int argc, char **argv) {
     pcdm_part_refine(&part, &q, 300);
     double t1 = rt_wtime();
 
-    /* per-rank record */
+    /* this rank's part, then the common end: interface check, numbering, --check, output */
+    mesh_flat local;
+    int fail = pcdm_part_flat(&part, &local) != 0;
+    if (par_fail_any(fail, "pcdm: out of memory converting the mesh")) {
+        if (!fail) mesh_flat_free(&local);
+        pcdm_part_free(&part);
+        pcdm_decomp_free(&d);
+        pslg_free(&in);
+        rt_finalize();
+        return 1;
+    }
+    uint8_t *artificial = pcdm_part_artificial(&part);
     double rs[RS_N], *all = NULL;
     rt_stats st;
     rt_stats_local(&st);
@@ -121,81 +138,60 @@ int main(int argc, char **argv) {
     rs[RS_IDLE] = st.time[RT_TIME_IDLE];
     rs[RS_HANDLER] = st.time[RT_TIME_HANDLER];
     rs[RS_COMM] = st.time[RT_TIME_COMM];
-    rs[RS_RSS] = (double)par_peak_rss_bytes();
     rs[RS_MESHBYTES] = (double)mesh_memory_bytes(&part.m);
     rs[RS_INSERTED] = (double)part.m.stats.inserted;
     rs[RS_MPI] = (double)st.mpi_sent;
     rs[RS_WALL] = t1 - t0;
     rs[RS_CPU] = par_cpu_seconds() - c0;
-    if (rank == 0) all = mesh_xmalloc(sizeof(double) * RS_N * (size_t)size, 1);
-    MESH_MPI(MPI_Gather(rs, RS_N, MPI_DOUBLE, all, RS_N, MPI_DOUBLE, 0, comm));
     int limit_any = 0;
-    MESH_MPI(MPI_Reduce(&part.limit_hit, &limit_any, 1, MPI_INT, MPI_MAX, 0, comm));
-
-    /* merge on rank 0 */
-    double tg0 = rt_wtime();
-    mesh_flat local, global;
-    int fail = pcdm_part_flat(&part, &local) != 0;
-    if (par_fail_any(fail, "pcdm: out of memory converting the mesh")) {
-        if (!fail) mesh_flat_free(&local);
-        pcdm_part_free(&part);
-        pcdm_decomp_free(&d);
-        pslg_free(&in);
-        free(all);
-        rt_finalize();
-        return 1;
-    }
+    MESH_MPI(MPI_Allreduce(&part.limit_hit, &limit_any, 1, MPI_INT, MPI_MAX, comm));
     pcdm_part_free(&part);
-    fail = par_gather_mesh(&local, &in, &global) != 0;
+    if (limit_any && rank == 0)
+        fprintf(stderr, "pcdm: warning: Steiner point limit (%lld) reached; quality not met\n",
+                (long long)o.max_steiner);
+    par_summary sum;
+    int status = par_output(&o, &in, &local, artificial, &sum);
+    free(artificial);
     mesh_flat_free(&local);
-    double tg = rt_wtime() - tg0;
-
-    int status = fail ? 1 : 0;
-    if (rank == 0 && !fail) {
-        if (limit_any)
-            fprintf(stderr, "pcdm: warning: Steiner point limit (%lld) reached; quality not met\n",
-                    (long long)o.max_steiner);
-        if (par_write_outputs(&o, &global) != 0) status = 1;
-        if (o.check) {
-            validate_report vr;
-            if (!par_validate(&o, &in, &global, &vr)) status = 1;
+    /* statistics: reductions of per-rank figures; memory taken now, after the output */
+    rs[RS_RSS] = (double)par_peak_rss_bytes();
+    rs[RS_OUT] = sum.number_s + sum.check_s + sum.write_s;
+    rs[RS_NUMBER] = sum.number_s;
+    rs[RS_WRITE] = sum.write_s;
+    double tot[RS_N], mx[RS_N];
+    all = par_stats_collect(rs, RS_N, o.stats, tot, mx);
+    if (all) {
+        for (int r = 0; r < size; r++) {
+            const double *x = all + (size_t)r * RS_N;
+            printf("rank %d: subdomains=%.0f triangles=%.0f vertices=%.0f inserted=%.0f "
+                   "split_sent=%.0f split_recv=%.0f split_ignored=%.0f busy_s=%.3f "
+                   "idle_s=%.3f handler_s=%.3f comm_s=%.3f cpu_s=%.3f mpi_msgs=%.0f "
+                   "output_s=%.3f number_s=%.3f write_s=%.3f peak_rss_mb=%.1f "
+                   "bytes_per_tri=%.1f\n",
+                   r, x[RS_NSUB], x[RS_NTRIS], x[RS_NVERTS], x[RS_INSERTED], x[RS_SENT], x[RS_RECV],
+                   x[RS_IGNORED], x[RS_BUSY], x[RS_IDLE], x[RS_HANDLER], x[RS_COMM], x[RS_CPU],
+                   x[RS_MPI], x[RS_OUT], x[RS_NUMBER], x[RS_WRITE], x[RS_RSS] / 1048576.0,
+                   x[RS_RSS] / (x[RS_NTRIS] > 0 ? x[RS_NTRIS] : 1));
         }
-        if (o.stats) {
-            double tot[RS_N], mx[RS_N];
-            for (int k = 0; k < RS_N; k++)
-                tot[k] = mx[k] = 0;
-            for (int r = 0; r < size; r++) {
-                const double *x = all + (size_t)r * RS_N;
-                printf("rank %d: subdomains=%.0f triangles=%.0f vertices=%.0f inserted=%.0f "
-                       "split_sent=%.0f split_recv=%.0f split_ignored=%.0f busy_s=%.3f "
-                       "idle_s=%.3f handler_s=%.3f comm_s=%.3f cpu_s=%.3f mpi_msgs=%.0f "
-                       "peak_rss_mb=%.1f\n",
-                       r, x[RS_NSUB], x[RS_NTRIS], x[RS_NVERTS], x[RS_INSERTED], x[RS_SENT],
-                       x[RS_RECV], x[RS_IGNORED], x[RS_BUSY], x[RS_IDLE], x[RS_HANDLER], x[RS_COMM],
-                       x[RS_CPU], x[RS_MPI], x[RS_RSS] / 1048576.0);
-                for (int k = 0; k < RS_N; k++) {
-                    tot[k] += x[k];
-                    if (x[k] > mx[k]) mx[k] = x[k];
-                }
-            }
-            if (tot[RS_NOTFOUND] > 0)
-                fprintf(stderr, "pcdm: warning: %.0f split requests named no subsegment\n",
-                        tot[RS_NOTFOUND]);
-            double amax = 0, amin = par_mesh_quality(&global, &amax);
-            double nt = global.ntris > 0 ? (double)global.ntris : 1;
-            printf("stats: ranks=%d triangles=%ld vertices=%ld rsr=%.0f min_angle=%.4f "
-                   "wall_s=%.3f busy_max_s=%.3f busy_sum_s=%.3f subdomains=%d idle_max_s=%.3f "
-                   "max_area=%.6g ignored=%.0f mpi_msgs=%.0f speedup_model=%.2f "
-                   "peak_rss_mb=%.1f bytes_per_tri=%.1f mesh_bytes_per_tri=%.1f gather_s=%.3f "
-                   "cpu_max_s=%.3f cpu_sum_s=%.3f\n",
-                   size, (long)global.ntris, (long)global.nverts, tot[RS_SENT], amin, mx[RS_WALL],
-                   mx[RS_BUSY], tot[RS_BUSY], (int)d.nsub, mx[RS_IDLE], amax, tot[RS_IGNORED],
-                   tot[RS_MPI], mx[RS_BUSY] > 0 ? tot[RS_BUSY] / mx[RS_BUSY] : 0.0,
-                   mx[RS_RSS] / 1048576.0, tot[RS_RSS] / nt, tot[RS_MESHBYTES] / nt, tg, mx[RS_CPU],
-                   tot[RS_CPU]);
-        }
-        fflush(stdout);
+        if (tot[RS_NOTFOUND] > 0)
+            fprintf(stderr, "pcdm: warning: %.0f split requests named no subsegment\n",
+                    tot[RS_NOTFOUND]);
+        double nt = sum.ntris > 0 ? (double)sum.ntris : 1;
+        printf("stats: ranks=%d triangles=%lld vertices=%lld rsr=%.0f min_angle=%.4f "
+               "wall_s=%.3f busy_max_s=%.3f busy_sum_s=%.3f subdomains=%d idle_max_s=%.3f "
+               "max_area=%.6g ignored=%.0f mpi_msgs=%.0f speedup_model=%.2f "
+               "peak_rss_mb=%.1f bytes_per_tri=%.1f mesh_bytes_per_tri=%.1f output_s=%.3f "
+               "cpu_max_s=%.3f cpu_sum_s=%.3f\n",
+               size, (long long)sum.ntris, (long long)sum.nverts, tot[RS_SENT], sum.min_angle,
+               mx[RS_WALL], mx[RS_BUSY], tot[RS_BUSY], (int)d.nsub, mx[RS_IDLE], sum.max_area,
+               tot[RS_IGNORED], tot[RS_MPI], mx[RS_BUSY] > 0 ? tot[RS_BUSY] / mx[RS_BUSY] : 0.0,
+               mx[RS_RSS] / 1048576.0, tot[RS_RSS] / nt, tot[RS_MESHBYTES] / nt, mx[RS_OUT],
+               mx[RS_CPU], tot[RS_CPU]);
     }
+    fflush(stdout);
     free(all);
-    return par_finish(status, &global, &d, &in);
+    pcdm_decomp_free(&d);
+    pslg_free(&in);
+    rt_finalize();
+    return status;
 }

@@ -8,10 +8,10 @@ mkdir -p "$out"
 if [ "$(id -u)" -eq 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
 np=${NP:-4}
 area=${AREA:-0.00003} # about 120K triangles
-cmd=(mpirun --oversubscribe -np "$np" ./pcdm -q 30 -a "$area" -o "$out/lake" --vtk "$out/lake.vtk"
+cmd=(mpirun --oversubscribe -np "$np" ./pcdm -q 30 -a "$area" -o "$out/lake" --vtk "$out/lake.pvtu"
      --svg "$out/lake.svg" --stats data/lake.poly)
 echo "demo: ${cmd[*]}"
 timeout 300 "${cmd[@]}"
 ./meshcheck data/lake.poly "$out/lake" -q 30 -a "$area"
 echo "demo: wrote $out/lake.node $out/lake.ele $out/lake.poly (Triangle format),"
-echo "      $out/lake.vtk (open in ParaView) and $out/lake.svg (open in a browser)"
+echo "      $out/lake.pvtu + one lake_R.vtu piece per rank (open the .pvtu in ParaView) and $out/lake.svg (open in a browser)"

@@ -2,17 +2,19 @@
 /* mpi_pcdm: Check suite for the PCDM layer under MPI (mesher/par/par.c, mesher/pcdm/pcdm.c).
  *
  *  - par_fail_any: agreement on failure from any one rank;
- *  - par_gather_mesh: pieces sharing vertices (bit-equal coordinates) and listing the same
- *    interface subsegment on both sides merge into one conforming mesh, input vertices first;
+ *  - par_number: pieces sharing vertices (bit-equal coordinates) get one number per point,
+ *    input vertices keep theirs, each rank's owned vertices follow the lower ranks', and a
+ *    subsegment listed by two ranks is written once; artificial ones not at all;
  *  - the whole pipeline on data/lake.poly: decomposition, per-rank refinement with split RSRs,
- *    gather, and the validator with interface edges required to be locally Delaunay; every
- *    split request names a subsegment that exists on the receiver (none "not found").
+ *    numbering and the distributed check (par_check_parts, interface edges required to be
+ *    locally Delaunay); every split request names a subsegment that exists on the receiver.
  * Results are reduced over ranks before asserting, so no rank waits in a collective that
  * another rank skipped.  Runs with CK_NOFORK (MPI does not survive fork); run from the
  * repository root (tests/run.sh does).
  */
 #include "geom/geom.h"
 #include "par/par.h"
+#include "par/pout.h"
 #include "pcdm/pcdm.h"
 #include "rt.h"
 
@@ -37,7 +39,7 @@ END_TEST
 /* Rank r contributes the unit square [r, r+1] x [0, 1] as two triangles, its left and right
  * sides as interface subsegments (the outer ones as boundary), its bottom and top as boundary.
  * Local numbering is deliberately rotated so the merge must go by coordinates. */
-START_TEST(test_gather) {
+START_TEST(test_number) {
     int rank = rt_rank(), size = rt_size();
     double x0 = rank, x1 = rank + 1;
     double pts[4][2] = {{x1, 1}, {x0, 0}, {x1, 0}, {x0, 1}}; /* local ids 0..3 */
@@ -67,29 +69,47 @@ START_TEST(test_gather) {
     double corners[8] = {0, 0, size, 0, size, 1, 0, 1};
     in.nverts = 4;
     in.xy = corners;
-    mesh_flat g;
-    ck_assert_int_eq(par_gather_mesh(&f, &in, &g), 0);
-    int ok = 1;
-    if (rank == 0) {
-        ck_assert_int_eq(g.nverts, 2 * (size + 1));
-        ck_assert_int_eq(g.ntris, 2 * size);
-        ck_assert_int_eq(g.nsegs, 2 * size + size + 1); /* bottoms, tops, verticals */
-        for (int v = 0; v < 4; v++) {
-            ck_assert_double_eq(g.xy[2 * v], corners[2 * v]);
-            ck_assert_double_eq(g.xy[2 * v + 1], corners[2 * v + 1]);
-        }
-        int niface = 0;
-        for (int s = 0; s < g.nsegs; s++)
-            niface += g.sinterface[s];
-        ck_assert_int_eq(niface, size - 1);
-        for (int t = 0; t < g.ntris; t++) {
-            const double *a = g.xy + 2 * g.tri[3 * t], *b = g.xy + 2 * g.tri[3 * t + 1],
-                         *c = g.xy + 2 * g.tri[3 * t + 2];
-            ck_assert_msg(geom_orient2d(a, b, c) > 0, "triangle %d not ccw", t);
-            ck_assert_int_eq(g.trank[t], t / 2);
-        }
-        mesh_flat_free(&g);
+    uint8_t art[4] = {0, 0, (uint8_t)(rank < size - 1), (uint8_t)(rank > 0)};
+    par_numbering num;
+    char err[256];
+    ck_assert_int_eq(par_number(&f, &in, art, &num, err, sizeof err), 0);
+    ck_assert_int_eq(num.nverts, 2 * (size + 1));
+    ck_assert_int_eq(num.ntris, 2 * size);
+    ck_assert_int_eq(num.tfirst, 2 * rank);
+    ck_assert_int_eq(num.nsegs, 2 * size + 2); /* bottoms, tops, the two outer sides */
+    /* owned vertices follow the lower ranks' */
+    int64_t end = num.vfirst + num.nowned, prev_end = 4;
+    MPI_Status stt;
+    if (rank > 0) MPI_Recv(&prev_end, 1, MPI_INT64_T, rank - 1, 7, rt_app_comm(), &stt);
+    if (rank < size - 1) MPI_Send(&end, 1, MPI_INT64_T, rank + 1, 7, rt_app_comm());
+    ck_assert_int_eq(num.vfirst, prev_end);
+    /* the same point has the same number everywhere: x = k, y = j gets a number; gather them */
+    int64_t mine[4 * 3], *all = malloc((size_t)size * sizeof mine);
+    for (int v = 0; v < 4; v++) {
+        mine[3 * v] = (int64_t)pts[v][0];
+        mine[3 * v + 1] = (int64_t)pts[v][1];
+        mine[3 * v + 2] = num.gid[v];
+        for (int k = 0; k < 4; k++)
+            if (pts[v][0] == corners[2 * k] && pts[v][1] == corners[2 * k + 1])
+                ck_assert_int_eq(num.gid[v], k); /* input vertices keep their numbers */
     }
+    MPI_Allgather(mine, 12, MPI_INT64_T, all, 12, MPI_INT64_T, rt_app_comm());
+    int64_t *byxy = malloc(2 * ((size_t)size + 1) * sizeof(int64_t));
+    for (int i = 0; i < 2 * (size + 1); i++)
+        byxy[i] = -1;
+    for (int i = 0; i < 4 * size; i++) {
+        int64_t x = all[3 * i], y = all[3 * i + 1], id = all[3 * i + 2];
+        ck_assert(id >= 0 && id < num.nverts);
+        if (byxy[2 * x + y] < 0) byxy[2 * x + y] = id;
+        ck_assert_int_eq(byxy[2 * x + y], id);
+    }
+    for (int i = 0; i < 2 * (size + 1); i++) /* distinct points, distinct numbers */
+        for (int j = 0; j < i; j++)
+            ck_assert(byxy[i] != byxy[j]);
+    free(all);
+    free(byxy);
+    par_numbering_free(&num);
+    int ok = 1;
     mesh_flat_free(&f);
     ck_assert_int_eq(all_true(ok), 1);
 }
@@ -122,20 +142,20 @@ START_TEST(test_pipeline_lake) {
     unsigned long long nf = p.split_notfound, nf_all = 0;
     MPI_Allreduce(&nf, &nf_all, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, rt_comm());
     ck_assert_uint_eq(nf_all, 0);
-    mesh_flat f, g;
+    mesh_flat f;
     ck_assert_int_eq(pcdm_part_flat(&p, &f), 0);
+    uint8_t *art = pcdm_part_artificial(&p);
     pcdm_part_free(&p);
-    ck_assert_int_eq(par_gather_mesh(&f, &in, &g), 0);
+    par_numbering num;
+    ck_assert_int_eq(par_number(&f, &in, art, &num, err, sizeof err), 0);
+    validate_report r;
+    int ok = par_check_parts(&o, &in, &f, &num, 0, &r);
+    if (!ok && rank == 0) fprintf(stderr, "mpi_pcdm: %s\n", r.first_problem);
+    ck_assert_int_eq(all_true(ok), 1);
+    ck_assert_int_eq(r.ntris, num.ntris);
+    par_numbering_free(&num);
     mesh_flat_free(&f);
-    int ok = 1;
-    if (rank == 0) {
-        validate_report r;
-        ok = par_validate(&o, &in, &g, &r);
-        if (!ok) fprintf(stderr, "mpi_pcdm: %s\n", r.first_problem);
-        mesh_flat_free(&g);
-    }
-    MPI_Bcast(&ok, 1, MPI_INT, 0, rt_comm());
-    ck_assert_int_eq(ok, 1);
+    free(art);
     pcdm_decomp_free(&d);
     pslg_free(&in);
 }
@@ -148,7 +168,7 @@ int main(int argc, char **argv) {
     Suite *s = suite_create("mpi_pcdm");
     TCase *tc = tcase_create("core");
     tcase_add_test(tc, test_fail_any);
-    tcase_add_test(tc, test_gather);
+    tcase_add_test(tc, test_number);
     tcase_add_test(tc, test_pipeline_lake);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);

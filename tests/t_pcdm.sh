@@ -4,7 +4,8 @@
 #     the validator with interface edges required to be locally Delaunay (--check), and its
 #     triangle count is within TOL% (default 3) of ./mesh's for the same input and bounds;
 #  2. runtime perturbation (--perturb SEED, several seeds) on a subset;
-#  3. the files written with -o pass ./meshcheck --interfaces-delaunay;
+#  3. the files written with -o pass ./meshcheck --interfaces-delaunay; --vtk F.vtk writes the
+#     index F.pvtu and one piece F_R.vtu per rank;
 #  4. bad input (missing file, tests/bad/*.poly, too many subdomains, bad usage): a message on
 #     stderr, a non-zero exit, and no hang (exit status 124 = killed by timeout = failure).
 # Env: BIN (directory of the programs, default .), MPIRUN (default "mpirun --oversubscribe"),
@@ -125,7 +126,7 @@ if timeout 120 $MPIRUN -np 4 "$BIN/pcdm" -q 30 -a "$a" -o "$tmp/holes" --vtk "$t
     else
         bad "files: meshcheck: $r"
     fi
-    for f in holes.node holes.ele holes.poly holes.vtk holes.svg; do
+    for f in holes.node holes.ele holes.poly holes.pvtu holes_0.vtu holes_3.vtu holes.svg; do
         [ -s "$tmp/$f" ] && ok "files: $f written" || bad "files: $f missing or empty"
     done
 else

@@ -478,7 +478,7 @@ static int check_input_vertices(vctx *c) {
     free(gslot);
     for (int32_t i = 0; i < gn; i++) {
         if (gmap[i] <= -2) gmap[i] = gmap[-2 - gmap[i]];
-        if (gmap[i] < 0) {
+        if (gmap[i] < 0 && !c->o->part) {
             c->r->missing_verts++;
             problem(c->r, "input vertex %d (line %d) at (%.17g, %.17g) is not a mesh vertex",
                     i + g->first_index, g->vline ? g->vline[i] : 0, g->xy[2 * i], g->xy[2 * i + 1]);
@@ -597,6 +597,26 @@ static int32_t trace_chain(const vctx *c, int32_t S0, int32_t S1, int32_t A, int
     return cur == B ? nch : -1;
 }
 
+/* Part mode (validate.h): the chain of input segment s is not whole in this part, so its
+ * corner tags go to every vertex of a segment or boundary edge that lies on s, by the chain's
+ * own distance test.  Returns 0, or -1 (out of memory). */
+static int tag_partial_chain(vctx *c, int32_t s, const int32_t *astart) {
+    if (c->tstart[s] == c->tstart[s + 1]) return 0; /* s forms no small corner */
+    const double *pa = c->g->xy + 2 * c->g->seg[2 * s], *pb = c->g->xy + 2 * c->g->seg[2 * s + 1];
+    double dx = pb[0] - pa[0], dy = pb[1] - pa[1], L2 = dx * dx + dy * dy, L = sqrt(L2);
+    double mag = fmax(fmax(fabs(pa[0]), fabs(pa[1])), fmax(fabs(pb[0]), fabs(pb[1])));
+    double tol = (1e-9 * L + 8 * DBL_EPSILON * mag) * L;
+    for (int32_t v = 0; v < c->nv; v++) {
+        if (astart[v] == astart[v + 1]) continue; /* on no segment or boundary edge */
+        double qx = c->xy[2 * v] - pa[0], qy = c->xy[2 * v + 1] - pa[1];
+        double t = (qx * dx + qy * dy) / L2;
+        if (fabs(dx * qy - dy * qx) > tol || t < 0 || t > 1) continue;
+        for (int32_t q = c->tstart[s]; q < c->tstart[s + 1]; q++)
+            if (tag_vertex(c, v, c->tags[q][0], c->tags[q][1])) return -1;
+    }
+    return 0;
+}
+
 /* 8. input segments as chains over segment and boundary edges */
 static int check_input_segments(vctx *c) {
     const pslg *g = c->g;
@@ -640,6 +660,13 @@ static int check_input_segments(vctx *c) {
     }
     for (int32_t s = 0; s < gsn; s++) {
         int32_t A = c->gmap[g->seg[2 * s]], B = c->gmap[g->seg[2 * s + 1]];
+        if (c->o->part && (A < 0 || B < 0)) { /* an endpoint in another part */
+            if (tag_partial_chain(c, s, astart)) {
+                res = -1;
+                goto out;
+            }
+            continue;
+        }
         if (A < 0 || B < 0 || A == B) {
             r->missing_segs++;
             problem(r, "input segment %d (line %d) is missing: an endpoint is not in the mesh",
@@ -668,6 +695,13 @@ static int check_input_segments(vctx *c) {
                         goto out;
                     }
         }
+        if (!ok && c->o->part) { /* the chain leaves this part */
+            if (tag_partial_chain(c, s, astart)) {
+                res = -1;
+                goto out;
+            }
+            continue;
+        }
         if (!ok) {
             const double *pa = xy + 2 * A, *pb = xy + 2 * B;
             r->missing_segs++;
@@ -678,7 +712,7 @@ static int check_input_segments(vctx *c) {
         }
     }
     for (int32_t k = 0; k < T->n; k++)
-        if ((T->rec[k].flags & E_BND) && !(T->rec[k].flags & E_INPUT)) {
+        if ((T->rec[k].flags & E_BND) && !(T->rec[k].flags & E_INPUT) && !c->o->part) {
             r->stray_boundary++;
             const double *p = xy + 2 * T->rec[k].u, *q = xy + 2 * T->rec[k].v;
             problem(r,
@@ -809,6 +843,7 @@ static int check_quality(vctx *c) {
 static int check_domain_area(vctx *c) {
     validate_report *r = c->r;
     r->domain_area = c->g ? pslg_domain_area(c->g) : 0;
+    if (c->o->part) return 0; /* the caller compares the sum over the parts */
     if (c->g && !(fabs(r->mesh_area - r->domain_area) <=
                   1e-9 * fmax(fabs(r->mesh_area), fabs(r->domain_area)))) {
         r->area_mismatch = 1;

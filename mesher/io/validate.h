@@ -44,6 +44,10 @@ typedef struct validate_opts {
     double min_angle;              /* degrees; 0 to skip */
     double max_area;               /* 0 to skip */
     int check_delaunay_interfaces; /* 1: edges on sinterface segments must be locally Delaunay */
+    int part; /* 1: m is one rank's part of a distributed mesh (par_check_parts): input vertices
+               * and segments whose endpoints or chains lie partly elsewhere are not required,
+               * boundary edges may be interface edges (compared across ranks by the caller),
+               * and the domain area is the caller's check (a sum over the parts) */
 } validate_opts;
 
 typedef struct validate_report {

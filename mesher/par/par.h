@@ -1,6 +1,6 @@
 /* par: what ./pcdm and ./pbw share around their algorithms -- start-up, input, the
- * decomposition, gathering the pieces of the mesh into one conforming mesh on rank 0, the
- * output files, the quality check, and collective error exits.
+ * decomposition, the interface check and collective error exits.  The end of both programs
+ * (numbering, output, --check, without a gather) is in par/pout.h.
  *
  * Both programs are SPMD: every rank parses the same arguments and reads the same input file
  * (a shared file system is assumed, as with mpirun on one machine), so input errors are
@@ -32,7 +32,7 @@ typedef struct par_opts {
     const char *vtk;        /* --vtk FILE */
     const char *svg;        /* --svg FILE */
     int stats;              /* --stats */
-    int check;              /* --check: validate the merged mesh on rank 0, fail if it fails */
+    int check;              /* --check: validate every part where it lives (pout.h) */
     int progress;           /* --progress: progress lines on stderr */
     int32_t nsub;           /* --subdomains K (0 = ranks) */
     double imbalance;       /* --imbalance R (default 1) */
@@ -69,14 +69,6 @@ int par_startup(int *argc, char ***argv, const char *prog, par_parse_fn parse, c
  * returns -1 (the caller then exits non-zero after rt_finalize). */
 int par_load(const par_opts *o, pslg *in, pcdm_decomp *d);
 
-/* Collective.  First par_check_interfaces (a disagreement: the message printed by rank 0, -1
- * returned on every rank).  Then every rank contributes its part of the mesh (local numbering; xy
- * of every vertex it uses; triangles ccw with trank set to its rank; its constraint subsegments).
- * Rank 0 receives the pieces, merges vertices with identical coordinates (bit-equal: interface
- * vertices are computed identically on both sides), renumbers globally (input vertices first,
- * in input order), de-duplicates subsegments, and fills *global (other ranks: zeroed). */
-int par_gather_mesh(const mesh_flat *local, const pslg *in, mesh_flat *global);
-
 /* Collective over rt_app_comm().  The cheap check that always runs before any output: every
  * open edge of a rank's piece (an edge of exactly one local triangle) that is not a
  * non-interface constraint (a domain-boundary subsegment) must be the open edge of exactly one
@@ -87,22 +79,9 @@ int par_gather_mesh(const mesh_flat *local, const pslg *in, mesh_flat *global);
  * par_fail_any). */
 int par_check_interfaces(const mesh_flat *local, char *msg, size_t msglen);
 
-/* Rank 0 only (Local).  Writes the files asked for in o (-o, --vtk, --svg).  Returns 0, or -1
- * after printing the error. */
-int par_write_outputs(const par_opts *o, const mesh_flat *global);
-
-/* Rank 0 only (Local).  Runs the validator with o's bounds; prints the summary line if
- * o->check or o->stats; returns 1 if the mesh passes. */
-int par_validate(const par_opts *o, const pslg *in, const mesh_flat *global, validate_report *r);
-
 /* Collective.  Agreement on failure: returns nonzero on every rank if local_fail is nonzero on
  * any rank; the first failing rank's message (msg, may be NULL) is printed by rank 0. */
 int par_fail_any(int local_fail, const char *msg);
-
-/* Collective.  The common end of ./pcdm and ./pbw: rank 0's status is broadcast, global (rank
- * 0's merged mesh; zeroed elsewhere), d and in are freed, the runtime is finalised.  Returns the
- * exit status every rank must return. */
-int par_finish(int status, mesh_flat *global, pcdm_decomp *d, pslg *in);
 
 /* Local.  Smallest angle (degrees) over the triangles of g; *max_area (may be NULL) gets the
  * largest triangle area.  For stats lines; the validator decides correctness. */

@@ -4,10 +4,10 @@
  * ranks on either side of an interface split it identically (same subsegments, same vertex
  * bits); PBW only if the triangles of neighbouring ranks meet edge to edge.  A T-junction or a
  * missing split on one side is exactly what the full validator (--check) would find, but that
- * runs only on request and on the merged mesh.
+ * runs only on request (par_check_parts, pout.h).
  *
  * Algorithm: each rank lists the open edges of its piece (edges of exactly one local triangle;
- * found by sorting the triangles' edges by vertex pair), with endpoints in lexicographic order
+ * found through vertex-to-triangle rows, ptopo.h), with endpoints in lexicographic order
  * so both sides name an edge identically, and a flag: a non-interface constraint edge may be
  * unmatched (it lies on the domain boundary), any other open edge must be matched.  Each edge is
  * sent to the rank its coordinate bits hash to (a distributed hash table: MPI_Alltoall of the
@@ -19,6 +19,7 @@
  * rank takes part in both collectives whatever its piece holds.
  */
 #include "par/par.h"
+#include "par/ptopo.h"
 
 #include "base/base.h"
 #include "rt.h"
@@ -66,46 +67,66 @@ static uint64_t edge_hash(const open_edge *e) {
     return h;
 }
 
-/* The open edges of local (edges of exactly one local triangle). */
+/* What add_open needs: the part, its listed subsegments sorted by vertex pair, the growing
+ * list of open edges. */
+typedef struct open_ctx {
+    const mesh_flat *f;
+    const ekey *k;
+    int rank;
+    open_edge *o;
+    int32_t n, cap;
+} open_ctx;
+
+/* par_open_edges visitor: records open edge a -> b with its coordinates in lexicographic
+ * order; a listed subsegment's kind (1 boundary, 2 interface; the larger if listed twice)
+ * decides whether it must be matched. */
+static void add_open(void *ctx, int32_t a, int32_t b) {
+    open_ctx *c = ctx;
+    const mesh_flat *f = c->f;
+    ekey key = {a < b ? a : b, a < b ? b : a, 0};
+    const ekey *hit =
+        f->nsegs ? bsearch(&key, c->k, (size_t)f->nsegs, sizeof *c->k, cmp_ekey) : NULL;
+    int segkind = 0;
+    if (hit) { /* every listing of the pair */
+        const ekey *lo = hit, *hi = hit;
+        while (lo > c->k && !cmp_ekey(lo - 1, &key))
+            lo--;
+        while (hi + 1 < c->k + f->nsegs && !cmp_ekey(hi + 1, &key))
+            hi++;
+        for (; lo <= hi; lo++)
+            if (lo->n > segkind) segkind = lo->n;
+    }
+    const double *p = f->xy + 2 * (size_t)key.lo, *q = f->xy + 2 * (size_t)key.hi;
+    int sw = p[0] > q[0] || (p[0] == q[0] && p[1] > q[1]);
+    MESH_GROW(c->o, c->n, c->cap);
+    open_edge *e = &c->o[c->n++];
+    memset(e, 0, sizeof *e);
+    e->x[0] = sw ? q[0] : p[0];
+    e->x[1] = sw ? q[1] : p[1];
+    e->x[2] = sw ? p[0] : q[0];
+    e->x[3] = sw ? p[1] : q[1];
+    e->rank = c->rank;
+    e->must = segkind != 1;
+}
+
+/* The open edges of local (edges of exactly one local triangle), found through the
+ * vertex-to-triangle rows (ptopo.h: one pass, no sort of all edges). */
 static int32_t open_edges(const mesh_flat *f, int rank, open_edge **out) {
-    ekey *k = mesh_xmalloc(3 * (size_t)f->ntris + (size_t)f->nsegs + 1, sizeof(ekey));
-    int32_t n = 0;
-    for (int32_t t = 0; t < f->ntris; t++)
-        for (int j = 0; j < 3; j++) {
-            int32_t a = f->tri[3 * t + j], b = f->tri[3 * t + (j + 1) % 3];
-            k[n++] = (ekey){a < b ? a : b, a < b ? b : a, 0};
-        }
+    ekey *k = mesh_xmalloc((size_t)f->nsegs + 1, sizeof(ekey));
     for (int32_t s = 0; s < f->nsegs; s++) { /* n = 1: a boundary subsegment; 2: an interface */
         int32_t a = f->seg[2 * s], b = f->seg[2 * s + 1];
-        k[n++] =
+        k[s] =
             (ekey){a < b ? a : b, a < b ? b : a, 1 + (f->sinterface ? f->sinterface[s] != 0 : 0)};
     }
-    qsort(k, (size_t)n, sizeof *k, cmp_ekey);
-    open_edge *o = mesh_xmalloc((size_t)n + 1, sizeof(open_edge));
-    int32_t no = 0;
-    for (int32_t i = 0; i < n;) {
-        int32_t j = i, tris = 0, segkind = 0;
-        while (j < n && k[j].lo == k[i].lo && k[j].hi == k[i].hi) {
-            if (k[j].n == 0)
-                tris++;
-            else
-                segkind = k[j].n;
-            j++;
-        }
-        if (tris == 1) {
-            const double *p = f->xy + 2 * (size_t)k[i].lo, *q = f->xy + 2 * (size_t)k[i].hi;
-            int sw = p[0] > q[0] || (p[0] == q[0] && p[1] > q[1]);
-            open_edge *e = &o[no++];
-            memset(e, 0, sizeof *e);
-            e->x[0] = sw ? q[0] : p[0];
-            e->x[1] = sw ? q[1] : p[1];
-            e->x[2] = sw ? p[0] : q[0];
-            e->x[3] = sw ? p[1] : q[1];
-            e->rank = rank;
-            e->must = segkind != 1;
-        }
-        i = j;
-    }
+    qsort(k, (size_t)f->nsegs, sizeof *k, cmp_ekey);
+    par_vtris x;
+    par_vtris_build(f, &x);
+    open_ctx oc = {f, k, rank, NULL, 0, 0};
+    par_open_edges(f, &x, add_open, &oc);
+    open_edge *o = oc.o;
+    int32_t no = oc.n;
+    par_vtris_free(&x);
+    if (!o) o = mesh_xmalloc(1, sizeof(open_edge));
     mesh_xfree(k);
     *out = o;
     return no;

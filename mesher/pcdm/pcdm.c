@@ -264,6 +264,14 @@ int pcdm_part_flat(const pcdm_part *p, mesh_flat *f) {
     return 0;
 }
 
+uint8_t *pcdm_part_artificial(const pcdm_part *p) {
+    uint8_t *a = mesh_xmalloc((size_t)p->m.ss_live + 1, 1);
+    int32_t ns = 0;
+    for (int32_t r = 0; r < p->m.nss; r++) /* the order of mesh_to_flat's subsegments */
+        if (p->m.ss[r].level != -2) a[ns++] = p->m.ss[r].seg >= p->d->nboundary;
+    return a;
+}
+
 void pcdm_part_free(pcdm_part *p) {
     mesh_free(&p->m);
     memset(p, 0, sizeof *p);

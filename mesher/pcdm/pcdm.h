@@ -13,7 +13,7 @@
  *     rt_init(...); pcdm_register();            // before rt_start / the first rt_run
  *     pcdm_part p; pcdm_part_build(&p, &d, rt_rank(), err, sizeof err);
  *     pcdm_part_refine(&p, &q, 0);              // Collective (rt_run)
- *     pcdm_part_flat(&p, &flat);                // then par_gather_mesh(&flat, ...)
+ *     pcdm_part_flat(&p, &flat);                // then par_output(..., &flat, ...)
  *     pcdm_part_free(&p);
  */
 #ifndef PCDM_H
@@ -79,6 +79,11 @@ int pcdm_part_refine(pcdm_part *p, const mesh_quality *q, int32_t poll_every);
 /* Local.  The part as a mesh_flat (local numbering) with trank set to p->rank.  Returns 0 or
  * -1 (out of memory).  Free with mesh_flat_free. */
 int pcdm_part_flat(const pcdm_part *p, mesh_flat *f);
+
+/* Local.  Per subsegment of pcdm_part_flat's output (same order): 1 if it is an artificial
+ * interface edge of the decomposition (not an input constraint: not written to .poly files),
+ * else 0.  The caller frees the array (free). */
+uint8_t *pcdm_part_artificial(const pcdm_part *p);
 
 /* Local.  Frees the part's mesh and zeroes it. */
 void pcdm_part_free(pcdm_part *p);

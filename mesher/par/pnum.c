@@ -1,0 +1,414 @@
+/* pnum.c: global numbering of a distributed mesh without a gather (pout.h, par_number).
+ *
+ * Algorithm.  (1) Input vertices are found in the part by their exact coordinate bits (a hash
+ * of the input, which every rank holds) and keep their input numbers.  (2) The part's open
+ * edges (edges of one local triangle) are found in O(n) with a vertex-to-triangle index; a
+ * vertex another rank also holds lies on an open edge of every holder (the parts are disjoint
+ * and only touch along their boundaries; a pinch point of the domain boundary is an input
+ * vertex), so the non-input vertices of open edges are the candidates for sharing.  (3) Each
+ * candidate travels to a rendezvous rank (hash of its coordinates, -0.0 folded onto +0.0);
+ * there the holders of one point are grouped and the lowest rank is named owner.  (4) Owned
+ * vertices are numbered by an MPI_Exscan of the owned counts; owners send the numbers of their
+ * shared vertices to the rendezvous, which forwards them to the other holders.  (5) Listed
+ * subsegments that are open edges go to a rendezvous the same way: of two ranks listing the
+ * same one, only the lower writes it.  Triangles: an MPI_Exscan of the counts.
+ *
+ * Invariants: every written vertex has exactly one owner and one number; rank r's written
+ * vertices (input ones on rank 0 first) carry consecutive numbers after rank r-1's; data moved
+ * is O(part boundary), never the mesh.  All messages on rt_app_comm().
+ */
+#include "par/pout.h"
+#include "par/ptopo.h"
+
+#include "base/base.h"
+#include "rt.h"
+
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- exact coordinate keys ----------------------------------------------------------------- */
+
+static uint64_t dbits(double x) {
+    if (x == 0) x = 0; /* -0.0 and +0.0 are one point */
+    uint64_t u;
+    memcpy(&u, &x, sizeof u);
+    return u;
+}
+
+static uint64_t pt_hash(double x, double y) {
+    return mesh_hash64(dbits(x) * 0x9e3779b97f4a7c15ULL ^ mesh_hash64(dbits(y)));
+}
+
+/* ---- all-to-all of fixed-size records ------------------------------------------------------ */
+
+/* Collective.  Sends record i of recs (n records of sz bytes) to rank dest[i]; returns the
+ * records this rank received (grouped by source rank, in rank order; free with free()) and
+ * their number in *nout. */
+static void *exchange(const void *recs, size_t sz, const int *dest, int64_t n, int64_t *nout) {
+    MPI_Comm c = rt_app_comm();
+    int P = rt_size();
+    int *scnt = mesh_xcalloc((size_t)P, sizeof(int)), *rcnt = mesh_xcalloc((size_t)P, sizeof(int));
+    int *sdsp = mesh_xcalloc((size_t)P + 1, sizeof(int));
+    int *rdsp = mesh_xcalloc((size_t)P + 1, sizeof(int));
+    int64_t *fill = mesh_xcalloc((size_t)P, sizeof(int64_t));
+    for (int64_t i = 0; i < n; i++)
+        fill[dest[i]]++;
+    for (int r = 0; r < P; r++) {
+        if ((uint64_t)fill[r] * sz > INT_MAX / 2) MESH_BUG("exchange: %lld records", (long long)n);
+        scnt[r] = (int)((size_t)fill[r] * sz);
+    }
+    MESH_MPI(MPI_Alltoall(scnt, 1, MPI_INT, rcnt, 1, MPI_INT, c));
+    int64_t rtot = 0;
+    for (int r = 0; r < P; r++) {
+        sdsp[r + 1] = sdsp[r] + scnt[r];
+        rtot += rcnt[r];
+        if (rtot > INT_MAX / 2) MESH_BUG("exchange: %lld bytes to receive", (long long)rtot);
+        rdsp[r + 1] = (int)rtot;
+        fill[r] = sdsp[r];
+    }
+    char *sb = mesh_xmalloc((size_t)sdsp[P] + 1, 1), *rb = mesh_xmalloc((size_t)rtot + 1, 1);
+    for (int64_t i = 0; i < n; i++) {
+        memcpy(sb + fill[dest[i]], (const char *)recs + (size_t)i * sz, sz);
+        fill[dest[i]] += (int64_t)sz;
+    }
+    MESH_MPI(MPI_Alltoallv(sb, scnt, sdsp, MPI_BYTE, rb, rcnt, rdsp, MPI_BYTE, c));
+    free(sb);
+    free(scnt);
+    free(rcnt);
+    free(sdsp);
+    free(rdsp);
+    free(fill);
+    *nout = rtot / (int64_t)sz;
+    return rb;
+}
+
+/* ---- records ------------------------------------------------------------------------------- */
+
+typedef struct vq { /* a candidate shared vertex, to its rendezvous */
+    double x, y;
+    int32_t rank, lid;
+} vq;
+_Static_assert(sizeof(vq) == 24, "vq: no padding");
+
+typedef struct vr { /* rendezvous -> holder: who owns it */
+    int32_t lid, owner, gpos, nhold;
+} vr;
+_Static_assert(sizeof(vr) == 16, "vr: no padding");
+
+typedef struct vn { /* owner -> rendezvous, then rendezvous -> holder: the number */
+    int64_t gid;
+    int32_t idx, pad; /* owner -> rendezvous: group position; rendezvous -> holder: lid */
+} vn;
+_Static_assert(sizeof(vn) == 16, "vn: no padding");
+
+typedef struct sq { /* an open listed subsegment, to its rendezvous */
+    double x[4];
+    int32_t rank, lsid;
+} sq;
+_Static_assert(sizeof(sq) == 40, "sq: no padding");
+
+static int cmp_vq(const void *pa, const void *pb) {
+    const vq *a = pa, *b = pb;
+    uint64_t ax = dbits(a->x), bx = dbits(b->x), ay = dbits(a->y), by = dbits(b->y);
+    if (ax != bx) return ax < bx ? -1 : 1;
+    if (ay != by) return ay < by ? -1 : 1;
+    return (a->rank > b->rank) - (a->rank < b->rank);
+}
+
+static int same_vq(const vq *a, const vq *b) {
+    return dbits(a->x) == dbits(b->x) && dbits(a->y) == dbits(b->y);
+}
+
+static int cmp_sq(const void *pa, const void *pb) {
+    const sq *a = pa, *b = pb;
+    for (int k = 0; k < 4; k++) {
+        uint64_t u = dbits(a->x[k]), v = dbits(b->x[k]);
+        if (u != v) return u < v ? -1 : 1;
+    }
+    return (a->rank > b->rank) - (a->rank < b->rank);
+}
+
+static int cmp_pair_id(const void *pa, const void *pb) { /* int64 pairs (key, id) */
+    const int64_t *a = pa, *b = pb;
+    if (a[0] != b[0]) return a[0] < b[0] ? -1 : 1;
+    return (a[1] > b[1]) - (a[1] < b[1]);
+}
+
+/* ---- input vertices ------------------------------------------------------------------------ */
+
+/* in_id[v] = input number of local vertex v (exact coordinates), or -1. */
+static int64_t *input_ids(const mesh_flat *f, const pslg *in) {
+    size_t ns = 16;
+    while (ns < 2 * (size_t)in->nverts + 2)
+        ns *= 2;
+    int32_t *slot = mesh_xmalloc(ns, sizeof(int32_t));
+    memset(slot, 0xff, ns * sizeof(int32_t));
+    for (int32_t i = 0; i < in->nverts; i++) {
+        double x = in->xy[2 * (size_t)i], y = in->xy[2 * (size_t)i + 1];
+        size_t h = pt_hash(x, y) & (ns - 1);
+        while (slot[h] >= 0 &&
+               !(in->xy[2 * (size_t)slot[h]] == x && in->xy[2 * (size_t)slot[h] + 1] == y))
+            h = (h + 1) & (ns - 1);
+        if (slot[h] < 0) slot[h] = i; /* a repeated input point keeps its first number */
+    }
+    int64_t *id = mesh_xmalloc((size_t)f->nverts + 1, sizeof(int64_t));
+    for (int32_t v = 0; v < f->nverts; v++) {
+        double x = f->xy[2 * (size_t)v], y = f->xy[2 * (size_t)v + 1];
+        size_t h = pt_hash(x, y) & (ns - 1);
+        id[v] = -1;
+        for (; slot[h] >= 0; h = (h + 1) & (ns - 1))
+            if (in->xy[2 * (size_t)slot[h]] == x && in->xy[2 * (size_t)slot[h] + 1] == y) {
+                id[v] = slot[h];
+                break;
+            }
+    }
+    free(slot);
+    return id;
+}
+
+/* ---- vertices ------------------------------------------------------------------------------ */
+
+typedef struct mark_ctx {
+    uint8_t *st;
+    const int64_t *gid;
+} mark_ctx;
+
+/* par_open_edges visitor: the non-input ends of an open edge are candidates (st bit 2). */
+static void mark_open(void *ctx, int32_t a, int32_t b) {
+    mark_ctx *m = ctx;
+    if (m->gid[a] < 0) m->st[a] |= 2;
+    if (m->gid[b] < 0) m->st[b] |= 2;
+}
+
+/* Steps (2)-(4) of the header: fills num->gid, owned, nowned, vfirst, nverts, nshared. */
+static void number_vertices(const mesh_flat *f, const par_vtris *x, par_numbering *num) {
+    int rank = rt_rank(), P = rt_size();
+    MPI_Comm c = rt_app_comm();
+    int32_t nv = f->nverts;
+    int64_t *gid = num->gid;
+    /* used vertices and candidates (non-input vertices of open edges) */
+    uint8_t *st = mesh_xcalloc((size_t)nv + 1, 1); /* 1 used, 2 candidate, 4 owned elsewhere */
+    for (size_t i = 0; i < 3 * (size_t)f->ntris; i++)
+        st[f->tri[i]] |= 1;
+    mark_ctx mc = {st, gid};
+    par_open_edges(f, x, mark_open, &mc);
+    int64_t nq = 0;
+    for (int32_t v = 0; v < nv; v++)
+        nq += (st[v] & 2) != 0;
+    vq *q = mesh_xmalloc((size_t)nq + 1, sizeof(vq));
+    int *dest = mesh_xmalloc((size_t)nq + 1, sizeof(int));
+    nq = 0;
+    for (int32_t v = 0; v < nv; v++)
+        if (st[v] & 2) {
+            q[nq] = (vq){f->xy[2 * (size_t)v], f->xy[2 * (size_t)v + 1], rank, v};
+            dest[nq] = (int)(pt_hash(q[nq].x, q[nq].y) % (uint64_t)P);
+            nq++;
+        }
+    /* round 1: candidates to their rendezvous; owner = lowest holder */
+    int64_t nr;
+    vq *R = exchange(q, sizeof(vq), dest, nq, &nr);
+    qsort(R, (size_t)nr, sizeof *R, cmp_vq);
+    vr *rep = mesh_xmalloc((size_t)nr + 1, sizeof(vr));
+    int *rdest = mesh_xmalloc((size_t)nr + 1, sizeof(int));
+    for (int64_t i = 0; i < nr;) {
+        int64_t j = i + 1;
+        while (j < nr && same_vq(&R[j], &R[i]))
+            j++;
+        for (int64_t k = i; k < j; k++) {
+            rep[k] = (vr){R[k].lid, R[i].rank, (int32_t)i, (int32_t)(j - i)};
+            rdest[k] = R[k].rank;
+        }
+        i = j;
+    }
+    int64_t nb;
+    vr *back = exchange(rep, sizeof(vr), rdest, nr, &nb);
+    free(rep);
+    /* owned vertices, numbered by a prefix sum */
+    int32_t nshared = 0;
+    for (int64_t i = 0; i < nb; i++) {
+        if (back[i].owner != rank) st[back[i].lid] |= 4;
+        if (back[i].nhold > 1) nshared++;
+    }
+    int64_t mine = 0;
+    for (int32_t v = 0; v < nv; v++)
+        if ((st[v] & 1) && gid[v] < 0 && !(st[v] & 4)) mine++;
+    int64_t first = 0, total = 0;
+    MESH_MPI(MPI_Exscan(&mine, &first, 1, MPI_INT64_T, MPI_SUM, c));
+    if (rank == 0) first = 0;
+    MESH_MPI(MPI_Allreduce(&mine, &total, 1, MPI_INT64_T, MPI_SUM, c));
+    num->vfirst = num->nin + first;
+    num->nverts = num->nin + total;
+    num->nowned = (int32_t)mine;
+    num->owned = mesh_xmalloc((size_t)mine + 1, sizeof(int32_t));
+    int64_t k = 0;
+    for (int32_t v = 0; v < nv; v++)
+        if ((st[v] & 1) && gid[v] < 0 && !(st[v] & 4)) {
+            num->owned[k] = v;
+            gid[v] = num->vfirst + k++;
+        }
+    /* round 2: owners' numbers to the rendezvous, forwarded to the other holders */
+    vn *nq2 = mesh_xmalloc((size_t)nb + 1, sizeof(vn));
+    int64_t n2 = 0;
+    for (int64_t i = 0; i < nb; i++)
+        if (back[i].owner == rank && back[i].nhold > 1) {
+            int32_t v = back[i].lid;
+            nq2[n2] = (vn){gid[v], back[i].gpos, 0};
+            dest[n2] = (int)(pt_hash(f->xy[2 * (size_t)v], f->xy[2 * (size_t)v + 1]) % (uint64_t)P);
+            n2++;
+        }
+    int64_t ng;
+    vn *got = exchange(nq2, sizeof(vn), dest, n2, &ng);
+    vn *fwd = mesh_xmalloc((size_t)nr + 1, sizeof(vn));
+    int64_t nf = 0;
+    for (int64_t i = 0; i < ng; i++) {
+        int64_t g0 = got[i].idx;
+        for (int64_t j = g0 + 1; j < nr && same_vq(&R[j], &R[g0]); j++) {
+            fwd[nf] = (vn){got[i].gid, R[j].lid, 0};
+            rdest[nf++] = R[j].rank;
+        }
+    }
+    int64_t nl;
+    vn *learn = exchange(fwd, sizeof(vn), rdest, nf, &nl);
+    for (int64_t i = 0; i < nl; i++)
+        gid[learn[i].idx] = learn[i].gid;
+    for (int32_t v = 0; v < nv && !num->unnumbered; v++)
+        if ((st[v] & 1) && gid[v] < 0) num->unnumbered = v + 1;
+    num->nshared = nshared;
+    free(st);
+    free(q);
+    free(dest);
+    free(R);
+    free(rdest);
+    free(back);
+    free(nq2);
+    free(got);
+    free(fwd);
+    free(learn);
+}
+
+/* ---- segments ------------------------------------------------------------------------------ */
+
+/* Step (5): fills num->wseg, nwseg, nsegs. */
+static void number_segments(const mesh_flat *f, const uint8_t *artificial, const par_vtris *x,
+                            par_numbering *num) {
+    int rank = rt_rank(), P = rt_size();
+    /* listed input subsegments, each pair once (a part may list one from both its sides):
+     * sort (pair, id) and keep the first of each pair */
+    int32_t nk = 0;
+    int64_t *kp = mesh_xmalloc(2 * (size_t)f->nsegs + 1, sizeof(int64_t));
+    for (int32_t s = 0; s < f->nsegs; s++) {
+        if (artificial && artificial[s]) continue;
+        int64_t a = f->seg[2 * (size_t)s], b = f->seg[2 * (size_t)s + 1];
+        kp[2 * nk] = (a < b ? a : b) << 32 | (a < b ? b : a);
+        kp[2 * nk + 1] = s;
+        nk++;
+    }
+    qsort(kp, (size_t)nk, 2 * sizeof(int64_t), cmp_pair_id);
+    int32_t *cand = mesh_xmalloc((size_t)nk + 1, sizeof(int32_t));
+    int32_t nc = 0;
+    uint8_t *skip = mesh_xcalloc((size_t)f->nsegs + 1, 1);
+    for (int32_t i = 0; i < nk; i++) {
+        if (i > 0 && kp[2 * i] == kp[2 * (i - 1)]) {
+            skip[kp[2 * i + 1]] = 1;
+            continue;
+        }
+        int32_t s = (int32_t)kp[2 * i + 1];
+        if (par_edge_uses(f, x, f->seg[2 * (size_t)s], f->seg[2 * (size_t)s + 1]) == 1)
+            cand[nc++] = s;
+    }
+    free(kp);
+    /* open listed subsegments to their rendezvous: all but the lowest holder skip them */
+    sq *q = mesh_xmalloc((size_t)nc + 1, sizeof(sq));
+    int *dest = mesh_xmalloc((size_t)nc + 1, sizeof(int));
+    for (int32_t i = 0; i < nc; i++) {
+        int32_t s = cand[i];
+        const double *p = f->xy + 2 * (size_t)f->seg[2 * (size_t)s],
+                     *r = f->xy + 2 * (size_t)f->seg[2 * (size_t)s + 1];
+        int sw =
+            dbits(p[0]) > dbits(r[0]) || (dbits(p[0]) == dbits(r[0]) && dbits(p[1]) > dbits(r[1]));
+        if (sw) {
+            const double *t = p;
+            p = r;
+            r = t;
+        }
+        q[i] = (sq){{p[0], p[1], r[0], r[1]}, rank, s};
+        dest[i] = (int)(mesh_hash64(pt_hash(p[0], p[1]) ^ pt_hash(r[0], r[1])) % (uint64_t)P);
+    }
+    int64_t nr;
+    sq *R = exchange(q, sizeof(sq), dest, nc, &nr);
+    qsort(R, (size_t)nr, sizeof *R, cmp_sq);
+    int32_t *rep = mesh_xmalloc((size_t)nr + 1, sizeof(int32_t));
+    int *rdest = mesh_xmalloc((size_t)nr + 1, sizeof(int));
+    int64_t nrep = 0;
+    for (int64_t i = 1; i < nr; i++)
+        if (!memcmp(R[i].x, R[i - 1].x, sizeof R[i].x) && R[i].rank != R[i - 1].rank) {
+            rep[nrep] = R[i].lsid;
+            rdest[nrep++] = R[i].rank;
+        }
+    int64_t nb;
+    int32_t *back = exchange(rep, sizeof(int32_t), rdest, nrep, &nb);
+    for (int64_t i = 0; i < nb; i++)
+        skip[back[i]] = 1;
+    num->wseg = mesh_xmalloc((size_t)f->nsegs + 1, sizeof(int32_t));
+    num->nwseg = 0;
+    for (int32_t s = 0; s < f->nsegs; s++)
+        if (!(artificial && artificial[s]) && !skip[s]) num->wseg[num->nwseg++] = s;
+    int64_t mine = num->nwseg;
+    MESH_MPI(MPI_Allreduce(&mine, &num->nsegs, 1, MPI_INT64_T, MPI_SUM, rt_app_comm()));
+    free(cand);
+    free(skip);
+    free(q);
+    free(dest);
+    free(R);
+    free(rep);
+    free(rdest);
+    free(back);
+}
+
+/* ---- the numbering ------------------------------------------------------------------------- */
+
+int par_number(const mesh_flat *local, const pslg *in, const uint8_t *artificial,
+               par_numbering *num, char *err, size_t errlen) {
+    MPI_Comm c = rt_app_comm();
+    int rank = rt_rank();
+    memset(num, 0, sizeof *num);
+    if (errlen) err[0] = '\0';
+    num->nin = in->nverts;
+    num->gid = input_ids(local, in);
+    par_vtris x;
+    par_vtris_build(local, &x);
+    number_vertices(local, &x, num);
+    number_segments(local, artificial, &x, num);
+    par_vtris_free(&x);
+    /* a holder that did not see a shared vertex on its part's boundary owns it too, and the
+     * other holders then wait for a number in vain: the parts disagree */
+    int32_t u = num->unnumbered - 1;
+    char m[300] = "";
+    if (u >= 0)
+        snprintf(m, sizeof m,
+                 "rank %d: vertex (%.17g, %.17g) has no number: the parts disagree about it", rank,
+                 local->xy[2 * (size_t)u], local->xy[2 * (size_t)u + 1]);
+    if (par_fail_any(u >= 0, NULL) != 0) {
+        int first_bad = u >= 0 ? rank : rt_size(), who = 0;
+        MESH_MPI(MPI_Allreduce(&first_bad, &who, 1, MPI_INT, MPI_MIN, c));
+        MESH_MPI(MPI_Bcast(m, (int)sizeof m, MPI_CHAR, who, c));
+        snprintf(err, errlen, "%s", m);
+        par_numbering_free(num);
+        return -1;
+    }
+    int64_t nt = local->ntris, first = 0;
+    MESH_MPI(MPI_Exscan(&nt, &first, 1, MPI_INT64_T, MPI_SUM, c));
+    if (rank == 0) first = 0;
+    num->tfirst = first;
+    MESH_MPI(MPI_Allreduce(&nt, &num->ntris, 1, MPI_INT64_T, MPI_SUM, c));
+    return 0;
+}
+
+void par_numbering_free(par_numbering *num) {
+    free(num->owned);
+    free(num->gid);
+    free(num->wseg);
+    memset(num, 0, sizeof *num);
+}

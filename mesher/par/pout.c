@@ -1,0 +1,391 @@
+/* pout.c: output, the distributed check and quality figures of a distributed mesh, each rank
+ * working on its own part (pout.h; design.md "output").
+ *
+ * Output: the Triangle files come from meshio_pwrite_triangle (MPI-IO, byte ranges from prefix
+ * sums), fed with each rank's part in global numbering (par_number): rank 0 writes the input
+ * vertices first (numbers 0..nin-1, from the input every rank holds), then every rank its
+ * owned vertices in number order, its triangles and the input subsegments it owns.  VTK: one
+ * XML piece per rank under a .pvtu index (meshio_pwrite_pvtu), in local numbering.  The SVG
+ * picture is the one thing collected on rank 0 (triangle corners and subsegment ends as
+ * coordinates, no numbering), refused above PAR_SVG_MAX_TRIS triangles.
+ *
+ * Check: the exact validator runs on every part in part mode (validate.h); what a part alone
+ * cannot show is decided over all parts: the sum of the parts' areas against the input's
+ * domain area (relative 1e-9, as the validator), and every endpoint of an input segment that
+ * piece that borders the domain (every vertex of a point set) used by some part (an MPI_MAX
+ * reduction of one byte per input vertex).  Interfaces were compared across ranks before (the
+ * always-on par_check_interfaces).  Invariant: every function returns the same result on every
+ * rank.
+ */
+#include "par/pout.h"
+
+#include "base/base.h"
+#include "geom/geom.h"
+#include "io/pwrite.h"
+#include "rt.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- the distributed check ----------------------------------------------------------------- */
+
+/* need[i] = 1 if input vertex i must be a vertex of some part's triangles. */
+static uint8_t *needed_inputs(const pslg *in) {
+    uint8_t *need = mesh_xcalloc((size_t)in->nverts + 1, 1);
+    if (in->nsegs == 0) {
+        memset(need, 1, (size_t)in->nverts);
+        return need;
+    }
+    pslg_pieces pc;
+    if (pslg_segment_pieces(in, &pc) != 0) { /* out of memory: ask for the segments' ends */
+        for (int32_t s = 0; s < in->nsegs; s++)
+            need[in->seg[2 * (size_t)s]] = need[in->seg[2 * (size_t)s + 1]] = 1;
+        return need;
+    }
+    for (int32_t s = 0; s < in->nsegs; s++) /* both ends of every bordering piece */
+        for (int32_t i = pc.start[s]; i + 1 < pc.start[s + 1]; i++)
+            if (pc.border[i]) need[pc.vert[i]] = need[pc.vert[i + 1]] = 1;
+    pslg_pieces_free(&pc);
+    return need;
+}
+
+int par_check_parts(const par_opts *o, const pslg *in, mesh_flat *local, const par_numbering *num,
+                    int print, validate_report *r) {
+    MPI_Comm c = rt_app_comm();
+    int rank = rt_rank(), P = rt_size();
+    const char *brk = getenv("PCDM_TEST_BREAK_PIECE");
+    if (brk && atoi(brk) == rank && local->ntris > 0) { /* test-only fault: reverse a triangle */
+        int32_t t = local->tri[1];
+        local->tri[1] = local->tri[2];
+        local->tri[2] = t;
+    }
+    validate_opts vo;
+    memset(&vo, 0, sizeof vo);
+    vo.min_angle = o->min_angle;
+    vo.max_area = o->max_area;
+    vo.check_delaunay_interfaces = 1;
+    vo.part = 1;
+    validate_report lr;
+    mesh_validate(in, local, &vo, &lr);
+
+    /* input vertices: used by some part */
+    uint8_t *need = needed_inputs(in), *have = mesh_xcalloc((size_t)in->nverts + 1, 1);
+    uint8_t *used = mesh_xcalloc((size_t)local->nverts + 1, 1);
+    for (size_t i = 0; i < 3 * (size_t)local->ntris; i++)
+        if (local->tri[i] >= 0 && local->tri[i] < local->nverts) used[local->tri[i]] = 1;
+    for (int32_t v = 0; v < local->nverts; v++)
+        if (used[v] && num->gid[v] >= 0 && num->gid[v] < num->nin) have[num->gid[v]] = 1;
+    free(used);
+    if (in->nverts > 0)
+        MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, have, in->nverts, MPI_UINT8_T, MPI_MAX, c));
+    long missing = 0;
+    int32_t first_missing = -1;
+    for (int32_t i = 0; i < in->nverts; i++)
+        if (need[i] && !have[i]) {
+            if (first_missing < 0) first_missing = i;
+            missing++;
+        }
+    free(need);
+    free(have);
+
+    /* reduce the reports */
+    long cnt[11] = {lr.bad_orient,
+                    lr.bad_conform,
+                    lr.missing_verts,
+                    lr.missing_segs,
+                    lr.stray_boundary,
+                    lr.non_delaunay,
+                    lr.bad_angle,
+                    lr.bad_area,
+                    lr.nexempt,
+                    lr.ntris,
+                    lr.first_problem[0] != 0};
+    long tot[11];
+    MESH_MPI(MPI_Allreduce(cnt, tot, 11, MPI_LONG, MPI_SUM, c));
+    double mn[2] = {lr.min_angle, lr.min_angle_unforced}, mx = lr.max_area, area = lr.mesh_area;
+    MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, mn, 2, MPI_DOUBLE, MPI_MIN, c));
+    MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, &mx, 1, MPI_DOUBLE, MPI_MAX, c));
+    MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, &area, 1, MPI_DOUBLE, MPI_SUM, c));
+    memset(r, 0, sizeof *r);
+    r->bad_orient = tot[0];
+    r->bad_conform = tot[1];
+    r->missing_verts = tot[2] + missing;
+    r->missing_segs = tot[3];
+    r->stray_boundary = tot[4];
+    r->non_delaunay = tot[5];
+    r->bad_angle = tot[6];
+    r->bad_area = tot[7];
+    r->nexempt = tot[8];
+    r->ntris = tot[9];
+    r->nverts = (long)num->nverts;
+    r->min_angle = mn[0];
+    r->min_angle_unforced = mn[1];
+    r->max_area = mx;
+    r->mesh_area = area;
+    r->domain_area = lr.domain_area; /* the input's, the same on every rank */
+    if (!(fabs(area - r->domain_area) <= 1e-9 * fmax(fabs(area), fabs(r->domain_area))))
+        r->area_mismatch = 1;
+
+    /* the first problem: the lowest failing rank's, else the global ones */
+    int mine = lr.first_problem[0] ? rank : P, first = P;
+    MESH_MPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, c));
+    if (first < P) {
+        char buf[sizeof r->first_problem];
+        if (rank == first) snprintf(buf, sizeof buf, "rank %d: %.230s", rank, lr.first_problem);
+        MESH_MPI(MPI_Bcast(buf, (int)sizeof buf, MPI_CHAR, first, c));
+        memcpy(r->first_problem, buf, sizeof buf);
+    } else if (missing) {
+        snprintf(r->first_problem, sizeof r->first_problem,
+                 "input vertex %d at (%.17g, %.17g) is in no part of the mesh",
+                 (int)(first_missing + in->first_index), in->xy[2 * (size_t)first_missing],
+                 in->xy[2 * (size_t)first_missing + 1]);
+    } else if (r->area_mismatch) {
+        snprintf(r->first_problem, sizeof r->first_problem,
+                 "the parts' areas sum to %.17g, the domain's area is %.17g", area, r->domain_area);
+    }
+    r->ok = !(r->bad_orient || r->bad_conform || r->missing_verts || r->missing_segs ||
+              r->stray_boundary || r->non_delaunay || r->bad_angle || r->bad_area ||
+              r->area_mismatch || r->first_problem[0]);
+    if (print && rank == 0) validate_report_print(r, stdout);
+    return r->ok;
+}
+
+/* ---- Triangle files ------------------------------------------------------------------------ */
+
+static int write_triangle(const par_opts *o, const pslg *in, const mesh_flat *f,
+                          const par_numbering *num, char *err, size_t errlen) {
+    int rank = rt_rank();
+    int64_t nin = rank == 0 ? num->nin : 0, nv = nin + num->nowned;
+    double *xy = mesh_xmalloc(2 * (size_t)nv + 1, sizeof(double));
+    int32_t *mk = mesh_xmalloc((size_t)nv + 1, sizeof(int32_t));
+    if (nin) memcpy(xy, in->xy, 2 * (size_t)nin * sizeof(double));
+    for (int64_t i = 0; i < nin; i++)
+        mk[i] = in->vmarker ? in->vmarker[i] : 0;
+    for (int32_t k = 0; k < num->nowned; k++) {
+        int32_t v = num->owned[k];
+        xy[2 * (size_t)(nin + k)] = f->xy[2 * (size_t)v];
+        xy[2 * (size_t)(nin + k) + 1] = f->xy[2 * (size_t)v + 1];
+        mk[nin + k] = f->vmarker ? f->vmarker[v] : 0;
+    }
+    int64_t *tri = mesh_xmalloc(3 * (size_t)f->ntris + 1, sizeof(int64_t));
+    for (size_t i = 0; i < 3 * (size_t)f->ntris; i++)
+        tri[i] = num->gid[f->tri[i]];
+    int64_t *seg = mesh_xmalloc(2 * (size_t)num->nwseg + 1, sizeof(int64_t));
+    int32_t *smk = mesh_xmalloc((size_t)num->nwseg + 1, sizeof(int32_t));
+    for (int32_t k = 0; k < num->nwseg; k++) {
+        int32_t s = num->wseg[k];
+        seg[2 * (size_t)k] = num->gid[f->seg[2 * (size_t)s]];
+        seg[2 * (size_t)k + 1] = num->gid[f->seg[2 * (size_t)s + 1]];
+        smk[k] = f->smarker ? f->smarker[s] : 0;
+    }
+    mesh_part p = {.nverts = nv,
+                   .xy = xy,
+                   .vmarker = mk,
+                   .ntris = f->ntris,
+                   .tri = tri,
+                   .trank = f->trank,
+                   .nsegs = num->nwseg,
+                   .seg = seg,
+                   .smarker = smk};
+    int rc = meshio_pwrite_triangle(rt_app_comm(), &p, o->out_prefix, err, errlen);
+    free(xy);
+    free(mk);
+    free(tri);
+    free(seg);
+    free(smk);
+    return rc;
+}
+
+/* ---- SVG, collected on rank 0 -------------------------------------------------------------- */
+
+/* Collective.  Gathers n records of k doubles from every rank to rank 0 (*out there, with the
+ * total in *ntot; NULL elsewhere). */
+static double *gather_doubles(const double *mine, int64_t n, int k, int64_t *ntot) {
+    MPI_Comm c = rt_app_comm();
+    int rank = rt_rank(), P = rt_size();
+    int cnt = (int)(n * k), *cnts = NULL, *dsp = NULL;
+    if (rank == 0) {
+        cnts = mesh_xmalloc((size_t)P, sizeof(int));
+        dsp = mesh_xmalloc((size_t)P + 1, sizeof(int));
+    }
+    MESH_MPI(MPI_Gather(&cnt, 1, MPI_INT, cnts, 1, MPI_INT, 0, c));
+    double *out = NULL;
+    if (rank == 0) {
+        dsp[0] = 0;
+        for (int r = 0; r < P; r++)
+            dsp[r + 1] = dsp[r] + cnts[r];
+        out = mesh_xmalloc((size_t)dsp[P] + 1, sizeof(double));
+        *ntot = dsp[P] / k;
+    }
+    MESH_MPI(MPI_Gatherv(mine, cnt, MPI_DOUBLE, out, cnts, dsp, MPI_DOUBLE, 0, c));
+    free(cnts);
+    free(dsp);
+    return out;
+}
+
+static int write_svg(const par_opts *o, const mesh_flat *f, const par_numbering *num, char *err,
+                     size_t errlen) {
+    if (num->ntris > PAR_SVG_MAX_TRIS) {
+        snprintf(err, errlen,
+                 "%s: the mesh has %lld triangles; --svg pictures are collected on rank 0 and "
+                 "limited to %d",
+                 o->svg, (long long)num->ntris, PAR_SVG_MAX_TRIS);
+        return -1;
+    }
+    /* a triangle: its corners and its rank; a subsegment: its ends, marker and interface flag */
+    double *t = mesh_xmalloc(7 * (size_t)f->ntris + 1, sizeof(double));
+    for (int32_t i = 0; i < f->ntris; i++) {
+        for (int j = 0; j < 3; j++) {
+            const double *p = f->xy + 2 * (size_t)f->tri[3 * (size_t)i + (size_t)j];
+            t[7 * (size_t)i + 2 * (size_t)j] = p[0];
+            t[7 * (size_t)i + 2 * (size_t)j + 1] = p[1];
+        }
+        t[7 * (size_t)i + 6] = f->trank ? f->trank[i] : rt_rank();
+    }
+    double *s = mesh_xmalloc(6 * (size_t)f->nsegs + 1, sizeof(double));
+    for (int32_t i = 0; i < f->nsegs; i++) {
+        for (int j = 0; j < 2; j++) {
+            const double *p = f->xy + 2 * (size_t)f->seg[2 * (size_t)i + (size_t)j];
+            s[6 * (size_t)i + 2 * (size_t)j] = p[0];
+            s[6 * (size_t)i + 2 * (size_t)j + 1] = p[1];
+        }
+        s[6 * (size_t)i + 4] = f->smarker ? f->smarker[i] : 0;
+        s[6 * (size_t)i + 5] = f->sinterface ? f->sinterface[i] : 0;
+    }
+    int64_t nt = 0, ns = 0;
+    double *T = gather_doubles(t, f->ntris, 7, &nt), *S = gather_doubles(s, f->nsegs, 6, &ns);
+    free(t);
+    free(s);
+    int rc = 0;
+    if (rt_rank() == 0) { /* a triangle soup: the picture needs no shared vertices */
+        mesh_flat g;
+        memset(&g, 0, sizeof g);
+        g.nverts = (int32_t)(3 * nt + 2 * ns);
+        g.xy = mesh_xmalloc(2 * (size_t)g.nverts + 1, sizeof(double));
+        g.ntris = (int32_t)nt;
+        g.tri = mesh_xmalloc(3 * (size_t)nt + 1, sizeof(int32_t));
+        g.trank = mesh_xmalloc((size_t)nt + 1, sizeof(int32_t));
+        g.nsegs = (int32_t)ns;
+        g.seg = mesh_xmalloc(2 * (size_t)ns + 1, sizeof(int32_t));
+        g.smarker = mesh_xmalloc((size_t)ns + 1, sizeof(int32_t));
+        g.sinterface = mesh_xmalloc((size_t)ns + 1, sizeof(int32_t));
+        for (int64_t i = 0; i < nt; i++) {
+            memcpy(g.xy + 6 * (size_t)i, T + 7 * (size_t)i, 6 * sizeof(double));
+            for (int j = 0; j < 3; j++)
+                g.tri[3 * (size_t)i + (size_t)j] = (int32_t)(3 * i + j);
+            g.trank[i] = (int32_t)T[7 * (size_t)i + 6];
+        }
+        for (int64_t i = 0; i < ns; i++) {
+            memcpy(g.xy + 6 * (size_t)nt + 4 * (size_t)i, S + 6 * (size_t)i, 4 * sizeof(double));
+            g.seg[2 * (size_t)i] = (int32_t)(3 * nt + 2 * i);
+            g.seg[2 * (size_t)i + 1] = (int32_t)(3 * nt + 2 * i + 1);
+            g.smarker[i] = (int32_t)S[6 * (size_t)i + 4];
+            g.sinterface[i] = (int32_t)S[6 * (size_t)i + 5];
+        }
+        rc = meshio_write_svg(&g, o->svg, err, errlen);
+        mesh_flat_free(&g);
+    }
+    free(T);
+    free(S);
+    return rc;
+}
+
+/* ---- all outputs --------------------------------------------------------------------------- */
+
+int par_write_parts(const par_opts *o, const pslg *in, const mesh_flat *local,
+                    const par_numbering *num) {
+    char err[1024] = "", msg[1200];
+    if (o->out_prefix) { /* collective: the same status everywhere */
+        if (write_triangle(o, in, local, num, err, sizeof err) != 0) {
+            if (rt_rank() == 0) fprintf(stderr, "%s: %s\n", o->prog, err);
+            return -1;
+        }
+    }
+    if (o->vtk) {
+        char prefix[1024];
+        snprintf(prefix, sizeof prefix, "%s", o->vtk);
+        size_t n = strlen(prefix);
+        static const char *const ext[3] = {".pvtu", ".vtu", ".vtk"};
+        for (int k = 0; k < 3; k++) {
+            size_t e = strlen(ext[k]);
+            if (n > e && !strcmp(prefix + n - e, ext[k])) {
+                prefix[n - e] = '\0';
+                break;
+            }
+        }
+        if (meshio_pwrite_pvtu(rt_app_comm(), local, 1, prefix, err, sizeof err) != 0) {
+            if (rt_rank() == 0) fprintf(stderr, "%s: %s\n", o->prog, err);
+            return -1;
+        }
+    }
+    if (o->svg) {
+        int bad = write_svg(o, local, num, err, sizeof err) != 0;
+        snprintf(msg, sizeof msg, "%s: %s", o->prog, err);
+        if (par_fail_any(bad, msg)) return -1;
+    }
+    return 0;
+}
+
+void par_quality_all(const mesh_flat *local, double *min_angle, double *max_area) {
+    double mx = 0, mn = par_mesh_quality(local, &mx);
+    MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, &mn, 1, MPI_DOUBLE, MPI_MIN, rt_app_comm()));
+    MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, &mx, 1, MPI_DOUBLE, MPI_MAX, rt_app_comm()));
+    *min_angle = mn;
+    if (max_area) *max_area = mx;
+}
+
+int par_output(const par_opts *o, const pslg *in, mesh_flat *local, const uint8_t *artificial,
+               par_summary *sum) {
+    memset(sum, 0, sizeof *sum);
+    /* never a silent broken mesh: both sides of every interface must agree first */
+    char imsg[600], msg[1300];
+    int ibad = par_check_interfaces(local, imsg, sizeof imsg) != 0;
+    snprintf(msg, sizeof msg, "%s: %s: rank %d: %s", o->prog, in->path[0] ? in->path : "mesh",
+             rt_rank(), imsg);
+    if (par_fail_any(ibad, msg)) return 1;
+    double t0 = rt_wtime();
+    par_numbering num;
+    char err[512];
+    if (par_number(local, in, artificial, &num, err, sizeof err) != 0) {
+        if (rt_rank() == 0) fprintf(stderr, "%s: %s\n", o->prog, err);
+        return 1;
+    }
+    double t1 = rt_wtime();
+    int status = 0;
+    if (o->check) {
+        validate_report vr;
+        if (!par_check_parts(o, in, local, &num, 1, &vr)) status = 1;
+    }
+    double t2 = rt_wtime();
+    if (status == 0 && par_write_parts(o, in, local, &num) != 0) status = 1;
+    double t3 = rt_wtime();
+    sum->ntris = num.ntris;
+    sum->nverts = num.nverts;
+    sum->nsegs = num.nsegs;
+    sum->nshared = num.nshared;
+    par_numbering_free(&num);
+    par_quality_all(local, &sum->min_angle, &sum->max_area);
+    sum->number_s = t1 - t0;
+    sum->check_s = t2 - t1;
+    sum->write_s = t3 - t2;
+    return status;
+}
+
+double *par_stats_collect(const double *mine, int n, int on, double *tot, double *mx) {
+    if (!on) return NULL;
+    int rank = rt_rank(), P = rt_size();
+    double *all = rank == 0 ? mesh_xmalloc((size_t)n * (size_t)P, sizeof(double)) : NULL;
+    MESH_MPI(MPI_Gather(mine, n, MPI_DOUBLE, all, n, MPI_DOUBLE, 0, rt_app_comm()));
+    if (rank != 0) return NULL;
+    for (int k = 0; k < n; k++)
+        tot[k] = mx[k] = 0;
+    for (int r = 0; r < P; r++)
+        for (int k = 0; k < n; k++) {
+            double x = all[(size_t)r * (size_t)n + (size_t)k];
+            tot[k] += x;
+            if (x > mx[k]) mx[k] = x;
+        }
+    return all;
+}

@@ -1,0 +1,34 @@
+/* ptopo: the local topology the par layer needs of a rank's part (internal to mesher/par/):
+ * which triangles meet at a vertex, hence how many triangles use an edge, in O(n) time and
+ * memory (one int32 per triangle corner) -- no sort of all edges.  Used to find a part's open
+ * edges (edges of one local triangle) for the interface check and the numbering.
+ * All functions are Local.
+ */
+#ifndef PAR_PTOPO_H
+#define PAR_PTOPO_H
+
+#include <stdint.h>
+
+#include "io/meshio.h"
+
+/* Vertex -> incident triangles of a mesh_flat, as compressed rows. */
+typedef struct par_vtris {
+    int32_t *start; /* nverts + 2: triangles of vertex v are t[start[v] .. start[v + 1]) */
+    int32_t *t;     /* 3 * ntris */
+} par_vtris;
+
+/* Builds x for f (counting sort by vertex); free with par_vtris_free. */
+void par_vtris_build(const mesh_flat *f, par_vtris *x);
+void par_vtris_free(par_vtris *x);
+
+/* Calls visit(ctx, a, b) once for every open edge of f (an edge of exactly one triangle),
+ * directed as in that triangle (the part on its left).  Each vertex's row is read once and its
+ * edges counted among the row's triangles, so the work is O(sum of squared degrees) with one
+ * pass over the triangles -- no search per edge.  Returns the number of open edges. */
+int64_t par_open_edges(const mesh_flat *f, const par_vtris *x,
+                       void (*visit)(void *ctx, int32_t a, int32_t b), void *ctx);
+
+/* Number of f's triangles that have the (undirected) edge {a, b}. */
+int par_edge_uses(const mesh_flat *f, const par_vtris *x, int32_t a, int32_t b);
+
+#endif
