@@ -75,6 +75,9 @@ enum {
     RS_N = RS_KIND0 + PBW_RSR_NKINDS
 };
 
+/* The largest -q ./pbw accepts (see main). */
+#define PBW_MAX_ANGLE 34.0
+
 int main(int argc, char **argv) {
     par_opts o;
     pslg in;
@@ -85,6 +88,20 @@ int main(int argc, char **argv) {
         return code;
     int rank = rt_rank(), size = rt_size();
     MPI_Comm comm = rt_app_comm();
+    if (o.min_angle > PBW_MAX_ANGLE) {
+        /* PBW's refinement has no stall detection yet (it is not on the shared kernel, issue
+         * 13): past about 34 degrees it may never end, so it refuses rather than hang */
+        if (rank == 0)
+            fprintf(stderr,
+                    "pbw: -q %g: above %g degrees ./pbw's refinement may not terminate and it "
+                    "cannot yet detect that; use -q %g or less (./pcdm and ./mesh stop with a "
+                    "clear error instead)\n",
+                    o.min_angle, PBW_MAX_ANGLE, PBW_MAX_ANGLE);
+        pcdm_decomp_free(&d);
+        pslg_free(&in);
+        rt_finalize();
+        return 1;
+    }
 
     MESH_MPI(MPI_Barrier(comm));
     double t0 = rt_wtime(), c0 = par_cpu_seconds();

@@ -145,10 +145,28 @@ int main(int argc, char **argv) {
     rs[RS_CPU] = par_cpu_seconds() - c0;
     int limit_any = 0;
     MESH_MPI(MPI_Allreduce(&part.limit_hit, &limit_any, 1, MPI_INT, MPI_MAX, comm));
+    /* never a silent success outside the bounds (as ./mesh): what is left must be forced by an
+     * input corner (corners of the decomposition get no exemption) */
+    long long unmet = limit_any ? 0 : (long long)mesh_count_unmet(&part.m, NULL), unmet_all = 0;
+    MESH_MPI(MPI_Allreduce(&unmet, &unmet_all, 1, MPI_LONG_LONG, MPI_SUM, comm));
     pcdm_part_free(&part);
     if (limit_any && rank == 0)
         fprintf(stderr, "pcdm: warning: Steiner point limit (%lld) reached; quality not met\n",
                 (long long)o.max_steiner);
+    if (unmet_all > 0) {
+        if (rank == 0)
+            fprintf(stderr,
+                    "pcdm: %s: cannot meet the bounds: %lld triangles still violate them "
+                    "(features below the precision of the coordinates, or -q %g beyond what "
+                    "refinement reaches on this input)\n",
+                    o.input, unmet_all, o.min_angle);
+        free(artificial);
+        mesh_flat_free(&local);
+        pcdm_decomp_free(&d);
+        pslg_free(&in);
+        rt_finalize();
+        return 1;
+    }
     par_summary sum;
     int status = par_output(&o, &in, &local, artificial, &sum);
     free(artificial);

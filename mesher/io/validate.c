@@ -988,6 +988,8 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
     pslg_pieces_free(&c.pc);
     free(sxy);
     if (use_hull) free(hull.seg);
+    r->mesh_area_w = r->mesh_area;
+    r->domain_area_w = r->domain_area;
     r->mesh_area = ldexp(r->mesh_area, -2 * e);
     r->domain_area = ldexp(r->domain_area, -2 * e);
     r->max_area = ldexp(r->max_area, -2 * e);

@@ -56,6 +56,9 @@ typedef struct validate_report {
     double min_angle, max_area; /* measured over all triangles */
     double min_angle_unforced;  /* measured over triangles not exempted */
     double mesh_area, domain_area;
+    /* the same two in the working scale of pslg_check (times 2^(2 scale_exp)): sums of parts'
+     * areas are taken there, where tiny or huge inputs keep their precision */
+    double mesh_area_w, domain_area_w;
     long bad_orient, bad_conform, missing_verts, missing_segs, stray_boundary, non_delaunay,
         bad_angle, bad_area;
     long area_mismatch;      /* 1 if the mesh area differs from the domain area (relative 1e-9) */

@@ -104,7 +104,7 @@ int par_check_parts(const par_opts *o, const pslg *in, mesh_flat *local, const p
                     lr.first_problem[0] != 0};
     long tot[11];
     MESH_MPI(MPI_Allreduce(cnt, tot, 11, MPI_LONG, MPI_SUM, c));
-    double mn[2] = {lr.min_angle, lr.min_angle_unforced}, mx = lr.max_area, area = lr.mesh_area;
+    double mn[2] = {lr.min_angle, lr.min_angle_unforced}, mx = lr.max_area, area = lr.mesh_area_w;
     MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, mn, 2, MPI_DOUBLE, MPI_MIN, c));
     MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, &mx, 1, MPI_DOUBLE, MPI_MAX, c));
     MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, &area, 1, MPI_DOUBLE, MPI_SUM, c));
@@ -123,10 +123,11 @@ int par_check_parts(const par_opts *o, const pslg *in, mesh_flat *local, const p
     r->min_angle = mn[0];
     r->min_angle_unforced = mn[1];
     r->max_area = mx;
-    r->mesh_area = area;
-    r->domain_area = lr.domain_area; /* the input's, the same on every rank */
-    if (!(fabs(area - r->domain_area) <= 1e-9 * fmax(fabs(area), fabs(r->domain_area))))
-        r->area_mismatch = 1;
+    /* compared in the working scale; reported in input units */
+    double dom = lr.domain_area_w; /* the input's, the same on every rank */
+    if (!(fabs(area - dom) <= 1e-9 * fmax(fabs(area), fabs(dom)))) r->area_mismatch = 1;
+    r->mesh_area = ldexp(area, -2 * in->scale_exp);
+    r->domain_area = lr.domain_area;
 
     /* the first problem: the lowest failing rank's, else the global ones */
     int mine = lr.first_problem[0] ? rank : P, first = P;
@@ -143,7 +144,8 @@ int par_check_parts(const par_opts *o, const pslg *in, mesh_flat *local, const p
                  in->xy[2 * (size_t)first_missing + 1]);
     } else if (r->area_mismatch) {
         snprintf(r->first_problem, sizeof r->first_problem,
-                 "the parts' areas sum to %.17g, the domain's area is %.17g", area, r->domain_area);
+                 "the parts' areas sum to %.17g, the domain's area is %.17g", r->mesh_area,
+                 r->domain_area);
     }
     r->ok = !(r->bad_orient || r->bad_conform || r->missing_verts || r->missing_segs ||
               r->stray_boundary || r->non_delaunay || r->bad_angle || r->bad_area ||
@@ -188,7 +190,8 @@ static int write_triangle(const par_opts *o, const pslg *in, const mesh_flat *f,
                    .trank = f->trank,
                    .nsegs = num->nwseg,
                    .seg = seg,
-                   .smarker = smk};
+                   .smarker = smk,
+                   .scale_exp = in->scale_exp};
     int rc = meshio_pwrite_triangle(rt_app_comm(), &p, o->out_prefix, err, errlen);
     free(xy);
     free(mk);
@@ -339,6 +342,8 @@ void par_quality_all(const mesh_flat *local, double *min_angle, double *max_area
 int par_output(const par_opts *o, const pslg *in, mesh_flat *local, const uint8_t *artificial,
                par_summary *sum) {
     memset(sum, 0, sizeof *sum);
+    /* the parts are in the input's working scale (pslg_check); the writers undo it */
+    local->scale_exp = in->scale_exp;
     /* never a silent broken mesh: both sides of every interface must agree first */
     char imsg[600], msg[1300];
     int ibad = par_check_interfaces(local, imsg, sizeof imsg) != 0;
