@@ -135,6 +135,10 @@ format:
 # each one into tests/fuzz/regress with its expected outcome, tests/t_fuzz_regress.sh).
 FUZZ_CC ?= clang-14
 FUZZ_TIME ?= 90
+# FUZZ_SEED and FUZZ_RUNS make a run repeatable (CI: a fixed seed and a fixed number of inputs,
+# so CI explores the same inputs every time and a red CI is a real, reproducible finding).
+FUZZ_SEED ?= 0
+FUZZ_RUNS ?= -1
 FUZZ_FLAGS := -g -O1 -ffp-contract=off -fno-omit-frame-pointer \
               -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined -DMESH_DEBUG
 FUZZ_SRC := $(wildcard mesher/base/*.c mesher/geom/*.c mesher/io/*.c mesher/seq/*.c)
@@ -151,7 +155,8 @@ fuzz: fuzz-deps
 	@mkdir -p build/fuzz/corpus build/fuzz/artifacts
 	cp -n tests/fuzz/corpus/* build/fuzz/corpus/ 2>/dev/null || true
 	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-	    build/fuzz/fuzz_mesh -max_total_time=$(FUZZ_TIME) -timeout=20 -rss_limit_mb=2048 \
+	    build/fuzz/fuzz_mesh -max_total_time=$(FUZZ_TIME) -runs=$(FUZZ_RUNS) -seed=$(FUZZ_SEED) \
+	    -timeout=20 -rss_limit_mb=2048 \
 	    -max_len=8192 -print_final_stats=1 \
 	    -artifact_prefix=build/fuzz/artifacts/ -dict=tests/fuzz/poly.dict build/fuzz/corpus
 
