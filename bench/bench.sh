@@ -370,6 +370,31 @@ for prog in pbw pcdm; do
 done
 section_end
 
+# ---------------------------------------------------------------- decomposition (issue 11)
+# Every domain in data/ at 8 ranks (default subdomains), with an area bound (about 10-27K
+# triangles) and with the angle bound alone, beside ./mesh at the same bounds: balance
+# (tri_max / tri_mean over the ranks), triangle count against ./mesh, and the decomposition's
+# share of the meshing time; plus (full run) 10M triangles on 64 subdomains at 2 ranks.
+section_begin "decomp"
+declare -A DAREA=([square]=0.00006 [lshape]=0.0003 [wedge]=0.000005 [lake]=0.0002
+    [holes]=0.00007 [channel]=0.0003)
+SAVE_DOMAIN=$DOMAIN
+for dom in data/*.poly; do
+    lbl=$(basename "$dom" .poly)
+    [ -n "${DAREA[$lbl]:-}" ] || continue
+    DOMAIN=$dom
+    run_one decomp "${lbl}_area" mesh 1 1 "${DAREA[$lbl]}" 1
+    run_one decomp "${lbl}_area" pcdm 8 1 "${DAREA[$lbl]}" 1
+    run_one decomp "${lbl}_angle" mesh 1 1 0 1
+    run_one decomp "${lbl}_angle" pcdm 8 1 0 1
+done
+if [ -z "$QUICK" ]; then
+    DOMAIN=data/lake.poly
+    run_one decomp lake_10m_k64 pcdm 2 1 3.5e-7 1 --subdomains 64
+fi
+DOMAIN=$SAVE_DOMAIN
+section_end
+
 # ---------------------------------------------------------------- scale: 1M and 10M
 TRI_PY='import resource, sys, time
 import numpy as np, triangle

@@ -575,6 +575,39 @@ for prog, fig in (("pbw", "Figure 1 (PBW)"), ("pcdm", "Figure 3 (PCDM)")):
         H("%s: not produced (%s)." % (fig, why_missing("fig", "small", prog, 2) if not rs else "no SVG written"))
     H("")
 
+# ---------------------------------------------------------------------------- decomposition
+H("## The decomposition (issue 11): balance, triangle count, cost")
+H("")
+H("`./pcdm` at 8 ranks with its default subdomains, `-q %s`, beside `./mesh` at the same bounds; "
+  "one run each.  balance = the busiest rank's triangles / the mean over the ranks (measured "
+  "counts; targets: <= 1.05 with an area bound, <= 1.10 with the angle bound alone); "
+  "vs ./mesh = pcdm's triangles / ./mesh's - 1; decomp s = wall seconds rank 0 spent "
+  "building the decomposition (every rank builds the same one); mesh s = pcdm's `wall_s` "
+  "(meshing, after the decomposition)." % meta.get("qdeg", "20.7"))
+H("")
+drows = []
+labels = sorted(set(r["label"] for r in runs if r["section"] == "decomp"))
+for lab in labels:
+    pc = sel("decomp", lab, "pcdm")
+    ms = sel("decomp", lab, "mesh", 1)
+    if not pc:
+        drows.append([lab, "-", "-", "-", "-", "-", "-", why_missing("decomp", lab, "pcdm", None)])
+        continue
+    s = pc[0]["s"]
+    mt = ms[0]["s"].get("triangles") if ms else None
+    bal = div(s.get("tri_max"), s.get("tri_mean"))
+    rel = (div(s.get("triangles"), mt) - 1) * 100 if isnum(mt) and isnum(s.get("triangles")) else None
+    share = div(s.get("decomp_s"), s.get("wall_s"))
+    drows.append([lab, "%d" % pc[0]["np"], fi(s.get("triangles")), fi(mt), f(bal, 3),
+                  ("%+.2f%%" % rel) if rel is not None else "-", f(s.get("decomp_s"), 3),
+                  ("%.1f%%" % (100 * share)) if isnum(share) else "-"])
+H(md_table(["domain / bound", "ranks", "pcdm triangles", "./mesh triangles", "balance",
+            "vs ./mesh", "decomp s", "decomp / mesh s"], drows))
+H("")
+for row in drows:
+    stdout.append("Decomp %-18s P=%s balance %s  vs ./mesh %s  decomp/mesh %s" %
+                  (row[0], row[1], row[4], row[5], row[7]))
+
 # ---------------------------------------------------------------------------- scale
 H("## Beyond the paper: 1M and 10M triangles")
 H("")

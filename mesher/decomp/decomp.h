@@ -79,6 +79,7 @@ typedef struct pcdm_decomp {
     int32_t *sub_owner; /* K: owning rank; every rank owns at least one subdomain */
     double total_weight;
     int32_t ncoarse; /* triangles of the coarse mesh the decomposition was drawn on */
+    double build_s;  /* wall seconds this rank spent building it (par_load measures) */
 } pcdm_decomp;
 
 /* Fills o with defaults: nsub 0, nranks 1, min_angle 30, max_area 0, imbalance 1,

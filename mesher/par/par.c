@@ -105,10 +105,13 @@ int par_load(const par_opts *o, pslg *in, pcdm_decomp *d) {
             snprintf(err, sizeof err, "--subdomains %d: fewer subdomains than ranks (%d)",
                      (int)o->nsub, rt_size());
             rc = -1;
-        } else if (o->cuts) {
-            rc = pcdm_decomp_read_cuts(o->cuts, in, &dopt, d, err, sizeof err);
         } else {
-            rc = pcdm_decomp_auto(in, &dopt, d, err, sizeof err);
+            double t0 = rt_wtime();
+            if (o->cuts)
+                rc = pcdm_decomp_read_cuts(o->cuts, in, &dopt, d, err, sizeof err);
+            else
+                rc = pcdm_decomp_auto(in, &dopt, d, err, sizeof err);
+            if (rc == 0) d->build_s = rt_wtime() - t0;
         }
         if (rc != 0) {
             char tmp[sizeof err];
