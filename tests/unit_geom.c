@@ -827,6 +827,33 @@ START_TEST(test_midpoint_area_dist) {
 }
 END_TEST
 
+/* geom_area2_accurate against a 128-bit integer determinant: integer coordinates below 2^53 far
+ * from the origin, slivers whose plain formula cancels completely. */
+START_TEST(test_area2_accurate) {
+    rng_seed(13);
+    for (int t = 0; t < 200000; t++) {
+        int64_t base = (int64_t)1 << irand(20, 51), span = (int64_t)1 << irand(1, 20);
+        int64_t v[6];
+        for (int i = 0; i < 6; i++)
+            v[i] = base + irand(0, (int)(span > 1000000 ? 1000000 : span));
+        if (t % 2) { /* c on or next to the line ab */
+            v[4] = v[0] + 2 * (v[2] - v[0]);
+            v[5] = v[1] + 2 * (v[3] - v[1]) + irand(-1, 1);
+        }
+        double a[2] = {(double)v[0], (double)v[1]}, b[2] = {(double)v[2], (double)v[3]},
+               c[2] = {(double)v[4], (double)v[5]};
+        __int128 d =
+            (__int128)(v[0] - v[4]) * (v[3] - v[5]) - (__int128)(v[1] - v[5]) * (v[2] - v[4]);
+        double want = (double)d, got = geom_area2_accurate(a, b, c);
+        ck_assert_msg(fabs(got - want) <= 0x1p-40 * fabs(want), "area2 %a vs exact %a", got, want);
+        n_checked++;
+    }
+    double X = 7.7777777777777777e48, p[2] = {1, 0}, q[2] = {X, 1}, r[2] = {X / 2, 0.5};
+    ck_assert(geom_area2_accurate(p, q, r) == 0.5 && geom_area2_accurate(p, r, q) == -0.5);
+    report("area2_accurate");
+}
+END_TEST
+
 START_TEST(test_init_idempotent) {
     geom_init();
     geom_init();
@@ -859,6 +886,7 @@ static Suite *geom_suite(void) {
         {"circumcenter", test_circumcenter},
         {"angles", test_angles},
         {"midpoint_area_dist", test_midpoint_area_dist},
+        {"area2_accurate", test_area2_accurate},
         {"init", test_init_idempotent},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {

@@ -313,6 +313,25 @@ double geom_orient2d(const double a[2], const double b[2], const double c[2]) {
     return orient2d_adapt(a, b, c, detsum);
 }
 
+/* Twice the signed area of abc with a relative error of at most about 2^-40: the plain
+ * formula when its cancellation is mild, else the exact determinant (stage D of orient2d taken
+ * unconditionally) rounded once.  For sums of areas (the validator, the domain's area), where
+ * the plain formula loses every digit on a sliver far from the origin. */
+double geom_area2_accurate(const double a[2], const double b[2], const double c[2]) {
+    double acx = a[0] - c[0], bcx = b[0] - c[0];
+    double acy = a[1] - c[1], bcy = b[1] - c[1];
+    double detleft = acx * bcy, detright = acy * bcx;
+    double det = detleft - detright;
+    if (fabs(detleft) + fabs(detright) <= 0x1p8 * fabs(det)) return det;
+    double acxt = diff_tail(a[0], c[0], acx), bcxt = diff_tail(b[0], c[0], bcx);
+    double acyt = diff_tail(a[1], c[1], acy), bcyt = diff_tail(b[1], c[1], bcy);
+    double x[2] = {acxt, acx}, y[2] = {bcyt, bcy}, z[2] = {acyt, acy}, w[2] = {bcxt, bcx};
+    double p[8], q[8], h[16];
+    int pn = mul2x2(x, y, p), qn = mul2x2(z, w, q);
+    exp_negate(qn, q);
+    return exp_value(exp_sum(pn, p, qn, q, h), h);
+}
+
 /* ---- incircle ---------------------------------------------------------------------------- */
 
 /* Stage B term: lift * (x1 y2 - x2 y1) with lift = dx^2 + dy^2, all arguments doubles taken as

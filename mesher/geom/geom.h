@@ -63,6 +63,11 @@ void geom_midpoint(const double a[2], const double b[2], double out[2]);
 /* Signed area of abc (rounded; positive when counter-clockwise). */
 double geom_area(const double a[2], const double b[2], const double c[2]);
 
+/* Twice the signed area of abc, to a relative error of about 2^-40 even when the plain formula
+ * cancels (slivers far from the origin); costs an exact determinant only then.  For sums of
+ * areas, not for topology (geom_orient2d decides signs). */
+double geom_area2_accurate(const double a[2], const double b[2], const double c[2]);
+
 /* Smallest interior angle of triangle abc, in degrees (rounded). */
 double geom_min_angle_deg(const double a[2], const double b[2], const double c[2]);
 

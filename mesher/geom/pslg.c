@@ -1374,7 +1374,7 @@ static int faces_build(const pslg *g, faces *F) {
         do {
             cid[h] = nc;
             const double *a = g->xy + 2 * A->org[h], *b = g->xy + 2 * A->org[h ^ 1];
-            double t = (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+            double t = geom_area2_accurate(o, a, b);
             double s = sum + t;
             comp += fabs(sum) >= fabs(t) ? (sum - s) + t : (t - s) + sum;
             sum = s;

@@ -291,7 +291,7 @@ static int check_orientation(vctx *c) {
                     tri[3 * t + 2],
                     geom_orient2d(a, b, p) < 0 ? "clockwise" : "degenerate (zero area)");
         }
-        ksum_add(&area, 0.5 * ((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])));
+        ksum_add(&area, 0.5 * geom_area2_accurate(a, b, p));
     }
     r->mesh_area = ksum_get(&area);
     return 0;
