@@ -212,7 +212,8 @@ const cli_prog cli_pbw = {"pbw",
 
 static const char exit_text[] = "Exit status: 0 success; 1 bad input (an unreadable or invalid "
                                 "file), an output error, a failed mesh or a failed check; 2 "
-                                "usage error.";
+                                "usage error; 3 the Steiner limit (-S) stopped refinement: the "
+                                "mesh is written and conforming but does not meet -q/-a.";
 
 /* ---- table checks ------------------------------------------------------------------------ */
 

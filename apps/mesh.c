@@ -93,12 +93,16 @@ int main(int argc, char **argv) {
         rr = mesh_refine(&m);
     }
     double wall = now() - t0;
-    if (rr == MESH_REFINE_STEINER_LIMIT)
-        fprintf(stderr, "mesh: warning: Steiner point limit (%lld) reached; quality not met\n",
-                steiner);
-    /* never a silent success outside the bounds (issue 10): what is left is forced or an error */
+    /* never a silent success outside the bounds (issue 10): what is left is forced, an error,
+     * or the Steiner limit the user set (exit 3, the mesh written and checked without bounds) */
     int64_t forced = 0, unmet = cdt_only ? 0 : mesh_count_unmet(&m, &forced);
-    if (unmet > 0 && rr != MESH_REFINE_STEINER_LIMIT) {
+    int limited = rr == MESH_REFINE_STEINER_LIMIT && unmet > 0;
+    if (limited)
+        fprintf(stderr,
+                "mesh: %s: Steiner point limit (-S %lld) reached with %lld triangles outside the "
+                "bounds; the mesh is conforming but does not meet them (exit status 3)\n",
+                input, steiner, (long long)unmet);
+    if (unmet > 0 && !limited) {
         fprintf(stderr,
                 "mesh: %s: cannot meet the bounds: %lld triangles still violate them after %lld "
                 "refused splits (features below the precision of the coordinates, or -q %g "
@@ -129,7 +133,8 @@ int main(int argc, char **argv) {
         rc = 1;
     }
     if (check) {
-        validate_opts vo = {cdt_only ? 0 : qdeg, cdt_only ? 0 : area, 0, 0};
+        int nob = cdt_only || limited; /* the bounds were given up: check the rest */
+        validate_opts vo = {nob ? 0 : qdeg, nob ? 0 : area, 0, 0};
         validate_report vr;
         if (!mesh_validate(&g, &f, &vo, &vr)) rc = 1;
         validate_report_print(&vr, stdout);
@@ -166,5 +171,5 @@ int main(int argc, char **argv) {
     if (need_flat) mesh_flat_free(&f);
     mesh_free(&m);
     pslg_free(&g);
-    return rc;
+    return rc == 0 && limited ? 3 : rc;
 }

@@ -44,9 +44,14 @@ res=$("$M" --check -q 33 -a 0.001 data/lake.poly 2>&1) || fail "./mesh --check -
 # other outputs, and the Steiner point limit
 "$M" -q 30 -a 0.01 --vtk "$T/l.vtk" --svg "$T/l.svg" data/lake.poly || fail "--vtk/--svg"
 [ -s "$T/l.vtk" ] && [ -s "$T/l.svg" ] || fail "--vtk/--svg wrote nothing"
-res=$("$M" --stats -S 100 -a 0.0001 data/square.poly 2>&1)
+rc=0
+res=$("$M" --stats --check -S 100 -a 0.0001 -o "$T/s100" data/square.poly 2>&1) || rc=$?
+[ "$rc" = 3 ] || fail "-S 100: exit $rc, not 3 (mesh outside the bounds): $res"
 [ "$(sed -n 's/.* steiner=\([0-9]*\).*/\1/p' <<<"$res")" = 100 ] || fail "-S 100: $res"
-grep -q "Steiner point limit" <<<"$res" || fail "-S 100: no warning: $res"
+grep -q "Steiner point limit (-S 100) reached" <<<"$res" || fail "-S 100: no message: $res"
+grep -q "^meshcheck: OK" <<<"$res" || fail "-S 100: the mesh is not conforming: $res"
+[ -s "$T/s100.ele" ] || fail "-S 100: no mesh written"
+res=$("$M" -S 100000 -q 20 data/square.poly 2>&1) || fail "-S not reached must exit 0: $res"
 
 # a .node file (point set): the convex hull is the domain
 awk 'BEGIN { srand(7); print 200, 2, 0, 0; for (i = 1; i <= 200; i++) print i, rand(), rand() }' \
