@@ -533,23 +533,14 @@ int32_t mesh_find_edge(const mesh *m, int32_t u, int32_t v) {
 
 /* ---- subsegment side table ---------------------------------------------------------------- */
 
-static uint64_t mix64(uint64_t x) {
-    x ^= x >> 30;
-    x *= 0xbf58476d1ce4e5b9ull;
-    x ^= x >> 27;
-    x *= 0x94d049bb133111ebull;
-    x ^= x >> 31;
-    return x;
-}
-
 static uint64_t hash_pair(int32_t u, int32_t v) {
     uint32_t a = (uint32_t)(u < v ? u : v), b = (uint32_t)(u < v ? v : u);
-    return mix64(((uint64_t)a << 32) | b);
+    return mesh_hash64(((uint64_t)a << 32) | b);
 }
 
 static uint64_t hash_name(int32_t seg, int32_t level, int64_t k) {
-    return mix64((uint64_t)k * 0x9e3779b97f4a7c15ull ^
-                 mix64(((uint64_t)(uint32_t)seg << 8) | (uint64_t)(uint8_t)level));
+    return mesh_hash64((uint64_t)k * 0x9e3779b97f4a7c15ull ^
+                       mesh_hash64(((uint64_t)(uint32_t)seg << 8) | (uint64_t)(uint8_t)level));
 }
 
 static uint64_t rec_hash(const mesh *m, int which, int32_t r) {
