@@ -146,14 +146,18 @@ int main(int argc, char **argv) {
     int limit_any = 0;
     MESH_MPI(MPI_Allreduce(&part.limit_hit, &limit_any, 1, MPI_INT, MPI_MAX, comm));
     /* never a silent success outside the bounds (as ./mesh): what is left must be forced by an
-     * input corner (corners of the decomposition get no exemption) */
-    long long unmet = limit_any ? 0 : (long long)mesh_count_unmet(&part.m, NULL), unmet_all = 0;
+     * input corner (corners of the decomposition get no exemption), or the Steiner limit the
+     * user set stopped refinement (exit 3: the mesh written, checked without the bounds) */
+    long long unmet = (long long)mesh_count_unmet(&part.m, NULL), unmet_all = 0;
     MESH_MPI(MPI_Allreduce(&unmet, &unmet_all, 1, MPI_LONG_LONG, MPI_SUM, comm));
     pcdm_part_free(&part);
-    if (limit_any && rank == 0)
-        fprintf(stderr, "pcdm: warning: Steiner point limit (%lld) reached; quality not met\n",
-                (long long)o.max_steiner);
-    if (unmet_all > 0) {
+    int limited = limit_any && unmet_all > 0;
+    if (limited && rank == 0)
+        fprintf(stderr,
+                "pcdm: %s: Steiner point limit (-S %lld) reached with %lld triangles outside the "
+                "bounds; the mesh is conforming but does not meet them (exit status 3)\n",
+                o.input, (long long)o.max_steiner, unmet_all);
+    if (unmet_all > 0 && !limited) {
         if (rank == 0)
             fprintf(stderr,
                     "pcdm: %s: cannot meet the bounds: %lld triangles still violate them "
@@ -168,7 +172,9 @@ int main(int argc, char **argv) {
         return 1;
     }
     par_summary sum;
-    int status = par_output(&o, &in, &local, artificial, &sum);
+    par_opts oc = o; /* what --check holds the mesh to */
+    if (limited) oc.min_angle = oc.max_area = 0;
+    int status = par_output(&oc, &in, &local, artificial, &sum);
     free(artificial);
     mesh_flat_free(&local);
     /* statistics: reductions of per-rank figures; memory taken now, after the output */
@@ -211,5 +217,5 @@ int main(int argc, char **argv) {
     pcdm_decomp_free(&d);
     pslg_free(&in);
     rt_finalize();
-    return status;
+    return status == 0 && limited ? 3 : status;
 }

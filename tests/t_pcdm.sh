@@ -176,5 +176,20 @@ expect_error "no input" 2 2 -q 20
 expect_error "bad -q" 2 2 -q abc data/square.poly
 expect_error "bad cuts file" 1 2 --cuts data/no-such-cuts.txt data/square.poly
 
+# the Steiner limit: exit 3 on every rank, a conforming mesh written (checked without bounds)
+rc=0
+timeout 120 $MPIRUN -np 3 "$BIN/pcdm" -S 100 -a 0.0001 --check -o "$tmp/s100" data/square.poly \
+    >"$tmp/out.txt" 2>&1 || rc=$?
+if [ "$rc" = 3 ] && grep -q "Steiner point limit (-S 100) reached" "$tmp/out.txt" &&
+    grep -q "^meshcheck: OK" "$tmp/out.txt" && [ -s "$tmp/s100.ele" ]; then
+    ok "-S 100: exit 3, conforming mesh written"
+else
+    bad "-S 100: exit $rc: $(head -c 400 "$tmp/out.txt")"
+fi
+rc=0
+timeout 120 $MPIRUN -np 3 "$BIN/pcdm" -S 100000 -a 0.01 --check data/square.poly \
+    >"$tmp/out.txt" 2>&1 || rc=$?
+[ "$rc" = 0 ] && ok "-S not reached: exit 0" || bad "-S not reached: exit $rc"
+
 echo "t_pcdm: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
