@@ -507,7 +507,9 @@ static const double rad_to_deg = 57.29577951308232087679815481410517033240547246
 double geom_angle_deg(const double a[2], const double b[2], const double c[2]) {
     double ux = a[0] - b[0], uy = a[1] - b[1];
     double vx = c[0] - b[0], vy = c[1] - b[1];
-    double cross = ux * vy - uy * vx;
+    /* the cross product from orient2d: its sign is exact and a nearly straight or nearly
+     * closed angle keeps its digits (the plain formula can cancel to 0 or the wrong sign) */
+    double cross = geom_orient2d(a, c, b);
     double dot = ux * vx + uy * vy;
     return atan2(fabs(cross), dot) * rad_to_deg;
 }

@@ -1234,9 +1234,12 @@ double pslg_input_angles(const pslg *g, double bound_deg,
         for (int32_t i = 0; i < d; i++) {
             int32_t h1 = o[i], h2 = o[(i + 1) % d];
             const double *p = g->xy + 2 * A.org[h1 ^ 1], *q = g->xy + 2 * A.org[h2 ^ 1];
-            double t1 = atan2(p[1] - c[1], p[0] - c[0]), t2 = atan2(q[1] - c[1], q[0] - c[0]);
-            double deg = (t2 - t1) * (180 / 3.14159265358979323846);
-            if (deg <= 0) deg += 360;
+            /* the counter-clockwise angle from p to q around c, in (0, 360]: the difference of
+             * two atan2 values loses a sliver's angle entirely, so the size comes from
+             * geom_angle_deg (exact cross product) and the side from orient2d */
+            double deg = geom_angle_deg(p, c, q), side = geom_orient2d(c, p, q);
+            if (side < 0) deg = 360 - deg;
+            if (deg <= 0) deg += 360; /* coincident directions (overlapping segments) */
             if (deg < best) best = deg;
             if (deg < bound_deg && fn) fn(ctx, v, h1 >> 1, h2 >> 1, deg);
         }
