@@ -8,8 +8,9 @@
  * subdomain on each side of every piece, and the owners.
  *
  * Algorithm: one pass over the triangles finds the interface edges (each counted from its
- * lower-numbered triangle) and marks their endpoints as kept vertices; then each input segment's
- * subsegments are sorted along it (lexicographic order of their first vertex: exact for
+ * lower-numbered triangle) and marks their endpoints as kept vertices (with keep_all, every
+ * vertex of the triangulation is kept: the exact preview of decomp_auto.c); then each input
+ * segment's subsegments are sorted along it (lexicographic order of their first vertex: exact for
  * collinear points) and cut into pieces at kept vertices and input vertices.  The two sides of
  * a piece are the labels of the triangles on the left and right of its first subsegment (the
  * directed edge's triangle is on its left; no float decides a side).  Owners: METIS on the
@@ -46,6 +47,7 @@ void pcdm_decomp_opts_default(pcdm_decomp_opts *o) {
     o->nranks = 1;
     o->min_angle = 30;
     o->imbalance = 1;
+    o->max_steiner = -1;
 }
 
 void pcdm_decomp_free(pcdm_decomp *d) {
@@ -234,7 +236,7 @@ static void build_pieces(const pslg *in, const mesh *m, const uint8_t *mseg_cut,
 
 int decomp_build(const pslg *in, const mesh *m, const uint8_t *mseg_cut, const int32_t *mseg_parent,
                  const int32_t *mseg_marker, const int32_t *part, const double *tw, int32_t K,
-                 pcdm_decomp *d, char *err, size_t errlen) {
+                 int keep_all, pcdm_decomp *d, char *err, size_t errlen) {
     memset(d, 0, sizeof *d);
     d->nsub = K;
     d->ninput_verts = in->nverts;
@@ -285,8 +287,8 @@ int decomp_build(const pslg *in, const mesh *m, const uint8_t *mseg_cut, const i
         }
     }
     mesh_xfree(best);
-    for (int32_t v = 0; v < m->ninput; v++) /* input (and cuts-file) vertices all stay */
-        keep[v] = 1;
+    for (int32_t v = 0; v < (keep_all ? m->nv : m->ninput); v++) /* input (cuts-file) vertices */
+        keep[v] = keep_all ? m->vtri[v] >= 0 || v < m->ninput : 1;
     build_vertices(in, m, mseg_marker, keep, gid, d);
     gbuild b = {d, 0};
     build_pieces(in, m, mseg_cut, mseg_parent, mseg_marker, part, keep, gid, &b);

@@ -8,7 +8,11 @@
  * every coarse triangle by the work it will become, partitions the coarse mesh's dual graph
  * into K parts with METIS and takes the part boundaries (chains of coarse edges) as the
  * interface segments; every angle an interface makes with another segment holds a corner of a
- * coarse quality triangle.  pcdm_decomp_read_cuts() takes straight cuts from a file instead.
+ * coarse quality triangle.  When the final mesh is small (at most exact_per_sub triangles per
+ * subdomain, found by refining at the real bounds under a Steiner limit) the coarse mesh IS the
+ * final mesh (the "exact preview"): METIS balances the actual triangles, every preview vertex
+ * goes into the augmented PSLG, and the interfaces are final mesh edges that need no splitting,
+ * so the count matches ./mesh.  pcdm_decomp_read_cuts() takes straight cuts from a file instead.
  * Both fill the same plain, pointer-free description (a pcdm_decomp) from a labelled
  * triangulation (decomp_impl.h); every rank that calls either function with the same input
  * computes bit-identical output (deterministic mesher, METIS with a fixed seed), so the
@@ -16,7 +20,8 @@
  *
  * Work (weight) of a coarse triangle: with an area bound a, max(1, area / a) (the triangles it
  * will become, at least one where the local feature size already makes it small); with no area
- * bound, 1 (the coarse mesh is then graded by the local feature size like the final one).
+ * bound, 1 (the coarse mesh is then graded by the local feature size like the final one); on
+ * the exact preview, 1.
  *
  * Cuts file format (pcdm_decomp_read_cuts, and what pcdm_decomp_write_cuts writes):
  *     # comment (from '#' to the end of the line; blank lines are ignored)
@@ -40,13 +45,17 @@
 #include <stdint.h>
 
 typedef struct pcdm_decomp_opts {
-    int32_t nsub;     /* K, number of subdomains; 0 = nranks (auto) / whatever the cuts make */
-    int32_t nranks;   /* P >= 1 */
-    double min_angle; /* quality bound in degrees of the final mesh (the coarse mesh's bound is
-                       * at least 30 and a little above this one) */
-    double max_area;  /* area bound, 0 = none */
-    double imbalance; /* R > 0: rank 0 gets R times the weight of each other rank (1 = even) */
-    int32_t per_sub;  /* auto: coarse triangles per subdomain (0 = default 200) */
+    int32_t nsub;          /* K, number of subdomains; 0 = nranks (auto) / whatever the cuts make */
+    int32_t nranks;        /* P >= 1 */
+    double min_angle;      /* quality bound in degrees of the final mesh (the coarse mesh's bound is
+                            * at least 30 and a little above this one) */
+    double max_area;       /* area bound, 0 = none */
+    double imbalance;      /* R > 0: rank 0 gets R times the weight of each other rank (1 = even) */
+    int32_t per_sub;       /* auto: coarse triangles per subdomain (0 = default 200) */
+    int32_t exact_per_sub; /* auto: exact preview when the final mesh has at most this many
+                            * triangles per subdomain (0 = default 1000; < 0 = never) */
+    int64_t max_steiner;   /* the final mesh's Steiner budget (< 0: none); with a budget the
+                            * exact preview is not used (it would spend the budget) */
 } pcdm_decomp_opts;
 
 typedef struct pcdm_decomp {
@@ -79,11 +88,13 @@ typedef struct pcdm_decomp {
     int32_t *sub_owner; /* K: owning rank; every rank owns at least one subdomain */
     double total_weight;
     int32_t ncoarse; /* triangles of the coarse mesh the decomposition was drawn on */
+    int exact;       /* 1: drawn on the exact preview (the coarse mesh is the final mesh at the
+                      * real bounds, and every one of its vertices is a vertex of g) */
     double build_s;  /* wall seconds this rank spent building it (par_load measures) */
 } pcdm_decomp;
 
 /* Fills o with defaults: nsub 0, nranks 1, min_angle 30, max_area 0, imbalance 1,
- * per_sub 0 (200). */
+ * per_sub 0 (200), exact_per_sub 0 (1000), max_steiner -1. */
 void pcdm_decomp_opts_default(pcdm_decomp_opts *o);
 
 /* Decomposes the domain of in (read and pslg_check()ed; not modified) into K = o->nsub

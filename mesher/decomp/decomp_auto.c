@@ -5,22 +5,39 @@
  * the sequential mesher accepts (holes, separate faces, internal and dangling segments, point
  * sets, far-from-origin coordinates), because it only ever asks that mesher for a mesh.
  *
- * Algorithm: (1) the CDT of the input is refined with the angle bound alone (at least 30
- * degrees, a little above the final bound), which grades it by the local feature size like the
- * final mesh; then, with an area bound, with an area bound that gives about per_sub triangles
- * per subdomain (never below 4 times the final bound, so the interfaces stay coarser than the
- * final mesh); without one, only when that leaves fewer than 8 triangles per subdomain (the
- * final mesh is then about as coarse as this one, and every interface vertex stays in it).  (2)
- * Each coarse triangle's work is max(1, area / max_area) with an area bound, else 1.  (3)
- * METIS_PartGraphKway splits the dual graph (vertex weights: work; edge weights: shared edge
- * length; target fractions from the imbalance; contiguous parts when the graph is connected; fixed
- * seed) into K parts. (4) Triangles around an input corner sharper than 60 degrees join one part,
- * so no interface ends in a corner whose coarse triangles are exempt from the angle bound.  (5)
+ * Algorithm: (0) the exact preview: when the final mesh is small -- at most exact_per_sub
+ * triangles per subdomain, which the area bound rules out at once or a refinement of the input's
+ * CDT at the real bounds under a Steiner limit finds out -- that refinement IS the coarse mesh
+ * (refined further with an area bound only if it has fewer than 12 triangles per rank or 2 per
+ * subdomain).
+ * Its triangles are the final ones, so METIS balances the actual triangles and every interface
+ * is a final mesh edge; edges a neighbouring apex encroaches (diametral circle) cost METIS 64
+ * times their length, since PCDM would have to split them.  Otherwise (1) the CDT of the input
+ * is refined with the angle bound alone (at least 30 degrees, a little above the final bound),
+ * which grades it by the local feature size like the final mesh; then, with an area bound, with
+ * an area bound that gives about per_sub triangles per subdomain (never below 4 times the final
+ * bound, so the interfaces stay coarser than the final mesh); without one, only when that leaves
+ * fewer than 8 triangles per subdomain.  (2) Each coarse triangle's work is max(1, area /
+ * max_area) with an area bound, else 1.  (3) METIS_PartGraphKway splits the dual graph (vertex
+ * weights: work; edge weights: shared edge length; target fractions from the imbalance;
+ * contiguous parts when the graph is connected; fixed seed) into K parts.  (4) Triangles around
+ * an input corner sharper than 60 degrees join one part, so no interface ends in a corner whose
+ * coarse triangles are exempt from the angle bound.  (5) Wide sectors (coarse route): around
+ * every vertex, a sector of triangles of one part narrower than 60 degrees that an interface
+ * bounds joins the lighter part across that interface (repeated until nothing changes, at most
+ * 32 passes).  On the exact preview, instead, a triangle whose apex encroaches an interface edge
+ * joins the part across it (or the triangle across joins its part), so PCDM splits no interface
+ * and no cascade can start.  Two interfaces (or an interface and the boundary) meeting at less than
+ * 45 degrees split each other's dyadic pieces forever when their lengths fall in a bad ratio (each
+ * new midpoint lies in the other piece's diametral circle), which refinement reaches at many
+ * subdomains; at 60 degrees or more no midpoint can encroach the neighbouring piece.  (6)
  * decomp_build turns the labels into interface segments.  Every angle an interface makes with
  * another segment then contains a corner of a coarse triangle, hence is at least the coarse bound.
  *
- * Invariants: topology comes from the mesher's exact predicates; METIS and the mesher are
- * deterministic, so every rank computes the same decomposition without communication.
+ * Invariants: topology comes from the mesher's exact predicates (encroachment by
+ * geom_encroaches); sector angles are a float quality figure that only moves interfaces; METIS
+ * and the mesher are deterministic, so every rank computes the same decomposition without
+ * communication.
  */
 #include "decomp/decomp_impl.h"
 
@@ -32,7 +49,13 @@
 #include <string.h>
 
 #define PER_SUB_DEFAULT 200
-#define MIN_PER_SUB 8 /* with no area bound: coarse triangles per subdomain at least */
+#define MIN_PER_SUB 8              /* with no area bound: coarse triangles per subdomain at least */
+#define EXACT_PER_SUB_DEFAULT 1000 /* exact preview up to this many final triangles per part */
+#define EXACT_MIN_PER_RANK 12      /* exact preview: triangles per rank at least */
+#define ENC_PENALTY 64.0           /* METIS edge weight factor of an encroached edge (exact) */
+#define WIDE_DEG 60.0              /* sectors an interface bounds are at least this wide */
+#define WIDEN_PASSES 32
+#define DEG_PER_RAD 57.295779513082320876798
 
 /* Rank 0 gets k0 ~ K R / (R + P - 1) subdomains (at least one, leaving one per other rank);
  * the others share the rest; a rank's work share is split evenly over its subdomains. */
@@ -67,7 +90,9 @@ static double live_area(const mesh *m) {
     return a;
 }
 
-static void refine(mesh *m, double angle, double area, int64_t limit) {
+/* Refines m (off-centers and diametral circles, as ./mesh and ./pcdm); a Steiner limit (or an
+ * unresolved triangle) only leaves a coarser mesh, still a partition. */
+static mesh_refine_result refine(mesh *m, double angle, double area, int64_t limit) {
     mesh_quality q;
     memset(&q, 0, sizeof q);
     q.min_angle = angle;
@@ -75,12 +100,21 @@ static void refine(mesh *m, double angle, double area, int64_t limit) {
     q.max_steiner = limit;
     q.offcenter = 1;
     mesh_set_quality(m, &q);
-    (void)mesh_refine(m); /* a Steiner limit only leaves a coarser mesh: still a partition */
+    return mesh_refine(m);
+}
+
+/* Is edge e (a live triangle's) encroached by the apex on either side (diametral circle)? */
+static int edge_encroached(const mesh *m, int32_t e) {
+    const double *a = mesh_vertex_xy(m, mesh_org(m, e)), *b = mesh_vertex_xy(m, mesh_dest(m, e));
+    if (geom_encroaches(a, b, mesh_vertex_xy(m, mesh_apex(m, e)))) return 1;
+    int32_t f = m->tn[e];
+    return f >= 0 && geom_encroaches(a, b, mesh_vertex_xy(m, mesh_apex(m, f)));
 }
 
 /* METIS on the dual graph of m's live triangles (id[t]: compact index, -1 for dead slots). */
 static int partition(const mesh *m, const int32_t *id, int32_t n, const double *tw,
-                     const double *target, int32_t K, int32_t *part, char *err, size_t errlen) {
+                     const double *target, int32_t K, int penalize, int32_t *part, char *err,
+                     size_t errlen) {
     idx_t *xadj = mesh_xmalloc((size_t)n + 1, sizeof(idx_t));
     idx_t *adj = mesh_xmalloc(3 * (size_t)n + 1, sizeof(idx_t));
     double *len = mesh_xmalloc(3 * (size_t)n + 1, sizeof(double)),
@@ -94,8 +128,10 @@ static int partition(const mesh *m, const int32_t *id, int32_t n, const double *
             int32_t e = 3 * t + j, nb = m->tn[e];
             if (nb < 0) continue;
             adj[ne] = id[nb / 3];
-            len[ne++] = sqrt(
+            len[ne] = sqrt(
                 geom_dist2(mesh_vertex_xy(m, mesh_org(m, e)), mesh_vertex_xy(m, mesh_dest(m, e))));
+            if (penalize && edge_encroached(m, e)) len[ne] *= ENC_PENALTY;
+            ne++;
         }
     }
     xadj[n] = ne;
@@ -172,6 +208,252 @@ static void merge_corners(const mesh *m, int32_t *part) {
     mesh_xfree(cp);
 }
 
+/* ---- wide sectors (step 5) ------------------------------------------------------------ */
+
+typedef struct corner_rec {
+    int32_t t;  /* triangle */
+    int j;      /* position of the vertex in t */
+    double deg; /* t's angle there */
+} corner_rec;
+
+typedef struct smooth {
+    const mesh *m;
+    int32_t *part;
+    double *pw;   /* K: work per part */
+    int32_t *cnt; /* K: triangles per part */
+    const double *tw;
+    corner_rec *c;
+    int32_t ncap;
+} smooth;
+
+static int touches_corner(const mesh *m, int32_t t) {
+    if (!m->has_corners || !m->corner) return 0;
+    for (int j = 0; j < 3; j++) {
+        int32_t v = m->tv[3 * t + j];
+        if (v < m->ninput && m->corner[v]) return 1;
+    }
+    return 0;
+}
+
+static double corner_deg(const mesh *m, int32_t t, int j) {
+    const double *p = mesh_vertex_xy(m, m->tv[3 * t + j]),
+                 *a = mesh_vertex_xy(m, m->tv[3 * t + (j + 1) % 3]),
+                 *b = mesh_vertex_xy(m, m->tv[3 * t + (j + 2) % 3]);
+    double ux = a[0] - p[0], uy = a[1] - p[1], vx = b[0] - p[0], vy = b[1] - p[1];
+    return atan2(fabs(ux * vy - uy * vx), ux * vx + uy * vy) * DEG_PER_RAD;
+}
+
+/* Edge e separates two sectors: a constraint, the domain boundary, or two parts. */
+static int edge_cut(const mesh *m, const int32_t *part, int32_t e) {
+    int32_t n = m->tn[e];
+    return n < 0 || mesh_edge_constrained(m, e) || part[n / 3] != part[e / 3];
+}
+
+/* An interface edge: unconstrained, between two parts. */
+static int edge_iface(const mesh *m, const int32_t *part, int32_t e) {
+    int32_t n = m->tn[e];
+    return n >= 0 && !mesh_edge_constrained(m, e) && part[n / 3] != part[e / 3];
+}
+
+/* Moves triangles ts[0..n) (all of part p) to part q unless that empties p or moves a triangle
+ * at a sharp input corner.  Returns 1 if moved. */
+static int move_tris(smooth *S, const int32_t *ts, int32_t n, int32_t p, int32_t q) {
+    if (S->cnt[p] <= n) return 0;
+    for (int32_t i = 0; i < n; i++)
+        if (touches_corner(S->m, ts[i])) return 0;
+    for (int32_t i = 0; i < n; i++) {
+        S->part[ts[i]] = q;
+        S->pw[p] -= S->tw[ts[i]];
+        S->pw[q] += S->tw[ts[i]];
+    }
+    S->cnt[p] -= n;
+    S->cnt[q] += n;
+    return 1;
+}
+
+/* Would triangle t, moved to part q, leave no encroached interface edge among its own?  (So
+ * every move of the exact preview's pass removes one and adds none: no oscillation.) */
+static int clean_move(const smooth *S, int32_t t, int32_t q) {
+    const mesh *m = S->m;
+    for (int j = 0; j < 3; j++) {
+        int32_t e = 3 * t + j, n = m->tn[e];
+        if (n < 0 || mesh_edge_constrained(m, e) || S->part[n / 3] == q) continue;
+        if (edge_encroached(m, e)) return 0;
+    }
+    return 1;
+}
+
+/* The corners around v in counter-clockwise order, starting just after a cut edge (*closed = 1
+ * and no cut: none).  Returns the number of corners, 0 if v has no sector to consider. */
+static int32_t star(smooth *S, int32_t v) {
+    const mesh *m = S->m;
+    int32_t t0 = m->vtri[v];
+    if (t0 < 0 || !mesh_tri_alive(m, t0)) return 0;
+    int j0 = 0;
+    while (j0 < 3 && m->tv[3 * t0 + j0] != v)
+        j0++;
+    if (j0 == 3) return 0;
+    /* clockwise (across the outgoing edge) until that edge is a cut */
+    int32_t t = t0;
+    int j = j0;
+    for (;;) {
+        int32_t e = 3 * t + j;
+        if (edge_cut(m, S->part, e)) break;
+        int32_t n = m->tn[e];
+        t = n / 3;
+        j = (n % 3 + 1) % 3;
+        if (t == t0) return 0; /* a full turn inside one part */
+    }
+    /* counter-clockwise (across the incoming edge) from there */
+    int32_t nc = 0, ts = t;
+    for (;;) {
+        if (nc >= S->ncap) {
+            S->ncap = S->ncap ? 2 * S->ncap : 64;
+            S->c = mesh_xrealloc(S->c, (size_t)S->ncap, sizeof *S->c);
+        }
+        S->c[nc++] = (corner_rec){t, j, corner_deg(m, t, j)};
+        int32_t n = m->tn[3 * t + (j + 2) % 3];
+        if (n < 0) break;
+        t = n / 3;
+        j = n % 3;
+        if (t == ts) break;
+        if (nc > m->nt) MESH_BUG("star of vertex %d does not close", v);
+    }
+    return nc;
+}
+
+/* One pass of step 5: over every vertex (the coarse mesh), or over every interface edge (the
+ * exact preview: its interfaces are never split unless encroached, so no split can start a
+ * cascade at a narrow sector, and moving whole sectors would cost balance); returns the number
+ * of moves. */
+static int32_t widen_pass(smooth *S, int exact) {
+    const mesh *m = S->m;
+    int32_t moves = 0, *ts = NULL, tcap = 0;
+    for (int32_t v = 0; v < m->nv && !exact; v++) {
+        int32_t nc = star(S, v);
+        for (int32_t a = 0; a < nc;) {
+            /* the sector starting at corner a: corners a..b-1 (same part, no cut inside) */
+            int32_t b = a;
+            double deg = 0;
+            do {
+                deg += S->c[b].deg;
+                b++;
+            } while (b < nc && !edge_cut(m, S->part, 3 * S->c[b - 1].t + (S->c[b - 1].j + 2) % 3));
+            int32_t left = 3 * S->c[a].t + S->c[a].j;                    /* outgoing edge */
+            int32_t right = 3 * S->c[b - 1].t + (S->c[b - 1].j + 2) % 3; /* incoming edge */
+            int li = edge_iface(m, S->part, left), ri = edge_iface(m, S->part, right);
+            if (deg < WIDE_DEG && (li || ri)) {
+                int32_t p = S->part[S->c[a].t];
+                int32_t ql = li ? S->part[m->tn[left] / 3] : -1,
+                        qr = ri ? S->part[m->tn[right] / 3] : -1;
+                int32_t q = ql < 0 ? qr : qr < 0 ? ql : S->pw[qr] < S->pw[ql] ? qr : ql;
+                if (b - a > tcap) {
+                    tcap = b - a;
+                    ts = mesh_xrealloc(ts, (size_t)tcap, sizeof *ts);
+                }
+                for (int32_t k = a; k < b; k++)
+                    ts[k - a] = S->c[k].t;
+                if (move_tris(S, ts, b - a, p, q)) {
+                    moves++;
+                    break; /* v's star changed: look again next pass */
+                }
+            }
+            a = b;
+        }
+    }
+    if (exact) /* a triangle whose apex encroaches an interface edge joins the other side */
+        for (int32_t t = 0; t < m->nt; t++) {
+            if (!mesh_tri_alive(m, t)) continue;
+            for (int j = 0; j < 3; j++) {
+                int32_t e = 3 * t + j;
+                if (!edge_iface(m, S->part, e)) continue;
+                const double *pa = mesh_vertex_xy(m, mesh_org(m, e)),
+                             *pb = mesh_vertex_xy(m, mesh_dest(m, e));
+                if (!geom_encroaches(pa, pb, mesh_vertex_xy(m, mesh_apex(m, e)))) continue;
+                int32_t nb = m->tn[e] / 3; /* or the triangle across joins t's part */
+                if ((clean_move(S, t, S->part[nb]) &&
+                     move_tris(S, &t, 1, S->part[t], S->part[nb])) ||
+                    (clean_move(S, nb, S->part[t]) &&
+                     move_tris(S, &nb, 1, S->part[nb], S->part[t]))) {
+                    moves++;
+                    break;
+                }
+            }
+        }
+    mesh_xfree(ts);
+    return moves;
+}
+
+static void widen(const mesh *m, int32_t *part, const double *tw, int32_t K, int exact) {
+    smooth S;
+    memset(&S, 0, sizeof S);
+    S.m = m;
+    S.part = part;
+    S.tw = tw;
+    S.pw = mesh_xcalloc((size_t)K, sizeof(double));
+    S.cnt = mesh_xcalloc((size_t)K, sizeof(int32_t));
+    for (int32_t t = 0; t < m->nt; t++)
+        if (mesh_tri_alive(m, t)) {
+            S.pw[part[t]] += tw[t];
+            S.cnt[part[t]]++;
+        }
+    for (int pass = 0; pass < WIDEN_PASSES && widen_pass(&S, exact) > 0; pass++)
+        ;
+    mesh_xfree(S.c);
+    mesh_xfree(S.pw);
+    mesh_xfree(S.cnt);
+}
+
+/* Every part left empty by METIS (it may, at a few triangles per part) or by merge_corners
+ * takes one triangle of the part with the most: preferably one whose edges no apex encroaches
+ * (on the exact preview they all become interfaces) and that touches no sharp input corner. */
+static void fill_empty(const mesh *m, int32_t *part, int32_t K) {
+    int32_t *cnt = mesh_xcalloc((size_t)K, sizeof(int32_t));
+    for (int32_t t = 0; t < m->nt; t++)
+        if (mesh_tri_alive(m, t)) cnt[part[t]]++;
+    for (int32_t q = 0; q < K; q++) {
+        if (cnt[q] > 0) continue;
+        int32_t p = 0, pick = -1;
+        for (int32_t k = 1; k < K; k++)
+            if (cnt[k] > cnt[p]) p = k;
+        if (cnt[p] < 2) break; /* fewer triangles than parts: decomp_build reports it */
+        for (int pass = 0; pass < 2 && pick < 0; pass++)
+            for (int32_t t = 0; t < m->nt && pick < 0; t++) {
+                if (!mesh_tri_alive(m, t) || part[t] != p || touches_corner(m, t)) continue;
+                int ok = 1;
+                for (int j = 0; j < 3 && ok && pass == 0; j++)
+                    ok = !edge_encroached(m, 3 * t + j);
+                if (ok) pick = t;
+            }
+        if (pick < 0) continue;
+        part[pick] = q;
+        cnt[p]--;
+        cnt[q]++;
+    }
+    mesh_xfree(cnt);
+}
+
+/* Step 0: refines m (the input's CDT, area A) at the real bounds under a Steiner limit.
+ * Returns 1 if m is now the exact preview, 0 if it was not tried (m untouched), -1 if it was
+ * tried and the final mesh is too large (m is spoilt: rebuild it). */
+static int exact_preview(mesh *m, const pcdm_decomp_opts *o, int32_t K, double A) {
+    int32_t eps = o->exact_per_sub == 0 ? EXACT_PER_SUB_DEFAULT : o->exact_per_sub;
+    if (K == 1 || eps < 0 || o->max_steiner >= 0) return 0;
+    int64_t tmax = (int64_t)K * eps;
+    if (o->max_area > 0 && A / o->max_area > (double)tmax) return 0;
+    /* the bound exactly as ./mesh and ./pcdm refine with */
+    double q = o->min_angle > 0 ? o->min_angle * (1 + 1e-9) + 1e-12 : 0;
+    int64_t limit = tmax / 2 + 1; /* Steiner vertices: about half the triangles */
+    if (refine(m, q, o->max_area, limit) != MESH_REFINE_DONE || m->nlive > tmax) return -1;
+    /* enough triangles to balance the ranks, and two per subdomain for METIS */
+    int64_t want = (int64_t)o->nranks * EXACT_MIN_PER_RANK;
+    if (want < 2 * (int64_t)K) want = 2 * (int64_t)K;
+    if (m->nlive < want) { /* the final mesh has too few triangles to share out */
+        if (refine(m, q, A / (double)want, limit) != MESH_REFINE_DONE) return -1;
+    }
+    return 1;
+}
+
 int pcdm_decomp_auto(const pslg *in, const pcdm_decomp_opts *o, pcdm_decomp *out, char *err,
                      size_t errlen) {
     memset(out, 0, sizeof *out);
@@ -187,9 +469,19 @@ int pcdm_decomp_auto(const pslg *in, const pcdm_decomp_opts *o, pcdm_decomp *out
         mesh_free(&m);
         return -1;
     }
+    int exact = exact_preview(&m, o, K, live_area(&m));
+    if (exact < 0) { /* the final mesh is larger: start again from the CDT */
+        mesh_free(&m);
+        mesh_init(&m);
+        if (mesh_build_cdt(&m, in, NULL, err, errlen) != 0) {
+            mesh_free(&m);
+            return -1;
+        }
+        exact = 0;
+    }
     double qc = o->min_angle + 2;
     qc = qc < 30 ? 30 : qc > 33 ? 33 : qc;
-    if (K > 1) {
+    if (K > 1 && !exact) {
         int64_t limit = 40 * (int64_t)K * per + 20 * (int64_t)m.nv + 1000;
         refine(&m, qc, 0, limit);
         double A = live_area(&m);
@@ -223,13 +515,16 @@ int pcdm_decomp_auto(const pslg *in, const pcdm_decomp_opts *o, pcdm_decomp *out
         rc = decomp_fail(err, errlen,
                          "%d subdomains: the domain's coarse mesh has only %d triangles", (int)K,
                          (int)n);
-    if (rc == 0 && K > 1) rc = partition(&m, id, n, tw, target, K, part, err, errlen);
+    if (rc == 0 && K > 1) rc = partition(&m, id, n, tw, target, K, exact, part, err, errlen);
     if (rc == 0) {
         merge_corners(&m, part);
-        rc = decomp_build(in, &m, NULL, NULL, NULL, part, tw, K, out, err, errlen);
+        if (K > 1) fill_empty(&m, part, K);
+        if (K > 1) widen(&m, part, tw, K, exact);
+        rc = decomp_build(in, &m, NULL, NULL, NULL, part, tw, K, exact, out, err, errlen);
     }
     if (rc == 0) {
         out->ncoarse = n;
+        out->exact = exact;
         memcpy(out->sub_target, target, (size_t)K * sizeof(double));
         rc = decomp_map_owners(out, P, R, R != 1 ? planned : NULL, err, errlen);
         if (rc != 0) pcdm_decomp_free(out);

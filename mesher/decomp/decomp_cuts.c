@@ -332,7 +332,7 @@ int pcdm_decomp_read_cuts(const char *path, const pslg *in, const pcdm_decomp_op
                               mesh_vertex_xy(&m, m.tv[3 * t + 2]));
                 tw[t] = o->max_area > 0 ? ar / o->max_area : ar;
             }
-        rc = decomp_build(in, &m, iscut, parent, marker, lab, tw, K, out, err, errlen);
+        rc = decomp_build(in, &m, iscut, parent, marker, lab, tw, K, 0, out, err, errlen);
     }
     if (rc == 0) {
         for (int32_t k = 0; k < K; k++)

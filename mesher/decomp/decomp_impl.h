@@ -18,11 +18,13 @@
  * NULL: identity for s < in->nsegs, else -1) names a non-cut segment's input segment and a
  * cut's id; mseg_marker (may be NULL: m->smarker) the markers of m's segments.  Interface
  * edges are the edges between triangles of different parts that are not pieces of input
- * segments.  Every part must hold a triangle.  Fills everything but sub_target and sub_owner.
+ * segments.  keep_all: every vertex of m in a triangle becomes a vertex of d->g (the CDT of
+ * d->g is then m itself up to cocircular ties); else only input vertices and interface
+ * endpoints.  Every part must hold a triangle.  Fills everything but sub_target and sub_owner.
  * Returns 0, or -1 with a message in err. */
 int decomp_build(const pslg *in, const mesh *m, const uint8_t *mseg_cut, const int32_t *mseg_parent,
                  const int32_t *mseg_marker, const int32_t *part, const double *tw, int32_t K,
-                 pcdm_decomp *d, char *err, size_t errlen);
+                 int keep_all, pcdm_decomp *d, char *err, size_t errlen);
 
 /* Assigns d->sub_owner for P = nranks ranks and imbalance R (rank 0 gets R/(R+P-1) of the
  * work).  planned (K entries, may be NULL) are owners decided before partitioning (then kept);
