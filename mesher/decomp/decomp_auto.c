@@ -27,7 +27,8 @@
  * bounds joins the lighter part across that interface (repeated until nothing changes, at most
  * 32 passes).  On the exact preview, instead, a triangle whose apex encroaches an interface edge
  * joins the part across it (or the triangle across joins its part), so PCDM splits no interface
- * and no cascade can start.  Two interfaces (or an interface and the boundary) meeting at less than
+ * and no cascade can start; if some interface stays encroached (parts of one or two triangles),
+ * the sectors are widened as well.  Two interfaces (or an interface and the boundary) meeting at less than
  * 45 degrees split each other's dyadic pieces forever when their lengths fall in a bad ratio (each
  * new midpoint lies in the other piece's diametral circle), which refinement reaches at many
  * subdomains; at 60 degrees or more no midpoint can encroach the neighbouring piece.  (6)
@@ -46,12 +47,14 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #define PER_SUB_DEFAULT 200
 #define MIN_PER_SUB 8              /* with no area bound: coarse triangles per subdomain at least */
 #define EXACT_PER_SUB_DEFAULT 1000 /* exact preview up to this many final triangles per part */
 #define EXACT_MIN_PER_RANK 12      /* exact preview: triangles per rank at least */
+#define EXACT_SAFE_PER_SUB 12      /* ... per subdomain, when 2 per subdomain fails the trial */
 #define ENC_PENALTY 64.0           /* METIS edge weight factor of an encroached edge (exact) */
 #define WIDE_DEG 60.0              /* sectors an interface bounds are at least this wide */
 #define WIDEN_PASSES 32
@@ -111,33 +114,94 @@ static int edge_encroached(const mesh *m, int32_t e) {
     return f >= 0 && geom_encroaches(a, b, mesh_vertex_xy(m, mesh_apex(m, f)));
 }
 
-/* METIS on the dual graph of m's live triangles (id[t]: compact index, -1 for dead slots). */
+typedef struct gedge {
+    int32_t a, b;
+    double len;
+} gedge;
+
+static int cmp_gedge(const void *x, const void *y) {
+    const gedge *p = x, *q = y;
+    if (p->a != q->a) return p->a < q->a ? -1 : 1;
+    if (p->b != q->b) return p->b < q->b ? -1 : 1;
+    return 0;
+}
+
+static int32_t uf_find(int32_t *up, int32_t x) {
+    while (up[x] != x)
+        x = up[x] = up[up[x]];
+    return x;
+}
+
+/* METIS on the dual graph of m's live triangles (id[t]: compact index, -1 for dead slots).  The
+ * triangles around each input corner sharper than 60 degrees are one graph vertex (they must
+ * share a part, merge_corners), so METIS sees their weight together and balances around it. */
 static int partition(const mesh *m, const int32_t *id, int32_t n, const double *tw,
                      const double *target, int32_t K, int penalize, int32_t *part, char *err,
                      size_t errlen) {
-    idx_t *xadj = mesh_xmalloc((size_t)n + 1, sizeof(idx_t));
-    idx_t *adj = mesh_xmalloc(3 * (size_t)n + 1, sizeof(idx_t));
-    double *len = mesh_xmalloc(3 * (size_t)n + 1, sizeof(double)),
-           *w = mesh_xmalloc((size_t)n + 1, sizeof(double));
-    int32_t ne = 0;
+    /* graph vertices: triangles, those around a sharp corner united */
+    int32_t *up = mesh_xmalloc((size_t)n + 1, sizeof(int32_t));
+    for (int32_t i = 0; i < n; i++)
+        up[i] = i;
+    if (m->has_corners && m->corner) {
+        int32_t *first = mesh_xmalloc((size_t)m->ninput + 1, sizeof(int32_t));
+        for (int32_t v = 0; v < m->ninput; v++)
+            first[v] = -1;
+        for (int32_t t = 0; t < m->nt; t++)
+            for (int j = 0; id[t] >= 0 && j < 3; j++) {
+                int32_t v = m->tv[3 * t + j];
+                if (v >= m->ninput || !m->corner[v]) continue;
+                if (first[v] < 0)
+                    first[v] = id[t];
+                else
+                    up[uf_find(up, id[t])] = uf_find(up, first[v]);
+            }
+        mesh_xfree(first);
+    }
+    int32_t *node = mesh_xmalloc((size_t)n + 1, sizeof(int32_t)), nn = 0;
+    for (int32_t i = 0; i < n; i++)
+        node[i] = -1;
+    for (int32_t i = 0; i < n; i++) { /* numbered in order of first appearance */
+        int32_t r = uf_find(up, i);
+        if (node[r] < 0) node[r] = nn++;
+        node[i] = node[r];
+    }
+    mesh_xfree(up);
+    double *w = mesh_xcalloc((size_t)nn + 1, sizeof(double));
+    gedge *ge = mesh_xmalloc(3 * (size_t)n + 1, sizeof(gedge));
+    int32_t ng = 0;
     for (int32_t t = 0; t < m->nt; t++) {
         if (id[t] < 0) continue;
-        xadj[id[t]] = ne;
-        w[id[t]] = tw[t];
+        int32_t a = node[id[t]];
+        w[a] += tw[t];
         for (int j = 0; j < 3; j++) {
             int32_t e = 3 * t + j, nb = m->tn[e];
-            if (nb < 0) continue;
-            adj[ne] = id[nb / 3];
-            len[ne] = sqrt(
+            if (nb < 0 || node[id[nb / 3]] == a) continue;
+            double l = sqrt(
                 geom_dist2(mesh_vertex_xy(m, mesh_org(m, e)), mesh_vertex_xy(m, mesh_dest(m, e))));
-            if (penalize && edge_encroached(m, e)) len[ne] *= ENC_PENALTY;
-            ne++;
+            if (penalize && edge_encroached(m, e)) l *= ENC_PENALTY;
+            ge[ng++] = (gedge){a, node[id[nb / 3]], l};
         }
     }
-    xadj[n] = ne;
+    qsort(ge, (size_t)ng, sizeof *ge, cmp_gedge);
+    idx_t *xadj = mesh_xcalloc((size_t)nn + 1, sizeof(idx_t));
+    idx_t *adj = mesh_xmalloc((size_t)ng + 1, sizeof(idx_t));
+    double *len = mesh_xmalloc((size_t)ng + 1, sizeof(double));
+    int32_t ne = 0;
+    for (int32_t i = 0; i < ng; i++) { /* duplicates (united vertices) merged */
+        if (ne > 0 && i > 0 && ge[i].a == ge[i - 1].a && ge[i].b == ge[i - 1].b) {
+            len[ne - 1] += ge[i].len;
+            continue;
+        }
+        adj[ne] = ge[i].b;
+        len[ne++] = ge[i].len;
+        xadj[ge[i].a + 1] = ne;
+    }
+    for (int32_t x = 0; x < nn; x++) /* vertices with no edge of their own */
+        if (xadj[x + 1] < xadj[x]) xadj[x + 1] = xadj[x];
+    mesh_xfree(ge);
     /* connected? (contiguous parts are asked for only then) */
-    int32_t *stk = mesh_xmalloc((size_t)n + 1, sizeof(int32_t));
-    uint8_t *seen = mesh_xcalloc((size_t)n + 1, 1);
+    int32_t *stk = mesh_xmalloc((size_t)nn + 1, sizeof(int32_t));
+    uint8_t *seen = mesh_xcalloc((size_t)nn + 1, 1);
     int32_t ns = 0, reached = 1;
     stk[ns++] = 0;
     seen[0] = 1;
@@ -152,26 +216,29 @@ static int partition(const mesh *m, const int32_t *id, int32_t n, const double *
     }
     mesh_xfree(stk);
     mesh_xfree(seen);
-    idx_t *vw = mesh_xmalloc((size_t)n + 1, sizeof(idx_t)),
+    idx_t *vw = mesh_xmalloc((size_t)nn + 1, sizeof(idx_t)),
           *ew = mesh_xmalloc((size_t)ne + 1, sizeof(idx_t)),
-          *pp = mesh_xmalloc((size_t)n + 1, sizeof(idx_t));
-    decomp_int_weights(w, n, vw);
+          *pp = mesh_xmalloc((size_t)nn + 1, sizeof(idx_t));
+    decomp_int_weights(w, nn, vw);
     decomp_int_weights(len, ne, ew);
     real_t *tp = mesh_xmalloc((size_t)K, sizeof(real_t));
     for (int32_t k = 0; k < K; k++)
         tp[k] = (real_t)target[k];
-    idx_t opt[METIS_NOPTIONS], nn = n, ncon = 1, np = K, cut = 0;
+    idx_t opt[METIS_NOPTIONS], nv = nn, ncon = 1, np = K, cut = 0;
     METIS_SetDefaultOptions(opt);
     opt[METIS_OPTION_SEED] = 1;
     opt[METIS_OPTION_NUMBERING] = 0;
-    opt[METIS_OPTION_CONTIG] = reached == n;
-    int rc = METIS_PartGraphKway(&nn, &ncon, xadj, adj, vw, NULL, ew, &np, tp, NULL, opt, &cut, pp);
-    if (rc != METIS_OK && opt[METIS_OPTION_CONTIG]) {
+    opt[METIS_OPTION_CONTIG] = reached == nn;
+    int rc = nn < K ? METIS_ERROR_INPUT
+                    : METIS_PartGraphKway(&nv, &ncon, xadj, adj, vw, NULL, ew, &np, tp, NULL,
+                                          opt, &cut, pp);
+    if (rc != METIS_OK && nn >= K && opt[METIS_OPTION_CONTIG]) {
         opt[METIS_OPTION_CONTIG] = 0;
-        rc = METIS_PartGraphKway(&nn, &ncon, xadj, adj, vw, NULL, ew, &np, tp, NULL, opt, &cut, pp);
+        rc = METIS_PartGraphKway(&nv, &ncon, xadj, adj, vw, NULL, ew, &np, tp, NULL, opt, &cut, pp);
     }
     for (int32_t t = 0; t < m->nt; t++)
-        part[t] = id[t] >= 0 ? (int32_t)pp[id[t]] : -1;
+        part[t] = id[t] >= 0 && rc == METIS_OK ? (int32_t)pp[node[id[t]]] : -1;
+    mesh_xfree(node);
     mesh_xfree(xadj);
     mesh_xfree(adj);
     mesh_xfree(len);
@@ -399,6 +466,14 @@ static void widen(const mesh *m, int32_t *part, const double *tw, int32_t K, int
         }
     for (int pass = 0; pass < WIDEN_PASSES && widen_pass(&S, exact) > 0; pass++)
         ;
+    /* an interface still encroached will be split: then, as on the coarse route, no narrow
+     * sector may let that split start a cascade */
+    int left = 0;
+    for (int32_t t = 0; exact && !left && t < m->nt; t++)
+        for (int j = 0; mesh_tri_alive(m, t) && j < 3 && !left; j++)
+            left = edge_iface(m, part, 3 * t + j) && edge_encroached(m, 3 * t + j);
+    for (int pass = 0; left && pass < WIDEN_PASSES && widen_pass(&S, 0) > 0; pass++)
+        ;
     mesh_xfree(S.c);
     mesh_xfree(S.pw);
     mesh_xfree(S.cnt);
@@ -411,32 +486,42 @@ static void fill_empty(const mesh *m, int32_t *part, int32_t K) {
     int32_t *cnt = mesh_xcalloc((size_t)K, sizeof(int32_t));
     for (int32_t t = 0; t < m->nt; t++)
         if (mesh_tri_alive(m, t)) cnt[part[t]]++;
+    uint8_t *tried = mesh_xmalloc((size_t)K, 1);
     for (int32_t q = 0; q < K; q++) {
         if (cnt[q] > 0) continue;
-        int32_t p = 0, pick = -1;
-        for (int32_t k = 1; k < K; k++)
-            if (cnt[k] > cnt[p]) p = k;
-        if (cnt[p] < 2) break; /* fewer triangles than parts: decomp_build reports it */
-        for (int pass = 0; pass < 2 && pick < 0; pass++)
-            for (int32_t t = 0; t < m->nt && pick < 0; t++) {
-                if (!mesh_tri_alive(m, t) || part[t] != p || touches_corner(m, t)) continue;
-                int ok = 1;
-                for (int j = 0; j < 3 && ok && pass == 0; j++)
-                    ok = !edge_encroached(m, 3 * t + j);
-                if (ok) pick = t;
-            }
+        memset(tried, 0, (size_t)K);
+        int32_t p = -1, pick = -1;
+        for (;;) { /* the parts by decreasing size, until one gives a triangle */
+            p = -1;
+            for (int32_t k = 0; k < K; k++)
+                if (!tried[k] && cnt[k] >= 2 && (p < 0 || cnt[k] > cnt[p])) p = k;
+            if (p < 0) break; /* fewer triangles than parts: decomp_build reports it */
+            tried[p] = 1;
+            for (int pass = 0; pass < 2 && pick < 0; pass++)
+                for (int32_t t = 0; t < m->nt && pick < 0; t++) {
+                    if (!mesh_tri_alive(m, t) || part[t] != p || touches_corner(m, t)) continue;
+                    int ok = 1;
+                    for (int j = 0; j < 3 && ok && pass == 0; j++)
+                        ok = !edge_encroached(m, 3 * t + j);
+                    if (ok) pick = t;
+                }
+            if (pick >= 0) break;
+        }
         if (pick < 0) continue;
         part[pick] = q;
         cnt[p]--;
         cnt[q]++;
     }
+    mesh_xfree(tried);
     mesh_xfree(cnt);
 }
 
-/* Step 0: refines m (the input's CDT, area A) at the real bounds under a Steiner limit.
+/* Step 0: refines m (the input's CDT, area A) at the real bounds under a Steiner limit (and
+ * with an area bound up to min_per_sub triangles per subdomain).
  * Returns 1 if m is now the exact preview, 0 if it was not tried (m untouched), -1 if it was
  * tried and the final mesh is too large (m is spoilt: rebuild it). */
-static int exact_preview(mesh *m, const pcdm_decomp_opts *o, int32_t K, double A) {
+static int exact_preview(mesh *m, const pcdm_decomp_opts *o, int32_t K, double A,
+                         int32_t min_per_sub) {
     int32_t eps = o->exact_per_sub == 0 ? EXACT_PER_SUB_DEFAULT : o->exact_per_sub;
     if (K == 1 || eps < 0 || o->max_steiner >= 0) return 0;
     int64_t tmax = (int64_t)K * eps;
@@ -445,17 +530,19 @@ static int exact_preview(mesh *m, const pcdm_decomp_opts *o, int32_t K, double A
     double q = o->min_angle > 0 ? o->min_angle * (1 + 1e-9) + 1e-12 : 0;
     int64_t limit = tmax / 2 + 1; /* Steiner vertices: about half the triangles */
     if (refine(m, q, o->max_area, limit) != MESH_REFINE_DONE || m->nlive > tmax) return -1;
-    /* enough triangles to balance the ranks, and two per subdomain for METIS */
+    /* enough triangles to balance the ranks, and min_per_sub per subdomain */
     int64_t want = (int64_t)o->nranks * EXACT_MIN_PER_RANK;
-    if (want < 2 * (int64_t)K) want = 2 * (int64_t)K;
+    if (want < min_per_sub * (int64_t)K) want = min_per_sub * (int64_t)K;
     if (m->nlive < want) { /* the final mesh has too few triangles to share out */
         if (refine(m, q, A / (double)want, limit) != MESH_REFINE_DONE) return -1;
     }
     return 1;
 }
 
-int pcdm_decomp_auto(const pslg *in, const pcdm_decomp_opts *o, pcdm_decomp *out, char *err,
-                     size_t errlen) {
+/* One decomposition: mode 0 the exact preview with 2 triangles per subdomain at least, mode 1
+ * with EXACT_SAFE_PER_SUB, mode 2 the coarse route only. */
+static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_decomp *out,
+                   char *err, size_t errlen) {
     memset(out, 0, sizeof *out);
     int32_t P = o->nranks, K = o->nsub > 0 ? o->nsub : o->nranks;
     if (P < 1) return decomp_fail(err, errlen, "%d ranks", (int)P);
@@ -469,7 +556,9 @@ int pcdm_decomp_auto(const pslg *in, const pcdm_decomp_opts *o, pcdm_decomp *out
         mesh_free(&m);
         return -1;
     }
-    int exact = exact_preview(&m, o, K, live_area(&m));
+    int exact = mode == 2 ? 0
+                          : exact_preview(&m, o, K, live_area(&m),
+                                          mode == 0 ? 2 : EXACT_SAFE_PER_SUB);
     if (exact < 0) { /* the final mesh is larger: start again from the CDT */
         mesh_free(&m);
         mesh_init(&m);
@@ -536,4 +625,40 @@ int pcdm_decomp_auto(const pslg *in, const pcdm_decomp_opts *o, pcdm_decomp *out
     mesh_xfree(planned);
     mesh_free(&m);
     return rc;
+}
+
+/* Does PCDM meet the bounds on d?  The mesh PCDM makes depends only on the input, the bounds
+ * and the subdomains, not on the ranks, so one sequential refinement of d's augmented PSLG (as
+ * ./pcdm at one rank) tells.  Used on the exact preview only, where it is as small as the
+ * preview: its interfaces may make narrow sectors that a split could cascade through. */
+static int trial_ok(const pcdm_decomp *d, const pcdm_decomp_opts *o) {
+    mesh m;
+    mesh_init(&m);
+    char e[256];
+    int ok = mesh_build_cdt(&m, &d->g, d->seg_iface, e, sizeof e) == 0;
+    if (ok) {
+        mesh_quality q;
+        memset(&q, 0, sizeof q);
+        q.min_angle = o->min_angle > 0 ? o->min_angle * (1 + 1e-9) + 1e-12 : 0;
+        q.max_area = o->max_area;
+        q.max_steiner = -1;
+        q.offcenter = 1;
+        mesh_set_quality(&m, &q);
+        ok = mesh_refine(&m) == MESH_REFINE_DONE && mesh_count_unmet(&m, NULL) == 0;
+    }
+    mesh_free(&m);
+    return ok;
+}
+
+int pcdm_decomp_auto(const pslg *in, const pcdm_decomp_opts *o, pcdm_decomp *out, char *err,
+                     size_t errlen) {
+    int32_t K = o->nsub > 0 ? o->nsub : o->nranks;
+    for (int mode = 0; mode < 3; mode++) {
+        int rc = attempt(in, o, mode, out, err, errlen);
+        if (rc != 0 || !out->exact || trial_ok(out, o)) return rc;
+        int more = out->ncoarse < (int64_t)K * EXACT_SAFE_PER_SUB; /* would mode 1 differ? */
+        pcdm_decomp_free(out);
+        if (mode == 0 && !more) mode = 1;
+    }
+    return attempt(in, o, 2, out, err, errlen); /* not reached: mode 2 is never exact */
 }
