@@ -11,6 +11,7 @@
 #include "decomp/decomp.h"
 #include "geom/geom.h"
 #include "geom/pslg.h"
+#include "seq/mesh.h"
 
 #include <check.h>
 #include <math.h>
@@ -345,6 +346,112 @@ START_TEST(test_cuts_bad) {
 }
 END_TEST
 
+/* ---- the exact preview and the wide sectors ------------------------------------------------ */
+
+/* Refines the CDT of g (iface: the interface flags, may be NULL) at the bounds as ./mesh and
+ * ./pcdm do; returns the triangles, or -1 if the bounds were not met. */
+static int64_t mesh_at(const pslg *g, const uint8_t *iface, double q, double a) {
+    mesh m;
+    mesh_init(&m);
+    char err[512];
+    ck_assert_msg(mesh_build_cdt(&m, g, iface, err, sizeof err) == 0, "%s", err);
+    mesh_quality mq;
+    memset(&mq, 0, sizeof mq);
+    mq.min_angle = q * (1 + 1e-9) + 1e-12;
+    mq.max_area = a;
+    mq.max_steiner = -1;
+    mq.offcenter = 1;
+    mesh_set_quality(&m, &mq);
+    int64_t n =
+        mesh_refine(&m) == MESH_REFINE_DONE && mesh_count_unmet(&m, NULL) == 0 ? m.nlive : -1;
+    mesh_free(&m);
+    return n;
+}
+
+/* Decomposes path into K subdomains on P ranks at the bounds; checks the mesh PCDM makes on it
+ * (one sequential refinement of the augmented PSLG: the mesh does not depend on the ranks)
+ * meets the bounds; returns its triangles, ./mesh's in *nseq, the largest rank's work over the
+ * mean in *bal, and whether the exact preview was used in *exact. */
+static int64_t decomp_mesh(const char *path, int32_t K, int32_t P, double q, double a,
+                           int32_t exact_per_sub, int64_t *nseq, double *bal, int *exact) {
+    pslg in;
+    load(path, &in);
+    pcdm_decomp_opts o;
+    pcdm_decomp_opts_default(&o);
+    o.nsub = K;
+    o.nranks = P;
+    o.min_angle = q;
+    o.max_area = a;
+    o.exact_per_sub = exact_per_sub;
+    pcdm_decomp d;
+    char err[1024];
+    ck_assert_msg(pcdm_decomp_auto(&in, &o, &d, err, sizeof err) == 0, "%s K=%d: %s", path, (int)K,
+                  err);
+    *nseq = mesh_at(&in, NULL, q, a);
+    int64_t n = mesh_at(&d.g, d.seg_iface, q, a);
+    double *w = calloc((size_t)P, sizeof(double)), mx = 0;
+    for (int32_t k = 0; k < K; k++)
+        w[d.sub_owner[k]] += d.sub_weight[k];
+    for (int32_t r = 0; r < P; r++)
+        mx = fmax(mx, w[r]);
+    *bal = mx / (d.total_weight / P);
+    *exact = d.exact;
+    printf("%-22s K=%-3d P=%-2d -q %g -a %g: exact=%d coarse=%d pcdm=%lld ./mesh=%lld (%+.2f%%) "
+           "balance %.3f\n",
+           path, (int)K, (int)P, q, a, d.exact, (int)d.ncoarse, (long long)n, (long long)*nseq,
+           100.0 * ((double)n / (double)*nseq - 1), *bal);
+    free(w);
+    pcdm_decomp_free(&d);
+    pslg_free(&in);
+    ck_assert_msg(n > 0, "%s K=%d: the bounds are not met on the decomposition", path, (int)K);
+    return n;
+}
+
+/* Angle bound alone, 8 ranks: the final mesh is small, so the decomposition is drawn on the
+ * exact preview: PCDM's triangles within 3% of ./mesh's (in fact equal), the ranks' triangles
+ * within 10% of the mean. */
+START_TEST(test_exact_angle_only) {
+    static const char *const small[] = {"data/lake.poly", "data/channel.poly", "data/holes.poly"};
+    int64_t nseq;
+    double bal;
+    int exact;
+    const char *p = small[_i];
+    int64_t n = decomp_mesh(p, 8, 8, 20.7, 0, 0, &nseq, &bal, &exact);
+    ck_assert_int_eq(exact, 1);
+    ck_assert_msg(n <= nseq * 1.03 && n >= nseq * 0.97, "%s: %lld triangles, ./mesh %lld", p,
+                  (long long)n, (long long)nseq);
+    ck_assert_msg(bal <= 1.10, "%s: balance %.3f", p, bal);
+    /* with an area bound, small: the same */
+    n = decomp_mesh(p, 8, 8, 30, 0.002, 0, &nseq, &bal, &exact);
+    ck_assert_int_eq(exact, 1);
+    ck_assert_msg(n <= nseq * 1.03 && n >= nseq * 0.97, "%s: %lld triangles, ./mesh %lld", p,
+                  (long long)n, (long long)nseq);
+    ck_assert_msg(bal <= 1.10, "%s: balance %.3f", p, bal);
+}
+END_TEST
+
+/* Many subdomains: the coarse route (exact preview off) at 128 subdomains used to leave
+ * interfaces meeting at 30-45 degrees whose dyadic pieces split each other down to precision
+ * ("cannot meet the bounds"); the wide sectors prevent it.  The exact preview at 128
+ * subdomains on a 390-triangle mesh must also meet the bounds (its trial falls back). */
+START_TEST(test_many_subdomains) {
+    int64_t nseq;
+    double bal;
+    int exact;
+    int64_t n = decomp_mesh("data/lake.poly", 128, 2, 20.7, 0.001, -1, &nseq, &bal, &exact);
+    ck_assert_int_eq(exact, 0);
+    ck_assert_msg(n <= nseq * 1.10, "%lld triangles, ./mesh %lld", (long long)n, (long long)nseq);
+    n = decomp_mesh("data/holes.poly", 100, 2, 20.7, 0.0002, -1, &nseq, &bal, &exact);
+    ck_assert_int_eq(exact, 0);
+    n = decomp_mesh("data/lake.poly", 128, 2, 20.7, 0.001, 0, &nseq, &bal, &exact);
+    ck_assert_int_eq(exact, 1);
+    ck_assert_msg(n <= nseq * 1.03, "%lld triangles, ./mesh %lld", (long long)n, (long long)nseq);
+    n = decomp_mesh("data/lake.poly", 128, 2, 20.7, 0, 0, &nseq, &bal, &exact);
+    n = decomp_mesh("data/channel.poly", 128, 2, 30, 0, 0, &nseq, &bal, &exact);
+    (void)n;
+}
+END_TEST
+
 static Suite *decomp_suite(void) {
     Suite *s = suite_create("decomp");
     TCase *tc = tcase_create("auto");
@@ -353,6 +460,8 @@ static Suite *decomp_suite(void) {
     tcase_add_test(tc, test_auto_many);
     tcase_add_test(tc, test_imbalance);
     tcase_add_test(tc, test_errors);
+    tcase_add_loop_test(tc, test_exact_angle_only, 0, 3);
+    tcase_add_test(tc, test_many_subdomains);
     suite_add_tcase(s, tc);
     TCase *tf = tcase_create("cuts");
     tcase_set_timeout(tf, 60);

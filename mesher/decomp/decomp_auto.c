@@ -24,16 +24,18 @@
  * an input corner sharper than 60 degrees join one part, so no interface ends in a corner whose
  * coarse triangles are exempt from the angle bound.  (5) Wide sectors (coarse route): around
  * every vertex, a sector of triangles of one part narrower than 60 degrees that an interface
- * bounds joins the lighter part across that interface (repeated until nothing changes, at most
- * 32 passes).  On the exact preview, instead, a triangle whose apex encroaches an interface edge
- * joins the part across it (or the triangle across joins its part), so PCDM splits no interface
- * and no cascade can start; if some interface stays encroached (parts of one or two triangles),
- * the sectors are widened as well.  Two interfaces (or an interface and the boundary) meeting at less than
- * 45 degrees split each other's dyadic pieces forever when their lengths fall in a bad ratio (each
- * new midpoint lies in the other piece's diametral circle), which refinement reaches at many
- * subdomains; at 60 degrees or more no midpoint can encroach the neighbouring piece.  (6)
- * decomp_build turns the labels into interface segments.  Every angle an interface makes with
- * another segment then contains a corner of a coarse triangle, hence is at least the coarse bound.
+ * bounds joins the lighter part across that interface if that lowers the number of narrow
+ * sectors around the moved triangles (so it cannot oscillate; repeated until nothing changes, at
+ * most 32 passes).  On the exact preview, instead, a triangle whose apex encroaches an interface
+ * edge joins the part across it (or the triangle across joins its part), so PCDM splits no
+ * interface and no cascade can start; if some interface stays encroached (parts of one or two
+ * triangles), the sectors are widened as well.  Two interfaces (or an interface and the boundary)
+ * meeting at less than 45 degrees split each other's dyadic pieces forever when their lengths fall
+ * in a bad ratio (each new midpoint lies in the other piece's diametral circle), which refinement
+ * reaches at many subdomains; at 60 degrees or more no midpoint can encroach the neighbouring
+ * piece.  (6) decomp_build turns the labels into interface segments.  Every angle an interface
+ * makes with another segment then contains a corner of a coarse triangle, hence is at least the
+ * coarse bound.
  *
  * Invariants: topology comes from the mesher's exact predicates (encroachment by
  * geom_encroaches); sector angles are a float quality figure that only moves interfaces; METIS
@@ -230,8 +232,8 @@ static int partition(const mesh *m, const int32_t *id, int32_t n, const double *
     opt[METIS_OPTION_NUMBERING] = 0;
     opt[METIS_OPTION_CONTIG] = reached == nn;
     int rc = nn < K ? METIS_ERROR_INPUT
-                    : METIS_PartGraphKway(&nv, &ncon, xadj, adj, vw, NULL, ew, &np, tp, NULL,
-                                          opt, &cut, pp);
+                    : METIS_PartGraphKway(&nv, &ncon, xadj, adj, vw, NULL, ew, &np, tp, NULL, opt,
+                                          &cut, pp);
     if (rc != METIS_OK && nn >= K && opt[METIS_OPTION_CONTIG]) {
         opt[METIS_OPTION_CONTIG] = 0;
         rc = METIS_PartGraphKway(&nv, &ncon, xadj, adj, vw, NULL, ew, &np, tp, NULL, opt, &cut, pp);
@@ -286,11 +288,12 @@ typedef struct corner_rec {
 typedef struct smooth {
     const mesh *m;
     int32_t *part;
-    double *pw;   /* K: work per part */
-    int32_t *cnt; /* K: triangles per part */
+    double *pw;    /* K: work per part */
+    double pw_max; /* the heaviest part's work before step 5 */
+    int32_t *cnt;  /* K: triangles per part */
     const double *tw;
-    corner_rec *c;
-    int32_t ncap;
+    corner_rec *c, *c2; /* corners of a star; of another star (bad_at) */
+    int32_t ncap, ncap2;
 } smooth;
 
 static int touches_corner(const mesh *m, int32_t t) {
@@ -350,9 +353,9 @@ static int clean_move(const smooth *S, int32_t t, int32_t q) {
     return 1;
 }
 
-/* The corners around v in counter-clockwise order, starting just after a cut edge (*closed = 1
- * and no cut: none).  Returns the number of corners, 0 if v has no sector to consider. */
-static int32_t star(smooth *S, int32_t v) {
+/* The corners around v in counter-clockwise order into *buf (capacity *cap, grown), starting
+ * just after a cut edge.  Returns the number of corners, 0 if v has no sector to consider. */
+static int32_t star(const smooth *S, int32_t v, corner_rec **buf, int32_t *cap) {
     const mesh *m = S->m;
     int32_t t0 = m->vtri[v];
     if (t0 < 0 || !mesh_tri_alive(m, t0)) return 0;
@@ -374,11 +377,11 @@ static int32_t star(smooth *S, int32_t v) {
     /* counter-clockwise (across the incoming edge) from there */
     int32_t nc = 0, ts = t;
     for (;;) {
-        if (nc >= S->ncap) {
-            S->ncap = S->ncap ? 2 * S->ncap : 64;
-            S->c = mesh_xrealloc(S->c, (size_t)S->ncap, sizeof *S->c);
+        if (nc >= *cap) {
+            *cap = *cap ? 2 * *cap : 64;
+            *buf = mesh_xrealloc(*buf, (size_t)*cap, sizeof **buf);
         }
-        S->c[nc++] = (corner_rec){t, j, corner_deg(m, t, j)};
+        (*buf)[nc++] = (corner_rec){t, j, corner_deg(m, t, j)};
         int32_t n = m->tn[3 * t + (j + 2) % 3];
         if (n < 0) break;
         t = n / 3;
@@ -389,6 +392,40 @@ static int32_t star(smooth *S, int32_t v) {
     return nc;
 }
 
+/* The sector of star c[0..nc) that starts at corner a ends before corner *b; its angle. */
+static double sector(const smooth *S, const corner_rec *c, int32_t nc, int32_t a, int32_t *b) {
+    double deg = 0;
+    int32_t k = a;
+    do {
+        deg += c[k].deg;
+        k++;
+    } while (k < nc && !edge_cut(S->m, S->part, 3 * c[k - 1].t + (c[k - 1].j + 2) % 3));
+    *b = k;
+    return deg;
+}
+
+/* Narrow sectors at v that an interface bounds. */
+static int32_t bad_at(smooth *S, int32_t v) {
+    int32_t nc = star(S, v, &S->c2, &S->ncap2), bad = 0;
+    for (int32_t a = 0, b = 0; a < nc; a = b) {
+        double deg = sector(S, S->c2, nc, a, &b);
+        int32_t left = 3 * S->c2[a].t + S->c2[a].j,
+                right = 3 * S->c2[b - 1].t + (S->c2[b - 1].j + 2) % 3;
+        bad +=
+            deg < WIDE_DEG && (edge_iface(S->m, S->part, left) || edge_iface(S->m, S->part, right));
+    }
+    return bad;
+}
+
+/* Narrow sectors at the vertices of triangles ts[0..n) (a vertex counted once per triangle). */
+static int32_t bad_around(smooth *S, const int32_t *ts, int32_t n) {
+    int32_t bad = 0;
+    for (int32_t i = 0; i < n; i++)
+        for (int j = 0; j < 3; j++)
+            bad += bad_at(S, S->m->tv[3 * ts[i] + j]);
+    return bad;
+}
+
 /* One pass of step 5: over every vertex (the coarse mesh), or over every interface edge (the
  * exact preview: its interfaces are never split unless encroached, so no split can start a
  * cascade at a narrow sector, and moving whole sectors would cost balance); returns the number
@@ -397,35 +434,42 @@ static int32_t widen_pass(smooth *S, int exact) {
     const mesh *m = S->m;
     int32_t moves = 0, *ts = NULL, tcap = 0;
     for (int32_t v = 0; v < m->nv && !exact; v++) {
-        int32_t nc = star(S, v);
-        for (int32_t a = 0; a < nc;) {
+        int32_t nc = star(S, v, &S->c, &S->ncap);
+        for (int32_t a = 0, b = 0; a < nc; a = b) {
             /* the sector starting at corner a: corners a..b-1 (same part, no cut inside) */
-            int32_t b = a;
-            double deg = 0;
-            do {
-                deg += S->c[b].deg;
-                b++;
-            } while (b < nc && !edge_cut(m, S->part, 3 * S->c[b - 1].t + (S->c[b - 1].j + 2) % 3));
+            double deg = sector(S, S->c, nc, a, &b);
             int32_t left = 3 * S->c[a].t + S->c[a].j;                    /* outgoing edge */
             int32_t right = 3 * S->c[b - 1].t + (S->c[b - 1].j + 2) % 3; /* incoming edge */
             int li = edge_iface(m, S->part, left), ri = edge_iface(m, S->part, right);
-            if (deg < WIDE_DEG && (li || ri)) {
-                int32_t p = S->part[S->c[a].t];
-                int32_t ql = li ? S->part[m->tn[left] / 3] : -1,
-                        qr = ri ? S->part[m->tn[right] / 3] : -1;
-                int32_t q = ql < 0 ? qr : qr < 0 ? ql : S->pw[qr] < S->pw[ql] ? qr : ql;
-                if (b - a > tcap) {
-                    tcap = b - a;
-                    ts = mesh_xrealloc(ts, (size_t)tcap, sizeof *ts);
-                }
-                for (int32_t k = a; k < b; k++)
-                    ts[k - a] = S->c[k].t;
-                if (move_tris(S, ts, b - a, p, q)) {
-                    moves++;
-                    break; /* v's star changed: look again next pass */
-                }
+            if (deg >= WIDE_DEG || !(li || ri)) continue;
+            int32_t p = S->part[S->c[a].t], n = b - a;
+            int32_t ql = li ? S->part[m->tn[left] / 3] : -1,
+                    qr = ri ? S->part[m->tn[right] / 3] : -1;
+            if (ql >= 0 && qr >= 0 && S->pw[qr] < S->pw[ql]) { /* the lighter part first */
+                int32_t x = ql;
+                ql = qr;
+                qr = x;
             }
-            a = b;
+            if (n > tcap) {
+                tcap = n;
+                ts = mesh_xrealloc(ts, (size_t)tcap, sizeof *ts);
+            }
+            for (int32_t k = a; k < b; k++)
+                ts[k - a] = S->c[k].t;
+            /* a move must lower the number of narrow sectors around it: no oscillation */
+            int32_t before = bad_around(S, ts, n), moved = 0;
+            for (int side = 0; side < 2 && !moved; side++) {
+                int32_t q = side == 0 ? ql : qr;
+                if (q < 0 || (side == 1 && q == ql) || !move_tris(S, ts, n, p, q)) continue;
+                if (bad_around(S, ts, n) < before)
+                    moved = 1;
+                else
+                    move_tris(S, ts, n, q, p);
+            }
+            if (moved) {
+                moves++;
+                break; /* v's star changed: look again next pass */
+            }
         }
     }
     if (exact) /* a triangle whose apex encroaches an interface edge joins the other side */
@@ -437,11 +481,17 @@ static int32_t widen_pass(smooth *S, int exact) {
                 const double *pa = mesh_vertex_xy(m, mesh_org(m, e)),
                              *pb = mesh_vertex_xy(m, mesh_dest(m, e));
                 if (!geom_encroaches(pa, pb, mesh_vertex_xy(m, mesh_apex(m, e)))) continue;
-                int32_t nb = m->tn[e] / 3; /* or the triangle across joins t's part */
-                if ((clean_move(S, t, S->part[nb]) &&
-                     move_tris(S, &t, 1, S->part[t], S->part[nb])) ||
-                    (clean_move(S, nb, S->part[t]) &&
-                     move_tris(S, &nb, 1, S->part[nb], S->part[t]))) {
+                int32_t nb = m->tn[e] / 3, pt = S->part[t], pn = S->part[nb];
+                /* t joins the other side, or the triangle across joins t's part: the lighter
+                 * destination first, and none past the heaviest part */
+                int first = S->pw[pn] <= S->pw[pt] ? 0 : 1, done = 0;
+                for (int k = 0; k < 2 && !done; k++) {
+                    int32_t x = (k == first) ? t : nb, from = x == t ? pt : pn,
+                            to = x == t ? pn : pt;
+                    if (S->pw[to] + S->tw[x] > S->pw_max) continue;
+                    done = clean_move(S, x, to) && move_tris(S, &x, 1, from, to);
+                }
+                if (done) {
                     moves++;
                     break;
                 }
@@ -464,6 +514,8 @@ static void widen(const mesh *m, int32_t *part, const double *tw, int32_t K, int
             S.pw[part[t]] += tw[t];
             S.cnt[part[t]]++;
         }
+    for (int32_t k = 0; k < K; k++)
+        S.pw_max = fmax(S.pw_max, S.pw[k]);
     for (int pass = 0; pass < WIDEN_PASSES && widen_pass(&S, exact) > 0; pass++)
         ;
     /* an interface still encroached will be split: then, as on the coarse route, no narrow
@@ -475,6 +527,7 @@ static void widen(const mesh *m, int32_t *part, const double *tw, int32_t K, int
     for (int pass = 0; left && pass < WIDEN_PASSES && widen_pass(&S, 0) > 0; pass++)
         ;
     mesh_xfree(S.c);
+    mesh_xfree(S.c2);
     mesh_xfree(S.pw);
     mesh_xfree(S.cnt);
 }
@@ -541,8 +594,8 @@ static int exact_preview(mesh *m, const pcdm_decomp_opts *o, int32_t K, double A
 
 /* One decomposition: mode 0 the exact preview with 2 triangles per subdomain at least, mode 1
  * with EXACT_SAFE_PER_SUB, mode 2 the coarse route only. */
-static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_decomp *out,
-                   char *err, size_t errlen) {
+static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_decomp *out, char *err,
+                   size_t errlen) {
     memset(out, 0, sizeof *out);
     int32_t P = o->nranks, K = o->nsub > 0 ? o->nsub : o->nranks;
     if (P < 1) return decomp_fail(err, errlen, "%d ranks", (int)P);
@@ -556,9 +609,8 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
         mesh_free(&m);
         return -1;
     }
-    int exact = mode == 2 ? 0
-                          : exact_preview(&m, o, K, live_area(&m),
-                                          mode == 0 ? 2 : EXACT_SAFE_PER_SUB);
+    int exact =
+        mode == 2 ? 0 : exact_preview(&m, o, K, live_area(&m), mode == 0 ? 2 : EXACT_SAFE_PER_SUB);
     if (exact < 0) { /* the final mesh is larger: start again from the CDT */
         mesh_free(&m);
         mesh_init(&m);
