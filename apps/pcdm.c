@@ -205,12 +205,13 @@ int main(int argc, char **argv) {
                "wall_s=%.3f busy_max_s=%.3f busy_sum_s=%.3f subdomains=%d idle_max_s=%.3f "
                "max_area=%.6g ignored=%.0f mpi_msgs=%.0f speedup_model=%.2f "
                "peak_rss_mb=%.1f bytes_per_tri=%.1f mesh_bytes_per_tri=%.1f output_s=%.3f "
-               "cpu_max_s=%.3f cpu_sum_s=%.3f decomp_s=%.3f tri_max=%.0f tri_mean=%.1f\n",
+               "cpu_max_s=%.3f cpu_sum_s=%.3f decomp_s=%.3f tri_max=%.0f tri_mean=%.1f "
+               "decomp_exact=%d\n",
                size, (long long)sum.ntris, (long long)sum.nverts, tot[RS_SENT], sum.min_angle,
                mx[RS_WALL], mx[RS_BUSY], tot[RS_BUSY], (int)d.nsub, mx[RS_IDLE], sum.max_area,
                tot[RS_IGNORED], tot[RS_MPI], mx[RS_BUSY] > 0 ? tot[RS_BUSY] / mx[RS_BUSY] : 0.0,
                mx[RS_RSS] / 1048576.0, tot[RS_RSS] / nt, tot[RS_MESHBYTES] / nt, mx[RS_OUT],
-               mx[RS_CPU], tot[RS_CPU], d.build_s, mx[RS_NTRIS], tot[RS_NTRIS] / size);
+               mx[RS_CPU], tot[RS_CPU], d.build_s, mx[RS_NTRIS], tot[RS_NTRIS] / size, d.exact);
     }
     fflush(stdout);
     free(all);

@@ -374,7 +374,8 @@ section_end
 # Every domain in data/ at 8 ranks (default subdomains), with an area bound (about 10-27K
 # triangles) and with the angle bound alone, beside ./mesh at the same bounds: balance
 # (tri_max / tri_mean over the ranks), triangle count against ./mesh, and the decomposition's
-# share of the meshing time; plus (full run) 10M triangles on 64 subdomains at 2 ranks.
+# share of the meshing time; 128 subdomains on a small mesh at 2 ranks; plus (full run) 10M
+# triangles on 64 subdomains at 2 ranks.
 section_begin "decomp"
 declare -A DAREA=([square]=0.00006 [lshape]=0.0003 [wedge]=0.000005 [lake]=0.0002
     [holes]=0.00007 [channel]=0.0003)
@@ -388,8 +389,14 @@ for dom in data/*.poly; do
     run_one decomp "${lbl}_angle" mesh 1 1 0 1
     run_one decomp "${lbl}_angle" pcdm 8 1 0 1
 done
+# many subdomains on a small mesh (128 subdomains, 2 ranks): 3.4K triangles, and the angle bound
+# alone (390 triangles: fewer than the subdomains need, so the count cannot match)
+DOMAIN=data/lake.poly
+run_one decomp lake_k128_area mesh 1 1 0.001 1
+run_one decomp lake_k128_area pcdm 2 1 0.001 1 --subdomains 128
+run_one decomp lake_k128_angle mesh 1 1 0 1
+run_one decomp lake_k128_angle pcdm 2 1 0 1 --subdomains 128
 if [ -z "$QUICK" ]; then
-    DOMAIN=data/lake.poly
     run_one decomp lake_10m_k64 pcdm 2 1 3.5e-7 1 --subdomains 64
 fi
 DOMAIN=$SAVE_DOMAIN
