@@ -9,22 +9,22 @@
  * triangles per subdomain, which the area bound rules out at once or a refinement of the input's
  * CDT at the real bounds under a Steiner limit finds out -- that refinement IS the coarse mesh
  * (refined further with an area bound only if it has fewer than 12 triangles per rank or 2 per
- * subdomain).
- * Its triangles are the final ones, so METIS balances the actual triangles and every interface
- * is a final mesh edge; edges a neighbouring apex encroaches (diametral circle) cost METIS 64
- * times their length, since PCDM would have to split them.  Otherwise (1) the CDT of the input
- * is refined with the angle bound alone (at least 30 degrees, a little above the final bound),
- * which grades it by the local feature size like the final mesh; then, with an area bound, with
- * an area bound that gives about per_sub triangles per subdomain (never below 4 times the final
- * bound, so the interfaces stay coarser than the final mesh); without one, only when that leaves
- * fewer than 8 triangles per subdomain.  (2) Each coarse triangle's work is max(1, area /
+ * subdomain).  Its triangles are the final ones, so METIS balances the actual triangles and every
+ * interface is a final mesh edge; edges a neighbouring apex encroaches (diametral circle) cost
+ * METIS 64 times their length, since PCDM would have to split them.  Otherwise (1) the CDT of the
+ * input is refined with the angle bound alone (at least 30 degrees, a little above the final
+ * bound), which grades it by the local feature size like the final mesh; then, with an area bound,
+ * with an area bound that gives about per_sub triangles per subdomain (never below 4 times the
+ * final bound, so the interfaces stay coarser than the final mesh); without one, only when that
+ * leaves fewer than 8 triangles per subdomain.  (2) Each coarse triangle's work is max(1, area /
  * max_area) with an area bound, else 1.  (3) METIS_PartGraphKway splits the dual graph (vertex
  * weights: work; edge weights: shared edge length; target fractions from the imbalance;
- * contiguous parts when the graph is connected; fixed seed) into K parts.  (4) Triangles around
- * an input corner sharper than 60 degrees join one part, so no interface ends in a corner whose
- * coarse triangles are exempt from the angle bound.  (5) Wide sectors (coarse route): around
- * every vertex, a sector of triangles of one part narrower than 60 degrees that an interface
- * bounds joins the lighter part across that interface if that lowers the number of narrow
+ * contiguous parts when the graph is connected; fixed seed) into K parts; the triangles around an
+ * input corner sharper than 60 degrees are one graph vertex.  (4) So they join one part, and no
+ * interface ends in a corner whose coarse triangles are exempt from the angle bound; a part METIS
+ * left empty takes a triangle of the largest part that can give one.  (5) Wide sectors (coarse
+ * route): around every vertex, a sector of triangles of one part narrower than 60 degrees that an
+ * interface bounds joins the lighter part across that interface if that lowers the number of narrow
  * sectors around the moved triangles (so it cannot oscillate; repeated until nothing changes, at
  * most 32 passes).  On the exact preview, instead, a triangle whose apex encroaches an interface
  * edge joins the part across it (or the triangle across joins its part), so PCDM splits no
@@ -35,7 +35,9 @@
  * reaches at many subdomains; at 60 degrees or more no midpoint can encroach the neighbouring
  * piece.  (6) decomp_build turns the labels into interface segments.  Every angle an interface
  * makes with another segment then contains a corner of a coarse triangle, hence is at least the
- * coarse bound.
+ * coarse bound.  (7) An exact preview is kept only if one sequential refinement of the augmented
+ * PSLG meets the bounds (as small as the preview; the PCDM mesh does not depend on the ranks);
+ * else it is redrawn with 12 triangles per subdomain, and failing that the coarse route is used.
  *
  * Invariants: topology comes from the mesher's exact predicates (encroachment by
  * geom_encroaches); sector angles are a float quality figure that only moves interfaces; METIS
