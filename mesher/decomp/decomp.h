@@ -104,8 +104,9 @@ void pcdm_decomp_opts_default(pcdm_decomp_opts *o);
  * interface length) onto the ranks.  Targets: rank 0 gets R/(R+P-1) of the work, every other
  * rank 1/(R+P-1).  out->exact tells whether the exact preview was used (it is checked by one
  * sequential refinement of out->g at o's bounds, so it costs about two ./mesh runs of the final
- * mesh, which is at most exact_per_sub triangles per subdomain).  Returns 0, or -1 with a message in err (the input does not triangulate,
- * K < P, the coarse mesh has too few triangles for K parts, METIS failed). */
+ * mesh, which is at most exact_per_sub triangles per subdomain).  Returns 0, or -1 with a message
+ * in err (the input does not triangulate, K < P, the coarse mesh has too few triangles for K parts,
+ * METIS failed). */
 int pcdm_decomp_auto(const pslg *in, const pcdm_decomp_opts *o, pcdm_decomp *out, char *err,
                      size_t errlen);
 
