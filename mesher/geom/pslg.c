@@ -1270,7 +1270,9 @@ static int in_cycle(const arr *A, int32_t h0, const double *p) {
 
 typedef struct cycle {
     int32_t h0, comp;
-    double area, face; /* signed area of the walk; face area (outer minus inner) */
+    int sign;          /* the exact sign of the walk's area (walk_sign): what topology uses */
+    double area, face; /* signed area of the walk (rounded, its sign forced to `sign`); face
+                          area (outer minus inner) */
     double x0, y0, x1, y1;
     int removed;
     int32_t encl; /* negative walks: the enclosing bounded face, or -1 */
@@ -1284,12 +1286,41 @@ static int32_t uf_find(int32_t *p, int32_t x) {
     return x;
 }
 
+/* The exact sign of the area of closed walk number id starting at h0 (cid[] already holds id
+ * on the whole walk).  Half-edges whose twin lies on the same walk (dangling segments, trees)
+ * add nothing to the area; if every half-edge is such, the area is exactly 0.  The others form
+ * a closed walk whose turn at its lexicographically smallest vertex (a strictly convex corner
+ * of it) gives the orientation, by orient2d. */
+static int walk_sign(const arr *A, const int32_t *cid, int32_t h0, int32_t id) {
+    int32_t h = h0, best = -1, best_in = -1, last = -1, first_in_pending = 0;
+    do {
+        if (cid[h ^ 1] != id) {
+            const double *p = A->xy + 2 * A->org[h];
+            if (best < 0 || p[0] < A->xy[2 * A->org[best]] ||
+                (p[0] == A->xy[2 * A->org[best]] && p[1] < A->xy[2 * A->org[best] + 1])) {
+                best = h;
+                best_in = last;
+                first_in_pending = last < 0;
+            }
+            last = h;
+        }
+        h = arr_next(A, h);
+    } while (h != h0);
+    if (best < 0) return 0;
+    if (first_in_pending) best_in = last; /* the walk's last reduced edge closes it */
+    MESH_ASSERT(A->org[best_in ^ 1] == A->org[best]);
+    const double *u = A->xy + 2 * A->org[best_in], *v = A->xy + 2 * A->org[best],
+                 *w = A->xy + 2 * A->org[best ^ 1];
+    double o = geom_orient2d(u, v, w);
+    return (o > 0) - (o < 0);
+}
+
 /* Smallest positive cycle (other than component skip) strictly containing p, or -1. */
 static int32_t enclosing(const arr *A, const cycle *cy, int32_t nc, const double *p, int32_t skip) {
     int32_t best = -1;
     for (int32_t i = 0; i < nc; i++) {
         const cycle *c = cy + i;
-        if (c->area <= 0 || c->comp == skip) continue;
+        if (c->sign <= 0 || c->comp == skip) continue;
         if (p[0] < c->x0 || p[0] > c->x1 || p[1] < c->y0 || p[1] > c->y1) continue;
         if (best >= 0 && c->area >= cy[best].area) continue;
         if (in_cycle(A, c->h0, p)) best = i;
@@ -1319,7 +1350,7 @@ static void faces_free(faces *F) {
 /* The bounded face to the left of half-edge h, or -1 (unbounded). */
 static int32_t face_left(const faces *F, int32_t h) {
     const cycle *c = F->cy + F->cid[h];
-    return c->area > 0 ? F->cid[h] : c->encl;
+    return c->sign > 0 ? F->cid[h] : c->encl;
 }
 
 static void remove_face(faces *F, int32_t f) {
@@ -1388,7 +1419,11 @@ static int faces_build(const pslg *g, faces *F) {
             h = arr_next(A, h);
         } while (h != h0);
         c->h0 = h0;
-        c->area = c->face = 0.5 * (sum + comp);
+        c->sign = walk_sign(A, cid, h0, nc);
+        c->area = 0.5 * (sum + comp);
+        if (c->sign == 0 || (c->sign > 0) != (c->area > 0)) /* rounding: the sign is exact */
+            c->area = c->sign * DBL_MIN;
+        c->face = c->area;
         c->comp = uf_find(uf, A->org[h0]);
         c->removed = 0;
         c->encl = -1;
@@ -1398,7 +1433,7 @@ static int faces_build(const pslg *g, faces *F) {
     F->nc = nc;
     /* outer boundaries of components (negative walks) go to their enclosing face */
     for (int32_t i = 0; i < nc; i++) {
-        if (cy[i].area > 0) continue; /* zero: a tree of dangling segments */
+        if (cy[i].sign > 0) continue; /* zero: a tree of dangling segments */
         int32_t f = enclosing(A, cy, nc, g->xy + 2 * A->org[cy[i].h0], cy[i].comp);
         cy[i].encl = f;
         if (f >= 0) cy[f].face += cy[i].area;
@@ -1414,7 +1449,7 @@ double pslg_domain_area(const pslg *g) {
     if (faces_build(g, &F)) return 0;
     double total = 0, comp = 0;
     for (int32_t i = 0; i < F.nc; i++)
-        if (F.cy[i].area > 0 && !F.cy[i].removed) {
+        if (F.cy[i].sign > 0 && !F.cy[i].removed) {
             double t = F.cy[i].face, s = total + t;
             comp += fabs(total) >= fabs(t) ? (total - s) + t : (t - s) + total;
             total = s;
