@@ -111,17 +111,9 @@ int main(int argc, char **argv) {
     pcdm_part_refine(&part, &q, 300);
     double t1 = rt_wtime();
 
-    /* this rank's part, then the common end: interface check, numbering, --check, output */
-    mesh_flat local;
-    int fail = pcdm_part_flat(&part, &local) != 0;
-    if (par_fail_any(fail, "pcdm: out of memory converting the mesh")) {
-        if (!fail) mesh_flat_free(&local);
-        pcdm_part_free(&part);
-        pcdm_decomp_free(&d);
-        pslg_free(&in);
-        rt_finalize();
-        return 1;
-    }
+    /* figures from the mesh first: the part is then moved into its flat form (never held
+     * twice, the memory peak), then the common end: interface check, numbering, --check,
+     * output */
     uint8_t *artificial = pcdm_part_artificial(&part);
     double rs[RS_N], *all = NULL;
     rt_stats st;
@@ -150,14 +142,10 @@ int main(int argc, char **argv) {
      * user set stopped refinement (exit 3: the mesh written, checked without the bounds) */
     long long unmet = (long long)mesh_count_unmet(&part.m, NULL), unmet_all = 0;
     MESH_MPI(MPI_Allreduce(&unmet, &unmet_all, 1, MPI_LONG_LONG, MPI_SUM, comm));
-    pcdm_part_free(&part);
-    int limited = limit_any && unmet_all > 0;
-    if (limited && rank == 0)
-        fprintf(stderr,
-                "pcdm: %s: Steiner point limit (-S %lld) reached with %lld triangles outside the "
-                "bounds; the mesh is conforming but does not meet them (exit status 3)\n",
-                o.input, (long long)o.max_steiner, unmet_all);
-    if (unmet_all > 0 && !limited) {
+    if (limit_any && rank == 0)
+        fprintf(stderr, "pcdm: warning: Steiner point limit (%lld) reached; quality not met\n",
+                (long long)o.max_steiner);
+    if (unmet_all > 0) {
         if (rank == 0)
             fprintf(stderr,
                     "pcdm: %s: cannot meet the bounds: %lld triangles still violate them "
@@ -165,17 +153,20 @@ int main(int argc, char **argv) {
                     "refinement reaches on this input)\n",
                     o.input, unmet_all, o.min_angle);
         free(artificial);
-        mesh_flat_free(&local);
+        pcdm_part_free(&part);
         pcdm_decomp_free(&d);
         pslg_free(&in);
         rt_finalize();
         return 1;
     }
+    mesh_flat local;
+    int32_t *tsub = NULL;
+    pcdm_part_take_flat(&part, &local, o.vtk ? &tsub : NULL);
+    pcdm_part_free(&part);
     par_summary sum;
-    par_opts oc = o; /* what --check holds the mesh to */
-    if (limited) oc.min_angle = oc.max_area = 0;
-    int status = par_output(&oc, &in, &local, artificial, &sum);
+    int status = par_output_sub(&o, &in, &local, artificial, tsub, &sum);
     free(artificial);
+    free(tsub);
     mesh_flat_free(&local);
     /* statistics: reductions of per-rank figures; memory taken now, after the output */
     rs[RS_RSS] = (double)par_peak_rss_bytes();

@@ -190,6 +190,93 @@ START_TEST(test_triangle_files) {
 }
 END_TEST
 
+/* The part in its other form (what pout.c passes): triangles as local ids through gid, the
+ * vertices stored in reverse and picked through vsel, and on rank 0 the first HEAD vertices
+ * from separate head arrays; written with tiny chunks (every record its own chunk, a few per
+ * chunk, the header and trailer alone) the files must still equal the sequential writer's. */
+#define HEAD 5
+START_TEST(test_triangle_chunks) {
+    int rank, size;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+    mesh_part p;
+    double *xy;
+    int32_t *vm, *tr, *sm;
+    int64_t *tri, *seg;
+    make_part(rank, size, &p, &xy, &vm, &tri, &tr, &seg, &sm);
+    long long base = 0, mine = p.nverts;
+    MPI_Exscan(&mine, &base, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+    if (rank == 0) base = 0;
+    int64_t nh = rank == 0 && p.nverts >= HEAD ? HEAD : 0, nl = p.nverts - nh;
+    double *rxy = malloc(sizeof(double) * (size_t)(2 * nl + 1));
+    int32_t *rvm = malloc(sizeof(int32_t) * (size_t)(nl + 1));
+    int32_t *sel = malloc(sizeof(int32_t) * (size_t)(nl + 1));
+    int32_t *ltri = malloc(sizeof(int32_t) * (size_t)(3 * p.ntris + 1));
+    int64_t *gid = malloc(sizeof(int64_t) * (size_t)(p.nverts + NX + 1));
+    for (int64_t k = 0; k < nl; k++) { /* written vertex nh + k is stored at nl - 1 - k */
+        int64_t at = nl - 1 - k;
+        rxy[2 * at] = xy[2 * (nh + k)];
+        rxy[2 * at + 1] = xy[2 * (nh + k) + 1];
+        rvm[at] = vm[nh + k];
+        sel[k] = (int32_t)at;
+    }
+    /* local ids: the stored ones, then nh more for the head vertices (a part lists them too) */
+    for (int64_t k = 0; k < nl; k++)
+        gid[nl - 1 - k] = base + nh + k;
+    for (int64_t k = 0; k < nh; k++)
+        gid[nl + k] = base + k;
+    for (int64_t k = 0; k < NX; k++) /* the next row (the next rank's): local ids after */
+        gid[p.nverts + k] = base + p.nverts + k;
+    for (int64_t i = 0; i < 3 * p.ntris; i++) {
+        int64_t k = tri[i] - base;
+        ltri[i] = k >= p.nverts ? (int32_t)k
+                  : k < nh      ? (int32_t)(nl + k)
+                                : (int32_t)(nl - 1 - (k - nh));
+    }
+    mesh_part q = p;
+    q.nhead = nh;
+    q.hxy = xy;
+    q.hvmarker = vm;
+    q.xy = rxy;
+    q.vmarker = rvm;
+    q.vsel = sel;
+    q.tri = NULL;
+    q.ltri = ltri;
+    q.gid = gid;
+    static const size_t chunks[4] = {1, 40, 333, 0};
+    int ok = 1;
+    char seq[300], par[300], err[512] = "";
+    snprintf(seq, sizeof seq, "%s/seqc", dir);
+    if (rank == 0) {
+        mesh_flat whole;
+        make_whole(size, &whole);
+        ok = meshio_write_triangle(&whole, seq, err, sizeof err) == 0;
+        mesh_flat_free(&whole);
+    }
+    for (int c = 0; c < 4; c++) {
+        meshio_pwrite_set_chunk(chunks[c]);
+        snprintf(par, sizeof par, "%s/chunk%d", dir, c);
+        int rc = meshio_pwrite_triangle(MPI_COMM_WORLD, &q, par, err, sizeof err);
+        if (rc) fprintf(stderr, "rank %d: chunk %zu: %s\n", rank, chunks[c], err);
+        ok = ok && rc == 0;
+        static const char *const ext[3] = {"node", "ele", "poly"};
+        for (int e = 0; e < 3 && ok && rank == 0; e++) {
+            char a[320], b[320];
+            snprintf(a, sizeof a, "%s.%s", par, ext[e]);
+            snprintf(b, sizeof b, "%s.%s", seq, ext[e]);
+            if (!same_file(a, b)) {
+                fprintf(stderr, "chunk %zu: %s and %s differ\n", chunks[c], a, b);
+                ok = 0;
+            }
+        }
+    }
+    meshio_pwrite_set_chunk(0);
+    free(rxy), free(rvm), free(sel), free(ltri), free(gid);
+    free(xy), free(vm), free(tri), free(tr), free(seg), free(sm);
+    ck_assert_int_eq(all_true(ok), 1);
+}
+END_TEST
+
 START_TEST(test_missing_folder) {
     int rank;
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
@@ -229,7 +316,7 @@ START_TEST(test_pvtu) {
     m.tri = tri;
     char pre[300], err[512] = "";
     snprintf(pre, sizeof pre, "%s/pv", dir);
-    int ok = meshio_pwrite_pvtu(MPI_COMM_WORLD, &m, 1, pre, err, sizeof err) == 0;
+    int ok = meshio_pwrite_pvtu(MPI_COMM_WORLD, &m, NULL, 1, pre, err, sizeof err) == 0;
     if (!ok) fprintf(stderr, "rank %d: %s\n", rank, err);
     if (ok && rank == 0) {
         char path[320], buf[4096] = "";
@@ -268,6 +355,7 @@ int main(int argc, char **argv) {
     Suite *s = suite_create("mpi_pwrite");
     TCase *tc = tcase_create("core");
     tcase_add_test(tc, test_triangle_files);
+    tcase_add_test(tc, test_triangle_chunks);
     tcase_add_test(tc, test_missing_folder);
     tcase_add_test(tc, test_pvtu);
     suite_add_tcase(s, tc);

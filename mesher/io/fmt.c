@@ -25,6 +25,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+const char fmt_pairs[201] = "00010203040506070809101112131415161718192021222324252627282930"
+                            "31323334353637383940414243444546474849505152535455565758596061"
+                            "62636465666768697071727374757677787980818283848586878889909192"
+                            "93949596979899";
+
 /* Fallback: the shortest %.{p}g that round-trips (p = 1..17; rare, so tried in order). */
 static char *dbl_slow(char *p, double v) {
     for (int prec = 1; prec < 17; prec++) {
@@ -90,6 +95,24 @@ static const uint64_t P10[20] = {1ull,
                                  1000000000000000000ull,
                                  10000000000000000000ull};
 
+/* The 17 decimal digits of x < 10^17 into d, two at a time from a table, in two independent
+ * halves of 32-bit arithmetic (the serial chain of 17 divisions was the formatter's cost). */
+static void digits17(char d[17], uint64_t x) {
+    uint32_t hi = (uint32_t)(x / 100000000u), lo = (uint32_t)(x % 100000000u); /* 9 + 8 digits */
+    for (int i = 7; i > 0; i -= 2) {                                           /* lo: d[9..16] */
+        uint32_t r = lo % 100;
+        lo /= 100;
+        memcpy(d + 9 + i - 1, fmt_pairs + 2 * r, 2);
+    }
+    d[8] = (char)('0' + hi % 10);
+    hi /= 10;
+    for (int i = 7; i > 0; i -= 2) { /* hi / 10: d[0..7] */
+        uint32_t r = hi % 100;
+        hi /= 100;
+        memcpy(d + i - 1, fmt_pairs + 2 * r, 2);
+    }
+}
+
 /* The exact shortest digits of v > 0 (significand m < 2^53, v = m 2^e) when v 10^(16 - E)
  * fits the 128-bit arithmetic (about 1e-5 <= v < 1e17), E being floor(log10 v) or one less;
  * NULL otherwise (*retry = 1 when E was one too low). */
@@ -114,11 +137,16 @@ static char *dbl_fast_at(char *p, uint64_t m, int e, int narrow, int E, int *ret
     int incl = (m & 1) == 0;    /* the ends read back to v (ties to even) */
     if (rh == 0 && !incl) hi--; /* largest integer inside */
     if (rl != 0 || !incl) lo++; /* smallest integer inside */
-    /* fewest digits: the largest k with a multiple of 10^k in [lo, hi] (monotone in k) */
+    /* fewest digits: the largest k with a multiple of 10^k in [lo, hi] (monotone in k);
+     * hk = floor(hi / 10^k) by repeated division by the constant 10 (no variable divisor) */
     int k = 0;
-    while (k < 17 && hi / P10[k + 1] * P10[k + 1] >= lo)
+    uint64_t hk = hi, t = 1;
+    while (k < 17 && hk / 10 * (t * 10) >= lo) {
+        hk /= 10;
+        t *= 10;
         k++;
-    uint64_t t = P10[k], a = qv / t * t, b = a + t, best;
+    }
+    uint64_t a = qv - qv % t, b = a + t, best;
     int a_in = a >= lo, b_in = b <= hi;
     if (a_in && b_in) {
         /* the nearer to v = qv + rv / 2^s: v - a = da + rv/2^s, b - v = t - da - rv/2^s */
@@ -143,10 +171,7 @@ static char *dbl_fast_at(char *p, uint64_t m, int e, int narrow, int E, int *ret
         E++;
     }
     char d[17];
-    for (int i = 16; i >= 0; i--) {
-        d[i] = (char)('0' + (int)(best % 10));
-        best /= 10;
-    }
+    digits17(d, best);
     return layout(p, d, 17, E);
 }
 

@@ -11,19 +11,43 @@
 
 #include <stdio.h>
 
+/* "00" "01" ... "99": two digits at a time (fmt.c). */
+extern const char fmt_pairs[201];
+
 /* Appends the decimal form of v to p; returns the new end. */
 static inline char *fmt_int(char *p, long long v) {
     char tmp[24];
-    int n = 0;
+    int n = 24;
     unsigned long long u = v < 0 ? 0ULL - (unsigned long long)v : (unsigned long long)v;
-    do {
-        tmp[n++] = (char)('0' + u % 10);
-        u /= 10;
-    } while (u);
+    while (u >= 100) {
+        unsigned r = (unsigned)(u % 100);
+        u /= 100;
+        n -= 2;
+        tmp[n] = fmt_pairs[2 * r];
+        tmp[n + 1] = fmt_pairs[2 * r + 1];
+    }
+    if (u >= 10) {
+        n -= 2;
+        tmp[n] = fmt_pairs[2 * u];
+        tmp[n + 1] = fmt_pairs[2 * u + 1];
+    } else {
+        tmp[--n] = (char)('0' + u);
+    }
     if (v < 0) *p++ = '-';
-    while (n)
-        *p++ = tmp[--n];
+    for (int i = n; i < 24; i++)
+        *p++ = tmp[i];
     return p;
+}
+
+/* The number of characters fmt_int(p, v) appends (no formatting). */
+static inline int fmt_int_len(long long v) {
+    unsigned long long u = v < 0 ? 0ULL - (unsigned long long)v : (unsigned long long)v;
+    int n = 1 + (v < 0);
+    while (u >= 10) {
+        u /= 10;
+        n++;
+    }
+    return n;
 }
 
 /* Appends the shortest decimal form of v that strtod reads back to the same bits (fmt.c);

@@ -1,15 +1,23 @@
 /* pwrite.c: a distributed mesh written by every rank at once (pwrite.h), no gather.
  *
- * Triangle files: every rank formats its lines into one memory buffer (rank 0 prefixes the
- * header, whose counts come from an MPI_Allreduce; the last rank appends the trailer), an
- * MPI_Exscan of the buffer lengths gives each rank its byte offset, and the ranks write their
- * bytes with MPI-IO into one temporary file that rank 0 created (mkstemp) and named to all.
- * After MPI_File_close the ranks agree on success; rank 0 then renames the temporary file over
- * the target (or removes it), and its outcome is agreed again.  Global numbers are 1-based in
- * the files (Triangle's default), so the bytes equal meshio_write_triangle's for the same mesh.
+ * Triangle files, in bounded memory: a file's text is never held whole.  Pass 1: each rank
+ * formats its lines into one chunk buffer (rank 0 starts with the header, whose counts come
+ * from an MPI_Allreduce; the last rank ends with the trailer) until it is full, keeps that
+ * chunk, and only counts the bytes of the rest (integers by their digit count; coordinates by
+ * formatting them into a scratch line, since the shortest round-trip form has no cheaper
+ * length).  An MPI_Exscan of the byte counts gives each rank its offset in the one temporary
+ * file rank 0 created (mkstemp) and named to all.  Pass 2: the kept chunk is written, then the
+ * remaining lines are formatted chunk by chunk, each written at its offset with an independent
+ * MPI_File_write_at (no collective call inside the loop, so ranks with different chunk counts
+ * never wait for each other).  After MPI_File_close the ranks agree on success; rank 0 renames
+ * the temporary file over the target (or removes it), and its outcome is agreed again.  Global
+ * numbers are 1-based in the files (Triangle's default), so the bytes equal
+ * meshio_write_triangle's for the same mesh.
  *
  * VTU pieces are local files (binary appended raw data, or ASCII), each written through
- * meshio_wopen/meshio_wclose; rank 0 writes the .pvtu index once every piece is written.
+ * meshio_wopen/meshio_wclose, array by array in blocks converted on the fly (VTK's XML file
+ * format: "VTK File Formats", appended data = UInt64 byte count then raw values); rank 0
+ * writes the .pvtu index once every piece is written.
  *
  * Invariants: every rank returns the same status; no file is left half-written under its
  * final name; every MPI call's return code is checked (the communicators return errors).
@@ -57,42 +65,153 @@ MESH_PRINTF(3, 4) static void efmt(char *err, size_t errlen, const char *fmt, ..
     va_end(ap);
 }
 
-/* ---- a growing text buffer ------------------------------------------------------------- */
+/* ---- the text of one Triangle file, record by record --------------------------------- */
 
-typedef struct tbuf {
-    char *b;
-    size_t n, cap;
-} tbuf;
+#define CHUNK_DEFAULT ((size_t)8 << 20)
+static size_t chunk_bytes = 0; /* meshio_pwrite_set_chunk; 0: CHUNK_DEFAULT */
 
-/* Room for at least `more` bytes; returns where to write. */
-static char *tb_room(tbuf *t, size_t more) {
-    if (t->n + more > t->cap) {
-        size_t c = t->cap ? t->cap : 1 << 16;
-        while (c < t->n + more)
-            c *= 2;
-        t->b = mesh_xrealloc(t->b, c, 1);
-        t->cap = c;
+void meshio_pwrite_set_chunk(size_t bytes) {
+    chunk_bytes = bytes;
+}
+
+enum { F_NODE, F_ELE, F_POLY };
+
+/* What one rank writes into one file: its records (first = number base + 1), the header
+ * (rank 0) and the trailer (last rank). */
+typedef struct ftext {
+    const mesh_part *p;
+    int kind;
+    long long tot, base; /* records in the file (all ranks); numbers before this rank's */
+    int first, last;
+    int64_t nrec;
+    size_t recmax; /* room one record may need */
+} ftext;
+
+static char *fmt_head(const ftext *x, char *q) {
+    const mesh_part *p = x->p;
+    if (x->kind == F_NODE)
+        q += sprintf(q, "%lld 2 %d 1\n", x->tot, p->nattr);
+    else if (x->kind == F_ELE)
+        q += sprintf(q, "%lld 3 %d\n", x->tot, p->trank ? 1 : 0);
+    else
+        q += sprintf(q, "0 2 0 1\n%lld 1\n", x->tot);
+    return q;
+}
+
+static char *fmt_tail(const ftext *x, char *q) {
+    if (x->kind == F_NODE) return q + sprintf(q, "# written by pcdm\n");
+    if (x->kind == F_ELE)
+        return q +
+               sprintf(q, "# written by pcdm%s\n", x->p->trank ? " (attribute: owning rank)" : "");
+    return q + sprintf(q, "0\n");
+}
+
+static long long tri_vertex(const mesh_part *p, int64_t i, int k) {
+    return p->tri ? (long long)p->tri[3 * i + k] : (long long)p->gid[p->ltri[3 * i + k]];
+}
+
+/* Formats record i (0-based, this rank's) at q; returns the new end. */
+static char *fmt_rec(const ftext *x, int64_t i, char *q) {
+    const mesh_part *p = x->p;
+    q = fmt_int(q, x->base + i + 1);
+    if (x->kind == F_NODE) {
+        const double *xy, *at = NULL;
+        int32_t mk = 0;
+        if (i < p->nhead) {
+            xy = p->hxy + 2 * i;
+            mk = p->hvmarker ? p->hvmarker[i] : 0;
+            if (p->hvattr) at = p->hvattr + (size_t)i * (size_t)p->nattr;
+        } else {
+            int64_t v = p->vsel ? p->vsel[i - p->nhead] : i - p->nhead;
+            xy = p->xy + 2 * v;
+            mk = p->vmarker ? p->vmarker[v] : 0;
+            if (p->vattr) at = p->vattr + (size_t)v * (size_t)p->nattr;
+        }
+        *q++ = ' ';
+        q = fmt_dbl(q, ldexp(xy[0], -p->scale_exp));
+        *q++ = ' ';
+        q = fmt_dbl(q, ldexp(xy[1], -p->scale_exp));
+        for (int k = 0; k < p->nattr; k++) {
+            *q++ = ' ';
+            q = fmt_dbl(q, at ? at[k] : 0.0);
+        }
+        *q++ = ' ';
+        q = fmt_int(q, mk);
+    } else if (x->kind == F_ELE) {
+        for (int k = 0; k < 3; k++) {
+            *q++ = ' ';
+            q = fmt_int(q, tri_vertex(p, i, k) + 1);
+        }
+        if (p->trank) {
+            *q++ = ' ';
+            q = fmt_int(q, p->trank[i]);
+        }
+    } else {
+        for (int k = 0; k < 2; k++) {
+            *q++ = ' ';
+            q = fmt_int(q, (long long)p->seg[2 * i + k] + 1);
+        }
+        *q++ = ' ';
+        q = fmt_int(q, p->smarker ? p->smarker[i] : 0);
     }
-    return t->b + t->n;
+    *q++ = '\n';
+    return q;
 }
 
-static void tb_end(tbuf *t, const char *p) {
-    t->n = (size_t)(p - t->b);
+/* The length of record i: counted for integer records, formatted into scratch for vertices. */
+static size_t rec_len(const ftext *x, int64_t i, char *scratch) {
+    const mesh_part *p = x->p;
+    if (x->kind == F_NODE) return (size_t)(fmt_rec(x, i, scratch) - scratch);
+    size_t n = (size_t)fmt_int_len(x->base + i + 1) + 1;
+    if (x->kind == F_ELE) {
+        for (int k = 0; k < 3; k++)
+            n += 1 + (size_t)fmt_int_len(tri_vertex(p, i, k) + 1);
+        if (p->trank) n += 1 + (size_t)fmt_int_len(p->trank[i]);
+        return n;
+    }
+    for (int k = 0; k < 2; k++)
+        n += 1 + (size_t)fmt_int_len((long long)p->seg[2 * i + k] + 1);
+    return n + 1 + (size_t)fmt_int_len(p->smarker ? p->smarker[i] : 0);
 }
 
-MESH_PRINTF(2, 3) static void tb_printf(tbuf *t, const char *fmt, ...) {
-    char *p = tb_room(t, 256);
-    va_list ap;
-    va_start(ap, fmt);
-    int n = vsnprintf(p, 256, fmt, ap);
-    va_end(ap);
-    if (n > 0) t->n += (size_t)(n < 256 ? n : 255);
+/* Fills buf (room: chunk + recmax + 256) from record *i on while below chunk bytes; the
+ * trailer is appended once the records are done (*tail_done).  Returns the bytes. */
+static size_t fill_chunk(const ftext *x, int64_t *i, int *tail_done, char *buf, size_t chunk) {
+    char *q = buf;
+    while (*i < x->nrec && (size_t)(q - buf) < chunk)
+        q = fmt_rec(x, (*i)++, q);
+    if (*i == x->nrec && x->last && !*tail_done && (size_t)(q - buf) < chunk) {
+        q = fmt_tail(x, q);
+        *tail_done = 1;
+    }
+    return (size_t)(q - buf);
 }
 
 /* ---- one shared file ------------------------------------------------------------------- */
 
-/* Collective.  Writes every rank's t at its offset into path, atomically. */
-static int write_shared(MPI_Comm comm, const char *path, const tbuf *t, char *err, size_t errlen) {
+/* Writes n bytes at off, in pieces of at most 1 GiB (counts are int); 0 or -1 with err. */
+static int write_at(MPI_File fh, long long off, const char *b, size_t n, const char *path,
+                    char *err, size_t errlen) {
+    size_t done = 0;
+    while (done < n) {
+        size_t piece = n - done < ((size_t)1 << 30) ? n - done : (size_t)1 << 30;
+        MPI_Status st;
+        int rc = MPI_File_write_at(fh, (MPI_Offset)(off + (long long)done), b + done, (int)piece,
+                                   MPI_BYTE, &st);
+        int got = 0;
+        if (rc == MPI_SUCCESS) MPI_Get_count(&st, MPI_BYTE, &got);
+        if (rc != MPI_SUCCESS || got != (int)piece) {
+            efmt(err, errlen, "%s: write failed at byte %lld (MPI-IO error %d)", path,
+                 off + (long long)done, rc);
+            return -1;
+        }
+        done += piece;
+    }
+    return 0;
+}
+
+/* Collective.  Writes every rank's text x into path, atomically, chunk by chunk. */
+static int write_shared(MPI_Comm comm, const char *path, const ftext *x, char *err, size_t errlen) {
     int rank;
     MESH_MPI(MPI_Comm_rank(comm, &rank));
     char tmp[PATH_MAX_LEN + 16] = "";
@@ -107,9 +226,21 @@ static int write_shared(MPI_Comm comm, const char *path, const tbuf *t, char *er
     if (agree(comm, ok, err, errlen)) return -1;
     MESH_MPI(MPI_Bcast(tmp, (int)sizeof tmp, MPI_CHAR, 0, comm));
 
-    long long mine = (long long)t->n, off = 0;
+    /* pass 1: the first chunk kept, the rest counted */
+    size_t chunk = chunk_bytes ? chunk_bytes : CHUNK_DEFAULT;
+    char *buf = mesh_xmalloc(chunk + x->recmax + 512, 1), *scratch = mesh_xmalloc(x->recmax, 1);
+    char *q = x->first ? fmt_head(x, buf) : buf;
+    int64_t i = 0;
+    int tail_done = 0;
+    size_t kept = (size_t)(q - buf) + fill_chunk(x, &i, &tail_done, q, chunk);
+    long long mine = (long long)kept, off = 0;
+    for (int64_t j = i; j < x->nrec; j++)
+        mine += (long long)rec_len(x, j, scratch);
+    if (x->last && !tail_done) mine += (long long)(fmt_tail(x, scratch) - scratch);
     MESH_MPI(MPI_Exscan(&mine, &off, 1, MPI_LONG_LONG, MPI_SUM, comm));
     if (rank == 0) off = 0; /* MPI_Exscan leaves rank 0's result undefined */
+
+    /* pass 2: the kept chunk, then chunk after chunk at increasing offsets */
     MPI_File fh;
     int rc = MPI_File_open(comm, tmp, MPI_MODE_WRONLY, MPI_INFO_NULL, &fh);
     if (rc != MPI_SUCCESS) {
@@ -118,24 +249,26 @@ static int write_shared(MPI_Comm comm, const char *path, const tbuf *t, char *er
     }
     if (agree(comm, ok, err, errlen)) {
         if (rank == 0) unlink(tmp);
+        free(buf);
+        free(scratch);
         return -1;
     }
     MESH_MPI(MPI_File_set_errhandler(fh, MPI_ERRORS_RETURN));
-    size_t done = 0;
-    while (ok && done < t->n) { /* counts are int: write in pieces of at most 1 GiB */
-        size_t chunk = t->n - done < ((size_t)1 << 30) ? t->n - done : (size_t)1 << 30;
-        MPI_Status st;
-        rc = MPI_File_write_at(fh, (MPI_Offset)(off + (long long)done), t->b + done, (int)chunk,
-                               MPI_BYTE, &st);
-        int got = 0;
-        if (rc == MPI_SUCCESS) MPI_Get_count(&st, MPI_BYTE, &got);
-        if (rc != MPI_SUCCESS || got != (int)chunk) {
-            ok = 0;
-            efmt(err, errlen, "%s: write failed at byte %lld (MPI-IO error %d)", path,
-                 off + (long long)done, rc);
-        }
-        done += chunk;
+    long long at = off;
+    size_t n = kept;
+    while (ok) {
+        if (n && write_at(fh, at, buf, n, path, err, errlen) != 0) ok = 0;
+        at += (long long)n;
+        if (i == x->nrec && (tail_done || !x->last)) break;
+        n = fill_chunk(x, &i, &tail_done, buf, chunk);
     }
+    if (ok && at != off + mine) { /* pass 2 must have made exactly pass 1's bytes */
+        ok = 0;
+        efmt(err, errlen, "%s: internal error: %lld bytes counted, %lld written", path, mine,
+             at - off);
+    }
+    free(buf);
+    free(scratch);
     if (MPI_File_close(&fh) != MPI_SUCCESS && ok) {
         ok = 0;
         efmt(err, errlen, "%s: closing failed", path);
@@ -166,67 +299,6 @@ static void counts(MPI_Comm comm, const mesh_part *p, long long tot[3], long lon
     if (rank == 0) base[0] = base[1] = base[2] = 0;
 }
 
-static void fmt_node(const mesh_part *p, long long tot, long long base, int first, int last,
-                     tbuf *t) {
-    int nattr = p->vattr ? p->nattr : 0;
-    if (first) tb_printf(t, "%lld 2 %d 1\n", tot, nattr);
-    for (int64_t i = 0; i < p->nverts; i++) {
-        char *q = tb_room(t, 64 + 32 * (size_t)nattr);
-        q = fmt_int(q, base + i + 1);
-        *q++ = ' ';
-        q = fmt_dbl(q, ldexp(p->xy[2 * i], -p->scale_exp));
-        *q++ = ' ';
-        q = fmt_dbl(q, ldexp(p->xy[2 * i + 1], -p->scale_exp));
-        for (int k = 0; k < nattr; k++) {
-            *q++ = ' ';
-            q = fmt_dbl(q, p->vattr[(size_t)i * (size_t)nattr + (size_t)k]);
-        }
-        *q++ = ' ';
-        q = fmt_int(q, p->vmarker ? p->vmarker[i] : 0);
-        *q++ = '\n';
-        tb_end(t, q);
-    }
-    if (last) tb_printf(t, "# written by pcdm\n");
-}
-
-static void fmt_ele(const mesh_part *p, long long tot, long long base, int first, int last,
-                    tbuf *t) {
-    if (first) tb_printf(t, "%lld 3 %d\n", tot, p->trank ? 1 : 0);
-    for (int64_t i = 0; i < p->ntris; i++) {
-        char *q = tb_room(t, 128);
-        q = fmt_int(q, base + i + 1);
-        for (int k = 0; k < 3; k++) {
-            *q++ = ' ';
-            q = fmt_int(q, (long long)p->tri[3 * i + k] + 1);
-        }
-        if (p->trank) {
-            *q++ = ' ';
-            q = fmt_int(q, p->trank[i]);
-        }
-        *q++ = '\n';
-        tb_end(t, q);
-    }
-    if (last) tb_printf(t, "# written by pcdm%s\n", p->trank ? " (attribute: owning rank)" : "");
-}
-
-static void fmt_poly(const mesh_part *p, long long tot, long long base, int first, int last,
-                     tbuf *t) {
-    if (first) tb_printf(t, "0 2 0 1\n%lld 1\n", tot);
-    for (int64_t i = 0; i < p->nsegs; i++) {
-        char *q = tb_room(t, 128);
-        q = fmt_int(q, base + i + 1);
-        for (int k = 0; k < 2; k++) {
-            *q++ = ' ';
-            q = fmt_int(q, (long long)p->seg[2 * i + k] + 1);
-        }
-        *q++ = ' ';
-        q = fmt_int(q, p->smarker ? p->smarker[i] : 0);
-        *q++ = '\n';
-        tb_end(t, q);
-    }
-    if (last) tb_printf(t, "0\n");
-}
-
 int meshio_pwrite_triangle(MPI_Comm comm, const mesh_part *p, const char *prefix, char *err,
                            size_t errlen) {
     int rank, size;
@@ -236,17 +308,16 @@ int meshio_pwrite_triangle(MPI_Comm comm, const mesh_part *p, const char *prefix
     long long tot[3], base[3];
     counts(comm, p, tot, base);
     static const char *const ext[3] = {"node", "ele", "poly"};
+    const int64_t nrec[3] = {p->nverts, p->ntris, p->nsegs};
     int rc = 0;
     for (int f = 0; f < 3 && rc == 0; f++) {
         char path[PATH_MAX_LEN + 8];
         snprintf(path, sizeof path, "%s.%s", prefix, ext[f]);
-        tbuf t = {0};
-        int first = rank == 0, last = rank == size - 1;
-        if (f == 0) fmt_node(p, tot[0], base[0], first, last, &t);
-        if (f == 1) fmt_ele(p, tot[1], base[1], first, last, &t);
-        if (f == 2) fmt_poly(p, tot[2], base[2], first, last, &t);
-        rc = write_shared(comm, path, &t, err, errlen);
-        free(t.b);
+        ftext x = {p,         f,
+                   tot[f],    base[f],
+                   rank == 0, rank == size - 1,
+                   nrec[f],   128 + 32 * (size_t)(p->nattr > 0 ? p->nattr : 0)};
+        rc = write_shared(comm, path, &x, err, errlen);
     }
     return rc;
 }
@@ -260,107 +331,137 @@ static int little_endian(void) {
     return c == 1;
 }
 
-/* Writes one appended block: a UInt64 byte count, then the bytes. */
-static void put_block(FILE *f, const void *data, uint64_t bytes) {
-    fwrite(&bytes, sizeof bytes, 1, f);
-    if (bytes) fwrite(data, 1, (size_t)bytes, f);
+/* The arrays of a piece, in file order: name, VTK type, bytes per value, components. */
+enum { A_MARKER, A_RANK, A_SUB, A_POINTS, A_CONN, A_OFFS, A_TYPES, A_N };
+static const struct vtu_arr {
+    const char *name, *type;
+    int size, ncomp;
+} vtu_arrs[A_N] = {{"marker", "Int32", 4, 1},       {"rank", "Int32", 4, 1},
+                   {"subdomain", "Int32", 4, 1},    {"Points", "Float64", 8, 3},
+                   {"connectivity", "Int64", 8, 1}, {"offsets", "Int64", 8, 1},
+                   {"types", "UInt8", 1, 1}};
+
+/* Number of values of array a in m. */
+static size_t vtu_count(const mesh_flat *m, int a) {
+    size_t nv = (size_t)m->nverts, nt = (size_t)m->ntris;
+    return a == A_MARKER ? nv : a == A_POINTS ? 3 * nv : a == A_CONN ? 3 * nt : nt;
 }
 
-int meshio_write_vtu(const mesh_flat *m, int rank, int binary, const char *path, char *err,
-                     size_t errlen) {
+/* Values [k0, k0 + n) of array a into out (its VTK type). */
+static void vtu_fill(const mesh_flat *m, int rank, const int32_t *tsub, int a, size_t k0, size_t n,
+                     void *out) {
+    int32_t *i32 = out;
+    int64_t *i64 = out;
+    double *f64 = out;
+    uint8_t *u8 = out;
+    for (size_t j = 0; j < n; j++) {
+        size_t k = k0 + j;
+        switch (a) {
+        case A_MARKER:
+            i32[j] = m->vmarker ? m->vmarker[k] : 0;
+            break;
+        case A_RANK:
+            i32[j] = m->trank ? m->trank[k] : rank;
+            break;
+        case A_SUB:
+            i32[j] = tsub[k];
+            break;
+        case A_POINTS:
+            f64[j] = k % 3 == 2 ? 0.0 : ldexp(m->xy[k / 3 * 2 + k % 3], -m->scale_exp);
+            break;
+        case A_CONN:
+            i64[j] = m->tri[k];
+            break;
+        case A_OFFS:
+            i64[j] = 3 * (int64_t)(k + 1);
+            break;
+        default:
+            u8[j] = 5; /* VTK_TRIANGLE */
+        }
+    }
+}
+
+#define VTU_BLOCK 8192 /* values converted at a time */
+
+int meshio_write_vtu(const mesh_flat *m, int rank, const int32_t *tsub, int binary,
+                     const char *path, char *err, size_t errlen) {
     wfile w;
     if (meshio_wopen(&w, path, err, errlen)) return -1;
-    size_t nv = (size_t)m->nverts, nt = (size_t)m->ntris;
-    double *pts = mesh_xmalloc(3 * nv + 1, sizeof *pts);
-    int32_t *mark = mesh_xmalloc(nv + 1, sizeof *mark);
-    int64_t *conn = mesh_xmalloc(3 * nt + 1, sizeof *conn);
-    int64_t *offs = mesh_xmalloc(nt + 1, sizeof *offs);
-    uint8_t *type = mesh_xmalloc(nt + 1, 1);
-    int32_t *crank = mesh_xmalloc(nt + 1, sizeof *crank);
-    for (size_t v = 0; v < nv; v++) {
-        pts[3 * v] = ldexp(m->xy[2 * v], -m->scale_exp);
-        pts[3 * v + 1] = ldexp(m->xy[2 * v + 1], -m->scale_exp);
-        pts[3 * v + 2] = 0;
-        mark[v] = m->vmarker ? m->vmarker[v] : 0;
-    }
-    for (size_t t = 0; t < nt; t++) {
-        for (int k = 0; k < 3; k++)
-            conn[3 * t + (size_t)k] = m->tri[3 * t + (size_t)k];
-        offs[t] = 3 * (int64_t)(t + 1);
-        type[t] = 5; /* VTK_TRIANGLE */
-        crank[t] = m->trank ? m->trank[t] : rank;
-    }
-    /* name, VTK type, data, bytes, components */
-    struct arr {
-        const char *name, *type;
-        const void *data;
-        uint64_t bytes;
-        int ncomp;
-    } a[6] = {{"marker", "Int32", mark, 4 * nv, 1},   {"rank", "Int32", crank, 4 * nt, 1},
-              {"Points", "Float64", pts, 24 * nv, 3}, {"connectivity", "Int64", conn, 24 * nt, 1},
-              {"offsets", "Int64", offs, 8 * nt, 1},  {"types", "UInt8", type, nt, 1}};
-    uint64_t off[6], o = 0;
-    for (int i = 0; i < 6; i++) {
-        off[i] = o;
-        o += 8 + a[i].bytes;
-    }
     FILE *f = w.f;
+    int use[A_N];
+    uint64_t off[A_N], o = 0;
+    for (int a = 0; a < A_N; a++) {
+        use[a] = a != A_SUB || tsub;
+        off[a] = o;
+        if (use[a]) o += 8 + (uint64_t)vtu_count(m, a) * (uint64_t)vtu_arrs[a].size;
+    }
     fprintf(f,
             "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
             "byte_order=\"%s\" header_type=\"UInt64\">\n<UnstructuredGrid>\n"
-            "<Piece NumberOfPoints=\"%zu\" NumberOfCells=\"%zu\">\n",
-            little_endian() ? "LittleEndian" : "BigEndian", nv, nt);
-    static const char *const open_tag[6] = {"<PointData Scalars=\"marker\">\n",
-                                            "<CellData Scalars=\"rank\">\n",
-                                            "<Points>\n",
-                                            "<Cells>\n",
-                                            "",
-                                            ""};
-    static const char *const close_tag[6] = {
-        "</PointData>\n", "</CellData>\n", "</Points>\n", "", "", "</Cells>\n"};
-    for (int i = 0; i < 6; i++) {
-        fputs(open_tag[i], f);
-        fprintf(f, "<DataArray type=\"%s\"", a[i].type);
-        if (i != 2) fprintf(f, " Name=\"%s\"", a[i].name);
-        if (a[i].ncomp > 1) fprintf(f, " NumberOfComponents=\"%d\"", a[i].ncomp);
+            "<Piece NumberOfPoints=\"%lld\" NumberOfCells=\"%lld\">\n",
+            little_endian() ? "LittleEndian" : "BigEndian", (long long)m->nverts,
+            (long long)m->ntris);
+    unsigned char *blk = mesh_xmalloc(VTU_BLOCK, 8);
+    for (int a = 0; a < A_N; a++) {
+        if (!use[a]) continue;
+        if (a == A_MARKER) fputs("<PointData Scalars=\"marker\">\n", f);
+        if (a == A_RANK) fputs("<CellData Scalars=\"rank\">\n", f);
+        if (a == A_POINTS) fputs("<Points>\n", f);
+        if (a == A_CONN) fputs("<Cells>\n", f);
+        const struct vtu_arr *d = &vtu_arrs[a];
+        fprintf(f, "<DataArray type=\"%s\"", d->type);
+        if (a != A_POINTS) fprintf(f, " Name=\"%s\"", d->name);
+        if (d->ncomp > 1) fprintf(f, " NumberOfComponents=\"%d\"", d->ncomp);
         if (binary) {
-            fprintf(f, " format=\"appended\" offset=\"%llu\"/>\n", (unsigned long long)off[i]);
+            fprintf(f, " format=\"appended\" offset=\"%llu\"/>\n", (unsigned long long)off[a]);
         } else {
             fprintf(f, " format=\"ascii\">\n");
-            size_t n = (size_t)(a[i].bytes / (i == 5 ? 1 : (i == 0 || i == 1) ? 4 : 8));
+            size_t n = vtu_count(m, a);
             char line[48];
-            for (size_t k = 0; k < n; k++) {
-                char *q = line;
-                if (i == 0 || i == 1) q = fmt_int(q, ((const int32_t *)a[i].data)[k]);
-                if (i == 2) q = fmt_dbl(q, ((const double *)a[i].data)[k]);
-                if (i == 3 || i == 4) q = fmt_int(q, ((const int64_t *)a[i].data)[k]);
-                if (i == 5) q = fmt_int(q, ((const uint8_t *)a[i].data)[k]);
-                *q++ = (k + 1) % 12 == 0 || k + 1 == n ? '\n' : ' ';
-                fwrite(line, 1, (size_t)(q - line), f);
+            for (size_t k0 = 0; k0 < n; k0 += VTU_BLOCK) {
+                size_t nb = n - k0 < VTU_BLOCK ? n - k0 : VTU_BLOCK;
+                vtu_fill(m, rank, tsub, a, k0, nb, blk);
+                for (size_t j = 0; j < nb; j++) {
+                    char *q = line;
+                    if (d->size == 4) q = fmt_int(q, ((const int32_t *)(void *)blk)[j]);
+                    if (a == A_POINTS) q = fmt_dbl(q, ((const double *)(void *)blk)[j]);
+                    if (a == A_CONN || a == A_OFFS)
+                        q = fmt_int(q, ((const int64_t *)(void *)blk)[j]);
+                    if (a == A_TYPES) q = fmt_int(q, blk[j]);
+                    *q++ = (k0 + j + 1) % 12 == 0 || k0 + j + 1 == n ? '\n' : ' ';
+                    fwrite(line, 1, (size_t)(q - line), f);
+                }
             }
             fputs("</DataArray>\n", f);
         }
-        fputs(close_tag[i], f);
+        if (a == A_MARKER) fputs("</PointData>\n", f);
+        if (a == A_SUB || (a == A_RANK && !tsub)) fputs("</CellData>\n", f);
+        if (a == A_POINTS) fputs("</Points>\n", f);
+        if (a == A_TYPES) fputs("</Cells>\n", f);
     }
     fputs("</Piece>\n</UnstructuredGrid>\n", f);
     if (binary) {
         fputs("<AppendedData encoding=\"raw\">\n_", f);
-        for (int i = 0; i < 6; i++)
-            put_block(f, a[i].data, a[i].bytes);
+        for (int a = 0; a < A_N; a++) {
+            if (!use[a]) continue;
+            size_t n = vtu_count(m, a);
+            uint64_t bytes = (uint64_t)n * (uint64_t)vtu_arrs[a].size;
+            fwrite(&bytes, sizeof bytes, 1, f);
+            for (size_t k0 = 0; k0 < n; k0 += VTU_BLOCK) {
+                size_t nb = n - k0 < VTU_BLOCK ? n - k0 : VTU_BLOCK;
+                vtu_fill(m, rank, tsub, a, k0, nb, blk);
+                fwrite(blk, (size_t)vtu_arrs[a].size, nb, f);
+            }
+        }
         fputs("\n</AppendedData>\n", f);
     }
     fputs("</VTKFile>\n", f);
-    free(pts);
-    free(mark);
-    free(conn);
-    free(offs);
-    free(type);
-    free(crank);
+    free(blk);
     return meshio_wclose(&w, 0);
 }
 
-int meshio_pwrite_pvtu(MPI_Comm comm, const mesh_flat *local, int binary, const char *prefix,
-                       char *err, size_t errlen) {
+int meshio_pwrite_pvtu(MPI_Comm comm, const mesh_flat *local, const int32_t *tsub, int binary,
+                       const char *prefix, char *err, size_t errlen) {
     int rank, size;
     MESH_MPI(MPI_Comm_rank(comm, &rank));
     MESH_MPI(MPI_Comm_size(comm, &size));
@@ -370,7 +471,7 @@ int meshio_pwrite_pvtu(MPI_Comm comm, const mesh_flat *local, int binary, const 
     if (!ok) efmt(err, errlen, "%s: path too long", prefix);
     if (ok) {
         snprintf(path, sizeof path, "%s_%d.vtu", prefix, rank);
-        ok = meshio_write_vtu(local, rank, binary, path, err, errlen) == 0;
+        ok = meshio_write_vtu(local, rank, tsub, binary, path, err, errlen) == 0;
     }
     if (agree(comm, ok, err, errlen)) return -1;
     if (rank == 0) {
@@ -387,9 +488,10 @@ int meshio_pwrite_pvtu(MPI_Comm comm, const mesh_flat *local, int binary, const 
                     "<PPointData Scalars=\"marker\"><PDataArray type=\"Int32\" "
                     "Name=\"marker\"/></PPointData>\n"
                     "<PCellData Scalars=\"rank\"><PDataArray type=\"Int32\" "
-                    "Name=\"rank\"/></PCellData>\n"
+                    "Name=\"rank\"/>%s</PCellData>\n"
                     "<PPoints><PDataArray type=\"Float64\" NumberOfComponents=\"3\"/></PPoints>\n",
-                    little_endian() ? "LittleEndian" : "BigEndian");
+                    little_endian() ? "LittleEndian" : "BigEndian",
+                    tsub ? "<PDataArray type=\"Int32\" Name=\"subdomain\"/>" : "");
             for (int r = 0; r < size; r++)
                 fprintf(w.f, "<Piece Source=\"%s_%d.vtu\"/>\n", base, r);
             fputs("</PUnstructuredGrid>\n</VTKFile>\n", w.f);

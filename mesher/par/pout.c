@@ -159,21 +159,8 @@ int par_check_parts(const par_opts *o, const pslg *in, mesh_flat *local, const p
 static int write_triangle(const par_opts *o, const pslg *in, const mesh_flat *f,
                           const par_numbering *num, char *err, size_t errlen) {
     int rank = rt_rank();
-    int64_t nin = rank == 0 ? num->nin : 0, nv = nin + num->nowned;
-    double *xy = mesh_xmalloc(2 * (size_t)nv + 1, sizeof(double));
-    int32_t *mk = mesh_xmalloc((size_t)nv + 1, sizeof(int32_t));
-    if (nin) memcpy(xy, in->xy, 2 * (size_t)nin * sizeof(double));
-    for (int64_t i = 0; i < nin; i++)
-        mk[i] = in->vmarker ? in->vmarker[i] : 0;
-    for (int32_t k = 0; k < num->nowned; k++) {
-        int32_t v = num->owned[k];
-        xy[2 * (size_t)(nin + k)] = f->xy[2 * (size_t)v];
-        xy[2 * (size_t)(nin + k) + 1] = f->xy[2 * (size_t)v + 1];
-        mk[nin + k] = f->vmarker ? f->vmarker[v] : 0;
-    }
-    int64_t *tri = mesh_xmalloc(3 * (size_t)f->ntris + 1, sizeof(int64_t));
-    for (size_t i = 0; i < 3 * (size_t)f->ntris; i++)
-        tri[i] = num->gid[f->tri[i]];
+    int64_t nin = rank == 0 ? num->nin : 0;
+    /* only the written segments are copied (few); vertices and triangles are read in place */
     int64_t *seg = mesh_xmalloc(2 * (size_t)num->nwseg + 1, sizeof(int64_t));
     int32_t *smk = mesh_xmalloc((size_t)num->nwseg + 1, sizeof(int32_t));
     for (int32_t k = 0; k < num->nwseg; k++) {
@@ -182,20 +169,22 @@ static int write_triangle(const par_opts *o, const pslg *in, const mesh_flat *f,
         seg[2 * (size_t)k + 1] = num->gid[f->seg[2 * (size_t)s + 1]];
         smk[k] = f->smarker ? f->smarker[s] : 0;
     }
-    mesh_part p = {.nverts = nv,
-                   .xy = xy,
-                   .vmarker = mk,
+    mesh_part p = {.nverts = nin + num->nowned,
+                   .nhead = nin,
+                   .hxy = in->xy,
+                   .hvmarker = in->vmarker,
+                   .xy = f->xy,
+                   .vmarker = f->vmarker,
+                   .vsel = num->owned,
                    .ntris = f->ntris,
-                   .tri = tri,
+                   .ltri = f->tri,
+                   .gid = num->gid,
                    .trank = f->trank,
                    .nsegs = num->nwseg,
                    .seg = seg,
                    .smarker = smk,
                    .scale_exp = in->scale_exp};
     int rc = meshio_pwrite_triangle(rt_app_comm(), &p, o->out_prefix, err, errlen);
-    free(xy);
-    free(mk);
-    free(tri);
     free(seg);
     free(smk);
     return rc;
@@ -297,7 +286,7 @@ static int write_svg(const par_opts *o, const mesh_flat *f, const par_numbering 
 
 /* ---- all outputs --------------------------------------------------------------------------- */
 
-int par_write_parts(const par_opts *o, const pslg *in, const mesh_flat *local,
+int par_write_parts(const par_opts *o, const pslg *in, const mesh_flat *local, const int32_t *tsub,
                     const par_numbering *num) {
     char err[1024] = "", msg[1200];
     if (o->out_prefix) { /* collective: the same status everywhere */
@@ -318,7 +307,7 @@ int par_write_parts(const par_opts *o, const pslg *in, const mesh_flat *local,
                 break;
             }
         }
-        if (meshio_pwrite_pvtu(rt_app_comm(), local, 1, prefix, err, sizeof err) != 0) {
+        if (meshio_pwrite_pvtu(rt_app_comm(), local, tsub, 1, prefix, err, sizeof err) != 0) {
             if (rt_rank() == 0) fprintf(stderr, "%s: %s\n", o->prog, err);
             return -1;
         }
@@ -341,6 +330,11 @@ void par_quality_all(const mesh_flat *local, double *min_angle, double *max_area
 
 int par_output(const par_opts *o, const pslg *in, mesh_flat *local, const uint8_t *artificial,
                par_summary *sum) {
+    return par_output_sub(o, in, local, artificial, NULL, sum);
+}
+
+int par_output_sub(const par_opts *o, const pslg *in, mesh_flat *local, const uint8_t *artificial,
+                   const int32_t *tsub, par_summary *sum) {
     memset(sum, 0, sizeof *sum);
     /* the parts are in the input's working scale (pslg_check); the writers undo it */
     local->scale_exp = in->scale_exp;
@@ -364,7 +358,7 @@ int par_output(const par_opts *o, const pslg *in, mesh_flat *local, const uint8_
         if (!par_check_parts(o, in, local, &num, 1, &vr)) status = 1;
     }
     double t2 = rt_wtime();
-    if (status == 0 && par_write_parts(o, in, local, &num) != 0) status = 1;
+    if (status == 0 && par_write_parts(o, in, local, tsub, &num) != 0) status = 1;
     double t3 = rt_wtime();
     sum->ntris = num.ntris;
     sum->nverts = num.nverts;

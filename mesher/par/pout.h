@@ -79,10 +79,12 @@ int par_check_parts(const par_opts *o, const pslg *in, mesh_flat *local, const p
 
 /* Collective.  Writes what o asks for from every rank's part: -o PREFIX (MPI-IO single
  * Triangle files through meshio_pwrite_triangle, numbering num), --vtk FILE (FILE is the .pvtu
- * index; one piece FILE-without-.pvtu_R.vtu per rank, binary appended data), --svg FILE
+ * index; one piece FILE-without-.pvtu_R.vtu per rank, binary appended data, cell data rank
+ * and, when tsub (local->ntris entries; NULL or not on every rank alike) is given,
+ * subdomain), --svg FILE
  * (collected on rank 0, at most PAR_SVG_MAX_TRIS triangles).  Returns 0, or -1 on every rank
  * (the message printed by rank 0). */
-int par_write_parts(const par_opts *o, const pslg *in, const mesh_flat *local,
+int par_write_parts(const par_opts *o, const pslg *in, const mesh_flat *local, const int32_t *tsub,
                     const par_numbering *num);
 
 /* Collective.  Smallest angle and largest area over every rank's triangles (the same on every
@@ -110,5 +112,10 @@ typedef struct par_summary {
  * local may be changed by the test-only fault of par_check_parts. */
 int par_output(const par_opts *o, const pslg *in, mesh_flat *local, const uint8_t *artificial,
                par_summary *sum);
+
+/* Collective.  par_output, with each triangle's subdomain (tsub, local->ntris entries, NULL or
+ * not on every rank alike) written as VTU cell data. */
+int par_output_sub(const par_opts *o, const pslg *in, mesh_flat *local, const uint8_t *artificial,
+                   const int32_t *tsub, par_summary *sum);
 
 #endif

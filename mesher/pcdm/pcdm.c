@@ -264,6 +264,49 @@ int pcdm_part_flat(const pcdm_part *p, mesh_flat *f) {
     return 0;
 }
 
+/* Each live triangle slot's subdomain (-1: dead slot, or a region with no subsegment record):
+ * regions between constraint edges lie in one subdomain, found by the side of one bounding
+ * subsegment (as pcdm_part_build). */
+static int32_t *slot_subdomains(const pcdm_part *p) {
+    const mesh *m = &p->m;
+    const pcdm_decomp *d = p->d;
+    int32_t *label = mesh_xmalloc((size_t)m->nt + 1, sizeof(int32_t));
+    int32_t nreg = mesh_label_regions(m, label);
+    int32_t *regsub = mesh_xmalloc((size_t)nreg + 1, sizeof(int32_t));
+    for (int32_t r = 0; r < nreg; r++)
+        regsub[r] = -1;
+    for (int32_t t = 0; t < m->nt; t++) {
+        if (!mesh_tri_alive(m, t) || !(m->tf[t] & 7) || regsub[label[t]] >= 0) continue;
+        for (int j = 0; j < 3; j++) {
+            int32_t e = 3 * t + j;
+            if (!mesh_edge_constrained(m, e)) continue;
+            const mesh_subseg *s = mesh_subseg_of_edge(m, e);
+            if (!s || s->seg < 0 || s->seg >= d->g.nsegs) continue;
+            int side = mesh_org(m, e) == s->u ? 0 : 1;
+            regsub[label[t]] = d->seg_sub[2 * (size_t)s->seg + side];
+            break;
+        }
+    }
+    for (int32_t t = 0; t < m->nt; t++)
+        label[t] = label[t] >= 0 ? regsub[label[t]] : -1;
+    free(regsub);
+    return label;
+}
+
+void pcdm_part_take_flat(pcdm_part *p, mesh_flat *f, int32_t **tsub) {
+    int32_t *sub = tsub ? slot_subdomains(p) : NULL;
+    if (sub) { /* compacted like the triangles (slot order, live only) */
+        int32_t n = 0;
+        for (int32_t t = 0; t < p->m.nt; t++)
+            if (mesh_tri_alive(&p->m, t)) sub[n++] = sub[t];
+        *tsub = sub;
+    }
+    mesh_take_flat(&p->m, f);
+    f->trank = mesh_xmalloc((size_t)f->ntris + 1, sizeof(int32_t));
+    for (int32_t t = 0; t < f->ntris; t++)
+        f->trank[t] = p->rank;
+}
+
 uint8_t *pcdm_part_artificial(const pcdm_part *p) {
     uint8_t *a = mesh_xmalloc((size_t)p->m.ss_live + 1, 1);
     int32_t ns = 0;

@@ -757,6 +757,56 @@ int mesh_to_flat(const mesh *m, mesh_flat *f) {
     return 0;
 }
 
+void mesh_take_flat(mesh *m, mesh_flat *f) {
+    memset(f, 0, sizeof *f);
+    /* scratch and topology first: what remains is coordinates, vertices, segments */
+    mesh_refine_free(m);
+    free(m->tn), free(m->vtri), free(m->cav), free(m->bnd), free(m->stk), free(m->newt);
+    free(m->hpair), free(m->hname), free(m->inc_off), free(m->inc_seg), free(m->corner);
+    free(m->seg_nsub);
+    m->tn = m->vtri = m->cav = m->stk = m->newt = m->hpair = m->hname = NULL;
+    m->inc_off = m->inc_seg = m->seg_nsub = NULL;
+    m->bnd = NULL;
+    m->corner = NULL;
+    int32_t nt = 0;
+    for (int32_t t = 0; t < m->nt; t++) {
+        if (!mesh_tri_alive(m, t) || ghost_index(m, t) >= 0) continue;
+        if (nt != t) memmove(m->tv + 3 * (size_t)nt, m->tv + 3 * (size_t)t, 3 * sizeof(int32_t));
+        nt++;
+    }
+    free(m->tf);
+    m->tf = NULL;
+    f->ntris = nt;
+    f->tri = mesh_xrealloc(m->tv, 3 * (size_t)nt + 1, sizeof(int32_t));
+    m->tv = NULL;
+    f->nsegs = m->ss_live;
+    f->seg = mesh_xmalloc(2 * (size_t)m->ss_live + 1, sizeof(int32_t));
+    f->smarker = mesh_xmalloc((size_t)m->ss_live + 1, sizeof(int32_t));
+    f->sinterface = mesh_xmalloc((size_t)m->ss_live + 1, sizeof(int32_t));
+    int32_t ns = 0;
+    for (int32_t r = 0; r < m->nss; r++) {
+        const mesh_subseg *s = &m->ss[r];
+        if (s->level == -2) continue;
+        f->seg[2 * ns] = s->u;
+        f->seg[2 * ns + 1] = s->v;
+        f->smarker[ns] = m->smarker[s->seg];
+        f->sinterface[ns] = m->siface[s->seg];
+        ns++;
+    }
+    int32_t *mk = m->vseg; /* markers over vseg, one int32 each, in place */
+    for (int32_t v = 0; v < m->nv; v++)
+        mk[v] = v < m->ninput ? (m->in_vmarker ? m->in_vmarker[v] : 0)
+                : mk[v] >= 0  ? m->smarker[mk[v]]
+                              : 0;
+    f->nverts = m->nv;
+    f->vmarker = mesh_xrealloc(mk, (size_t)m->nv + 1, sizeof(int32_t));
+    f->xy = mesh_xrealloc(m->xy, 2 * (size_t)m->nv + 1, sizeof(double));
+    f->scale_exp = m->scale_exp;
+    m->vseg = NULL;
+    m->xy = NULL;
+    mesh_free(m);
+}
+
 size_t mesh_memory_bytes(const mesh *m) {
     size_t b = (size_t)m->vcap * (2 * sizeof(double) + 2 * sizeof(int32_t));
     b += (size_t)m->tcap * (6 * sizeof(int32_t) + 1);

@@ -263,6 +263,12 @@ void mesh_dyadic_point(const double a[2], const double b[2], int32_t level, int6
  * and interface flag.  Returns 0, or -1 if out of memory. */
 int mesh_to_flat(const mesh *m, mesh_flat *f);
 
+/* Moves m into f: the same f as mesh_to_flat, built from m's own arrays (live triangles
+ * compacted in place, vertex markers written over vseg, arrays shrunk) while everything else
+ * of m is freed first, so the mesh is never held twice (the parallel meshers' memory peak).
+ * m is empty afterwards (as after mesh_free).  Free f with mesh_flat_free. */
+void mesh_take_flat(mesh *m, mesh_flat *f);
+
 /* Bytes held by the mesh's arrays (capacities). */
 size_t mesh_memory_bytes(const mesh *m);
 
