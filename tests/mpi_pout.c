@@ -11,7 +11,9 @@
  *    other), the input vertices first under their input numbers, and the validator accepts them;
  *  - the distributed check (par_check_parts) passes, and fails on every rank when one part is
  *    broken (PCDM_TEST_BREAK_PIECE);
- *  - --vtk writes the .pvtu index and one piece per rank.
+ *  - --vtk writes the .pvtu index and one piece per rank;
+ *  - the interface local-Delaunay test finds a non-Delaunay edge between two ranks' triangles
+ *    and exempts a constraint.
  * Two shares: slabs by centroid (parts meet along chains of edges) and triangles dealt out by
  * a hash (parts meet everywhere, also at single vertices).  Results are reduced over ranks
  * before asserting.  CK_NOFORK (MPI does not survive fork); run from the repository root.
@@ -274,12 +276,62 @@ START_TEST(test_roundtrip_scattered) {
 }
 END_TEST
 
+/* The interface local-Delaunay test: a quadrilateral P0 P1 P2 P3 whose diagonal P0-P2 is not
+ * locally Delaunay (P3 lies inside the circle through P0, P1, P2) and whose diagonal P1-P3 is;
+ * rank 0 holds one triangle, rank 1 the other (other ranks nothing).  Bad edges summed over the
+ * ranks: 1 for P0-P2, 0 for P1-P3, 0 for P0-P2 listed as an input subsegment on both sides (a
+ * constraint is exempt).  On one rank no edge lies between ranks: always 0. */
+static long quad_bad(int diag, int constrained) {
+    double xy[8] = {0, 0, 1, -1, 2, 0, 1, 0.3};
+    int32_t tris[2][2][3] = {{{0, 1, 2}, {0, 2, 3}}, {{1, 2, 3}, {1, 3, 0}}};
+    int32_t seg[2] = {0, 2}, sm[1] = {1}, si[1] = {0};
+    int rank = rt_rank(), P = rt_size();
+    mesh_flat f;
+    memset(&f, 0, sizeof f);
+    f.nverts = 4;
+    f.xy = xy;
+    int32_t both[6];
+    if (P == 1) {
+        memcpy(both, tris[diag][0], sizeof tris[diag][0]);
+        memcpy(both + 3, tris[diag][1], sizeof tris[diag][1]);
+        f.ntris = 2;
+        f.tri = both;
+    } else if (rank < 2) {
+        f.ntris = 1;
+        f.tri = tris[diag][rank];
+    }
+    if (constrained && f.ntris) {
+        f.nsegs = 1;
+        f.seg = seg;
+        f.smarker = sm;
+        f.sinterface = si;
+    }
+    char msg[256];
+    long bad = par_check_interface_delaunay(&f, msg, sizeof msg), tot = 0;
+    if (bad) fprintf(stderr, "rank %d: %s\n", rank, msg);
+    MPI_Allreduce(&bad, &tot, 1, MPI_LONG, MPI_SUM, rt_app_comm());
+    return tot;
+}
+
+START_TEST(test_interface_delaunay) {
+    long want = rt_size() > 1 ? 1 : 0;
+    long a = quad_bad(0, 0), b = quad_bad(1, 0), c = quad_bad(0, 1);
+    if (rt_rank() == 0)
+        fprintf(stderr, "interface delaunay: bad %ld (want %ld), %ld, %ld (want 0, 0)\n", a, want,
+                b, c);
+    ck_assert_int_eq(a, want);
+    ck_assert_int_eq(b, 0);
+    ck_assert_int_eq(c, 0);
+}
+END_TEST
+
 int main(int argc, char **argv) {
     if (rt_init(&argc, &argv, NULL) != RT_OK) return 1;
     Suite *s = suite_create("mpi_pout");
     TCase *tc = tcase_create("core");
     tcase_add_test(tc, test_roundtrip_slabs);
     tcase_add_test(tc, test_roundtrip_scattered);
+    tcase_add_test(tc, test_interface_delaunay);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);
     srunner_set_fork_status(sr, CK_NOFORK);

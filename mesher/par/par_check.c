@@ -15,13 +15,22 @@
  * group of two from two different ranks is a matched interface edge, a group of one is fine only
  * for a boundary edge; anything else is a disagreement.
  *
+ * The interface local-Delaunay test (par_check_interface_delaunay, for the distributed --check)
+ * goes the same way: each open edge that is not an input constraint travels with the apex of
+ * its one local triangle; at the rendezvous the two records of an interface edge (two ranks)
+ * meet, and the edge must be locally Delaunay exactly as the sequential validator asks
+ * (geom_incircle of one apex against the other side's triangle, strictly inside = bad), so a
+ * distributed check is as strong as ./meshcheck on the merged mesh.
+ *
  * Invariants: exact comparison of coordinate bits (-0.0 folded onto +0.0), no tolerance; every
- * rank takes part in both collectives whatever its piece holds.
+ * rank takes part in every collective whatever its piece holds.
  */
 #include "par/par.h"
 #include "par/ptopo.h"
 
 #include "base/base.h"
+#include "geom/geom.h"
+#include "par/pout.h"
 #include "rt.h"
 
 #include <stdio.h>
@@ -109,16 +118,22 @@ static void add_open(void *ctx, int32_t a, int32_t b) {
     e->must = segkind != 1;
 }
 
-/* The open edges of local (edges of exactly one local triangle), found through the
- * vertex-to-triangle rows (ptopo.h: one pass, no sort of all edges). */
-static int32_t open_edges(const mesh_flat *f, int rank, open_edge **out) {
+/* f's listed subsegments as sorted keys: n = 1 a boundary (input) subsegment, 2 an interface. */
+static ekey *seg_keys(const mesh_flat *f) {
     ekey *k = mesh_xmalloc((size_t)f->nsegs + 1, sizeof(ekey));
-    for (int32_t s = 0; s < f->nsegs; s++) { /* n = 1: a boundary subsegment; 2: an interface */
+    for (int32_t s = 0; s < f->nsegs; s++) {
         int32_t a = f->seg[2 * s], b = f->seg[2 * s + 1];
         k[s] =
             (ekey){a < b ? a : b, a < b ? b : a, 1 + (f->sinterface ? f->sinterface[s] != 0 : 0)};
     }
     qsort(k, (size_t)f->nsegs, sizeof *k, cmp_ekey);
+    return k;
+}
+
+/* The open edges of local (edges of exactly one local triangle), found through the
+ * vertex-to-triangle rows (ptopo.h: one pass, no sort of all edges). */
+static int32_t open_edges(const mesh_flat *f, int rank, open_edge **out) {
+    ekey *k = seg_keys(f);
     par_vtris x;
     par_vtris_build(f, &x);
     open_ctx oc = {f, k, rank, NULL, 0, 0};
@@ -188,4 +203,144 @@ int par_check_interfaces(const mesh_flat *local, char *msg, size_t msglen) {
     mesh_xfree(dest);
     mesh_xfree(fill);
     return bad ? -1 : 0;
+}
+
+/* ---- interface edges: locally Delaunay across ranks ------------------------------------ */
+
+/* An open edge (endpoints in lexicographic order) with the apex of its local triangle. */
+typedef struct apex_edge {
+    double x[4];
+    double c[2];
+    int32_t rank;
+    int32_t exempt; /* 1: an input constraint edge (need not be Delaunay) */
+} apex_edge;
+_Static_assert(sizeof(apex_edge) == 56, "apex_edge must be 56 bytes, no padding");
+
+typedef struct apex_ctx {
+    const mesh_flat *f;
+    const par_vtris *x;
+    const ekey *k;
+    int rank;
+    apex_edge *o;
+    int32_t n, cap;
+} apex_ctx;
+
+/* par_open_edges visitor: records open edge a -> b, its apex and whether it is exempt. */
+static void add_apex(void *ctx, int32_t a, int32_t b) {
+    apex_ctx *c = ctx;
+    const mesh_flat *f = c->f;
+    ekey key = {a < b ? a : b, a < b ? b : a, 0};
+    int exempt = 0;
+    const ekey *hit =
+        f->nsegs ? bsearch(&key, c->k, (size_t)f->nsegs, sizeof *c->k, cmp_ekey) : NULL;
+    if (hit) { /* an input subsegment in any listing: a constraint, exempt */
+        const ekey *lo = hit, *hi = hit;
+        while (lo > c->k && !cmp_ekey(lo - 1, &key))
+            lo--;
+        while (hi + 1 < c->k + f->nsegs && !cmp_ekey(hi + 1, &key))
+            hi++;
+        for (; lo <= hi; lo++)
+            exempt |= lo->n == 1;
+    }
+    int32_t apex = -1;
+    for (int32_t i = c->x->start[a]; i < c->x->start[a + 1] && apex < 0; i++) {
+        const int32_t *tv = f->tri + 3 * (size_t)c->x->t[i];
+        for (int j = 0; j < 3; j++)
+            if (tv[j] == a && tv[(j + 1) % 3] == b) apex = tv[(j + 2) % 3];
+    }
+    if (apex < 0) return; /* cannot happen: the edge came from a triangle */
+    const double *p = f->xy + 2 * (size_t)key.lo, *q = f->xy + 2 * (size_t)key.hi;
+    int sw = p[0] > q[0] || (p[0] == q[0] && p[1] > q[1]);
+    MESH_GROW(c->o, c->n, c->cap);
+    apex_edge *e = &c->o[c->n++];
+    memset(e, 0, sizeof *e);
+    e->x[0] = sw ? q[0] : p[0];
+    e->x[1] = sw ? q[1] : p[1];
+    e->x[2] = sw ? p[0] : q[0];
+    e->x[3] = sw ? p[1] : q[1];
+    e->c[0] = f->xy[2 * (size_t)apex];
+    e->c[1] = f->xy[2 * (size_t)apex + 1];
+    e->rank = c->rank;
+    e->exempt = exempt;
+}
+
+static int cmp_apex(const void *x, const void *y) {
+    const apex_edge *a = x, *b = y;
+    for (int k = 0; k < 4; k++) {
+        uint64_t u = coord_bits(a->x[k]), v = coord_bits(b->x[k]);
+        if (u != v) return u < v ? -1 : 1;
+    }
+    return (a->rank > b->rank) - (a->rank < b->rank);
+}
+
+static uint64_t apex_hash(const apex_edge *e) {
+    uint64_t h = 0;
+    for (int k = 0; k < 4; k++)
+        h = mesh_hash64(h ^ coord_bits(e->x[k]));
+    return h;
+}
+
+long par_check_interface_delaunay(const mesh_flat *local, char *msg, size_t msglen) {
+    MPI_Comm c = rt_app_comm();
+    int rank = rt_rank(), P = rt_size();
+    if (msglen) msg[0] = '\0';
+    ekey *k = seg_keys(local);
+    par_vtris x;
+    par_vtris_build(local, &x);
+    apex_ctx ac = {local, &x, k, rank, NULL, 0, 0};
+    par_open_edges(local, &x, add_apex, &ac);
+    par_vtris_free(&x);
+    mesh_xfree(k);
+    int32_t n = ac.n;
+    apex_edge *e = ac.o ? ac.o : mesh_xmalloc(1, sizeof(apex_edge));
+    /* to the rendezvous: counts, then the records (MPI_Alltoallv) */
+    int *scnt = mesh_xcalloc((size_t)P, sizeof(int)), *rcnt = mesh_xcalloc((size_t)P, sizeof(int));
+    int *sdsp = mesh_xcalloc((size_t)P + 1, sizeof(int)),
+        *rdsp = mesh_xcalloc((size_t)P + 1, sizeof(int)),
+        *fill = mesh_xcalloc((size_t)P, sizeof(int));
+    int *dest = mesh_xmalloc((size_t)n + 1, sizeof(int));
+    for (int32_t i = 0; i < n; i++) {
+        dest[i] = (int)(apex_hash(&e[i]) % (uint64_t)P);
+        scnt[dest[i]] += (int)sizeof(apex_edge);
+    }
+    MESH_MPI(MPI_Alltoall(scnt, 1, MPI_INT, rcnt, 1, MPI_INT, c));
+    for (int r = 0; r < P; r++) {
+        sdsp[r + 1] = sdsp[r] + scnt[r];
+        rdsp[r + 1] = rdsp[r] + rcnt[r];
+    }
+    apex_edge *sb = mesh_xmalloc((size_t)n + 1, sizeof(apex_edge));
+    for (int32_t i = 0; i < n; i++) {
+        sb[(sdsp[dest[i]] + fill[dest[i]]) / (int)sizeof(apex_edge)] = e[i];
+        fill[dest[i]] += (int)sizeof(apex_edge);
+    }
+    int32_t nr = rdsp[P] / (int)sizeof(apex_edge);
+    apex_edge *rb = mesh_xmalloc((size_t)nr + 1, sizeof(apex_edge));
+    MESH_MPI(MPI_Alltoallv(sb, scnt, sdsp, MPI_BYTE, rb, rcnt, rdsp, MPI_BYTE, c));
+    qsort(rb, (size_t)nr, sizeof *rb, cmp_apex);
+    long bad = 0;
+    for (int32_t i = 0; i + 1 < nr; i++) {
+        const apex_edge *u = &rb[i], *v = &rb[i + 1];
+        if (memcmp(u->x, v->x, sizeof u->x) || u->rank == v->rank || u->exempt || v->exempt)
+            continue; /* not the two sides of one interface edge (par_check_interfaces decides
+                       * what else is wrong), or a constraint */
+        const double *p = u->x, *q = u->x + 2;
+        double o = geom_orient2d(p, q, u->c);
+        if (o == 0) continue; /* a degenerate triangle: the validator reports it */
+        int in = o > 0 ? geom_incircle(p, q, u->c, v->c) > 0 : geom_incircle(q, p, u->c, v->c) > 0;
+        if (in && !bad++ && msglen)
+            snprintf(msg, msglen,
+                     "interface edge (%.17g, %.17g)-(%.17g, %.17g) of ranks %d, %d is not "
+                     "locally Delaunay (apex (%.17g, %.17g) inside)",
+                     p[0], p[1], q[0], q[1], (int)u->rank, (int)v->rank, v->c[0], v->c[1]);
+    }
+    mesh_xfree(e);
+    mesh_xfree(sb);
+    mesh_xfree(rb);
+    mesh_xfree(scnt);
+    mesh_xfree(rcnt);
+    mesh_xfree(sdsp);
+    mesh_xfree(rdsp);
+    mesh_xfree(fill);
+    mesh_xfree(dest);
+    return bad;
 }

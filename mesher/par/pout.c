@@ -69,6 +69,12 @@ int par_check_parts(const par_opts *o, const pslg *in, mesh_flat *local, const p
     vo.part = 1;
     validate_report lr;
     mesh_validate(in, local, &vo, &lr);
+    /* the edges between parts: locally Delaunay across ranks (the part's validator cannot see
+     * the other side) */
+    char imsg[sizeof lr.first_problem];
+    long ibad = par_check_interface_delaunay(local, imsg, sizeof imsg);
+    lr.non_delaunay += ibad;
+    if (ibad && !lr.first_problem[0]) memcpy(lr.first_problem, imsg, sizeof imsg);
 
     /* input vertices: used by some part */
     uint8_t *need = needed_inputs(in), *have = mesh_xcalloc((size_t)in->nverts + 1, 1);

@@ -61,6 +61,15 @@ typedef struct par_numbering {
 int par_number(const mesh_flat *local, const pslg *in, const uint8_t *artificial,
                par_numbering *num, char *err, size_t errlen);
 
+/* Collective (par_check.c).  The interface local-Delaunay test of the distributed --check:
+ * every open edge of local that is not an input constraint is sent with the apex of its local
+ * triangle to a rendezvous rank (hash of the edge's coordinates); where the two sides of an
+ * interface edge meet (two ranks), the edge must be locally Delaunay (geom_incircle, exact,
+ * strictly inside = bad), as the sequential validator asks of every non-constraint edge.
+ * Returns the number of bad edges found on this rank (sum over ranks for the total), the first
+ * described in msg. */
+long par_check_interface_delaunay(const mesh_flat *local, char *msg, size_t msglen);
+
 /* Local.  Frees what num owns and zeroes it. */
 void par_numbering_free(par_numbering *num);
 
