@@ -161,12 +161,14 @@ int main(int argc, char **argv) {
     }
     mesh_flat local;
     int32_t *tsub = NULL;
-    pcdm_part_take_flat(&part, &local, o.vtk ? &tsub : NULL);
+    uint8_t *topen = NULL;
+    pcdm_part_take_flat(&part, &local, o.vtk ? &tsub : NULL, &topen);
     pcdm_part_free(&part);
     par_summary sum;
-    int status = par_output_sub(&o, &in, &local, artificial, tsub, &sum);
+    int status = par_output_sub(&o, &in, &local, artificial, tsub, topen, &sum);
     free(artificial);
     free(tsub);
+    free(topen);
     mesh_flat_free(&local);
     /* statistics: reductions of per-rank figures; memory taken now, after the output */
     rs[RS_RSS] = (double)par_peak_rss_bytes();

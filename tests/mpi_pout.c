@@ -307,7 +307,7 @@ static long quad_bad(int diag, int constrained) {
         f.sinterface = si;
     }
     char msg[256];
-    long bad = par_check_interface_delaunay(&f, msg, sizeof msg), tot = 0;
+    long bad = par_check_interface_delaunay(&f, NULL, msg, sizeof msg), tot = 0;
     if (bad) fprintf(stderr, "rank %d: %s\n", rank, msg);
     MPI_Allreduce(&bad, &tot, 1, MPI_LONG, MPI_SUM, rt_app_comm());
     return tot;

@@ -89,7 +89,7 @@ typedef struct open_ctx {
 /* par_open_edges visitor: records open edge a -> b with its coordinates in lexicographic
  * order; a listed subsegment's kind (1 boundary, 2 interface; the larger if listed twice)
  * decides whether it must be matched. */
-static void add_open(void *ctx, int32_t a, int32_t b) {
+static void add_open(void *ctx, int32_t a, int32_t b, int32_t apex) {
     open_ctx *c = ctx;
     const mesh_flat *f = c->f;
     ekey key = {a < b ? a : b, a < b ? b : a, 0};
@@ -132,10 +132,10 @@ static ekey *seg_keys(const mesh_flat *f) {
 
 /* The open edges of local (edges of exactly one local triangle), found through the
  * vertex-to-triangle rows (ptopo.h: one pass, no sort of all edges). */
-static int32_t open_edges(const mesh_flat *f, int rank, open_edge **out) {
+static int32_t open_edges(const mesh_flat *f, const uint8_t *topen, int rank, open_edge **out) {
     ekey *k = seg_keys(f);
     par_vtris x;
-    par_vtris_build(f, &x);
+    par_vtris_open(f, topen, &x);
     open_ctx oc = {f, k, rank, NULL, 0, 0};
     par_open_edges(f, &x, add_open, &oc);
     open_edge *o = oc.o;
@@ -148,10 +148,15 @@ static int32_t open_edges(const mesh_flat *f, int rank, open_edge **out) {
 }
 
 int par_check_interfaces(const mesh_flat *local, char *msg, size_t msglen) {
+    return par_check_interfaces_open(local, NULL, msg, msglen);
+}
+
+int par_check_interfaces_open(const mesh_flat *local, const uint8_t *topen, char *msg,
+                              size_t msglen) {
     MPI_Comm c = rt_app_comm();
     int rank = rt_rank(), P = rt_size();
     open_edge *e = NULL;
-    int32_t n = open_edges(local, rank, &e);
+    int32_t n = open_edges(local, topen, rank, &e);
     int *scnt = mesh_xcalloc((size_t)P, sizeof(int)), *rcnt = mesh_xcalloc((size_t)P, sizeof(int));
     int *sdsp = mesh_xcalloc((size_t)P + 1, sizeof(int)),
         *rdsp = mesh_xcalloc((size_t)P + 1, sizeof(int));
@@ -218,7 +223,7 @@ _Static_assert(sizeof(apex_edge) == 56, "apex_edge must be 56 bytes, no padding"
 
 typedef struct apex_ctx {
     const mesh_flat *f;
-    const par_vtris *x;
+    const par_vtris *x; /* unused by the visitor (the apex comes with the edge) */
     const ekey *k;
     int rank;
     apex_edge *o;
@@ -226,7 +231,7 @@ typedef struct apex_ctx {
 } apex_ctx;
 
 /* par_open_edges visitor: records open edge a -> b, its apex and whether it is exempt. */
-static void add_apex(void *ctx, int32_t a, int32_t b) {
+static void add_apex(void *ctx, int32_t a, int32_t b, int32_t apex) {
     apex_ctx *c = ctx;
     const mesh_flat *f = c->f;
     ekey key = {a < b ? a : b, a < b ? b : a, 0};
@@ -242,13 +247,6 @@ static void add_apex(void *ctx, int32_t a, int32_t b) {
         for (; lo <= hi; lo++)
             exempt |= lo->n == 1;
     }
-    int32_t apex = -1;
-    for (int32_t i = c->x->start[a]; i < c->x->start[a + 1] && apex < 0; i++) {
-        const int32_t *tv = f->tri + 3 * (size_t)c->x->t[i];
-        for (int j = 0; j < 3; j++)
-            if (tv[j] == a && tv[(j + 1) % 3] == b) apex = tv[(j + 2) % 3];
-    }
-    if (apex < 0) return; /* cannot happen: the edge came from a triangle */
     const double *p = f->xy + 2 * (size_t)key.lo, *q = f->xy + 2 * (size_t)key.hi;
     int sw = p[0] > q[0] || (p[0] == q[0] && p[1] > q[1]);
     MESH_GROW(c->o, c->n, c->cap);
@@ -280,13 +278,14 @@ static uint64_t apex_hash(const apex_edge *e) {
     return h;
 }
 
-long par_check_interface_delaunay(const mesh_flat *local, char *msg, size_t msglen) {
+long par_check_interface_delaunay(const mesh_flat *local, const uint8_t *topen, char *msg,
+                                  size_t msglen) {
     MPI_Comm c = rt_app_comm();
     int rank = rt_rank(), P = rt_size();
     if (msglen) msg[0] = '\0';
     ekey *k = seg_keys(local);
     par_vtris x;
-    par_vtris_build(local, &x);
+    par_vtris_open(local, topen, &x);
     apex_ctx ac = {local, &x, k, rank, NULL, 0, 0};
     par_open_edges(local, &x, add_apex, &ac);
     par_vtris_free(&x);

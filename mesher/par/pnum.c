@@ -176,7 +176,7 @@ typedef struct mark_ctx {
 } mark_ctx;
 
 /* par_open_edges visitor: the non-input ends of an open edge are candidates (st bit 2). */
-static void mark_open(void *ctx, int32_t a, int32_t b) {
+static void mark_open(void *ctx, int32_t a, int32_t b, int32_t apex) {
     mark_ctx *m = ctx;
     if (m->gid[a] < 0) m->st[a] |= 2;
     if (m->gid[b] < 0) m->st[b] |= 2;
@@ -290,9 +290,28 @@ static void number_vertices(const mesh_flat *f, const par_vtris *x, par_numberin
 
 /* ---- segments ------------------------------------------------------------------------------ */
 
+typedef struct open_list {
+    int64_t *k; /* undirected open edges as (min << 32 | max) */
+    int64_t n, cap;
+} open_list;
+
+static void list_open(void *ctx, int32_t a, int32_t b, int32_t apex) {
+    open_list *l = ctx;
+    MESH_GROW(l->k, l->n, l->cap);
+    l->k[l->n++] = (int64_t)(a < b ? a : b) << 32 | (a < b ? b : a);
+}
+
+static int cmp_i64(const void *pa, const void *pb) {
+    int64_t a = *(const int64_t *)pa, b = *(const int64_t *)pb;
+    return (a > b) - (a < b);
+}
+
 /* Step (5): fills num->wseg, nwseg, nsegs. */
 static void number_segments(const mesh_flat *f, const uint8_t *artificial, const par_vtris *x,
                             par_numbering *num) {
+    open_list ol = {NULL, 0, 0}; /* the part's open edges, sorted: O(boundary) */
+    par_open_edges(f, x, list_open, &ol);
+    if (ol.n) qsort(ol.k, (size_t)ol.n, sizeof *ol.k, cmp_i64);
     int rank = rt_rank(), P = rt_size();
     /* listed input subsegments, each pair once (a part may list one from both its sides):
      * sort (pair, id) and keep the first of each pair */
@@ -315,10 +334,11 @@ static void number_segments(const mesh_flat *f, const uint8_t *artificial, const
             continue;
         }
         int32_t s = (int32_t)kp[2 * i + 1];
-        if (par_edge_uses(f, x, f->seg[2 * (size_t)s], f->seg[2 * (size_t)s + 1]) == 1)
-            cand[nc++] = s;
+        if (ol.n && bsearch(&kp[2 * i], ol.k, (size_t)ol.n, sizeof *ol.k, cmp_i64))
+            cand[nc++] = s; /* an open edge: another part may list it too */
     }
     free(kp);
+    free(ol.k);
     /* open listed subsegments to their rendezvous: all but the lowest holder skip them */
     sq *q = mesh_xmalloc((size_t)nc + 1, sizeof(sq));
     int *dest = mesh_xmalloc((size_t)nc + 1, sizeof(int));
@@ -371,6 +391,11 @@ static void number_segments(const mesh_flat *f, const uint8_t *artificial, const
 
 int par_number(const mesh_flat *local, const pslg *in, const uint8_t *artificial,
                par_numbering *num, char *err, size_t errlen) {
+    return par_number_open(local, in, artificial, NULL, num, err, errlen);
+}
+
+int par_number_open(const mesh_flat *local, const pslg *in, const uint8_t *artificial,
+                    const uint8_t *topen, par_numbering *num, char *err, size_t errlen) {
     MPI_Comm c = rt_app_comm();
     int rank = rt_rank();
     memset(num, 0, sizeof *num);
@@ -378,7 +403,8 @@ int par_number(const mesh_flat *local, const pslg *in, const uint8_t *artificial
     num->nin = in->nverts;
     num->gid = input_ids(local, in);
     par_vtris x;
-    par_vtris_build(local, &x);
+    par_vtris_open(local, topen, &x);
+    num->topen = topen;
     number_vertices(local, &x, num);
     number_segments(local, artificial, &x, num);
     par_vtris_free(&x);

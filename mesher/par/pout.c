@@ -72,7 +72,7 @@ int par_check_parts(const par_opts *o, const pslg *in, mesh_flat *local, const p
     /* the edges between parts: locally Delaunay across ranks (the part's validator cannot see
      * the other side) */
     char imsg[sizeof lr.first_problem];
-    long ibad = par_check_interface_delaunay(local, imsg, sizeof imsg);
+    long ibad = par_check_interface_delaunay(local, num->topen, imsg, sizeof imsg);
     lr.non_delaunay += ibad;
     if (ibad && !lr.first_problem[0]) memcpy(lr.first_problem, imsg, sizeof imsg);
 
@@ -336,24 +336,24 @@ void par_quality_all(const mesh_flat *local, double *min_angle, double *max_area
 
 int par_output(const par_opts *o, const pslg *in, mesh_flat *local, const uint8_t *artificial,
                par_summary *sum) {
-    return par_output_sub(o, in, local, artificial, NULL, sum);
+    return par_output_sub(o, in, local, artificial, NULL, NULL, sum);
 }
 
 int par_output_sub(const par_opts *o, const pslg *in, mesh_flat *local, const uint8_t *artificial,
-                   const int32_t *tsub, par_summary *sum) {
+                   const int32_t *tsub, const uint8_t *topen, par_summary *sum) {
     memset(sum, 0, sizeof *sum);
     /* the parts are in the input's working scale (pslg_check); the writers undo it */
     local->scale_exp = in->scale_exp;
     /* never a silent broken mesh: both sides of every interface must agree first */
     char imsg[600], msg[1300];
-    int ibad = par_check_interfaces(local, imsg, sizeof imsg) != 0;
+    int ibad = par_check_interfaces_open(local, topen, imsg, sizeof imsg) != 0;
     snprintf(msg, sizeof msg, "%s: %s: rank %d: %s", o->prog, in->path[0] ? in->path : "mesh",
              rt_rank(), imsg);
     if (par_fail_any(ibad, msg)) return 1;
     double t0 = rt_wtime();
     par_numbering num;
     char err[512];
-    if (par_number(local, in, artificial, &num, err, sizeof err) != 0) {
+    if (par_number_open(local, in, artificial, topen, &num, err, sizeof err) != 0) {
         if (rt_rank() == 0) fprintf(stderr, "%s: %s\n", o->prog, err);
         return 1;
     }
@@ -371,7 +371,7 @@ int par_output_sub(const par_opts *o, const pslg *in, mesh_flat *local, const ui
     sum->nsegs = num.nsegs;
     sum->nshared = num.nshared;
     par_numbering_free(&num);
-    par_quality_all(local, &sum->min_angle, &sum->max_area);
+    if (o->stats) par_quality_all(local, &sum->min_angle, &sum->max_area); /* only printed there */
     sum->number_s = t1 - t0;
     sum->check_s = t2 - t1;
     sum->write_s = t3 - t2;

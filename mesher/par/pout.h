@@ -51,6 +51,7 @@ typedef struct par_numbering {
     int32_t *wseg;      /* nwseg local segment ids */
     int32_t nshared;    /* local vertices another rank also holds (for --stats) */
     int32_t unnumbered; /* 1 + a used local vertex left without a number (0: none) */
+    const uint8_t *topen; /* the part's open-edge mask (par_number_open; borrowed) or NULL */
 } par_numbering;
 
 /* Collective.  Numbers local (this rank's part) as above.  artificial (local->nsegs flags, may
@@ -66,9 +67,20 @@ int par_number(const mesh_flat *local, const pslg *in, const uint8_t *artificial
  * triangle to a rendezvous rank (hash of the edge's coordinates); where the two sides of an
  * interface edge meet (two ranks), the edge must be locally Delaunay (geom_incircle, exact,
  * strictly inside = bad), as the sequential validator asks of every non-constraint edge.
- * Returns the number of bad edges found on this rank (sum over ranks for the total), the first
- * described in msg. */
-long par_check_interface_delaunay(const mesh_flat *local, char *msg, size_t msglen);
+ * topen: as par_check_interfaces_open.  Returns the number of bad edges found on this rank (sum
+ * over ranks for the total), the first described in msg. */
+long par_check_interface_delaunay(const mesh_flat *local, const uint8_t *topen, char *msg,
+                                  size_t msglen);
+
+/* Collective.  par_check_interfaces (par.h), with the part's open edges from the mesher's mask
+ * (topen: mesh_take_flat's, one byte per triangle; NULL: found through vertex rows). */
+int par_check_interfaces_open(const mesh_flat *local, const uint8_t *topen, char *msg,
+                              size_t msglen);
+
+/* Collective.  par_number with the part's open edges from the mesher's mask (topen,
+ * mesh_take_flat's; NULL: found through vertex rows), kept in num->topen for the check. */
+int par_number_open(const mesh_flat *local, const pslg *in, const uint8_t *artificial,
+                    const uint8_t *topen, par_numbering *num, char *err, size_t errlen);
 
 /* Local.  Frees what num owns and zeroes it. */
 void par_numbering_free(par_numbering *num);
@@ -109,7 +121,7 @@ double *par_stats_collect(const double *mine, int n, int on, double *tot, double
 /* What par_output found (the same on every rank). */
 typedef struct par_summary {
     int64_t ntris, nverts, nsegs;      /* the whole mesh as written */
-    double min_angle, max_area;        /* over all triangles */
+    double min_angle, max_area;        /* over all triangles (with --stats only; else 0) */
     int32_t nshared;                   /* this rank's vertices another rank also holds */
     double number_s, check_s, write_s; /* seconds (this rank) in each step */
 } par_summary;
@@ -123,8 +135,9 @@ int par_output(const par_opts *o, const pslg *in, mesh_flat *local, const uint8_
                par_summary *sum);
 
 /* Collective.  par_output, with each triangle's subdomain (tsub, local->ntris entries, NULL or
- * not on every rank alike) written as VTU cell data. */
+ * not on every rank alike) written as VTU cell data, and the part's open edges from the
+ * mesher's mask (topen: mesh_take_flat's, or NULL), which saves the vertex rows. */
 int par_output_sub(const par_opts *o, const pslg *in, mesh_flat *local, const uint8_t *artificial,
-                   const int32_t *tsub, par_summary *sum);
+                   const int32_t *tsub, const uint8_t *topen, par_summary *sum);
 
 #endif

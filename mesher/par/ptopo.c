@@ -4,6 +4,9 @@
  * neighbours (next and previous corner of each of its triangles) compared in a small scratch
  * array.  Invariant: start is the prefix sum of the vertex degrees, so
  * t[start[v] .. start[v + 1]) lists exactly the triangles with corner v, in triangle order.
+ * When the mesher handed over its adjacency as an open-edge mask (par_vtris_open), no rows are
+ * built: the open edges are one sequential pass over the triangles (the rows' random accesses
+ * were most of the par layer's time at 10M triangles).
  */
 #include "par/ptopo.h"
 
@@ -11,7 +14,17 @@
 
 #include <stdlib.h>
 
+void par_vtris_open(const mesh_flat *f, const uint8_t *topen, par_vtris *x) {
+    if (!topen) {
+        par_vtris_build(f, x);
+        return;
+    }
+    x->start = x->t = NULL;
+    x->topen = topen;
+}
+
 void par_vtris_build(const mesh_flat *f, par_vtris *x) {
+    x->topen = NULL;
     x->start = mesh_xcalloc((size_t)f->nverts + 2, sizeof(int32_t));
     x->t = mesh_xmalloc(3 * (size_t)f->ntris + 1, sizeof(int32_t));
     for (size_t i = 0; i < 3 * (size_t)f->ntris; i++)
@@ -30,6 +43,7 @@ void par_vtris_free(par_vtris *x) {
 }
 
 int par_edge_uses(const mesh_flat *f, const par_vtris *x, int32_t a, int32_t b) {
+    MESH_CHECK(x->start != NULL);
     int n = 0;
     for (int32_t i = x->start[a]; i < x->start[a + 1]; i++) {
         const int32_t *tv = f->tri + 3 * (size_t)x->t[i];
@@ -39,7 +53,20 @@ int par_edge_uses(const mesh_flat *f, const par_vtris *x, int32_t a, int32_t b) 
 }
 
 int64_t par_open_edges(const mesh_flat *f, const par_vtris *x,
-                       void (*visit)(void *ctx, int32_t a, int32_t b), void *ctx) {
+                       void (*visit)(void *ctx, int32_t a, int32_t b, int32_t c), void *ctx) {
+    if (!x->start) { /* the mesher's mask */
+        int64_t n = 0;
+        for (int32_t t = 0; t < f->ntris; t++) {
+            if (!x->topen[t]) continue;
+            const int32_t *tv = f->tri + 3 * (size_t)t;
+            for (int j = 0; j < 3; j++)
+                if (x->topen[t] >> j & 1) {
+                    visit(ctx, tv[j], tv[(j + 1) % 3], tv[(j + 2) % 3]);
+                    n++;
+                }
+        }
+        return n;
+    }
     int32_t maxdeg = 0;
     for (int32_t v = 0; v < f->nverts; v++)
         if (x->start[v + 1] - x->start[v] > maxdeg) maxdeg = x->start[v + 1] - x->start[v];
@@ -58,7 +85,7 @@ int64_t par_open_edges(const mesh_flat *f, const par_vtris *x,
             for (int32_t j = 0; j < d; j++)
                 uses += (nb[j] == b) + (pv[j] == b);
             if (uses == 1) {
-                visit(ctx, a, b);
+                visit(ctx, a, b, pv[i]);
                 n++;
             }
         }

@@ -293,7 +293,7 @@ static int32_t *slot_subdomains(const pcdm_part *p) {
     return label;
 }
 
-void pcdm_part_take_flat(pcdm_part *p, mesh_flat *f, int32_t **tsub) {
+void pcdm_part_take_flat(pcdm_part *p, mesh_flat *f, int32_t **tsub, uint8_t **topen) {
     int32_t *sub = tsub ? slot_subdomains(p) : NULL;
     if (sub) { /* compacted like the triangles (slot order, live only) */
         int32_t n = 0;
@@ -301,7 +301,7 @@ void pcdm_part_take_flat(pcdm_part *p, mesh_flat *f, int32_t **tsub) {
             if (mesh_tri_alive(&p->m, t)) sub[n++] = sub[t];
         *tsub = sub;
     }
-    mesh_take_flat(&p->m, f);
+    mesh_take_flat(&p->m, f, topen);
     f->trank = mesh_xmalloc((size_t)f->ntris + 1, sizeof(int32_t));
     for (int32_t t = 0; t < f->ntris; t++)
         f->trank[t] = p->rank;

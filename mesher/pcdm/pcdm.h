@@ -82,9 +82,10 @@ int pcdm_part_flat(const pcdm_part *p, mesh_flat *f);
 
 /* Local.  Moves the part's mesh into f (mesh_take_flat: the mesh is never held twice) with
  * trank set to p->rank; when tsub is not NULL, *tsub gets each triangle's subdomain (f->ntris
- * entries, same order; free with free()).  p's mesh is empty afterwards: take every figure
- * from it (and pcdm_part_artificial) first.  Free f with mesh_flat_free. */
-void pcdm_part_take_flat(pcdm_part *p, mesh_flat *f, int32_t **tsub);
+ * entries, same order; free with free()); when topen is not NULL, *topen the open-edge mask
+ * of mesh_take_flat.  p's mesh is empty afterwards: take every figure from it (and
+ * pcdm_part_artificial) first.  Free f with mesh_flat_free. */
+void pcdm_part_take_flat(pcdm_part *p, mesh_flat *f, int32_t **tsub, uint8_t **topen);
 
 /* Local.  Per subsegment of pcdm_part_flat's output (same order): 1 if it is an artificial
  * interface edge of the decomposition (not an input constraint: not written to .poly files),

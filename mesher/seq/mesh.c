@@ -757,24 +757,30 @@ int mesh_to_flat(const mesh *m, mesh_flat *f) {
     return 0;
 }
 
-void mesh_take_flat(mesh *m, mesh_flat *f) {
+void mesh_take_flat(mesh *m, mesh_flat *f, uint8_t **topen) {
     memset(f, 0, sizeof *f);
-    /* scratch and topology first: what remains is coordinates, vertices, segments */
+    /* scratch first: what remains is coordinates, vertices, triangles, segments */
     mesh_refine_free(m);
-    free(m->tn), free(m->vtri), free(m->cav), free(m->bnd), free(m->stk), free(m->newt);
+    free(m->vtri), free(m->cav), free(m->bnd), free(m->stk), free(m->newt);
     free(m->hpair), free(m->hname), free(m->inc_off), free(m->inc_seg), free(m->corner);
     free(m->seg_nsub);
-    m->tn = m->vtri = m->cav = m->stk = m->newt = m->hpair = m->hname = NULL;
+    m->vtri = m->cav = m->stk = m->newt = m->hpair = m->hname = NULL;
     m->inc_off = m->inc_seg = m->seg_nsub = NULL;
     m->bnd = NULL;
     m->corner = NULL;
+    uint8_t *open = topen ? mesh_xmalloc((size_t)m->nlive + 1, 1) : NULL;
     int32_t nt = 0;
     for (int32_t t = 0; t < m->nt; t++) {
         if (!mesh_tri_alive(m, t) || ghost_index(m, t) >= 0) continue;
         if (nt != t) memmove(m->tv + 3 * (size_t)nt, m->tv + 3 * (size_t)t, 3 * sizeof(int32_t));
+        if (open)
+            open[nt] = (uint8_t)((m->tn[3 * (size_t)t] < 0) | (m->tn[3 * (size_t)t + 1] < 0) << 1 |
+                                 (m->tn[3 * (size_t)t + 2] < 0) << 2);
         nt++;
     }
-    free(m->tf);
+    if (topen) *topen = open;
+    free(m->tn), free(m->tf);
+    m->tn = NULL;
     m->tf = NULL;
     f->ntris = nt;
     f->tri = mesh_xrealloc(m->tv, 3 * (size_t)nt + 1, sizeof(int32_t));

@@ -266,8 +266,10 @@ int mesh_to_flat(const mesh *m, mesh_flat *f);
 /* Moves m into f: the same f as mesh_to_flat, built from m's own arrays (live triangles
  * compacted in place, vertex markers written over vseg, arrays shrunk) while everything else
  * of m is freed first, so the mesh is never held twice (the parallel meshers' memory peak).
- * m is empty afterwards (as after mesh_free).  Free f with mesh_flat_free. */
-void mesh_take_flat(mesh *m, mesh_flat *f);
+ * When topen is not NULL, *topen gets one byte per triangle of f (free with free()): bit j set
+ * iff edge j (tri[3t + j] -> tri[3t + (j + 1) % 3]) has no neighbour in m.  m is empty
+ * afterwards (as after mesh_free).  Free f with mesh_flat_free. */
+void mesh_take_flat(mesh *m, mesh_flat *f, uint8_t **topen);
 
 /* Bytes held by the mesh's arrays (capacities). */
 size_t mesh_memory_bytes(const mesh *m);
