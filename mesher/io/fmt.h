@@ -43,11 +43,11 @@ static inline char *fmt_int(char *p, long long v) {
 static inline int fmt_int_len(long long v) {
     unsigned long long u = v < 0 ? 0ULL - (unsigned long long)v : (unsigned long long)v;
     int n = 1 + (v < 0);
-    while (u >= 10) {
-        u /= 10;
-        n++;
+    while (u >= 10000) {
+        u /= 10000;
+        n += 4;
     }
-    return n;
+    return n + (u >= 10) + (u >= 100) + (u >= 1000);
 }
 
 /* Appends the shortest decimal form of v that strtod reads back to the same bits (fmt.c);

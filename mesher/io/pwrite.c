@@ -80,6 +80,11 @@ enum { F_NODE, F_ELE, F_POLY };
  * (rank 0) and the trailer (last rank). */
 typedef struct ftext {
     const mesh_part *p;
+    const uint64_t *vdig; /* per local vertex: the digits of its number + 1 (ltri, nlocal) */
+    const uint8_t *vlen;  /* their count (0: not cached, format it) */
+    char ctr[24];         /* the decimal form of record ctr_i's number (a counter) */
+    int ctrlen;
+    int64_t ctr_i;
     int kind;
     long long tot, base; /* records in the file (all ranks); numbers before this rank's */
     int first, last;
@@ -110,10 +115,47 @@ static long long tri_vertex(const mesh_part *p, int64_t i, int k) {
     return p->tri ? (long long)p->tri[3 * i + k] : (long long)p->gid[p->ltri[3 * i + k]];
 }
 
-/* Formats record i (0-based, this rank's) at q; returns the new end. */
-static char *fmt_rec(const ftext *x, int64_t i, char *q) {
+/* The decimal form of record i's number at q: a counter incremented digit by digit when the
+ * records come in order (they do: each pass is sequential), else formatted afresh. */
+static char *rec_number(ftext *x, int64_t i, char *q) {
+    if (i != x->ctr_i) {
+        x->ctrlen = (int)(fmt_int(x->ctr, x->base + i + 1) - x->ctr);
+        x->ctr_i = i;
+    }
+    memcpy(q, x->ctr, (size_t)x->ctrlen);
+    q += x->ctrlen;
+    int d = x->ctrlen - 1; /* increment */
+    while (d >= 0 && x->ctr[d] == '9')
+        x->ctr[d--] = '0';
+    if (d >= 0) {
+        x->ctr[d]++;
+    } else { /* 99..9 + 1: a new leading 1 */
+        memmove(x->ctr + 1, x->ctr, (size_t)x->ctrlen);
+        x->ctr[0] = '1';
+        x->ctrlen++;
+    }
+    x->ctr_i++;
+    return q;
+}
+
+/* Number + 1 of corner k of triangle i at q, from the digit cache when there. */
+static char *tri_number(const ftext *x, int64_t i, int k, char *q) {
     const mesh_part *p = x->p;
-    q = fmt_int(q, x->base + i + 1);
+    if (x->vdig) {
+        int32_t v = p->ltri[3 * i + k];
+        if (x->vlen[v]) {
+            memcpy(q, &x->vdig[v], 8);
+            return q + x->vlen[v];
+        }
+    }
+    return fmt_int(q, tri_vertex(p, i, k) + 1);
+}
+
+/* Formats record i (0-based, this rank's) at q (which has room for 8 more bytes than the
+ * record needs); returns the new end. */
+static char *fmt_rec(ftext *x, int64_t i, char *q) {
+    const mesh_part *p = x->p;
+    q = rec_number(x, i, q);
     if (x->kind == F_NODE) {
         const double *xy, *at = NULL;
         int32_t mk = 0;
@@ -140,7 +182,7 @@ static char *fmt_rec(const ftext *x, int64_t i, char *q) {
     } else if (x->kind == F_ELE) {
         for (int k = 0; k < 3; k++) {
             *q++ = ' ';
-            q = fmt_int(q, tri_vertex(p, i, k) + 1);
+            q = tri_number(x, i, k, q);
         }
         if (p->trank) {
             *q++ = ' ';
@@ -159,13 +201,16 @@ static char *fmt_rec(const ftext *x, int64_t i, char *q) {
 }
 
 /* The length of record i: counted for integer records, formatted into scratch for vertices. */
-static size_t rec_len(const ftext *x, int64_t i, char *scratch) {
+static size_t rec_len(ftext *x, int64_t i, char *scratch) {
     const mesh_part *p = x->p;
     if (x->kind == F_NODE) return (size_t)(fmt_rec(x, i, scratch) - scratch);
     size_t n = (size_t)fmt_int_len(x->base + i + 1) + 1;
     if (x->kind == F_ELE) {
-        for (int k = 0; k < 3; k++)
-            n += 1 + (size_t)fmt_int_len(tri_vertex(p, i, k) + 1);
+        for (int k = 0; k < 3; k++) {
+            int32_t v = x->vdig ? p->ltri[3 * i + k] : 0;
+            n += 1 + (x->vdig && x->vlen[v] ? x->vlen[v]
+                                            : (size_t)fmt_int_len(tri_vertex(p, i, k) + 1));
+        }
         if (p->trank) n += 1 + (size_t)fmt_int_len(p->trank[i]);
         return n;
     }
@@ -176,7 +221,7 @@ static size_t rec_len(const ftext *x, int64_t i, char *scratch) {
 
 /* Fills buf (room: chunk + recmax + 256) from record *i on while below chunk bytes; the
  * trailer is appended once the records are done (*tail_done).  Returns the bytes. */
-static size_t fill_chunk(const ftext *x, int64_t *i, int *tail_done, char *buf, size_t chunk) {
+static size_t fill_chunk(ftext *x, int64_t *i, int *tail_done, char *buf, size_t chunk) {
     char *q = buf;
     while (*i < x->nrec && (size_t)(q - buf) < chunk)
         q = fmt_rec(x, (*i)++, q);
@@ -211,7 +256,7 @@ static int write_at(MPI_File fh, long long off, const char *b, size_t n, const c
 }
 
 /* Collective.  Writes every rank's text x into path, atomically, chunk by chunk. */
-static int write_shared(MPI_Comm comm, const char *path, const ftext *x, char *err, size_t errlen) {
+static int write_shared(MPI_Comm comm, const char *path, ftext *x, char *err, size_t errlen) {
     int rank;
     MESH_MPI(MPI_Comm_rank(comm, &rank));
     char tmp[PATH_MAX_LEN + 16] = "";
@@ -226,13 +271,14 @@ static int write_shared(MPI_Comm comm, const char *path, const ftext *x, char *e
     if (agree(comm, ok, err, errlen)) return -1;
     MESH_MPI(MPI_Bcast(tmp, (int)sizeof tmp, MPI_CHAR, 0, comm));
 
-    /* pass 1: the first chunk kept, the rest counted */
-    size_t chunk = chunk_bytes ? chunk_bytes : CHUNK_DEFAULT;
-    char *buf = mesh_xmalloc(chunk + x->recmax + 512, 1), *scratch = mesh_xmalloc(x->recmax, 1);
+    /* pass 1: the first chunk (and keep bytes more) formatted and kept, the rest counted; the
+     * buffer's untouched pages cost nothing when the text is shorter */
+    size_t chunk = chunk_bytes ? chunk_bytes : CHUNK_DEFAULT, ahead = chunk + x->p->keep;
+    char *buf = mesh_xmalloc(ahead + x->recmax + 512, 1), *scratch = mesh_xmalloc(x->recmax, 1);
     char *q = x->first ? fmt_head(x, buf) : buf;
     int64_t i = 0;
     int tail_done = 0;
-    size_t kept = (size_t)(q - buf) + fill_chunk(x, &i, &tail_done, q, chunk);
+    size_t kept = (size_t)(q - buf) + fill_chunk(x, &i, &tail_done, q, ahead);
     long long mine = (long long)kept, off = 0;
     for (int64_t j = i; j < x->nrec; j++)
         mine += (long long)rec_len(x, j, scratch);
@@ -309,16 +355,45 @@ int meshio_pwrite_triangle(MPI_Comm comm, const mesh_part *p, const char *prefix
     counts(comm, p, tot, base);
     static const char *const ext[3] = {"node", "ele", "poly"};
     const int64_t nrec[3] = {p->nverts, p->ntris, p->nsegs};
+    /* the .ele file names each vertex about six times: its digits formatted once (8 bytes and
+     * a count per local vertex; numbers of more than 8 digits are formatted each time) */
+    uint64_t *vdig = NULL;
+    uint8_t *vlen = NULL;
+    if (!p->tri && p->ltri && p->nlocal > 0 && p->ntris > 0) {
+        vdig = mesh_xmalloc((size_t)p->nlocal, sizeof *vdig);
+        vlen = mesh_xmalloc((size_t)p->nlocal, 1);
+        for (int64_t v = 0; v < p->nlocal; v++) {
+            char d[24];
+            long long g = (long long)p->gid[v] + 1;
+            int n = g >= 1 && g <= 99999999 ? (int)(fmt_int(d, g) - d) : 0;
+            memset(d + n, ' ', 8 - (size_t)n);
+            memcpy(&vdig[v], d, 8);
+            vlen[v] = (uint8_t)n;
+        }
+    }
     int rc = 0;
     for (int f = 0; f < 3 && rc == 0; f++) {
         char path[PATH_MAX_LEN + 8];
         snprintf(path, sizeof path, "%s.%s", prefix, ext[f]);
-        ftext x = {p,         f,
-                   tot[f],    base[f],
-                   rank == 0, rank == size - 1,
-                   nrec[f],   128 + 32 * (size_t)(p->nattr > 0 ? p->nattr : 0)};
+        ftext x;
+        memset(&x, 0, sizeof x);
+        x.p = p;
+        x.kind = f;
+        x.tot = tot[f];
+        x.base = base[f];
+        x.first = rank == 0;
+        x.last = rank == size - 1;
+        x.nrec = nrec[f];
+        x.recmax = 128 + 32 * (size_t)(p->nattr > 0 ? p->nattr : 0);
+        x.ctr_i = -1;
+        if (f == F_ELE) {
+            x.vdig = vdig;
+            x.vlen = vlen;
+        }
         rc = write_shared(comm, path, &x, err, errlen);
     }
+    free(vdig);
+    free(vlen);
     return rc;
 }
 

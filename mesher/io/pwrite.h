@@ -44,6 +44,7 @@ typedef struct mesh_part {
     const int64_t *tri;   /* 3 * ntris global vertex numbers, counter-clockwise; or NULL: */
     const int32_t *ltri;  /* 3 * ntris local vertex ids ... */
     const int64_t *gid;   /* ... and each local vertex's global number */
+    int64_t nlocal;       /* entries of gid (0: unknown; then the writer caches no numbers) */
     const int32_t *trank; /* ntris triangle attribute (NULL: none; same choice on every rank) */
     int64_t nsegs;
     const int64_t *seg;     /* 2 * nsegs global vertex numbers */
@@ -51,12 +52,16 @@ typedef struct mesh_part {
     int scale_exp; /* xy holds the true coordinates times 2^scale_exp (pslg.scale_exp: an input
                     * pslg_check scaled); the writer undoes it exactly, head vertices included.
                     * 0: unscaled */
+    size_t keep;   /* bytes of text pass 1 may format ahead and keep for pass 2 (beyond one
+                    * chunk), saving their second formatting; 0: one chunk */
 } mesh_part;
 
 /* Collective.  Writes PREFIX.node, PREFIX.ele and PREFIX.poly from every rank's part.  Memory:
- * O(chunk) per rank, never the part's text: each rank first counts its bytes (formatting into
- * one chunk, kept, then counting the rest), an MPI_Exscan gives its offset, then it formats and
- * writes chunk after chunk (independent MPI_File_write_at). */
+ * one chunk plus p->keep bytes per rank (and, with ltri and nlocal, 9 bytes per local vertex:
+ * its number's digits, formatted once), never the part's whole text: each rank first counts its
+ * bytes (formatting its first chunk plus keep bytes, kept, then counting the rest), an
+ * MPI_Exscan gives its offset, then it writes what it kept and formats and writes the rest
+ * chunk after chunk (independent MPI_File_write_at). */
 int meshio_pwrite_triangle(MPI_Comm comm, const mesh_part *p, const char *prefix, char *err,
                            size_t errlen);
 

@@ -185,11 +185,17 @@ static int write_triangle(const par_opts *o, const pslg *in, const mesh_flat *f,
                    .ntris = f->ntris,
                    .ltri = f->tri,
                    .gid = num->gid,
+                   .nlocal = f->nverts,
                    .trank = f->trank,
                    .nsegs = num->nwseg,
                    .seg = seg,
                    .smarker = smk,
-                   .scale_exp = in->scale_exp};
+                   .scale_exp = in->scale_exp,
+                   /* pass 1 formats up to 12 bytes per triangle ahead and keeps them: below
+                    * the refinement's memory peak (the part holds about 31 bytes per triangle
+                    * here, the refining mesh about 45), it saves most of the second formatting
+                    * of the coordinates */
+                   .keep = 12 * (size_t)f->ntris};
     int rc = meshio_pwrite_triangle(rt_app_comm(), &p, o->out_prefix, err, errlen);
     free(seg);
     free(smk);
