@@ -191,11 +191,12 @@ static int write_triangle(const par_opts *o, const pslg *in, const mesh_flat *f,
                    .seg = seg,
                    .smarker = smk,
                    .scale_exp = in->scale_exp,
-                   /* pass 1 formats up to 12 bytes per triangle ahead and keeps them: below
-                    * the refinement's memory peak (the part holds about 31 bytes per triangle
-                    * here, the refining mesh about 45), it saves most of the second formatting
-                    * of the coordinates */
-                   .keep = 12 * (size_t)f->ntris};
+                   /* pass 1 formats up to 8 bytes per triangle ahead and keeps them, about
+                    * half a rank's .node text: the part, its numbering and the digit cache
+                    * hold about 38 bytes per triangle here, so this stays near the refining
+                    * mesh's peak (about 45) and saves half the second formatting of the
+                    * coordinates */
+                   .keep = 8 * (size_t)f->ntris};
     int rc = meshio_pwrite_triangle(rt_app_comm(), &p, o->out_prefix, err, errlen);
     free(seg);
     free(smk);
