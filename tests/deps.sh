@@ -16,6 +16,13 @@ if [ "${FUZZ:-}" = 1 ]; then # make fuzz: clang with libFuzzer and the sanitizer
         ls /usr/lib/llvm-14/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a >/dev/null 2>&1 ||
         missing="$missing libclang-rt-14-dev"
 fi
+# Optional (tests/t_readers.sh skips without them): the PyPI triangle and meshio readers.  A
+# failure to install them is not an error.
+if command -v python3 >/dev/null 2>&1 && ! python3 -c 'import triangle, meshio' 2>/dev/null; then
+    echo "deps: installing the Python readers triangle and meshio (optional)"
+    timeout 300 python3 -m pip install --quiet triangle meshio >/dev/null 2>&1 ||
+        echo "deps: could not install triangle/meshio; tests/t_readers.sh will skip"
+fi
 [ -z "$missing" ] && exit 0
 echo "deps: installing$missing"
 if [ "$(id -u)" -eq 0 ]; then SUDO=""; else SUDO="sudo"; fi

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# t_readers: files written by ./pcdm without a gather, read by other people's readers (issue 12).
+# ./pcdm meshes data/lake.poly with 4 subdomains at 1, 2 and 4 ranks, writing -o PREFIX
+# (.node/.ele/.poly through MPI-IO) and --vtk PREFIX.pvtu (one .vtu piece per rank).  Then tests/readers.py reads them with
+#  - the PyPI `triangle` package's reader (triangle.load: Triangle's file conventions), and
+#  - meshio (every .vtu piece named by the .pvtu; cell data rank and subdomain, point data
+#    marker),
+# and requires: the same triangles (as sets of exact coordinates) from both readers, the counts
+# in the headers, the owning rank as the .ele attribute, segments in the .poly, cell data that
+# names the writing rank, and subdomains 0..3.  (Files written by 1-8 ranks for one mesh being
+# equal is tests/mpi_pout.c's; ./pcdm's mesh itself changes with the rank count.)  When python3, triangle or meshio is missing the test says so and passes
+# (SKIP); `make deps` tries to install them.  Env: BIN, MPIRUN as the other tests.
+set -u
+cd "$(dirname "$0")/.."
+BIN=${BIN:-.}
+MPIRUN=${MPIRUN:-mpirun --oversubscribe}
+if [ "$(id -u)" -eq 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0}
+if ! python3 -c 'import numpy, triangle, meshio' 2>/dev/null; then
+    echo "SKIP t_readers: python3 with numpy, triangle and meshio is needed (pip install triangle meshio)"
+    exit 0
+fi
+T=$(mktemp -d "${TMPDIR:-/tmp}/t_readers.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+for np in 1 2 4; do
+    if ! timeout 300 $MPIRUN -np $np "$BIN/pcdm" -q 30 -a 2e-4 --subdomains 4 -o "$T/m$np" \
+        --vtk "$T/m$np.pvtu" data/lake.poly >"$T/out$np" 2>&1; then
+        echo "FAIL pcdm np=$np:"
+        cat "$T/out$np"
+        exit 1
+    fi
+done
+python3 tests/readers.py "$T" 1 2 4
