@@ -10,7 +10,8 @@
 #
 # Environment: QUICK=1 (1 repetition, no 10M run), REPS=N (override repetitions),
 # DOMAIN=data/lake.poly, QDEG=20.7, MESH/PCDM/PBW=program paths, B=build dir (default build),
-# RUN_TIMEOUT=seconds per run, NO_10M=1, NO_TRIANGLE=1.
+# RUN_TIMEOUT=seconds per run, NO_10M=1, NO_TRIANGLE=1; output section (issue 12): NO_OUTPUT=1,
+# OUT_AREA, OUT_REPS, BENCH_100M=1 (one 100M-triangle ./pcdm -o --check run), TIMEOUT_100M.
 # Exit status: 0 when every program existed and every run that was started succeeded; 1 otherwise
 # (the report and the summary line are still written, with NA and a message for whatever is
 # missing or failed).  Runs skipped because the time budget ran out are reported, not fatal.
@@ -517,6 +518,69 @@ if [ -z "$QUICK" ] && [ -z "${NO_10M:-}" ]; then
     section_end
 else
     note "10M-triangle scale runs skipped ($([ -n "$QUICK" ] && echo 'QUICK=1' || echo 'NO_10M=1'))"
+fi
+
+# ---------------------------------------------------------------- output (issue 12)
+# End to end with output, back to back: ./mesh -o against mpirun -np 2 ./pcdm -o (launch to
+# exit, files written) at about 10M triangles (-q 30 -a OUT_AREA on DOMAIN), OUT_REPS pairs;
+# pcdm's --stats gives its meshing (wall_s) and output (output_s: numbering + writing) seconds
+# and each rank's peak memory per triangle of its own part.  BENCH_100M=1 adds one run at ten
+# times the triangles (about 100M) with the distributed --check, outside the time budget (about
+# 5 GB per rank and 6 GB of files, removed afterwards).  Rows: $R/output.tsv.  NO_OUTPUT=1
+# skips the 10M pairs (quick runs skip them too).
+OUT_TSV=$R/output.tsv
+OUT_AREA=${OUT_AREA:-3.5e-7}
+OUT_REPS=${OUT_REPS:-2}
+printf 'label\tprog\tnp\tarea\trep\trc\text_s\tstats\trank_stats\n' >"$OUT_TSV"
+out_run() { # out_run LABEL PROG NP AREA REP TIMEOUT [extra args]: one end-to-end run with -o
+    local label=$1 prog=$2 np=$3 area=$4 rep=$5 tmo=$6
+    shift 6
+    local base="$R/logs/out_${label}_${prog}_np${np}_r${rep}" pre="$R/tmp/out_${label}_${prog}"
+    local -a cmd
+    if [ "$prog" = mesh ]; then
+        cmd=("$MESH" -q 30 -a "$area" -o "$pre" --stats "$@" "$DOMAIN")
+    else
+        cmd=(mpirun --oversubscribe -np "$np" "$PCDM" -q 30 -a "$area" -o "$pre" --stats "$@" "$DOMAIN")
+    fi
+    echo "output/$label rep $rep: ${cmd[*]}" >>"$CMDS"
+    local t0 t1 rc
+    t0=$(now)
+    timeout "$tmo" "${cmd[@]}" >"$base.out" 2>"$base.err"
+    rc=$?
+    t1=$(now)
+    [ "$rc" = 124 ] && rc=timeout-${tmo}s
+    [ "$rc" != 0 ] && { FAILED=1; echo "bench:   FAILED ($rc) $prog output/$label, see $base.err" >&2; }
+    local ext stats ranks
+    ext=$(awk -v a="$t0" -v b="$t1" 'BEGIN{printf "%.3f", b-a}')
+    stats=$(grep '^stats:' "$base.out" | tail -1 | sed 's/^stats: *//')
+    # per rank: R:triangles:peak_rss_mb:bytes_per_tri:output_s, comma separated
+    ranks=$(sed -n 's/^rank \([0-9]*\):.* triangles=\([0-9]*\) .*output_s=\([0-9.]*\) .*peak_rss_mb=\([0-9.]*\) bytes_per_tri=\([0-9.]*\).*/\1:\2:\4:\5:\3/p' "$base.out" | paste -sd, -)
+    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$label" "$prog" "$np" "$area" "$rep" "$rc" "$ext" \
+        "$stats" "$ranks" >>"$OUT_TSV"
+    rm -f "$pre".node "$pre".ele "$pre".poly
+    [ "$rc" = 0 ] && echo "bench:   $prog np=$np $label rep $rep: launch to exit ${ext}s; $(echo "$stats" | tr ' ' '\n' | grep -E '^(triangles|wall_s|output_s|peak_rss_mb|bytes_per_tri)=' | tr '\n' ' ')"
+    [ -n "$ranks" ] && echo "bench:     per rank (rank:triangles:peak MB:bytes/triangle:output s): $ranks"
+    return 0
+}
+if [ -z "$QUICK" ] && [ -z "${NO_OUTPUT:-}" ]; then
+    section_begin "output"
+    for rep in $(seq 1 "$OUT_REPS"); do
+        if over_budget 120; then
+            note "output: pair $rep skipped (time budget)"
+            break
+        fi
+        out_run 10m mesh 1 "$OUT_AREA" "$rep" 300
+        out_run 10m pcdm 2 "$OUT_AREA" "$rep" 300
+    done
+    section_end
+fi
+if [ -n "${BENCH_100M:-}" ]; then
+    section_begin "output_100m"
+    A100M=$(awk -v a="$OUT_AREA" 'BEGIN{printf "%.4g", a/10}')
+    echo "bench: 100M triangles (BENCH_100M=1): mpirun -np 2 ./pcdm -q 30 -a $A100M -o ... --check"
+    out_run 100m pcdm 2 "$A100M" 1 "${TIMEOUT_100M:-3600}" --check
+    grep '^meshcheck:' "$R/logs/out_100m_pcdm_np2_r1.out" | sed 's/^/bench:   /'
+    section_end
 fi
 
 # ---------------------------------------------------------------- report

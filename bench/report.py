@@ -681,6 +681,57 @@ write_csv(os.path.join(R, "scale.csv"),
            "rsr_per_1000_tri", "min_angle", "area"], scsv)
 csvs.append("scale.csv")
 
+# ---------------------------------------------------------------------------- output (issue 12)
+def output_section():
+    """The end-to-end runs with -o (bench.sh section "output"): ./mesh against ./pcdm on 2
+    ranks, back to back, and the BENCH_100M run; rows from output.tsv."""
+    path = os.path.join(R, "output.tsv")
+    lines = [ln.split("\t") for ln in read_lines(path)[1:] if ln.strip()] if os.path.exists(path) else []
+    if not lines:
+        return
+    H("## Output without a gather (issue 12): end to end, and memory per rank")
+    H("")
+    H("`./mesh -q 30 -a A -o P` and `mpirun -np 2 ./pcdm -q 30 -a A -o P` run back to back "
+      "(launch to exit, files written; the machine may be shared: see the load average above). "
+      "mesh s = the program's `wall_s` (meshing only); output s = pcdm's `output_s` (numbering + "
+      "writing, slowest rank).  Per rank: triangles of its part, peak RSS at the end (after the "
+      "output) and that peak per triangle of its own part (goal: <= 60).")
+    H("")
+    rows, ocsv = [], []
+    pair = {}
+    for ln in lines:
+        ln += [""] * (9 - len(ln))
+        label, prog, np_, area, rep, rc, ext, stats, ranks = ln[:9]
+        st = parse_stats(stats)
+        per = []
+        for item in [x for x in ranks.split(",") if x]:
+            r, tris, mb, bpt, outs = (item.split(":") + [""] * 5)[:5]
+            per.append("r%s: %s tri, %s MB, %s B/tri" % (r, fi(num(tris)), mb, bpt))
+        if rc == "0":
+            pair.setdefault((label, rep), {})[prog] = num(ext)
+        rows.append([label, prog, np_, area, rep, rc, ext, fi(st.get("triangles")), f(st.get("wall_s")),
+                     f(st.get("output_s")) if prog == "pcdm" else "-", "; ".join(per) or "-"])
+        ocsv.append([label, prog, np_, area, rep, rc, ext, st.get("triangles"), st.get("wall_s"),
+                    st.get("output_s"), ranks])
+    H(md_table(["size", "program", "ranks", "-a", "rep", "status", "launch to exit s", "triangles",
+                "mesh s", "output s", "per rank"], rows))
+    H("")
+    ratios = []
+    for (label, rep), d in sorted(pair.items()):
+        if "mesh" in d and "pcdm" in d and d["mesh"]:
+            ratios.append(d["pcdm"] / d["mesh"])
+            H("- %s rep %s: pcdm / mesh end to end = %.2f (goal <= 0.6)" % (label, rep, ratios[-1]))
+    if ratios:
+        stdout.append("Output 10M: pcdm(2)/mesh end to end %s" % ", ".join("%.2f" % x for x in ratios))
+    H("")
+    write_csv(os.path.join(R, "output.csv"),
+              ["size", "program", "ranks", "area", "rep", "rc", "launch_to_exit_s", "triangles",
+               "wall_s", "output_s", "ranks_triangles_peakmb_bpt_outputs"], ocsv)
+    csvs.append("output.csv")
+
+
+output_section()
+
 # ---------------------------------------------------------------------------- problems, timing, commands
 bad = [r for r in runs if not r["ok"]]
 H("## Problems")
