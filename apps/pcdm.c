@@ -24,7 +24,7 @@
  * sum over ranks of that peak RSS divided by the number of triangles (per rank lines: its own
  * peak over its own triangles), mesh_bytes_per_tri the mesh arrays alone (mesh_memory_bytes
  * summed over ranks / triangles); output_s the slowest rank's seconds in par_output
- * (numbering, --check, writing).
+ * (numbering, --check, writing); per rank also output_cpu_s, its CPU seconds in par_output.
  * Options, usage errors and exit statuses (the same on every rank): the front end, apps/cli.c
  * (./pcdm --help).
  */
@@ -63,6 +63,7 @@ enum {
     RS_OUT,
     RS_NUMBER,
     RS_WRITE,
+    RS_OUTCPU,
     RS_N
 };
 
@@ -165,6 +166,7 @@ int main(int argc, char **argv) {
     pcdm_part_take_flat(&part, &local, o.vtk ? &tsub : NULL, &topen);
     pcdm_part_free(&part);
     par_summary sum;
+    double c2 = par_cpu_seconds();
     int status = par_output_sub(&o, &in, &local, artificial, tsub, topen, &sum);
     free(artificial);
     free(tsub);
@@ -175,6 +177,7 @@ int main(int argc, char **argv) {
     rs[RS_OUT] = sum.number_s + sum.check_s + sum.write_s;
     rs[RS_NUMBER] = sum.number_s;
     rs[RS_WRITE] = sum.write_s;
+    rs[RS_OUTCPU] = par_cpu_seconds() - c2;
     double tot[RS_N], mx[RS_N];
     all = par_stats_collect(rs, RS_N, o.stats, tot, mx);
     if (all) {
@@ -183,12 +186,12 @@ int main(int argc, char **argv) {
             printf("rank %d: subdomains=%.0f triangles=%.0f vertices=%.0f inserted=%.0f "
                    "split_sent=%.0f split_recv=%.0f split_ignored=%.0f busy_s=%.3f "
                    "idle_s=%.3f handler_s=%.3f comm_s=%.3f cpu_s=%.3f mpi_msgs=%.0f "
-                   "output_s=%.3f number_s=%.3f write_s=%.3f peak_rss_mb=%.1f "
+                   "output_s=%.3f number_s=%.3f write_s=%.3f output_cpu_s=%.3f peak_rss_mb=%.1f "
                    "bytes_per_tri=%.1f\n",
                    r, x[RS_NSUB], x[RS_NTRIS], x[RS_NVERTS], x[RS_INSERTED], x[RS_SENT], x[RS_RECV],
                    x[RS_IGNORED], x[RS_BUSY], x[RS_IDLE], x[RS_HANDLER], x[RS_COMM], x[RS_CPU],
-                   x[RS_MPI], x[RS_OUT], x[RS_NUMBER], x[RS_WRITE], x[RS_RSS] / 1048576.0,
-                   x[RS_RSS] / (x[RS_NTRIS] > 0 ? x[RS_NTRIS] : 1));
+                   x[RS_MPI], x[RS_OUT], x[RS_NUMBER], x[RS_WRITE], x[RS_OUTCPU],
+                   x[RS_RSS] / 1048576.0, x[RS_RSS] / (x[RS_NTRIS] > 0 ? x[RS_NTRIS] : 1));
         }
         if (tot[RS_NOTFOUND] > 0)
             fprintf(stderr, "pcdm: warning: %.0f split requests named no subsegment\n",

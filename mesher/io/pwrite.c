@@ -170,9 +170,9 @@ static char *fmt_rec(ftext *x, int64_t i, char *q) {
             if (p->vattr) at = p->vattr + (size_t)v * (size_t)p->nattr;
         }
         *q++ = ' ';
-        q = fmt_dbl(q, ldexp(xy[0], -p->scale_exp));
+        q = fmt_dbl(q, p->scale_exp ? ldexp(xy[0], -p->scale_exp) : xy[0]);
         *q++ = ' ';
-        q = fmt_dbl(q, ldexp(xy[1], -p->scale_exp));
+        q = fmt_dbl(q, p->scale_exp ? ldexp(xy[1], -p->scale_exp) : xy[1]);
         for (int k = 0; k < p->nattr; k++) {
             *q++ = ' ';
             q = fmt_dbl(q, at ? at[k] : 0.0);
