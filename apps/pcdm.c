@@ -143,10 +143,13 @@ int main(int argc, char **argv) {
      * user set stopped refinement (exit 3: the mesh written, checked without the bounds) */
     long long unmet = (long long)mesh_count_unmet(&part.m, NULL), unmet_all = 0;
     MESH_MPI(MPI_Allreduce(&unmet, &unmet_all, 1, MPI_LONG_LONG, MPI_SUM, comm));
-    if (limit_any && rank == 0)
-        fprintf(stderr, "pcdm: warning: Steiner point limit (%lld) reached; quality not met\n",
-                (long long)o.max_steiner);
-    if (unmet_all > 0) {
+    int limited = limit_any && unmet_all > 0;
+    if (limited && rank == 0)
+        fprintf(stderr,
+                "pcdm: %s: Steiner point limit (-S %lld) reached with %lld triangles outside the "
+                "bounds; the mesh is conforming but does not meet them (exit status 3)\n",
+                o.input, (long long)o.max_steiner, unmet_all);
+    if (unmet_all > 0 && !limited) {
         if (rank == 0)
             fprintf(stderr,
                     "pcdm: %s: cannot meet the bounds: %lld triangles still violate them "
@@ -167,7 +170,9 @@ int main(int argc, char **argv) {
     pcdm_part_free(&part);
     par_summary sum;
     double c2 = par_cpu_seconds();
-    int status = par_output_sub(&o, &in, &local, artificial, tsub, topen, &sum);
+    par_opts oc = o; /* what --check holds the mesh to */
+    if (limited) oc.min_angle = oc.max_area = 0;
+    int status = par_output_sub(&oc, &in, &local, artificial, tsub, topen, &sum);
     free(artificial);
     free(tsub);
     free(topen);
