@@ -255,79 +255,103 @@ static int write_at(MPI_File fh, long long off, const char *b, size_t n, const c
     return 0;
 }
 
-/* Collective.  Writes every rank's text x into path, atomically, chunk by chunk. */
-static int write_shared(MPI_Comm comm, const char *path, ftext *x, char *err, size_t errlen) {
+#define NFILES 3
+
+/* Collective.  Writes every rank's texts x[0 .. nf) into path[0 .. nf), each file atomically,
+ * chunk by chunk.  Pass 1 runs over every file, then one MPI_Exscan gives all the offsets, and
+ * in pass 2 rank r writes the files starting with file r mod nf: on ext4 (and most local file
+ * systems) buffered writes to one file hold its inode lock, so two ranks writing one file at
+ * once mostly wait for each other, while two files fill in parallel. */
+static int write_files(MPI_Comm comm, const char (*path)[PATH_MAX_LEN + 8], ftext *x, int nf,
+                       char *err, size_t errlen) {
     int rank;
     MESH_MPI(MPI_Comm_rank(comm, &rank));
-    char tmp[PATH_MAX_LEN + 16] = "";
+    char tmp[NFILES][PATH_MAX_LEN + 16];
+    memset(tmp, 0, sizeof tmp);
     int ok = 1;
-    if (rank == 0) {
-        int fd = meshio_mktemp(path, tmp, sizeof tmp, err, errlen);
-        if (fd < 0)
+    for (int f = 0; f < nf && rank == 0 && ok; f++) {
+        int fd = meshio_mktemp(path[f], tmp[f], sizeof tmp[f], err, errlen);
+        if (fd < 0) {
             ok = 0;
-        else
+            for (int g = 0; g < f; g++)
+                unlink(tmp[g]);
+        } else {
             close(fd);
+        }
     }
     if (agree(comm, ok, err, errlen)) return -1;
     MESH_MPI(MPI_Bcast(tmp, (int)sizeof tmp, MPI_CHAR, 0, comm));
 
-    /* pass 1: the first chunk (and keep bytes more) formatted and kept, the rest counted; the
-     * buffer's untouched pages cost nothing when the text is shorter */
-    size_t chunk = chunk_bytes ? chunk_bytes : CHUNK_DEFAULT, ahead = chunk + x->p->keep;
-    char *buf = mesh_xmalloc(ahead + x->recmax + 512, 1), *scratch = mesh_xmalloc(x->recmax, 1);
-    char *q = x->first ? fmt_head(x, buf) : buf;
-    int64_t i = 0;
-    int tail_done = 0;
-    size_t kept = (size_t)(q - buf) + fill_chunk(x, &i, &tail_done, q, ahead);
-    long long mine = (long long)kept, off = 0;
-    for (int64_t j = i; j < x->nrec; j++)
-        mine += (long long)rec_len(x, j, scratch);
-    if (x->last && !tail_done) mine += (long long)(fmt_tail(x, scratch) - scratch);
-    MESH_MPI(MPI_Exscan(&mine, &off, 1, MPI_LONG_LONG, MPI_SUM, comm));
-    if (rank == 0) off = 0; /* MPI_Exscan leaves rank 0's result undefined */
+    /* pass 1: each file's first chunk (for the .node text keep bytes more) formatted and kept,
+     * the rest counted; a buffer's untouched pages cost nothing when the text is shorter */
+    size_t chunk = chunk_bytes ? chunk_bytes : CHUNK_DEFAULT, kept[NFILES];
+    char *buf[NFILES], *scratch = mesh_xmalloc(x[0].recmax + 256, 1);
+    int64_t i[NFILES];
+    int tail_done[NFILES];
+    long long mine[NFILES], off[NFILES] = {0};
+    for (int f = 0; f < nf; f++) {
+        size_t ahead = chunk + (x[f].kind == F_NODE ? x[f].p->keep : 0);
+        buf[f] = mesh_xmalloc(ahead + x[f].recmax + 512, 1);
+        char *q = x[f].first ? fmt_head(&x[f], buf[f]) : buf[f];
+        i[f] = 0;
+        tail_done[f] = 0;
+        kept[f] = (size_t)(q - buf[f]) + fill_chunk(&x[f], &i[f], &tail_done[f], q, ahead);
+        mine[f] = (long long)kept[f];
+        for (int64_t j = i[f]; j < x[f].nrec; j++)
+            mine[f] += (long long)rec_len(&x[f], j, scratch);
+        if (x[f].last && !tail_done[f]) mine[f] += (long long)(fmt_tail(&x[f], scratch) - scratch);
+    }
+    MESH_MPI(MPI_Exscan(mine, off, nf, MPI_LONG_LONG, MPI_SUM, comm));
+    if (rank == 0) /* MPI_Exscan leaves rank 0's result undefined */
+        for (int f = 0; f < nf; f++)
+            off[f] = 0;
 
-    /* pass 2: the kept chunk, then chunk after chunk at increasing offsets */
-    MPI_File fh;
-    int rc = MPI_File_open(comm, tmp, MPI_MODE_WRONLY, MPI_INFO_NULL, &fh);
-    if (rc != MPI_SUCCESS) {
-        ok = 0;
-        efmt(err, errlen, "%s: cannot open for parallel writing (MPI-IO error %d)", path, rc);
-    }
-    if (agree(comm, ok, err, errlen)) {
-        if (rank == 0) unlink(tmp);
-        free(buf);
-        free(scratch);
-        return -1;
-    }
-    MESH_MPI(MPI_File_set_errhandler(fh, MPI_ERRORS_RETURN));
-    long long at = off;
-    size_t n = kept;
-    while (ok) {
-        if (n && write_at(fh, at, buf, n, path, err, errlen) != 0) ok = 0;
-        at += (long long)n;
-        if (i == x->nrec && (tail_done || !x->last)) break;
-        n = fill_chunk(x, &i, &tail_done, buf, chunk);
-    }
-    if (ok && at != off + mine) { /* pass 2 must have made exactly pass 1's bytes */
-        ok = 0;
-        efmt(err, errlen, "%s: internal error: %lld bytes counted, %lld written", path, mine,
-             at - off);
-    }
-    free(buf);
-    free(scratch);
-    if (MPI_File_close(&fh) != MPI_SUCCESS && ok) {
-        ok = 0;
-        efmt(err, errlen, "%s: closing failed", path);
-    }
-    int all = agree(comm, ok, err, errlen) == 0;
-    ok = 1;
-    if (rank == 0) {
-        if (!all) {
-            unlink(tmp);
-        } else if (rename(tmp, path) != 0) {
+    /* the files, opened one by one (collective), then pass 2 in this rank's order */
+    MPI_File fh[NFILES];
+    int nopen = 0;
+    for (; nopen < nf; nopen++) {
+        int rc = MPI_File_open(comm, tmp[nopen], MPI_MODE_WRONLY, MPI_INFO_NULL, &fh[nopen]);
+        if (rc != MPI_SUCCESS) {
             ok = 0;
-            efmt(err, errlen, "%s: cannot rename the written file: %s", path, strerror(errno));
-            unlink(tmp);
+            efmt(err, errlen, "%s: cannot open for parallel writing (MPI-IO error %d)", path[nopen],
+                 rc);
+        }
+        if (agree(comm, ok, err, errlen)) break;
+        MESH_MPI(MPI_File_set_errhandler(fh[nopen], MPI_ERRORS_RETURN));
+    }
+    for (int k = 0; k < nf && nopen == nf && ok; k++) {
+        int f = (k + rank) % nf;
+        long long at = off[f];
+        size_t n = kept[f];
+        while (ok) {
+            if (n && write_at(fh[f], at, buf[f], n, path[f], err, errlen) != 0) ok = 0;
+            at += (long long)n;
+            if (i[f] == x[f].nrec && (tail_done[f] || !x[f].last)) break;
+            n = fill_chunk(&x[f], &i[f], &tail_done[f], buf[f], chunk);
+        }
+        if (ok && at != off[f] + mine[f]) { /* pass 2 must have made exactly pass 1's bytes */
+            ok = 0;
+            efmt(err, errlen, "%s: internal error: %lld bytes counted, %lld written", path[f],
+                 mine[f], at - off[f]);
+        }
+    }
+    for (int f = 0; f < nf; f++)
+        free(buf[f]);
+    free(scratch);
+    for (int f = 0; f < nopen; f++)
+        if (MPI_File_close(&fh[f]) != MPI_SUCCESS && ok) {
+            ok = 0;
+            efmt(err, errlen, "%s: closing failed", path[f]);
+        }
+    int all = nopen == nf && agree(comm, ok, err, errlen) == 0;
+    ok = 1;
+    for (int f = 0; f < nf && rank == 0; f++) {
+        if (!all || !ok) {
+            unlink(tmp[f]);
+        } else if (rename(tmp[f], path[f]) != 0) {
+            ok = 0;
+            efmt(err, errlen, "%s: cannot rename the written file: %s", path[f], strerror(errno));
+            unlink(tmp[f]);
         }
     }
     if (!all) return -1;
@@ -371,27 +395,26 @@ int meshio_pwrite_triangle(MPI_Comm comm, const mesh_part *p, const char *prefix
             vlen[v] = (uint8_t)n;
         }
     }
-    int rc = 0;
-    for (int f = 0; f < 3 && rc == 0; f++) {
-        char path[PATH_MAX_LEN + 8];
-        snprintf(path, sizeof path, "%s.%s", prefix, ext[f]);
-        ftext x;
-        memset(&x, 0, sizeof x);
-        x.p = p;
-        x.kind = f;
-        x.tot = tot[f];
-        x.base = base[f];
-        x.first = rank == 0;
-        x.last = rank == size - 1;
-        x.nrec = nrec[f];
-        x.recmax = 128 + 32 * (size_t)(p->nattr > 0 ? p->nattr : 0);
-        x.ctr_i = -1;
+    char path[NFILES][PATH_MAX_LEN + 8];
+    ftext x[NFILES];
+    for (int f = 0; f < NFILES; f++) {
+        snprintf(path[f], sizeof path[f], "%s.%s", prefix, ext[f]);
+        memset(&x[f], 0, sizeof x[f]);
+        x[f].p = p;
+        x[f].kind = f;
+        x[f].tot = tot[f];
+        x[f].base = base[f];
+        x[f].first = rank == 0;
+        x[f].last = rank == size - 1;
+        x[f].nrec = nrec[f];
+        x[f].recmax = 128 + 32 * (size_t)(p->nattr > 0 ? p->nattr : 0);
+        x[f].ctr_i = -1;
         if (f == F_ELE) {
-            x.vdig = vdig;
-            x.vlen = vlen;
+            x[f].vdig = vdig;
+            x[f].vlen = vlen;
         }
-        rc = write_shared(comm, path, &x, err, errlen);
     }
+    int rc = write_files(comm, (const char(*)[PATH_MAX_LEN + 8]) path, x, NFILES, err, errlen);
     free(vdig);
     free(vlen);
     return rc;
