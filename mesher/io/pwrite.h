@@ -52,16 +52,17 @@ typedef struct mesh_part {
     int scale_exp; /* xy holds the true coordinates times 2^scale_exp (pslg.scale_exp: an input
                     * pslg_check scaled); the writer undoes it exactly, head vertices included.
                     * 0: unscaled */
-    size_t keep;   /* bytes of text pass 1 may format ahead and keep for pass 2 (beyond one
-                    * chunk), saving their second formatting; 0: one chunk */
+    size_t keep;   /* bytes of .node text pass 1 may format ahead and keep for pass 2 (beyond
+                    * one chunk), saving their second formatting; 0: one chunk */
 } mesh_part;
 
 /* Collective.  Writes PREFIX.node, PREFIX.ele and PREFIX.poly from every rank's part.  Memory:
- * one chunk plus p->keep bytes per rank (and, with ltri and nlocal, 9 bytes per local vertex:
- * its number's digits, formatted once), never the part's whole text: each rank first counts its
- * bytes (formatting its first chunk plus keep bytes, kept, then counting the rest), an
- * MPI_Exscan gives its offset, then it writes what it kept and formats and writes the rest
- * chunk after chunk (independent MPI_File_write_at). */
+ * one chunk per file plus p->keep bytes per rank (and, with ltri and nlocal, 9 bytes per local
+ * vertex: its number's digits, formatted once), never the part's whole text: each rank first
+ * counts its bytes (formatting and keeping its first chunk of each file and keep bytes more of
+ * the .node text, counting the rest), an MPI_Exscan gives its offsets, then it writes what it
+ * kept and formats and writes the rest chunk after chunk (independent MPI_File_write_at), rank
+ * r starting with file r mod 3 so that ranks fill different files at once. */
 int meshio_pwrite_triangle(MPI_Comm comm, const mesh_part *p, const char *prefix, char *err,
                            size_t errlen);
 
