@@ -66,7 +66,7 @@ typedef struct mesh_part {
 int meshio_pwrite_triangle(MPI_Comm comm, const mesh_part *p, const char *prefix, char *err,
                            size_t errlen);
 
-/* Local.  Sets the writers' chunk size in bytes (0: the default, 8 MiB); tests shrink it so
+/* Local.  Sets the writers' chunk size in bytes (0: the default, 1 MiB); tests shrink it so
  * that every path of the chunked writers runs on small meshes. */
 void meshio_pwrite_set_chunk(size_t bytes);
 
