@@ -13,9 +13,13 @@
  * cannot show is decided over all parts: the sum of the parts' areas against the input's
  * domain area (relative 1e-9, as the validator), and every endpoint of an input segment that
  * piece that borders the domain (every vertex of a point set) used by some part (an MPI_MAX
- * reduction of one byte per input vertex).  Interfaces were compared across ranks before (the
- * always-on par_check_interfaces).  Invariant: every function returns the same result on every
- * rank.
+ * reduction of one byte per input vertex), and every edge between two ranks' triangles that is
+ * not an input constraint must be locally Delaunay (par_check_interface_delaunay: the two
+ * apexes meet at a rendezvous rank, exact incircle), so the distributed check asks what
+ * ./meshcheck asks of the merged mesh.  Interfaces were compared across ranks before (the
+ * always-on par_check_interfaces).  Output and check use the mesher's open-edge mask when it
+ * hands one over (topen: no vertex-to-triangle rows).  Invariant: every function returns the
+ * same result on every rank.
  */
 #include "par/pout.h"
 

@@ -88,7 +88,9 @@ void par_numbering_free(par_numbering *num);
 /* Collective.  The distributed --check.  Every rank runs the exact validator
  * (mesh_validate, part mode: the part's boundary may be interface edges, which
  * par_check_interfaces compared across the neighbours; input vertices and the domain area are
- * checked over all parts) on its part with o's bounds, then the reports are reduced: counts
+ * checked over all parts) on its part with o's bounds, the edges between parts are tested
+ * locally Delaunay across the ranks (par_check_interface_delaunay, counted as non_delaunay, as
+ * the sequential validator counts every non-constraint edge), then the reports are reduced: counts
  * summed, extremes reduced, the first failing rank's first problem kept; the parts' areas are
  * summed and compared with the input's domain area (relative 1e-9), and every input vertex
  * must be a vertex of some part.  *r (every rank) gets the combined report; rank 0 prints its
