@@ -71,12 +71,11 @@ enum {
     RS_MPI,
     RS_RSR,
     RS_OUT,
+    RS_UNRESOLVED,
+    RS_FORCED,
     RS_KIND0,
     RS_N = RS_KIND0 + PBW_RSR_NKINDS
 };
-
-/* The largest -q ./pbw accepts (see main). */
-#define PBW_MAX_ANGLE 34.0
 
 int main(int argc, char **argv) {
     par_opts o;
@@ -88,21 +87,6 @@ int main(int argc, char **argv) {
         return code;
     int rank = rt_rank(), size = rt_size();
     MPI_Comm comm = rt_app_comm();
-    if (o.min_angle > PBW_MAX_ANGLE) {
-        /* PBW's refinement has no stall detection yet (it is not on the shared kernel, issue
-         * 13): past about 34 degrees it may never end, so it refuses rather than hang */
-        if (rank == 0)
-            fprintf(stderr,
-                    "pbw: -q %g: above %g degrees ./pbw's refinement may not terminate and it "
-                    "cannot yet detect that; use -q %g or less (./pcdm and ./mesh stop with a "
-                    "clear error instead)\n",
-                    o.min_angle, PBW_MAX_ANGLE, PBW_MAX_ANGLE);
-        pcdm_decomp_free(&d);
-        pslg_free(&in);
-        rt_finalize();
-        return 1;
-    }
-
     MESH_MPI(MPI_Barrier(comm));
     double t0 = rt_wtime(), c0 = par_cpu_seconds();
     rt_stats_reset();
@@ -144,6 +128,8 @@ int main(int argc, char **argv) {
     rs[RS_CPU] = par_cpu_seconds() - c0;
     rs[RS_MPI] = (double)st.mpi_sent;
     rs[RS_RSR] = (double)st.rsr_sent;
+    rs[RS_UNRESOLVED] = (double)res.unresolved;
+    rs[RS_FORCED] = (double)res.forced;
     for (int k = 0; k < PBW_RSR_NKINDS; k++)
         rs[RS_KIND0 + k] = (double)res.rsr_sent[k];
     int limit_any = 0;
@@ -151,6 +137,24 @@ int main(int argc, char **argv) {
     if (limit_any && rank == 0)
         fprintf(stderr, "pbw: warning: Steiner point limit (%lld) reached; quality not met\n",
                 (long long)o.max_steiner);
+    /* never a silent success outside the bounds (as ./mesh and ./pcdm): what is left must be
+     * forced by the input; a rank that gave up (refusals past the budget) always leaves some */
+    long long unmet[2] = {limit_any ? 0 : (long long)res.unmet, (long long)res.unresolved},
+              unmet_all[2] = {0, 0};
+    MESH_MPI(MPI_Allreduce(unmet, unmet_all, 2, MPI_LONG_LONG, MPI_SUM, comm));
+    if (unmet_all[0] > 0) {
+        if (rank == 0)
+            fprintf(stderr,
+                    "pbw: %s: cannot meet the bounds: %lld triangles still violate them after "
+                    "%lld refused splits (features below the precision of the coordinates, or "
+                    "-q %g beyond what refinement reaches on this input)\n",
+                    o.input, unmet_all[0], unmet_all[1], o.min_angle);
+        mesh_flat_free(&local);
+        pcdm_decomp_free(&d);
+        pslg_free(&in);
+        rt_finalize();
+        return 1;
+    }
     /* the common end: interface check, numbering, --check, output (no gather) */
     par_summary sum;
     int status = par_output(&o, &in, &local, NULL, &sum);
@@ -177,9 +181,11 @@ int main(int argc, char **argv) {
             printf(" %s=%.0f", pbw_rsr_kind_name[k], tot[RS_KIND0 + k]);
         printf(" mpi_msgs=%.0f\n", tot[RS_MPI]);
         printf("cavities: local=%.0f remote=%.0f undone_local=%.0f undone_remote=%.0f "
-               "parked=%.0f rejected=%.0f failed=%.0f skipped_small=%.0f postponed=%.0f\n",
+               "parked=%.0f rejected=%.0f failed=%.0f skipped_small=%.0f postponed=%.0f "
+               "unresolved=%.0f forced=%.0f\n",
                tot[RS_CLOCAL], tot[RS_CREMOTE], tot[RS_ULOCAL], tot[RS_UREMOTE], tot[RS_PARKED],
-               tot[RS_REJECTED], tot[RS_FAILED], tot[RS_SKIPPED], tot[RS_POSTPONED]);
+               tot[RS_REJECTED], tot[RS_FAILED], tot[RS_SKIPPED], tot[RS_POSTPONED],
+               tot[RS_UNRESOLVED], tot[RS_FORCED]);
         double nonidle = tot[RS_BUSY] + tot[RS_COMM];
         double nt = sum.ntris > 0 ? (double)sum.ntris : 1;
         printf(

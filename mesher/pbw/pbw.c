@@ -61,13 +61,20 @@
  * rank spins: a deferred item waits for a wake (an RSR) or a local release, and the runtime's
  * termination detector sees a blocked task wherever a cavity is still in flight.
  *
- * BOUNDARY.  As in refine.c: a circumcenter (or off-center) that lies beyond or on a
- * constraint edge of its cavity, or encroaches one, is discarded and those subsegments are
- * split; splits use the dyadic midpoint of the original segment, or a concentric shell at a
- * small input corner; skinny triangles whose small angle is forced by such a corner are left
- * alone (unless they exceed the area bound).  --phases: phase 1 commits only cavities that
- * stay on their rank, phase 2 the rest (the paper's data-parallel variant, Figure 1 bottom).
- * Env PBW_DEBUG=DIR: each rank writes its queue/lock state to DIR/pbw.RANK.log every 2 s.
+ * RULES.  What is bad, the Steiner point (off-center), encroachment, the shell split point and
+ * the forced small angle are seq/rules.h's, the same code ./mesh and ./pcdm run, and so is the
+ * queue order (shortest edge first, last in first out inside a bucket).  As in refine.c: a
+ * circumcenter (or off-center) that lies beyond or on a constraint edge of its cavity, or
+ * encroaches one, is discarded and those subsegments are split; splits use the dyadic midpoint
+ * of the original segment, or a concentric shell at a small input corner; skinny triangles
+ * whose small angle is forced by such a corner are left alone (unless they exceed the area
+ * bound).  TERMINATION (issue 10), as refine.c: no new edge shorter than the length floor of
+ * the initial CDT; such a refusal drops the work item (a bad triangle whose split was refused
+ * is not retried), and a rank whose refusals pass the budget stops refining; what is left
+ * outside the bounds and not forced is counted at the end (pbw_result.unmet) and ./pbw fails.
+ * --phases: phase 1 commits only cavities that stay on their rank, phase 2 the rest (the paper's
+ * data-parallel variant, Figure 1 bottom). Env PBW_DEBUG=DIR: each rank writes its queue/lock state
+ * to DIR/pbw.RANK.log every 2 s.
  */
 #include "pbw/pbw.h"
 
@@ -76,7 +83,9 @@
 #include "geom/geom.h"
 #include "rt.h"
 #include "seq/mesh.h"
+#include "seq/rules.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -106,7 +115,7 @@ enum { BF_BEYOND = 1, BF_ENC = 2 };
 enum { PR_DONE = 0, PR_DIE = 1, PR_PARK = 2 };
 enum { IT_BAD = 0, IT_SPLIT = 1 };
 
-#define NBUCKET 4096
+#define NBUCKET MESH_RULES_NBUCKET
 #define MAX_INFLIGHT 16
 #define WORK_BATCH 64
 #define MAXMSG (1u << 28)
@@ -157,8 +166,11 @@ typedef struct pbw_split_msg {
 _Static_assert(sizeof(pbw_split_msg) == 40, "pbw_split_msg layout");
 
 typedef struct pbw_wake_msg {
-    int64_t key; /* the released cavity, or a split ticket */
+    int64_t key;     /* the released cavity, or a split ticket */
+    int32_t refused; /* split ticket: the split was refused (length floor, precision) */
+    int32_t pad;
 } pbw_wake_msg;
+_Static_assert(sizeof(pbw_wake_msg) == 16, "pbw_wake_msg layout");
 
 typedef struct pbw_commit_hdr {
     int64_t key, pgid;
@@ -188,6 +200,7 @@ typedef struct pbw_item { /* a unit of local work */
     int32_t forced;       /* split: 0 = only if the apex still encroaches */
     int32_t wait_kind;    /* deferred: W_* */
     int32_t wait_count;   /* deferred W_WAKE: wakes still expected */
+    int32_t refused;      /* deferred W_WAKE: a split it waits for was refused: drop it */
 } pbw_item;
 
 /* What a deferred item waits for: the release of a local lock holder (W_HOLD), a WAKE with
@@ -265,12 +278,15 @@ typedef struct pbw_ctx {
     int32_t *seg, *smarker, *in_vmarker, *inc_off, *inc_seg;
     uint8_t *corner;
     int has_corners;
-    /* quality */
-    double cosb, offfac, max_area;
+    /* quality: the shared rules (seq/rules.h) and the input facts they need */
+    mesh_rules R;
+    mesh_rules_input I;
+    double floor2;             /* squared length floor (mesh_rules_length_floor2) */
+    int64_t unresolved_budget; /* refusals this rank accepts before it gives up */
     int64_t steiner_limit;
     int stopped;
     /* queues */
-    int32_t head[NBUCKET + 1], tail[NBUCKET + 1];
+    int32_t head[NBUCKET + 1]; /* per bucket: a stack of pool entries */
     qent *pool;
     int32_t npool, poolcap, pool_free, cursor;
     ivec splitq, retryq, deferred, phase2;
@@ -397,37 +413,16 @@ static int find_edge(int32_t t, int64_t ga, int64_t gb) {
     return -1;
 }
 
-/* ---- quality (as refine.c) --------------------------------------------------------------- */
+/* ---- quality: the shared rules ---------------------------------------------------------- */
 
+/* MESH_BAD_ANGLE / MESH_BAD_AREA bits (mesh_rules_bad), 0: good.  *bucket (may be NULL): queue
+ * priority (mesh_rules_bucket: shortest edge first, as refine.c).  *sh: shortest edge j. */
 static int quality(int32_t t, int *bucket, int *sh) {
     const int32_t *tv = G.tv + 3 * (size_t)t;
     const double *p[3] = {VX(tv[0]), VX(tv[1]), VX(tv[2])};
-    double ex[3], ey[3], l[3];
-    for (int j = 0; j < 3; j++) {
-        ex[j] = p[(j + 1) % 3][0] - p[j][0];
-        ey[j] = p[(j + 1) % 3][1] - p[j][1];
-        l[j] = ex[j] * ex[j] + ey[j] * ey[j];
-    }
-    int j = (l[0] <= l[1] && l[0] <= l[2]) ? 0 : (l[1] <= l[2]) ? 1 : 2;
-    if (sh) *sh = j;
-    int res = 0;
-    if (G.cosb < 1.0) {
-        int a = (j + 1) % 3, b = (j + 2) % 3;
-        double dot = -(ex[a] * ex[b] + ey[a] * ey[b]);
-        if (dot > 0 && dot * dot > G.cosb * G.cosb * l[a] * l[b]) {
-            double c = dot / sqrt(l[a] * l[b]);
-            int k = (int)((1.0 - c) / (1.0 - G.cosb) * NBUCKET);
-            if (bucket) *bucket = k < 0 ? 0 : k >= NBUCKET ? NBUCKET - 1 : k;
-            res = 1;
-        }
-    }
-    if (!res && G.max_area > 0) {
-        double area = 0.5 * (ex[0] * -ey[2] - ey[0] * -ex[2]);
-        if (area > G.max_area) {
-            if (bucket) *bucket = NBUCKET;
-            res = 2;
-        }
-    }
+    double l2;
+    int res = mesh_rules_bad(&G.R, p, sh, &l2);
+    if (res && bucket) *bucket = mesh_rules_bucket(l2);
     return res;
 }
 
@@ -443,12 +438,8 @@ static void push_bad(int32_t t) {
         i = G.npool++;
     }
     G.pool[i].t = t;
-    G.pool[i].next = -1;
-    if (G.tail[k] >= 0)
-        G.pool[G.tail[k]].next = i;
-    else
-        G.head[k] = i;
-    G.tail[k] = i;
+    G.pool[i].next = G.head[k]; /* LIFO inside a bucket, as refine.c */
+    G.head[k] = i;
     if (k < G.cursor) G.cursor = k;
 }
 
@@ -459,7 +450,6 @@ static int32_t pop_bad(void) {
     int k = G.cursor;
     int32_t i = G.head[k];
     G.head[k] = G.pool[i].next;
-    if (G.head[k] < 0) G.tail[k] = -1;
     G.pool[i].next = G.pool_free;
     G.pool_free = i;
     return G.pool[i].t;
@@ -469,59 +459,40 @@ static int is_corner_gid(int64_t g) {
     return g >= 0 && g < G.ninput && G.corner[g];
 }
 
-/* refine.c's rule: the shortest edge u-v joins two segments of a small input corner at the
- * same distance from it (the small angle is forced by the input). */
-static int on_corner_segments(int32_t lu, int32_t lv) {
+/* The shared forced-angle rule (mesh_rules_edge_forced) for the shortest edge lu-lv (vertex
+ * slots): an input vertex is named by its id, a Steiner vertex by the segment it lies on. */
+static int edge_forced(int32_t lu, int32_t lv) {
     if (!G.has_corners) return 0;
+    G.I.xy = G.xy; /* input vertex i is slot i (setup); the array moves as it grows */
     int64_t u = G.vgid[lu], v = G.vgid[lv];
-    int32_t su1 = 0, su2 = 0, sv1 = 0, sv2 = 0, one_u = -1, one_v = -1;
-    if (u >= 0 && u < G.ninput)
-        su1 = G.inc_off[u], su2 = G.inc_off[u + 1];
-    else if (G.vseg[lu] >= 0)
-        one_u = G.vseg[lu];
-    else
-        return 0;
-    if (v >= 0 && v < G.ninput)
-        sv1 = G.inc_off[v], sv2 = G.inc_off[v + 1];
-    else if (G.vseg[lv] >= 0)
-        one_v = G.vseg[lv];
-    else
-        return 0;
-    int32_t nu = one_u >= 0 ? 1 : su2 - su1, nv = one_v >= 0 ? 1 : sv2 - sv1;
-    for (int32_t i = 0; i < nu; i++) {
-        int32_t s1 = one_u >= 0 ? one_u : G.inc_seg[su1 + i];
-        for (int32_t j = 0; j < nv; j++) {
-            int32_t s2 = one_v >= 0 ? one_v : G.inc_seg[sv1 + j];
-            if (s1 == s2) continue;
-            for (int x = 0; x < 2; x++)
-                for (int y = 0; y < 2; y++) {
-                    int32_t a = G.seg[2 * s1 + x];
-                    if (a != G.seg[2 * s2 + y] || a == u || a == v || !is_corner_gid(a)) continue;
-                    int32_t o1 = G.seg[2 * s1 + 1 - x], o2 = G.seg[2 * s2 + 1 - y];
-                    if (geom_angle_deg(VX(o1), VX(a), VX(o2)) >= 60.0) continue;
-                    double du = sqrt(geom_dist2(VX(a), VX(lu)));
-                    double dv = sqrt(geom_dist2(VX(a), VX(lv)));
-                    if (fabs(du - dv) <= 0.01 * fmax(du, dv)) return 1;
-                }
-        }
-    }
-    return 0;
+    int32_t iu = u >= 0 && u < G.ninput ? (int32_t)u : -1;
+    int32_t iv = v >= 0 && v < G.ninput ? (int32_t)v : -1;
+    return mesh_rules_edge_forced(&G.I, iu, iu < 0 ? G.vseg[lu] : -1, VX(lu), iv,
+                                  iv < 0 ? G.vseg[lv] : -1, VX(lv));
 }
 
-/* Circumcenter, or Ungor's off-center when closer (as refine.c with offcenter on). */
+/* 1 iff a new vertex at p would make an edge to vertex slot a shorter than the floor. */
+static int below_floor(const double p[2], int32_t a) {
+    return geom_dist2(p, VX(a)) < G.floor2;
+}
+
+/* Counts a refusal (a split or Steiner point below the length floor); past the budget this
+ * rank's refinement is diverging (an angle bound beyond reach, or features below the precision
+ * of the coordinates) and it stops, as refine.c does (MESH_REFINE_UNRESOLVED). */
+static void refuse(void) {
+    G.res.unresolved++;
+    if (G.res.unresolved > G.unresolved_budget) {
+        G.stopped = 1;
+        G.res.gave_up = 1;
+    }
+}
+
+/* Steiner point of bad triangle t (mesh_rules_steiner, on the working grid).  0, or -1. */
 static int steiner_point(int32_t t, int sh, double out[2]) {
     const int32_t *tv = G.tv + 3 * (size_t)t;
-    if (geom_circumcenter(VX(tv[0]), VX(tv[1]), VX(tv[2]), out) != 0) return -1;
-    if (G.offfac <= 0) return 0;
-    const double *p = VX(tv[sh]), *q = VX(tv[(sh + 1) % 3]);
-    double mid[2];
-    geom_midpoint(p, q, mid);
-    double dc = sqrt(geom_dist2(mid, out)), h = G.offfac * sqrt(geom_dist2(p, q));
-    if (dc > h) {
-        out[0] = mid[0] + (out[0] - mid[0]) * (h / dc);
-        out[1] = mid[1] + (out[1] - mid[1]) * (h / dc);
-    }
-    return 0;
+    const double *p[3] = {VX(tv[0]), VX(tv[1]), VX(tv[2])};
+    if (mesh_rules_steiner(&G.R, p, sh, out) != 0) return -1;
+    return geom_working_point(out);
 }
 
 /* ---- work item queues ---------------------------------------------------------------------- */
@@ -562,6 +533,7 @@ static void defer_item(const pbw_item *it, int kind, int64_t key, int32_t count)
     d.wait_kind = kind;
     d.wait_key = key;
     d.wait_count = count;
+    d.refused = 0;
     if ((kind == W_HOLD && hold_find(key) < 0) || (kind == W_WAKE && count <= 0))
         iv_push(&G.retryq, &d); /* already happened */
     else {
@@ -571,16 +543,21 @@ static void defer_item(const pbw_item *it, int kind, int64_t key, int32_t count)
 }
 
 /* Moves the deferred items waiting for (kind, key) to the retry queue (W_EVENT: all
- * W_EVENT items). */
-static void deferred_release(int kind, int64_t key) {
+ * W_EVENT items).  refused (W_WAKE): the split that wakes them was refused; an item that
+ * waited for a refused split is dropped, not retried (its Steiner point would ask for the same
+ * split again), as refine.c drops a bad triangle whose splits all failed. */
+static void deferred_release(int kind, int64_t key, int refused) {
     int32_t k = G.deferred.head;
     for (int32_t i = G.deferred.head; i < G.deferred.n; i++) {
         pbw_item *d = &G.deferred.a[i];
         int hit = d->wait_kind == kind && (kind == W_EVENT || d->wait_key == key);
-        if (hit && kind == W_WAKE && --d->wait_count > 0) hit = 0;
+        if (hit && kind == W_WAKE) {
+            d->refused |= refused;
+            if (--d->wait_count > 0) hit = 0;
+        }
         if (hit) {
             if (d->wait_kind == W_EVENT) G.nevent--;
-            iv_push(&G.retryq, d);
+            if (!d->refused) iv_push(&G.retryq, d);
         } else
             G.deferred.a[k++] = *d;
     }
@@ -590,21 +567,22 @@ static void deferred_release(int kind, int64_t key) {
 static void refresh_deferred(void) {
     if (G.seen_epoch == G.ev_epoch) return;
     G.seen_epoch = G.ev_epoch;
-    if (G.nevent > 0) deferred_release(W_EVENT, 0);
+    if (G.nevent > 0) deferred_release(W_EVENT, 0, 0);
 }
 
-static void wake_key(int64_t key) {
-    deferred_release(W_WAKE, key);
+static void wake_key(int64_t key, int refused) {
+    deferred_release(W_WAKE, key, refused);
     for (int32_t i = 0; i < G.ndy; i++)
         if (G.dy[i]->die_holder == key) G.dy[i]->woken = 1;
 }
 
-static void notify(int32_t r, int64_t key) {
+/* Wakes whoever waits for key on rank r (r < 0: nobody); refused: see deferred_release. */
+static void notify(int32_t r, int64_t key, int refused) {
     if (r < 0) return;
     if (r == G.rank) {
-        wake_key(key);
+        wake_key(key, refused);
     } else {
-        pbw_wake_msg w = {key};
+        pbw_wake_msg w = {key, refused, 0};
         rt_rsr(r, G.hid[PBW_RSR_WAKE], &w, sizeof w);
     }
 }
@@ -674,7 +652,7 @@ static void hold_end(int32_t hi, int bump) {
     G.hd[hi].n = 0;
     for (int32_t i = 0; i < G.nwt;) {
         if (G.wt[i].key == key) {
-            notify(G.wt[i].rank, key);
+            notify(G.wt[i].rank, key, 0);
             G.wt[i] = G.wt[--G.nwt];
         } else {
             i++;
@@ -682,7 +660,7 @@ static void hold_end(int32_t hi, int bump) {
     }
     /* only a distributed cavity's locks outlive one step of local work, so only those can
      * have deferred items waiting for them */
-    if (G.hd[hi].distributed) deferred_release(W_HOLD, key);
+    if (G.hd[hi].distributed) deferred_release(W_HOLD, key, 0);
     if (bump) G.ev_epoch++;
 }
 
@@ -821,7 +799,7 @@ static void report(pbw_cav *c, int32_t hi, int32_t la, int32_t lb, int64_t out, 
     r.clev = clev;
     r.ck = ck;
     if (geom_orient2d(VX(la), VX(lb), c->h.p) <= 0) r.flags |= BF_BEYOND;
-    if (cseg >= 0 && geom_encroaches(VX(la), VX(lb), c->h.p)) r.flags |= BF_ENC;
+    if (cseg >= 0 && mesh_rules_encroaches(&G.R, VX(la), VX(lb), c->h.p)) r.flags |= BF_ENC;
     MESH_GROW(c->b, c->nb, c->bcap);
     c->b[c->nb++] = r;
 }
@@ -929,7 +907,7 @@ static void check_new_triangle(int32_t t) {
         if (G.cs[e] < 0) continue;
         int32_t a = G.tv[e], b = G.tv[3 * (size_t)t + (size_t)((j + 1) % 3)],
                 o = G.tv[3 * (size_t)t + (size_t)((j + 2) % 3)];
-        if (geom_encroaches(VX(a), VX(b), VX(o))) {
+        if (mesh_rules_encroaches(&G.R, VX(a), VX(b), VX(o))) {
             pbw_item it;
             memset(&it, 0, sizeof it);
             it.kind = IT_SPLIT;
@@ -1211,7 +1189,7 @@ static void finish(pbw_cav *c) {
     if (nonstar || cbad || commit_all(c) != 0) {
         release_all(c, 0);
         G.res.failed++;
-        if (split) notify(c->it.notify, c->it.ticket);
+        if (split) notify(c->it.notify, c->it.ticket, 1);
         return;
     }
     if (c->np > 1)
@@ -1220,7 +1198,7 @@ static void finish(pbw_cav *c) {
         G.res.cavities_local++;
     if (split) {
         G.res.splits++;
-        notify(c->it.notify, c->it.ticket);
+        notify(c->it.notify, c->it.ticket, 0);
     } else {
         G.res.inserted++;
     }
@@ -1374,7 +1352,7 @@ static void h_split(const rt_msg *m, void *arg) {
 static void h_wake(const rt_msg *m, void *arg) {
     (void)arg;
     const pbw_wake_msg *w = m->data;
-    wake_key(w->key);
+    wake_key(w->key, w->refused);
 }
 
 /* The task of a distributed cavity: send the expansion, wait in the blocking queue for the
@@ -1480,7 +1458,9 @@ static void start_cavity(pbw_item *it, const double p[2], int32_t t, const split
 }
 
 /* Split point of the subsegment (la, lb) of segment s with dyadic name (lev, k), as refine.c
- * computes it; fills the halves' names into c-independent outputs. */
+ * computes it (shells of unit 1 around a small corner: PBW has no interface segments); fills
+ * the halves' names into c-independent outputs.  Returns 0, -1 if the point is unusable
+ * (precision exhausted), -2 if it is below the length floor (a refusal). */
 static int split_point(int32_t la, int32_t lb, int32_t s, int32_t lev, int64_t k, double p[2],
                        int32_t *child_lev, int64_t *ka, int64_t *kb) {
     const double *pu = VX(la), *pv = VX(lb);
@@ -1489,13 +1469,7 @@ static int split_point(int32_t la, int32_t lb, int32_t s, int32_t lev, int64_t k
     *child_lev = -1;
     *ka = *kb = 0;
     if (cu != cv) {
-        const double *a = cu ? pu : pv, *w = cu ? pv : pu;
-        double L = sqrt(geom_dist2(a, w));
-        double d = exp2(floor(log2(L * (2.0 / 3.0))));
-        double f = d / L;
-        if (!(f > 0.3 && f < 0.7)) f = 0.5;
-        p[0] = a[0] + (w[0] - a[0]) * f;
-        p[1] = a[1] + (w[1] - a[1]) * f;
+        mesh_rules_shell_point(cu ? pu : pv, cu ? pv : pu, 1.0, p);
     } else if (lev >= 0 && lev < 52) {
         mesh_dyadic_point(A, B, lev, k, p);
         *child_lev = lev + 1;
@@ -1507,14 +1481,17 @@ static int split_point(int32_t la, int32_t lb, int32_t s, int32_t lev, int64_t k
     } else {
         geom_midpoint(pu, pv, p);
     }
-    if ((p[0] == pu[0] && p[1] == pu[1]) || (p[0] == pv[0] && p[1] == pv[1])) return -1;
+    if (geom_working_point(p) != 0 || (p[0] == pu[0] && p[1] == pu[1]) ||
+        (p[0] == pv[0] && p[1] == pv[1]))
+        return -1;
+    if (below_floor(p, la) || below_floor(p, lb)) return -2;
     return 0;
 }
 
 static void process_item(pbw_item *it) {
     int32_t t = it->t;
     if (!alive(t)) {
-        if (it->kind == IT_SPLIT) notify(it->notify, it->ticket);
+        if (it->kind == IT_SPLIT) notify(it->notify, it->ticket, 0);
         return;
     }
     if (it->kind == IT_SPLIT) {
@@ -1522,7 +1499,7 @@ static void process_item(pbw_item *it) {
         if (j < 0) j = find_edge(t, it->gv, it->gu);
         size_t e = 3 * (size_t)t + (size_t)j;
         if (j < 0 || G.cs[e] < 0) { /* already split, or the triangle changed */
-            notify(it->notify, it->ticket);
+            notify(it->notify, it->ticket, 0);
             return;
         }
         if (G.lk[t] >= 0) {
@@ -1531,17 +1508,22 @@ static void process_item(pbw_item *it) {
         }
         int32_t la = G.tv[e], lb = G.tv[3 * (size_t)t + (size_t)((j + 1) % 3)];
         if (!it->forced &&
-            !geom_encroaches(VX(la), VX(lb), VX(G.tv[3 * (size_t)t + (size_t)((j + 2) % 3)]))) {
-            notify(it->notify, it->ticket);
+            !mesh_rules_encroaches(&G.R, VX(la), VX(lb),
+                                   VX(G.tv[3 * (size_t)t + (size_t)((j + 2) % 3)]))) {
+            notify(it->notify, it->ticket, 0);
             return;
         }
         if (limit_reached()) return;
         double p[2];
         int32_t clev;
         int64_t ka, kb;
-        if (split_point(la, lb, G.cs[e], G.cl[e], G.ck[e], p, &clev, &ka, &kb) != 0) {
-            G.res.failed++;
-            notify(it->notify, it->ticket);
+        int sp = split_point(la, lb, G.cs[e], G.cl[e], G.ck[e], p, &clev, &ka, &kb);
+        if (sp != 0) {
+            if (sp == -2)
+                refuse();
+            else
+                G.res.failed++;
+            notify(it->notify, it->ticket, 1);
             return;
         }
         it->gu = G.vgid[la];
@@ -1558,19 +1540,21 @@ static void process_item(pbw_item *it) {
     int sh = 0;
     int why = quality(t, NULL, &sh);
     if (!why) return;
-    if (why == 1 && G.has_corners &&
-        on_corner_segments(G.tv[3 * (size_t)t + (size_t)sh],
-                           G.tv[3 * (size_t)t + (size_t)((sh + 1) % 3)])) {
-        /* the small angle is forced by the input; the area bound still applies */
-        const int32_t *tv = G.tv + 3 * (size_t)t;
-        if (!(G.max_area > 0 && geom_area(VX(tv[0]), VX(tv[1]), VX(tv[2])) > G.max_area)) {
-            G.res.skipped_small++;
-            return;
-        }
+    const int32_t *tv = G.tv + 3 * (size_t)t;
+    if (why == MESH_BAD_ANGLE && edge_forced(tv[sh], tv[(sh + 1) % 3])) {
+        /* skinny but not too large, and the small angle is forced by the input */
+        G.res.skipped_small++;
+        return;
     }
     double p[2];
     if (steiner_point(t, sh, p) != 0) {
         G.res.failed++;
+        return;
+    }
+    /* the new vertex is at least the circumradius away from every vertex (empty circle): its
+     * distance to t's vertices is the length of the shortest edge it creates */
+    if (below_floor(p, tv[0]) || below_floor(p, tv[1]) || below_floor(p, tv[2])) {
+        refuse();
         return;
     }
     if (limit_reached()) return;
@@ -1756,6 +1740,9 @@ static int setup(const pbw_setup_opts *so, const pslg *in, const pcdm_decomp *d,
         mesh_free(&m0);
         return -1;
     }
+    /* the length floor of the initial CDT, as ./mesh computes it from the same CDT */
+    G.floor2 = mesh_rules_length_floor2(m0.xy, m0.nv, m0.tv, m0.nt);
+    G.unresolved_budget = mesh_rules_unresolved_budget(m0.ninput);
     if (so->max_area > 0 && G.size > 1) {
         double area = 0;
         for (int32_t t = 0; t < m0.nt; t++)
@@ -1796,6 +1783,12 @@ static int setup(const pbw_setup_opts *so, const pslg *in, const pcdm_decomp *d,
     G.corner = mesh_xrealloc(NULL, (size_t)m0.ninput + 1, 1);
     memcpy(G.corner, m0.corner, (size_t)m0.ninput);
     G.has_corners = m0.has_corners;
+    G.I.ninput = G.ninput;
+    G.I.seg = G.seg;
+    G.I.inc_off = G.inc_off;
+    G.I.inc_seg = G.inc_seg;
+    G.I.corner = G.has_corners ? G.corner : NULL;
+    G.I.siface = NULL; /* PBW has no artificial segments */
     /* initial vertices keep their index as global id (input vertices first) */
     vt_rehash(2048);
     for (int32_t v = 0; v < m0.nv; v++) {
@@ -1829,6 +1822,45 @@ static int setup(const pbw_setup_opts *so, const pslg *in, const pcdm_decomp *d,
     for (int32_t t = 0; t < G.nt; t++)
         check_new_triangle(t);
     return 0;
+}
+
+/* The end check of the bounds (as mesh_count_unmet): every triangle this rank owns that is
+ * outside them, except a small angle forced by the input (a corner vertex, or the shared
+ * forced-angle rule on its shortest edge).  Fills G.res.unmet and G.res.forced. */
+static void count_unmet(void) {
+    for (int32_t t = 0; t < G.nt; t++) {
+        if (!alive(t)) continue;
+        int sh = 0, why = quality(t, NULL, &sh);
+        if (!why) continue;
+        const int32_t *tv = G.tv + 3 * (size_t)t;
+        if (why == MESH_BAD_ANGLE &&
+            (is_corner_gid(G.vgid[tv[0]]) || is_corner_gid(G.vgid[tv[1]]) ||
+             is_corner_gid(G.vgid[tv[2]]) || edge_forced(tv[sh], tv[(sh + 1) % 3]))) {
+            G.res.forced++;
+            continue;
+        }
+        G.res.unmet++;
+    }
+}
+
+/* Test-only fault (env PBW_TEST_BREAK_IFACE=R): rank R loses the first triangle it owns that
+ * has a neighbour on another rank, as if a commit had been lost at a rank boundary, so the
+ * result no longer matches across that boundary.  The always-on end check (par_output's
+ * interface check) must then fail every rank; tests/t_pbw.sh shows it does. */
+static void test_fault(void) {
+    const char *e = getenv("PBW_TEST_BREAK_IFACE");
+    if (!e || !*e || atoi(e) != G.rank) return;
+    for (int32_t t = 0; t < G.nt; t++) {
+        if (!alive(t) || G.lk[t] >= 0) continue;
+        for (int j = 0; j < 3; j++) {
+            int64_t n = G.tn[3 * (size_t)t + (size_t)j];
+            if (n != NOREF && ref_rank(n) != G.rank) {
+                slot_free(t);
+                G.nlive--;
+                return;
+            }
+        }
+    }
 }
 
 /* This rank's triangles as a mesh_flat (local numbering of the vertices they use). */
@@ -1953,13 +1985,17 @@ int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat 
     G.pool_free = -1;
     G.cursor = NBUCKET + 1;
     for (int i = 0; i <= NBUCKET; i++)
-        G.head[i] = G.tail[i] = -1;
-    /* a hair above the requested bound, as ./mesh and ./pcdm do */
+        G.head[i] = -1;
+    /* a hair above the requested bound, as ./mesh and ./pcdm do; the area bound in the
+     * working scale of the coordinates (pslg_check), as refine.c takes it */
     double qa = o->min_angle > 0 ? o->min_angle * (1 + 1e-9) + 1e-12 : 0;
     if (qa > 60) qa = 60;
-    G.cosb = cos(qa * M_PI / 180.0);
-    G.offfac = qa > 0 ? 0.95 / (2.0 * tan(qa * M_PI / 360.0)) : 0;
-    G.max_area = o->max_area;
+    double area = o->max_area;
+    if (area > 0 && in->scale_exp != 0) {
+        area = ldexp(area, 2 * in->scale_exp);
+        if (!(area > 0)) area = DBL_MIN;
+    }
+    mesh_rules_init(&G.R, qa, area, 1, 0);
     G.steiner_limit = o->max_steiner >= 0 ? (o->max_steiner + G.size - 1) / G.size : -1;
     memset(local, 0, sizeof *local);
     char err[1024], msg[1200];
@@ -1987,6 +2023,8 @@ int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat 
     for (int32_t i = 0; i < G.nhd; i++)
         if (G.hd[i].active)
             MESH_BUG("cavity %llx still holds locks", (unsigned long long)G.hd[i].key);
+    count_unmet();
+    test_fault();
     to_flat(local);
     G.res.ntris = G.nlive;
     G.res.mesh_bytes = mesh_bytes();

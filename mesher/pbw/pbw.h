@@ -49,6 +49,10 @@ typedef struct pbw_result {
     int64_t skipped_small;   /* bad triangles left alone: small angle forced by the input */
     int64_t failed;          /* insertions abandoned (degenerate / not star-shaped) */
     int64_t postponed;       /* --phases: nonlocal cavities put off to phase 2 */
+    int64_t unresolved;      /* refusals: a new edge would be below the length floor */
+    int64_t unmet;           /* this rank's triangles outside the bounds at the end, not forced */
+    int64_t forced;          /* this rank's triangles below the angle bound forced by the input */
+    int gave_up;             /* refusals passed the budget: this rank stopped refining */
     int limit_hit;           /* the Steiner limit stopped this rank */
     int32_t pre_tris;        /* triangles of the initial mesh (all ranks, before distribution) */
     uint64_t rsr_sent[PBW_RSR_NKINDS]; /* RSRs this rank sent, by kind */
@@ -64,8 +68,13 @@ int pbw_register(void);
  * subdomains of d (triangle centroid -> subdomain -> d->sub_owner), refines the distributed
  * mesh with o's bounds (-q, -a, -S, --phases) and fills *local with this rank's triangles
  * (local vertex numbering, trank = rank, the subsegments of its triangles); *local is the
- * caller's (mesh_flat_free).  res may be NULL.  Returns 0, or -1 on every rank (after rank 0
- * printed the message) if the CDT cannot be built. */
+ * caller's (mesh_flat_free).  res may be NULL.  Refinement always ends: a rank whose
+ * refusals (edges below the length floor, seq/rules.h) pass the budget stops (res->gave_up),
+ * and res->unmet counts this rank's triangles left outside the bounds that the input does not
+ * force; the caller must fail if their sum over the ranks is not 0 (unless the Steiner limit
+ * was hit).  Test-only fault: env PBW_TEST_BREAK_IFACE=R makes rank R drop one triangle at a
+ * rank boundary from *local (the caller's interface check must catch it).  Returns 0, or -1
+ * on every rank (after rank 0 printed the message) if the CDT cannot be built. */
 int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat *local,
              pbw_result *res);
 

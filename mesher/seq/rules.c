@@ -10,14 +10,19 @@
  * ever narrows the exact circle.  Small input angles: concentric shells at powers of two
  * (Ruppert 1995; Shewchuk 2002 sec. 5), and the forced-angle rule the validator mirrors (two
  * vertices on the two neighbouring segments of a corner below 60 degrees, equally far from
- * it).  Invariant: every function depends on its arguments only, so all meshers that call it
- * make the same decision on the same bits.
+ * it), with the input's segments given as plain arrays (mesh_rules_input) so a mesher with
+ * its own store (PBW) asks the same question.  Termination (issue 10): the length floor below
+ * which no edge is made and the budget of such refusals, and the queue priority (shortest edge
+ * first).  Invariant: every function depends on its arguments only, so all meshers that call
+ * it make the same decision on the same bits.
  */
 #include "seq/rules.h"
 
 #include "geom/geom.h"
 
+#include <float.h>
 #include <math.h>
+#include <string.h>
 
 void mesh_rules_init(mesh_rules *R, double min_angle, double max_area, int offcenter, int lens) {
     double b = min_angle > 0 ? min_angle : 0;
@@ -100,4 +105,85 @@ int mesh_rules_corner_forced(const double a[2], const double o1[2], const double
     if (geom_angle_deg(o1, a, o2) >= 60.0) return 0;
     double du = sqrt(geom_dist2(a, u)), dv = sqrt(geom_dist2(a, v));
     return fabs(du - dv) <= 0.01 * fmax(du, dv);
+}
+
+int mesh_rules_bucket(double short2) {
+    uint64_t bits;
+    memcpy(&bits, &short2, sizeof bits);
+    int k = (int)((bits >> 52) & 0x7ff) - 1023 + MESH_RULES_NBUCKET / 2; /* binary exponent */
+    return k < 0 ? 0 : k >= MESH_RULES_NBUCKET ? MESH_RULES_NBUCKET - 1 : k;
+}
+
+double mesh_rules_length_floor2(const double *xy, int32_t nv, const int32_t *tv, int32_t nt) {
+    double mag = 0, alt2 = INFINITY;
+    for (int32_t v = 0; v < nv; v++)
+        mag = fmax(mag, fmax(fabs(xy[2 * (size_t)v]), fabs(xy[2 * (size_t)v + 1])));
+    for (int32_t t = 0; t < nt; t++) {
+        const int32_t *w = tv + 3 * (size_t)t;
+        if (w[0] < 0) continue;
+        const double *a = xy + 2 * (size_t)w[0], *b = xy + 2 * (size_t)w[1],
+                     *c = xy + 2 * (size_t)w[2];
+        double l = fmax(geom_dist2(a, b), fmax(geom_dist2(b, c), geom_dist2(c, a)));
+        double ar = geom_area(a, b, c);
+        if (l > 0) alt2 = fmin(alt2, 4 * ar * ar / l);
+    }
+    double f = fmax(isfinite(alt2) ? alt2 * 0x1p-48 : 0, mag * mag * 0x1p-88);
+    return f > 0 ? f : DBL_MIN;
+}
+
+int64_t mesh_rules_unresolved_budget(int32_t ninput) {
+    return 256 + (int64_t)ninput / 4;
+}
+
+/* No other input segment at corner a points strictly inside the wedge o1-a-o2. */
+static int consecutive(const mesh_rules_input *I, int32_t a, int32_t o1, int32_t o2) {
+    const double *X = I->xy;
+    for (int32_t i = I->inc_off[a]; i < I->inc_off[a + 1]; i++) {
+        int32_t s3 = I->inc_seg[i];
+        if (I->siface && I->siface[s3]) continue;
+        int32_t o3 = I->seg[2 * s3] == a ? I->seg[2 * s3 + 1] : I->seg[2 * s3];
+        if (o3 == o1 || o3 == o2) continue;
+        if (mesh_rules_in_wedge(X + 2 * (size_t)a, X + 2 * (size_t)o1, X + 2 * (size_t)o2,
+                                X + 2 * (size_t)o3))
+            return 0;
+    }
+    return 1;
+}
+
+int mesh_rules_edge_forced(const mesh_rules_input *I, int32_t u, int32_t useg, const double pu[2],
+                           int32_t v, int32_t vseg, const double pv[2]) {
+    if (!I->corner) return 0;
+    /* the segments each vertex lies on: all segments at an input vertex, or its own one */
+    int32_t su1, nu, sv1, nv;
+    if (u >= 0 && u < I->ninput)
+        su1 = I->inc_off[u], nu = I->inc_off[u + 1] - su1;
+    else if (useg >= 0)
+        su1 = -1, nu = 1;
+    else
+        return 0;
+    if (v >= 0 && v < I->ninput)
+        sv1 = I->inc_off[v], nv = I->inc_off[v + 1] - sv1;
+    else if (vseg >= 0)
+        sv1 = -1, nv = 1;
+    else
+        return 0;
+    const double *X = I->xy;
+    for (int32_t i = 0; i < nu; i++) {
+        int32_t s1 = su1 < 0 ? useg : I->inc_seg[su1 + i];
+        for (int32_t j = 0; j < nv; j++) {
+            int32_t s2 = sv1 < 0 ? vseg : I->inc_seg[sv1 + j];
+            if (s1 == s2 || (I->siface && (I->siface[s1] || I->siface[s2]))) continue;
+            for (int x = 0; x < 2; x++)
+                for (int y = 0; y < 2; y++) {
+                    int32_t a = I->seg[2 * s1 + x];
+                    if (a != I->seg[2 * s2 + y] || a == u || a == v || !I->corner[a]) continue;
+                    int32_t o1 = I->seg[2 * s1 + 1 - x], o2 = I->seg[2 * s2 + 1 - y];
+                    if (!consecutive(I, a, o1, o2)) continue;
+                    if (mesh_rules_corner_forced(X + 2 * (size_t)a, X + 2 * (size_t)o1,
+                                                 X + 2 * (size_t)o2, pu, pv))
+                        return 1;
+                }
+        }
+    }
+    return 0;
 }

@@ -64,4 +64,42 @@ int mesh_rules_in_wedge(const double a[2], const double o1[2], const double o2[2
 int mesh_rules_corner_forced(const double a[2], const double o1[2], const double o2[2],
                              const double u[2], const double v[2]);
 
+/* Number of priority buckets of mesh_rules_bucket. */
+#define MESH_RULES_NBUCKET 4096
+
+/* Queue priority of a bad triangle whose squared shortest edge is short2 (mesh_rules_bad's
+ * *short2): the binary exponent of short2, offset into [0, MESH_RULES_NBUCKET), smallest
+ * first -- shortest edges first, as refine.c orders them (and Triangle). */
+int mesh_rules_bucket(double short2);
+
+/* The squared length floor below which refinement refuses to make an edge, from the initial
+ * triangulation (xy: 2 per vertex, nv vertices; tv: 3 vertex indices per triangle, nt
+ * triangles, a triangle with tv[3t] < 0 is skipped): the larger of 2^-48 times its smallest
+ * squared altitude and 2^-88 times the coordinates' squared magnitude (README, Robustness).
+ * Every mesher computes it from the same initial CDT, so they all refuse alike. */
+double mesh_rules_length_floor2(const double *xy, int32_t nv, const int32_t *tv, int32_t nt);
+
+/* How many refusals (new edges below the length floor) refinement accepts before it decides
+ * that it diverges and stops (refine.c's MESH_REFINE_UNRESOLVED): 256 + ninput / 4. */
+int64_t mesh_rules_unresolved_budget(int32_t ninput);
+
+/* The input facts the forced-angle rule needs (pointers borrowed from the caller). */
+typedef struct mesh_rules_input {
+    int32_t ninput;                   /* input vertices are 0 .. ninput-1 */
+    const double *xy;                 /* input vertex i at xy[2i], xy[2i+1] */
+    const int32_t *seg;               /* segment s joins input vertices seg[2s], seg[2s+1] */
+    const int32_t *inc_off, *inc_seg; /* CSR: the segments at each input vertex */
+    const uint8_t *corner;            /* ninput: 1 at a corner below 60 degrees (NULL: none) */
+    const uint8_t *siface;            /* per segment: 1 = interface, not input (NULL: none) */
+} mesh_rules_input;
+
+/* 1 iff the small angle of a skinny triangle whose shortest edge is uv is forced by the input:
+ * u and v lie on two angularly consecutive input segments (mesh_rules_in_wedge: no other input
+ * segment between them) of a corner below 60 degrees, at the same distance from it
+ * (mesh_rules_corner_forced).  A vertex is given as its input id (u < I->ninput) or as -1 and
+ * useg, the original segment a Steiner vertex lies on (-1: none, then the answer is 0); pu is
+ * its position.  Interface segments never count: their corners are not the input's. */
+int mesh_rules_edge_forced(const mesh_rules_input *I, int32_t u, int32_t useg, const double pu[2],
+                           int32_t v, int32_t vseg, const double pv[2]);
+
 #endif
