@@ -1,12 +1,18 @@
 #!/usr/bin/env bash
 # ./pbw end to end (the Parallel Meshing Algorithm, parallel Bowyer-Watson with remote cavity
-# expansion, locks and undo): every domain in data/ at 1, 2, 4 and 8 ranks and -q 20.7, every
+# expansion, locks and undo): every domain in data/ at 1, 2, 3, 4 and 8 ranks and -q 20.7, every
 # domain at 8 ranks and -q 30, perturbed delivery (seeds 1 2 3) at 8 ranks on two domains,
 # --phases, bad input and usage.  Each run must exit 0, pass ./pbw --check and ./meshcheck with
 # the same bounds and with every non-input edge locally Delaunay (--interfaces-delaunay: the
 # merged mesh of one distributed Delaunay mesh has no artificial constraints), end with the
-# stats line, and have within 3% of ./mesh's triangle count.  Env: BIN (programs; "." or
-# build/san/bin), MPIRUN ("mpirun --oversubscribe"), SANITIZE=1 (fewer runs).
+# stats line, and have within 3% of ./mesh's triangle count.  Then what issue 10 asks of every
+# mesher: no input runs forever -- -q 35 and -q 40 on lake stop with "cannot meet the bounds"
+# and exit 1 on every rank (each rank's exit status is recorded), and every row of the fuzz
+# regression table that ./mesh meshes or answers "cannot meet the bounds" gets the same answer
+# from ./pbw (meshed rows pass --check); and the test-only fault PBW_TEST_BREAK_IFACE=R (rank R
+# loses a triangle at a rank boundary) makes every rank exit 1 through the always-on interface
+# check, writing nothing.  Env: BIN (programs; "." or build/san/bin), MPIRUN ("mpirun
+# --oversubscribe"), SANITIZE=1 (fewer runs).
 set -u
 cd "$(dirname "$0")/.."
 BIN=${BIN:-.}
@@ -23,7 +29,7 @@ fail() {
 declare -A AREA=([square]=0.0002 [lshape]=0.0006 [wedge]=0.00002 [lake]=0.0005 [holes]=0.0002
     [channel]=0.0004)
 DOMAINS="square lshape wedge lake holes channel"
-NPS="1 2 4 8"
+NPS="1 2 3 4 8"
 SEEDS="1 2 3"
 PERT_DOMAINS="square holes"
 if [ "${SANITIZE:-}" = 1 ]; then
@@ -113,4 +119,93 @@ out=$(timeout 60 $MPIRUN -np 1 "$BIN/pbw" --help 2>&1)
 rc=$?
 [ "$rc" -eq 0 ] || fail "--help exit $rc"
 grep -q 'pbw' <<<"$out" || fail "--help does not name the program"
+# every rank's exit status: ranks_exit np file args... runs ./pbw under a wrapper that appends
+# "RANK STATUS" to file (the wrapper itself exits 0, so mpirun lets every rank finish); MPI_X:
+# extra mpirun options
+ranks_exit() {
+    local np=$1 file=$2
+    shift 2
+    rm -f "$file"
+    timeout 120 $MPIRUN ${MPI_X:-} -np "$np" sh -c '"$0" "$@"; echo "$OMPI_COMM_WORLD_RANK $?" >>"'"$file"'"' \
+        "$BIN/pbw" "$@"
+}
+all_exit_1() { # np file: every rank recorded status 1
+    [ "$(sort -u "$2" 2>/dev/null | awk '$2 == 1' | wc -l)" -eq "$1" ] &&
+        [ "$(wc -l <"$2")" -eq "$1" ]
+}
+
+# no input runs forever (issue 10): a bound beyond reach ends with a clear error on every rank
+for np in 1 2 4 8; do
+    for q in 35 40; do
+        [ "${SANITIZE:-}" = 1 ] && [ "$np" != 2 ] && continue
+        out=$(ranks_exit "$np" "$T/rc" -q "$q" data/lake.poly 2>&1)
+        rc=$?
+        echo "np=$np lake -q $q -> $rc: $(grep -m1 'cannot meet' <<<"$out" | cut -c1-100) [$(tr '\n' ' ' <"$T/rc" 2>/dev/null)]"
+        [ "$rc" -ne 124 ] || fail "lake -q $q at $np ranks: timeout"
+        grep -q "^pbw: data/lake.poly: cannot meet the bounds: [0-9]* triangles" <<<"$out" ||
+            fail "lake -q $q at $np ranks: no 'cannot meet the bounds': $out"
+        all_exit_1 "$np" "$T/rc" || fail "lake -q $q at $np ranks: not every rank exited 1: $(cat "$T/rc")"
+        n=$((n + 1))
+    done
+done
+# with an area bound too, and the warning above 34 degrees is printed once
+out=$(ranks_exit 3 "$T/rc" -q 35 -a 0.0005 data/lake.poly 2>&1)
+all_exit_1 3 "$T/rc" && grep -q 'cannot meet the bounds' <<<"$out" ||
+    fail "lake -q 35 -a 0.0005 at 3 ranks: $(cat "$T/rc") $out"
+[ "$(grep -c 'warning: -q 35 above about 34' <<<"$out")" -eq 1 ] || fail "not one warning: $out"
+
+# the fuzz regression table (tests/fuzz/regress/TABLE) through ./pbw: rows ./mesh meshes must
+# mesh and pass --check (or be refused by the decomposition, issue 11, not by PBW); rows ./mesh
+# answers "cannot meet the bounds" must get that answer, on every rank
+REG_NPS="2 3"
+[ "${SANITIZE:-}" = 1 ] && REG_NPS="2"
+while IFS='|' read -r f opts want pat; do
+    f=$(echo $f) opts=$(echo $opts) want=$(echo $want)
+    case "$f" in '#'* | '') continue ;; esac
+    case "$opts" in *cdt-only*) continue ;; esac
+    if [ "$want" = 0 ]; then
+        kind=meshed
+    elif grep -q 'cannot meet the bounds' <<<"$pat"; then
+        kind=unmet
+    else
+        continue
+    fi
+    for np in $REG_NPS; do
+        out=$(ranks_exit "$np" "$T/rc" $opts --check "tests/fuzz/regress/$f" 2>&1 </dev/null)
+        [ "$?" -ne 124 ] || fail "regress $f $opts np=$np: timeout"
+        st=$(awk '{print $2}' "$T/rc" | sort -u | tr '\n' ' ')
+        [ "$(wc -l <"$T/rc")" -eq "$np" ] || fail "regress $f $opts np=$np: not every rank ended: $st"
+        if [ "$kind" = meshed ]; then
+            if [ "$st" = "0 " ]; then
+                grep -q '^meshcheck: OK' <<<"$out" || fail "regress $f $opts np=$np: no --check OK"
+            elif [ "$st" = "1 " ] && grep -q "^pbw: cannot decompose" <<<"$out"; then
+                :
+            else
+                fail "regress $f $opts np=$np: exit [$st]: $(grep -v '^ ' <<<"$out" | head -n 3)"
+            fi
+        else
+            [ "$st" = "1 " ] && grep -q 'cannot meet the bounds' <<<"$out" ||
+                fail "regress $f $opts np=$np: exit [$st], wanted 1 and 'cannot meet the bounds'"
+        fi
+        echo "np=$np regress $f $opts ($kind) -> [$st]"
+        n=$((n + 1))
+    done
+done <tests/fuzz/regress/TABLE
+
+# the test-only fault: rank 1 loses a triangle at a rank boundary; the always-on end check
+# (the interface check before any output) must fail every rank and write nothing
+for np in 2 3 4 8; do
+    [ "${SANITIZE:-}" = 1 ] && [ "$np" != 3 ] && continue
+    rm -f "$T"/broken.*
+    out=$(PBW_TEST_BREAK_IFACE=1 MPI_X="-x PBW_TEST_BREAK_IFACE" ranks_exit "$np" "$T/rc" -q 30 \
+        -a 0.001 -o "$T/broken" data/lake.poly 2>&1)
+    echo "np=$np PBW_TEST_BREAK_IFACE=1 -> [$(tr '\n' ' ' <"$T/rc")]: $(grep -m1 -o 'interface check failed.*' <<<"$out" | cut -c1-90)"
+    all_exit_1 "$np" "$T/rc" || fail "fault np=$np: not every rank exited 1: $(cat "$T/rc") $out"
+    grep -q "^pbw: data/lake.poly: rank [0-9]*: interface check failed: edge" <<<"$out" ||
+        fail "fault np=$np: no interface-check message: $out"
+    ! ls "$T"/broken.* >/dev/null 2>&1 || fail "fault np=$np: a broken mesh was written"
+    n=$((n + 1))
+done
+# the same run without the fault is whole (so the fault, not the input, broke it)
+run 3 lake 30
 echo "t_pbw: all $n runs passed"

@@ -25,6 +25,10 @@
  * cavity boundary edge belongs to the owner of the triangle on the other side of that edge
  * (the member's owner on the domain boundary).  The reporter also evaluates, exactly, whether p
  * is strictly left of the edge (star-shapedness) and whether p encroaches a constraint edge.
+ * The members must form a disk with every vertex on its boundary (their dual graph a tree):
+ * a member reached a second time across a non-constraint edge means the cavity encloses a
+ * vertex (p nearly on it, where the mesh is not Delaunay), and the cavity fails, as
+ * mesh_cavity_collect's CAV_CYCLE (the vertex would otherwise vanish from the mesh).
  *
  * MESSAGES.  A cavity that stays on its rank is done at once, with no message.  Otherwise the
  * starter spawns a task which sends the cavity state (header, participants, boundary edges,
@@ -148,7 +152,8 @@ typedef struct pbw_whdr { /* head of EXPAND and REPLY payloads */
     int64_t holder;       /* DIE: key of the cavity holding the contested triangle */
     double p[2];          /* the new point */
     int32_t kind, status, origin, nparts, nbnd, nseed;
-    int32_t died_at, pad; /* DIE: the rank where the conflict was found */
+    int32_t died_at; /* DIE: the rank where the conflict was found */
+    int32_t cycle;   /* 1: a member was reached twice, the cavity encloses a vertex */
 } pbw_whdr;
 _Static_assert(sizeof(pbw_whdr) == 88, "pbw_whdr layout");
 
@@ -866,10 +871,12 @@ static int process(pbw_cav *c, int32_t hi, int initial) {
             expand_member(c, hi, x, NOREF);
             break;
         case SEED_OPEN:
-            if (role != ROLE_MEMBER) {
-                lock_slot(x, hi, ROLE_MEMBER);
-                expand_member(c, hi, x, s.from);
+            if (role == ROLE_MEMBER) {
+                c->h.cycle = 1;
+                break;
             }
+            lock_slot(x, hi, ROLE_MEMBER);
+            expand_member(c, hi, x, s.from);
             break;
         case SEED_HALO: {
             if (role == ROLE_NONE) lock_slot(x, hi, ROLE_HALO);
@@ -880,7 +887,10 @@ static int process(pbw_cav *c, int32_t hi, int initial) {
             break;
         }
         case SEED_NORMAL:
-            if (role == ROLE_MEMBER) break;
+            if (role == ROLE_MEMBER) { /* a second way in: see CAVITY above */
+                c->h.cycle = 1;
+                break;
+            }
             if (in_conflict(x, c->h.p)) {
                 lock_slot(x, hi, ROLE_MEMBER);
                 expand_member(c, hi, x, s.from);
@@ -1146,7 +1156,7 @@ static void finish(pbw_cav *c) {
             nonstar = 1;
         }
     }
-    if (!split && cbad) {
+    if (!split && cbad && !c->h.cycle) {
         /* p encroaches (or lies beyond) subsegments: discard it, split them, retry later */
         release_all(c, 0);
         G.res.rejected++;
@@ -1186,7 +1196,7 @@ static void finish(pbw_cav *c) {
         defer_item(&c->it, W_WAKE, c->h.key, nreq);
         return;
     }
-    if (nonstar || cbad || commit_all(c) != 0) {
+    if (nonstar || cbad || c->h.cycle || commit_all(c) != 0) {
         release_all(c, 0);
         G.res.failed++;
         if (split) notify(c->it.notify, c->it.ticket, 1);
