@@ -195,6 +195,8 @@ _Static_assert(sizeof(pbw_newtri) == 104, "pbw_newtri layout");
 
 /* ---- local state ----------------------------------------------------------------------- */
 
+typedef struct pbw_ctx pbw_ctx;
+
 typedef struct pbw_item { /* a unit of local work */
     int64_t gu, gv;       /* split: the subsegment */
     int64_t ticket;       /* split: key to wake the requester with */
@@ -247,6 +249,7 @@ typedef struct pbw_cav { /* a cavity's travelling state, at its starter or parke
     /* parked only */
     int src;
     rt_token tok;
+    pbw_ctx *C; /* the mesher it belongs to (for its task) */
 } pbw_cav;
 
 typedef struct pbw_waiter {
@@ -258,7 +261,7 @@ typedef struct qent {
     int32_t t, next;
 } qent;
 
-typedef struct pbw_ctx {
+struct pbw_ctx {
     int rank, size;
     int hid[PBW_RSR_NKINDS];
     /* vertices */
@@ -312,109 +315,124 @@ typedef struct pbw_ctx {
     uint64_t lclock;
     int64_t seq;
     pbw_result res;
-} pbw_ctx;
+    /* PBW_DEBUG */
+    int dbg_on; /* 0: not looked yet, 1: on, 2: off */
+    double dbg_last;
+    FILE *dbg_f;
+};
 
-static pbw_ctx G;
+/* The handler table and the handlers' way to the context.  Handlers are registered once per
+ * process, before any pbw_mesh (SPMD, rt_handler_register), with &pbw_active as their
+ * argument; pbw_mesh points it at its context for the duration of the call (one at a time).
+ * Everything else is passed the context explicitly. */
+static int pbw_hid[PBW_RSR_NKINDS];
+static pbw_ctx *pbw_active;
+
+static pbw_ctx *handler_ctx(void *arg) {
+    pbw_ctx *C = *(pbw_ctx *const *)arg;
+    if (!C) MESH_BUG("pbw handler called outside pbw_mesh");
+    return C;
+}
 
 /* ---- vertices ---------------------------------------------------------------------------- */
 
-static int32_t vt_find(int64_t gid) {
-    uint32_t mask = G.vhcap - 1, h = (uint32_t)mesh_hash64((uint64_t)gid) & mask;
-    while (G.vh[h] >= 0) {
-        if (G.vgid[G.vh[h]] == gid) return G.vh[h];
+static int32_t vt_find(pbw_ctx *C, int64_t gid) {
+    uint32_t mask = C->vhcap - 1, h = (uint32_t)mesh_hash64((uint64_t)gid) & mask;
+    while (C->vh[h] >= 0) {
+        if (C->vgid[C->vh[h]] == gid) return C->vh[h];
         h = (h + 1) & mask;
     }
     return -1;
 }
 
-static void vt_rehash(uint32_t cap) {
-    free(G.vh);
-    G.vhcap = cap;
-    G.vh = mesh_xrealloc(NULL, (size_t)cap * sizeof(int32_t), 1);
+static void vt_rehash(pbw_ctx *C, uint32_t cap) {
+    free(C->vh);
+    C->vhcap = cap;
+    C->vh = mesh_xrealloc(NULL, (size_t)cap * sizeof(int32_t), 1);
     for (uint32_t i = 0; i < cap; i++)
-        G.vh[i] = -1;
-    for (int32_t v = 0; v < G.nv; v++) {
-        uint32_t h = (uint32_t)mesh_hash64((uint64_t)G.vgid[v]) & (cap - 1);
-        while (G.vh[h] >= 0)
+        C->vh[i] = -1;
+    for (int32_t v = 0; v < C->nv; v++) {
+        uint32_t h = (uint32_t)mesh_hash64((uint64_t)C->vgid[v]) & (cap - 1);
+        while (C->vh[h] >= 0)
             h = (h + 1) & (cap - 1);
-        G.vh[h] = v;
+        C->vh[h] = v;
     }
 }
 
-static int32_t vt_add(int64_t gid, double x, double y, int32_t vseg) {
-    int32_t v = vt_find(gid);
+static int32_t vt_add(pbw_ctx *C, int64_t gid, double x, double y, int32_t vseg) {
+    int32_t v = vt_find(C, gid);
     if (v >= 0) return v;
-    if (G.nv >= G.vcap) {
-        G.vcap = G.vcap ? 2 * G.vcap : 1024;
-        G.xy = mesh_xrealloc(G.xy, 2 * (size_t)G.vcap * sizeof(double), 1);
-        G.vgid = mesh_xrealloc(G.vgid, (size_t)G.vcap * sizeof(int64_t), 1);
-        G.vseg = mesh_xrealloc(G.vseg, (size_t)G.vcap * sizeof(int32_t), 1);
+    if (C->nv >= C->vcap) {
+        C->vcap = C->vcap ? 2 * C->vcap : 1024;
+        C->xy = mesh_xrealloc(C->xy, 2 * (size_t)C->vcap * sizeof(double), 1);
+        C->vgid = mesh_xrealloc(C->vgid, (size_t)C->vcap * sizeof(int64_t), 1);
+        C->vseg = mesh_xrealloc(C->vseg, (size_t)C->vcap * sizeof(int32_t), 1);
     }
-    v = G.nv++;
-    G.xy[2 * v] = x;
-    G.xy[2 * v + 1] = y;
-    G.vgid[v] = gid;
-    G.vseg[v] = vseg;
-    if (2 * (uint32_t)G.nv >= G.vhcap) {
-        vt_rehash(G.vhcap ? 2 * G.vhcap : 2048);
+    v = C->nv++;
+    C->xy[2 * v] = x;
+    C->xy[2 * v + 1] = y;
+    C->vgid[v] = gid;
+    C->vseg[v] = vseg;
+    if (2 * (uint32_t)C->nv >= C->vhcap) {
+        vt_rehash(C, C->vhcap ? 2 * C->vhcap : 2048);
     } else {
-        uint32_t h = (uint32_t)mesh_hash64((uint64_t)gid) & (G.vhcap - 1);
-        while (G.vh[h] >= 0)
-            h = (h + 1) & (G.vhcap - 1);
-        G.vh[h] = v;
+        uint32_t h = (uint32_t)mesh_hash64((uint64_t)gid) & (C->vhcap - 1);
+        while (C->vh[h] >= 0)
+            h = (h + 1) & (C->vhcap - 1);
+        C->vh[h] = v;
     }
     return v;
 }
 
-static inline const double *VX(int32_t v) {
-    return G.xy + 2 * (size_t)v;
+static inline const double *VX(pbw_ctx *C, int32_t v) {
+    return C->xy + 2 * (size_t)v;
 }
-static inline int64_t TG(int32_t t, int j) { /* global id of vertex j of slot t */
-    return G.vgid[G.tv[3 * (size_t)t + j]];
+static inline int64_t TG(pbw_ctx *C, int32_t t, int j) { /* global id of vertex j of slot t */
+    return C->vgid[C->tv[3 * (size_t)t + j]];
 }
 
 /* ---- triangle slots ---------------------------------------------------------------------- */
 
-static int32_t slot_alloc(void) {
+static int32_t slot_alloc(pbw_ctx *C) {
     int32_t s;
-    if (G.nfree > 0) {
-        s = G.fre[--G.nfree];
+    if (C->nfree > 0) {
+        s = C->fre[--C->nfree];
     } else {
-        if (G.nt >= G.tcap) {
-            G.tcap = G.tcap ? 2 * G.tcap : 1024;
-            size_t c = (size_t)G.tcap;
-            G.tv = mesh_xrealloc(G.tv, 3 * c * sizeof(int32_t), 1);
-            G.tn = mesh_xrealloc(G.tn, 3 * c * sizeof(int64_t), 1);
-            G.cs = mesh_xrealloc(G.cs, 3 * c * sizeof(int32_t), 1);
-            G.cl = mesh_xrealloc(G.cl, 3 * c * sizeof(int32_t), 1);
-            G.ck = mesh_xrealloc(G.ck, 3 * c * sizeof(int64_t), 1);
-            G.lk = mesh_xrealloc(G.lk, c * sizeof(int32_t), 1);
-            G.role = mesh_xrealloc(G.role, c, 1);
+        if (C->nt >= C->tcap) {
+            C->tcap = C->tcap ? 2 * C->tcap : 1024;
+            size_t c = (size_t)C->tcap;
+            C->tv = mesh_xrealloc(C->tv, 3 * c * sizeof(int32_t), 1);
+            C->tn = mesh_xrealloc(C->tn, 3 * c * sizeof(int64_t), 1);
+            C->cs = mesh_xrealloc(C->cs, 3 * c * sizeof(int32_t), 1);
+            C->cl = mesh_xrealloc(C->cl, 3 * c * sizeof(int32_t), 1);
+            C->ck = mesh_xrealloc(C->ck, 3 * c * sizeof(int64_t), 1);
+            C->lk = mesh_xrealloc(C->lk, c * sizeof(int32_t), 1);
+            C->role = mesh_xrealloc(C->role, c, 1);
         }
-        s = G.nt++;
+        s = C->nt++;
     }
-    G.tv[3 * (size_t)s] = -1;
-    G.lk[s] = -1;
-    G.role[s] = ROLE_NONE;
+    C->tv[3 * (size_t)s] = -1;
+    C->lk[s] = -1;
+    C->role[s] = ROLE_NONE;
     return s;
 }
 
-static void slot_free(int32_t s) {
-    G.tv[3 * (size_t)s] = -1;
-    G.lk[s] = -1;
-    G.role[s] = ROLE_NONE;
-    MESH_GROW(G.fre, G.nfree, G.frecap);
-    G.fre[G.nfree++] = s;
+static void slot_free(pbw_ctx *C, int32_t s) {
+    C->tv[3 * (size_t)s] = -1;
+    C->lk[s] = -1;
+    C->role[s] = ROLE_NONE;
+    MESH_GROW(C->fre, C->nfree, C->frecap);
+    C->fre[C->nfree++] = s;
 }
 
-static inline int alive(int32_t t) {
-    return t >= 0 && t < G.nt && G.tv[3 * (size_t)t] >= 0;
+static inline int alive(pbw_ctx *C, int32_t t) {
+    return t >= 0 && t < C->nt && C->tv[3 * (size_t)t] >= 0;
 }
 
 /* Edge j of t going from vertex id ga to gb, or -1. */
-static int find_edge(int32_t t, int64_t ga, int64_t gb) {
+static int find_edge(pbw_ctx *C, int32_t t, int64_t ga, int64_t gb) {
     for (int j = 0; j < 3; j++)
-        if (TG(t, j) == ga && TG(t, (j + 1) % 3) == gb) return j;
+        if (TG(C, t, j) == ga && TG(C, t, (j + 1) % 3) == gb) return j;
     return -1;
 }
 
@@ -422,81 +440,81 @@ static int find_edge(int32_t t, int64_t ga, int64_t gb) {
 
 /* MESH_BAD_ANGLE / MESH_BAD_AREA bits (mesh_rules_bad), 0: good.  *bucket (may be NULL): queue
  * priority (mesh_rules_bucket: shortest edge first, as refine.c).  *sh: shortest edge j. */
-static int quality(int32_t t, int *bucket, int *sh) {
-    const int32_t *tv = G.tv + 3 * (size_t)t;
-    const double *p[3] = {VX(tv[0]), VX(tv[1]), VX(tv[2])};
+static int quality(pbw_ctx *C, int32_t t, int *bucket, int *sh) {
+    const int32_t *tv = C->tv + 3 * (size_t)t;
+    const double *p[3] = {VX(C, tv[0]), VX(C, tv[1]), VX(C, tv[2])};
     double l2;
-    int res = mesh_rules_bad(&G.R, p, sh, &l2);
+    int res = mesh_rules_bad(&C->R, p, sh, &l2);
     if (res && bucket) *bucket = mesh_rules_bucket(l2);
     return res;
 }
 
-static void push_bad(int32_t t) {
+static void push_bad(pbw_ctx *C, int32_t t) {
     int k;
-    if (!quality(t, &k, NULL)) return;
+    if (!quality(C, t, &k, NULL)) return;
     int32_t i;
-    if (G.pool_free >= 0) {
-        i = G.pool_free;
-        G.pool_free = G.pool[i].next;
+    if (C->pool_free >= 0) {
+        i = C->pool_free;
+        C->pool_free = C->pool[i].next;
     } else {
-        MESH_GROW(G.pool, G.npool, G.poolcap);
-        i = G.npool++;
+        MESH_GROW(C->pool, C->npool, C->poolcap);
+        i = C->npool++;
     }
-    G.pool[i].t = t;
-    G.pool[i].next = G.head[k]; /* LIFO inside a bucket, as refine.c */
-    G.head[k] = i;
-    if (k < G.cursor) G.cursor = k;
+    C->pool[i].t = t;
+    C->pool[i].next = C->head[k]; /* LIFO inside a bucket, as refine.c */
+    C->head[k] = i;
+    if (k < C->cursor) C->cursor = k;
 }
 
-static int32_t pop_bad(void) {
-    while (G.cursor <= NBUCKET && G.head[G.cursor] < 0)
-        G.cursor++;
-    if (G.cursor > NBUCKET) return -1;
-    int k = G.cursor;
-    int32_t i = G.head[k];
-    G.head[k] = G.pool[i].next;
-    G.pool[i].next = G.pool_free;
-    G.pool_free = i;
-    return G.pool[i].t;
+static int32_t pop_bad(pbw_ctx *C) {
+    while (C->cursor <= NBUCKET && C->head[C->cursor] < 0)
+        C->cursor++;
+    if (C->cursor > NBUCKET) return -1;
+    int k = C->cursor;
+    int32_t i = C->head[k];
+    C->head[k] = C->pool[i].next;
+    C->pool[i].next = C->pool_free;
+    C->pool_free = i;
+    return C->pool[i].t;
 }
 
-static int is_corner_gid(int64_t g) {
-    return g >= 0 && g < G.ninput && G.corner[g];
+static int is_corner_gid(pbw_ctx *C, int64_t g) {
+    return g >= 0 && g < C->ninput && C->corner[g];
 }
 
 /* The shared forced-angle rule (mesh_rules_edge_forced) for the shortest edge lu-lv (vertex
  * slots): an input vertex is named by its id, a Steiner vertex by the segment it lies on. */
-static int edge_forced(int32_t lu, int32_t lv) {
-    if (!G.has_corners) return 0;
-    G.I.xy = G.xy; /* input vertex i is slot i (setup); the array moves as it grows */
-    int64_t u = G.vgid[lu], v = G.vgid[lv];
-    int32_t iu = u >= 0 && u < G.ninput ? (int32_t)u : -1;
-    int32_t iv = v >= 0 && v < G.ninput ? (int32_t)v : -1;
-    return mesh_rules_edge_forced(&G.I, iu, iu < 0 ? G.vseg[lu] : -1, VX(lu), iv,
-                                  iv < 0 ? G.vseg[lv] : -1, VX(lv));
+static int edge_forced(pbw_ctx *C, int32_t lu, int32_t lv) {
+    if (!C->has_corners) return 0;
+    C->I.xy = C->xy; /* input vertex i is slot i (setup); the array moves as it grows */
+    int64_t u = C->vgid[lu], v = C->vgid[lv];
+    int32_t iu = u >= 0 && u < C->ninput ? (int32_t)u : -1;
+    int32_t iv = v >= 0 && v < C->ninput ? (int32_t)v : -1;
+    return mesh_rules_edge_forced(&C->I, iu, iu < 0 ? C->vseg[lu] : -1, VX(C, lu), iv,
+                                  iv < 0 ? C->vseg[lv] : -1, VX(C, lv));
 }
 
 /* 1 iff a new vertex at p would make an edge to vertex slot a shorter than the floor. */
-static int below_floor(const double p[2], int32_t a) {
-    return geom_dist2(p, VX(a)) < G.floor2;
+static int below_floor(pbw_ctx *C, const double p[2], int32_t a) {
+    return geom_dist2(p, VX(C, a)) < C->floor2;
 }
 
 /* Counts a refusal (a split or Steiner point below the length floor); past the budget this
  * rank's refinement is diverging (an angle bound beyond reach, or features below the precision
  * of the coordinates) and it stops, as refine.c does (MESH_REFINE_UNRESOLVED). */
-static void refuse(void) {
-    G.res.unresolved++;
-    if (G.res.unresolved > G.unresolved_budget) {
-        G.stopped = 1;
-        G.res.gave_up = 1;
+static void refuse(pbw_ctx *C) {
+    C->res.unresolved++;
+    if (C->res.unresolved > C->unresolved_budget) {
+        C->stopped = 1;
+        C->res.gave_up = 1;
     }
 }
 
 /* Steiner point of bad triangle t (mesh_rules_steiner, on the working grid).  0, or -1. */
-static int steiner_point(int32_t t, int sh, double out[2]) {
-    const int32_t *tv = G.tv + 3 * (size_t)t;
-    const double *p[3] = {VX(tv[0]), VX(tv[1]), VX(tv[2])};
-    if (mesh_rules_steiner(&G.R, p, sh, out) != 0) return -1;
+static int steiner_point(pbw_ctx *C, int32_t t, int sh, double out[2]) {
+    const int32_t *tv = C->tv + 3 * (size_t)t;
+    const double *p[3] = {VX(C, tv[0]), VX(C, tv[1]), VX(C, tv[2])};
+    if (mesh_rules_steiner(&C->R, p, sh, out) != 0) return -1;
     return geom_working_point(out);
 }
 
@@ -530,20 +548,20 @@ static void iv_free(ivec *q) {
     memset(q, 0, sizeof *q);
 }
 
-static int32_t hold_find(int64_t key);
+static int32_t hold_find(pbw_ctx *C, int64_t key);
 
 /* Parks a failed item until what it waits for happens (see W_*). */
-static void defer_item(const pbw_item *it, int kind, int64_t key, int32_t count) {
+static void defer_item(pbw_ctx *C, const pbw_item *it, int kind, int64_t key, int32_t count) {
     pbw_item d = *it;
     d.wait_kind = kind;
     d.wait_key = key;
     d.wait_count = count;
     d.refused = 0;
-    if ((kind == W_HOLD && hold_find(key) < 0) || (kind == W_WAKE && count <= 0))
-        iv_push(&G.retryq, &d); /* already happened */
+    if ((kind == W_HOLD && hold_find(C, key) < 0) || (kind == W_WAKE && count <= 0))
+        iv_push(&C->retryq, &d); /* already happened */
     else {
-        if (kind == W_EVENT) G.nevent++;
-        iv_push(&G.deferred, &d);
+        if (kind == W_EVENT) C->nevent++;
+        iv_push(&C->deferred, &d);
     }
 }
 
@@ -551,44 +569,44 @@ static void defer_item(const pbw_item *it, int kind, int64_t key, int32_t count)
  * W_EVENT items).  refused (W_WAKE): the split that wakes them was refused; an item that
  * waited for a refused split is dropped, not retried (its Steiner point would ask for the same
  * split again), as refine.c drops a bad triangle whose splits all failed. */
-static void deferred_release(int kind, int64_t key, int refused) {
-    int32_t k = G.deferred.head;
-    for (int32_t i = G.deferred.head; i < G.deferred.n; i++) {
-        pbw_item *d = &G.deferred.a[i];
+static void deferred_release(pbw_ctx *C, int kind, int64_t key, int refused) {
+    int32_t k = C->deferred.head;
+    for (int32_t i = C->deferred.head; i < C->deferred.n; i++) {
+        pbw_item *d = &C->deferred.a[i];
         int hit = d->wait_kind == kind && (kind == W_EVENT || d->wait_key == key);
         if (hit && kind == W_WAKE) {
             d->refused |= refused;
             if (--d->wait_count > 0) hit = 0;
         }
         if (hit) {
-            if (d->wait_kind == W_EVENT) G.nevent--;
-            if (!d->refused) iv_push(&G.retryq, d);
+            if (d->wait_kind == W_EVENT) C->nevent--;
+            if (!d->refused) iv_push(&C->retryq, d);
         } else
-            G.deferred.a[k++] = *d;
+            C->deferred.a[k++] = *d;
     }
-    G.deferred.n = k;
+    C->deferred.n = k;
 }
 
-static void refresh_deferred(void) {
-    if (G.seen_epoch == G.ev_epoch) return;
-    G.seen_epoch = G.ev_epoch;
-    if (G.nevent > 0) deferred_release(W_EVENT, 0, 0);
+static void refresh_deferred(pbw_ctx *C) {
+    if (C->seen_epoch == C->ev_epoch) return;
+    C->seen_epoch = C->ev_epoch;
+    if (C->nevent > 0) deferred_release(C, W_EVENT, 0, 0);
 }
 
-static void wake_key(int64_t key, int refused) {
-    deferred_release(W_WAKE, key, refused);
-    for (int32_t i = 0; i < G.ndy; i++)
-        if (G.dy[i]->die_holder == key) G.dy[i]->woken = 1;
+static void wake_key(pbw_ctx *C, int64_t key, int refused) {
+    deferred_release(C, W_WAKE, key, refused);
+    for (int32_t i = 0; i < C->ndy; i++)
+        if (C->dy[i]->die_holder == key) C->dy[i]->woken = 1;
 }
 
 /* Wakes whoever waits for key on rank r (r < 0: nobody); refused: see deferred_release. */
-static void notify(int32_t r, int64_t key, int refused) {
+static void notify(pbw_ctx *C, int32_t r, int64_t key, int refused) {
     if (r < 0) return;
-    if (r == G.rank) {
-        wake_key(key, refused);
+    if (r == C->rank) {
+        wake_key(C, key, refused);
     } else {
         pbw_wake_msg w = {key, refused, 0};
-        rt_rsr(r, G.hid[PBW_RSR_WAKE], &w, sizeof w);
+        rt_rsr(r, C->hid[PBW_RSR_WAKE], &w, sizeof w);
     }
 }
 
@@ -605,22 +623,22 @@ static uint64_t stamp_derived(uint64_t s) { /* just older than s, same clock and
 
 /* ---- holds (locks), waiters, parked expansions ------------------------------------------ */
 
-static int32_t hold_find(int64_t key) {
-    for (int32_t i = 0; i < G.nhd; i++)
-        if (G.hd[i].active && G.hd[i].key == key) return i;
+static int32_t hold_find(pbw_ctx *C, int64_t key) {
+    for (int32_t i = 0; i < C->nhd; i++)
+        if (C->hd[i].active && C->hd[i].key == key) return i;
     return -1;
 }
 
-static int32_t hold_new(int64_t key, uint64_t stamp, int32_t origin) {
+static int32_t hold_new(pbw_ctx *C, int64_t key, uint64_t stamp, int32_t origin) {
     int32_t i;
-    for (i = 0; i < G.nhd; i++)
-        if (!G.hd[i].active) break;
-    if (i == G.nhd) {
-        MESH_GROW(G.hd, G.nhd, G.hdcap);
-        memset(&G.hd[G.nhd], 0, sizeof(pbw_hold));
-        G.nhd++;
+    for (i = 0; i < C->nhd; i++)
+        if (!C->hd[i].active) break;
+    if (i == C->nhd) {
+        MESH_GROW(C->hd, C->nhd, C->hdcap);
+        memset(&C->hd[C->nhd], 0, sizeof(pbw_hold));
+        C->nhd++;
     }
-    pbw_hold *h = &G.hd[i];
+    pbw_hold *h = &C->hd[i];
     h->key = key;
     h->stamp = stamp;
     h->origin = origin;
@@ -631,67 +649,68 @@ static int32_t hold_new(int64_t key, uint64_t stamp, int32_t origin) {
     return i;
 }
 
-static void lock_slot(int32_t s, int32_t hi, int role) {
-    if (G.lk[s] != hi) {
-        pbw_hold *h = &G.hd[hi];
+static void lock_slot(pbw_ctx *C, int32_t s, int32_t hi, int role) {
+    if (C->lk[s] != hi) {
+        pbw_hold *h = &C->hd[hi];
         MESH_GROW(h->slots, h->n, h->cap);
         h->slots[h->n++] = s;
-        G.lk[s] = hi;
+        C->lk[s] = hi;
     }
-    G.role[s] = (uint8_t)role;
+    C->role[s] = (uint8_t)role;
 }
 
-static void waiter_add(int64_t key, int32_t rank) {
-    for (int32_t i = 0; i < G.nwt; i++)
-        if (G.wt[i].key == key && G.wt[i].rank == rank) return;
-    MESH_GROW(G.wt, G.nwt, G.wtcap);
-    G.wt[G.nwt].key = key;
-    G.wt[G.nwt].rank = rank;
-    G.nwt++;
+static void waiter_add(pbw_ctx *C, int64_t key, int32_t rank) {
+    for (int32_t i = 0; i < C->nwt; i++)
+        if (C->wt[i].key == key && C->wt[i].rank == rank) return;
+    MESH_GROW(C->wt, C->nwt, C->wtcap);
+    C->wt[C->nwt].key = key;
+    C->wt[C->nwt].rank = rank;
+    C->nwt++;
 }
 
 /* Frees hold hi (its locks must be gone) and wakes whoever died on it. */
-static void hold_end(int32_t hi, int bump) {
-    int64_t key = G.hd[hi].key;
-    G.hd[hi].active = 0;
-    G.hd[hi].n = 0;
-    for (int32_t i = 0; i < G.nwt;) {
-        if (G.wt[i].key == key) {
-            notify(G.wt[i].rank, key, 0);
-            G.wt[i] = G.wt[--G.nwt];
+static void hold_end(pbw_ctx *C, int32_t hi, int bump) {
+    int64_t key = C->hd[hi].key;
+    C->hd[hi].active = 0;
+    C->hd[hi].n = 0;
+    for (int32_t i = 0; i < C->nwt;) {
+        if (C->wt[i].key == key) {
+            notify(C, C->wt[i].rank, key, 0);
+            C->wt[i] = C->wt[--C->nwt];
         } else {
             i++;
         }
     }
     /* only a distributed cavity's locks outlive one step of local work, so only those can
      * have deferred items waiting for them */
-    if (G.hd[hi].distributed) deferred_release(W_HOLD, key, 0);
-    if (bump) G.ev_epoch++;
+    if (C->hd[hi].distributed) deferred_release(C, W_HOLD, key, 0);
+    if (bump) C->ev_epoch++;
 }
 
 /* Releases every lock of hold hi on this rank (undo: a lock conflict; bump: wake deferred
  * local work -- only needed if other work could have been waiting on these locks). */
-static void release_local(int32_t hi, int undo, int bump) {
-    pbw_hold *h = &G.hd[hi];
+static void release_local(pbw_ctx *C, int32_t hi, int undo, int bump) {
+    pbw_hold *h = &C->hd[hi];
     for (int32_t i = 0; i < h->n; i++) {
         int32_t s = h->slots[i];
-        if (G.lk[s] != hi) continue;
-        if (G.role[s] == ROLE_RES) {
-            slot_free(s);
+        if (C->lk[s] != hi) continue;
+        if (C->role[s] == ROLE_RES) {
+            slot_free(C, s);
         } else {
-            G.lk[s] = -1;
-            G.role[s] = ROLE_NONE;
+            C->lk[s] = -1;
+            C->role[s] = ROLE_NONE;
         }
     }
     if (undo) rt_stats_add_time(RT_TIME_UNDO, h->t_spent);
-    hold_end(hi, bump);
+    hold_end(C, hi, bump);
 }
 
 /* ---- cavity state -------------------------------------------------------------------------- */
 
-static pbw_cav *cav_new(void) {
+static pbw_cav *cav_new(pbw_ctx *C) {
     pbw_cav *c = mesh_xrealloc(NULL, sizeof *c, 1);
     memset(c, 0, sizeof *c);
+    c->C = C;
     c->h.su = c->h.sv = c->h.holder = -1;
     return c;
 }
@@ -721,9 +740,10 @@ static void part_remove(pbw_cav *c, int32_t r) {
         }
 }
 
-static void push_seed(pbw_cav *c, int64_t target, int64_t from, int64_t ga, int64_t gb, int mode) {
+static void push_seed(pbw_ctx *C, pbw_cav *c, int64_t target, int64_t from, int64_t ga, int64_t gb,
+                      int mode) {
     pbw_seed s = {target, from, ga, gb, mode, 0};
-    if (ref_rank(target) == G.rank) {
+    if (ref_rank(target) == C->rank) {
         MESH_GROW(c->stk, c->nstk, c->scap);
         c->stk[c->nstk++] = s;
     } else {
@@ -789,22 +809,22 @@ static void cav_unpack_into(pbw_cav *c, const void *data, uint32_t len) {
 
 /* Reports boundary edge ga->gb (vertex slots la, lb here) and reserves the new triangle's
  * slot on this rank. */
-static void report(pbw_cav *c, int32_t hi, int32_t la, int32_t lb, int64_t out, int64_t inref,
-                   int32_t cseg, int32_t clev, int64_t ck) {
-    int32_t s = slot_alloc();
-    lock_slot(s, hi, ROLE_RES);
+static void report(pbw_ctx *C, pbw_cav *c, int32_t hi, int32_t la, int32_t lb, int64_t out,
+                   int64_t inref, int32_t cseg, int32_t clev, int64_t ck) {
+    int32_t s = slot_alloc(C);
+    lock_slot(C, s, hi, ROLE_RES);
     pbw_bnd r;
     memset(&r, 0, sizeof r);
-    r.ga = G.vgid[la];
-    r.gb = G.vgid[lb];
+    r.ga = C->vgid[la];
+    r.gb = C->vgid[lb];
     r.out = out;
-    r.newref = mkref(G.rank, s);
+    r.newref = mkref(C->rank, s);
     r.inref = inref;
     r.cseg = cseg;
     r.clev = clev;
     r.ck = ck;
-    if (geom_orient2d(VX(la), VX(lb), c->h.p) <= 0) r.flags |= BF_BEYOND;
-    if (cseg >= 0 && mesh_rules_encroaches(&G.R, VX(la), VX(lb), c->h.p)) r.flags |= BF_ENC;
+    if (geom_orient2d(VX(C, la), VX(C, lb), c->h.p) <= 0) r.flags |= BF_BEYOND;
+    if (cseg >= 0 && mesh_rules_encroaches(&C->R, VX(C, la), VX(C, lb), c->h.p)) r.flags |= BF_ENC;
     MESH_GROW(c->b, c->nb, c->bcap);
     c->b[c->nb++] = r;
 }
@@ -815,75 +835,75 @@ static int is_open_edge(const pbw_cav *c, int64_t ga, int64_t gb) {
 }
 
 /* Member x (reached from member `from`) joins the cavity: visit its neighbours. */
-static void expand_member(pbw_cav *c, int32_t hi, int32_t x, int64_t from) {
-    int64_t self = mkref(G.rank, x);
+static void expand_member(pbw_ctx *C, pbw_cav *c, int32_t hi, int32_t x, int64_t from) {
+    int64_t self = mkref(C->rank, x);
     for (int j = 0; j < 3; j++) {
         size_t e = 3 * (size_t)x + (size_t)j;
-        int32_t la = G.tv[e], lb = G.tv[3 * (size_t)x + (size_t)((j + 1) % 3)];
-        int64_t ga = G.vgid[la], gb = G.vgid[lb], n = G.tn[e];
+        int32_t la = C->tv[e], lb = C->tv[3 * (size_t)x + (size_t)((j + 1) % 3)];
+        int64_t ga = C->vgid[la], gb = C->vgid[lb], n = C->tn[e];
         if (n != NOREF && n == from) continue;
         if (is_open_edge(c, ga, gb)) {
-            if (n != NOREF) push_seed(c, n, self, ga, gb, SEED_OPEN);
-        } else if (G.cs[e] >= 0) {
+            if (n != NOREF) push_seed(C, c, n, self, ga, gb, SEED_OPEN);
+        } else if (C->cs[e] >= 0) {
             if (n == NOREF)
-                report(c, hi, la, lb, NOREF, self, G.cs[e], G.cl[e], G.ck[e]);
+                report(C, c, hi, la, lb, NOREF, self, C->cs[e], C->cl[e], C->ck[e]);
             else
-                push_seed(c, n, self, ga, gb, SEED_HALO);
+                push_seed(C, c, n, self, ga, gb, SEED_HALO);
         } else if (n == NOREF) {
-            report(c, hi, la, lb, NOREF, self, -1, -1, 0); /* cannot happen in a CDT */
+            report(C, c, hi, la, lb, NOREF, self, -1, -1, 0); /* cannot happen in a CDT */
         } else {
-            push_seed(c, n, self, ga, gb, SEED_NORMAL);
+            push_seed(C, c, n, self, ga, gb, SEED_NORMAL);
         }
     }
 }
 
-static int in_conflict(int32_t x, const double p[2]) {
-    const int32_t *tv = G.tv + 3 * (size_t)x;
-    return geom_incircle(VX(tv[0]), VX(tv[1]), VX(tv[2]), p) > 0;
+static int in_conflict(pbw_ctx *C, int32_t x, const double p[2]) {
+    const int32_t *tv = C->tv + 3 * (size_t)x;
+    return geom_incircle(VX(C, tv[0]), VX(C, tv[1]), VX(C, tv[2]), p) > 0;
 }
 
 /* Processes the local seeds of c.  initial: the starter's first step (nothing sent yet). */
-static int process(pbw_cav *c, int32_t hi, int initial) {
+static int process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial) {
     while (c->nstk > 0) {
         pbw_seed s = c->stk[c->nstk - 1];
         int32_t x = ref_idx(s.target);
-        if (ref_rank(s.target) != G.rank || x < 0 || x >= G.nt)
+        if (ref_rank(s.target) != C->rank || x < 0 || x >= C->nt)
             MESH_BUG("seed names triangle (%d, %d)", ref_rank(s.target), x);
-        int32_t h = G.lk[x];
+        int32_t h = C->lk[x];
         if (h >= 0 && h != hi) {
-            c->h.holder = G.hd[h].key;
+            c->h.holder = C->hd[h].key;
             if (initial) return PR_DIE;
-            return older(c->h.stamp, c->h.key, G.hd[h].stamp, G.hd[h].key) ? PR_PARK : PR_DIE;
+            return older(c->h.stamp, c->h.key, C->hd[h].stamp, C->hd[h].key) ? PR_PARK : PR_DIE;
         }
         c->nstk--;
-        if (!alive(x)) MESH_BUG("seed names dead triangle %d (mode %d)", x, s.mode);
+        if (!alive(C, x)) MESH_BUG("seed names dead triangle %d (mode %d)", x, s.mode);
         int j = -1;
         if (s.mode != SEED_START) {
-            j = find_edge(x, s.gb, s.ga);
+            j = find_edge(C, x, s.gb, s.ga);
             if (j < 0)
                 MESH_BUG("triangle %d has no edge %lld->%lld (mode %d)", x, (long long)s.gb,
                          (long long)s.ga, s.mode);
         }
-        int role = h == hi ? G.role[x] : ROLE_NONE;
+        int role = h == hi ? C->role[x] : ROLE_NONE;
         switch (s.mode) {
         case SEED_START:
-            lock_slot(x, hi, ROLE_MEMBER);
-            expand_member(c, hi, x, NOREF);
+            lock_slot(C, x, hi, ROLE_MEMBER);
+            expand_member(C, c, hi, x, NOREF);
             break;
         case SEED_OPEN:
             if (role == ROLE_MEMBER) {
                 c->h.cycle = 1;
                 break;
             }
-            lock_slot(x, hi, ROLE_MEMBER);
-            expand_member(c, hi, x, s.from);
+            lock_slot(C, x, hi, ROLE_MEMBER);
+            expand_member(C, c, hi, x, s.from);
             break;
         case SEED_HALO: {
-            if (role == ROLE_NONE) lock_slot(x, hi, ROLE_HALO);
+            if (role == ROLE_NONE) lock_slot(C, x, hi, ROLE_HALO);
             size_t e = 3 * (size_t)x + (size_t)j;
             /* x's edge is gb->ga: the cavity's edge ga->gb runs from x's vertex j+1 to j */
-            report(c, hi, G.tv[3 * (size_t)x + (size_t)((j + 1) % 3)], G.tv[e], mkref(G.rank, x),
-                   s.from, G.cs[e], G.cl[e], G.ck[e]);
+            report(C, c, hi, C->tv[3 * (size_t)x + (size_t)((j + 1) % 3)], C->tv[e],
+                   mkref(C->rank, x), s.from, C->cs[e], C->cl[e], C->ck[e]);
             break;
         }
         case SEED_NORMAL:
@@ -891,14 +911,14 @@ static int process(pbw_cav *c, int32_t hi, int initial) {
                 c->h.cycle = 1;
                 break;
             }
-            if (in_conflict(x, c->h.p)) {
-                lock_slot(x, hi, ROLE_MEMBER);
-                expand_member(c, hi, x, s.from);
+            if (in_conflict(C, x, c->h.p)) {
+                lock_slot(C, x, hi, ROLE_MEMBER);
+                expand_member(C, c, hi, x, s.from);
             } else {
-                if (role == ROLE_NONE) lock_slot(x, hi, ROLE_HALO);
+                if (role == ROLE_NONE) lock_slot(C, x, hi, ROLE_HALO);
                 size_t e = 3 * (size_t)x + (size_t)j;
-                report(c, hi, G.tv[3 * (size_t)x + (size_t)((j + 1) % 3)], G.tv[e],
-                       mkref(G.rank, x), s.from, -1, -1, 0);
+                report(C, c, hi, C->tv[3 * (size_t)x + (size_t)((j + 1) % 3)], C->tv[e],
+                       mkref(C->rank, x), s.from, -1, -1, 0);
             }
             break;
         default:
@@ -910,91 +930,91 @@ static int process(pbw_cav *c, int32_t hi, int initial) {
 
 /* ---- commit ---------------------------------------------------------------------------------- */
 
-static void check_new_triangle(int32_t t) {
-    push_bad(t);
+static void check_new_triangle(pbw_ctx *C, int32_t t) {
+    push_bad(C, t);
     for (int j = 0; j < 3; j++) {
         size_t e = 3 * (size_t)t + (size_t)j;
-        if (G.cs[e] < 0) continue;
-        int32_t a = G.tv[e], b = G.tv[3 * (size_t)t + (size_t)((j + 1) % 3)],
-                o = G.tv[3 * (size_t)t + (size_t)((j + 2) % 3)];
-        if (mesh_rules_encroaches(&G.R, VX(a), VX(b), VX(o))) {
+        if (C->cs[e] < 0) continue;
+        int32_t a = C->tv[e], b = C->tv[3 * (size_t)t + (size_t)((j + 1) % 3)],
+                o = C->tv[3 * (size_t)t + (size_t)((j + 2) % 3)];
+        if (mesh_rules_encroaches(&C->R, VX(C, a), VX(C, b), VX(C, o))) {
             pbw_item it;
             memset(&it, 0, sizeof it);
             it.kind = IT_SPLIT;
             it.t = t;
-            it.gu = G.vgid[a];
-            it.gv = G.vgid[b];
+            it.gu = C->vgid[a];
+            it.gv = C->vgid[b];
             it.notify = -1;
             it.ticket = -1;
             it.forced = 0;
-            iv_push(&G.splitq, &it);
+            iv_push(&C->splitq, &it);
         }
     }
 }
 
 /* Applies this rank's part of a commit: members die, reserved slots become the new triangles,
  * halos get their link to the new triangle, everything is unlocked. */
-static void apply_commit(const pbw_commit_hdr *ch, const pbw_newtri *nt, int bump) {
-    int32_t hi = hold_find(ch->key);
+static void apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt, int bump) {
+    int32_t hi = hold_find(C, ch->key);
     if (hi < 0) MESH_BUG("commit for unknown cavity %llx", (unsigned long long)ch->key);
-    pbw_hold *h = &G.hd[hi];
-    vt_add(ch->pgid, ch->p[0], ch->p[1], ch->pvseg);
+    pbw_hold *h = &C->hd[hi];
+    vt_add(C, ch->pgid, ch->p[0], ch->p[1], ch->pvseg);
     for (int32_t i = 0; i < h->n; i++) {
         int32_t s = h->slots[i];
-        if (G.lk[s] == hi && G.role[s] == ROLE_MEMBER) {
-            slot_free(s);
-            G.nlive--;
+        if (C->lk[s] == hi && C->role[s] == ROLE_MEMBER) {
+            slot_free(C, s);
+            C->nlive--;
         }
     }
     for (int32_t i = 0; i < ch->n; i++) {
         const pbw_newtri *r = &nt[i];
         int32_t s = r->slot;
-        if (s < 0 || s >= G.nt || G.lk[s] != hi || G.role[s] != ROLE_RES)
+        if (s < 0 || s >= C->nt || C->lk[s] != hi || C->role[s] != ROLE_RES)
             MESH_BUG("commit writes slot %d not reserved by the cavity", s);
         for (int j = 0; j < 3; j++) {
-            int32_t v = vt_find(r->g[j]);
+            int32_t v = vt_find(C, r->g[j]);
             if (v < 0) MESH_BUG("commit names unknown vertex %lld", (long long)r->g[j]);
             size_t e = 3 * (size_t)s + (size_t)j;
-            G.tv[e] = v;
-            G.tn[e] = r->nb[j];
-            G.cs[e] = r->cseg[j];
-            G.cl[e] = r->clev[j];
-            G.ck[e] = r->ck[j];
+            C->tv[e] = v;
+            C->tn[e] = r->nb[j];
+            C->cs[e] = r->cseg[j];
+            C->cl[e] = r->clev[j];
+            C->ck[e] = r->ck[j];
         }
-        G.lk[s] = -1;
-        G.role[s] = ROLE_NONE;
-        G.nlive++;
+        C->lk[s] = -1;
+        C->role[s] = ROLE_NONE;
+        C->nlive++;
         if (r->nb[0] != NOREF) {
-            if (ref_rank(r->nb[0]) != G.rank) MESH_BUG("halo of a new triangle on another rank");
+            if (ref_rank(r->nb[0]) != C->rank) MESH_BUG("halo of a new triangle on another rank");
             int32_t x = ref_idx(r->nb[0]);
-            int j = alive(x) ? find_edge(x, r->g[1], r->g[0]) : -1;
-            if (j < 0 || G.lk[x] != hi || G.role[x] != ROLE_HALO)
+            int j = alive(C, x) ? find_edge(C, x, r->g[1], r->g[0]) : -1;
+            if (j < 0 || C->lk[x] != hi || C->role[x] != ROLE_HALO)
                 MESH_BUG("halo %d of the new triangle is not the cavity's", x);
-            G.tn[3 * (size_t)x + (size_t)j] = mkref(G.rank, s);
+            C->tn[3 * (size_t)x + (size_t)j] = mkref(C->rank, s);
         }
     }
     for (int32_t i = 0; i < h->n; i++) {
         int32_t s = h->slots[i];
-        if (G.lk[s] != hi) continue;
-        if (G.role[s] == ROLE_RES) MESH_BUG("reserved slot %d left unused by the commit", s);
-        G.lk[s] = -1;
-        G.role[s] = ROLE_NONE;
+        if (C->lk[s] != hi) continue;
+        if (C->role[s] == ROLE_RES) MESH_BUG("reserved slot %d left unused by the commit", s);
+        C->lk[s] = -1;
+        C->role[s] = ROLE_NONE;
     }
-    hold_end(hi, bump);
+    hold_end(C, hi, bump);
     for (int32_t i = 0; i < ch->n; i++)
-        check_new_triangle(nt[i].slot);
+        check_new_triangle(C, nt[i].slot);
 }
 
 /* Sends RELEASE to every participant (and releases here). */
-static void release_all(pbw_cav *c, int undo) {
+static void release_all(pbw_ctx *C, pbw_cav *c, int undo) {
     for (int32_t i = 0; i < c->np; i++) {
         int32_t r = c->parts[i];
-        if (r == G.rank) {
-            int32_t hi = hold_find(c->h.key);
-            if (hi >= 0) release_local(hi, undo, G.hd[hi].distributed);
+        if (r == C->rank) {
+            int32_t hi = hold_find(C, c->h.key);
+            if (hi >= 0) release_local(C, hi, undo, C->hd[hi].distributed);
         } else {
             pbw_release_msg m = {c->h.key, undo, 0};
-            rt_rsr(r, G.hid[PBW_RSR_RELEASE], &m, sizeof m);
+            rt_rsr(r, C->hid[PBW_RSR_RELEASE], &m, sizeof m);
         }
     }
 }
@@ -1050,7 +1070,7 @@ static void half_info(const pbw_cav *c, int64_t w, int32_t *cseg, int32_t *clev,
 
 /* Builds the new triangles (one per boundary edge) and commits them on every participant.
  * Returns 0, or -1 if the boundary is not a proper fan (then nothing was sent). */
-static int commit_all(pbw_cav *c) {
+static int commit_all(pbw_ctx *C, pbw_cav *c) {
     int32_t n = c->nb;
     int split = c->h.kind == K_SPLIT;
     gmap A, B;
@@ -1060,7 +1080,7 @@ static int commit_all(pbw_cav *c) {
     for (int32_t i = 0; i < n && !bad; i++)
         if (gmap_put(&A, c->b[i].ga, i) != 0 || gmap_put(&B, c->b[i].gb, i) != 0) bad = 1;
     pbw_newtri *nt = mesh_xrealloc(NULL, (size_t)(n > 0 ? n : 1) * sizeof *nt, 1);
-    int64_t pgid = ((int64_t)(G.rank + 1) << 32) | G.nvown;
+    int64_t pgid = ((int64_t)(C->rank + 1) << 32) | C->nvown;
     for (int32_t i = 0; i < n && !bad; i++) {
         const pbw_bnd *b = &c->b[i];
         pbw_newtri *r = &nt[i];
@@ -1099,8 +1119,8 @@ static int commit_all(pbw_cav *c) {
         free(nt);
         return -1;
     }
-    G.nvown++;
-    G.res.steiner++;
+    C->nvown++;
+    C->res.steiner++;
     /* one message per participant, with the new triangles it owns */
     pbw_newtri *mine = mesh_xrealloc(NULL, (size_t)(n > 0 ? n : 1) * sizeof *mine, 1);
     for (int32_t pi = 0; pi < c->np; pi++) {
@@ -1116,15 +1136,15 @@ static int commit_all(pbw_cav *c) {
         ch.p[1] = c->h.p[1];
         ch.pvseg = split ? c->sseg : -1;
         ch.n = m;
-        if (r == G.rank) {
-            int32_t hi = hold_find(c->h.key);
-            apply_commit(&ch, mine, hi >= 0 && G.hd[hi].distributed);
+        if (r == C->rank) {
+            int32_t hi = hold_find(C, c->h.key);
+            apply_commit(C, &ch, mine, hi >= 0 && C->hd[hi].distributed);
         } else {
             size_t len = sizeof ch + (size_t)m * sizeof(pbw_newtri);
             char *buf = mesh_xrealloc(NULL, len, 1);
             memcpy(buf, &ch, sizeof ch);
             if (m > 0) memcpy(buf + sizeof ch, mine, (size_t)m * sizeof(pbw_newtri));
-            rt_rsr(r, G.hid[PBW_RSR_COMMIT], buf, (uint32_t)len);
+            rt_rsr(r, C->hid[PBW_RSR_COMMIT], buf, (uint32_t)len);
             free(buf);
         }
     }
@@ -1134,16 +1154,16 @@ static int commit_all(pbw_cav *c) {
 }
 
 /* The starter's decision once the whole cavity is known (or the expansion died). */
-static void finish(pbw_cav *c) {
+static void finish(pbw_ctx *C, pbw_cav *c) {
     if (c->h.status == ST_DIE) {
-        release_all(c, 1);
-        G.res.undone_remote++;
-        if (c->h.died_at == G.rank)
-            defer_item(&c->it, W_HOLD, c->h.holder, 1);
+        release_all(C, c, 1);
+        C->res.undone_remote++;
+        if (c->h.died_at == C->rank)
+            defer_item(C, &c->it, W_HOLD, c->h.holder, 1);
         else if (c->woken)
-            iv_push(&G.retryq, &c->it);
+            iv_push(&C->retryq, &c->it);
         else
-            defer_item(&c->it, W_WAKE, c->h.holder, 1);
+            defer_item(C, &c->it, W_WAKE, c->h.holder, 1);
         return;
     }
     int split = c->h.kind == K_SPLIT;
@@ -1158,8 +1178,8 @@ static void finish(pbw_cav *c) {
     }
     if (!split && cbad && !c->h.cycle) {
         /* p encroaches (or lies beyond) subsegments: discard it, split them, retry later */
-        release_all(c, 0);
-        G.res.rejected++;
+        release_all(C, c, 0);
+        C->res.rejected++;
         int32_t nreq = 0;
         uint64_t sst = stamp_derived(c->h.stamp);
         for (int32_t i = 0; i < c->nb; i++) {
@@ -1175,58 +1195,58 @@ static void finish(pbw_cav *c) {
             if (dup) continue;
             int r = ref_rank(b->inref);
             nreq++;
-            if (r == G.rank) {
+            if (r == C->rank) {
                 pbw_item it;
                 memset(&it, 0, sizeof it);
                 it.kind = IT_SPLIT;
                 it.t = ref_idx(b->inref);
                 it.gu = b->ga;
                 it.gv = b->gb;
-                it.notify = G.rank;
+                it.notify = C->rank;
                 it.ticket = c->h.key;
                 it.stamp = sst;
                 it.forced = 1;
-                iv_push(&G.splitq, &it);
+                iv_push(&C->splitq, &it);
             } else {
-                pbw_split_msg m = {b->ga, b->gb, c->h.key, sst, ref_idx(b->inref), G.rank};
-                rt_rsr(r, G.hid[PBW_RSR_SPLIT], &m, sizeof m);
+                pbw_split_msg m = {b->ga, b->gb, c->h.key, sst, ref_idx(b->inref), C->rank};
+                rt_rsr(r, C->hid[PBW_RSR_SPLIT], &m, sizeof m);
             }
         }
         /* retry once every split asked for is done (each one wakes us with our key) */
-        defer_item(&c->it, W_WAKE, c->h.key, nreq);
+        defer_item(C, &c->it, W_WAKE, c->h.key, nreq);
         return;
     }
-    if (nonstar || cbad || c->h.cycle || commit_all(c) != 0) {
-        release_all(c, 0);
-        G.res.failed++;
-        if (split) notify(c->it.notify, c->it.ticket, 1);
+    if (nonstar || cbad || c->h.cycle || commit_all(C, c) != 0) {
+        release_all(C, c, 0);
+        C->res.failed++;
+        if (split) notify(C, c->it.notify, c->it.ticket, 1);
         return;
     }
     if (c->np > 1)
-        G.res.cavities_remote++;
+        C->res.cavities_remote++;
     else
-        G.res.cavities_local++;
+        C->res.cavities_local++;
     if (split) {
-        G.res.splits++;
-        notify(c->it.notify, c->it.ticket, 0);
+        C->res.splits++;
+        notify(C, c->it.notify, c->it.ticket, 0);
     } else {
-        G.res.inserted++;
+        C->res.inserted++;
     }
 }
 
 /* ---- chains, parking, handlers ------------------------------------------------------------- */
 
-static void drain_parked(void);
+static void drain_parked(pbw_ctx *C);
 
 /* Continues c's expansion on this rank (it arrived by EXPAND, or a parked one resumes). */
-static void chain_continue(pbw_cav *c, int32_t hi) {
+static void chain_continue(pbw_ctx *C, pbw_cav *c, int32_t hi) {
     double t0 = rt_wtime();
-    int r = process(c, hi, 0);
-    G.hd[hi].t_spent += rt_wtime() - t0;
+    int r = process(C, c, hi, 0);
+    C->hd[hi].t_spent += rt_wtime() - t0;
     if (r == PR_PARK) {
-        MESH_GROW(G.pk, G.npk, G.pkcap);
-        G.pk[G.npk++] = c;
-        G.res.parked++;
+        MESH_GROW(C->pk, C->npk, C->pkcap);
+        C->pk[C->npk++] = c;
+        C->res.parked++;
         return;
     }
     rt_msg fm;
@@ -1237,62 +1257,62 @@ static void chain_continue(pbw_cav *c, int32_t hi) {
     void *buf;
     if (r == PR_DIE) {
         int64_t holder = c->h.holder;
-        release_local(hi, 1, 1);
-        part_remove(c, G.rank);
-        if (c->h.origin != G.rank) waiter_add(holder, c->h.origin);
+        release_local(C, hi, 1, 1);
+        part_remove(c, C->rank);
+        if (c->h.origin != C->rank) waiter_add(C, holder, c->h.origin);
         c->h.status = ST_DIE;
-        c->h.died_at = G.rank;
+        c->h.died_at = C->rank;
         buf = cav_pack(c, 0, &len);
-        rt_reply(&fm, G.hid[PBW_RSR_REPLY], buf, len);
+        rt_reply(&fm, C->hid[PBW_RSR_REPLY], buf, len);
     } else if (c->ntodo > 0) {
         buf = cav_pack(c, 1, &len);
-        rt_forward(&fm, ref_rank(c->todo[0].target), G.hid[PBW_RSR_EXPAND], buf, len);
+        rt_forward(&fm, ref_rank(c->todo[0].target), C->hid[PBW_RSR_EXPAND], buf, len);
     } else {
         buf = cav_pack(c, 1, &len);
-        rt_reply(&fm, G.hid[PBW_RSR_REPLY], buf, len);
+        rt_reply(&fm, C->hid[PBW_RSR_REPLY], buf, len);
     }
     free(buf);
     cav_free(c);
 }
 
 /* Resumes parked expansions whose blocker has released its locks here, oldest first. */
-static void drain_parked(void) {
-    if (G.draining) return;
-    G.draining = 1;
+static void drain_parked(pbw_ctx *C) {
+    if (C->draining) return;
+    C->draining = 1;
     for (;;) {
         int32_t best = -1;
-        for (int32_t i = 0; i < G.npk; i++)
-            if (hold_find(G.pk[i]->h.holder) < 0 &&
-                (best < 0 ||
-                 older(G.pk[i]->h.stamp, G.pk[i]->h.key, G.pk[best]->h.stamp, G.pk[best]->h.key)))
+        for (int32_t i = 0; i < C->npk; i++)
+            if (hold_find(C, C->pk[i]->h.holder) < 0 &&
+                (best < 0 || older(C->pk[i]->h.stamp, C->pk[i]->h.key, C->pk[best]->h.stamp,
+                                   C->pk[best]->h.key)))
                 best = i;
         if (best < 0) break;
-        pbw_cav *c = G.pk[best];
-        G.pk[best] = G.pk[--G.npk];
-        int32_t hi = hold_find(c->h.key);
+        pbw_cav *c = C->pk[best];
+        C->pk[best] = C->pk[--C->npk];
+        int32_t hi = hold_find(C, c->h.key);
         if (hi < 0) MESH_BUG("parked cavity lost its locks");
-        chain_continue(c, hi);
+        chain_continue(C, c, hi);
     }
-    G.draining = 0;
+    C->draining = 0;
 }
 
 static void h_expand(const rt_msg *m, void *arg) {
-    (void)arg;
-    pbw_cav *c = cav_new();
+    pbw_ctx *C = handler_ctx(arg);
+    pbw_cav *c = cav_new(C);
     cav_unpack_into(c, m->data, m->len);
     uint64_t ts = c->h.stamp >> 24;
-    if (ts > G.lclock) G.lclock = ts;
-    int32_t hi = hold_find(c->h.key);
+    if (ts > C->lclock) C->lclock = ts;
+    int32_t hi = hold_find(C, c->h.key);
     if (hi < 0) {
-        hi = hold_new(c->h.key, c->h.stamp, c->h.origin);
-        part_add(c, G.rank);
+        hi = hold_new(C, c->h.key, c->h.stamp, c->h.origin);
+        part_add(c, C->rank);
     }
-    G.hd[hi].distributed = 1;
+    C->hd[hi].distributed = 1;
     /* seeds for this rank go to the local stack, the rest stay pending */
     int32_t k = 0;
     for (int32_t i = 0; i < c->ntodo; i++) {
         pbw_seed s = c->todo[i];
-        if (ref_rank(s.target) == G.rank) {
+        if (ref_rank(s.target) == C->rank) {
             MESH_GROW(c->stk, c->nstk, c->scap);
             c->stk[c->nstk++] = s;
         } else {
@@ -1302,12 +1322,12 @@ static void h_expand(const rt_msg *m, void *arg) {
     c->ntodo = k;
     c->src = m->src;
     c->tok = m->token;
-    chain_continue(c, hi);
-    drain_parked();
+    chain_continue(C, c, hi);
+    drain_parked(C);
 }
 
 static void h_reply(const rt_msg *m, void *arg) {
-    (void)arg;
+    pbw_ctx *C = handler_ctx(arg);
     if (!m->task) MESH_BUG("cavity reply without a waiting task");
     pbw_cav *c = rt_task_data(m->task);
     free(c->reply);
@@ -1317,34 +1337,34 @@ static void h_reply(const rt_msg *m, void *arg) {
     pbw_whdr h;
     if (m->len < sizeof h) MESH_BUG("short cavity reply");
     memcpy(&h, m->data, sizeof h);
-    if (h.status == ST_DIE && h.died_at != G.rank) {
+    if (h.status == ST_DIE && h.died_at != C->rank) {
         /* the WAKE for the holder may overtake the task's run: note it (wake_key) */
         c->die_holder = h.holder;
         c->woken = 0;
-        MESH_GROW(G.dy, G.ndy, G.dycap);
-        G.dy[G.ndy++] = c;
+        MESH_GROW(C->dy, C->ndy, C->dycap);
+        C->dy[C->ndy++] = c;
     }
 }
 
 static void h_release(const rt_msg *m, void *arg) {
-    (void)arg;
+    pbw_ctx *C = handler_ctx(arg);
     const pbw_release_msg *r = m->data;
-    int32_t hi = hold_find(r->key);
-    if (hi >= 0) release_local(hi, r->undo, 1);
-    drain_parked();
+    int32_t hi = hold_find(C, r->key);
+    if (hi >= 0) release_local(C, hi, r->undo, 1);
+    drain_parked(C);
 }
 
 static void h_commit(const rt_msg *m, void *arg) {
-    (void)arg;
+    pbw_ctx *C = handler_ctx(arg);
     const pbw_commit_hdr *ch = m->data;
     if (m->len < sizeof *ch || m->len != sizeof *ch + (size_t)ch->n * sizeof(pbw_newtri))
         MESH_BUG("malformed commit (%u bytes)", (unsigned)m->len);
-    apply_commit(ch, (const pbw_newtri *)(ch + 1), 1);
-    drain_parked();
+    apply_commit(C, ch, (const pbw_newtri *)(ch + 1), 1);
+    drain_parked(C);
 }
 
 static void h_split(const rt_msg *m, void *arg) {
-    (void)arg;
+    pbw_ctx *C = handler_ctx(arg);
     const pbw_split_msg *s = m->data;
     pbw_item it;
     memset(&it, 0, sizeof it);
@@ -1356,48 +1376,49 @@ static void h_split(const rt_msg *m, void *arg) {
     it.ticket = s->ticket;
     it.stamp = s->stamp;
     it.forced = 1;
-    iv_push(&G.splitq, &it);
+    iv_push(&C->splitq, &it);
 }
 
 static void h_wake(const rt_msg *m, void *arg) {
-    (void)arg;
+    pbw_ctx *C = handler_ctx(arg);
     const pbw_wake_msg *w = m->data;
-    wake_key(w->key, w->refused);
+    wake_key(C, w->key, w->refused);
 }
 
 /* The task of a distributed cavity: send the expansion, wait in the blocking queue for the
  * chain's reply, decide. */
 static rt_task_status cav_task(rt_task *t, void *state) {
     pbw_cav *c = state;
+    pbw_ctx *C = c->C;
     if (c->phase == 0) {
         c->phase = 1;
         uint32_t len;
         void *buf = cav_pack(c, 1, &len);
-        rt_request(t, ref_rank(c->todo[0].target), G.hid[PBW_RSR_EXPAND], buf, len);
+        rt_request(t, ref_rank(c->todo[0].target), C->hid[PBW_RSR_EXPAND], buf, len);
         free(buf);
         return RT_TASK_WAIT;
     }
     if (!c->reply) MESH_BUG("cavity task resumed without a reply");
-    for (int32_t i = 0; i < G.ndy; i++)
-        if (G.dy[i] == c) {
-            G.dy[i] = G.dy[--G.ndy];
+    for (int32_t i = 0; i < C->ndy; i++)
+        if (C->dy[i] == c) {
+            C->dy[i] = C->dy[--C->ndy];
             break;
         }
     cav_unpack_into(c, c->reply, c->replylen);
-    finish(c);
-    G.inflight--;
-    G.ev_epoch++; /* a slot for another distributed cavity */
+    finish(C, c);
+    C->inflight--;
+    C->ev_epoch++; /* a slot for another distributed cavity */
     cav_free(c);
-    drain_parked();
+    drain_parked(C);
     return RT_TASK_DONE;
 }
 
 /* ---- local work ---------------------------------------------------------------------------- */
 
-static int limit_reached(void) {
-    if (G.steiner_limit >= 0 && G.res.steiner >= G.steiner_limit) {
-        G.stopped = 1;
-        G.res.limit_hit = 1;
+static int limit_reached(pbw_ctx *C) {
+    if (C->steiner_limit >= 0 && C->res.steiner >= C->steiner_limit) {
+        C->stopped = 1;
+        C->res.limit_hit = 1;
         return 1;
     }
     return 0;
@@ -1411,12 +1432,13 @@ typedef struct split_desc {
 
 /* Starts the cavity of point p seeded at local triangle t (sd: a split of t's edge
  * it->gu - it->gv, which is opened; NULL: a Steiner point for bad triangle t). */
-static void start_cavity(pbw_item *it, const double p[2], int32_t t, const split_desc *sd) {
-    pbw_cav *c = cav_new();
-    c->h.key = ((int64_t)G.rank << 40) | (++G.seq);
-    if (!it->stamp) it->stamp = ((++G.lclock) << 24) | ((uint64_t)G.rank << 8) | STAMP_FRESH;
+static void start_cavity(pbw_ctx *C, pbw_item *it, const double p[2], int32_t t,
+                         const split_desc *sd) {
+    pbw_cav *c = cav_new(C);
+    c->h.key = ((int64_t)C->rank << 40) | (++C->seq);
+    if (!it->stamp) it->stamp = ((++C->lclock) << 24) | ((uint64_t)C->rank << 8) | STAMP_FRESH;
     c->h.stamp = it->stamp;
-    c->h.origin = G.rank;
+    c->h.origin = C->rank;
     c->h.kind = sd ? K_SPLIT : K_INSERT;
     c->h.status = ST_OK;
     c->h.p[0] = p[0];
@@ -1430,40 +1452,40 @@ static void start_cavity(pbw_item *it, const double p[2], int32_t t, const split
         c->sk_v = sd->kv;
     }
     c->it = *it;
-    int32_t hi = hold_new(c->h.key, c->h.stamp, G.rank);
-    part_add(c, G.rank);
-    push_seed(c, mkref(G.rank, t), NOREF, -1, -1, SEED_START);
+    int32_t hi = hold_new(C, c->h.key, c->h.stamp, C->rank);
+    part_add(c, C->rank);
+    push_seed(C, c, mkref(C->rank, t), NOREF, -1, -1, SEED_START);
     double t0 = rt_wtime();
-    int r = process(c, hi, 1);
-    G.hd[hi].t_spent += rt_wtime() - t0;
+    int r = process(C, c, hi, 1);
+    C->hd[hi].t_spent += rt_wtime() - t0;
     if (r == PR_DIE) {
         int64_t holder = c->h.holder;
-        release_local(hi, 1, 0);
-        G.res.undone_local++;
-        defer_item(&c->it, W_HOLD, holder, 1);
+        release_local(C, hi, 1, 0);
+        C->res.undone_local++;
+        defer_item(C, &c->it, W_HOLD, holder, 1);
         cav_free(c);
         return;
     }
     if (c->ntodo == 0) {
-        finish(c);
+        finish(C, c);
         cav_free(c);
         return;
     }
-    if (G.phase1) {
-        release_local(hi, 0, 0);
-        G.res.postponed++;
-        iv_push(&G.phase2, &c->it);
+    if (C->phase1) {
+        release_local(C, hi, 0, 0);
+        C->res.postponed++;
+        iv_push(&C->phase2, &c->it);
         cav_free(c);
         return;
     }
-    if (G.inflight >= MAX_INFLIGHT) {
-        release_local(hi, 0, 0);
-        defer_item(&c->it, W_EVENT, 0, 1);
+    if (C->inflight >= MAX_INFLIGHT) {
+        release_local(C, hi, 0, 0);
+        defer_item(C, &c->it, W_EVENT, 0, 1);
         cav_free(c);
         return;
     }
-    G.hd[hi].distributed = 1;
-    G.inflight++;
+    C->hd[hi].distributed = 1;
+    C->inflight++;
     rt_task_spawn(cav_task, c);
 }
 
@@ -1471,11 +1493,11 @@ static void start_cavity(pbw_item *it, const double p[2], int32_t t, const split
  * computes it (shells of unit 1 around a small corner: PBW has no interface segments); fills
  * the halves' names into c-independent outputs.  Returns 0, -1 if the point is unusable
  * (precision exhausted), -2 if it is below the length floor (a refusal). */
-static int split_point(int32_t la, int32_t lb, int32_t s, int32_t lev, int64_t k, double p[2],
-                       int32_t *child_lev, int64_t *ka, int64_t *kb) {
-    const double *pu = VX(la), *pv = VX(lb);
-    const double *A = VX(G.seg[2 * s]), *B = VX(G.seg[2 * s + 1]);
-    int cu = is_corner_gid(G.vgid[la]), cv = is_corner_gid(G.vgid[lb]);
+static int split_point(pbw_ctx *C, int32_t la, int32_t lb, int32_t s, int32_t lev, int64_t k,
+                       double p[2], int32_t *child_lev, int64_t *ka, int64_t *kb) {
+    const double *pu = VX(C, la), *pv = VX(C, lb);
+    const double *A = VX(C, C->seg[2 * s]), *B = VX(C, C->seg[2 * s + 1]);
+    int cu = is_corner_gid(C, C->vgid[la]), cv = is_corner_gid(C, C->vgid[lb]);
     *child_lev = -1;
     *ka = *kb = 0;
     if (cu != cv) {
@@ -1494,87 +1516,87 @@ static int split_point(int32_t la, int32_t lb, int32_t s, int32_t lev, int64_t k
     if (geom_working_point(p) != 0 || (p[0] == pu[0] && p[1] == pu[1]) ||
         (p[0] == pv[0] && p[1] == pv[1]))
         return -1;
-    if (below_floor(p, la) || below_floor(p, lb)) return -2;
+    if (below_floor(C, p, la) || below_floor(C, p, lb)) return -2;
     return 0;
 }
 
-static void process_item(pbw_item *it) {
+static void process_item(pbw_ctx *C, pbw_item *it) {
     int32_t t = it->t;
-    if (!alive(t)) {
-        if (it->kind == IT_SPLIT) notify(it->notify, it->ticket, 0);
+    if (!alive(C, t)) {
+        if (it->kind == IT_SPLIT) notify(C, it->notify, it->ticket, 0);
         return;
     }
     if (it->kind == IT_SPLIT) {
-        int j = find_edge(t, it->gu, it->gv);
-        if (j < 0) j = find_edge(t, it->gv, it->gu);
+        int j = find_edge(C, t, it->gu, it->gv);
+        if (j < 0) j = find_edge(C, t, it->gv, it->gu);
         size_t e = 3 * (size_t)t + (size_t)j;
-        if (j < 0 || G.cs[e] < 0) { /* already split, or the triangle changed */
-            notify(it->notify, it->ticket, 0);
+        if (j < 0 || C->cs[e] < 0) { /* already split, or the triangle changed */
+            notify(C, it->notify, it->ticket, 0);
             return;
         }
-        if (G.lk[t] >= 0) {
-            defer_item(it, W_HOLD, G.hd[G.lk[t]].key, 1);
+        if (C->lk[t] >= 0) {
+            defer_item(C, it, W_HOLD, C->hd[C->lk[t]].key, 1);
             return;
         }
-        int32_t la = G.tv[e], lb = G.tv[3 * (size_t)t + (size_t)((j + 1) % 3)];
+        int32_t la = C->tv[e], lb = C->tv[3 * (size_t)t + (size_t)((j + 1) % 3)];
         if (!it->forced &&
-            !mesh_rules_encroaches(&G.R, VX(la), VX(lb),
-                                   VX(G.tv[3 * (size_t)t + (size_t)((j + 2) % 3)]))) {
-            notify(it->notify, it->ticket, 0);
+            !mesh_rules_encroaches(&C->R, VX(C, la), VX(C, lb),
+                                   VX(C, C->tv[3 * (size_t)t + (size_t)((j + 2) % 3)]))) {
+            notify(C, it->notify, it->ticket, 0);
             return;
         }
-        if (limit_reached()) return;
+        if (limit_reached(C)) return;
         double p[2];
         int32_t clev;
         int64_t ka, kb;
-        int sp = split_point(la, lb, G.cs[e], G.cl[e], G.ck[e], p, &clev, &ka, &kb);
+        int sp = split_point(C, la, lb, C->cs[e], C->cl[e], C->ck[e], p, &clev, &ka, &kb);
         if (sp != 0) {
             if (sp == -2)
-                refuse();
+                refuse(C);
             else
-                G.res.failed++;
-            notify(it->notify, it->ticket, 1);
+                C->res.failed++;
+            notify(C, it->notify, it->ticket, 1);
             return;
         }
-        it->gu = G.vgid[la];
-        it->gv = G.vgid[lb];
-        split_desc sd = {G.cs[e], clev, ka, kb};
-        start_cavity(it, p, t, &sd);
+        it->gu = C->vgid[la];
+        it->gv = C->vgid[lb];
+        split_desc sd = {C->cs[e], clev, ka, kb};
+        start_cavity(C, it, p, t, &sd);
         return;
     }
     /* a bad triangle */
-    if (G.lk[t] >= 0) {
-        defer_item(it, W_HOLD, G.hd[G.lk[t]].key, 1);
+    if (C->lk[t] >= 0) {
+        defer_item(C, it, W_HOLD, C->hd[C->lk[t]].key, 1);
         return;
     }
     int sh = 0;
-    int why = quality(t, NULL, &sh);
+    int why = quality(C, t, NULL, &sh);
     if (!why) return;
-    const int32_t *tv = G.tv + 3 * (size_t)t;
-    if (why == MESH_BAD_ANGLE && edge_forced(tv[sh], tv[(sh + 1) % 3])) {
+    const int32_t *tv = C->tv + 3 * (size_t)t;
+    if (why == MESH_BAD_ANGLE && edge_forced(C, tv[sh], tv[(sh + 1) % 3])) {
         /* skinny but not too large, and the small angle is forced by the input */
-        G.res.skipped_small++;
+        C->res.skipped_small++;
         return;
     }
     double p[2];
-    if (steiner_point(t, sh, p) != 0) {
-        G.res.failed++;
+    if (steiner_point(C, t, sh, p) != 0) {
+        C->res.failed++;
         return;
     }
     /* the new vertex is at least the circumradius away from every vertex (empty circle): its
      * distance to t's vertices is the length of the shortest edge it creates */
-    if (below_floor(p, tv[0]) || below_floor(p, tv[1]) || below_floor(p, tv[2])) {
-        refuse();
+    if (below_floor(C, p, tv[0]) || below_floor(C, p, tv[1]) || below_floor(C, p, tv[2])) {
+        refuse(C);
         return;
     }
-    if (limit_reached()) return;
-    start_cavity(it, p, t, NULL);
+    if (limit_reached(C)) return;
+    start_cavity(C, it, p, t, NULL);
 }
 
-static int next_item(pbw_item *it) {
-    if (iv_pop(&G.splitq, it)) return 1;
-    if (iv_pop(&G.retryq, it)) return 1;
-    int32_t t = pop_bad();
+static int next_item(pbw_ctx *C, pbw_item *it) {
+    if (iv_pop(&C->splitq, it)) return 1;
+    if (iv_pop(&C->retryq, it)) return 1;
+    int32_t t = pop_bad(C);
     if (t < 0) return 0;
     memset(it, 0, sizeof *it);
     it->kind = IT_BAD;
@@ -1584,81 +1606,79 @@ static int next_item(pbw_item *it) {
     return 1;
 }
 
-static int has_items(void) {
-    if (!iv_empty(&G.splitq) || !iv_empty(&G.retryq)) return 1;
-    while (G.cursor <= NBUCKET && G.head[G.cursor] < 0)
-        G.cursor++;
-    return G.cursor <= NBUCKET;
+static int has_items(pbw_ctx *C) {
+    if (!iv_empty(&C->splitq) || !iv_empty(&C->retryq)) return 1;
+    while (C->cursor <= NBUCKET && C->head[C->cursor] < 0)
+        C->cursor++;
+    return C->cursor <= NBUCKET;
 }
 
-static void drop_all_items(void) {
+static void drop_all_items(pbw_ctx *C) {
     pbw_item it;
-    while (next_item(&it)) {
+    while (next_item(C, &it)) {
     }
-    G.deferred.n = G.deferred.head = 0;
-    G.nevent = 0;
+    C->deferred.n = C->deferred.head = 0;
+    C->nevent = 0;
 }
 
 /* rt_run's local work step: a bounded number of cavities, splits first, then retries, then
  * bad triangles worst first.  Deferred items come back only after an event (a handler or a
  * task ran), as the runtime's termination contract requires. */
-static void debug_report(void) {
-    static int on = -1;
-    static double last;
-    static FILE *f;
-    if (on < 0) {
+static void debug_report(pbw_ctx *C) {
+    if (C->dbg_on == 0) {
         const char *dir = getenv("PBW_DEBUG");
-        on = dir != NULL;
-        if (on) {
+        C->dbg_on = 2;
+        if (dir) {
             char path[512];
-            snprintf(path, sizeof path, "%s/pbw.%d.log", dir, G.rank);
-            f = fopen(path, "w");
-            if (!f) on = 0;
+            snprintf(path, sizeof path, "%s/pbw.%d.log", dir, C->rank);
+            C->dbg_f = fopen(path, "w");
+            if (C->dbg_f) C->dbg_on = 1;
         }
     }
-    if (!on) return;
+    if (C->dbg_on != 1) return;
+    FILE *f = C->dbg_f;
     double t = rt_wtime();
-    if (t - last < 2.0) return;
-    last = t;
+    if (t - C->dbg_last < 2.0) return;
+    C->dbg_last = t;
     int32_t nh = 0;
-    for (int32_t i = 0; i < G.nhd; i++)
-        nh += G.hd[i].active;
+    for (int32_t i = 0; i < C->nhd; i++)
+        nh += C->hd[i].active;
     fprintf(f,
             "pbw[%d]: live=%d inflight=%d parked=%d holds=%d deferred=%d retry=%d split=%d "
             "waiters=%d epoch=%u undone=%lld/%lld ins=%lld\n",
-            G.rank, G.nlive, G.inflight, G.npk, nh, G.deferred.n - G.deferred.head,
-            G.retryq.n - G.retryq.head, G.splitq.n - G.splitq.head, G.nwt, G.ev_epoch,
-            (long long)G.res.undone_local, (long long)G.res.undone_remote,
-            (long long)G.res.inserted);
-    for (int32_t i = 0; i < G.npk; i++)
-        fprintf(f, "pbw[%d]:   parked %llx stamp %llx waits for %llx\n", G.rank,
-                (unsigned long long)G.pk[i]->h.key, (unsigned long long)G.pk[i]->h.stamp,
-                (unsigned long long)G.pk[i]->h.holder);
-    for (int32_t i = 0; i < G.nhd; i++)
-        if (G.hd[i].active)
-            fprintf(f, "pbw[%d]:   hold %llx stamp %llx origin %d n=%d\n", G.rank,
-                    (unsigned long long)G.hd[i].key, (unsigned long long)G.hd[i].stamp,
-                    G.hd[i].origin, G.hd[i].n);
+            C->rank, C->nlive, C->inflight, C->npk, nh, C->deferred.n - C->deferred.head,
+            C->retryq.n - C->retryq.head, C->splitq.n - C->splitq.head, C->nwt, C->ev_epoch,
+            (long long)C->res.undone_local, (long long)C->res.undone_remote,
+            (long long)C->res.inserted);
+    for (int32_t i = 0; i < C->npk; i++)
+        fprintf(f, "pbw[%d]:   parked %llx stamp %llx waits for %llx\n", C->rank,
+                (unsigned long long)C->pk[i]->h.key, (unsigned long long)C->pk[i]->h.stamp,
+                (unsigned long long)C->pk[i]->h.holder);
+    for (int32_t i = 0; i < C->nhd; i++)
+        if (C->hd[i].active)
+            fprintf(f, "pbw[%d]:   hold %llx stamp %llx origin %d n=%d\n", C->rank,
+                    (unsigned long long)C->hd[i].key, (unsigned long long)C->hd[i].stamp,
+                    C->hd[i].origin, C->hd[i].n);
     fflush(f);
 }
 
 static int work(void *ctx) {
-    (void)ctx;
+    pbw_ctx *C = ctx;
     int did = 0;
-    debug_report();
-    for (int n = 0; n < WORK_BATCH && !G.stopped; n++) {
-        refresh_deferred();
+    debug_report(C);
+    for (int n = 0; n < WORK_BATCH && !C->stopped; n++) {
+        refresh_deferred(C);
         pbw_item it;
-        if (!next_item(&it)) break;
+        if (!next_item(C, &it)) break;
         did = 1;
-        process_item(&it);
+        process_item(C, &it);
     }
-    if (G.stopped) {
-        drop_all_items();
+    if (C->stopped) {
+        drop_all_items(C);
         return did ? RT_WORK_BUSY : RT_WORK_IDLE;
     }
-    refresh_deferred();
-    return (did || has_items()) ? RT_WORK_BUSY : RT_WORK_IDLE;
+    refresh_deferred(C);
+    return (did || has_items(C)) ? RT_WORK_BUSY : RT_WORK_IDLE;
 }
 
 /* ---- the initial distributed mesh ------------------------------------------------------ */
@@ -1678,7 +1698,8 @@ static void centroid(const mesh *m, int32_t t, double c[2]) {
 /* Owner rank of every triangle slot of m0: the owner of the subdomain of d containing its
  * centroid (exact point location in the CDT of d's augmented PSLG, whose regions are the
  * subdomains).  Every rank computes the same answer. */
-static int owners(const mesh *m0, const pcdm_decomp *d, int32_t *own, char *err, size_t errlen) {
+static int owners(pbw_ctx *C, const mesh *m0, const pcdm_decomp *d, int32_t *own, char *err,
+                  size_t errlen) {
     mesh md;
     mesh_init(&md);
     if (mesh_build_cdt(&md, &d->g, d->seg_iface, err, errlen) != 0) {
@@ -1720,7 +1741,7 @@ static int owners(const mesh *m0, const pcdm_decomp *d, int32_t *own, char *err,
             sub = rsub[lab[tt]];
         }
         own[t] = sub >= 0 ? d->sub_owner[sub] : 0;
-        if (own[t] < 0 || own[t] >= G.size) own[t] = 0;
+        if (own[t] < 0 || own[t] >= C->size) own[t] = 0;
     }
     free(rsub);
     free(lab);
@@ -1742,8 +1763,8 @@ static int32_t *dup_i32(const int32_t *a, size_t n) {
 #define PRE_TRIS_PER_RANK 32.0
 #define PRE_COARSEN 16.0
 
-static int setup(const pbw_setup_opts *so, const pslg *in, const pcdm_decomp *d, char *err,
-                 size_t errlen) {
+static int setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_decomp *d,
+                 char *err, size_t errlen) {
     mesh m0;
     mesh_init(&m0);
     if (mesh_build_cdt(&m0, in, NULL, err, errlen) != 0) {
@@ -1751,16 +1772,16 @@ static int setup(const pbw_setup_opts *so, const pslg *in, const pcdm_decomp *d,
         return -1;
     }
     /* the length floor of the initial CDT, as ./mesh computes it from the same CDT */
-    G.floor2 = mesh_rules_length_floor2(m0.xy, m0.nv, m0.tv, m0.nt);
-    G.unresolved_budget = mesh_rules_unresolved_budget(m0.ninput);
-    if (so->max_area > 0 && G.size > 1) {
+    C->floor2 = mesh_rules_length_floor2(m0.xy, m0.nv, m0.tv, m0.nt);
+    C->unresolved_budget = mesh_rules_unresolved_budget(m0.ninput);
+    if (so->max_area > 0 && C->size > 1) {
         double area = 0;
         for (int32_t t = 0; t < m0.nt; t++)
             if (mesh_tri_alive(&m0, t))
                 area += geom_area(mesh_vertex_xy(&m0, m0.tv[3 * t]),
                                   mesh_vertex_xy(&m0, m0.tv[3 * t + 1]),
                                   mesh_vertex_xy(&m0, m0.tv[3 * t + 2]));
-        double a0 = fmax(area / (PRE_TRIS_PER_RANK * G.size), PRE_COARSEN * so->max_area);
+        double a0 = fmax(area / (PRE_TRIS_PER_RANK * C->size), PRE_COARSEN * so->max_area);
         mesh_quality q;
         memset(&q, 0, sizeof q);
         q.min_angle = so->min_angle;
@@ -1769,87 +1790,87 @@ static int setup(const pbw_setup_opts *so, const pslg *in, const pcdm_decomp *d,
         q.offcenter = 1;
         mesh_set_quality(&m0, &q);
         mesh_refine(&m0);
-        G.res.pre_tris = m0.nlive;
+        C->res.pre_tris = m0.nlive;
     }
     int32_t *own = mesh_xrealloc(NULL, ((size_t)m0.nt + 1) * sizeof(int32_t), 1);
-    if (owners(&m0, d, own, err, errlen) != 0) {
+    if (owners(C, &m0, d, own, err, errlen) != 0) {
         free(own);
         mesh_free(&m0);
         return -1;
     }
     int32_t *lidx = mesh_xrealloc(NULL, ((size_t)m0.nt + 1) * sizeof(int32_t), 1);
-    int32_t *cnt = mesh_xrealloc(NULL, (size_t)G.size * sizeof(int32_t), 1);
-    memset(cnt, 0, (size_t)G.size * sizeof(int32_t));
+    int32_t *cnt = mesh_xrealloc(NULL, (size_t)C->size * sizeof(int32_t), 1);
+    memset(cnt, 0, (size_t)C->size * sizeof(int32_t));
     for (int32_t t = 0; t < m0.nt; t++)
         lidx[t] = own[t] >= 0 ? cnt[own[t]]++ : -1;
     /* input data */
-    G.ninput = m0.ninput;
-    G.nseg = m0.nseg;
-    G.seg = dup_i32(m0.seg, 2 * (size_t)m0.nseg);
-    G.smarker = dup_i32(m0.smarker, (size_t)m0.nseg);
-    G.in_vmarker = dup_i32(m0.in_vmarker, (size_t)m0.ninput);
-    G.inc_off = dup_i32(m0.inc_off, (size_t)m0.ninput + 1);
-    G.inc_seg = dup_i32(m0.inc_seg, (size_t)m0.inc_off[m0.ninput]);
-    G.corner = mesh_xrealloc(NULL, (size_t)m0.ninput + 1, 1);
-    memcpy(G.corner, m0.corner, (size_t)m0.ninput);
-    G.has_corners = m0.has_corners;
-    G.I.ninput = G.ninput;
-    G.I.seg = G.seg;
-    G.I.inc_off = G.inc_off;
-    G.I.inc_seg = G.inc_seg;
-    G.I.corner = G.has_corners ? G.corner : NULL;
-    G.I.siface = NULL; /* PBW has no artificial segments */
+    C->ninput = m0.ninput;
+    C->nseg = m0.nseg;
+    C->seg = dup_i32(m0.seg, 2 * (size_t)m0.nseg);
+    C->smarker = dup_i32(m0.smarker, (size_t)m0.nseg);
+    C->in_vmarker = dup_i32(m0.in_vmarker, (size_t)m0.ninput);
+    C->inc_off = dup_i32(m0.inc_off, (size_t)m0.ninput + 1);
+    C->inc_seg = dup_i32(m0.inc_seg, (size_t)m0.inc_off[m0.ninput]);
+    C->corner = mesh_xrealloc(NULL, (size_t)m0.ninput + 1, 1);
+    memcpy(C->corner, m0.corner, (size_t)m0.ninput);
+    C->has_corners = m0.has_corners;
+    C->I.ninput = C->ninput;
+    C->I.seg = C->seg;
+    C->I.inc_off = C->inc_off;
+    C->I.inc_seg = C->inc_seg;
+    C->I.corner = C->has_corners ? C->corner : NULL;
+    C->I.siface = NULL; /* PBW has no artificial segments */
     /* initial vertices keep their index as global id (input vertices first) */
-    vt_rehash(2048);
+    vt_rehash(C, 2048);
     for (int32_t v = 0; v < m0.nv; v++) {
         const double *p = mesh_vertex_xy(&m0, v);
-        vt_add(v, p[0], p[1], v < m0.ninput ? -1 : m0.vseg[v]);
+        vt_add(C, v, p[0], p[1], v < m0.ninput ? -1 : m0.vseg[v]);
     }
     /* this rank's triangles, in CDT slot order */
     for (int32_t t = 0; t < m0.nt; t++) {
-        if (own[t] != G.rank) continue;
-        int32_t s = slot_alloc();
+        if (own[t] != C->rank) continue;
+        int32_t s = slot_alloc(C);
         if (s != lidx[t]) MESH_BUG("slot %d for triangle %d (expected %d)", s, t, lidx[t]);
         for (int j = 0; j < 3; j++) {
             int32_t e = 3 * t + j;
             size_t f = 3 * (size_t)s + (size_t)j;
-            G.tv[f] = m0.tv[e];
+            C->tv[f] = m0.tv[e];
             int32_t nb = m0.tn[e];
-            G.tn[f] = nb >= 0 ? mkref(own[nb / 3], lidx[nb / 3]) : NOREF;
+            C->tn[f] = nb >= 0 ? mkref(own[nb / 3], lidx[nb / 3]) : NOREF;
             const mesh_subseg *ss = mesh_subseg_of_edge(&m0, e);
             if (mesh_edge_constrained(&m0, e) && !ss) MESH_BUG("constraint edge without record");
-            G.cs[f] = ss ? ss->seg : -1;
-            G.cl[f] = ss ? ss->level : -1;
-            G.ck[f] = ss ? ss->k : 0;
+            C->cs[f] = ss ? ss->seg : -1;
+            C->cl[f] = ss ? ss->level : -1;
+            C->ck[f] = ss ? ss->k : 0;
         }
-        G.nlive++;
+        C->nlive++;
     }
     free(cnt);
     free(lidx);
     free(own);
     mesh_free(&m0);
     /* initial work: every bad triangle, every encroached subsegment */
-    for (int32_t t = 0; t < G.nt; t++)
-        check_new_triangle(t);
+    for (int32_t t = 0; t < C->nt; t++)
+        check_new_triangle(C, t);
     return 0;
 }
 
 /* The end check of the bounds (as mesh_count_unmet): every triangle this rank owns that is
  * outside them, except a small angle forced by the input (a corner vertex, or the shared
- * forced-angle rule on its shortest edge).  Fills G.res.unmet and G.res.forced. */
-static void count_unmet(void) {
-    for (int32_t t = 0; t < G.nt; t++) {
-        if (!alive(t)) continue;
-        int sh = 0, why = quality(t, NULL, &sh);
+ * forced-angle rule on its shortest edge).  Fills C->res.unmet and C->res.forced. */
+static void count_unmet(pbw_ctx *C) {
+    for (int32_t t = 0; t < C->nt; t++) {
+        if (!alive(C, t)) continue;
+        int sh = 0, why = quality(C, t, NULL, &sh);
         if (!why) continue;
-        const int32_t *tv = G.tv + 3 * (size_t)t;
+        const int32_t *tv = C->tv + 3 * (size_t)t;
         if (why == MESH_BAD_ANGLE &&
-            (is_corner_gid(G.vgid[tv[0]]) || is_corner_gid(G.vgid[tv[1]]) ||
-             is_corner_gid(G.vgid[tv[2]]) || edge_forced(tv[sh], tv[(sh + 1) % 3]))) {
-            G.res.forced++;
+            (is_corner_gid(C, C->vgid[tv[0]]) || is_corner_gid(C, C->vgid[tv[1]]) ||
+             is_corner_gid(C, C->vgid[tv[2]]) || edge_forced(C, tv[sh], tv[(sh + 1) % 3]))) {
+            C->res.forced++;
             continue;
         }
-        G.res.unmet++;
+        C->res.unmet++;
     }
 }
 
@@ -1857,16 +1878,16 @@ static void count_unmet(void) {
  * has a neighbour on another rank, as if a commit had been lost at a rank boundary, so the
  * result no longer matches across that boundary.  The always-on end check (par_output's
  * interface check) must then fail every rank; tests/t_pbw.sh shows it does. */
-static void test_fault(void) {
+static void test_fault(pbw_ctx *C) {
     const char *e = getenv("PBW_TEST_BREAK_IFACE");
-    if (!e || !*e || atoi(e) != G.rank) return;
-    for (int32_t t = 0; t < G.nt; t++) {
-        if (!alive(t) || G.lk[t] >= 0) continue;
+    if (!e || !*e || atoi(e) != C->rank) return;
+    for (int32_t t = 0; t < C->nt; t++) {
+        if (!alive(C, t) || C->lk[t] >= 0) continue;
         for (int j = 0; j < 3; j++) {
-            int64_t n = G.tn[3 * (size_t)t + (size_t)j];
-            if (n != NOREF && ref_rank(n) != G.rank) {
-                slot_free(t);
-                G.nlive--;
+            int64_t n = C->tn[3 * (size_t)t + (size_t)j];
+            if (n != NOREF && ref_rank(n) != C->rank) {
+                slot_free(C, t);
+                C->nlive--;
                 return;
             }
         }
@@ -1874,33 +1895,33 @@ static void test_fault(void) {
 }
 
 /* This rank's triangles as a mesh_flat (local numbering of the vertices they use). */
-static int to_flat(mesh_flat *f) {
+static int to_flat(pbw_ctx *C, mesh_flat *f) {
     memset(f, 0, sizeof *f);
-    int32_t *map = mesh_xrealloc(NULL, ((size_t)G.nv + 1) * sizeof(int32_t), 1);
-    for (int32_t v = 0; v < G.nv; v++)
+    int32_t *map = mesh_xrealloc(NULL, ((size_t)C->nv + 1) * sizeof(int32_t), 1);
+    for (int32_t v = 0; v < C->nv; v++)
         map[v] = -1;
     int32_t nv = 0, ntri = 0, nseg = 0;
-    for (int32_t t = 0; t < G.nt; t++) {
-        if (!alive(t) || G.lk[t] >= 0) continue;
+    for (int32_t t = 0; t < C->nt; t++) {
+        if (!alive(C, t) || C->lk[t] >= 0) continue;
         ntri++;
         for (int j = 0; j < 3; j++) {
-            int32_t v = G.tv[3 * (size_t)t + (size_t)j];
+            int32_t v = C->tv[3 * (size_t)t + (size_t)j];
             if (map[v] < 0) map[v] = nv++;
-            if (G.cs[3 * (size_t)t + (size_t)j] >= 0) nseg++;
+            if (C->cs[3 * (size_t)t + (size_t)j] >= 0) nseg++;
         }
     }
     f->nverts = nv;
     f->xy = mesh_xrealloc(NULL, 2 * ((size_t)nv + 1) * sizeof(double), 1);
     f->vmarker = mesh_xrealloc(NULL, ((size_t)nv + 1) * sizeof(int32_t), 1);
-    for (int32_t v = 0; v < G.nv; v++) {
+    for (int32_t v = 0; v < C->nv; v++) {
         int32_t o = map[v];
         if (o < 0) continue;
-        f->xy[2 * o] = G.xy[2 * v];
-        f->xy[2 * o + 1] = G.xy[2 * v + 1];
-        int64_t g = G.vgid[v];
-        f->vmarker[o] = (g >= 0 && g < G.ninput) ? G.in_vmarker[g]
-                        : G.vseg[v] >= 0         ? G.smarker[G.vseg[v]]
-                                                 : 0;
+        f->xy[2 * o] = C->xy[2 * v];
+        f->xy[2 * o + 1] = C->xy[2 * v + 1];
+        int64_t g = C->vgid[v];
+        f->vmarker[o] = (g >= 0 && g < C->ninput) ? C->in_vmarker[g]
+                        : C->vseg[v] >= 0         ? C->smarker[C->vseg[v]]
+                                                  : 0;
     }
     f->ntris = ntri;
     f->tri = mesh_xrealloc(NULL, 3 * ((size_t)ntri + 1) * sizeof(int32_t), 1);
@@ -1910,53 +1931,51 @@ static int to_flat(mesh_flat *f) {
     f->smarker = mesh_xrealloc(NULL, ((size_t)nseg + 1) * sizeof(int32_t), 1);
     f->sinterface = mesh_xrealloc(NULL, ((size_t)nseg + 1) * sizeof(int32_t), 1);
     ntri = nseg = 0;
-    for (int32_t t = 0; t < G.nt; t++) {
-        if (!alive(t) || G.lk[t] >= 0) continue;
+    for (int32_t t = 0; t < C->nt; t++) {
+        if (!alive(C, t) || C->lk[t] >= 0) continue;
         for (int j = 0; j < 3; j++) {
             size_t e = 3 * (size_t)t + (size_t)j;
-            f->tri[3 * (size_t)ntri + (size_t)j] = map[G.tv[e]];
-            if (G.cs[e] >= 0) {
-                f->seg[2 * (size_t)nseg] = map[G.tv[e]];
-                f->seg[2 * (size_t)nseg + 1] = map[G.tv[3 * (size_t)t + (size_t)((j + 1) % 3)]];
-                f->smarker[nseg] = G.smarker[G.cs[e]];
+            f->tri[3 * (size_t)ntri + (size_t)j] = map[C->tv[e]];
+            if (C->cs[e] >= 0) {
+                f->seg[2 * (size_t)nseg] = map[C->tv[e]];
+                f->seg[2 * (size_t)nseg + 1] = map[C->tv[3 * (size_t)t + (size_t)((j + 1) % 3)]];
+                f->smarker[nseg] = C->smarker[C->cs[e]];
                 f->sinterface[nseg] = 0;
                 nseg++;
             }
         }
-        f->trank[ntri] = G.rank;
+        f->trank[ntri] = C->rank;
         ntri++;
     }
     free(map);
     return 0;
 }
 
-static void ctx_free(void) {
-    free(G.xy), free(G.vgid), free(G.vseg), free(G.vh);
-    free(G.tv), free(G.tn), free(G.cs), free(G.cl), free(G.ck), free(G.lk), free(G.role);
-    free(G.fre);
-    free(G.seg), free(G.smarker), free(G.in_vmarker), free(G.inc_off), free(G.inc_seg);
-    free(G.corner);
-    free(G.pool);
-    iv_free(&G.splitq), iv_free(&G.retryq), iv_free(&G.deferred), iv_free(&G.phase2);
-    for (int32_t i = 0; i < G.nhd; i++)
-        free(G.hd[i].slots);
-    free(G.hd);
-    free(G.wt);
-    for (int32_t i = 0; i < G.npk; i++)
-        cav_free(G.pk[i]);
-    free(G.pk);
-    free(G.dy);
-    int hid[PBW_RSR_NKINDS];
-    memcpy(hid, G.hid, sizeof hid);
-    memset(&G, 0, sizeof G);
-    memcpy(G.hid, hid, sizeof hid);
+static void ctx_free(pbw_ctx *C) {
+    free(C->xy), free(C->vgid), free(C->vseg), free(C->vh);
+    free(C->tv), free(C->tn), free(C->cs), free(C->cl), free(C->ck), free(C->lk), free(C->role);
+    free(C->fre);
+    free(C->seg), free(C->smarker), free(C->in_vmarker), free(C->inc_off), free(C->inc_seg);
+    free(C->corner);
+    free(C->pool);
+    iv_free(&C->splitq), iv_free(&C->retryq), iv_free(&C->deferred), iv_free(&C->phase2);
+    for (int32_t i = 0; i < C->nhd; i++)
+        free(C->hd[i].slots);
+    free(C->hd);
+    free(C->wt);
+    for (int32_t i = 0; i < C->npk; i++)
+        cav_free(C->pk[i]);
+    free(C->pk);
+    free(C->dy);
+    if (C->dbg_f) fclose(C->dbg_f);
+    free(C);
 }
 
-static size_t mesh_bytes(void) {
-    size_t c = (size_t)G.tcap;
+static size_t mesh_bytes(pbw_ctx *C) {
+    size_t c = (size_t)C->tcap;
     size_t b = c * (3 * (4 + 8 + 4 + 4 + 8) + 4 + 1);
-    b += (size_t)G.vcap * (16 + 8 + 4) + (size_t)G.vhcap * 4 + (size_t)G.frecap * 4;
-    b += (size_t)G.poolcap * sizeof(qent);
+    b += (size_t)C->vcap * (16 + 8 + 4) + (size_t)C->vhcap * 4 + (size_t)C->frecap * 4;
+    b += (size_t)C->poolcap * sizeof(qent);
     return b;
 }
 
@@ -1977,25 +1996,25 @@ int pbw_register(void) {
         {"pbw_wake", h_wake, RT_NONTHREADED, sizeof(pbw_wake_msg)},
     };
     for (int k = 0; k < PBW_RSR_NKINDS; k++) {
-        int id = rt_handler_register(tab[k].name, tab[k].fn, NULL, tab[k].flags, tab[k].size);
+        int id =
+            rt_handler_register(tab[k].name, tab[k].fn, &pbw_active, tab[k].flags, tab[k].size);
         if (id < 0) return id;
-        G.hid[k] = id;
+        pbw_hid[k] = id;
     }
     return 0;
 }
 
 int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat *local,
              pbw_result *res) {
-    int hid[PBW_RSR_NKINDS];
-    memcpy(hid, G.hid, sizeof hid);
-    memset(&G, 0, sizeof G);
-    memcpy(G.hid, hid, sizeof hid);
-    G.rank = rt_rank();
-    G.size = rt_size();
-    G.pool_free = -1;
-    G.cursor = NBUCKET + 1;
+    if (pbw_active) MESH_BUG("pbw_mesh called while another pbw_mesh runs");
+    pbw_ctx *C = mesh_xcalloc(1, sizeof *C);
+    memcpy(C->hid, pbw_hid, sizeof C->hid);
+    C->rank = rt_rank();
+    C->size = rt_size();
+    C->pool_free = -1;
+    C->cursor = NBUCKET + 1;
     for (int i = 0; i <= NBUCKET; i++)
-        G.head[i] = -1;
+        C->head[i] = -1;
     /* a hair above the requested bound, as ./mesh and ./pcdm do; the area bound in the
      * working scale of the coordinates (pslg_check), as refine.c takes it */
     double qa = o->min_angle > 0 ? o->min_angle * (1 + 1e-9) + 1e-12 : 0;
@@ -2005,44 +2024,47 @@ int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat 
         area = ldexp(area, 2 * in->scale_exp);
         if (!(area > 0)) area = DBL_MIN;
     }
-    mesh_rules_init(&G.R, qa, area, 1, 0);
-    G.steiner_limit = o->max_steiner >= 0 ? (o->max_steiner + G.size - 1) / G.size : -1;
+    mesh_rules_init(&C->R, qa, area, 1, 0);
+    C->steiner_limit = o->max_steiner >= 0 ? (o->max_steiner + C->size - 1) / C->size : -1;
     memset(local, 0, sizeof *local);
     char err[1024], msg[1200];
     err[0] = 0;
     pbw_setup_opts so = {qa, o->max_area, o->max_steiner};
-    int rc = setup(&so, in, d, err, sizeof err);
+    pbw_active = C; /* the handlers' way to the context (pbw_register) */
+    int rc = setup(C, &so, in, d, err, sizeof err);
     snprintf(msg, sizeof msg, "%s: %s", o->prog ? o->prog : "pbw", err);
     if (par_fail_any(rc != 0, msg)) {
-        ctx_free();
+        pbw_active = NULL;
+        ctx_free(C);
         return -1;
     }
     if (o->phases) {
         double t0 = rt_wtime();
-        G.phase1 = 1;
-        rt_run(work, NULL);
-        G.phase1 = 0;
+        C->phase1 = 1;
+        rt_run(work, C);
+        C->phase1 = 0;
         pbw_item it;
-        while (iv_pop(&G.phase2, &it))
-            iv_push(&G.retryq, &it);
-        G.res.phase1_s = rt_wtime() - t0;
+        while (iv_pop(&C->phase2, &it))
+            iv_push(&C->retryq, &it);
+        C->res.phase1_s = rt_wtime() - t0;
     }
-    rt_run(work, NULL);
-    if (G.npk != 0 || G.inflight != 0)
-        MESH_BUG("%d parked, %d in flight at the end", G.npk, G.inflight);
-    for (int32_t i = 0; i < G.nhd; i++)
-        if (G.hd[i].active)
-            MESH_BUG("cavity %llx still holds locks", (unsigned long long)G.hd[i].key);
-    count_unmet();
-    test_fault();
-    to_flat(local);
-    G.res.ntris = G.nlive;
-    G.res.mesh_bytes = mesh_bytes();
+    rt_run(work, C);
+    if (C->npk != 0 || C->inflight != 0)
+        MESH_BUG("%d parked, %d in flight at the end", C->npk, C->inflight);
+    for (int32_t i = 0; i < C->nhd; i++)
+        if (C->hd[i].active)
+            MESH_BUG("cavity %llx still holds locks", (unsigned long long)C->hd[i].key);
+    count_unmet(C);
+    test_fault(C);
+    to_flat(C, local);
+    C->res.ntris = C->nlive;
+    C->res.mesh_bytes = mesh_bytes(C);
     for (int k = 0; k < PBW_RSR_NKINDS; k++) {
         rt_handler_stats hs;
-        if (rt_stats_handler(G.hid[k], &hs) == RT_OK) G.res.rsr_sent[k] = hs.sent;
+        if (rt_stats_handler(C->hid[k], &hs) == RT_OK) C->res.rsr_sent[k] = hs.sent;
     }
-    if (res) *res = G.res;
-    ctx_free();
+    if (res) *res = C->res;
+    pbw_active = NULL;
+    ctx_free(C);
     return 0;
 }
