@@ -1,0 +1,537 @@
+/* pbw_cavity.c: the cavity of one Steiner point -- its travelling state (packed into the
+ * EXPAND and REPLY payloads), its expansion on each rank it reaches (Bowyer-Watson: members by
+ * exact incircle, halos locked, boundary edges reported with reserved slots), and its
+ * outcome: the commit (one message per participant with its new triangles) or the release
+ * everywhere (undo), the rejection of a point that encroaches subsegments (which are split
+ * instead), and the failures (not star-shaped, a member reached twice).  The protocol and its
+ * progress argument are in pbw.c.  Invariant: nothing is written until every triangle the
+ * commit touches is locked, so an undo is only a release of locks. */
+#include "pbw/pbw_impl.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+pbw_cav *pbw_cav_new(pbw_ctx *C) {
+    pbw_cav *c = mesh_xrealloc(NULL, sizeof *c, 1);
+    memset(c, 0, sizeof *c);
+    c->C = C;
+    c->h.su = c->h.sv = c->h.holder = -1;
+    return c;
+}
+
+void pbw_cav_free(pbw_cav *c) {
+    if (!c) return;
+    free(c->parts);
+    free(c->b);
+    free(c->todo);
+    free(c->stk);
+    free(c->reply);
+    free(c);
+}
+
+void pbw_part_add(pbw_cav *c, int32_t r) {
+    for (int32_t i = 0; i < c->np; i++)
+        if (c->parts[i] == r) return;
+    MESH_GROW(c->parts, c->np, c->pcap);
+    c->parts[c->np++] = r;
+}
+
+void pbw_part_remove(pbw_cav *c, int32_t r) {
+    for (int32_t i = 0; i < c->np; i++)
+        if (c->parts[i] == r) {
+            c->parts[i] = c->parts[--c->np];
+            return;
+        }
+}
+
+void pbw_push_seed(pbw_ctx *C, pbw_cav *c, int64_t target, int64_t from, int64_t ga, int64_t gb,
+                   int mode) {
+    pbw_seed s = {target, from, ga, gb, mode, 0};
+    if (ref_rank(target) == C->rank) {
+        MESH_GROW(c->stk, c->nstk, c->scap);
+        c->stk[c->nstk++] = s;
+    } else {
+        MESH_GROW(c->todo, c->ntodo, c->tcap);
+        c->todo[c->ntodo++] = s;
+    }
+}
+
+static size_t pad8(size_t n) {
+    return (n + 7) & ~(size_t)7;
+}
+
+/* Serialises c (full: with boundary edges and seeds). */
+void *pbw_cav_pack(pbw_cav *c, int full, uint32_t *len) {
+    c->h.nparts = c->np;
+    c->h.nbnd = full ? c->nb : 0;
+    c->h.nseed = full ? c->ntodo : 0;
+    size_t pl = pad8((size_t)c->np * sizeof(int32_t));
+    size_t n = sizeof(pbw_whdr) + pl + (size_t)c->h.nbnd * sizeof(pbw_bnd) +
+               (size_t)c->h.nseed * sizeof(pbw_seed);
+    if (n > MAXMSG) MESH_BUG("cavity message of %zu bytes", n);
+    char *buf = mesh_xrealloc(NULL, n, 1), *q = buf;
+    memset(buf, 0, n);
+    memcpy(q, &c->h, sizeof c->h);
+    q += sizeof c->h;
+    memcpy(q, c->parts, (size_t)c->np * sizeof(int32_t));
+    q += pl;
+    if (c->h.nbnd > 0) memcpy(q, c->b, (size_t)c->h.nbnd * sizeof(pbw_bnd));
+    q += (size_t)c->h.nbnd * sizeof(pbw_bnd);
+    if (c->h.nseed > 0) memcpy(q, c->todo, (size_t)c->h.nseed * sizeof(pbw_seed));
+    *len = (uint32_t)n;
+    return buf;
+}
+
+/* Replaces c's header and arrays by the serialised state data. */
+void pbw_cav_unpack_into(pbw_cav *c, const void *data, uint32_t len) {
+    const char *q = data;
+    if (len < sizeof(pbw_whdr)) MESH_BUG("short cavity message (%u bytes)", (unsigned)len);
+    memcpy(&c->h, q, sizeof c->h);
+    q += sizeof c->h;
+    size_t pl = pad8((size_t)c->h.nparts * sizeof(int32_t));
+    size_t need = sizeof(pbw_whdr) + pl + (size_t)c->h.nbnd * sizeof(pbw_bnd) +
+                  (size_t)c->h.nseed * sizeof(pbw_seed);
+    if (c->h.nparts < 0 || c->h.nbnd < 0 || c->h.nseed < 0 || need != len)
+        MESH_BUG("malformed cavity message (%u bytes, expected %zu)", (unsigned)len, need);
+    c->np = c->nb = c->ntodo = 0;
+    for (int32_t i = 0; i < c->h.nparts; i++)
+        pbw_part_add(c, ((const int32_t *)q)[i]);
+    q += pl;
+    for (int32_t i = 0; i < c->h.nbnd; i++) {
+        MESH_GROW(c->b, c->nb, c->bcap);
+        memcpy(&c->b[c->nb++], q, sizeof(pbw_bnd));
+        q += sizeof(pbw_bnd);
+    }
+    for (int32_t i = 0; i < c->h.nseed; i++) {
+        MESH_GROW(c->todo, c->ntodo, c->tcap);
+        memcpy(&c->todo[c->ntodo++], q, sizeof(pbw_seed));
+        q += sizeof(pbw_seed);
+    }
+}
+
+/* Reports boundary edge ga->gb (vertex slots la, lb here) and reserves the new triangle's
+ * slot on this rank. */
+static void report(pbw_ctx *C, pbw_cav *c, int32_t hi, int32_t la, int32_t lb, int64_t out,
+                   int64_t inref, int32_t cseg, int32_t clev, int64_t ck) {
+    int32_t s = pbw_slot_alloc(C);
+    pbw_lock_slot(C, s, hi, ROLE_RES);
+    pbw_bnd r;
+    memset(&r, 0, sizeof r);
+    r.ga = C->vgid[la];
+    r.gb = C->vgid[lb];
+    r.out = out;
+    r.newref = mkref(C->rank, s);
+    r.inref = inref;
+    r.cseg = cseg;
+    r.clev = clev;
+    r.ck = ck;
+    if (geom_orient2d(VX(C, la), VX(C, lb), c->h.p) <= 0) r.flags |= BF_BEYOND;
+    if (cseg >= 0 && mesh_rules_encroaches(&C->R, VX(C, la), VX(C, lb), c->h.p)) r.flags |= BF_ENC;
+    MESH_GROW(c->b, c->nb, c->bcap);
+    c->b[c->nb++] = r;
+}
+
+static int is_open_edge(const pbw_cav *c, int64_t ga, int64_t gb) {
+    return c->h.kind == K_SPLIT &&
+           ((ga == c->h.su && gb == c->h.sv) || (ga == c->h.sv && gb == c->h.su));
+}
+
+/* Member x (reached from member `from`) joins the cavity: visit its neighbours. */
+static void expand_member(pbw_ctx *C, pbw_cav *c, int32_t hi, int32_t x, int64_t from) {
+    int64_t self = mkref(C->rank, x);
+    for (int j = 0; j < 3; j++) {
+        size_t e = 3 * (size_t)x + (size_t)j;
+        int32_t la = C->tv[e], lb = C->tv[3 * (size_t)x + (size_t)((j + 1) % 3)];
+        int64_t ga = C->vgid[la], gb = C->vgid[lb], n = C->tn[e];
+        if (n != NOREF && n == from) continue;
+        if (is_open_edge(c, ga, gb)) {
+            if (n != NOREF) pbw_push_seed(C, c, n, self, ga, gb, SEED_OPEN);
+        } else if (C->cs[e] >= 0) {
+            if (n == NOREF)
+                report(C, c, hi, la, lb, NOREF, self, C->cs[e], C->cl[e], C->ck[e]);
+            else
+                pbw_push_seed(C, c, n, self, ga, gb, SEED_HALO);
+        } else if (n == NOREF) {
+            report(C, c, hi, la, lb, NOREF, self, -1, -1, 0); /* cannot happen in a CDT */
+        } else {
+            pbw_push_seed(C, c, n, self, ga, gb, SEED_NORMAL);
+        }
+    }
+}
+
+static int in_conflict(pbw_ctx *C, int32_t x, const double p[2]) {
+    const int32_t *tv = C->tv + 3 * (size_t)x;
+    return geom_incircle(VX(C, tv[0]), VX(C, tv[1]), VX(C, tv[2]), p) > 0;
+}
+
+/* Processes the local seeds of c.  initial: the starter's first step (nothing sent yet). */
+int pbw_process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial) {
+    while (c->nstk > 0) {
+        pbw_seed s = c->stk[c->nstk - 1];
+        int32_t x = ref_idx(s.target);
+        if (ref_rank(s.target) != C->rank || x < 0 || x >= C->nt)
+            MESH_BUG("seed names triangle (%d, %d)", ref_rank(s.target), x);
+        int32_t h = C->lk[x];
+        if (h >= 0 && h != hi) {
+            c->h.holder = C->hd[h].key;
+            if (initial) return PR_DIE;
+            return older(c->h.stamp, c->h.key, C->hd[h].stamp, C->hd[h].key) ? PR_PARK : PR_DIE;
+        }
+        c->nstk--;
+        if (!alive(C, x)) MESH_BUG("seed names dead triangle %d (mode %d)", x, s.mode);
+        int j = -1;
+        if (s.mode != SEED_START) {
+            j = pbw_find_edge(C, x, s.gb, s.ga);
+            if (j < 0)
+                MESH_BUG("triangle %d has no edge %lld->%lld (mode %d)", x, (long long)s.gb,
+                         (long long)s.ga, s.mode);
+        }
+        int role = h == hi ? C->role[x] : ROLE_NONE;
+        switch (s.mode) {
+        case SEED_START:
+            pbw_lock_slot(C, x, hi, ROLE_MEMBER);
+            expand_member(C, c, hi, x, NOREF);
+            break;
+        case SEED_OPEN:
+            if (role == ROLE_MEMBER) {
+                c->h.cycle = 1;
+                break;
+            }
+            pbw_lock_slot(C, x, hi, ROLE_MEMBER);
+            expand_member(C, c, hi, x, s.from);
+            break;
+        case SEED_HALO: {
+            if (role == ROLE_NONE) pbw_lock_slot(C, x, hi, ROLE_HALO);
+            size_t e = 3 * (size_t)x + (size_t)j;
+            /* x's edge is gb->ga: the cavity's edge ga->gb runs from x's vertex j+1 to j */
+            report(C, c, hi, C->tv[3 * (size_t)x + (size_t)((j + 1) % 3)], C->tv[e],
+                   mkref(C->rank, x), s.from, C->cs[e], C->cl[e], C->ck[e]);
+            break;
+        }
+        case SEED_NORMAL:
+            if (role == ROLE_MEMBER) { /* a second way in: see CAVITY above */
+                c->h.cycle = 1;
+                break;
+            }
+            if (in_conflict(C, x, c->h.p)) {
+                pbw_lock_slot(C, x, hi, ROLE_MEMBER);
+                expand_member(C, c, hi, x, s.from);
+            } else {
+                if (role == ROLE_NONE) pbw_lock_slot(C, x, hi, ROLE_HALO);
+                size_t e = 3 * (size_t)x + (size_t)j;
+                report(C, c, hi, C->tv[3 * (size_t)x + (size_t)((j + 1) % 3)], C->tv[e],
+                       mkref(C->rank, x), s.from, -1, -1, 0);
+            }
+            break;
+        default:
+            MESH_BUG("bad seed mode %d", s.mode);
+        }
+    }
+    return PR_DONE;
+}
+
+void pbw_check_new_triangle(pbw_ctx *C, int32_t t) {
+    pbw_push_bad(C, t);
+    for (int j = 0; j < 3; j++) {
+        size_t e = 3 * (size_t)t + (size_t)j;
+        if (C->cs[e] < 0) continue;
+        int32_t a = C->tv[e], b = C->tv[3 * (size_t)t + (size_t)((j + 1) % 3)],
+                o = C->tv[3 * (size_t)t + (size_t)((j + 2) % 3)];
+        if (mesh_rules_encroaches(&C->R, VX(C, a), VX(C, b), VX(C, o))) {
+            pbw_item it;
+            memset(&it, 0, sizeof it);
+            it.kind = IT_SPLIT;
+            it.t = t;
+            it.gu = C->vgid[a];
+            it.gv = C->vgid[b];
+            it.notify = -1;
+            it.ticket = -1;
+            it.forced = 0;
+            pbw_iv_push(&C->splitq, &it);
+        }
+    }
+}
+
+/* Applies this rank's part of a commit: members die, reserved slots become the new triangles,
+ * halos get their link to the new triangle, everything is unlocked. */
+void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt, int bump) {
+    int32_t hi = pbw_hold_find(C, ch->key);
+    if (hi < 0) MESH_BUG("commit for unknown cavity %llx", (unsigned long long)ch->key);
+    pbw_hold *h = &C->hd[hi];
+    pbw_vt_add(C, ch->pgid, ch->p[0], ch->p[1], ch->pvseg);
+    for (int32_t i = 0; i < h->n; i++) {
+        int32_t s = h->slots[i];
+        if (C->lk[s] == hi && C->role[s] == ROLE_MEMBER) {
+            pbw_slot_free(C, s);
+            C->nlive--;
+        }
+    }
+    for (int32_t i = 0; i < ch->n; i++) {
+        const pbw_newtri *r = &nt[i];
+        int32_t s = r->slot;
+        if (s < 0 || s >= C->nt || C->lk[s] != hi || C->role[s] != ROLE_RES)
+            MESH_BUG("commit writes slot %d not reserved by the cavity", s);
+        for (int j = 0; j < 3; j++) {
+            int32_t v = pbw_vt_find(C, r->g[j]);
+            if (v < 0) MESH_BUG("commit names unknown vertex %lld", (long long)r->g[j]);
+            size_t e = 3 * (size_t)s + (size_t)j;
+            C->tv[e] = v;
+            C->tn[e] = r->nb[j];
+            C->cs[e] = r->cseg[j];
+            C->cl[e] = r->clev[j];
+            C->ck[e] = r->ck[j];
+        }
+        C->lk[s] = -1;
+        C->role[s] = ROLE_NONE;
+        C->nlive++;
+        if (r->nb[0] != NOREF) {
+            if (ref_rank(r->nb[0]) != C->rank) MESH_BUG("halo of a new triangle on another rank");
+            int32_t x = ref_idx(r->nb[0]);
+            int j = alive(C, x) ? pbw_find_edge(C, x, r->g[1], r->g[0]) : -1;
+            if (j < 0 || C->lk[x] != hi || C->role[x] != ROLE_HALO)
+                MESH_BUG("halo %d of the new triangle is not the cavity's", x);
+            C->tn[3 * (size_t)x + (size_t)j] = mkref(C->rank, s);
+        }
+    }
+    for (int32_t i = 0; i < h->n; i++) {
+        int32_t s = h->slots[i];
+        if (C->lk[s] != hi) continue;
+        if (C->role[s] == ROLE_RES) MESH_BUG("reserved slot %d left unused by the commit", s);
+        C->lk[s] = -1;
+        C->role[s] = ROLE_NONE;
+    }
+    pbw_hold_end(C, hi, bump);
+    for (int32_t i = 0; i < ch->n; i++)
+        pbw_check_new_triangle(C, nt[i].slot);
+}
+
+/* Sends RELEASE to every participant (and releases here). */
+static void release_all(pbw_ctx *C, pbw_cav *c, int undo) {
+    for (int32_t i = 0; i < c->np; i++) {
+        int32_t r = c->parts[i];
+        if (r == C->rank) {
+            int32_t hi = pbw_hold_find(C, c->h.key);
+            if (hi >= 0) pbw_release_local(C, hi, undo, C->hd[hi].distributed);
+        } else {
+            pbw_release_msg m = {c->h.key, undo, 0};
+            rt_rsr(r, C->hid[PBW_RSR_RELEASE], &m, sizeof m);
+        }
+    }
+}
+
+typedef struct gmap {
+    int64_t *key;
+    int32_t *val;
+    uint32_t mask;
+} gmap;
+
+static void gmap_init(gmap *m, int32_t n) {
+    uint32_t cap = 16;
+    while (cap < 2 * (uint32_t)n + 2)
+        cap *= 2;
+    m->key = mesh_xrealloc(NULL, cap * sizeof(int64_t), 1);
+    m->val = mesh_xrealloc(NULL, cap * sizeof(int32_t), 1);
+    m->mask = cap - 1;
+    for (uint32_t i = 0; i < cap; i++)
+        m->val[i] = -1;
+}
+
+static int gmap_put(gmap *m, int64_t k, int32_t v) { /* 0, or -1 if k is present */
+    uint32_t h = (uint32_t)mesh_hash64((uint64_t)k) & m->mask;
+    while (m->val[h] >= 0) {
+        if (m->key[h] == k) return -1;
+        h = (h + 1) & m->mask;
+    }
+    m->key[h] = k;
+    m->val[h] = v;
+    return 0;
+}
+
+static int32_t gmap_get(const gmap *m, int64_t k) {
+    uint32_t h = (uint32_t)mesh_hash64((uint64_t)k) & m->mask;
+    while (m->val[h] >= 0) {
+        if (m->key[h] == k) return m->val[h];
+        h = (h + 1) & m->mask;
+    }
+    return -1;
+}
+
+static void gmap_free(gmap *m) {
+    free(m->key);
+    free(m->val);
+}
+
+/* Constraint info of the split half with endpoint w (w is su or sv). */
+static void half_info(const pbw_cav *c, int64_t w, int32_t *cseg, int32_t *clev, int64_t *ck) {
+    *cseg = c->sseg;
+    *clev = c->schild_lev;
+    *ck = c->schild_lev < 0 ? 0 : (w == c->h.su ? c->sk_u : c->sk_v);
+}
+
+/* Builds the new triangles (one per boundary edge) and commits them on every participant.
+ * Returns 0, or -1 if the boundary is not a proper fan (then nothing was sent). */
+int pbw_commit_all(pbw_ctx *C, pbw_cav *c) {
+    int32_t n = c->nb;
+    int split = c->h.kind == K_SPLIT;
+    gmap A, B;
+    gmap_init(&A, n);
+    gmap_init(&B, n);
+    int bad = n < 1;
+    for (int32_t i = 0; i < n && !bad; i++)
+        if (gmap_put(&A, c->b[i].ga, i) != 0 || gmap_put(&B, c->b[i].gb, i) != 0) bad = 1;
+    pbw_newtri *nt = mesh_xrealloc(NULL, (size_t)(n > 0 ? n : 1) * sizeof *nt, 1);
+    int64_t pgid = ((int64_t)(C->rank + 1) << 32) | C->nvown;
+    for (int32_t i = 0; i < n && !bad; i++) {
+        const pbw_bnd *b = &c->b[i];
+        pbw_newtri *r = &nt[i];
+        memset(r, 0, sizeof *r);
+        r->g[0] = b->ga;
+        r->g[1] = b->gb;
+        r->g[2] = pgid;
+        r->slot = ref_idx(b->newref);
+        r->nb[0] = b->out;
+        r->cseg[0] = b->cseg;
+        r->clev[0] = b->clev;
+        r->ck[0] = b->ck;
+        int ub = split && (b->gb == c->h.su || b->gb == c->h.sv);
+        int ua = split && (b->ga == c->h.su || b->ga == c->h.sv);
+        int32_t j = gmap_get(&A, b->gb), k = gmap_get(&B, b->ga);
+        if (j >= 0)
+            r->nb[1] = c->b[j].newref;
+        else if (ub)
+            r->nb[1] = NOREF;
+        else
+            bad = 1;
+        if (k >= 0)
+            r->nb[2] = c->b[k].newref;
+        else if (ua)
+            r->nb[2] = NOREF;
+        else
+            bad = 1;
+        r->cseg[1] = r->cseg[2] = -1;
+        r->clev[1] = r->clev[2] = -1;
+        if (ub) half_info(c, b->gb, &r->cseg[1], &r->clev[1], &r->ck[1]);
+        if (ua) half_info(c, b->ga, &r->cseg[2], &r->clev[2], &r->ck[2]);
+    }
+    gmap_free(&A);
+    gmap_free(&B);
+    if (bad) {
+        free(nt);
+        return -1;
+    }
+    C->nvown++;
+    C->res.steiner++;
+    /* one message per participant, with the new triangles it owns */
+    pbw_newtri *mine = mesh_xrealloc(NULL, (size_t)(n > 0 ? n : 1) * sizeof *mine, 1);
+    for (int32_t pi = 0; pi < c->np; pi++) {
+        int32_t r = c->parts[pi];
+        int32_t m = 0;
+        for (int32_t i = 0; i < n; i++)
+            if (ref_rank(c->b[i].newref) == r) mine[m++] = nt[i];
+        pbw_commit_hdr ch;
+        memset(&ch, 0, sizeof ch);
+        ch.key = c->h.key;
+        ch.pgid = pgid;
+        ch.p[0] = c->h.p[0];
+        ch.p[1] = c->h.p[1];
+        ch.pvseg = split ? c->sseg : -1;
+        ch.n = m;
+        if (r == C->rank) {
+            int32_t hi = pbw_hold_find(C, c->h.key);
+            pbw_apply_commit(C, &ch, mine, hi >= 0 && C->hd[hi].distributed);
+        } else {
+            size_t len = sizeof ch + (size_t)m * sizeof(pbw_newtri);
+            char *buf = mesh_xrealloc(NULL, len, 1);
+            memcpy(buf, &ch, sizeof ch);
+            if (m > 0) memcpy(buf + sizeof ch, mine, (size_t)m * sizeof(pbw_newtri));
+            rt_rsr(r, C->hid[PBW_RSR_COMMIT], buf, (uint32_t)len);
+            free(buf);
+        }
+    }
+    free(mine);
+    free(nt);
+    return 0;
+}
+
+/* The starter's decision once the whole cavity is known (or the expansion died). */
+void pbw_finish(pbw_ctx *C, pbw_cav *c) {
+    if (c->h.status == ST_DIE) {
+        release_all(C, c, 1);
+        C->res.undone_remote++;
+        if (c->h.died_at == C->rank)
+            pbw_defer_item(C, &c->it, W_HOLD, c->h.holder, 1);
+        else if (c->woken)
+            pbw_iv_push(&C->retryq, &c->it);
+        else
+            pbw_defer_item(C, &c->it, W_WAKE, c->h.holder, 1);
+        return;
+    }
+    int split = c->h.kind == K_SPLIT;
+    int cbad = 0, nonstar = 0;
+    for (int32_t i = 0; i < c->nb; i++) {
+        const pbw_bnd *b = &c->b[i];
+        if (b->cseg >= 0) {
+            if ((b->flags & BF_BEYOND) || (!split && (b->flags & BF_ENC))) cbad = 1;
+        } else if (b->flags & BF_BEYOND) {
+            nonstar = 1;
+        }
+    }
+    if (!split && cbad && !c->h.cycle) {
+        /* p encroaches (or lies beyond) subsegments: discard it, split them, retry later */
+        release_all(C, c, 0);
+        C->res.rejected++;
+        int32_t nreq = 0;
+        uint64_t sst = stamp_derived(c->h.stamp);
+        for (int32_t i = 0; i < c->nb; i++) {
+            const pbw_bnd *b = &c->b[i];
+            if (b->cseg < 0 || !(b->flags & (BF_BEYOND | BF_ENC))) continue;
+            int dup = 0;
+            for (int32_t k = 0; k < i && !dup; k++) {
+                const pbw_bnd *o = &c->b[k];
+                if (o->cseg >= 0 && (o->flags & (BF_BEYOND | BF_ENC)) &&
+                    ((o->ga == b->ga && o->gb == b->gb) || (o->ga == b->gb && o->gb == b->ga)))
+                    dup = 1;
+            }
+            if (dup) continue;
+            int r = ref_rank(b->inref);
+            nreq++;
+            if (r == C->rank) {
+                pbw_item it;
+                memset(&it, 0, sizeof it);
+                it.kind = IT_SPLIT;
+                it.t = ref_idx(b->inref);
+                it.gu = b->ga;
+                it.gv = b->gb;
+                it.notify = C->rank;
+                it.ticket = c->h.key;
+                it.stamp = sst;
+                it.forced = 1;
+                pbw_iv_push(&C->splitq, &it);
+            } else {
+                pbw_split_msg m = {b->ga, b->gb, c->h.key, sst, ref_idx(b->inref), C->rank};
+                rt_rsr(r, C->hid[PBW_RSR_SPLIT], &m, sizeof m);
+            }
+        }
+        /* retry once every split asked for is done (each one wakes us with our key) */
+        pbw_defer_item(C, &c->it, W_WAKE, c->h.key, nreq);
+        return;
+    }
+    if (nonstar || cbad || c->h.cycle || pbw_commit_all(C, c) != 0) {
+        release_all(C, c, 0);
+        C->res.failed++;
+        if (split) pbw_notify(C, c->it.notify, c->it.ticket, 1);
+        return;
+    }
+    if (c->np > 1)
+        C->res.cavities_remote++;
+    else
+        C->res.cavities_local++;
+    if (split) {
+        C->res.splits++;
+        pbw_notify(C, c->it.notify, c->it.ticket, 0);
+    } else {
+        C->res.inserted++;
+    }
+}

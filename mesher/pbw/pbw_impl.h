@@ -1,0 +1,459 @@
+/* pbw_impl.h: what the files of PBW share (internal to mesher/pbw/): the packed (rank, slot)
+ * references, the wire formats of the RSRs (plain structs, no pointers), the local state (work
+ * items, holds, cavities) and the context of one pbw_mesh call, pbw_ctx -- passed to every
+ * function, never a file-level global -- and the functions one file offers the others, by file.
+ * All functions are Local (they run on the rank's one MPI thread, inside rt_run's work step,
+ * a handler or a task).
+ */
+#ifndef PBW_IMPL_H
+#define PBW_IMPL_H
+
+#include "pbw/pbw.h"
+
+#include "base/base.h"
+#include "geom/geom.h"
+#include "rt.h"
+#include "seq/mesh.h"
+#include "seq/rules.h"
+
+#include <float.h>
+#include <stdint.h>
+#include <stdio.h>
+
+/* ---- references, kinds, limits ---------------------------------------------------------- */
+
+#define NOREF ((int64_t)-1)
+
+static inline int64_t mkref(int r, int32_t i) {
+    return ((int64_t)r << 32) | (int64_t)(uint32_t)i;
+}
+
+static inline int ref_rank(int64_t r) {
+    return (int)(r >> 32);
+}
+
+static inline int32_t ref_idx(int64_t r) {
+    return (int32_t)(uint32_t)(r & 0xffffffff);
+}
+
+enum { ROLE_NONE = 0, ROLE_MEMBER = 1, ROLE_HALO = 2, ROLE_RES = 3 };
+
+enum { SEED_START = 0, SEED_NORMAL = 1, SEED_HALO = 2, SEED_OPEN = 3 };
+
+enum { K_INSERT = 0, K_SPLIT = 1 };
+
+enum { ST_OK = 0, ST_DIE = 1 };
+
+enum { BF_BEYOND = 1, BF_ENC = 2 };
+
+enum { PR_DONE = 0, PR_DIE = 1, PR_PARK = 2 };
+
+enum { IT_BAD = 0, IT_SPLIT = 1 };
+
+#define NBUCKET MESH_RULES_NBUCKET
+
+#define MAX_INFLIGHT 16
+
+#define WORK_BATCH 64
+
+#define MAXMSG (1u << 28)
+
+/* ---- wire formats (every handler payload is a plain struct or a header + arrays) -------- */
+
+typedef struct pbw_seed { /* visit triangle target, reached from member `from` across ga->gb */
+    int64_t target, from, ga, gb;
+    int32_t mode, pad;
+} pbw_seed;
+_Static_assert(sizeof(pbw_seed) == 40, "pbw_seed layout");
+
+typedef struct pbw_bnd { /* cavity boundary edge ga->gb (cavity on its left) */
+    int64_t ga, gb;
+    int64_t out;    /* triangle on the other side, or NOREF */
+    int64_t newref; /* slot reserved for the new triangle (ga, gb, p) */
+    int64_t inref;  /* the member triangle on this edge */
+    int64_t ck;     /* constraint: dyadic index */
+    int32_t cseg;   /* constraint: original segment, -1 if not a constraint edge */
+    int32_t clev;   /* constraint: dyadic level, -1 if not dyadic */
+    int32_t flags;  /* BF_* */
+    int32_t pad;
+} pbw_bnd;
+_Static_assert(sizeof(pbw_bnd) == 64, "pbw_bnd layout");
+
+typedef struct pbw_whdr { /* head of EXPAND and REPLY payloads */
+    int64_t key;          /* (starter rank << 40) | attempt sequence: unique per attempt */
+    uint64_t stamp;       /* priority (Lamport << 16 | rank); smaller = older */
+    int64_t su, sv;       /* split: the subsegment's vertex ids (else -1) */
+    int64_t holder;       /* DIE: key of the cavity holding the contested triangle */
+    double p[2];          /* the new point */
+    int32_t kind, status, origin, nparts, nbnd, nseed;
+    int32_t died_at; /* DIE: the rank where the conflict was found */
+    int32_t cycle;   /* 1: a member was reached twice, the cavity encloses a vertex */
+} pbw_whdr;
+_Static_assert(sizeof(pbw_whdr) == 88, "pbw_whdr layout");
+
+typedef struct pbw_release_msg {
+    int64_t key;
+    int32_t undo, pad;
+} pbw_release_msg;
+
+typedef struct pbw_split_msg {
+    int64_t gu, gv; /* the subsegment */
+    int64_t ticket; /* wake key for the requester */
+    uint64_t stamp; /* priority: just older than the requesting cavity */
+    int32_t t, notify;
+} pbw_split_msg;
+_Static_assert(sizeof(pbw_split_msg) == 40, "pbw_split_msg layout");
+
+typedef struct pbw_wake_msg {
+    int64_t key;     /* the released cavity, or a split ticket */
+    int32_t refused; /* split ticket: the split was refused (length floor, precision) */
+    int32_t pad;
+} pbw_wake_msg;
+_Static_assert(sizeof(pbw_wake_msg) == 16, "pbw_wake_msg layout");
+
+typedef struct pbw_commit_hdr {
+    int64_t key, pgid;
+    double p[2];
+    int32_t pvseg, n;
+} pbw_commit_hdr;
+_Static_assert(sizeof(pbw_commit_hdr) == 40, "pbw_commit_hdr layout");
+
+typedef struct pbw_newtri {
+    int64_t g[3];  /* vertex ids a, b, p (counter-clockwise) */
+    int64_t nb[3]; /* neighbours across a-b, b-p, p-a */
+    int64_t ck[3];
+    int32_t cseg[3], clev[3];
+    int32_t slot, pad;
+} pbw_newtri;
+_Static_assert(sizeof(pbw_newtri) == 104, "pbw_newtri layout");
+
+/* ---- local state and the context -------------------------------------------------------- */
+
+typedef struct pbw_ctx pbw_ctx;
+
+typedef struct pbw_item { /* a unit of local work */
+    int64_t gu, gv;       /* split: the subsegment */
+    int64_t ticket;       /* split: key to wake the requester with */
+    int64_t wait_key;     /* deferred: the key it waits for */
+    uint64_t stamp;       /* priority kept across retries (0: not yet assigned) */
+    int32_t kind, t;      /* IT_*, local triangle slot */
+    int32_t notify;       /* split: rank to wake when done (-1 none) */
+    int32_t forced;       /* split: 0 = only if the apex still encroaches */
+    int32_t wait_kind;    /* deferred: W_* */
+    int32_t wait_count;   /* deferred W_WAKE: wakes still expected */
+    int32_t refused;      /* deferred W_WAKE: a split it waits for was refused: drop it */
+} pbw_item;
+
+/* What a deferred item waits for: the release of a local lock holder (W_HOLD), a WAKE with
+ * its key (W_WAKE: the holder released on the rank where the cavity died, or a split it asked
+ * for is done), or any event (W_EVENT: a slot for another distributed cavity). */
+enum { W_EVENT = 0, W_HOLD = 1, W_WAKE = 2 };
+
+typedef struct ivec {
+    pbw_item *a;
+    int32_t n, cap, head;
+} ivec;
+
+typedef struct pbw_hold { /* one cavity's locks on this rank */
+    int64_t key;
+    uint64_t stamp;
+    int32_t origin, active, distributed;
+    int32_t *slots, n, cap;
+    double t_spent; /* expansion time spent here (-> RT_TIME_UNDO if released after conflict) */
+} pbw_hold;
+
+typedef struct pbw_cav { /* a cavity's travelling state, at its starter or parked */
+    pbw_whdr h;
+    int32_t *parts, np, pcap;
+    pbw_bnd *b;
+    int32_t nb, bcap;
+    pbw_seed *todo;
+    int32_t ntodo, tcap;
+    pbw_seed *stk;
+    int32_t nstk, scap;
+    /* starter only */
+    pbw_item it;
+    int phase;
+    int woken; /* a WAKE for die_holder arrived before the task ran */
+    int64_t die_holder;
+    void *reply;
+    uint32_t replylen;
+    int32_t sseg, schild_lev; /* split: segment, level of the halves (-1: not dyadic) */
+    int64_t sk_u, sk_v;       /* split: dyadic index of the half at su / at sv */
+    /* parked only */
+    int src;
+    rt_token tok;
+    pbw_ctx *C; /* the mesher it belongs to (for its task) */
+} pbw_cav;
+
+typedef struct pbw_waiter {
+    int64_t key;
+    int32_t rank, pad;
+} pbw_waiter;
+
+typedef struct qent {
+    int32_t t, next;
+} qent;
+
+struct pbw_ctx {
+    int rank, size;
+    int hid[PBW_RSR_NKINDS];
+    /* vertices */
+    int32_t nv, vcap;
+    double *xy;
+    int64_t *vgid;
+    int32_t *vseg;
+    int32_t *vh;
+    uint32_t vhcap;
+    int64_t nvown;
+    /* triangles */
+    int32_t nt, tcap, nlive;
+    int32_t *tv; /* 3 per slot; tv[3s] < 0: dead */
+    int64_t *tn; /* 3 per slot */
+    int32_t *cs, *cl;
+    int64_t *ck;
+    int32_t *lk; /* hold index or -1 */
+    uint8_t *role;
+    int32_t *fre, nfree, frecap;
+    /* input */
+    int32_t ninput, nseg;
+    int32_t *seg, *smarker, *in_vmarker, *inc_off, *inc_seg;
+    uint8_t *corner;
+    int has_corners;
+    /* quality: the shared rules (seq/rules.h) and the input facts they need */
+    mesh_rules R;
+    mesh_rules_input I;
+    double floor2;             /* squared length floor (mesh_rules_length_floor2) */
+    int64_t unresolved_budget; /* refusals this rank accepts before it gives up */
+    int64_t steiner_limit;
+    int stopped;
+    /* queues */
+    int32_t head[NBUCKET + 1]; /* per bucket: a stack of pool entries */
+    qent *pool;
+    int32_t npool, poolcap, pool_free, cursor;
+    ivec splitq, retryq, deferred, phase2;
+    uint32_t ev_epoch, seen_epoch;
+    int32_t nevent; /* deferred W_EVENT items */
+    int phase1;
+    /* cavities */
+    pbw_hold *hd;
+    int32_t nhd, hdcap;
+    pbw_waiter *wt;
+    int32_t nwt, wtcap;
+    pbw_cav **pk;
+    int32_t npk, pkcap;
+    pbw_cav **dy; /* tasks whose DIE reply arrived, not yet run */
+    int32_t ndy, dycap;
+    int draining;
+    int inflight;
+    uint64_t lclock;
+    int64_t seq;
+    pbw_result res;
+    /* PBW_DEBUG */
+    int dbg_on; /* 0: not looked yet, 1: on, 2: off */
+    double dbg_last;
+    FILE *dbg_f;
+};
+
+static inline const double *VX(pbw_ctx *C, int32_t v) {
+    return C->xy + 2 * (size_t)v;
+}
+
+static inline int64_t TG(pbw_ctx *C, int32_t t, int j) { /* global id of vertex j of slot t */
+    return C->vgid[C->tv[3 * (size_t)t + j]];
+}
+
+static inline int alive(pbw_ctx *C, int32_t t) {
+    return t >= 0 && t < C->nt && C->tv[3 * (size_t)t] >= 0;
+}
+
+/* Priority order: stamp, then key (unique), smaller = older. */
+static inline int older(uint64_t sa, int64_t ka, uint64_t sb, int64_t kb) {
+    return sa < sb || (sa == sb && ka < kb);
+}
+
+#define STAMP_FRESH 128u
+
+static inline uint64_t stamp_derived(uint64_t s) { /* just older than s, same clock and rank */
+    uint64_t pri = s & 0xff;
+    return (s & ~(uint64_t)0xff) | (pri > 0 ? pri - 1 : 0);
+}
+
+typedef struct pbw_setup_opts {
+    double min_angle, max_area;
+    int64_t max_steiner;
+} pbw_setup_opts;
+
+/* ---- pbw_store.c: the store ------------------------------------------------------------- */
+
+/* The slot of the vertex with global id gid, or -1 if this rank does not know it. */
+int32_t pbw_vt_find(pbw_ctx *C, int64_t gid);
+
+/* Rebuilds the vertex hash table with cap (a power of two > 2 * C->nv) buckets. */
+void pbw_vt_rehash(pbw_ctx *C, uint32_t cap);
+
+/* The slot of vertex gid, added at (x, y) on segment vseg (-1: none) if it is new. */
+int32_t pbw_vt_add(pbw_ctx *C, int64_t gid, double x, double y, int32_t vseg);
+
+/* A free triangle slot (dead, unlocked, role none; its arrays grown as needed). */
+int32_t pbw_slot_alloc(pbw_ctx *C);
+
+/* Kills slot s and puts it on the free list. */
+void pbw_slot_free(pbw_ctx *C, int32_t s);
+
+/* Edge j of t going from vertex id ga to gb, or -1. */
+int pbw_find_edge(pbw_ctx *C, int32_t t, int64_t ga, int64_t gb);
+
+/* MESH_BAD_ANGLE / MESH_BAD_AREA bits (mesh_rules_bad), 0: good.  *bucket (may be NULL): queue
+ * priority (mesh_rules_bucket: shortest edge first, as refine.c).  *sh: shortest edge j. */
+int pbw_quality(pbw_ctx *C, int32_t t, int *bucket, int *sh);
+
+/* Queues triangle t if it is bad (its bucket: pbw_quality). */
+void pbw_push_bad(pbw_ctx *C, int32_t t);
+
+/* The next queued triangle (worst bucket first; it may be stale: re-check it), or -1. */
+int32_t pbw_pop_bad(pbw_ctx *C);
+
+/* 1 iff vertex id g is an input vertex at a corner below 60 degrees. */
+int pbw_is_corner_gid(pbw_ctx *C, int64_t g);
+
+/* The shared forced-angle rule (mesh_rules_edge_forced) for the shortest edge lu-lv (vertex
+ * slots): an input vertex is named by its id, a Steiner vertex by the segment it lies on. */
+int pbw_edge_forced(pbw_ctx *C, int32_t lu, int32_t lv);
+
+/* 1 iff a new vertex at p would make an edge to vertex slot a shorter than the floor. */
+int pbw_below_floor(pbw_ctx *C, const double p[2], int32_t a);
+
+/* Counts a refusal (a split or Steiner point below the length floor); past the budget this
+ * rank's refinement is diverging (an angle bound beyond reach, or features below the precision
+ * of the coordinates) and it stops, as refine.c does (MESH_REFINE_UNRESOLVED). */
+void pbw_refuse(pbw_ctx *C);
+
+/* Steiner point of bad triangle t (mesh_rules_steiner, on the working grid).  0, or -1. */
+int pbw_steiner_point(pbw_ctx *C, int32_t t, int sh, double out[2]);
+
+/* ---- pbw_items.c: work items and locks -------------------------------------------------- */
+
+/* A FIFO of work items: push a copy of *it; pop the oldest into *it (0 if empty); empty?;
+ * free (q is then empty and usable). */
+void pbw_iv_push(ivec *q, const pbw_item *it);
+int pbw_iv_pop(ivec *q, pbw_item *it);
+int pbw_iv_empty(const ivec *q);
+void pbw_iv_free(ivec *q);
+
+/* Parks a failed item until what it waits for happens (see W_*). */
+void pbw_defer_item(pbw_ctx *C, const pbw_item *it, int kind, int64_t key, int32_t count);
+
+/* After an event (C->ev_epoch moved): the items deferred for any event go back to work. */
+void pbw_refresh_deferred(pbw_ctx *C);
+
+/* A WAKE for key arrived (refused: the split it announces was refused): deferred items
+ * waiting for it go back to work (or are dropped), dying tasks waiting for it are marked. */
+void pbw_wake_key(pbw_ctx *C, int64_t key, int refused);
+
+/* Wakes whoever waits for key on rank r (r < 0: nobody); refused: see deferred_release. */
+void pbw_notify(pbw_ctx *C, int32_t r, int64_t key, int refused);
+
+/* The active hold of cavity key on this rank, or -1. */
+int32_t pbw_hold_find(pbw_ctx *C, int64_t key);
+
+/* A new active hold (no locks yet) for cavity key with priority stamp, started by origin. */
+int32_t pbw_hold_new(pbw_ctx *C, int64_t key, uint64_t stamp, int32_t origin);
+
+/* Locks slot s for hold hi (if not yet) with role (ROLE_*). */
+void pbw_lock_slot(pbw_ctx *C, int32_t s, int32_t hi, int role);
+
+/* Remembers that a cavity of rank `rank` died on cavity key here: it gets a WAKE when key's
+ * hold ends. */
+void pbw_waiter_add(pbw_ctx *C, int64_t key, int32_t rank);
+
+/* Frees hold hi (its locks must be gone) and wakes whoever died on it. */
+void pbw_hold_end(pbw_ctx *C, int32_t hi, int bump);
+
+/* Releases every lock of hold hi on this rank (undo: a lock conflict; bump: wake deferred
+ * local work -- only needed if other work could have been waiting on these locks). */
+void pbw_release_local(pbw_ctx *C, int32_t hi, int undo, int bump);
+
+/* ---- pbw_cavity.c: cavities ------------------------------------------------------------- */
+
+/* A new empty cavity state of C (free with pbw_cav_free; NULL is fine there). */
+pbw_cav *pbw_cav_new(pbw_ctx *C);
+void pbw_cav_free(pbw_cav *c);
+
+/* Adds rank r to c's participants (once) / removes it. */
+void pbw_part_add(pbw_cav *c, int32_t r);
+void pbw_part_remove(pbw_cav *c, int32_t r);
+
+/* A triangle to visit: on this rank's stack, or pending for its owner (SEED_* mode). */
+void pbw_push_seed(pbw_ctx *C, pbw_cav *c, int64_t target, int64_t from, int64_t ga, int64_t gb,
+                   int mode);
+/* Serialises c (full: with boundary edges and seeds). */
+void *pbw_cav_pack(pbw_cav *c, int full, uint32_t *len);
+
+/* Replaces c's header and arrays by the serialised state data. */
+void pbw_cav_unpack_into(pbw_cav *c, const void *data, uint32_t len);
+
+/* Processes the local seeds of c.  initial: the starter's first step (nothing sent yet). */
+int pbw_process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial);
+
+/* New work from triangle t: queued if bad; each of its subsegments its apex encroaches
+ * goes to the split queue. */
+void pbw_check_new_triangle(pbw_ctx *C, int32_t t);
+
+/* Applies this rank's part of a commit: members die, reserved slots become the new triangles,
+ * halos get their link to the new triangle, everything is unlocked. */
+void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt, int bump);
+
+/* Builds the new triangles (one per boundary edge) and commits them on every participant.
+ * Returns 0, or -1 if the boundary is not a proper fan (then nothing was sent). */
+int pbw_commit_all(pbw_ctx *C, pbw_cav *c);
+
+/* The starter's decision once the whole cavity is known (or the expansion died). */
+void pbw_finish(pbw_ctx *C, pbw_cav *c);
+
+/* ---- pbw_proto.c: the protocol ---------------------------------------------------------- */
+
+/* The task of a distributed cavity: send the expansion, wait in the blocking queue for the
+ * chain's reply, decide. */
+rt_task_status pbw_cav_task(rt_task *t, void *state);
+
+/* ---- pbw_work.c: local work ------------------------------------------------------------- */
+
+/* rt_run's work step (ctx: the pbw_ctx): RT_WORK_BUSY or RT_WORK_IDLE. */
+int pbw_work(void *ctx);
+
+/* ---- pbw_setup.c: set-up and end -------------------------------------------------------- */
+
+/* Builds the initial CDT of in, its length floor and this rank's share by the subdomains of d;
+ * queues the initial work.  Returns 0, or -1 with a message in err. */
+int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_decomp *d, char *err,
+              size_t errlen);
+/* The end check of the bounds (as mesh_count_unmet): every triangle this rank owns that is
+ * outside them, except a small angle forced by the input (a corner vertex, or the shared
+ * forced-angle rule on its shortest edge).  Fills C->res.unmet and C->res.forced. */
+void pbw_count_unmet(pbw_ctx *C);
+
+/* Test-only fault (env PBW_TEST_BREAK_IFACE=R): rank R loses the first triangle it owns that
+ * has a neighbour on another rank, as if a commit had been lost at a rank boundary, so the
+ * result no longer matches across that boundary.  The always-on end check (par_output's
+ * interface check) must then fail every rank; tests/t_pbw.sh shows it does. */
+void pbw_test_fault(pbw_ctx *C);
+
+/* This rank's triangles as a mesh_flat (local numbering of the vertices they use). */
+int pbw_to_flat(pbw_ctx *C, mesh_flat *f);
+
+/* Frees C and everything it owns. */
+void pbw_ctx_free(pbw_ctx *C);
+
+/* Bytes of this rank's mesh arrays (capacities). */
+size_t pbw_mesh_bytes(pbw_ctx *C);
+
+/* ---- pbw_proto.c: the bridge to the handlers ------------------------------------------ */
+
+/* Points the handlers at C (and fills C->hid) for one pbw_mesh call; at most one at a time. */
+void pbw_attach(pbw_ctx *C);
+
+/* Ends pbw_attach. */
+void pbw_detach(void);
+
+#endif

@@ -1,0 +1,183 @@
+/* pbw_items.c: PBW's local work items and locks.  A work item (a bad triangle, or a
+ * subsegment to split) that cannot go on now is deferred until what it waits for happens: the
+ * release of a local lock holder, a WAKE naming a key, or any event (a free slot for another
+ * distributed cavity); a deferred item waiting for a refused split is dropped, not retried.
+ * A hold is one cavity's locks on this rank; ending a hold wakes whoever died on it (the
+ * waiters, possibly on other ranks).  Invariant: a deferred item comes back only after an
+ * event, as the runtime's termination contract requires.  Part of TR-97-17 section 2. */
+#include "pbw/pbw_impl.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+void pbw_iv_push(ivec *q, const pbw_item *it) {
+    if (q->n >= q->cap && q->head > 0) {
+        memmove(q->a, q->a + q->head, (size_t)(q->n - q->head) * sizeof(pbw_item));
+        q->n -= q->head;
+        q->head = 0;
+    }
+    MESH_GROW(q->a, q->n, q->cap);
+    q->a[q->n++] = *it;
+}
+
+int pbw_iv_pop(ivec *q, pbw_item *it) {
+    if (q->head >= q->n) {
+        q->head = q->n = 0;
+        return 0;
+    }
+    *it = q->a[q->head++];
+    return 1;
+}
+
+int pbw_iv_empty(const ivec *q) {
+    return q->head >= q->n;
+}
+
+void pbw_iv_free(ivec *q) {
+    free(q->a);
+    memset(q, 0, sizeof *q);
+}
+
+/* Parks a failed item until what it waits for happens (see W_*). */
+void pbw_defer_item(pbw_ctx *C, const pbw_item *it, int kind, int64_t key, int32_t count) {
+    pbw_item d = *it;
+    d.wait_kind = kind;
+    d.wait_key = key;
+    d.wait_count = count;
+    d.refused = 0;
+    if ((kind == W_HOLD && pbw_hold_find(C, key) < 0) || (kind == W_WAKE && count <= 0))
+        pbw_iv_push(&C->retryq, &d); /* already happened */
+    else {
+        if (kind == W_EVENT) C->nevent++;
+        pbw_iv_push(&C->deferred, &d);
+    }
+}
+
+/* Moves the deferred items waiting for (kind, key) to the retry queue (W_EVENT: all
+ * W_EVENT items).  refused (W_WAKE): the split that wakes them was refused; an item that
+ * waited for a refused split is dropped, not retried (its Steiner point would ask for the same
+ * split again), as refine.c drops a bad triangle whose splits all failed. */
+static void deferred_release(pbw_ctx *C, int kind, int64_t key, int refused) {
+    int32_t k = C->deferred.head;
+    for (int32_t i = C->deferred.head; i < C->deferred.n; i++) {
+        pbw_item *d = &C->deferred.a[i];
+        int hit = d->wait_kind == kind && (kind == W_EVENT || d->wait_key == key);
+        if (hit && kind == W_WAKE) {
+            d->refused |= refused;
+            if (--d->wait_count > 0) hit = 0;
+        }
+        if (hit) {
+            if (d->wait_kind == W_EVENT) C->nevent--;
+            if (!d->refused) pbw_iv_push(&C->retryq, d);
+        } else
+            C->deferred.a[k++] = *d;
+    }
+    C->deferred.n = k;
+}
+
+void pbw_refresh_deferred(pbw_ctx *C) {
+    if (C->seen_epoch == C->ev_epoch) return;
+    C->seen_epoch = C->ev_epoch;
+    if (C->nevent > 0) deferred_release(C, W_EVENT, 0, 0);
+}
+
+void pbw_wake_key(pbw_ctx *C, int64_t key, int refused) {
+    deferred_release(C, W_WAKE, key, refused);
+    for (int32_t i = 0; i < C->ndy; i++)
+        if (C->dy[i]->die_holder == key) C->dy[i]->woken = 1;
+}
+
+/* Wakes whoever waits for key on rank r (r < 0: nobody); refused: see deferred_release. */
+void pbw_notify(pbw_ctx *C, int32_t r, int64_t key, int refused) {
+    if (r < 0) return;
+    if (r == C->rank) {
+        pbw_wake_key(C, key, refused);
+    } else {
+        pbw_wake_msg w = {key, refused, 0};
+        rt_rsr(r, C->hid[PBW_RSR_WAKE], &w, sizeof w);
+    }
+}
+
+int32_t pbw_hold_find(pbw_ctx *C, int64_t key) {
+    for (int32_t i = 0; i < C->nhd; i++)
+        if (C->hd[i].active && C->hd[i].key == key) return i;
+    return -1;
+}
+
+int32_t pbw_hold_new(pbw_ctx *C, int64_t key, uint64_t stamp, int32_t origin) {
+    int32_t i;
+    for (i = 0; i < C->nhd; i++)
+        if (!C->hd[i].active) break;
+    if (i == C->nhd) {
+        MESH_GROW(C->hd, C->nhd, C->hdcap);
+        memset(&C->hd[C->nhd], 0, sizeof(pbw_hold));
+        C->nhd++;
+    }
+    pbw_hold *h = &C->hd[i];
+    h->key = key;
+    h->stamp = stamp;
+    h->origin = origin;
+    h->active = 1;
+    h->distributed = 0;
+    h->n = 0;
+    h->t_spent = 0;
+    return i;
+}
+
+void pbw_lock_slot(pbw_ctx *C, int32_t s, int32_t hi, int role) {
+    if (C->lk[s] != hi) {
+        pbw_hold *h = &C->hd[hi];
+        MESH_GROW(h->slots, h->n, h->cap);
+        h->slots[h->n++] = s;
+        C->lk[s] = hi;
+    }
+    C->role[s] = (uint8_t)role;
+}
+
+void pbw_waiter_add(pbw_ctx *C, int64_t key, int32_t rank) {
+    for (int32_t i = 0; i < C->nwt; i++)
+        if (C->wt[i].key == key && C->wt[i].rank == rank) return;
+    MESH_GROW(C->wt, C->nwt, C->wtcap);
+    C->wt[C->nwt].key = key;
+    C->wt[C->nwt].rank = rank;
+    C->nwt++;
+}
+
+/* Frees hold hi (its locks must be gone) and wakes whoever died on it. */
+void pbw_hold_end(pbw_ctx *C, int32_t hi, int bump) {
+    int64_t key = C->hd[hi].key;
+    C->hd[hi].active = 0;
+    C->hd[hi].n = 0;
+    for (int32_t i = 0; i < C->nwt;) {
+        if (C->wt[i].key == key) {
+            pbw_notify(C, C->wt[i].rank, key, 0);
+            C->wt[i] = C->wt[--C->nwt];
+        } else {
+            i++;
+        }
+    }
+    /* only a distributed cavity's locks outlive one step of local work, so only those can
+     * have deferred items waiting for them */
+    if (C->hd[hi].distributed) deferred_release(C, W_HOLD, key, 0);
+    if (bump) C->ev_epoch++;
+}
+
+/* Releases every lock of hold hi on this rank (undo: a lock conflict; bump: wake deferred
+ * local work -- only needed if other work could have been waiting on these locks). */
+void pbw_release_local(pbw_ctx *C, int32_t hi, int undo, int bump) {
+    pbw_hold *h = &C->hd[hi];
+    for (int32_t i = 0; i < h->n; i++) {
+        int32_t s = h->slots[i];
+        if (C->lk[s] != hi) continue;
+        if (C->role[s] == ROLE_RES) {
+            pbw_slot_free(C, s);
+        } else {
+            C->lk[s] = -1;
+            C->role[s] = ROLE_NONE;
+        }
+    }
+    if (undo) rt_stats_add_time(RT_TIME_UNDO, h->t_spent);
+    pbw_hold_end(C, hi, bump);
+}

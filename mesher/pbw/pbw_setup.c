@@ -1,0 +1,307 @@
+/* pbw_setup.c: the start and the end of a PBW run on one rank.  Start: every rank builds the
+ * same CDT of the input (refined coarsely with an area bound, so every rank owns a piece),
+ * computes the length floor from it as ./mesh does, and keeps the triangles whose centroid
+ * lies in one of its subdomains (exact point location in the decomposition's CDT).  End: the
+ * count of triangles left outside the bounds that the input does not force, the test-only
+ * fault (PBW_TEST_BREAK_IFACE), this rank's triangles as a mesh_flat, and freeing the
+ * context. */
+#include "pbw/pbw_impl.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void centroid(const mesh *m, int32_t t, double c[2]) {
+    const double *a = mesh_vertex_xy(m, m->tv[3 * t]), *b = mesh_vertex_xy(m, m->tv[3 * t + 1]),
+                 *d = mesh_vertex_xy(m, m->tv[3 * t + 2]);
+    c[0] = (a[0] + b[0] + d[0]) / 3.0;
+    c[1] = (a[1] + b[1] + d[1]) / 3.0;
+}
+
+/* Owner rank of every triangle slot of m0: the owner of the subdomain of d containing its
+ * centroid (exact point location in the CDT of d's augmented PSLG, whose regions are the
+ * subdomains).  Every rank computes the same answer. */
+static int owners(pbw_ctx *C, const mesh *m0, const pcdm_decomp *d, int32_t *own, char *err,
+                  size_t errlen) {
+    mesh md;
+    mesh_init(&md);
+    if (mesh_build_cdt(&md, &d->g, d->seg_iface, err, errlen) != 0) {
+        mesh_free(&md);
+        return -1;
+    }
+    int32_t *lab = mesh_xrealloc(NULL, ((size_t)md.nt + 1) * sizeof(int32_t), 1);
+    int32_t nreg = mesh_label_regions(&md, lab);
+    int32_t *rsub = mesh_xrealloc(NULL, ((size_t)nreg + 1) * sizeof(int32_t), 1);
+    for (int32_t i = 0; i < nreg; i++)
+        rsub[i] = -1;
+    for (int32_t t = 0; t < md.nt; t++) {
+        if (!mesh_tri_alive(&md, t) || rsub[lab[t]] >= 0) continue;
+        for (int j = 0; j < 3; j++) {
+            const mesh_subseg *ss = mesh_subseg_of_edge(&md, 3 * t + j);
+            if (!ss || ss->seg < 0 || ss->seg >= d->g.nsegs) continue;
+            int32_t s = ss->seg;
+            double c[2];
+            centroid(&md, t, c);
+            const double *A = d->g.xy + 2 * (size_t)d->g.seg[2 * s],
+                         *B = d->g.xy + 2 * (size_t)d->g.seg[2 * s + 1];
+            int32_t sub = d->seg_sub[2 * s + (geom_orient2d(A, B, c) > 0 ? 0 : 1)];
+            if (sub >= 0 && sub < d->nsub) {
+                rsub[lab[t]] = sub;
+                break;
+            }
+        }
+    }
+    int32_t hint = -1;
+    for (int32_t t = 0; t < m0->nt; t++) {
+        own[t] = -1;
+        if (!mesh_tri_alive(m0, t)) continue;
+        double c[2];
+        centroid(m0, t, c);
+        int32_t tt = mesh_locate(&md, c, hint);
+        int32_t sub = -1;
+        if (tt >= 0) {
+            hint = tt;
+            sub = rsub[lab[tt]];
+        }
+        own[t] = sub >= 0 ? d->sub_owner[sub] : 0;
+        if (own[t] < 0 || own[t] >= C->size) own[t] = 0;
+    }
+    free(rsub);
+    free(lab);
+    mesh_free(&md);
+    return 0;
+}
+
+static int32_t *dup_i32(const int32_t *a, size_t n) {
+    int32_t *b = mesh_xrealloc(NULL, (n + 1) * sizeof(int32_t), 1);
+    if (n) memcpy(b, a, n * sizeof(int32_t));
+    return b;
+}
+
+/* The initial boundary-conforming mesh: the CDT of the input; with an area bound, refined
+ * (identically on every rank, by the sequential refiner) to about PRE_TRIS_PER_RANK triangles
+ * per rank but at least PRE_COARSEN times coarser than the bound, so that every rank owns a
+ * piece of it (the CDT of a square has two triangles) while nearly all the work is left to the
+ * parallel phase. */
+#define PRE_TRIS_PER_RANK 32.0
+
+#define PRE_COARSEN 16.0
+
+int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_decomp *d, char *err,
+              size_t errlen) {
+    mesh m0;
+    mesh_init(&m0);
+    if (mesh_build_cdt(&m0, in, NULL, err, errlen) != 0) {
+        mesh_free(&m0);
+        return -1;
+    }
+    /* the length floor of the initial CDT, as ./mesh computes it from the same CDT */
+    C->floor2 = mesh_rules_length_floor2(m0.xy, m0.nv, m0.tv, m0.nt);
+    C->unresolved_budget = mesh_rules_unresolved_budget(m0.ninput);
+    if (so->max_area > 0 && C->size > 1) {
+        double area = 0;
+        for (int32_t t = 0; t < m0.nt; t++)
+            if (mesh_tri_alive(&m0, t))
+                area += geom_area(mesh_vertex_xy(&m0, m0.tv[3 * t]),
+                                  mesh_vertex_xy(&m0, m0.tv[3 * t + 1]),
+                                  mesh_vertex_xy(&m0, m0.tv[3 * t + 2]));
+        double a0 = fmax(area / (PRE_TRIS_PER_RANK * C->size), PRE_COARSEN * so->max_area);
+        mesh_quality q;
+        memset(&q, 0, sizeof q);
+        q.min_angle = so->min_angle;
+        q.max_area = a0;
+        q.max_steiner = so->max_steiner;
+        q.offcenter = 1;
+        mesh_set_quality(&m0, &q);
+        mesh_refine(&m0);
+        C->res.pre_tris = m0.nlive;
+    }
+    int32_t *own = mesh_xrealloc(NULL, ((size_t)m0.nt + 1) * sizeof(int32_t), 1);
+    if (owners(C, &m0, d, own, err, errlen) != 0) {
+        free(own);
+        mesh_free(&m0);
+        return -1;
+    }
+    int32_t *lidx = mesh_xrealloc(NULL, ((size_t)m0.nt + 1) * sizeof(int32_t), 1);
+    int32_t *cnt = mesh_xrealloc(NULL, (size_t)C->size * sizeof(int32_t), 1);
+    memset(cnt, 0, (size_t)C->size * sizeof(int32_t));
+    for (int32_t t = 0; t < m0.nt; t++)
+        lidx[t] = own[t] >= 0 ? cnt[own[t]]++ : -1;
+    /* input data */
+    C->ninput = m0.ninput;
+    C->nseg = m0.nseg;
+    C->seg = dup_i32(m0.seg, 2 * (size_t)m0.nseg);
+    C->smarker = dup_i32(m0.smarker, (size_t)m0.nseg);
+    C->in_vmarker = dup_i32(m0.in_vmarker, (size_t)m0.ninput);
+    C->inc_off = dup_i32(m0.inc_off, (size_t)m0.ninput + 1);
+    C->inc_seg = dup_i32(m0.inc_seg, (size_t)m0.inc_off[m0.ninput]);
+    C->corner = mesh_xrealloc(NULL, (size_t)m0.ninput + 1, 1);
+    memcpy(C->corner, m0.corner, (size_t)m0.ninput);
+    C->has_corners = m0.has_corners;
+    C->I.ninput = C->ninput;
+    C->I.seg = C->seg;
+    C->I.inc_off = C->inc_off;
+    C->I.inc_seg = C->inc_seg;
+    C->I.corner = C->has_corners ? C->corner : NULL;
+    C->I.siface = NULL; /* PBW has no artificial segments */
+    /* initial vertices keep their index as global id (input vertices first) */
+    pbw_vt_rehash(C, 2048);
+    for (int32_t v = 0; v < m0.nv; v++) {
+        const double *p = mesh_vertex_xy(&m0, v);
+        pbw_vt_add(C, v, p[0], p[1], v < m0.ninput ? -1 : m0.vseg[v]);
+    }
+    /* this rank's triangles, in CDT slot order */
+    for (int32_t t = 0; t < m0.nt; t++) {
+        if (own[t] != C->rank) continue;
+        int32_t s = pbw_slot_alloc(C);
+        if (s != lidx[t]) MESH_BUG("slot %d for triangle %d (expected %d)", s, t, lidx[t]);
+        for (int j = 0; j < 3; j++) {
+            int32_t e = 3 * t + j;
+            size_t f = 3 * (size_t)s + (size_t)j;
+            C->tv[f] = m0.tv[e];
+            int32_t nb = m0.tn[e];
+            C->tn[f] = nb >= 0 ? mkref(own[nb / 3], lidx[nb / 3]) : NOREF;
+            const mesh_subseg *ss = mesh_subseg_of_edge(&m0, e);
+            if (mesh_edge_constrained(&m0, e) && !ss) MESH_BUG("constraint edge without record");
+            C->cs[f] = ss ? ss->seg : -1;
+            C->cl[f] = ss ? ss->level : -1;
+            C->ck[f] = ss ? ss->k : 0;
+        }
+        C->nlive++;
+    }
+    free(cnt);
+    free(lidx);
+    free(own);
+    mesh_free(&m0);
+    /* initial work: every bad triangle, every encroached subsegment */
+    for (int32_t t = 0; t < C->nt; t++)
+        pbw_check_new_triangle(C, t);
+    return 0;
+}
+
+/* The end check of the bounds (as mesh_count_unmet): every triangle this rank owns that is
+ * outside them, except a small angle forced by the input (a corner vertex, or the shared
+ * forced-angle rule on its shortest edge).  Fills C->res.unmet and C->res.forced. */
+void pbw_count_unmet(pbw_ctx *C) {
+    for (int32_t t = 0; t < C->nt; t++) {
+        if (!alive(C, t)) continue;
+        int sh = 0, why = pbw_quality(C, t, NULL, &sh);
+        if (!why) continue;
+        const int32_t *tv = C->tv + 3 * (size_t)t;
+        if (why == MESH_BAD_ANGLE &&
+            (pbw_is_corner_gid(C, C->vgid[tv[0]]) || pbw_is_corner_gid(C, C->vgid[tv[1]]) ||
+             pbw_is_corner_gid(C, C->vgid[tv[2]]) ||
+             pbw_edge_forced(C, tv[sh], tv[(sh + 1) % 3]))) {
+            C->res.forced++;
+            continue;
+        }
+        C->res.unmet++;
+    }
+}
+
+/* Test-only fault (env PBW_TEST_BREAK_IFACE=R): rank R loses the first triangle it owns that
+ * has a neighbour on another rank, as if a commit had been lost at a rank boundary, so the
+ * result no longer matches across that boundary.  The always-on end check (par_output's
+ * interface check) must then fail every rank; tests/t_pbw.sh shows it does. */
+void pbw_test_fault(pbw_ctx *C) {
+    const char *e = getenv("PBW_TEST_BREAK_IFACE");
+    if (!e || !*e || atoi(e) != C->rank) return;
+    for (int32_t t = 0; t < C->nt; t++) {
+        if (!alive(C, t) || C->lk[t] >= 0) continue;
+        for (int j = 0; j < 3; j++) {
+            int64_t n = C->tn[3 * (size_t)t + (size_t)j];
+            if (n != NOREF && ref_rank(n) != C->rank) {
+                pbw_slot_free(C, t);
+                C->nlive--;
+                return;
+            }
+        }
+    }
+}
+
+/* This rank's triangles as a mesh_flat (local numbering of the vertices they use). */
+int pbw_to_flat(pbw_ctx *C, mesh_flat *f) {
+    memset(f, 0, sizeof *f);
+    int32_t *map = mesh_xrealloc(NULL, ((size_t)C->nv + 1) * sizeof(int32_t), 1);
+    for (int32_t v = 0; v < C->nv; v++)
+        map[v] = -1;
+    int32_t nv = 0, ntri = 0, nseg = 0;
+    for (int32_t t = 0; t < C->nt; t++) {
+        if (!alive(C, t) || C->lk[t] >= 0) continue;
+        ntri++;
+        for (int j = 0; j < 3; j++) {
+            int32_t v = C->tv[3 * (size_t)t + (size_t)j];
+            if (map[v] < 0) map[v] = nv++;
+            if (C->cs[3 * (size_t)t + (size_t)j] >= 0) nseg++;
+        }
+    }
+    f->nverts = nv;
+    f->xy = mesh_xrealloc(NULL, 2 * ((size_t)nv + 1) * sizeof(double), 1);
+    f->vmarker = mesh_xrealloc(NULL, ((size_t)nv + 1) * sizeof(int32_t), 1);
+    for (int32_t v = 0; v < C->nv; v++) {
+        int32_t o = map[v];
+        if (o < 0) continue;
+        f->xy[2 * o] = C->xy[2 * v];
+        f->xy[2 * o + 1] = C->xy[2 * v + 1];
+        int64_t g = C->vgid[v];
+        f->vmarker[o] = (g >= 0 && g < C->ninput) ? C->in_vmarker[g]
+                        : C->vseg[v] >= 0         ? C->smarker[C->vseg[v]]
+                                                  : 0;
+    }
+    f->ntris = ntri;
+    f->tri = mesh_xrealloc(NULL, 3 * ((size_t)ntri + 1) * sizeof(int32_t), 1);
+    f->trank = mesh_xrealloc(NULL, ((size_t)ntri + 1) * sizeof(int32_t), 1);
+    f->nsegs = nseg;
+    f->seg = mesh_xrealloc(NULL, 2 * ((size_t)nseg + 1) * sizeof(int32_t), 1);
+    f->smarker = mesh_xrealloc(NULL, ((size_t)nseg + 1) * sizeof(int32_t), 1);
+    f->sinterface = mesh_xrealloc(NULL, ((size_t)nseg + 1) * sizeof(int32_t), 1);
+    ntri = nseg = 0;
+    for (int32_t t = 0; t < C->nt; t++) {
+        if (!alive(C, t) || C->lk[t] >= 0) continue;
+        for (int j = 0; j < 3; j++) {
+            size_t e = 3 * (size_t)t + (size_t)j;
+            f->tri[3 * (size_t)ntri + (size_t)j] = map[C->tv[e]];
+            if (C->cs[e] >= 0) {
+                f->seg[2 * (size_t)nseg] = map[C->tv[e]];
+                f->seg[2 * (size_t)nseg + 1] = map[C->tv[3 * (size_t)t + (size_t)((j + 1) % 3)]];
+                f->smarker[nseg] = C->smarker[C->cs[e]];
+                f->sinterface[nseg] = 0;
+                nseg++;
+            }
+        }
+        f->trank[ntri] = C->rank;
+        ntri++;
+    }
+    free(map);
+    return 0;
+}
+
+void pbw_ctx_free(pbw_ctx *C) {
+    free(C->xy), free(C->vgid), free(C->vseg), free(C->vh);
+    free(C->tv), free(C->tn), free(C->cs), free(C->cl), free(C->ck), free(C->lk), free(C->role);
+    free(C->fre);
+    free(C->seg), free(C->smarker), free(C->in_vmarker), free(C->inc_off), free(C->inc_seg);
+    free(C->corner);
+    free(C->pool);
+    pbw_iv_free(&C->splitq), pbw_iv_free(&C->retryq), pbw_iv_free(&C->deferred),
+        pbw_iv_free(&C->phase2);
+    for (int32_t i = 0; i < C->nhd; i++)
+        free(C->hd[i].slots);
+    free(C->hd);
+    free(C->wt);
+    for (int32_t i = 0; i < C->npk; i++)
+        pbw_cav_free(C->pk[i]);
+    free(C->pk);
+    free(C->dy);
+    if (C->dbg_f) fclose(C->dbg_f);
+    free(C);
+}
+
+size_t pbw_mesh_bytes(pbw_ctx *C) {
+    size_t c = (size_t)C->tcap;
+    size_t b = c * (3 * (4 + 8 + 4 + 4 + 8) + 4 + 1);
+    b += (size_t)C->vcap * (16 + 8 + 4) + (size_t)C->vhcap * 4 + (size_t)C->frecap * 4;
+    b += (size_t)C->poolcap * sizeof(qent);
+    return b;
+}

@@ -1,0 +1,366 @@
+/* unit_pbw.c - the parts of ./pbw that need no MPI (issue 13): the store (vertex table, triangle
+ * slots, the bad-triangle queue on the shared rules), the work items and locks (deferral,
+ * wakes, refused splits, holds), the cavity state's wire format, and the rules PBW shares with
+ * refine.c (the forced-angle rule with its consecutive-segment test, the queue priority, the
+ * length floor).  Each test builds a context by hand, as pbw_setup would, with rank 0 of 1. */
+#include "pbw/pbw_impl.h"
+
+#include <check.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static pbw_ctx *ctx_new(double min_angle, double max_area) {
+    geom_init();
+    pbw_ctx *C = mesh_xcalloc(1, sizeof *C);
+    C->rank = 0;
+    C->size = 1;
+    C->pool_free = -1;
+    C->cursor = NBUCKET + 1;
+    for (int i = 0; i <= NBUCKET; i++)
+        C->head[i] = -1;
+    mesh_rules_init(&C->R, min_angle, max_area, 1, 0);
+    C->steiner_limit = -1;
+    pbw_vt_rehash(C, 16);
+    return C;
+}
+
+/* A live triangle on vertex slots a, b, c (counter-clockwise), no neighbours or constraints. */
+static int32_t tri(pbw_ctx *C, int32_t a, int32_t b, int32_t c) {
+    int32_t s = pbw_slot_alloc(C);
+    int32_t v[3] = {a, b, c};
+    for (int j = 0; j < 3; j++) {
+        C->tv[3 * s + j] = v[j];
+        C->tn[3 * s + j] = NOREF;
+        C->cs[3 * s + j] = -1;
+        C->cl[3 * s + j] = -1;
+        C->ck[3 * s + j] = 0;
+    }
+    C->nlive++;
+    return s;
+}
+
+START_TEST(test_vertex_table) {
+    pbw_ctx *C = ctx_new(0, 0);
+    enum { N = 5000 };
+    for (int32_t i = 0; i < N; i++) {
+        int64_t gid = i < 100 ? i : ((int64_t)(1 + i % 7) << 32) | i;
+        int32_t v = pbw_vt_add(C, gid, i * 0.5, -i * 0.25, i % 3 - 1);
+        ck_assert_int_eq(v, i);
+    }
+    ck_assert_int_eq(C->nv, N);
+    ck_assert_uint_ge(C->vhcap, 2 * (uint32_t)N);
+    for (int32_t i = 0; i < N; i++) {
+        int64_t gid = i < 100 ? i : ((int64_t)(1 + i % 7) << 32) | i;
+        int32_t v = pbw_vt_find(C, gid);
+        ck_assert_int_eq(v, i);
+        ck_assert(VX(C, v)[0] == i * 0.5 && VX(C, v)[1] == -i * 0.25);
+        ck_assert_int_eq(C->vseg[v], i % 3 - 1);
+        /* adding a known id again returns its slot and keeps its coordinates */
+        ck_assert_int_eq(pbw_vt_add(C, gid, 1e9, 1e9, 5), i);
+        ck_assert(VX(C, v)[0] == i * 0.5);
+    }
+    ck_assert_int_eq(pbw_vt_find(C, (int64_t)9 << 32), -1);
+    ck_assert_int_eq(pbw_vt_find(C, N + 1000), -1);
+    pbw_ctx_free(C);
+}
+END_TEST
+
+START_TEST(test_slots_reuse) {
+    pbw_ctx *C = ctx_new(0, 0);
+    pbw_vt_add(C, 0, 0, 0, -1);
+    pbw_vt_add(C, 1, 1, 0, -1);
+    pbw_vt_add(C, 2, 0, 1, -1);
+    int32_t s[3];
+    for (int i = 0; i < 3; i++) {
+        s[i] = tri(C, 0, 1, 2);
+        ck_assert_int_eq(s[i], i);
+        ck_assert(alive(C, s[i]));
+        ck_assert_int_eq(TG(C, s[i], 1), 1);
+    }
+    ck_assert_int_eq(pbw_find_edge(C, s[0], 1, 2), 1);
+    ck_assert_int_eq(pbw_find_edge(C, s[0], 2, 1), -1);
+    pbw_slot_free(C, s[1]);
+    ck_assert(!alive(C, s[1]));
+    ck_assert(!alive(C, -1) && !alive(C, 99));
+    ck_assert_int_eq(pbw_slot_alloc(C), s[1]); /* the free list first */
+    ck_assert_int_eq(C->lk[s[1]], -1);
+    ck_assert_int_eq(C->role[s[1]], ROLE_NONE);
+    ck_assert_int_eq(pbw_slot_alloc(C), 3);
+    pbw_ctx_free(C);
+}
+END_TEST
+
+START_TEST(test_bad_queue_order) {
+    /* -q 30 -a 1: a good triangle is not queued; the bad ones come out shortest edge first */
+    pbw_ctx *C = ctx_new(30, 1.0);
+    const double p[][2] = {{0, 0},  {1, 0},  {0.5, 0.866}, {4, 0},  {4.5, 0.1}, {0, 1},
+                           {10, 0}, {12, 0}, {11, 1.7},    {20, 0}, {20.01, 0}, {20.005, 1}};
+    for (int32_t i = 0; i < 12; i++)
+        pbw_vt_add(C, i, p[i][0], p[i][1], -1);
+    int32_t good = tri(C, 0, 1, 2);     /* equilateral, area 0.43 */
+    int32_t sliver = tri(C, 1, 3, 4);   /* skinny, shortest edge ~0.51 */
+    int32_t big = tri(C, 6, 7, 8);      /* well shaped, area 1.7 > 1 */
+    int32_t needle = tri(C, 9, 10, 11); /* skinny, shortest edge 0.01 */
+    (void)tri(C, 0, 1, 5);              /* right isosceles, area 0.5: good */
+    int sh = -1;
+    ck_assert_int_eq(pbw_quality(C, good, NULL, &sh), 0);
+    ck_assert_int_eq(pbw_quality(C, sliver, NULL, &sh), MESH_BAD_ANGLE);
+    ck_assert_int_eq(pbw_quality(C, big, NULL, &sh), MESH_BAD_AREA);
+    ck_assert_int_eq(pbw_quality(C, needle, NULL, &sh), MESH_BAD_ANGLE);
+    ck_assert_int_eq(sh, 0); /* edge 9-10 */
+    for (int32_t t = 0; t < C->nt; t++)
+        pbw_push_bad(C, t);
+    ck_assert_int_eq(pbw_pop_bad(C), needle);
+    ck_assert_int_eq(pbw_pop_bad(C), sliver);
+    ck_assert_int_eq(pbw_pop_bad(C), big);
+    ck_assert_int_eq(pbw_pop_bad(C), -1);
+    pbw_ctx_free(C);
+}
+END_TEST
+
+START_TEST(test_deferred_wakes) {
+    pbw_ctx *C = ctx_new(0, 0);
+    pbw_item it;
+    memset(&it, 0, sizeof it);
+    it.kind = IT_BAD;
+    it.t = 7;
+    /* two splits asked for: back to work after both wakes */
+    pbw_defer_item(C, &it, W_WAKE, 42, 2);
+    ck_assert(pbw_iv_empty(&C->retryq));
+    pbw_wake_key(C, 42, 0);
+    ck_assert(pbw_iv_empty(&C->retryq));
+    pbw_wake_key(C, 41, 0); /* another key: nothing */
+    ck_assert(pbw_iv_empty(&C->retryq));
+    pbw_notify(C, 0, 42, 0); /* to this rank: no message */
+    pbw_item got;
+    ck_assert(pbw_iv_pop(&C->retryq, &got));
+    ck_assert_int_eq(got.t, 7);
+    ck_assert(!pbw_iv_pop(&C->retryq, &got));
+    /* one of two splits refused: the item is dropped, not retried */
+    it.t = 8;
+    pbw_defer_item(C, &it, W_WAKE, 43, 2);
+    pbw_wake_key(C, 43, 1);
+    pbw_wake_key(C, 43, 0);
+    ck_assert(pbw_iv_empty(&C->retryq));
+    ck_assert_int_eq(C->deferred.n - C->deferred.head, 0);
+    /* waiting for a hold that does not exist: retried at once */
+    it.t = 9;
+    pbw_defer_item(C, &it, W_HOLD, 77, 1);
+    ck_assert(pbw_iv_pop(&C->retryq, &got));
+    ck_assert_int_eq(got.t, 9);
+    /* any event: back after the epoch moves */
+    it.t = 10;
+    pbw_defer_item(C, &it, W_EVENT, 0, 1);
+    ck_assert_int_eq(C->nevent, 1);
+    pbw_refresh_deferred(C);
+    ck_assert(pbw_iv_empty(&C->retryq));
+    C->ev_epoch++;
+    pbw_refresh_deferred(C);
+    ck_assert(pbw_iv_pop(&C->retryq, &got));
+    ck_assert_int_eq(got.t, 10);
+    ck_assert_int_eq(C->nevent, 0);
+    pbw_ctx_free(C);
+}
+END_TEST
+
+START_TEST(test_holds) {
+    pbw_ctx *C = ctx_new(0, 0);
+    pbw_vt_add(C, 0, 0, 0, -1);
+    pbw_vt_add(C, 1, 1, 0, -1);
+    pbw_vt_add(C, 2, 0, 1, -1);
+    int32_t a = tri(C, 0, 1, 2), b = tri(C, 0, 1, 2);
+    int32_t hi = pbw_hold_new(C, 5, 100, 0);
+    ck_assert_int_eq(pbw_hold_find(C, 5), hi);
+    ck_assert_int_eq(pbw_hold_find(C, 6), -1);
+    pbw_lock_slot(C, a, hi, ROLE_MEMBER);
+    pbw_lock_slot(C, b, hi, ROLE_HALO);
+    pbw_lock_slot(C, a, hi, ROLE_MEMBER); /* once */
+    int32_t r = pbw_slot_alloc(C);
+    pbw_lock_slot(C, r, hi, ROLE_RES);
+    ck_assert_int_eq(C->hd[hi].n, 3);
+    ck_assert_int_eq(C->lk[a], hi);
+    /* an item deferred on the hold comes back when a distributed hold ends */
+    pbw_item it;
+    memset(&it, 0, sizeof it);
+    it.t = a;
+    C->hd[hi].distributed = 1;
+    pbw_defer_item(C, &it, W_HOLD, 5, 1);
+    ck_assert(pbw_iv_empty(&C->retryq));
+    pbw_release_local(C, hi, 0, 1);
+    ck_assert_int_eq(pbw_hold_find(C, 5), -1);
+    ck_assert_int_eq(C->lk[a], -1);
+    ck_assert_int_eq(C->lk[b], -1);
+    ck_assert(alive(C, a) && alive(C, b));
+    ck_assert(!alive(C, r)); /* the reserved slot went back to the free list */
+    ck_assert_int_eq(pbw_slot_alloc(C), r);
+    ck_assert(!pbw_iv_empty(&C->retryq));
+    /* the hold's entry is reused */
+    ck_assert_int_eq(pbw_hold_new(C, 9, 1, 0), hi);
+    pbw_ctx_free(C);
+}
+END_TEST
+
+START_TEST(test_cavity_wire_format) {
+    pbw_ctx *C = ctx_new(0, 0);
+    pbw_cav *c = pbw_cav_new(C);
+    ck_assert_ptr_eq(c->C, C);
+    c->h.key = 12345;
+    c->h.p[0] = 0.1;
+    c->h.p[1] = -3e-300;
+    c->h.cycle = 1;
+    pbw_part_add(c, 3);
+    pbw_part_add(c, 1);
+    pbw_part_add(c, 3);
+    ck_assert_int_eq(c->np, 2);
+    for (int i = 0; i < 5; i++) {
+        MESH_GROW(c->b, c->nb, c->bcap);
+        memset(&c->b[c->nb], 0, sizeof c->b[0]);
+        c->b[c->nb].ga = i;
+        c->b[c->nb].cseg = -1;
+        c->nb++;
+    }
+    pbw_push_seed(C, c, mkref(2, 17), mkref(0, 1), 4, 5, SEED_NORMAL); /* remote: pending */
+    pbw_push_seed(C, c, mkref(0, 3), mkref(0, 1), 5, 6, SEED_HALO);    /* local: stack */
+    ck_assert_int_eq(c->ntodo, 1);
+    ck_assert_int_eq(c->nstk, 1);
+    uint32_t len;
+    void *buf = pbw_cav_pack(c, 1, &len);
+    pbw_cav *d = pbw_cav_new(C);
+    pbw_cav_unpack_into(d, buf, len);
+    ck_assert_int_eq(d->h.key, 12345);
+    ck_assert(d->h.p[0] == 0.1 && d->h.p[1] == -3e-300);
+    ck_assert_int_eq(d->h.cycle, 1);
+    ck_assert_int_eq(d->np, 2);
+    ck_assert_int_eq(d->nb, 5);
+    ck_assert_int_eq(d->b[4].ga, 4);
+    ck_assert_int_eq(d->ntodo, 1);
+    ck_assert_int_eq(ref_rank(d->todo[0].target), 2);
+    ck_assert_int_eq(ref_idx(d->todo[0].target), 17);
+    free(buf);
+    /* a header-only pack (a reply that died) carries no edges or seeds */
+    buf = pbw_cav_pack(c, 0, &len);
+    ck_assert_uint_eq(len, sizeof(pbw_whdr) + 8);
+    pbw_cav_unpack_into(d, buf, len);
+    ck_assert_int_eq(d->nb, 0);
+    ck_assert_int_eq(d->ntodo, 0);
+    free(buf);
+    pbw_part_remove(c, 3);
+    ck_assert_int_eq(c->np, 1);
+    ck_assert_int_eq(c->parts[0], 1);
+    pbw_cav_free(c);
+    pbw_cav_free(d);
+    pbw_cav_free(NULL);
+    pbw_ctx_free(C);
+}
+END_TEST
+
+/* The input of the forced-angle tests: corner a = 0 at the origin with segments to 1 (along
+ * x) and 2 (at 20 degrees); with `third`, a segment to 3 at 10 degrees lies between them. */
+typedef struct corner_input {
+    double xy[8];
+    int32_t seg[6], inc_off[5], inc_seg[6];
+    uint8_t corner[4], siface[3];
+    mesh_rules_input I;
+} corner_input;
+
+static void corner_setup(corner_input *c, int third, int third_iface) {
+    double r = M_PI / 180.0;
+    double xy[8] = {0, 0, 1, 0, cos(20 * r), sin(20 * r), cos(10 * r), sin(10 * r)};
+    memcpy(c->xy, xy, sizeof xy);
+    int32_t seg[6] = {0, 1, 0, 2, 0, 3};
+    memcpy(c->seg, seg, sizeof seg);
+    int ns = third ? 3 : 2;
+    /* CSR: vertex 0 has every segment, vertex k has segment k-1 */
+    c->inc_off[0] = 0;
+    c->inc_off[1] = ns;
+    c->inc_off[2] = ns + 1;
+    c->inc_off[3] = ns + 2;
+    c->inc_off[4] = ns + 2 + (third ? 1 : 0);
+    for (int i = 0; i < ns; i++)
+        c->inc_seg[i] = i;
+    c->inc_seg[ns] = 0;
+    c->inc_seg[ns + 1] = 1;
+    if (third) c->inc_seg[ns + 2] = 2;
+    memset(c->corner, 0, sizeof c->corner);
+    c->corner[0] = 1;
+    memset(c->siface, 0, sizeof c->siface);
+    c->siface[2] = (uint8_t)third_iface;
+    c->I.ninput = third ? 4 : 3;
+    c->I.xy = c->xy;
+    c->I.seg = c->seg;
+    c->I.inc_off = c->inc_off;
+    c->I.inc_seg = c->inc_seg;
+    c->I.corner = c->corner;
+    c->I.siface = third_iface ? c->siface : NULL;
+}
+
+START_TEST(test_rules_edge_forced) {
+    geom_init();
+    corner_input c;
+    double r = M_PI / 180.0;
+    double u[2] = {0.5, 0}, v[2] = {0.5 * cos(20 * r), 0.5 * sin(20 * r)};
+    double w[2] = {0.3 * cos(20 * r), 0.3 * sin(20 * r)};
+    /* Steiner vertices on segments 0 and 1, at the same distance from the corner: forced */
+    corner_setup(&c, 0, 0);
+    ck_assert_int_eq(mesh_rules_edge_forced(&c.I, -1, 0, u, -1, 1, v), 1);
+    ck_assert_int_eq(mesh_rules_edge_forced(&c.I, -1, 1, v, -1, 0, u), 1);
+    /* not at the same distance, on one segment, or on no segment: not forced */
+    ck_assert_int_eq(mesh_rules_edge_forced(&c.I, -1, 0, u, -1, 1, w), 0);
+    ck_assert_int_eq(mesh_rules_edge_forced(&c.I, -1, 0, u, -1, 0, u), 0);
+    ck_assert_int_eq(mesh_rules_edge_forced(&c.I, -1, -1, u, -1, 1, v), 0);
+    /* an input vertex at the far end of a segment counts by its incident segments */
+    double one[2] = {1, 0}, vv[2] = {cos(20 * r), sin(20 * r)};
+    ck_assert_int_eq(mesh_rules_edge_forced(&c.I, 1, -1, one, 2, -1, vv), 1);
+    /* no corners known: never forced */
+    c.I.corner = NULL;
+    ck_assert_int_eq(mesh_rules_edge_forced(&c.I, -1, 0, u, -1, 1, v), 0);
+    /* a third input segment between them: 0 and 1 are not consecutive (refine.c's test that
+     * PBW's old copy lacked) */
+    corner_setup(&c, 1, 0);
+    ck_assert_int_eq(mesh_rules_edge_forced(&c.I, -1, 0, u, -1, 1, v), 0);
+    /* ... unless it is an interface segment, which is not the input's */
+    corner_setup(&c, 1, 1);
+    ck_assert_int_eq(mesh_rules_edge_forced(&c.I, -1, 0, u, -1, 1, v), 1);
+}
+END_TEST
+
+START_TEST(test_rules_priority_floor) {
+    geom_init();
+    /* shortest edge first: the bucket grows with the squared length, by binary exponent */
+    ck_assert_int_lt(mesh_rules_bucket(1e-6), mesh_rules_bucket(1e-3));
+    ck_assert_int_lt(mesh_rules_bucket(1.0), mesh_rules_bucket(4.0));
+    ck_assert_int_eq(mesh_rules_bucket(1.0), mesh_rules_bucket(1.5));
+    ck_assert_int_lt(mesh_rules_bucket(1e-300), mesh_rules_bucket(1e-6));
+    ck_assert_int_lt(mesh_rules_bucket(1e300), MESH_RULES_NBUCKET);
+    /* the floor of one right triangle with legs 1: smallest altitude^2 = 1/2, magnitude 1 */
+    double xy[] = {0, 0, 1, 0, 0, 1, 5, 5};
+    int32_t tv[] = {0, 1, 2, -2, 0, 0};
+    double f = mesh_rules_length_floor2(xy, 3, tv, 2);
+    ck_assert(f == fmax(0.5 * 0x1p-48, 0x1p-88));
+    /* far from the origin the magnitude term wins */
+    double xy2[] = {1e6, 0, 1e6 + 1, 0, 1e6, 1};
+    ck_assert(mesh_rules_length_floor2(xy2, 3, tv, 1) == (1e6 + 1) * (1e6 + 1) * 0x1p-88);
+    ck_assert_int_eq(mesh_rules_unresolved_budget(0), 256);
+    ck_assert_int_eq(mesh_rules_unresolved_budget(1000), 506);
+}
+END_TEST
+
+int main(void) {
+    Suite *s = suite_create("pbw");
+    TCase *tc = tcase_create("pbw");
+    tcase_add_test(tc, test_vertex_table);
+    tcase_add_test(tc, test_slots_reuse);
+    tcase_add_test(tc, test_bad_queue_order);
+    tcase_add_test(tc, test_deferred_wakes);
+    tcase_add_test(tc, test_holds);
+    tcase_add_test(tc, test_cavity_wire_format);
+    tcase_add_test(tc, test_rules_edge_forced);
+    tcase_add_test(tc, test_rules_priority_floor);
+    suite_add_tcase(s, tc);
+    SRunner *sr = srunner_create(s);
+    srunner_run_all(sr, CK_NORMAL);
+    int failed = srunner_ntests_failed(sr);
+    srunner_free(sr);
+    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+}
