@@ -134,15 +134,19 @@ int main(int argc, char **argv) {
         rs[RS_KIND0 + k] = (double)res.rsr_sent[k];
     int limit_any = 0;
     MESH_MPI(MPI_Allreduce(&res.limit_hit, &limit_any, 1, MPI_INT, MPI_MAX, comm));
-    if (limit_any && rank == 0)
-        fprintf(stderr, "pbw: warning: Steiner point limit (%lld) reached; quality not met\n",
-                (long long)o.max_steiner);
     /* never a silent success outside the bounds (as ./mesh and ./pcdm): what is left must be
-     * forced by the input; a rank that gave up (refusals past the budget) always leaves some */
-    long long unmet[2] = {limit_any ? 0 : (long long)res.unmet, (long long)res.unresolved},
-              unmet_all[2] = {0, 0};
+     * forced by the input (a rank that gave up, refusals past the budget, always leaves some),
+     * or the Steiner limit the user set stopped refinement (exit 3: the mesh written, checked
+     * without the bounds) */
+    long long unmet[2] = {(long long)res.unmet, (long long)res.unresolved}, unmet_all[2] = {0, 0};
     MESH_MPI(MPI_Allreduce(unmet, unmet_all, 2, MPI_LONG_LONG, MPI_SUM, comm));
-    if (unmet_all[0] > 0) {
+    int limited = limit_any && unmet_all[0] > 0;
+    if (limited && rank == 0)
+        fprintf(stderr,
+                "pbw: %s: Steiner point limit (-S %lld) reached with %lld triangles outside the "
+                "bounds; the mesh is conforming but does not meet them (exit status 3)\n",
+                o.input, (long long)o.max_steiner, unmet_all[0]);
+    if (unmet_all[0] > 0 && !limited) {
         if (rank == 0)
             fprintf(stderr,
                     "pbw: %s: cannot meet the bounds: %lld triangles still violate them after "
@@ -157,7 +161,9 @@ int main(int argc, char **argv) {
     }
     /* the common end: interface check, numbering, --check, output (no gather) */
     par_summary sum;
-    int status = par_output(&o, &in, &local, NULL, &sum);
+    par_opts oc = o; /* what --check holds the mesh to */
+    if (limited) oc.min_angle = oc.max_area = 0;
+    int status = par_output(&oc, &in, &local, NULL, &sum);
     mesh_flat_free(&local);
     /* statistics: reductions of per-rank figures; memory taken now, after the output */
     rs[RS_RSS] = (double)par_peak_rss_bytes();
@@ -206,5 +212,5 @@ int main(int argc, char **argv) {
     pcdm_decomp_free(&d);
     pslg_free(&in);
     rt_finalize();
-    return status;
+    return status == 0 && limited ? 3 : status;
 }

@@ -192,6 +192,18 @@ while IFS='|' read -r f opts want pat; do
     done
 done <tests/fuzz/regress/TABLE
 
+# the Steiner limit: exit 3 on every rank, a conforming mesh written (checked without bounds);
+# not reached: exit 0
+rm -f "$T"/s100.*
+out=$(ranks_exit 3 "$T/rc" -S 100 -a 0.0001 --check -o "$T/s100" data/square.poly 2>&1)
+echo "np=3 -S 100 -> [$(tr '\n' ' ' <"$T/rc")]"
+[ "$(awk '$2 == 3' "$T/rc" | wc -l)" -eq 3 ] || fail "-S 100: not every rank exited 3: $(cat "$T/rc") $out"
+grep -q "Steiner point limit (-S 100) reached" <<<"$out" && grep -q '^meshcheck: OK' <<<"$out" &&
+    [ -s "$T/s100.ele" ] || fail "-S 100: no message, no --check OK or no mesh: $out"
+out=$(ranks_exit 3 "$T/rc" -S 100000 -a 0.01 --check data/square.poly 2>&1)
+[ "$(awk '$2 == 0' "$T/rc" | wc -l)" -eq 3 ] || fail "-S not reached: $(cat "$T/rc") $out"
+n=$((n + 2))
+
 # the test-only fault: rank 1 loses a triangle at a rank boundary; the always-on end check
 # (the interface check before any output) must fail every rank and write nothing
 for np in 2 3 4 8; do
