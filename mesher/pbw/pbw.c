@@ -145,6 +145,15 @@ int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat 
     for (int32_t i = 0; i < C->nhd; i++)
         if (C->hd[i].active)
             MESH_BUG("cavity %llx still holds locks", (unsigned long long)C->hd[i].key);
+    /* no work is left behind: a rank that stopped (Steiner limit, refusals past the budget)
+     * dropped its items; any other item still queued or deferred waits for an event that
+     * will never come (a lost WAKE, a hold never released) */
+    int32_t left[5] = {C->deferred.n - C->deferred.head, C->retryq.n - C->retryq.head,
+                       C->splitq.n - C->splitq.head, C->phase2.n - C->phase2.head, C->ndy};
+    if (left[0] || left[1] || left[2] || left[3] || left[4])
+        MESH_BUG("work left at the end: %d deferred, %d to retry, %d splits, %d postponed, "
+                 "%d dying tasks",
+                 left[0], left[1], left[2], left[3], left[4]);
     pbw_count_unmet(C);
     pbw_test_fault(C);
     pbw_to_flat(C, local);

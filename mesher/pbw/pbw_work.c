@@ -142,7 +142,10 @@ static void process_item(pbw_ctx *C, pbw_item *it) {
             pbw_notify(C, it->notify, it->ticket, 0);
             return;
         }
-        if (limit_reached(C)) return;
+        if (limit_reached(C)) { /* the requester drops what waited for this split */
+            pbw_notify(C, it->notify, it->ticket, 1);
+            return;
+        }
         double p[2];
         int32_t clev;
         int64_t ka, kb;
@@ -211,12 +214,18 @@ static int has_items(pbw_ctx *C) {
     return C->cursor <= NBUCKET;
 }
 
+/* A stopped rank drops its work; whoever waits for one of its splits is told the split was
+ * refused (so it drops that work too, and nothing waits forever). */
 static void drop_all_items(pbw_ctx *C) {
-    pbw_item it;
-    while (next_item(C, &it)) {
-    }
-    C->deferred.n = C->deferred.head = 0;
+    ivec d = C->deferred;
+    memset(&C->deferred, 0, sizeof C->deferred);
     C->nevent = 0;
+    pbw_item it;
+    while (next_item(C, &it))
+        if (it.kind == IT_SPLIT) pbw_notify(C, it.notify, it.ticket, 1);
+    while (pbw_iv_pop(&d, &it))
+        if (it.kind == IT_SPLIT) pbw_notify(C, it.notify, it.ticket, 1);
+    pbw_iv_free(&d);
 }
 
 /* rt_run's local work step: a bounded number of cavities, splits first, then retries, then
