@@ -173,6 +173,41 @@ START_TEST(test_domain_area) {
 }
 END_TEST
 
+/* Walks with bridges: a dumbbell (squares A and B joined by a segment) and an island C joined to
+ * the outer boundary by a segment, so the walks of the big face and of the dumbbell's outside
+ * run both ways along the bridges; the sign of each walk decides which faces exist. */
+START_TEST(test_domain_area_bridges) {
+    double xy[] = {0,   0,  10,  0, 10, 10, 0, 10, /* 0-3 outer */
+                   1,   1,  3,   1, 3,  3,  1, 3,  /* 4-7 A */
+                   6,   1,  8,   1, 8,  3,  6, 3,  /* 8-11 B */
+                   4,   6,  5,   6, 5,  7,  4, 7,  /* 12-15 C */
+                   4.5, 10, 4.5, 7};               /* 16-17 C's bridge (T-junctions) */
+    int32_t seg[] = {0, 1,  1,  2,  2,  3, 3,  0,  4,  5,  5,  6,  6,  7,  7, 4, 8,  9,
+                     9, 10, 10, 11, 11, 8, 12, 13, 13, 14, 14, 15, 15, 12, 5, 8, 16, 17};
+    pslg g = {0};
+    g.nverts = 18;
+    g.xy = malloc(sizeof xy);
+    memcpy(g.xy, xy, sizeof xy);
+    g.nsegs = (int32_t)(sizeof seg / sizeof seg[0] / 2);
+    g.seg = malloc(sizeof seg);
+    memcpy(g.seg, seg, sizeof seg);
+    g.holes = malloc(4 * sizeof(double));
+    char err[512];
+    ck_assert_msg(pslg_check(&g, err, sizeof err) == 0, "%s", err);
+    ck_assert_double_eq(pslg_domain_area(&g), 100.0);
+    g.nholes = 1;
+    g.holes[0] = g.holes[1] = 2; /* inside A */
+    ck_assert_double_eq(pslg_domain_area(&g), 96.0);
+    g.holes[0] = g.holes[1] = 5; /* the big face: A, B and C stay */
+    ck_assert_double_eq(pslg_domain_area(&g), 9.0);
+    g.nholes = 2;
+    g.holes[2] = 4.5; /* and C */
+    g.holes[3] = 6.5;
+    ck_assert_double_eq(pslg_domain_area(&g), 8.0);
+    pslg_free(&g);
+}
+END_TEST
+
 /* Nested rings, a floating segment, dangling segments, T-junctions and hole points:
  * outer [0,4]^2, middle [1,3]^2, inner [1.5,2.5]^2. */
 START_TEST(test_domain_area_nested) {
@@ -423,6 +458,7 @@ int main(void) {
     tcase_add_loop_test(tc, test_data_counts, 0, (int)(sizeof data / sizeof data[0]));
     tcase_add_loop_test(tc, test_domain_area, 0, (int)(sizeof data / sizeof data[0]));
     tcase_add_test(tc, test_domain_area_nested);
+    tcase_add_test(tc, test_domain_area_bridges);
     tcase_add_loop_test(tc, test_input_angles, 0, (int)(sizeof data / sizeof data[0]));
     tcase_add_test(tc, test_node_and_regions);
     tcase_add_test(tc, test_roundtrip);

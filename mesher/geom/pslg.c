@@ -1287,32 +1287,43 @@ static int32_t uf_find(int32_t *p, int32_t x) {
 }
 
 /* The exact sign of the area of closed walk number id starting at h0 (cid[] already holds id
- * on the whole walk).  Half-edges whose twin lies on the same walk (dangling segments, trees)
- * add nothing to the area; if every half-edge is such, the area is exactly 0.  The others form
- * a closed walk whose turn at its lexicographically smallest vertex (a strictly convex corner
- * of it) gives the orientation, by orient2d. */
+ * on the whole walk).  Half-edges whose twin lies on the same walk (dangling segments, trees,
+ * bridges to islands) add nothing to the area; if every half-edge is such, the area is exactly
+ * 0.  The others bound the walk's region; at their lexicographically smallest vertex v every
+ * one of them points into the half-plane right of v, and the most clockwise of them borders
+ * the outside of the region: the face (left of each half-edge) lies inside iff that one leaves
+ * v (a counter-clockwise outer boundary, positive) and outside iff it enters v (the clockwise
+ * outer boundary of a component, negative).  Directions are compared by orient2d, exactly. */
+static int lex_less(const double *p, const double *q) {
+    return p[0] < q[0] || (p[0] == q[0] && p[1] < q[1]);
+}
+
 static int walk_sign(const arr *A, const int32_t *cid, int32_t h0, int32_t id) {
-    int32_t h = h0, best = -1, best_in = -1, last = -1, first_in_pending = 0;
+    int32_t h = h0, v = -1;
     do {
-        if (cid[h ^ 1] != id) {
-            const double *p = A->xy + 2 * A->org[h];
-            if (best < 0 || p[0] < A->xy[2 * A->org[best]] ||
-                (p[0] == A->xy[2 * A->org[best]] && p[1] < A->xy[2 * A->org[best] + 1])) {
-                best = h;
-                best_in = last;
-                first_in_pending = last < 0;
+        if (cid[h ^ 1] != id)
+            for (int k = 0; k < 2; k++) {
+                int32_t x = A->org[h ^ k];
+                if (v < 0 || lex_less(A->xy + 2 * x, A->xy + 2 * v)) v = x;
             }
-            last = h;
+        h = arr_next(A, h);
+    } while (h != h0);
+    if (v < 0) return 0;
+    const double *pv = A->xy + 2 * v, *best = NULL;
+    int out = 0;
+    h = h0;
+    do {
+        if (cid[h ^ 1] != id && (A->org[h] == v || A->org[h ^ 1] == v)) {
+            int leaves = A->org[h] == v;
+            const double *q = A->xy + 2 * A->org[leaves ? h ^ 1 : h];
+            if (!best || geom_orient2d(pv, q, best) > 0) { /* q clockwise of best */
+                best = q;
+                out = leaves;
+            }
         }
         h = arr_next(A, h);
     } while (h != h0);
-    if (best < 0) return 0;
-    if (first_in_pending) best_in = last; /* the walk's last reduced edge closes it */
-    MESH_ASSERT(A->org[best_in ^ 1] == A->org[best]);
-    const double *u = A->xy + 2 * A->org[best_in], *v = A->xy + 2 * A->org[best],
-                 *w = A->xy + 2 * A->org[best ^ 1];
-    double o = geom_orient2d(u, v, w);
-    return (o > 0) - (o < 0);
+    return out ? 1 : -1;
 }
 
 /* Smallest positive cycle (other than component skip) strictly containing p, or -1. */
