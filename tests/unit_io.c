@@ -208,6 +208,54 @@ START_TEST(test_domain_area_bridges) {
 }
 END_TEST
 
+/* Three nested rings, the middle one 2^-53 inside the outer one (their areas differ by about one
+ * unit in the last place) and drawn with many collinear vertices: which face the inner ring's
+ * component belongs to is decided exactly (enclosing(): containment, not rounded areas), so the
+ * hole point between the middle and the inner ring removes that annulus and nothing else. */
+START_TEST(test_domain_area_thin_rings) {
+    const int n = 50; /* vertices per side of the middle ring */
+    const double u = ldexp(1, -53), t = ldexp(1, -70);
+    const int nb = 4 * n, nv = 4 + nb + 4;
+    pslg g = {0};
+    g.nverts = g.nsegs = nv;
+    g.xy = malloc(2 * sizeof(double) * (size_t)nv);
+    g.seg = malloc(2 * sizeof(int32_t) * (size_t)nv);
+    const double outer[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    const double mid[4][2] = {{t, t}, {1 - u, t}, {1 - u, 1 - u}, {t, 1 - u}};
+    const double inner[4][2] = {{0.25, 0.25}, {0.75, 0.25}, {0.75, 0.75}, {0.25, 0.75}};
+    for (int k = 0; k < 4; k++) {
+        memcpy(g.xy + 2 * k, outer[k], sizeof outer[k]);
+        memcpy(g.xy + 2 * (4 + nb + k), inner[k], sizeof inner[k]);
+        g.seg[2 * k] = k;
+        g.seg[2 * k + 1] = (k + 1) % 4;
+        g.seg[2 * (4 + nb + k)] = 4 + nb + k;
+        g.seg[2 * (4 + nb + k) + 1] = 4 + nb + (k + 1) % 4;
+        for (int i = 0; i < n; i++) {
+            const double *a = mid[k], *b = mid[(k + 1) % 4];
+            double f = (double)i / n, *q = g.xy + 2 * (4 + k * n + i);
+            q[0] = a[0] == b[0] ? a[0] : a[0] + (b[0] - a[0]) * f;
+            q[1] = a[1] == b[1] ? a[1] : a[1] + (b[1] - a[1]) * f;
+        }
+    }
+    for (int i = 0; i < nb; i++) {
+        g.seg[2 * (4 + i)] = 4 + i;
+        g.seg[2 * (4 + i) + 1] = 4 + (i + 1) % nb;
+    }
+    g.holes = malloc(2 * sizeof(double));
+    g.nholes = 1;
+    g.holes[0] = 0.5;
+    g.holes[1] = 0.1;
+    char err[512];
+    ck_assert_msg(pslg_check(&g, err, sizeof err) == 0, "%s", err);
+    double want = 1 - (1 - u - t) * (1 - u - t) + 0.25, got = pslg_domain_area(&g);
+    ck_assert_msg(fabs(got - want) < 1e-15, "area %.17g, want %.17g", got, want);
+    g.holes[0] = g.holes[1] = 0.5; /* inside the inner ring: only it goes */
+    got = pslg_domain_area(&g);
+    ck_assert_msg(fabs(got - 0.75) < 1e-15, "area %.17g, want 0.75", got);
+    pslg_free(&g);
+}
+END_TEST
+
 /* Nested rings, a floating segment, dangling segments, T-junctions and hole points:
  * outer [0,4]^2, middle [1,3]^2, inner [1.5,2.5]^2. */
 START_TEST(test_domain_area_nested) {
@@ -459,6 +507,7 @@ int main(void) {
     tcase_add_loop_test(tc, test_domain_area, 0, (int)(sizeof data / sizeof data[0]));
     tcase_add_test(tc, test_domain_area_nested);
     tcase_add_test(tc, test_domain_area_bridges);
+    tcase_add_test(tc, test_domain_area_thin_rings);
     tcase_add_loop_test(tc, test_input_angles, 0, (int)(sizeof data / sizeof data[0]));
     tcase_add_test(tc, test_node_and_regions);
     tcase_add_test(tc, test_roundtrip);

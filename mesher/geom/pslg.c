@@ -1326,15 +1326,24 @@ static int walk_sign(const arr *A, const int32_t *cid, int32_t h0, int32_t id) {
     return out ? 1 : -1;
 }
 
-/* Smallest positive cycle (other than component skip) strictly containing p, or -1. */
+/* The innermost positive cycle (other than component skip) strictly containing p, or -1; p
+ * lies on no candidate (a hole point on no edge, or a vertex of another component).  Decided
+ * exactly, without areas: a positive walk of one connected component winds once around its
+ * face and the holes inside it and nowhere else, so two walks that both contain p belong to
+ * different components, which share no point, and are nested; the inner one is the one whose
+ * first vertex the other contains (in_cycle, orient2d). */
 static int32_t enclosing(const arr *A, const cycle *cy, int32_t nc, const double *p, int32_t skip) {
     int32_t best = -1;
     for (int32_t i = 0; i < nc; i++) {
         const cycle *c = cy + i;
         if (c->sign <= 0 || c->comp == skip) continue;
         if (p[0] < c->x0 || p[0] > c->x1 || p[1] < c->y0 || p[1] > c->y1) continue;
-        if (best >= 0 && c->area >= cy[best].area) continue;
-        if (in_cycle(A, c->h0, p)) best = i;
+        if (best >= 0) { /* c can only be inner if its box lies in best's */
+            const cycle *b = cy + best;
+            if (c->x0 < b->x0 || c->x1 > b->x1 || c->y0 < b->y0 || c->y1 > b->y1) continue;
+        }
+        if (!in_cycle(A, c->h0, p)) continue;
+        if (best < 0 || in_cycle(A, cy[best].h0, A->xy + 2 * A->org[c->h0])) best = i;
     }
     return best;
 }
