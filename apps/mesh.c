@@ -105,7 +105,8 @@ int main(int argc, char **argv) {
     if (unmet > 0 && !limited) {
         fprintf(stderr,
                 "mesh: %s: cannot meet the bounds: %lld triangles still violate them after %lld "
-                "refused splits (features below the precision of the coordinates, or -q %g "
+                "refused splits (features below the precision of the coordinates, a region too "
+                "thin for its length, or -q %g "
                 "beyond what refinement reaches on this input)\n",
                 input, (long long)unmet, (long long)m.stats.unresolved, qdeg);
         mesh_free(&m);

@@ -150,7 +150,8 @@ int main(int argc, char **argv) {
         if (rank == 0)
             fprintf(stderr,
                     "pbw: %s: cannot meet the bounds: %lld triangles still violate them after "
-                    "%lld refused splits (features below the precision of the coordinates, or "
+                    "%lld refused splits (features below the precision of the coordinates, a "
+                    "region too thin for its length, or "
                     "-q %g beyond what refinement reaches on this input)\n",
                     o.input, unmet_all[0], unmet_all[1], o.min_angle);
         mesh_flat_free(&local);

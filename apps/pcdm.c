@@ -153,7 +153,8 @@ int main(int argc, char **argv) {
         if (rank == 0)
             fprintf(stderr,
                     "pcdm: %s: cannot meet the bounds: %lld triangles still violate them "
-                    "(features below the precision of the coordinates, or -q %g beyond what "
+                    "(features below the precision of the coordinates, a region too thin for its "
+                    "length, or -q %g beyond what "
                     "refinement reaches on this input)\n",
                     o.input, unmet_all, o.min_angle);
         free(artificial);

@@ -224,6 +224,7 @@ struct pbw_ctx {
     mesh_rules R;
     mesh_rules_input I;
     double floor2;             /* squared length floor (mesh_rules_length_floor2) */
+    int32_t *pieces;           /* per segment: splits this rank made (MESH_RULES_MAX_PIECES) */
     int64_t unresolved_budget; /* refusals this rank accepts before it gives up */
     int64_t steiner_limit;
     int stopped;

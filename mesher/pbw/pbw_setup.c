@@ -132,6 +132,7 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
     C->ninput = m0.ninput;
     C->nseg = m0.nseg;
     C->seg = dup_i32(m0.seg, 2 * (size_t)m0.nseg);
+    C->pieces = mesh_xcalloc((size_t)m0.nseg + 1, sizeof *C->pieces);
     C->smarker = dup_i32(m0.smarker, (size_t)m0.nseg);
     C->in_vmarker = dup_i32(m0.in_vmarker, (size_t)m0.ninput);
     C->inc_off = dup_i32(m0.inc_off, (size_t)m0.ninput + 1);
@@ -281,7 +282,8 @@ void pbw_ctx_free(pbw_ctx *C) {
     free(C->xy), free(C->vgid), free(C->vseg), free(C->vh);
     free(C->tv), free(C->tn), free(C->cs), free(C->cl), free(C->ck), free(C->lk), free(C->role);
     free(C->fre);
-    free(C->seg), free(C->smarker), free(C->in_vmarker), free(C->inc_off), free(C->inc_seg);
+    free(C->seg), free(C->pieces), free(C->smarker), free(C->in_vmarker), free(C->inc_off),
+        free(C->inc_seg);
     free(C->corner);
     free(C->pool);
     pbw_iv_free(&C->splitq), pbw_iv_free(&C->retryq), pbw_iv_free(&C->deferred),

@@ -114,6 +114,10 @@ static int split_point(pbw_ctx *C, int32_t la, int32_t lb, int32_t s, int32_t le
         (p[0] == pv[0] && p[1] == pv[1]))
         return -1;
     if (pbw_below_floor(C, p, la) || pbw_below_floor(C, p, lb)) return -2;
+    /* a region too thin for its length (rules.h): splits this rank made of segment s, counted
+     * when the point is chosen (an undone cavity counts too: a bound, not a statistic) */
+    if (C->pieces[s] >= MESH_RULES_MAX_PIECES - 1) return -2;
+    C->pieces[s]++;
     return 0;
 }
 
@@ -150,6 +154,12 @@ static void process_item(pbw_ctx *C, pbw_item *it) {
         int32_t clev;
         int64_t ka, kb;
         int sp = split_point(C, la, lb, C->cs[e], C->cl[e], C->ck[e], p, &clev, &ka, &kb);
+        /* too far off the line for the triangle beside it (a segment is on the domain's
+         * boundary or between two ranks' triangles; this side's apex decides here) */
+        if (sp == 0 &&
+            mesh_rules_off_line(VX(C, la), VX(C, lb), p,
+                                VX(C, C->tv[3 * (size_t)t + (size_t)((j + 2) % 3)]), NULL))
+            sp = -1;
         if (sp != 0) {
             if (sp == -2)
                 pbw_refuse(C);

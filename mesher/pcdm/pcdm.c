@@ -168,7 +168,14 @@ int pcdm_part_build(pcdm_part *p, const pcdm_decomp *d, int rank, char *err, siz
             keep[r] = d->sub_owner[regsub[r]] == rank;
         }
     }
-    if (!bad) mesh_keep_regions(m, label, keep);
+    /* the length floor from the whole coarse CDT (the same on every rank, and like ./mesh's
+     * from the input's extent): computed from one rank's part alone, a part far from the
+     * input's largest coordinates got a floor far below ./mesh's and refined a thin region
+     * practically forever (a fuzzed point set 8e29 long and 2 wide, at 3 ranks) */
+    if (!bad) {
+        mesh_fix_length_floor(m);
+        mesh_keep_regions(m, label, keep);
+    }
     free(label);
     free(regsub);
     free(keep);

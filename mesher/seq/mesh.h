@@ -207,6 +207,12 @@ mesh_insert_result mesh_insert_point(mesh *m, const double p[2], int32_t hint, i
 
 /* Sets the quality bounds; the next mesh_refine scans the whole mesh. */
 void mesh_set_quality(mesh *m, const mesh_quality *q);
+/* Local.  Computes the length floor (no refinement makes an edge shorter; see refine.c) from the
+ * mesh as it is now and keeps it for every later mesh_refine, instead of computing it from the
+ * mesh mesh_refine first sees.  The parallel meshers call it on the whole coarse CDT, which every
+ * rank builds alike, before keeping their own subdomains: the floor then depends on the input
+ * (its extent and smallest features), not on which part a rank holds, as ./mesh's does. */
+void mesh_fix_length_floor(mesh *m);
 void mesh_set_hooks(mesh *m, const mesh_hooks *h);
 
 typedef enum {

@@ -59,7 +59,8 @@ struct mesh_refine_state {
     int32_t nenc, enccap, enchead;
     mesh_rules R; /* the bounds, as the shared refinement rules take them */
     int need_scan;
-    double floor2; /* squared length floor: no new edge shorter (0: not computed yet) */
+    double floor2;            /* squared length floor: no new edge shorter (0: not computed yet) */
+    int32_t *pieces, npieces; /* per segment: its subsegments (0: one, never split) */
     int32_t since_poll;
 };
 
@@ -85,6 +86,7 @@ void mesh_refine_free(mesh *m) {
     if (!m->rf) return;
     free(m->rf->pool);
     free(m->rf->enc);
+    free(m->rf->pieces);
     free(m->rf);
     m->rf = NULL;
 }
@@ -266,9 +268,24 @@ static double length_floor2(const mesh *m) {
     return f > 0 ? f : DBL_MIN;
 }
 
+void mesh_fix_length_floor(mesh *m) {
+    rf_get(m)->floor2 = length_floor2(m);
+}
+
 /* 1 iff a new vertex at p would make an edge to a shorter than the floor. */
 static int below_floor(const mesh *m, const double *p, const double *a) {
     return geom_dist2(p, a) < m->rf->floor2;
+}
+
+/* The split point p of subsegment (pu, pv), edge e, is too far off its line for the
+ * triangles beside it (mesh_rules_off_line). */
+static int off_line(const mesh *m, int32_t e, const double *pu, const double *pv, const double *p) {
+    const double *w[2] = {NULL, NULL};
+    for (int k = 0; k < 2; k++) {
+        int32_t f = k ? m->tn[e] : e, a = f >= 0 ? mesh_apex(m, f) : -1;
+        if (a >= 0) w[k] = X(m, a);
+    }
+    return mesh_rules_off_line(pu, pv, p, w[0], w[1]);
 }
 
 /* Splits subsegment record r.  notify: call on_split for an interface subsegment.  Returns 0,
@@ -314,8 +331,26 @@ static int split_subseg(mesh *m, int32_t r, int notify) {
         m->stats.unresolved++;
         return -1;
     }
+    /* a region too thin for its length: at most MESH_RULES_MAX_PIECES pieces per segment */
+    if (!iface) {
+        mesh_refine_state *rs = m->rf;
+        if (rs->npieces < m->nseg) {
+            rs->pieces = mesh_xrealloc(rs->pieces, (size_t)m->nseg, sizeof *rs->pieces);
+            memset(rs->pieces + rs->npieces, 0,
+                   (size_t)(m->nseg - rs->npieces) * sizeof *rs->pieces);
+            rs->npieces = m->nseg;
+        }
+        if (rs->pieces[s.seg] >= MESH_RULES_MAX_PIECES - 1) {
+            m->stats.unresolved++;
+            return -1;
+        }
+    }
     int32_t e = mesh_find_edge(m, s.u, s.v);
     if (e < 0) MESH_BUG("subsegment %d-%d has no edge", s.u, s.v);
+    if (off_line(m, e, pu, pv, p)) {
+        m->stats.failed++;
+        return -1;
+    }
     int32_t bad = -1;
     int st = mesh_cavity_collect(m, p, e / 3, e, &bad);
     if (st != CAV_OK) {
@@ -329,6 +364,7 @@ static int split_subseg(mesh *m, int32_t r, int notify) {
     mesh_ss_add(m, s.u, v, s.seg, nl, k0);
     mesh_ss_add(m, v, s.v, s.seg, nl, k1);
     m->stats.seg_splits++;
+    if (!iface) m->rf->pieces[s.seg]++;
     m->rf->since_poll++;
     push_enc(m, s.u, v, 0);
     push_enc(m, v, s.v, 0);

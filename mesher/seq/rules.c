@@ -107,6 +107,14 @@ int mesh_rules_corner_forced(const double a[2], const double o1[2], const double
     return fabs(du - dv) <= 0.01 * fmax(du, dv);
 }
 
+int mesh_rules_off_line(const double pu[2], const double pv[2], const double p[2], const double *w1,
+                        const double *w2) {
+    double off = fabs(geom_orient2d(pu, pv, p));
+    if (off == 0) return 0;
+    return (w1 && 16 * off > fabs(geom_orient2d(pu, pv, w1))) ||
+           (w2 && 16 * off > fabs(geom_orient2d(pu, pv, w2)));
+}
+
 int mesh_rules_bucket(double short2) {
     uint64_t bits;
     memcpy(&bits, &short2, sizeof bits);

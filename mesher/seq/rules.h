@@ -83,6 +83,26 @@ double mesh_rules_length_floor2(const double *xy, int32_t nv, const int32_t *tv,
  * that it diverges and stops (refine.c's MESH_REFINE_UNRESOLVED): 256 + ninput / 4. */
 int64_t mesh_rules_unresolved_budget(int32_t ninput);
 
+/* 1 iff the split point p of the subsegment (pu, pv) lies off the segment's line by more than
+ * a sixteenth of the height over it of w1 or w2 (the apexes of the triangles beside it; NULL:
+ * none): a region thinner there than the precision of its coordinates (a fuzzed triangle 8e19
+ * long and at most 821 wide, whose rounded midpoint of one side lay beyond it: the mesh grew
+ * outside the domain and another segment's chain ran through the new vertex).  Rounding moves a
+ * split point by about an ulp, so this refuses only splits beside triangles a few ulps high; a
+ * refused split counts as failed (precision exhausted).  Deciding whether to refine, not
+ * topology (the cavity's orientation tests stay exact), so rounded magnitudes do. */
+int mesh_rules_off_line(const double pu[2], const double pv[2], const double p[2], const double *w1,
+                        const double *w2);
+
+/* At most this many pieces per input segment (interface segments of the decomposition have
+ * their own, name-based rule): near a small feature splits shrink the pieces geometrically,
+ * but along a sliver of width w and length L every piece stays encroached by the other side
+ * until the segment has about L / w pieces (8e29 for a fuzzed quadrilateral 8e29 long and 2
+ * wide, which split until memory ran out).  Past the limit (a region of aspect ratio above a
+ * million, or a mesh of about 10^12 triangles) a split is refused like one below the length
+ * floor: the refusal budget then ends refinement with "cannot meet the bounds". */
+#define MESH_RULES_MAX_PIECES ((int32_t)1 << 20)
+
 /* The input facts the forced-angle rule needs (pointers borrowed from the caller). */
 typedef struct mesh_rules_input {
     int32_t ninput;                   /* input vertices are 0 .. ninput-1 */

@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# t_pcdm_regress: the fuzz regression table (tests/fuzz/regress/TABLE: inputs the fuzzer and
+# issue 10 found) through ./pcdm at 2 and 3 ranks, each rank's exit status recorded.  ./pcdm
+# must never hang (timeout = failure), crash, exit with anything but 0 or 1, or exit 0 without
+# its distributed --check saying OK.  Rows ./mesh answers "cannot meet the bounds" must get
+# that answer on every rank; rows ./mesh meshes must be meshed, or refused on every rank with a
+# clear message: "cannot decompose" (a domain too small or too degenerate to cut, issue 11) or
+# "cannot meet the bounds" (a decomposition cut through a region ./mesh resolves only through
+# the shells of one far input corner).  The refusals are counted and printed.  Found this way:
+# a point set 8e29 long and 2 wide (point_sliver_8e29.node) ran until killed at 3 ranks.
+# Env: BIN, MPIRUN as the other tests; SANITIZE=1 (3 ranks only).
+set -u
+cd "$(dirname "$0")/.."
+BIN=${BIN:-.}
+MPIRUN=${MPIRUN:-mpirun --oversubscribe}
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0}
+T=$(mktemp -d "${TMPDIR:-/tmp}/t_pcdm_regress.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+nfail=0 n=0 refused=0
+fail() {
+    nfail=$((nfail + 1))
+    echo "FAIL: $*"
+}
+ranks_exit() { # np file args...: runs ./pcdm, each rank appends "RANK STATUS" to file
+    local np=$1 file=$2
+    shift 2
+    rm -f "$file"
+    timeout 120 $MPIRUN -np "$np" sh -c '"$0" "$@"; echo "$OMPI_COMM_WORLD_RANK $?" >>"'"$file"'"' \
+        "$BIN/pcdm" "$@"
+}
+NPS="2 3"
+[ "${SANITIZE:-}" = 1 ] && NPS="3"
+while IFS='|' read -r f opts want pat; do
+    f=$(echo $f) opts=$(echo $opts) want=$(echo $want)
+    case "$f" in '#'* | '') continue ;; esac
+    case "$opts" in *--cdt-only* | *--lens* | *--circumcenters*) continue ;; esac # ./mesh only
+    if [ "$want" = 0 ]; then
+        kind=meshed
+    elif grep -q 'cannot meet the bounds' <<<"$pat"; then
+        kind=unmet
+    else
+        continue
+    fi
+    for np in $NPS; do
+        # shellcheck disable=SC2086
+        out=$(ranks_exit "$np" "$T/rc" $opts --check "tests/fuzz/regress/$f" 2>&1 </dev/null)
+        rc=$?
+        n=$((n + 1))
+        name="$f $opts np=$np"
+        if [ "$rc" = 124 ]; then
+            fail "$name: timeout (120 s)"
+            continue
+        fi
+        st=$(awk '{print $2}' "$T/rc" 2>/dev/null | sort -u | tr '\n' ' ')
+        if [ "$(wc -l <"$T/rc" 2>/dev/null)" != "$np" ]; then
+            fail "$name: not every rank ended: [$st]"
+            continue
+        fi
+        if [ "$st" = "0 " ]; then
+            grep -q '^meshcheck: OK' <<<"$out" || fail "$name: exit 0 without --check OK"
+            [ "$kind" = unmet ] && fail "$name: ./mesh cannot meet the bounds, ./pcdm exit 0"
+        elif [ "$st" = "1 " ] && grep -q 'cannot meet the bounds' <<<"$out"; then
+            [ "$kind" = meshed ] && refused=$((refused + 1)) && echo "refused: $name: cannot meet the bounds"
+        elif [ "$st" = "1 " ] && [ "$kind" = meshed ] && grep -q 'cannot decompose' <<<"$out"; then
+            refused=$((refused + 1))
+            echo "refused: $name: cannot decompose"
+        else
+            fail "$name ($kind): exit [$st]: $(grep -v '^ ' <<<"$out" | grep -v warning | head -n 2)"
+        fi
+    done
+done <tests/fuzz/regress/TABLE
+echo "t_pcdm_regress: $n runs, $refused meshed rows refused by ./pcdm, $nfail failure(s)"
+[ "$nfail" -eq 0 ]
