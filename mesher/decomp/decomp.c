@@ -189,6 +189,37 @@ static void build_vertices(const pslg *in, const mesh *m, const int32_t *mseg_ma
     }
 }
 
+static int cmp_rec_u(const void *x, const void *y) {
+    const rec *a = x, *b = y;
+    return (a->u > b->u) - (a->u < b->u);
+}
+
+/* Puts the n subsegment records of segment s (each directed away from the segment's first
+ * endpoint a) into chain order, from a on, by following vertex ids (u -> v), never
+ * coordinates: rounded split points need not be monotone in x along a steep segment (a fuzzed
+ * segment from (0, 82) to (-1e4, 5.7e88) had them out of order, and the chain looked broken). */
+static void chain_order(rec *r, int32_t n, int32_t a, int32_t s) {
+    if (n < 2) return;
+    qsort(r, (size_t)n, sizeof *r, cmp_rec_u);
+    rec *out = mesh_xmalloc((size_t)n, sizeof *out);
+    int32_t at = a;
+    for (int32_t k = 0; k < n; k++) {
+        int32_t lo = 0, hi = n; /* the record whose u is at */
+        while (lo < hi) {
+            int32_t mid = lo + (hi - lo) / 2;
+            if (r[mid].u < at)
+                lo = mid + 1;
+            else
+                hi = mid;
+        }
+        if (lo == n || r[lo].u != at) MESH_BUG("subsegments of segment %d not chained", s);
+        out[k] = r[lo];
+        at = r[lo].v;
+    }
+    memcpy(r, out, (size_t)n * sizeof *r);
+    mesh_xfree(out);
+}
+
 /* The pieces of the non-cut segments of m (in segment order), split at kept vertices. */
 static void build_pieces(const pslg *in, const mesh *m, const uint8_t *mseg_cut,
                          const int32_t *mseg_parent, const int32_t *mseg_marker,
@@ -217,6 +248,7 @@ static void build_pieces(const pslg *in, const mesh *m, const uint8_t *mseg_cut,
             add_seg(b, gid[m->seg[2 * s]], gid[m->seg[2 * s + 1]], mark, line, parent, -1, -1, 0);
             continue;
         }
+        chain_order(r + i, j - i, m->seg[2 * s], s);
         int32_t start = r[i].u, l = -1, rr = -1;
         sides(m, part, r[i].u, r[i].v, &l, &rr);
         for (int32_t k = i; k < j; k++) {
