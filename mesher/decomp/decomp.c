@@ -194,28 +194,60 @@ static int cmp_rec_u(const void *x, const void *y) {
     return (a->u > b->u) - (a->u < b->u);
 }
 
-/* Puts the n subsegment records of segment s (each directed away from the segment's first
- * endpoint a) into chain order, from a on, by following vertex ids (u -> v), never
- * coordinates: rounded split points need not be monotone in x along a steep segment (a fuzzed
- * segment from (0, 82) to (-1e4, 5.7e88) had them out of order, and the chain looked broken). */
-static void chain_order(rec *r, int32_t n, int32_t a, int32_t s) {
+static int cmp_i32(const void *x, const void *y) {
+    int32_t a = *(const int32_t *)x, b = *(const int32_t *)y;
+    return (a > b) - (a < b);
+}
+
+/* 1 iff x is among the n sorted values a. */
+static int has_i32(const int32_t *a, int32_t n, int32_t x) {
+    int32_t lo = 0, hi = n;
+    while (lo < hi) {
+        int32_t mid = lo + (hi - lo) / 2;
+        if (a[mid] < x)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo < n && a[lo] == x;
+}
+
+/* Puts the n subsegment records of segment s (each directed along the segment) into chain
+ * order by following vertex ids (u -> v), never coordinates: rounded split points need not be
+ * monotone in x along a steep segment (a fuzzed segment from (0, 82) to (-1e4, 5.7e88) had them
+ * out of order, and the chain looked broken).  Where removed regions cut the segment, what is
+ * left in the domain is several chains (a segment through two holes that meet it at vertices of
+ * its interior keeps its two ends): each chain starts at a record whose u is no record's v, and
+ * the chains follow one another in order of their first vertex. */
+static void chain_order(rec *r, int32_t n, int32_t s) {
     if (n < 2) return;
     qsort(r, (size_t)n, sizeof *r, cmp_rec_u);
+    int32_t *vs = mesh_xmalloc((size_t)n, sizeof *vs);
+    for (int32_t k = 0; k < n; k++)
+        vs[k] = r[k].v;
+    qsort(vs, (size_t)n, sizeof *vs, cmp_i32);
     rec *out = mesh_xmalloc((size_t)n, sizeof *out);
-    int32_t at = a;
-    for (int32_t k = 0; k < n; k++) {
-        int32_t lo = 0, hi = n; /* the record whose u is at */
-        while (lo < hi) {
-            int32_t mid = lo + (hi - lo) / 2;
-            if (r[mid].u < at)
-                lo = mid + 1;
-            else
-                hi = mid;
+    int32_t no = 0;
+    for (int32_t st = 0; st < n; st++) {
+        if (has_i32(vs, n, r[st].u)) continue; /* not the start of a chain */
+        int32_t at = r[st].u;
+        for (;;) {
+            int32_t lo = 0, hi = n; /* the record whose u is at */
+            while (lo < hi) {
+                int32_t mid = lo + (hi - lo) / 2;
+                if (r[mid].u < at)
+                    lo = mid + 1;
+                else
+                    hi = mid;
+            }
+            if (lo == n || r[lo].u != at) break; /* the chain ends at at */
+            if (no == n) MESH_BUG("subsegments of segment %d branch", s);
+            out[no++] = r[lo];
+            at = r[lo].v;
         }
-        if (lo == n || r[lo].u != at) MESH_BUG("subsegments of segment %d not chained", s);
-        out[k] = r[lo];
-        at = r[lo].v;
     }
+    mesh_xfree(vs);
+    if (no != n) MESH_BUG("subsegments of segment %d form a cycle", s);
     memcpy(r, out, (size_t)n * sizeof *r);
     mesh_xfree(out);
 }
@@ -248,17 +280,19 @@ static void build_pieces(const pslg *in, const mesh *m, const uint8_t *mseg_cut,
             add_seg(b, gid[m->seg[2 * s]], gid[m->seg[2 * s + 1]], mark, line, parent, -1, -1, 0);
             continue;
         }
-        chain_order(r + i, j - i, m->seg[2 * s], s);
+        chain_order(r + i, j - i, s);
         int32_t start = r[i].u, l = -1, rr = -1;
         sides(m, part, r[i].u, r[i].v, &l, &rr);
         for (int32_t k = i; k < j; k++) {
             int32_t v = r[k].v;
-            if (k + 1 < j && r[k + 1].u != v) MESH_BUG("subsegments of segment %d not chained", s);
-            if (k + 1 == j || v < m->ninput || keep[v]) {
+            int chain_ends = k + 1 == j || r[k + 1].u != v; /* a removed region follows */
+            if (chain_ends || v < m->ninput || keep[v]) {
                 add_seg(b, gid[start], gid[v], mark, line, parent, l, rr,
                         l >= 0 && rr >= 0 && l != rr);
-                start = v;
-                if (k + 1 < j) sides(m, part, r[k + 1].u, r[k + 1].v, &l, &rr);
+                if (k + 1 < j) {
+                    start = r[k + 1].u;
+                    sides(m, part, r[k + 1].u, r[k + 1].v, &l, &rr);
+                }
             }
         }
         i = j;
