@@ -53,7 +53,7 @@ APPS := $(patsubst apps/%.c,%,$(APP_SRC))
 TESTS := $(patsubst tests/%.c,$(B)/tests/%,$(TEST_SRC))
 BENCHES := $(patsubst bench/%.c,$(B)/bench/%,$(BENCH_SRC))
 
-.PHONY: all deps fuzz fuzz-deps test check-deps demo bench bench-quick bench-seq bench-primitives format clean
+.PHONY: all deps fuzz fuzz-deps fuzz-replay test check-deps demo bench bench-quick bench-seq bench-primitives format clean
 .DEFAULT_GOAL := all
 # Keep the objects of programs and tests (they are intermediate files to make otherwise).
 .SECONDARY: $(patsubst %.c,$(B)/obj/%.o,$(APP_SRC) $(TEST_SRC) $(BENCH_SRC))
@@ -159,6 +159,12 @@ fuzz: fuzz-deps
 	    -timeout=20 -rss_limit_mb=2048 \
 	    -max_len=8192 -print_final_stats=1 \
 	    -artifact_prefix=build/fuzz/artifacts/ -dict=tests/fuzz/poly.dict build/fuzz/corpus
+
+# The fuzz corpus (the in-tree seeds and whatever make fuzz added in build/fuzz/corpus) replayed
+# through ./pcdm and ./pbw against ./mesh's answer (tests/fuzz/replay_par.sh; not in make test).
+fuzz-replay: deps
+	@$(MAKE) --no-print-directory all
+	@bash tests/fuzz/replay_par.sh tests/fuzz/corpus $(wildcard build/fuzz/corpus)
 
 clean:
 	rm -rf build $(APPS)

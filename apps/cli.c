@@ -37,6 +37,7 @@ static const cli_value v_count = {CLI_INT64, "N", 0, INFINITY, 0};
 static const cli_value v_nsub = {CLI_INT32, "K", 1, 1e6, 0};
 static const cli_value v_ratio = {CLI_REAL, "R", 0, 1e6, 1};
 static const cli_value v_seed = {CLI_UINT64, "SEED", 0, INFINITY, 0};
+static const cli_value v_poll = {CLI_INT32, "N", 1, 1e6, 0};
 
 /* Every program. */
 static const cli_opt common_rows[] = {
@@ -90,6 +91,11 @@ static const cli_opt mesher_rows[] = {
      .at = CLI_AT(par.check),
      .help = "validate the mesh as ./meshcheck does (parallel meshers: each rank its own "
              "part, interfaces compared, results reduced); exit 1 if it fails"},
+    {.name = "circumcenters",
+     .value = &v_flag,
+     .at = CLI_AT(par.circumcenters),
+     .help = "insert circumcenters only, the paper's choice (default: Ungor's off-centers where "
+             "they are closer, fewer triangles)"},
     {.name = "progress",
      .value = &v_flag,
      .at = CLI_AT(par.progress),
@@ -117,6 +123,13 @@ static const cli_opt parallel_rows[] = {
      .value = &v_file,
      .at = CLI_AT(par.write_cuts),
      .help = "write the cuts used to FILE (rank 0)"},
+    {.name = "poll",
+     .value = &v_poll,
+     .at = CLI_AT(par.poll_every),
+     .dflt = 0,
+     .dflt_text = "300 for ./pcdm, 64 for ./pbw",
+     .help = "local work units (insertions, splits) between two services of incoming requests "
+             "(1: after every insertion, as the paper)"},
     {.name = "perturb",
      .value = &v_seed,
      .at = CLI_AT(par.perturb),
@@ -132,10 +145,6 @@ static const cli_opt pbw_rows[] = {
     {.help = NULL}};
 
 static const cli_opt mesh_rows[] = {
-    {.name = "circumcenters",
-     .value = &v_flag,
-     .at = CLI_AT(circumcenters),
-     .help = "insert circumcenters only (no off-centers)"},
     {.name = "lens",
      .value = &v_flag,
      .at = CLI_AT(lens),

@@ -37,7 +37,6 @@ enum { CLI_EXIT_OK = 0, CLI_EXIT_FAIL = 1, CLI_EXIT_USAGE = 2 };
  * name and par.input its first argument. */
 typedef struct cli_opts {
     par_opts par;
-    int circumcenters;       /* ./mesh --circumcenters: no off-centers */
     int lens;                /* ./mesh --lens: diametral lenses decide encroachment */
     int cdt_only;            /* ./mesh --cdt-only: no refinement */
     int interfaces_delaunay; /* ./meshcheck --interfaces-delaunay */

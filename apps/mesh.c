@@ -87,8 +87,8 @@ int main(int argc, char **argv) {
     if (!cdt_only) {
         /* the refiner's bound sits a hair above the requested one so rounding in the quality
          * test can never leave a triangle a few ulps below it */
-        mesh_quality q = {qdeg > 0 ? qdeg * (1 + 1e-9) + 1e-12 : 0, area, steiner, !o.circumcenters,
-                          o.lens};
+        mesh_quality q = {qdeg > 0 ? qdeg * (1 + 1e-9) + 1e-12 : 0, area, steiner,
+                          !o.par.circumcenters, o.lens};
         mesh_set_quality(&m, &q);
         rr = mesh_refine(&m);
     }

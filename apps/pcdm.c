@@ -99,7 +99,7 @@ int main(int argc, char **argv) {
      * never leave a triangle a few ulps below it */
     q.min_angle = o.min_angle > 0 ? o.min_angle * (1 + 1e-9) + 1e-12 : 0;
     q.max_area = o.max_area;
-    q.offcenter = 1; /* as ./mesh; lens stays 0: diametral circles make the interface
+    q.offcenter = !o.circumcenters; /* as ./mesh; lens stays 0: diametral circles make the interface
                         subsegments Delaunay edges of the merged mesh */
     q.max_steiner = -1;
     if (o.max_steiner >= 0) { /* the global budget shared by target weight */
@@ -109,7 +109,7 @@ int main(int argc, char **argv) {
         q.max_steiner = (int64_t)((double)o.max_steiner * share);
     }
     rt_stats_reset();
-    pcdm_part_refine(&part, &q, 300);
+    pcdm_part_refine(&part, &q, o.poll_every > 0 ? o.poll_every : 300);
     double t1 = rt_wtime();
 
     /* figures from the mesh first: the part is then moved into its flat form (never held

@@ -200,7 +200,9 @@ for prog in pcdm pbw; do
     parallel_cases "$prog" 2
 done
 expect_usage pcdm 2 "unknown option '--phases'" --phases data/square.poly
-expect_usage pcdm 2 "unknown option '--circumcenters'" --circumcenters data/square.poly
+expect_usage pcdm 2 "unknown option '--lens'" --lens data/square.poly
+expect_usage mesh 0 "unknown option '--poll'" --poll 1 data/square.poly
+for prog in pcdm pbw; do expect_usage "$prog" 2 "--poll" --poll 0 data/square.poly; done
 
 # the shared options are one set of rows: the same help lines in every mesher
 for prog in mesh pcdm pbw; do

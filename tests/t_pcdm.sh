@@ -115,6 +115,20 @@ run_case "$name" 4 30 "$(area square)" --subdomains 8 data/square.poly &&
 name="square np=3 --imbalance 2"
 run_case "$name" 3 20.7 "$(area square)" --imbalance 2 data/square.poly &&
     ok "$name: valid"
+# the paper's choices: circumcenters only, requests serviced after every insertion; the count
+# follows ./mesh --circumcenters (not the off-center default)
+ref=$("$BIN/mesh" -q 30 -a "$(area lake)" --circumcenters --stats data/lake.poly | grep '^stats:' |
+    field triangles)
+for np in 1 4; do
+    name="lake np=$np -q 30 --circumcenters --poll 1"
+    run_case "$name" "$np" 30 "$(area lake)" --circumcenters --poll 1 data/lake.poly || continue
+    nt=$(field triangles <"$tmp/last_stats")
+    if awk -v n="$nt" -v r="$ref" -v t="$TOL" 'BEGIN { d = 100 * (n - r) / r; exit !(d <= t && d >= -t) }'; then
+        ok "$name: valid, triangles=$nt (./mesh --circumcenters $ref)"
+    else
+        bad "$name: triangles=$nt vs ./mesh --circumcenters $ref (tolerance ${TOL}%)"
+    fi
+done
 
 # ---- 3: the files written ------------------------------------------------------------------------
 a=$(area holes)

@@ -49,7 +49,7 @@ START_TEST(test_defaults) {
     ck_assert(o.par.max_area == 0);
     ck_assert_int_eq(o.par.max_steiner, -1);
     ck_assert_ptr_null(o.par.out_prefix);
-    ck_assert_int_eq(o.par.stats + o.par.check + o.circumcenters + o.lens + o.cdt_only, 0);
+    ck_assert_int_eq(o.par.stats + o.par.check + o.par.circumcenters + o.lens + o.cdt_only, 0);
     ck_assert_int_eq(parse(&cli_pbw, &o, NULL, 0, "in.poly", NULL), -1);
     ck_assert(o.par.min_angle == 20.7);
     ck_assert(o.par.imbalance == 1);
@@ -84,7 +84,7 @@ START_TEST(test_spellings) {
     ck_assert_int_eq(parse(&cli_mesh, &o, NULL, 0, "--circumcenters", "--lens", "--cdt-only",
                            "in.poly", "-q", "0", NULL),
                      -1);
-    ck_assert_int_eq(o.circumcenters + o.lens + o.cdt_only, 3);
+    ck_assert_int_eq(o.par.circumcenters + o.lens + o.cdt_only, 3);
     ck_assert(o.par.min_angle == 0);
 }
 END_TEST
@@ -171,7 +171,7 @@ END_TEST
 START_TEST(test_help) {
     const cli_prog *progs[] = {&cli_mesh, &cli_meshcheck, &cli_pcdm, &cli_pbw};
     /* options that belong to one program only must appear in its --help alone */
-    const char *only[] = {"--circumcenters", "--interfaces-delaunay", NULL, "--phases"};
+    const char *only[] = {"--cdt-only", "--interfaces-delaunay", NULL, "--phases"};
     for (int k = 0; k < 4; k++) {
         cli_opts o;
         char msg[8192];

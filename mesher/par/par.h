@@ -39,6 +39,10 @@ typedef struct par_opts {
     const char *cuts;       /* --cuts FILE */
     const char *write_cuts; /* --write-cuts FILE */
     int phases;             /* --phases (pbw only) */
+    int circumcenters;      /* --circumcenters: circumcenters only, no off-centers */
+    int32_t poll_every;     /* --poll N: local work units between two services of incoming
+                               RSRs (0: the program's default; 1: after every insertion, as
+                               the paper) */
     uint64_t perturb;       /* --perturb SEED (0 = off; also env RT_PERTURB) */
 } par_opts;
 

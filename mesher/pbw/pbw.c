@@ -116,12 +116,13 @@ int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat 
         area = ldexp(area, 2 * in->scale_exp);
         if (!(area > 0)) area = DBL_MIN;
     }
-    mesh_rules_init(&C->R, qa, area, 1, 0);
+    mesh_rules_init(&C->R, qa, area, !o->circumcenters, 0);
+    C->poll_every = o->poll_every > 0 ? o->poll_every : WORK_BATCH;
     C->steiner_limit = o->max_steiner >= 0 ? (o->max_steiner + C->size - 1) / C->size : -1;
     memset(local, 0, sizeof *local);
     char err[1024], msg[1200];
     err[0] = 0;
-    pbw_setup_opts so = {qa, o->max_area, o->max_steiner};
+    pbw_setup_opts so = {qa, o->max_area, o->max_steiner, !o->circumcenters};
     int rc = pbw_setup(C, &so, in, d, err, sizeof err);
     snprintf(msg, sizeof msg, "%s: %s", o->prog ? o->prog : "pbw", err);
     if (par_fail_any(rc != 0, msg)) {

@@ -54,7 +54,7 @@ enum { IT_BAD = 0, IT_SPLIT = 1 };
 
 #define MAX_INFLIGHT 16
 
-#define WORK_BATCH 64
+#define WORK_BATCH 64 /* work items per work step (between two services of RSRs): --poll */
 
 #define MAXMSG (1u << 28)
 
@@ -228,6 +228,7 @@ struct pbw_ctx {
     int64_t unresolved_budget; /* refusals this rank accepts before it gives up */
     int64_t steiner_limit;
     int stopped;
+    int32_t poll_every; /* work items per work step (--poll; default WORK_BATCH) */
     /* queues */
     int32_t head[NBUCKET + 1]; /* per bucket: a stack of pool entries */
     qent *pool;
@@ -283,6 +284,7 @@ static inline uint64_t stamp_derived(uint64_t s) { /* just older than s, same cl
 typedef struct pbw_setup_opts {
     double min_angle, max_area;
     int64_t max_steiner;
+    int offcenter; /* 0: --circumcenters */
 } pbw_setup_opts;
 
 /* ---- pbw_store.c: the store ------------------------------------------------------------- */

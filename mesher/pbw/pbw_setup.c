@@ -112,7 +112,7 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
         q.min_angle = so->min_angle;
         q.max_area = a0;
         q.max_steiner = so->max_steiner;
-        q.offcenter = 1;
+        q.offcenter = so->offcenter;
         mesh_set_quality(&m0, &q);
         mesh_refine(&m0);
         C->res.pre_tris = m0.nlive;

@@ -283,7 +283,7 @@ int pbw_work(void *ctx) {
     pbw_ctx *C = ctx;
     int did = 0;
     debug_report(C);
-    for (int n = 0; n < WORK_BATCH && !C->stopped; n++) {
+    for (int32_t n = 0; n < C->poll_every && !C->stopped; n++) {
         pbw_refresh_deferred(C);
         pbw_item it;
         if (!next_item(C, &it)) break;
