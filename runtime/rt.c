@@ -9,10 +9,14 @@
  * 1 ms) in a timed condition wait that a finishing worker cuts short, so idle ranks give
  * their core to busy ones.  Invariants: only the thread that called rt_init calls MPI; every
  * RSR is counted once as sent (when the main thread hands it to the transport) and once as
- * received (when its handler has returned); a rank is passive only when no task, local
- * work, buffered or held RSR, or threaded handler remains; rt_run returns on no rank before
- * every rank has seen the termination decision (a closing barrier), so the RSRs of the next
- * phase are never handled inside this one.
+ * received (when its handler has returned); a rank is quiescent only when no ready task,
+ * local work, buffered or held RSR, or threaded handler remains, and passive when it is
+ * quiescent with no blocked task; quiescent ranks pass the termination token; rt_run
+ * returns on no rank before every rank has seen the termination decision (a closing
+ * barrier), so the RSRs of the next phase are never handled inside this one.  When the
+ * detector finds every rank quiescent, nothing in flight and tasks still blocked, no reply
+ * can come any more: every rank prints its blocking queue (rt_blocked_dump) and, after a
+ * barrier (so that every rank's report is out), fails through RT_FATAL.
  */
 #include "rt_internal.h"
 
@@ -367,7 +371,7 @@ rt_task *rt_task_spawn(rt_task_fn fn, void *state) {
 void rt_request(rt_task *t, int dest, int handler, const void *payload, uint32_t len) {
     if (rt_in_worker) RT_FATAL("rt_request called from a threaded handler");
     if (!t || t->st != RT_TS_RUNNING) RT_FATAL("rt_request outside the running task");
-    rt_token tok = rt_task_take_token(t, rt_g.rank);
+    rt_token tok = rt_task_take_token(t, rt_g.rank, dest, handler);
     send_common(dest, handler, payload, len, RT_HF_TOKEN, tok);
 }
 
@@ -393,6 +397,11 @@ void *rt_task_data(const rt_task *t) {
     return t->state;
 }
 
+void rt_blocked_dump(FILE *f) {
+    if (rt_in_worker) RT_FATAL("rt_blocked_dump called from a threaded handler");
+    rt_tasks_dump(&rt_g.tasks, rt_g.rank, &rt_g.ht, rt_now(), f);
+}
+
 int rt_perturb_set(uint64_t seed) {
     need_init("rt_perturb_set");
     if (rt_g.in_run || rt_in_worker) return RT_ESTATE;
@@ -411,10 +420,28 @@ int rt_perturb_set(uint64_t seed) {
 
 #define RT_WAVE_DELAY 20e-6 /* seconds of quiet before rank 0 starts a termination round */
 
-static bool passive(bool local_busy) {
-    return !local_busy && rt_queue_empty(&rt_g.tasks.ready) && rt_g.tasks.nblocked == 0 &&
-           rt_g.wk_outstanding == 0 && rt_g.ndirty == 0 && rt_queue_empty(&rt_g.selfq) &&
+/* Nothing to do until a message arrives (blocked tasks allowed; rt_term.c). */
+static bool quiescent(bool local_busy) {
+    return !local_busy && rt_queue_empty(&rt_g.tasks.ready) && rt_g.wk_outstanding == 0 &&
+           rt_g.ndirty == 0 && rt_queue_empty(&rt_g.selfq) &&
            (!rt_g.perturbing || rt_g.pert.nheld == 0);
+}
+
+/* The termination detector found tasks blocked for good (rank 0), or rank 0 said so
+ * (DEADLOCK).  Every rank gets here: its report goes out before the barrier, so no abort
+ * cuts another rank's report short. */
+_Noreturn static void deadlock_report(bool quiet) {
+    fprintf(stderr,
+            "rt: rank %d: deadlock: %zu task(s) blocked on this rank, %lld on all ranks, no "
+            "message in flight%s\n",
+            rt_g.rank, rt_g.tasks.nblocked, (long long)rt_g.term.deadlock_blocked,
+            quiet ? "" : " (but this rank was not quiescent: a runtime bug)");
+    rt_blocked_dump(stderr);
+    fflush(stderr);
+    (void)MPI_Barrier(rt_g.comm);
+    RT_FATAL("deadlock: %lld task(s) wait for replies that can never come (every rank idle, no "
+             "message in flight); blocked tasks are listed above",
+             (long long)rt_g.term.deadlock_blocked);
 }
 
 int rt_run(rt_work_fn work, void *ctx) {
@@ -424,7 +451,7 @@ int rt_run(rt_work_fn work, void *ctx) {
     rt_start();
     rt_g.in_run = true;
     uint64_t backoff = rt_g.cfg.idle_min_ns;
-    double idle_since = -1; /* when this rank last became passive, -1 while active */
+    double idle_since = -1; /* when this rank last became quiescent, -1 while active */
     unsigned spins = 0;
     /* Time accounting by laps: each stretch between two clock readings goes to one bucket;
      * non-threaded handler time is taken out of the communication laps. */
@@ -458,24 +485,27 @@ int rt_run(rt_work_fn work, void *ctx) {
             idle_since = -1;
             continue;
         }
-        bool pas = passive(local_busy);
+        bool qui = quiescent(local_busy);
         if (rt_g.term.done) { /* rank 0 declared termination (TERM) */
-            if (!pas)
+            if (!qui || rt_g.tasks.nblocked != 0)
                 RT_FATAL("termination announced while this rank was active (local work returned "
                          "BUSY without a message, or a runtime bug)");
             rt_g.term.done = false;
             rt_g.term.active = true;
             break;
         }
+        if (rt_g.term.deadlock) deadlock_report(qui); /* rank 0 sent DEADLOCK */
         /* Rank 0 starts a round only after RT_WAVE_DELAY of quiet, so that ranks exchanging
          * messages quickly do not pass the token around between every two of them; others
-         * pass a token on as soon as they are passive. */
-        if (pas && rt_g.term.have_token) {
+         * pass a token on as soon as they are quiescent. */
+        if (qui && rt_g.term.have_token) {
             if (idle_since < 0) idle_since = lap;
-            if (rt_term_step(&rt_g.term, rt_g.rank, rt_g.size, rt_g.sent, rt_g.recvd,
-                             lap - idle_since >= RT_WAVE_DELAY))
-                break;
-        } else if (pas && idle_since < 0) {
+            rt_term_verdict v =
+                rt_term_pass(&rt_g.term, rt_g.rank, rt_g.size, rt_g.sent, rt_g.recvd,
+                             rt_g.tasks.nblocked, lap - idle_since >= RT_WAVE_DELAY);
+            if (v == RT_TERM_DONE) break;
+            if (v == RT_TERM_DEADLOCK) deadlock_report(true);
+        } else if (qui && idle_since < 0) {
             idle_since = lap;
         }
         if (rt_g.cfg.idle_spin) {

@@ -6,9 +6,11 @@
  *     the scheduler's poll loop, must not block) or threaded (run on a pooled pthread worker).
  *   - tasks: continuations that run until done or until they wait for N replies to requests
  *     they issued (rt_request / rt_reply); a waiting task sits in the blocking queue and costs
- *     no CPU, its last reply moves it to the FIFO ready queue.
+ *     no CPU, its last reply moves it to the FIFO ready queue.  The blocking queue records
+ *     what each task waits for (rt_task_label, rt_blocked_dump).
  *   - rt_run: the paper's REPEAT ... UNTIL DONE loop (service RSRs, run ready tasks, run the
- *     application's local work, check termination) with a distributed termination detector.
+ *     application's local work, check termination) with a distributed termination detector,
+ *     which also reports a deadlock (tasks blocked for good) instead of hanging.
  *
  * Threads: MPI is called only by the thread that called rt_init (the "main thread").  Every
  * function below is main-thread only unless its contract says "any thread".
@@ -190,6 +192,22 @@ int rt_task_pending(const rt_task *t);
  * the task as m->task). */
 void *rt_task_data(const rt_task *t);
 
+#define RT_LABEL_MAX 48
+
+/* Local, main thread, while t is live (from its function, or from a reply handler through
+ * m->task).  Sets t's label, printf-style, shown by rt_blocked_dump (say what the task waits
+ * for: "cavity 17 at rank 3").  Copied into t (at most RT_LABEL_MAX-1 chars, the rest is cut
+ * off); kept until changed or the task finishes.  A new task has an empty label. */
+#if defined(__GNUC__)
+__attribute__((format(printf, 2, 3)))
+#endif
+void rt_task_label(rt_task *t, const char *fmt, ...);
+
+/* Local, main thread.  Prints one line per task of this rank's blocking queue to f, longest
+ * blocked first: rank, task slot, pending replies, destination rank and handler of its most
+ * recent rt_request, label, seconds blocked.  Prints nothing when no task is blocked. */
+void rt_blocked_dump(FILE *f);
+
 /* ---- scheduler ------------------------------------------------------------------------- */
 
 enum { RT_WORK_IDLE = 0, RT_WORK_BUSY = 1 };
@@ -205,7 +223,11 @@ typedef int (*rt_work_fn)(void *ctx);
  * buffered or held) and no RSR in flight.  work may be NULL.  May be called again later
  * (e.g. per phase): no rank returns before every rank has seen termination, so RSRs sent
  * after rt_run returned are handled in the next rt_run (RSRs sent outside rt_run wait for
- * it).  Returns RT_OK. */
+ * it).  Returns RT_OK.
+ * Deadlock: if every rank is passive except for blocked tasks and no RSR is in flight, no
+ * reply can ever arrive (a request whose handler never replies, ...).  Then every rank
+ * prints "rt: rank R: deadlock: ..." and its rt_blocked_dump to stderr, and the job fails
+ * through the fatal path (rank, file, line; exit status 70) instead of hanging. */
 int rt_run(rt_work_fn work, void *ctx);
 
 /* Local, main thread, outside rt_run.  Turns perturbation on with seed (0: off), replacing
@@ -230,8 +252,12 @@ typedef struct rt_stats {
     uint64_t mpi_sent, mpi_recv;             /* MPI messages (an aggregate counts once) */
     uint64_t mpi_bytes_sent, mpi_bytes_recv; /* MPI message bytes (headers included) */
     uint64_t tasks_spawned, tasks_done;
-    uint64_t waves; /* termination detection waves */
+    uint64_t waves;         /* termination detection waves */
+    uint64_t blocked_count; /* times a task entered the blocking queue */
+    uint64_t blocked_max;   /* most tasks blocked at once (a maximum) */
     double time[RT_TIME_NBUCKETS];
+    double blocked_time_sum; /* seconds spent blocked, summed over the tasks that woke up */
+    double blocked_time_max; /* longest single stretch a task spent blocked (a maximum) */
 } rt_stats;
 
 typedef struct rt_handler_stats {
@@ -246,8 +272,9 @@ void rt_stats_local(rt_stats *out);
 /* Local, main thread.  This rank's counters of handler id (RT_EINVAL if not registered). */
 int rt_stats_handler(int id, rt_handler_stats *out);
 
-/* Collective.  sum (may be NULL) gets the sum over ranks of every field; max (may be NULL) the
- * maximum.  Every rank gets the result. */
+/* Collective.  sum (may be NULL) gets the sum over ranks of every field except the maxima
+ * (blocked_max, blocked_time_max), which are the maximum over ranks there too; max (may be
+ * NULL) the maximum of every field.  Every rank gets the result. */
 void rt_stats_reduce(rt_stats *sum, rt_stats *max);
 
 /* Local, main thread.  Adds seconds to bucket b (the application uses RT_TIME_UNDO). */

@@ -12,8 +12,8 @@
  * aggregation size of any rank, so a message lands without a probe; they are consumed in
  * posting order, which is MPI's matching order, so the order from each source is kept (a
  * consumed one is reposted at the next call, in the same order, off the path to the reply).
- * Control records (rt_send_ctl: the termination token and TERM, rt_term.c) share the stream
- * under handler ids above the table and are neither counted nor activity.  A
+ * Control records (rt_send_ctl: the termination token, TERM and DEADLOCK, rt_term.c) share
+ * the stream under handler ids above the table and are neither counted nor activity.  A
  * record too large for an aggregation buffer is announced by a small control record in the
  * ordinary stream and follows as its own message on RT_TAG_BIG, received (blocking, it is
  * already on its way) when the control record is unpacked.  Each record is checked against
@@ -260,14 +260,18 @@ void rt_send_ctl(int to, uint16_t id, const void *payload, uint32_t len) {
     flush_dest(to);
 }
 
-/* A control record from src (rt_send_ctl): the termination token or TERM. */
+/* A control record from src (rt_send_ctl): the termination token, TERM or DEADLOCK. */
 static void control_record(const rt_hdr *h, const void *payload) {
-    if (h->handler == RT_CTL_TOKEN && h->len == 3 * sizeof(int64_t)) {
-        int64_t tok[3];
+    if (h->handler == RT_CTL_TOKEN && h->len == RT_TOK_N * sizeof(int64_t)) {
+        int64_t tok[RT_TOK_N];
         memcpy(tok, payload, sizeof tok);
         rt_term_token(&rt_g.term, tok);
     } else if (h->handler == RT_CTL_TERM && h->len == 0 && h->src == 0 && rt_g.rank != 0) {
         rt_g.term.done = true;
+    } else if (h->handler == RT_CTL_DEADLOCK && h->len == sizeof(int64_t) && h->src == 0 &&
+               rt_g.rank != 0) {
+        memcpy(&rt_g.term.deadlock_blocked, payload, sizeof(int64_t));
+        rt_g.term.deadlock = true; /* reported by rt_run */
     } else {
         RT_FATAL("malformed control record %u (length %u) from rank %d", (unsigned)h->handler,
                  (unsigned)h->len, (int)h->src);
@@ -441,7 +445,9 @@ bool rt_comm_progress(void) {
                 any = true;
                 continue;
             }
-            if ((h.handler == RT_CTL_TOKEN || h.handler == RT_CTL_TERM) && h.src == st.MPI_SOURCE) {
+            if ((h.handler == RT_CTL_TOKEN || h.handler == RT_CTL_TERM ||
+                 h.handler == RT_CTL_DEADLOCK) &&
+                h.src == st.MPI_SOURCE) {
                 control_record(&h, payload);
                 continue;
             }

@@ -146,53 +146,86 @@ typedef enum rt_task_state {
 } rt_task_state;
 
 struct rt_task {
-    rt_qnode q;
+    rt_qnode q; /* ready queue or free list (a blocked task is on neither) */
     rt_task_fn fn;
     void *state;
     uint32_t slot, gen;
     int32_t pending;
     rt_task_state st;
+    struct rt_task *bprev, *bnext; /* blocking queue links, while BLOCKED */
+    double blocked_at;             /* rt_now() when it last became BLOCKED */
+    int32_t last_dest;             /* rank and handler of its last request, -1 if none */
+    int32_t last_handler;
+    char label[RT_LABEL_MAX]; /* rt_task_label, "" if none */
 };
 
 typedef struct rt_tasks {
     rt_task **slot; /* every task ever allocated, by slot; reused after DONE with gen+1 */
     uint32_t nslot, cap;
     rt_queue free_q, ready;
-    size_t nblocked, nlive;
+    rt_task *bhead, *btail; /* the blocking queue, in order of blocking (oldest first) */
+    size_t nblocked, nlive; /* nblocked: length of the blocking queue */
     uint64_t spawned, done;
+    /* statistics of the blocking queue (rt_stats) */
+    uint64_t blocked_count, blocked_max;
+    double blocked_time_sum, blocked_time_max;
 } rt_tasks;
 
 void rt_tasks_init(rt_tasks *ts);
 void rt_tasks_destroy(rt_tasks *ts);
 rt_task *rt_tasks_spawn(rt_tasks *ts, rt_task_fn fn, void *state); /* NEW -> READY */
-size_t rt_tasks_run(rt_tasks *ts, size_t max);     /* runs up to max ready tasks; returns count */
-rt_token rt_task_take_token(rt_task *t, int rank); /* pending++ */
+size_t rt_tasks_run(rt_tasks *ts, size_t max); /* runs up to max ready tasks; returns count */
+/* pending++; records the request (dest, handler) as t's last one. */
+rt_token rt_task_take_token(rt_task *t, int rank, int dest, int handler);
 rt_task *rt_tasks_lookup(rt_tasks *ts, rt_token tok); /* NULL if stale or invalid */
 void rt_tasks_reply(rt_tasks *ts, rt_task *t);        /* pending--; BLOCKED -> READY at 0 */
+/* Zeroes the task statistics: spawned, done and the blocking queue's (blocked_max restarts
+ * at the current length). */
+void rt_tasks_reset_stats(rt_tasks *ts);
+/* One line per blocked task to f, oldest first (rt_blocked_dump); handler names from ht if
+ * not NULL; now: the current rt_now(). */
+void rt_tasks_dump(const rt_tasks *ts, int rank, const rt_htable *ht, double now, FILE *f);
 
 /* ---- termination detection (rt_term.c) -------------------------------------------------- */
 
 /* Control records: handler ids above the table, sent with rt_send_ctl (not counted as RSRs). */
-#define RT_CTL_TOKEN 0xFFFEu /* payload int64_t[3]: the termination token */
+#define RT_CTL_TOKEN 0xFFFEu /* payload int64_t[RT_TOK_N]: the termination token */
 #define RT_CTL_TERM 0xFFFDu  /* empty: rank 0 declared termination */
+/* payload int64_t: rank 0 found that many tasks blocked for good; every rank reports them
+ * and aborts (rt_term.c, rt.c) */
+#define RT_CTL_DEADLOCK 0xFFFCu
+
+enum { RT_TOK_SENT = 0, RT_TOK_RECV, RT_TOK_BLACK, RT_TOK_BLOCKED, RT_TOK_N };
 
 typedef struct rt_term {
-    bool active;     /* black: activity since this rank last passed (or started) the token */
-    bool have_token; /* the token is here */
-    bool round_open; /* rank 0: a round is under way */
-    bool done;       /* rank != 0: TERM received */
-    int64_t tok[3];  /* the token while here: sent, received, black */
-    uint64_t waves;  /* rounds started (rank 0) or tokens passed on (other ranks) */
+    bool active;           /* black: activity since this rank last passed (or started) the token */
+    bool have_token;       /* the token is here */
+    bool round_open;       /* rank 0: a round is under way */
+    bool done;             /* rank != 0: TERM received */
+    bool deadlock;         /* DEADLOCK declared (rank 0) or received (other ranks) */
+    int64_t tok[RT_TOK_N]; /* the token while here: sent, received, black, blocked tasks */
+    int64_t deadlock_blocked; /* with deadlock: tasks blocked on all ranks */
+    uint64_t waves;           /* rounds started (rank 0) or tokens passed on (other ranks) */
 } rt_term;
 
+typedef enum rt_term_verdict {
+    RT_TERM_GOING = 0, /* no decision (not rank 0, no token here, or the round failed) */
+    RT_TERM_DONE,      /* rank 0: termination declared, TERM sent to every other rank */
+    RT_TERM_DEADLOCK   /* rank 0: deadlock declared, DEADLOCK sent to every other rank */
+} rt_term_verdict;
+
 void rt_term_init(rt_term *t, int rank);
-/* The decision on a returned round's {sent, received, black}. */
+/* The decision on a returned round's {sent, received, black}: nothing in flight, nobody
+ * active (blocked tasks are judged by the caller). */
 bool rt_term_decide(const int64_t result[3]);
 /* A token record arrived (main thread, from the transport). */
-void rt_term_token(rt_term *t, const int64_t tok[3]);
-/* Call only while locally passive.  Passes on a held token; on rank 0 decides a returned
- * round and, if may_start, starts a new one.  True on rank 0 when termination is declared
- * (TERM has then been sent to every other rank). */
+void rt_term_token(rt_term *t, const int64_t tok[RT_TOK_N]);
+/* Call only while locally quiescent (passive except for blocked tasks; nblocked of them).
+ * Passes on a held token adding this rank's counts; on rank 0 decides a returned round and,
+ * if may_start, starts a new one. */
+rt_term_verdict rt_term_pass(rt_term *t, int rank, int size, uint64_t sent, uint64_t recvd,
+                             uint64_t nblocked, bool may_start);
+/* rt_term_pass with no blocked task; true iff termination was declared. */
 bool rt_term_step(rt_term *t, int rank, int size, uint64_t sent, uint64_t recvd, bool may_start);
 
 /* ---- perturbation (rt_perturb.c) --------------------------------------------------------- */
