@@ -73,6 +73,10 @@ enum {
     RS_OUT,
     RS_UNRESOLVED,
     RS_FORCED,
+    RS_BLOCKED, /* times a cavity task blocked (the runtime's blocking queue) */
+    RS_BLKMAX,  /* most tasks blocked at once */
+    RS_BLKSUM,  /* seconds tasks spent blocked, summed */
+    RS_BLKTMAX, /* longest single wait, seconds */
     RS_KIND0,
     RS_N = RS_KIND0 + PBW_RSR_NKINDS
 };
@@ -130,6 +134,10 @@ int main(int argc, char **argv) {
     rs[RS_RSR] = (double)st.rsr_sent;
     rs[RS_UNRESOLVED] = (double)res.unresolved;
     rs[RS_FORCED] = (double)res.forced;
+    rs[RS_BLOCKED] = (double)st.blocked_count;
+    rs[RS_BLKMAX] = (double)st.blocked_max;
+    rs[RS_BLKSUM] = st.blocked_time_sum;
+    rs[RS_BLKTMAX] = st.blocked_time_max;
     for (int k = 0; k < PBW_RSR_NKINDS; k++)
         rs[RS_KIND0 + k] = (double)res.rsr_sent[k];
     int limit_any = 0;
@@ -193,6 +201,11 @@ int main(int argc, char **argv) {
                tot[RS_CLOCAL], tot[RS_CREMOTE], tot[RS_ULOCAL], tot[RS_UREMOTE], tot[RS_PARKED],
                tot[RS_REJECTED], tot[RS_FAILED], tot[RS_SKIPPED], tot[RS_POSTPONED],
                tot[RS_UNRESOLVED], tot[RS_FORCED]);
+        double ncav = tot[RS_CLOCAL] + tot[RS_CREMOTE];
+        printf("blocking: tasks_blocked=%.0f most_at_once=%.0f wait_sum_s=%.4f wait_max_s=%.4f "
+               "remote_cavity_pct=%.2f\n",
+               tot[RS_BLOCKED], mx[RS_BLKMAX], tot[RS_BLKSUM], mx[RS_BLKTMAX],
+               ncav > 0 ? 100 * tot[RS_CREMOTE] / ncav : 0.0);
         double nonidle = tot[RS_BUSY] + tot[RS_COMM];
         double nt = sum.ntris > 0 ? (double)sum.ntris : 1;
         printf(

@@ -74,7 +74,14 @@ run() { # np domain q extra-args...
     grep -q "^stats: ranks=$np " <<<"$last" || fail "stats line names the wrong rank count"
     grep -Eq '^rsr: expansion=[0-9]+ reply=[0-9]+ release=[0-9]+ commit=[0-9]+ split=[0-9]+' \
         <<<"$out" || fail "no RSR breakdown line"
-    if [ "$np" = 1 ]; then grep -q ' rsr=0 ' <<<"$last" || fail "RSRs on one rank: $last"; fi
+    grep -Eq '^blocking: tasks_blocked=[0-9]+ most_at_once=[0-9]+ wait_sum_s=[0-9.]+ wait_max_s=[0-9.]+ remote_cavity_pct=[0-9.]+$' \
+        <<<"$out" || fail "no blocking-queue line"
+    if [ "$np" = 1 ]; then
+        grep -q ' rsr=0 ' <<<"$last" || fail "RSRs on one rank: $last"
+        grep -q '^blocking: tasks_blocked=0 ' <<<"$out" || fail "blocked tasks on one rank"
+    else
+        grep -q ' rsr=0 ' <<<"$last" && fail "no RSR at $np ranks: $last"
+    fi
     local mc
     mc=$("$BIN/meshcheck" "data/$d.poly" "$pre" -q "$q" -a "$a" --interfaces-delaunay 2>&1) ||
         fail "meshcheck: $mc (np=$np $d -q $q $*)"

@@ -194,6 +194,7 @@ rt_task_status pbw_cav_task(rt_task *t, void *state) {
         c->phase = 1;
         uint32_t len;
         void *buf = pbw_cav_pack(c, 1, &len);
+        rt_task_label(t, "cavity %llx expansion", (unsigned long long)c->h.key);
         rt_request(t, ref_rank(c->todo[0].target), C->hid[PBW_RSR_EXPAND], buf, len);
         free(buf);
         return RT_TASK_WAIT;
