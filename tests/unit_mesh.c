@@ -11,11 +11,13 @@
 #include "io/meshio.h"
 #include "io/validate.h"
 #include "seq/mesh.h"
+#include "seq/rules.h"
 
 #include <check.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 /* ---- helpers ---------------------------------------------------------------------------- */
 
@@ -698,6 +700,65 @@ static TCase *tcase(Suite *s, const char *name) {
     return tc;
 }
 
+/* The area drift of boundary splits (rules.h): a move towards the inside apex shrinks the
+ * domain, away from it grows it; the signed sum may not pass the budget, moves of opposite
+ * sign cancel, a point on the line costs nothing. */
+START_TEST(test_area_drift) {
+    geom_init();
+    const double u[2] = {0, 0}, v[2] = {8, 0}, w[2] = {4, 4}; /* inside is above */
+    const double in[2] = {4, 0.25}, out[2] = {4, -0.25}, on[2] = {2, 0};
+    ck_assert_double_eq(mesh_rules_area_drift(-16), ldexp(16, -30));
+    double drift = 0, budget = 1.5; /* each off-line point moves the area by 8 * 0.25 / 2 = 1 */
+    ck_assert_int_eq(mesh_rules_drift_spend(u, v, on, w, budget, &drift), 0);
+    ck_assert_double_eq(drift, 0);
+    ck_assert_int_eq(mesh_rules_drift_spend(u, v, out, w, budget, &drift), 0);
+    ck_assert_double_eq(drift, 1);
+    ck_assert_int_eq(mesh_rules_drift_spend(u, v, out, w, budget, &drift), 1); /* 2 > 1.5 */
+    ck_assert_double_eq(drift, 1);                                             /* not spent */
+    ck_assert_int_eq(mesh_rules_drift_spend(u, v, in, w, budget, &drift), 0);  /* cancels */
+    ck_assert_double_eq(drift, 0);
+    ck_assert_int_eq(mesh_rules_drift_spend(v, u, in, w, budget, &drift), 0); /* either direction */
+    ck_assert_double_eq(drift, -1);
+    ck_assert_int_eq(mesh_rules_drift_spend(u, v, in, w, budget, &drift), 1); /* -2 */
+}
+END_TEST
+
+/* The fuzz finding behind the rule: a point set 8.9e17 long and 70 high.  Refinement must not
+ * put a vertex outside the hull: the mesh's area is the hull's, and the validator accepts it. */
+START_TEST(test_sliver_hull) {
+    geom_init();
+    char path[] = "/tmp/unit_mesh_sliverXXXXXX.node";
+    int fd = mkstemps(path, 5);
+    ck_assert_int_ge(fd, 0);
+    FILE *f = fdopen(fd, "w");
+    fputs("3 2 0 0\n1 1 0\n2 9 0\n3 888888888888884970.1 70\n", f);
+    fclose(f);
+    for (int q = 0; q <= 30; q += 30) {
+        mesh m;
+        mesh_init(&m);
+        pslg g;
+        char err[256];
+        ck_assert_int_eq(pslg_read(path, &g, err, sizeof err), 0);
+        ck_assert_int_eq(pslg_check(&g, err, sizeof err), 0);
+        ck_assert_int_eq(mesh_build_cdt(&m, &g, NULL, err, sizeof err), 0);
+        mesh_quality mq = {q * (1 + 1e-9), 0, -1, 1, 0};
+        mesh_set_quality(&m, &mq);
+        mesh_refine(&m);
+        double area = 0;
+        for (int32_t t = 0; t < m.nt; t++)
+            if (mesh_tri_alive(&m, t))
+                area +=
+                    geom_area(mesh_vertex_xy(&m, m.tv[3 * t]), mesh_vertex_xy(&m, m.tv[3 * t + 1]),
+                              mesh_vertex_xy(&m, m.tv[3 * t + 2]));
+        area = ldexp(area, -2 * g.scale_exp); /* the working scale back to the input's */
+        ck_assert_msg(fabs(area - 280) <= 280 * 1e-9, "-q %d: area %.17g, hull 280", q, area);
+        mesh_free(&m);
+        pslg_free(&g);
+    }
+    unlink(path);
+}
+END_TEST
+
 static Suite *suite(void) {
     Suite *s = suite_create("mesh");
     TCase *tc = tcase(s, "delaunay");
@@ -714,6 +775,8 @@ static Suite *suite(void) {
     tcase_add_test(tc, test_bad_input);
     tcase_add_test(tc, test_small_angles);
     tcase_add_test(tc, test_iface_corner);
+    tcase_add_test(tc, test_area_drift);
+    tcase_add_test(tc, test_sliver_hull);
     tc = tcase(s, "random");
     tcase_add_loop_test(tc, test_random_pslg, 0, 6);
     tc = tcase(s, "hooks");

@@ -223,8 +223,10 @@ struct pbw_ctx {
     /* quality: the shared rules (seq/rules.h) and the input facts they need */
     mesh_rules R;
     mesh_rules_input I;
-    double floor2;             /* squared length floor (mesh_rules_length_floor2) */
-    int32_t *pieces;           /* per segment: splits this rank made (MESH_RULES_MAX_PIECES) */
+    double floor2;      /* squared length floor (mesh_rules_length_floor2) */
+    double area_budget; /* this rank's share of mesh_rules_area_drift of the domain */
+    double area_spent;  /* ... moved by its boundary splits, signed (mesh_rules_drift_spend) */
+    int32_t *pieces;    /* per segment: splits this rank made (MESH_RULES_MAX_PIECES) */
     int64_t unresolved_budget; /* refusals this rank accepts before it gives up */
     int64_t steiner_limit;
     int stopped;

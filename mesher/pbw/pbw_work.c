@@ -160,6 +160,14 @@ static void process_item(pbw_ctx *C, pbw_item *it) {
             mesh_rules_off_line(VX(C, la), VX(C, lb), p,
                                 VX(C, C->tv[3 * (size_t)t + (size_t)((j + 2) % 3)]), NULL))
             sp = -1;
+        /* on the domain's boundary: the area the rounded split points may move (rules.h;
+         * spent when the split starts: a retried split spends again, which only refuses
+         * sooner) */
+        if (sp == 0 && C->tn[e] == NOREF &&
+            mesh_rules_drift_spend(VX(C, la), VX(C, lb), p,
+                                   VX(C, C->tv[3 * (size_t)t + (size_t)((j + 2) % 3)]),
+                                   C->area_budget, &C->area_spent))
+            sp = -2;
         if (sp != 0) {
             if (sp == -2)
                 pbw_refuse(C);

@@ -62,6 +62,9 @@ struct mesh_refine_state {
     double floor2;            /* squared length floor: no new edge shorter (0: not computed yet) */
     int32_t *pieces, npieces; /* per segment: its subsegments (0: one, never split) */
     int32_t since_poll;
+    double area_budget; /* boundary splits may move the domain's area by this much in all
+                           (MESH_RULES_AREA_DRIFT of the area; < 0: not computed yet) */
+    double area_spent;  /* ... and have moved it by this much (signed: + grown) */
 };
 
 static const double *X(const mesh *m, int32_t v) {
@@ -78,6 +81,7 @@ static mesh_refine_state *rf_get(mesh *m) {
     r->cursor = NBUCKET + 1;
     mesh_rules_init(&r->R, 0, 0, 0, 0);
     r->need_scan = 1;
+    r->area_budget = -1;
     m->rf = r;
     return r;
 }
@@ -288,6 +292,26 @@ static int off_line(const mesh *m, int32_t e, const double *pu, const double *pv
     return mesh_rules_off_line(pu, pv, p, w[0], w[1]);
 }
 
+/* 1 iff split point p of the boundary subsegment (pu, pv), edge e (its other side outside the
+ * domain), would move the domain's area, summed with sign over every boundary split so far,
+ * by more than its budget (mesh_rules_area_drift); otherwise the move is recorded.  A rounded
+ * split point off its line moves the boundary by |orient2d| / 2: nothing on ordinary inputs
+ * (a few ulps per split, of either sign), but on a sliver domain one rounded midpoint can move
+ * it by percents (a fuzzed point set 8.9e17 long and 70 high gained 6% of its area, and
+ * --check refused the mesh). */
+static int area_drift(mesh *m, int32_t e, const double *pu, const double *pv, const double *p) {
+    mesh_refine_state *rs = m->rf;
+    if (rs->area_budget < 0) {
+        double a = 0;
+        for (int32_t t = 0; t < m->nt; t++)
+            if (mesh_tri_alive(m, t))
+                a += geom_area(X(m, m->tv[3 * t]), X(m, m->tv[3 * t + 1]), X(m, m->tv[3 * t + 2]));
+        rs->area_budget = mesh_rules_area_drift(a);
+    }
+    return mesh_rules_drift_spend(pu, pv, p, X(m, mesh_apex(m, e)), rs->area_budget,
+                                  &rs->area_spent);
+}
+
 /* Splits subsegment record r.  notify: call on_split for an interface subsegment.  Returns 0,
  * or -1 if it cannot be split (precision exhausted; counted as failed). */
 static int split_subseg(mesh *m, int32_t r, int notify) {
@@ -349,6 +373,10 @@ static int split_subseg(mesh *m, int32_t r, int notify) {
     if (e < 0) MESH_BUG("subsegment %d-%d has no edge", s.u, s.v);
     if (off_line(m, e, pu, pv, p)) {
         m->stats.failed++;
+        return -1;
+    }
+    if (!iface && m->tn[e] < 0 && area_drift(m, e, pu, pv, p)) {
+        m->stats.unresolved++;
         return -1;
     }
     int32_t bad = -1;

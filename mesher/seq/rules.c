@@ -115,6 +115,21 @@ int mesh_rules_off_line(const double pu[2], const double pv[2], const double p[2
            (w2 && 16 * off > fabs(geom_orient2d(pu, pv, w2)));
 }
 
+double mesh_rules_area_drift(double area) {
+    return ldexp(fabs(area), -30);
+}
+
+int mesh_rules_drift_spend(const double pu[2], const double pv[2], const double p[2],
+                           const double w[2], double budget, double *drift) {
+    double o = geom_orient2d(pu, pv, p);
+    if (o == 0) return 0;
+    /* towards the inside apex w the domain shrinks, away from it it grows */
+    double d = 0.5 * ((o > 0) == (geom_orient2d(pu, pv, w) > 0) ? -fabs(o) : fabs(o));
+    if (!(fabs(*drift + d) <= budget)) return 1;
+    *drift += d;
+    return 0;
+}
+
 int mesh_rules_bucket(double short2) {
     uint64_t bits;
     memcpy(&bits, &short2, sizeof bits);

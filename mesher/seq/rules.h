@@ -94,6 +94,21 @@ int64_t mesh_rules_unresolved_budget(int32_t ninput);
 int mesh_rules_off_line(const double pu[2], const double pv[2], const double p[2], const double *w1,
                         const double *w2);
 
+/* The domain's area may drift by at most this much in all (2^-30 of area, just under the
+ * validator's relative tolerance of 1e-9) through split points of boundary subsegments (a side
+ * outside the domain) that rounding put off their line. */
+double mesh_rules_area_drift(double area);
+
+/* Split point p of the boundary subsegment (pu, pv), whose inside triangle has apex w, moves
+ * the domain's area by |orient2d(pu, pv, p)| / 2: down if p is on w's side, up otherwise.
+ * *drift is the signed sum of the moves so far (rounding puts split points on either side, so
+ * on ordinary inputs it stays near 0 while the moves' magnitudes add up).  1 iff this move
+ * would take |*drift| past budget (the split is refused: precision exhausted on a sliver,
+ * counted as a refusal); otherwise it is added to *drift and 0 returned.  Deciding whether to
+ * refine, not topology: rounded magnitudes do (the side of p is exact). */
+int mesh_rules_drift_spend(const double pu[2], const double pv[2], const double p[2],
+                           const double w[2], double budget, double *drift);
+
 /* At most this many pieces per input segment (interface segments of the decomposition have
  * their own, name-based rule): near a small feature splits shrink the pieces geometrically,
  * but along a sliver of width w and length L every piece stays encroached by the other side
