@@ -813,6 +813,15 @@ void mesh_take_flat(mesh *m, mesh_flat *f, uint8_t **topen) {
     mesh_free(m);
 }
 
+double mesh_area(const mesh *m) {
+    double a = 0;
+    for (int32_t t = 0; t < m->nt; t++)
+        if (mesh_tri_alive(m, t))
+            a += geom_area(mesh_vertex_xy(m, m->tv[3 * t]), mesh_vertex_xy(m, m->tv[3 * t + 1]),
+                           mesh_vertex_xy(m, m->tv[3 * t + 2]));
+    return a;
+}
+
 size_t mesh_memory_bytes(const mesh *m) {
     size_t b = (size_t)m->vcap * (2 * sizeof(double) + 2 * sizeof(int32_t));
     b += (size_t)m->tcap * (6 * sizeof(int32_t) + 1);

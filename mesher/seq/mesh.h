@@ -280,6 +280,10 @@ void mesh_take_flat(mesh *m, mesh_flat *f, uint8_t **topen);
 /* Bytes held by the mesh's arrays (capacities). */
 size_t mesh_memory_bytes(const mesh *m);
 
+/* The sum of the live triangles' areas, in the mesh's (working) units; rounded (a magnitude,
+ * never a topological decision). */
+double mesh_area(const mesh *m);
+
 /* Edge code of the edge {u, v} in some live triangle (either direction), or -1. */
 int32_t mesh_find_edge(const mesh *m, int32_t u, int32_t v);
 

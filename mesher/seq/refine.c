@@ -301,13 +301,7 @@ static int off_line(const mesh *m, int32_t e, const double *pu, const double *pv
  * --check refused the mesh). */
 static int area_drift(mesh *m, int32_t e, const double *pu, const double *pv, const double *p) {
     mesh_refine_state *rs = m->rf;
-    if (rs->area_budget < 0) {
-        double a = 0;
-        for (int32_t t = 0; t < m->nt; t++)
-            if (mesh_tri_alive(m, t))
-                a += geom_area(X(m, m->tv[3 * t]), X(m, m->tv[3 * t + 1]), X(m, m->tv[3 * t + 2]));
-        rs->area_budget = mesh_rules_area_drift(a);
-    }
+    if (rs->area_budget < 0) rs->area_budget = mesh_rules_area_drift(mesh_area(m));
     return mesh_rules_drift_spend(pu, pv, p, X(m, mesh_apex(m, e)), rs->area_budget,
                                   &rs->area_spent);
 }
