@@ -75,8 +75,13 @@ static const cli_opt mesher_rows[] = {
     {.name = "vtk",
      .value = &v_file,
      .at = CLI_AT(par.vtk),
-     .help = "write VTK (./mesh: legacy FILE; ./pcdm, ./pbw: FILE's .pvtu index, e.g. F.pvtu "
-             "for F.vtk, with one piece F_R.vtu per rank, cell data rank; no gather)"},
+     .help = "write VTK, binary unless --vtk-ascii (./mesh: legacy FILE; ./pcdm, ./pbw: FILE's "
+             ".pvtu index, e.g. F.pvtu for F.vtk, with one piece F_R.vtu per rank, cell data "
+             "rank; no gather)"},
+    {.name = "vtk-ascii",
+     .value = &v_flag,
+     .at = CLI_AT(par.vtk_ascii),
+     .help = "write --vtk as ASCII (default: binary)"},
     {.name = "svg",
      .value = &v_file,
      .at = CLI_AT(par.svg),

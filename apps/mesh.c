@@ -125,7 +125,7 @@ int main(int argc, char **argv) {
         fprintf(stderr, "mesh: %s\n", err);
         rc = 1;
     }
-    if (vtk && meshio_write_vtk(&f, vtk, err, sizeof err) != 0) {
+    if (vtk && meshio_write_vtk(&f, !o.par.vtk_ascii, vtk, err, sizeof err) != 0) {
         fprintf(stderr, "mesh: %s\n", err);
         rc = 1;
     }

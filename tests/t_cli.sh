@@ -206,14 +206,14 @@ for prog in pcdm pbw; do expect_usage "$prog" 2 "--poll" --poll 0 data/square.po
 
 # the shared options are one set of rows: the same help lines in every mesher
 for prog in mesh pcdm pbw; do
-    "$BIN/$prog" --help | awk '/^  (-[qaSo] |--(vtk|svg|stats|check|progress|help)|-h,)/ { p = 1 }
-        /^  -/ && !/^  (-[qaSo] |--(vtk|svg|stats|check|progress)|-h,)/ { p = 0 }
+    "$BIN/$prog" --help | awk '/^  (-[qaSo] |--(vtk|svg|stats|check|progress|circumcenters|help)|-h,)/ { p = 1 }
+        /^  -/ && !/^  (-[qaSo] |--(vtk|svg|stats|check|progress|circumcenters)|-h,)/ { p = 0 }
         /^[^ ]/ { p = 0 } p' >"$T/help.$prog"
     [ -s "$T/help.$prog" ] || fail "$prog --help: no shared option lines"
 done
 cmp -s "$T/help.mesh" "$T/help.pcdm" || fail "shared help differs: mesh vs pcdm: $(diff "$T/help.mesh" "$T/help.pcdm")"
 cmp -s "$T/help.mesh" "$T/help.pbw" || fail "shared help differs: mesh vs pbw: $(diff "$T/help.mesh" "$T/help.pbw")"
-[ "$(grep -c '^  -' "$T/help.mesh")" -eq 10 ] || fail "expected 10 shared options in --help: $(cat "$T/help.mesh")"
+[ "$(grep -c '^  -' "$T/help.mesh")" -eq 12 ] || fail "expected 12 shared options in --help: $(cat "$T/help.mesh")"
 
 echo "t_cli: $nok passed, $nfail failed"
 [ "$nfail" -eq 0 ]

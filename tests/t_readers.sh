@@ -30,4 +30,32 @@ for np in 1 2 4; do
         exit 1
     fi
 done
-python3 tests/readers.py "$T" 1 2 4
+python3 tests/readers.py "$T" 1 2 4 || exit 1
+# ./mesh's legacy VTK, binary (the default) and --vtk-ascii, and ./pcdm's pieces with
+# --vtk-ascii: meshio reads each; ./mesh: the same points (bit for bit, and as the .node has them),
+# triangles and markers in both encodings; ./pcdm: every piece whole, its cells its rank's
+"$BIN/mesh" -q 30 -a 2e-4 -o "$T/s" --vtk "$T/sb.vtk" data/lake.poly >/dev/null 2>&1 &&
+    "$BIN/mesh" -q 30 -a 2e-4 --vtk "$T/sa.vtk" --vtk-ascii data/lake.poly >/dev/null 2>&1 &&
+    timeout 300 $MPIRUN -np 2 "$BIN/pcdm" -q 30 -a 2e-4 --subdomains 4 --vtk "$T/pa.pvtu" \
+        --vtk-ascii data/lake.poly >/dev/null 2>&1 || { echo "FAIL: writing the VTK files"; exit 1; }
+grep -q '^BINARY$' "$T/sb.vtk" && grep -q '^ASCII$' "$T/sa.vtk" || { echo "FAIL: VTK encodings"; exit 1; }
+grep -q 'format="ascii"' "$T/pa_0.vtu" && grep -q 'format="appended"' "$T/m2_0.vtu" ||
+    { echo "FAIL: .vtu encodings"; exit 1; }
+python3 - "$T" <<'PY' || exit 1
+import sys, meshio, numpy as np
+T = sys.argv[1]
+b, a = meshio.read(T + "/sb.vtk"), meshio.read(T + "/sa.vtk")
+node = np.loadtxt(T + "/s.node", skiprows=1, comments="#")
+ok = (np.array_equal(a.points, b.points) and np.array_equal(b.points[:, :2], node[:, 1:3])
+      and np.array_equal(a.cells_dict["triangle"], b.cells_dict["triangle"])
+      and np.array_equal(a.point_data["marker"], b.point_data["marker"])
+      and np.array_equal(b.point_data["marker"].ravel(), node[:, 3]))
+for r in (0, 1):  # two runs of ./pcdm need not give the same mesh: each piece on its own
+    pa = meshio.read("%s/pa_%d.vtu" % (T, r))
+    tri = pa.cells_dict["triangle"]
+    ok = ok and len(tri) > 0 and tri.max() < len(pa.points) and np.all(
+        pa.cell_data["rank"][0] == r) and len(pa.point_data["marker"]) == len(pa.points)
+print("t_readers: ./mesh VTK binary and ASCII, ./pcdm ASCII .vtu pieces read by meshio:",
+      "OK" if ok else "FAILED")
+sys.exit(0 if ok else 1)
+PY

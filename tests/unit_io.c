@@ -460,7 +460,7 @@ START_TEST(test_roundtrip) {
     fclose(f);
     /* VTK and SVG */
     snprintf(p, sizeof p, "%s.vtk", prefix);
-    ck_assert_msg(meshio_write_vtk(&m, p, err, sizeof err) == 0, "%s", err);
+    ck_assert_msg(meshio_write_vtk(&m, 0, p, err, sizeof err) == 0, "%s", err);
     f = fopen(p, "r");
     ck_assert(f);
     int cells = 0, types = 0, scal = 0;

@@ -419,39 +419,108 @@ fail:
 
 /* ---------------------------------------------------------------- VTK ------------------- */
 
-int meshio_write_vtk(const mesh_flat *m, const char *path, char *err, size_t errlen) {
+/* Big-endian stores for legacy VTK's BINARY encoding. */
+static unsigned char *put_be32(unsigned char *p, uint32_t v) {
+    for (int k = 3; k >= 0; k--)
+        *p++ = (unsigned char)(v >> (8 * k));
+    return p;
+}
+
+static unsigned char *put_be64(unsigned char *p, double d) {
+    uint64_t v;
+    memcpy(&v, &d, sizeof v);
+    for (int k = 7; k >= 0; k--)
+        *p++ = (unsigned char)(v >> (8 * k));
+    return p;
+}
+
+/* One block of n int32 values (v[i], or all `dflt` when v is NULL), binary or one per line. */
+static void vtk_ints(FILE *f, const int32_t *v, int32_t n, int32_t dflt, int binary) {
+    unsigned char buf[4096];
+    char line[32];
+    size_t k = 0;
+    for (int32_t i = 0; i < n; i++) {
+        int32_t x = v ? v[i] : dflt;
+        if (binary) {
+            put_be32(buf + k, (uint32_t)x);
+            k += 4;
+            if (k == sizeof buf) {
+                fwrite(buf, 1, k, f);
+                k = 0;
+            }
+        } else {
+            char *p = fmt_int(line, x);
+            *p++ = '\n';
+            fwrite(line, 1, (size_t)(p - line), f);
+        }
+    }
+    if (k) fwrite(buf, 1, k, f);
+    if (binary) fputc('\n', f);
+}
+
+int meshio_write_vtk(const mesh_flat *m, int binary, const char *path, char *err, size_t errlen) {
     wfile w;
     if (meshio_wopen(&w, path, err, errlen)) return -1;
-    fprintf(w.f, "# vtk DataFile Version 3.0\npcdm mesh\nASCII\nDATASET UNSTRUCTURED_GRID\n");
+    fprintf(w.f, "# vtk DataFile Version 3.0\npcdm mesh\n%s\nDATASET UNSTRUCTURED_GRID\n",
+            binary ? "BINARY" : "ASCII");
     fprintf(w.f, "POINTS %d double\n", (int)m->nverts);
+    unsigned char buf[4096];
+    size_t k = 0;
     char line[160];
     for (int32_t i = 0; i < m->nverts; i++) {
-        char *p = fmt_dbl(line, ldexp(m->xy[2 * i], -m->scale_exp));
-        *p++ = ' ';
-        p = fmt_dbl(p, ldexp(m->xy[2 * i + 1], -m->scale_exp));
-        memcpy(p, " 0\n", 3);
-        fwrite(line, 1, (size_t)(p + 3 - line), w.f);
+        double x = ldexp(m->xy[2 * i], -m->scale_exp), y = ldexp(m->xy[2 * i + 1], -m->scale_exp);
+        if (binary) {
+            if (k + 24 > sizeof buf) {
+                fwrite(buf, 1, k, w.f);
+                k = 0;
+            }
+            put_be64(put_be64(put_be64(buf + k, x), y), 0.0);
+            k += 24;
+        } else {
+            char *p = fmt_dbl(line, x);
+            *p++ = ' ';
+            p = fmt_dbl(p, y);
+            memcpy(p, " 0\n", 3);
+            fwrite(line, 1, (size_t)(p + 3 - line), w.f);
+        }
+    }
+    if (binary) {
+        fwrite(buf, 1, k, w.f);
+        k = 0;
+        fputc('\n', w.f);
     }
     fprintf(w.f, "CELLS %d %lld\n", (int)m->ntris, 4LL * m->ntris);
     for (int32_t t = 0; t < m->ntris; t++) {
+        if (binary) {
+            if (k + 16 > sizeof buf) {
+                fwrite(buf, 1, k, w.f);
+                k = 0;
+            }
+            unsigned char *q = put_be32(buf + k, 3);
+            for (int j = 0; j < 3; j++)
+                q = put_be32(q, (uint32_t)m->tri[3 * t + j]);
+            k += 16;
+            continue;
+        }
         char *p = line;
         *p++ = '3';
-        for (int k = 0; k < 3; k++) {
+        for (int j = 0; j < 3; j++) {
             *p++ = ' ';
-            p = fmt_int(p, m->tri[3 * t + k]);
+            p = fmt_int(p, m->tri[3 * t + j]);
         }
         *p++ = '\n';
         fwrite(line, 1, (size_t)(p - line), w.f);
     }
-    fprintf(w.f, "CELL_TYPES %d\n", (int)m->ntris);
-    for (int32_t t = 0; t < m->ntris; t++)
-        fputs("5\n", w.f);
-    fprintf(w.f, "CELL_DATA %d\nSCALARS rank int 1\nLOOKUP_TABLE default\n", (int)m->ntris);
-    for (int32_t t = 0; t < m->ntris; t++) {
-        char *p = fmt_int(line, m->trank ? m->trank[t] : 0);
-        *p++ = '\n';
-        fwrite(line, 1, (size_t)(p - line), w.f);
+    if (binary) {
+        fwrite(buf, 1, k, w.f);
+        fputc('\n', w.f);
     }
+    fprintf(w.f, "CELL_TYPES %d\n", (int)m->ntris);
+    vtk_ints(w.f, NULL, m->ntris, 5, binary);
+    fprintf(w.f, "CELL_DATA %d\nSCALARS rank int 1\nLOOKUP_TABLE default\n", (int)m->ntris);
+    vtk_ints(w.f, m->trank, m->ntris, 0, binary);
+    fprintf(w.f, "POINT_DATA %d\nSCALARS marker int 1\nLOOKUP_TABLE default\n", (int)m->nverts);
+    vtk_ints(w.f, m->vmarker, m->nverts, 0, binary);
     return meshio_wclose(&w, 0);
 }
 

@@ -30,6 +30,7 @@ typedef struct par_opts {
     int64_t max_steiner;    /* -S N (< 0: none) */
     const char *out_prefix; /* -o PREFIX: PREFIX.node/.ele/.poly */
     const char *vtk;        /* --vtk FILE */
+    int vtk_ascii;          /* --vtk-ascii: ASCII VTK instead of binary */
     const char *svg;        /* --svg FILE */
     int stats;              /* --stats */
     int check;              /* --check: validate every part where it lives (pout.h) */

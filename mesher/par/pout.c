@@ -324,7 +324,8 @@ int par_write_parts(const par_opts *o, const pslg *in, const mesh_flat *local, c
                 break;
             }
         }
-        if (meshio_pwrite_pvtu(rt_app_comm(), local, tsub, 1, prefix, err, sizeof err) != 0) {
+        if (meshio_pwrite_pvtu(rt_app_comm(), local, tsub, !o->vtk_ascii, prefix, err,
+                               sizeof err) != 0) {
             if (rt_rank() == 0) fprintf(stderr, "%s: %s\n", o->prog, err);
             return -1;
         }
