@@ -117,6 +117,7 @@ int main(int argc, char **argv) {
     int rc = 0;
     mesh_flat f;
     int need_flat = prefix || vtk || svg || check;
+    double t_out = now();
     if (need_flat && mesh_to_flat(&m, &f) != 0) {
         fprintf(stderr, "mesh: out of memory\n");
         return 1;
@@ -133,6 +134,7 @@ int main(int argc, char **argv) {
         fprintf(stderr, "mesh: %s\n", err);
         rc = 1;
     }
+    t_out = now() - t_out; /* the flat form and the files (-o, --vtk, --svg) */
     if (check) {
         int nob = cdt_only || limited; /* the bounds were given up: check the rest */
         validate_opts vo = {nob ? 0 : qdeg, nob ? 0 : area, 0, 0};
@@ -165,9 +167,9 @@ int main(int argc, char **argv) {
             (long long)s->unresolved, (long long)forced,
             m.nlive ? (double)mesh_memory_bytes(&m) / m.nlive : 0.0);
         printf("stats: triangles=%ld vertices=%ld steiner=%ld min_angle=%.4f max_area=%.6g "
-               "wall_s=%.3f peak_rss_mb=%.1f bytes_per_tri=%.1f\n",
+               "wall_s=%.3f peak_rss_mb=%.1f bytes_per_tri=%.1f output_s=%.3f\n",
                (long)m.nlive, (long)m.nv, (long)(m.nv - m.ninput), amin, amax, wall,
-               rss / 1048576.0, m.nlive ? rss / m.nlive : 0.0);
+               rss / 1048576.0, m.nlive ? rss / m.nlive : 0.0, t_out);
     }
     if (need_flat) mesh_flat_free(&f);
     mesh_free(&m);
