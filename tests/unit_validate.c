@@ -249,6 +249,23 @@ START_TEST(test_split_segment_chain) {
 }
 END_TEST
 
+/* Two boundary segments 1e-50 radians apart at a far vertex (a fuzz finding): the midpoint of
+ * one lies within the distance test of the other, and the chain of the other must not detour
+ * through it when its own edge reaches its end. */
+START_TEST(test_near_parallel_segments) {
+    double xy[] = {0, 0, 0, 0.21, 0, 82, 9, 9.4e50, 4.5, 4.7e50};
+    int32_t seg[] = {0, 3, 3, 2, 2, 1, 1, 0};
+    pslg g;
+    make_pslg(&g, 4, xy, 4, seg);
+    int32_t tri[] = {3, 2, 4, 2, 1, 4, 1, 0, 4};
+    int32_t mseg[] = {0, 4, 4, 3, 3, 2, 2, 1, 1, 0};
+    mesh_flat m = flat(5, xy, 3, tri, 5, mseg);
+    validate_report r;
+    ck_assert_msg(run(&g, &m, 0, 0, &r), "%s", r.first_problem);
+    pslg_free(&g);
+}
+END_TEST
+
 START_TEST(test_quality_bounds) {
     pslg g;
     load("data/square.poly", &g);
@@ -355,6 +372,7 @@ int main(void) {
     tcase_add_test(tc, test_overlap);
     tcase_add_test(tc, test_missing_segment_and_vertex);
     tcase_add_test(tc, test_split_segment_chain);
+    tcase_add_test(tc, test_near_parallel_segments);
     tcase_add_test(tc, test_quality_bounds);
     tcase_add_test(tc, test_wedge_exemption);
     tcase_add_test(tc, test_grid_mesh);

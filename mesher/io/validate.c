@@ -572,13 +572,17 @@ static int32_t trace_chain(const vctx *c, int32_t S0, int32_t S1, int32_t A, int
             const double *q = xy + 2 * w;
             double t;
             double qx = q[0] - pa[0], qy = q[1] - pa[1];
-            if (w == B) {
-                t = (qx * dx + qy * dy) / L2;
-            } else {
-                if (fabs(dx * qy - dy * qx) > tol) continue;
-                t = (qx * dx + qy * dy) / L2;
-                if (!(t > tcur && t < 1)) continue;
+            if (w == B) { /* the piece's end, through a segment or boundary edge: the chain
+                           * ends here (a sliver's far vertex may also pass the distance test,
+                           * e.g. two hull edges 1e-50 radians apart: never detour through it) */
+                best = w;
+                brec = adj[i][1];
+                bt = (qx * dx + qy * dy) / L2;
+                break;
             }
+            if (fabs(dx * qy - dy * qx) > tol) continue;
+            t = (qx * dx + qy * dy) / L2;
+            if (!(t > tcur && t < 1)) continue;
             double sx = q[0] - pc[0], sy = q[1] - pc[1];
             double dev = fabs(dx * sy - dy * sx) / (L * sqrt(sx * sx + sy * sy));
             if (dev < bdev || (dev == bdev && t < bt)) {
