@@ -318,6 +318,31 @@ START_TEST(test_input_angles) {
 }
 END_TEST
 
+/* A T-junction is a corner: vertex 4 lies inside segment 0 (the square's left side) and
+ * segment 4 leaves it at 37.9 degrees from the lower half of segment 0 (a fuzz finding: the
+ * validator knew only segment endpoints as corners and refused a triangle ./pcdm exempted). */
+static void count_angle(void *ctx, int32_t v, int32_t s1, int32_t s2, double deg) {
+    int *hits = ctx;
+    if (v == 4 && deg > 37 && deg < 38 && ((s1 == 0 && s2 == 4) || (s1 == 4 && s2 == 0))) hits[0]++;
+    hits[1]++;
+}
+
+START_TEST(test_input_angles_tjunction) {
+    pslg g;
+    memset(&g, 0, sizeof g);
+    double xy[] = {0, 1, 0, 0, 2, 0, 2, 1, 0, 0.579, 0.45, 0};
+    int32_t seg[] = {0, 1, 1, 5, 5, 2, 2, 3, 4, 5, 3, 0};
+    g.nverts = 6;
+    g.xy = xy;
+    g.nsegs = 6;
+    g.seg = seg;
+    int hits[2] = {0, 0};
+    double m = pslg_input_angles(&g, 60, count_angle, hits);
+    ck_assert_int_eq(hits[0], 1);
+    ck_assert_double_eq_tol(m, 37.85, 0.01);
+}
+END_TEST
+
 /* ---------------------------------------------------------------- files in a temp dir --- */
 
 static char tmpdir[256];
@@ -509,6 +534,7 @@ int main(void) {
     tcase_add_test(tc, test_domain_area_bridges);
     tcase_add_test(tc, test_domain_area_thin_rings);
     tcase_add_loop_test(tc, test_input_angles, 0, (int)(sizeof data / sizeof data[0]));
+    tcase_add_test(tc, test_input_angles_tjunction);
     tcase_add_test(tc, test_node_and_regions);
     tcase_add_test(tc, test_roundtrip);
     suite_add_tcase(s, tc);

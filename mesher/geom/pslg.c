@@ -1205,23 +1205,46 @@ double pslg_input_angles(const pslg *g, double bound_deg,
     geom_init();
     int32_t n = g->nverts, ns = g->nsegs;
     double best = 360;
+    /* A vertex lying inside a segment s (a T-junction, decided exactly by pslg_segment_pieces)
+     * is a corner too: there s leaves in both directions, so it gets two half-edges of s, each
+     * paired with a slot for the far end of s (which does not list it: at s's endpoints the
+     * segment is counted once). */
+    pslg_pieces P;
+    int have = ns > 0 && pslg_segment_pieces(g, &P) == 0;
+    int32_t ne = ns;
+    for (int32_t s = 0; have && s < ns; s++)
+        if (P.start[s + 1] - P.start[s] > 2) ne += 2 * (P.start[s + 1] - P.start[s] - 2);
     arr A = {0};
     A.xy = g->xy;
-    A.org = mesh_xmalloc((2 * (size_t)ns + 1) * sizeof(int32_t), 1);
-    A.out = mesh_xmalloc((2 * (size_t)ns + 1) * sizeof(int32_t), 1);
+    A.org = mesh_xmalloc((2 * (size_t)ne + 1) * sizeof(int32_t), 1);
+    A.out = mesh_xmalloc((2 * (size_t)ne + 1) * sizeof(int32_t), 1);
     A.vstart = mesh_xcalloc((size_t)n + 2, sizeof(int32_t));
-    int32_t *tmp = mesh_xmalloc((2 * (size_t)ns + 1) * sizeof(int32_t), 1);
-    if (!A.org || !A.out || !A.vstart || !tmp) goto out;
-    for (int32_t s = 0; s < ns; s++) {
-        A.org[2 * s] = g->seg[2 * s];
-        A.org[2 * s + 1] = g->seg[2 * s + 1];
-        A.vstart[g->seg[2 * s] + 1]++;
-        A.vstart[g->seg[2 * s + 1] + 1]++;
+    int32_t *tmp = mesh_xmalloc((2 * (size_t)ne + 1) * sizeof(int32_t), 1);
+    int32_t *sid = mesh_xmalloc(((size_t)ne + 1) * sizeof(int32_t), 1);
+    uint8_t *listed = mesh_xmalloc(2 * (size_t)ne + 1, 1); /* h is in v's list */
+    if (!A.org || !A.out || !A.vstart || !tmp || !sid || !listed) goto out;
+    int32_t e = 0;
+    for (int32_t s = 0; s < ns; s++, e++) {
+        A.org[2 * e] = g->seg[2 * s];
+        A.org[2 * e + 1] = g->seg[2 * s + 1];
+        sid[e] = s;
+        listed[2 * e] = listed[2 * e + 1] = 1;
     }
+    for (int32_t s = 0; have && s < ns; s++)
+        for (int32_t k = P.start[s] + 1; k + 1 < P.start[s + 1]; k++)
+            for (int end = 0; end < 2; end++, e++) {
+                A.org[2 * e] = P.vert[k];
+                A.org[2 * e + 1] = g->seg[2 * s + end];
+                sid[e] = s;
+                listed[2 * e] = 1;
+                listed[2 * e + 1] = 0;
+            }
+    for (int32_t h = 0; h < 2 * ne; h++)
+        if (listed[h]) A.vstart[A.org[h] + 1]++;
     for (int32_t v = 0; v < n; v++)
         A.vstart[v + 1] += A.vstart[v];
-    for (int32_t h = 0; h < 2 * ns; h++)
-        A.out[A.vstart[A.org[h]]++] = h;
+    for (int32_t h = 0; h < 2 * ne; h++)
+        if (listed[h]) A.out[A.vstart[A.org[h]]++] = h;
     for (int32_t v = n; v > 0; v--)
         A.vstart[v] = A.vstart[v - 1];
     A.vstart[0] = 0;
@@ -1241,14 +1264,17 @@ double pslg_input_angles(const pslg *g, double bound_deg,
             if (side < 0) deg = 360 - deg;
             if (deg <= 0) deg += 360; /* coincident directions (overlapping segments) */
             if (deg < best) best = deg;
-            if (deg < bound_deg && fn) fn(ctx, v, h1 >> 1, h2 >> 1, deg);
+            if (deg < bound_deg && fn) fn(ctx, v, sid[h1 >> 1], sid[h2 >> 1], deg);
         }
     }
 out:
+    if (have) pslg_pieces_free(&P);
     free(A.org);
     free(A.out);
     free(A.vstart);
     free(tmp);
+    free(sid);
+    free(listed);
     return best;
 }
 

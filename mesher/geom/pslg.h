@@ -92,10 +92,10 @@ int pslg_read_segments(const char *path, int32_t nverts, int first_index, pslg *
                        size_t errlen);
 
 /* The angles between angularly consecutive segments at each vertex (in degrees, exact angular
- * order).  For every such pair (s1, then s2 counter-clockwise around v) whose angle is below
- * bound_deg, calls fn(ctx, v, s1, s2, angle) when fn is not NULL.  Returns the smallest angle
- * found, or 360 when no vertex has two segments.  A vertex with two segments has two angles
- * (theta and 360 - theta). */
+ * order; a vertex lying inside a segment counts that segment twice, once each way).  For every such
+ * pair (s1, then s2 counter-clockwise around v) whose angle is below bound_deg, calls fn(ctx, v,
+ * s1, s2, angle) when fn is not NULL.  Returns the smallest angle found, or 360 when no vertex has
+ * two segments.  A vertex with two segments has two angles (theta and 360 - theta). */
 double pslg_input_angles(const pslg *g, double bound_deg,
                          void (*fn)(void *ctx, int32_t v, int32_t s1, int32_t s2, double deg),
                          void *ctx);
