@@ -88,15 +88,6 @@ static void plan(int32_t K, int32_t P, double R, double *target, int32_t *owner)
     }
 }
 
-static double live_area(const mesh *m) {
-    double a = 0;
-    for (int32_t t = 0; t < m->nt; t++)
-        if (mesh_tri_alive(m, t))
-            a += geom_area(mesh_vertex_xy(m, m->tv[3 * t]), mesh_vertex_xy(m, m->tv[3 * t + 1]),
-                           mesh_vertex_xy(m, m->tv[3 * t + 2]));
-    return a;
-}
-
 /* Refines m (off-centers and diametral circles, as ./mesh and ./pcdm); a Steiner limit (or an
  * unresolved triangle) only leaves a coarser mesh, still a partition. */
 static mesh_refine_result refine(mesh *m, double angle, double area, int64_t limit) {
@@ -612,7 +603,7 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
         return -1;
     }
     int exact =
-        mode == 2 ? 0 : exact_preview(&m, o, K, live_area(&m), mode == 0 ? 2 : EXACT_SAFE_PER_SUB);
+        mode == 2 ? 0 : exact_preview(&m, o, K, mesh_area(&m), mode == 0 ? 2 : EXACT_SAFE_PER_SUB);
     if (exact < 0) { /* the final mesh is larger: start again from the CDT */
         mesh_free(&m);
         mesh_init(&m);
@@ -627,7 +618,7 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
     if (K > 1 && !exact) {
         int64_t limit = 40 * (int64_t)K * per + 20 * (int64_t)m.nv + 1000;
         refine(&m, qc, 0, limit);
-        double A = live_area(&m);
+        double A = mesh_area(&m);
         if (o->max_area > 0) {
             double ac = A / ((double)K * per);
             if (ac < 4 * o->max_area) ac = 4 * o->max_area;

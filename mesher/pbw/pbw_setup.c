@@ -98,22 +98,11 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
     }
     /* the length floor of the initial CDT, as ./mesh computes it from the same CDT */
     C->floor2 = mesh_rules_length_floor2(m0.xy, m0.nv, m0.tv, m0.nt);
-    double dom_area = 0;
-    for (int32_t t = 0; t < m0.nt; t++)
-        if (mesh_tri_alive(&m0, t))
-            dom_area +=
-                geom_area(mesh_vertex_xy(&m0, m0.tv[3 * t]), mesh_vertex_xy(&m0, m0.tv[3 * t + 1]),
-                          mesh_vertex_xy(&m0, m0.tv[3 * t + 2]));
+    double dom_area = mesh_area(&m0);
     C->area_budget = mesh_rules_area_drift(dom_area) / C->size;
     C->unresolved_budget = mesh_rules_unresolved_budget(m0.ninput);
     if (so->max_area > 0 && C->size > 1) {
-        double area = 0;
-        for (int32_t t = 0; t < m0.nt; t++)
-            if (mesh_tri_alive(&m0, t))
-                area += geom_area(mesh_vertex_xy(&m0, m0.tv[3 * t]),
-                                  mesh_vertex_xy(&m0, m0.tv[3 * t + 1]),
-                                  mesh_vertex_xy(&m0, m0.tv[3 * t + 2]));
-        double a0 = fmax(area / (PRE_TRIS_PER_RANK * C->size), PRE_COARSEN * so->max_area);
+        double a0 = fmax(dom_area / (PRE_TRIS_PER_RANK * C->size), PRE_COARSEN * so->max_area);
         mesh_quality q;
         memset(&q, 0, sizeof q);
         q.min_angle = so->min_angle;
