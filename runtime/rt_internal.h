@@ -225,8 +225,6 @@ void rt_term_token(rt_term *t, const int64_t tok[RT_TOK_N]);
  * if may_start, starts a new one. */
 rt_term_verdict rt_term_pass(rt_term *t, int rank, int size, uint64_t sent, uint64_t recvd,
                              uint64_t nblocked, bool may_start);
-/* rt_term_pass with no blocked task; true iff termination was declared. */
-bool rt_term_step(rt_term *t, int rank, int size, uint64_t sent, uint64_t recvd, bool may_start);
 
 /* ---- perturbation (rt_perturb.c) --------------------------------------------------------- */
 

@@ -110,7 +110,3 @@ rt_term_verdict rt_term_pass(rt_term *t, int rank, int size, uint64_t sent, uint
     }
     return RT_TERM_GOING;
 }
-
-bool rt_term_step(rt_term *t, int rank, int size, uint64_t sent, uint64_t recvd, bool may_start) {
-    return rt_term_pass(t, rank, size, sent, recvd, 0, may_start) == RT_TERM_DONE;
-}

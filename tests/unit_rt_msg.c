@@ -121,13 +121,17 @@ START_TEST(test_term_ring_one_rank) {
     rt_term t;
     rt_term_init(&t, 0);
     ck_assert(t.have_token);
-    ck_assert(!rt_term_step(&t, 0, 1, 5, 5, false)); /* no round before the quiet delay */
-    ck_assert(!rt_term_step(&t, 0, 1, 5, 5, true));  /* opens a round, rank turns white */
+    ck_assert(rt_term_pass(&t, 0, 1, 5, 5, 0, false) ==
+              RT_TERM_GOING); /* no round before the quiet delay */
+    ck_assert(rt_term_pass(&t, 0, 1, 5, 5, 0, true) ==
+              RT_TERM_GOING); /* opens a round, rank turns white */
     ck_assert(t.round_open && !t.active);
-    t.active = true;                                /* activity during the round */
-    ck_assert(!rt_term_step(&t, 0, 1, 6, 6, true)); /* fails, opens another */
-    ck_assert(!rt_term_step(&t, 0, 1, 7, 6, true)); /* an RSR not yet processed */
-    ck_assert(rt_term_step(&t, 0, 1, 7, 7, false)); /* quiet and balanced: declared */
+    t.active = true; /* activity during the round */
+    ck_assert(rt_term_pass(&t, 0, 1, 6, 6, 0, true) == RT_TERM_GOING); /* fails, opens another */
+    ck_assert(rt_term_pass(&t, 0, 1, 7, 6, 0, true) ==
+              RT_TERM_GOING); /* an RSR not yet processed */
+    ck_assert(rt_term_pass(&t, 0, 1, 7, 7, 0, false) ==
+              RT_TERM_DONE); /* quiet and balanced: declared */
     ck_assert(t.active && !t.round_open && t.have_token);
 }
 END_TEST

@@ -457,10 +457,6 @@ START_TEST(test_term_deadlock_one_rank) {
     ck_assert_int_eq(rt_term_pass(&t, 0, 1, 4, 4, 0, true), RT_TERM_GOING);
     ck_assert_int_eq(rt_term_pass(&t, 0, 1, 4, 4, 0, false), RT_TERM_DONE);
     ck_assert(!t.deadlock);
-    /* the old entry point is rt_term_pass with nothing blocked */
-    rt_term_init(&t, 0);
-    ck_assert(!rt_term_step(&t, 0, 1, 1, 1, true));
-    ck_assert(rt_term_step(&t, 0, 1, 1, 1, false));
 }
 END_TEST
 

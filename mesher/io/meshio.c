@@ -419,87 +419,79 @@ fail:
 
 /* ---------------------------------------------------------------- VTK ------------------- */
 
-/* Big-endian stores for legacy VTK's BINARY encoding. */
-static unsigned char *put_be32(unsigned char *p, uint32_t v) {
-    for (int k = 3; k >= 0; k--)
-        *p++ = (unsigned char)(v >> (8 * k));
-    return p;
+/* Legacy VTK's BINARY encoding: big-endian numbers, buffered; a block ends with a newline. */
+typedef struct bebuf {
+    FILE *f;
+    size_t k;
+    unsigned char b[4096];
+} bebuf;
+
+static void be_put(bebuf *w, uint64_t v, int bytes) {
+    if (w->k + (size_t)bytes > sizeof w->b) {
+        fwrite(w->b, 1, w->k, w->f);
+        w->k = 0;
+    }
+    for (int i = bytes - 1; i >= 0; i--)
+        w->b[w->k++] = (unsigned char)(v >> (8 * i));
 }
 
-static unsigned char *put_be64(unsigned char *p, double d) {
+static void be_f64(bebuf *w, double d) {
     uint64_t v;
     memcpy(&v, &d, sizeof v);
-    for (int k = 7; k >= 0; k--)
-        *p++ = (unsigned char)(v >> (8 * k));
-    return p;
+    be_put(w, v, 8);
+}
+
+static void be_end(bebuf *w) {
+    fwrite(w->b, 1, w->k, w->f);
+    w->k = 0;
+    fputc('\n', w->f);
 }
 
 /* One block of n int32 values (v[i], or all `dflt` when v is NULL), binary or one per line. */
-static void vtk_ints(FILE *f, const int32_t *v, int32_t n, int32_t dflt, int binary) {
-    unsigned char buf[4096];
+static void vtk_ints(bebuf *w, const int32_t *v, int32_t n, int32_t dflt, int binary) {
     char line[32];
-    size_t k = 0;
     for (int32_t i = 0; i < n; i++) {
         int32_t x = v ? v[i] : dflt;
         if (binary) {
-            put_be32(buf + k, (uint32_t)x);
-            k += 4;
-            if (k == sizeof buf) {
-                fwrite(buf, 1, k, f);
-                k = 0;
-            }
+            be_put(w, (uint32_t)x, 4);
         } else {
             char *p = fmt_int(line, x);
             *p++ = '\n';
-            fwrite(line, 1, (size_t)(p - line), f);
+            fwrite(line, 1, (size_t)(p - line), w->f);
         }
     }
-    if (k) fwrite(buf, 1, k, f);
-    if (binary) fputc('\n', f);
+    if (binary) be_end(w);
 }
 
 int meshio_write_vtk(const mesh_flat *m, int binary, const char *path, char *err, size_t errlen) {
-    wfile w;
-    if (meshio_wopen(&w, path, err, errlen)) return -1;
-    fprintf(w.f, "# vtk DataFile Version 3.0\npcdm mesh\n%s\nDATASET UNSTRUCTURED_GRID\n",
+    wfile wf;
+    if (meshio_wopen(&wf, path, err, errlen)) return -1;
+    bebuf w = {wf.f, 0, {0}};
+    fprintf(wf.f, "# vtk DataFile Version 3.0\npcdm mesh\n%s\nDATASET UNSTRUCTURED_GRID\n",
             binary ? "BINARY" : "ASCII");
-    fprintf(w.f, "POINTS %d double\n", (int)m->nverts);
-    unsigned char buf[4096];
-    size_t k = 0;
+    fprintf(wf.f, "POINTS %d double\n", (int)m->nverts);
     char line[160];
     for (int32_t i = 0; i < m->nverts; i++) {
         double x = ldexp(m->xy[2 * i], -m->scale_exp), y = ldexp(m->xy[2 * i + 1], -m->scale_exp);
         if (binary) {
-            if (k + 24 > sizeof buf) {
-                fwrite(buf, 1, k, w.f);
-                k = 0;
-            }
-            put_be64(put_be64(put_be64(buf + k, x), y), 0.0);
-            k += 24;
+            be_f64(&w, x);
+            be_f64(&w, y);
+            be_f64(&w, 0.0);
         } else {
             char *p = fmt_dbl(line, x);
             *p++ = ' ';
             p = fmt_dbl(p, y);
             memcpy(p, " 0\n", 3);
-            fwrite(line, 1, (size_t)(p + 3 - line), w.f);
+            fwrite(line, 1, (size_t)(p + 3 - line), wf.f);
         }
     }
-    if (binary) {
-        fwrite(buf, 1, k, w.f);
-        k = 0;
-        fputc('\n', w.f);
-    }
-    fprintf(w.f, "CELLS %d %lld\n", (int)m->ntris, 4LL * m->ntris);
+    if (binary) be_end(&w);
+    fprintf(wf.f, "CELLS %d %lld\n", (int)m->ntris, 4LL * m->ntris);
     for (int32_t t = 0; t < m->ntris; t++) {
         if (binary) {
-            if (k + 16 > sizeof buf) {
-                fwrite(buf, 1, k, w.f);
-                k = 0;
-            }
-            unsigned char *q = put_be32(buf + k, 3);
+            be_put(&w, 3, 4);
             for (int j = 0; j < 3; j++)
-                q = put_be32(q, (uint32_t)m->tri[3 * t + j]);
-            k += 16;
+                be_put(&w, (uint32_t)m->tri[3 * t + j], 4);
             continue;
         }
         char *p = line;
@@ -509,19 +501,16 @@ int meshio_write_vtk(const mesh_flat *m, int binary, const char *path, char *err
             p = fmt_int(p, m->tri[3 * t + j]);
         }
         *p++ = '\n';
-        fwrite(line, 1, (size_t)(p - line), w.f);
+        fwrite(line, 1, (size_t)(p - line), wf.f);
     }
-    if (binary) {
-        fwrite(buf, 1, k, w.f);
-        fputc('\n', w.f);
-    }
-    fprintf(w.f, "CELL_TYPES %d\n", (int)m->ntris);
-    vtk_ints(w.f, NULL, m->ntris, 5, binary);
-    fprintf(w.f, "CELL_DATA %d\nSCALARS rank int 1\nLOOKUP_TABLE default\n", (int)m->ntris);
-    vtk_ints(w.f, m->trank, m->ntris, 0, binary);
-    fprintf(w.f, "POINT_DATA %d\nSCALARS marker int 1\nLOOKUP_TABLE default\n", (int)m->nverts);
-    vtk_ints(w.f, m->vmarker, m->nverts, 0, binary);
-    return meshio_wclose(&w, 0);
+    if (binary) be_end(&w);
+    fprintf(wf.f, "CELL_TYPES %d\n", (int)m->ntris);
+    vtk_ints(&w, NULL, m->ntris, 5, binary);
+    fprintf(wf.f, "CELL_DATA %d\nSCALARS rank int 1\nLOOKUP_TABLE default\n", (int)m->ntris);
+    vtk_ints(&w, m->trank, m->ntris, 0, binary);
+    fprintf(wf.f, "POINT_DATA %d\nSCALARS marker int 1\nLOOKUP_TABLE default\n", (int)m->nverts);
+    vtk_ints(&w, m->vmarker, m->nverts, 0, binary);
+    return meshio_wclose(&wf, 0);
 }
 
 /* ---------------------------------------------------------------- SVG ------------------- */
