@@ -371,6 +371,7 @@ void mesh_flat_free(mesh_flat *m) {
     free(m->vattr);
     free(m->tri);
     free(m->trank);
+    free(m->tattr);
     free(m->seg);
     free(m->smarker);
     free(m->sinterface);

@@ -22,6 +22,7 @@ typedef struct mesh_flat {
     int32_t ntris;
     int32_t *tri;   /* 3 * ntris, counter-clockwise, 0-based */
     int32_t *trank; /* ntris owning rank (may be NULL: all 0) */
+    double *tattr;  /* ntris regional attribute (-A; may be NULL: not asked, or no regions) */
     int32_t nsegs;
     int32_t *seg;        /* 2 * nsegs subsegment endpoints */
     int32_t *smarker;    /* nsegs (may be NULL) */

@@ -45,6 +45,20 @@ typedef struct par_opts {
                                RSRs (0: the program's default; 1: after every insertion, as
                                the paper) */
     uint64_t perturb;       /* --perturb SEED (0 = off; also env RT_PERTURB) */
+    /* Triangle's switches (issue 15); the same for all three meshers. */
+    int region_attr;        /* -A: regional attributes carried into .ele (and VTK/Gmsh) */
+    int region_area;        /* -a without a number: the .poly's per-region area bounds (with -r:
+                               the .area file's per-triangle bounds) */
+    int edges;              /* -e: write PREFIX.edge */
+    int neighbors;          /* -n: write PREFIX.neigh */
+    int order2;             /* -o2: quadratic triangles (six nodes each) */
+    int refine;             /* -r: the input is a mesh (.node/.ele) to refine */
+    int quiet;              /* -Q: nothing on stdout or stderr but errors */
+    int verbose;            /* -V: more detail on stderr */
+    int strict;             /* --strict: refuse crossing or overlapping segments */
+    const char *msh;        /* --msh FILE: Gmsh 4.1 output */
+    const char *size_field; /* --size FILE: background mesh with a target edge length per
+                               vertex */
 } par_opts;
 
 /* Local.  How par_startup reads the command line (the front end lives above this layer): called
