@@ -346,6 +346,29 @@ START_TEST(test_rules_priority_floor) {
 }
 END_TEST
 
+/* The caller's size rule (Triangle's triunsuitable): asked with the triangle and its area, its
+ * answer makes the triangle MESH_BAD_AREA; without it the same triangle is good. */
+static int too_big_right_of(void *ctx, const double *const p[3], double area) {
+    double x = *(const double *)ctx;
+    return area > 0.25 && p[0][0] + p[1][0] + p[2][0] > 3 * x;
+}
+
+START_TEST(test_rules_unsuitable) {
+    geom_init();
+    mesh_rules R;
+    mesh_rules_init(&R, 20, 0, 1, 0);
+    double a[2] = {0, 0}, b[2] = {1, 0}, c[2] = {0.5, 0.9};
+    const double *p[3] = {a, b, c};
+    ck_assert_int_eq(mesh_rules_bad(&R, p, NULL, NULL), 0);
+    double x = 0.1;
+    R.unsuitable = too_big_right_of;
+    R.unsuitable_ctx = &x;
+    ck_assert_int_eq(mesh_rules_bad(&R, p, NULL, NULL), MESH_BAD_AREA); /* area 0.45 */
+    x = 0.9;
+    ck_assert_int_eq(mesh_rules_bad(&R, p, NULL, NULL), 0); /* centroid left of x */
+}
+END_TEST
+
 int main(void) {
     Suite *s = suite_create("pbw");
     TCase *tc = tcase_create("pbw");
@@ -357,6 +380,7 @@ int main(void) {
     tcase_add_test(tc, test_cavity_wire_format);
     tcase_add_test(tc, test_rules_edge_forced);
     tcase_add_test(tc, test_rules_priority_floor);
+    tcase_add_test(tc, test_rules_unsuitable);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);
     srunner_run_all(sr, CK_NORMAL);

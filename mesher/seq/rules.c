@@ -34,6 +34,8 @@ void mesh_rules_init(mesh_rules *R, double min_angle, double max_area, int offce
     R->cosb = cos(b * M_PI / 180.0);
     R->offfac = b > 0 ? 0.95 / (2.0 * tan(b * M_PI / 360.0)) : 0;
     R->cos2b = (lens && b > 0 && b < 45) ? cos(2 * b * M_PI / 180.0) : 1.0;
+    R->unsuitable = NULL;
+    R->unsuitable_ctx = NULL;
 }
 
 int mesh_rules_bad(const mesh_rules *R, const double *const p[3], int *sh, double *short2) {
@@ -53,9 +55,11 @@ int mesh_rules_bad(const mesh_rules *R, const double *const p[3], int *sh, doubl
         double dot = -(ex[a] * ex[b] + ey[a] * ey[b]);
         if (dot > 0 && dot * dot > R->cosb * R->cosb * l[a] * l[b]) res = MESH_BAD_ANGLE;
     }
-    if (R->max_area > 0) {
+    if (R->max_area > 0 || R->unsuitable) {
         double area = 0.5 * (ex[0] * -ey[2] - ey[0] * -ex[2]);
-        if (area > R->max_area) res |= MESH_BAD_AREA;
+        if (R->max_area > 0 && area > R->max_area) res |= MESH_BAD_AREA;
+        if (R->unsuitable && !(res & MESH_BAD_AREA) && R->unsuitable(R->unsuitable_ctx, p, area))
+            res |= MESH_BAD_AREA;
     }
     return res;
 }

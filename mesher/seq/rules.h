@@ -23,6 +23,13 @@ typedef struct mesh_rules {
     double cosb;      /* cos(min_angle); 1 when there is no angle bound */
     double offfac;    /* off-center height / shortest edge (with a 5% margin) */
     double cos2b;     /* cos(2 * min_angle) for lenses; 1: circles */
+    /* A caller's size rule (Triangle's triunsuitable, without recompiling; NULL: none): called
+     * by mesh_rules_bad with the counter-clockwise triangle's vertices (in the mesher's internal
+     * coordinates: the input's times 2^scale_exp, see pslg.h) and its area; nonzero: too big
+     * (MESH_BAD_AREA).  Must be a pure function of its arguments and thread-safe (the parallel
+     * meshers call it on every rank). */
+    int (*unsuitable)(void *ctx, const double *const p[3], double area);
+    void *unsuitable_ctx;
 } mesh_rules;
 
 /* Fills R from the bounds (min_angle in degrees, <= 0: none; max_area <= 0: none). */
@@ -32,7 +39,8 @@ void mesh_rules_init(mesh_rules *R, double min_angle, double max_area, int offce
 enum { MESH_BAD_ANGLE = 1, MESH_BAD_AREA = 2 };
 
 /* Quality of the counter-clockwise triangle p[0] p[1] p[2]: MESH_BAD_ANGLE if its smallest
- * angle is below the bound, MESH_BAD_AREA if its area is above the bound, 0 if good.
+ * angle is below the bound, MESH_BAD_AREA if its area is above the bound or R->unsuitable says
+ * it is too big, 0 if good.
  * *sh (may be NULL): index j of the shortest edge (p[j] -> p[j+1]); *short2 (may be NULL): its
  * squared length. */
 int mesh_rules_bad(const mesh_rules *R, const double *const p[3], int *sh, double *short2);
