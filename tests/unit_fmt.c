@@ -60,6 +60,10 @@ static int check_one(double v) {
         fprintf(stderr, "fmt_dbl(%.17g) = \"%s\" reads back as %.17g\n", v, b, back);
         return 1;
     }
+    if (fmt_dbl_len(v) != (int)(end - b)) {
+        fprintf(stderr, "fmt_dbl_len(%.17g) = %d, fmt_dbl wrote \"%s\"\n", v, fmt_dbl_len(v), b);
+        return 1;
+    }
     int d = digits_of(b), r = v == 0 ? 1 : ref_digits(v);
     if (d > r) {
         fprintf(stderr, "fmt_dbl(%.17g) = \"%s\": %d digits, %%.%dg reads back\n", v, b, d, r);

@@ -114,23 +114,27 @@ static void digits17(char d[17], uint64_t x) {
 }
 
 /* The exact shortest digits of v > 0 (significand m < 2^53, v = m 2^e) when v 10^(16 - E)
- * fits the 128-bit arithmetic (about 1e-5 <= v < 1e17), E being floor(log10 v) or one less;
- * NULL otherwise (*retry = 1 when E was one too low). */
-static char *dbl_fast_at(char *p, uint64_t m, int e, int narrow, int E, int *retry) {
+ * fits the 128-bit arithmetic (about 1e-5 <= v < 1e17), E being floor(log10 v) or one less:
+ * returns 1 with the 17-digit integer *best (its trailing zeros dropped: *nd significant
+ * digits) and the first digit's decimal exponent *E_out; 0 otherwise (*retry = 1 when E was
+ * one too low). */
+static int shortest_at(uint64_t m, int e, int narrow, int E, uint64_t *best_out, int *nd,
+                       int *E_out, int *retry) {
     *retry = 0;
     /* scale so that v 10^pw has 17 integer digits: pw = 16 - E; (4m + 2) 10^pw < 2^128 */
     int pw = 16 - E;
-    if (pw < 0 || pw > 21 || e >= 0 || -e + 2 > 127) return NULL;
-    /* quarter units (everything times 4) keep the narrow lower gap (m - 1/4) integral */
+    if (pw < 0 || pw > 21 || e >= 0 || -e + 2 > 127) return 0;
+    /* quarter units (everything times 4) keep the narrow lower gap (m - 1/4) integral; one
+     * 64 x 64 -> 128 bit product when 10^pw < 2^64, the interval's ends by addition */
     int s = -e + 2; /* denominator 2^s */
     u128 ten = pw <= 19 ? (u128)P10[pw] : (u128)P10[19] * P10[pw - 19];
-    u128 nv = (u128)(4 * m) * ten, nh = (u128)(4 * m + 2) * ten;
-    u128 nl = (u128)(4 * m - (narrow ? 1 : 2)) * ten;
+    u128 nv = pw <= 19 ? (u128)(4 * m) * P10[pw] : (u128)(4 * m) * ten;
+    u128 nh = nv + 2 * ten, nl = nv - (narrow ? ten : 2 * ten);
     u128 mask = ((u128)1 << s) - 1;
     u128 qv128 = nv >> s;
     if (qv128 >= P10[17]) { /* E was one too low */
         *retry = 1;
-        return NULL;
+        return 0;
     }
     uint64_t qv = (uint64_t)qv128, hi = (uint64_t)(nh >> s), lo = (uint64_t)(nl >> s);
     u128 rv = nv & mask, rh = nh & mask, rl = nl & mask;
@@ -146,7 +150,8 @@ static char *dbl_fast_at(char *p, uint64_t m, int e, int narrow, int E, int *ret
         t *= 10;
         k++;
     }
-    uint64_t a = qv - qv % t, b = a + t, best;
+    /* k is 0 or 1 for most coordinates (16-17 digits): no variable division then */
+    uint64_t a = k == 0 ? qv : k == 1 ? qv - qv % 10 : qv - qv % t, b = a + t, best;
     int a_in = a >= lo, b_in = b <= hi;
     if (a_in && b_in) {
         /* the nearer to v = qv + rv / 2^s: v - a = da + rv/2^s, b - v = t - da - rv/2^s */
@@ -166,30 +171,59 @@ static char *dbl_fast_at(char *p, uint64_t m, int e, int narrow, int E, int *ret
     } else {
         best = a_in ? a : b;
     }
-    if (best >= P10[17]) { /* rounded up to 10^17: one more digit in front */
+    /* best is a multiple of 10^k and, k being the largest such power with a multiple in the
+     * interval, not of 10^(k+1) -- unless it rounded up to 10^17: one more digit in front */
+    if (best >= P10[17]) {
         best /= 10;
         E++;
+        *nd = 1;
+    } else {
+        *nd = 17 - k;
     }
-    char d[17];
-    digits17(d, best);
-    return layout(p, d, 17, E);
+    *best_out = best;
+    *E_out = E;
+    return 1;
 }
 
-static char *dbl_fast(char *p, double v) {
+/* Characters of layout(d, nd, E) for nd significant digits (no trailing zeros). */
+static int layout_len(int nd, int E) {
+    if (E < -4 || E >= 17) return 1 + (nd > 1 ? nd : 0) + 2 + (E <= -100 || E >= 100 ? 3 : 2);
+    if (E < 0) return 2 + (-E - 1) + nd;
+    return (nd > E + 1 ? nd + 1 : E + 1);
+}
+
+/* v > 0 as m 2^e with the decimal exponent estimate (shortest_at's arguments); 0 when
+ * subnormal (far outside the range). */
+static int split(double v, uint64_t *m, int *e, int *narrow, int *E) {
     uint64_t u;
     memcpy(&u, &v, sizeof u);
     int be = (int)((u >> 52) & 0x7ff);
-    if (be == 0) return NULL; /* subnormal: far outside the range */
-    uint64_t m = (u & ((1ull << 52) - 1)) | (1ull << 52);
-    int e = be - 1075; /* v = m 2^e, 2^52 <= m < 2^53 */
+    if (be == 0) return 0;
+    *m = (u & ((1ull << 52) - 1)) | (1ull << 52);
+    *e = be - 1075; /* v = m 2^e, 2^52 <= m < 2^53 */
     /* floor(log10 2^(e+52)) (78913 / 2^18 ~ log10 2; >> floors: GCC/Clang shift arithmetically):
      * floor(log10 v) or one less */
-    int E = ((e + 52) * 78913) >> 18;
-    int narrow = (u & ((1ull << 52) - 1)) == 0 && be > 1;
-    int retry;
-    char *end = dbl_fast_at(p, m, e, narrow, E, &retry);
-    if (!end && retry) end = dbl_fast_at(p, m, e, narrow, E + 1, &retry);
-    return end;
+    *E = ((*e + 52) * 78913) >> 18;
+    *narrow = (u & ((1ull << 52) - 1)) == 0 && be > 1;
+    return 1;
+}
+
+/* shortest_at with the estimate, and the estimate plus one when it was one too low. */
+static int shortest(double v, uint64_t *best, int *nd, int *E) {
+    uint64_t m;
+    int e, narrow, E0, retry;
+    if (!split(v, &m, &e, &narrow, &E0)) return 0;
+    if (shortest_at(m, e, narrow, E0, best, nd, E, &retry)) return 1;
+    return retry && shortest_at(m, e, narrow, E0 + 1, best, nd, E, &retry);
+}
+
+static char *dbl_fast(char *p, double v) {
+    uint64_t best;
+    int nd, E;
+    if (!shortest(v, &best, &nd, &E)) return NULL;
+    char d[17];
+    digits17(d, best);
+    return layout(p, d, 17, E);
 }
 #endif
 
@@ -210,4 +244,17 @@ char *fmt_dbl(char *p, double v) {
     if (end) return end;
 #endif
     return dbl_slow(p, v);
+}
+
+int fmt_dbl_len(double v) {
+    if (v == 0) return 1;
+#if defined(__SIZEOF_INT128__)
+    if (isfinite(v)) {
+        uint64_t best;
+        int nd, E;
+        if (shortest(fabs(v), &best, &nd, &E)) return (v < 0) + layout_len(nd, E);
+    }
+#endif
+    char b[40];
+    return (int)(fmt_dbl(b, v) - b);
 }

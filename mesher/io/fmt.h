@@ -54,4 +54,8 @@ static inline int fmt_int_len(long long v) {
  * -0 is written as 0.  Needs 32 bytes of room. */
 char *fmt_dbl(char *p, double v);
 
+/* The number of characters fmt_dbl(p, v) appends, found without writing the digits (the
+ * parallel writer's counting pass; about half the cost of fmt_dbl). */
+int fmt_dbl_len(double v);
+
 #endif
