@@ -28,6 +28,9 @@ void rt_fatal_at(const char *file, int line, const char *fmt, ...);
 #define RT_FATAL(...) rt_fatal_at(__FILE__, __LINE__, __VA_ARGS__)
 /* Seconds, for intervals measured on the main thread (cheaper than rt_wtime where it can). */
 double rt_now(void);
+/* Before MPI_Init (rt.c): asks Open MPI for the ob1 point-to-point layer (OMPI_MCA_pml=ob1)
+ * when every rank runs on one node and the user has not chosen one; 1 if it did. */
+int rt_prefer_local_pml(void);
 #define RT_CHECK(c)                                                                                \
     do {                                                                                           \
         if (!(c)) RT_FATAL("check failed: %s", #c);                                                \

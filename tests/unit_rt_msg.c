@@ -169,10 +169,33 @@ START_TEST(test_perturb_keeps_source_order) {
 }
 END_TEST
 
+/* The single-node point-to-point choice: only when every rank is local (or a singleton), never
+ * over the user's own choice. */
+START_TEST(test_prefer_local_pml) {
+    unsetenv("OMPI_MCA_pml");
+    setenv("OMPI_COMM_WORLD_SIZE", "8", 1);
+    setenv("OMPI_COMM_WORLD_LOCAL_SIZE", "4", 1); /* two nodes */
+    ck_assert_int_eq(rt_prefer_local_pml(), 0);
+    ck_assert_ptr_null(getenv("OMPI_MCA_pml"));
+    setenv("OMPI_COMM_WORLD_LOCAL_SIZE", "8", 1); /* one node */
+    ck_assert_int_eq(rt_prefer_local_pml(), 1);
+    ck_assert_str_eq(getenv("OMPI_MCA_pml"), "ob1");
+    setenv("OMPI_MCA_pml", "cm", 1); /* the user's choice stands */
+    ck_assert_int_eq(rt_prefer_local_pml(), 0);
+    ck_assert_str_eq(getenv("OMPI_MCA_pml"), "cm");
+    unsetenv("OMPI_MCA_pml");
+    unsetenv("OMPI_COMM_WORLD_SIZE");
+    unsetenv("OMPI_COMM_WORLD_LOCAL_SIZE"); /* a singleton */
+    ck_assert_int_eq(rt_prefer_local_pml(), 1);
+    unsetenv("OMPI_MCA_pml");
+}
+END_TEST
+
 int main(void) {
     Suite *s = suite_create("rt_msg");
     TCase *tc = tcase_create("msg");
     tcase_add_test(tc, test_pack_unpack_many);
+    tcase_add_test(tc, test_prefer_local_pml);
     tcase_add_test(tc, test_wire_size_and_full);
     tcase_add_test(tc, test_malformed);
     tcase_add_test(tc, test_item_copy);
