@@ -103,6 +103,16 @@ for d in $PERT_DOMAINS; do
     for s in $SEEDS; do run 8 "$d" 20.7 --perturb "$s"; done
 done
 run 8 lshape 30 --perturb 7
+# ghosts (issue 13): a cavity whose remote neighbours are not in conflict is decided on their
+# ghosts at the lower rank and stays local; the one-way link updates come from several ranks
+out=$(timeout 120 $MPIRUN -np 8 "$BIN/pbw" -q 20.7 -a "${AREA[lake]}" --check --stats \
+    data/lake.poly 2>&1) || fail "./pbw with ghosts: $(tail -n 5 <<<"$out")"
+grep -q '^meshcheck: OK' <<<"$out" || fail "--check did not pass (ghosts)"
+nl=$(grep -Ec '^rank [0-9]+: .* link_sent=[1-9][0-9]*$' <<<"$out")
+echo "ghosts: link updates sent by $nl of 8 ranks; $(grep -o 'ghosted=[0-9]*' <<<"$out")"
+[ "$nl" -ge 2 ] || fail "link updates sent by $nl ranks (want more than one)"
+grep -Eq '^rsr: .* link=[1-9][0-9]* ' <<<"$out" || fail "no link RSR in the breakdown"
+grep -Eq '^cavities: .* ghosted=[1-9][0-9]* ' <<<"$out" || fail "no cavity kept local by ghosts"
 # the data-parallel variant: local cavities first, then the rest
 run 4 lake 20.7 --phases
 run 8 channel 20.7 --phases --perturb 2

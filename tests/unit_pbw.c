@@ -2,7 +2,9 @@
  * slots, the bad-triangle queue on the shared rules), the work items and locks (deferral,
  * wakes, refused splits, holds), the cavity state's wire format, and the rules PBW shares with
  * refine.c (the forced-angle rule with its consecutive-segment test, the queue priority, the
- * length floor).  Each test builds a context by hand, as pbw_setup would, with rank 0 of 1. */
+ * length floor), and the ghosts (conflict decided on a remote neighbour's ghost, tombstones
+ * forwarding stale links, the one-way link update).  Each test builds a context by hand, as
+ * pbw_setup would, with rank 0 of 1. */
 #include "pbw/pbw_impl.h"
 
 #include <check.h>
@@ -220,8 +222,8 @@ START_TEST(test_cavity_wire_format) {
         c->b[c->nb].cseg = -1;
         c->nb++;
     }
-    pbw_push_seed(C, c, mkref(2, 17), mkref(0, 1), 4, 5, SEED_NORMAL); /* remote: pending */
-    pbw_push_seed(C, c, mkref(0, 3), mkref(0, 1), 5, 6, SEED_HALO);    /* local: stack */
+    pbw_push_seed(C, c, mkref(2, 17), mkref(0, 1), NOREF, 4, 5, SEED_NORMAL); /* remote: pending */
+    pbw_push_seed(C, c, mkref(0, 3), mkref(0, 1), NOREF, 5, 6, SEED_HALO);    /* local: stack */
     ck_assert_int_eq(c->ntodo, 1);
     ck_assert_int_eq(c->nstk, 1);
     uint32_t len;
@@ -369,6 +371,202 @@ START_TEST(test_rules_unsuitable) {
 }
 END_TEST
 
+/* Ghosts (GHOSTS in pbw.c): triangle x = (0, 1, 2) on rank r has a neighbour n on rank 1 across
+ * 1->2 whose apex, vertex 3 at (2, 2), x's edge keeps as its ghost.  Vertex slots 0..3. */
+static int32_t ghost_setup(pbw_ctx *C, int rank) {
+    C->rank = rank;
+    C->size = 3;
+    const double xy[4][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 2}};
+    for (int i = 0; i < 4; i++)
+        pbw_vt_add(C, i, xy[i][0], xy[i][1], -1);
+    int32_t x = tri(C, 0, 1, 2);
+    C->tn[3 * x + 1] = mkref(1, 7);
+    C->gx[3 * x + 1] = 3;
+    return x;
+}
+
+/* The cavity of p started at x, expanded on this rank (then released): its boundary and
+ * pending seeds. */
+static pbw_cav *ghost_cavity(pbw_ctx *C, int32_t x, double px, double py) {
+    pbw_cav *c = pbw_cav_new(C);
+    c->h.key = 99;
+    c->h.p[0] = px;
+    c->h.p[1] = py;
+    int32_t hi = pbw_hold_new(C, c->h.key, 1, C->rank);
+    pbw_push_seed(C, c, mkref(C->rank, x), NOREF, NOREF, -1, -1, SEED_START);
+    ck_assert_int_eq(pbw_process(C, c, hi, 1), PR_DONE);
+    pbw_release_local(C, hi, 0, 0); /* the state keeps what the expansion found */
+    return c;
+}
+
+START_TEST(test_ghost_conflict) {
+    /* (0.2, 0.2) is in x's circumcircle, not in n's (centre (7/6, 7/6), r^2 = 50/36): the lower
+     * rank reports the edge with n as its unlocked outside, no RSR needed */
+    pbw_ctx *C = ctx_new(0, 0);
+    int32_t x = ghost_setup(C, 0);
+    pbw_cav *c = ghost_cavity(C, x, 0.2, 0.2);
+    ck_assert_int_eq(c->ntodo, 0);
+    ck_assert_int_eq(c->nb, 3);
+    int found = 0;
+    for (int32_t i = 0; i < c->nb; i++)
+        if (c->b[i].out == mkref(1, 7)) {
+            found++;
+            ck_assert_int_eq(c->b[i].ga, 1);
+            ck_assert_int_eq(c->b[i].gb, 2);
+            ck_assert_int_eq(c->b[i].oapex, 3);
+            ck_assert_int_eq(ref_rank(c->b[i].newref), 0); /* the new triangle stays here */
+            ck_assert_int_eq(c->b[i].inref, mkref(0, x));
+        } else {
+            ck_assert_int_eq(c->b[i].oapex, -1);
+        }
+    ck_assert_int_eq(found, 1);
+    pbw_cav_free(c);
+    /* (0.45, 0.45) is in n's circle too: n is a member, it must be locked (a seed for rank 1) */
+    c = ghost_cavity(C, x, 0.45, 0.45);
+    ck_assert_int_eq(c->ntodo, 1);
+    ck_assert(c->todo[0].target == mkref(1, 7) && c->todo[0].mode == SEED_NORMAL);
+    ck_assert_int_eq(c->nb, 2);
+    pbw_cav_free(c);
+    /* across a constraint edge the lower rank reports it with no incircle test at all */
+    C->cs[3 * x + 1] = 0;
+    c = ghost_cavity(C, x, 0.45, 0.45);
+    ck_assert_int_eq(c->ntodo, 0);
+    ck_assert_int_eq(c->nb, 3);
+    pbw_cav_free(c);
+    pbw_ctx_free(C);
+    /* the higher rank of the two, or an unknown ghost, locks as before */
+    C = ctx_new(0, 0);
+    x = ghost_setup(C, 2);
+    c = ghost_cavity(C, x, 0.2, 0.2);
+    ck_assert_int_eq(c->ntodo, 1);
+    ck_assert(c->todo[0].target == mkref(1, 7));
+    pbw_cav_free(c);
+    pbw_ctx_free(C);
+    C = ctx_new(0, 0);
+    x = ghost_setup(C, 0);
+    C->gx[3 * x + 1] = -1;
+    c = ghost_cavity(C, x, 0.2, 0.2);
+    ck_assert_int_eq(c->ntodo, 1);
+    pbw_cav_free(c);
+    pbw_ctx_free(C);
+}
+END_TEST
+
+START_TEST(test_tombstones) {
+    /* x = (0, 1, 2) died by a ghost commit: it forwards across 1->2 to t1 = (1, 2, 4), which
+     * died the same way and forwards to t2 = (1, 2, 5); a stale seed from the other rank's
+     * member n (its edge 2->1) reaches t2 */
+    pbw_ctx *C = ctx_new(0, 0);
+    int32_t x = ghost_setup(C, 0);
+    pbw_vt_add(C, 4, 0.2, 0.2, -1);
+    pbw_vt_add(C, 5, 0.1, 0.1, -1);
+    int32_t t1 = tri(C, 1, 2, 4), t2 = tri(C, 1, 2, 5);
+    C->tn[3 * t1] = C->tn[3 * t2] = mkref(1, 7);
+    ck_assert_int_eq(pbw_resolve_tomb(C, x, 2, 1), -1); /* not a tombstone */
+    C->tn[3 * x + 1] = mkref(0, t1);
+    C->role[x] = ROLE_TOMB;
+    C->tn[3 * t1] = mkref(0, t2);
+    C->role[t1] = ROLE_TOMB;
+    C->nlive -= 2;
+    ck_assert(!alive(C, x) && !alive(C, t1) && alive(C, t2));
+    ck_assert_int_eq(pbw_resolve_tomb(C, x, 2, 1), t2);
+    ck_assert_int_eq(pbw_resolve_tomb(C, t1, 2, 1), t2);
+    /* a tombstone is never reused */
+    int32_t s = pbw_slot_alloc(C);
+    ck_assert(s != x && s != t1);
+    /* the expansion through the stale link visits t2 */
+    pbw_cav *c = pbw_cav_new(C);
+    c->h.key = 5;
+    c->h.p[0] = 0.15;
+    c->h.p[1] = 0.15;
+    int32_t hi = pbw_hold_new(C, c->h.key, 1, 1);
+    pbw_push_seed(C, c, mkref(0, x), mkref(1, 7), NOREF, 2, 1, SEED_HALO);
+    ck_assert_int_eq(pbw_process(C, c, hi, 0), PR_DONE);
+    ck_assert_int_eq(C->lk[t2], hi);
+    ck_assert_int_eq(C->lk[x], -1);
+    ck_assert_int_eq(c->nb, 1);
+    ck_assert(c->b[0].out == mkref(0, t2) && c->b[0].ga == 2 && c->b[0].gb == 1);
+    pbw_release_local(C, hi, 0, 0);
+    pbw_cav_free(c);
+    /* ... unless t2 is the triangle n was reached from: that is the edge it came in through */
+    c = pbw_cav_new(C);
+    c->h.key = 6;
+    hi = pbw_hold_new(C, c->h.key, 1, 1);
+    pbw_push_seed(C, c, mkref(0, x), mkref(1, 7), mkref(0, t2), 2, 1, SEED_NORMAL);
+    ck_assert_int_eq(pbw_process(C, c, hi, 0), PR_DONE);
+    ck_assert_int_eq(c->nb, 0);
+    ck_assert_int_eq(C->lk[t2], -1);
+    pbw_release_local(C, hi, 0, 0);
+    pbw_cav_free(c);
+    pbw_ctx_free(C);
+}
+END_TEST
+
+START_TEST(test_link_update) {
+    /* n = (2, 1, 3) here borders rank 1's triangle 9 across 2->1; rank 1 replaced it by 11 */
+    pbw_ctx *C = ctx_new(0, 0);
+    ghost_setup(C, 2);
+    int32_t n = tri(C, 2, 1, 3);
+    C->tn[3 * n] = mkref(1, 9);
+    pbw_link_msg l = {mkref(2, n), 1, 2, mkref(1, 11)};
+    ck_assert_int_eq(pbw_apply_link(C, &l, 1), 1);
+    ck_assert(C->tn[3 * n] == mkref(1, 11));
+    ck_assert_int_eq(C->gx[3 * n], -1);
+    /* an older update arriving late still names a tombstone of rank 1 (forwarded there) */
+    pbw_link_msg old = {mkref(2, n), 1, 2, mkref(1, 10)};
+    ck_assert_int_eq(pbw_apply_link(C, &old, 1), 1);
+    /* a newer state on this side wins: a local neighbour, a dead target, a missing edge */
+    C->tn[3 * n] = mkref(2, 0);
+    ck_assert_int_eq(pbw_apply_link(C, &l, 1), 0);
+    ck_assert(C->tn[3 * n] == mkref(2, 0));
+    pbw_link_msg other = {mkref(2, n), 3, 2, mkref(1, 11)};
+    C->tn[3 * n] = mkref(1, 9);
+    ck_assert_int_eq(pbw_apply_link(C, &other, 1), 0);
+    pbw_slot_free(C, n);
+    ck_assert_int_eq(pbw_apply_link(C, &l, 1), 0);
+    pbw_ctx_free(C);
+}
+END_TEST
+
+START_TEST(test_ghost_commit) {
+    /* the cavity of (0.2, 0.2) is x alone, its edge 1->2 borders ghost n on rank 1: it commits
+     * here with no RSR; x becomes a tombstone forwarding to the new triangle on 1->2, which
+     * links n with n's apex as its ghost; one link update for rank 1 is buffered */
+    pbw_ctx *C = ctx_new(0, 0);
+    int32_t x = ghost_setup(C, 0);
+    pbw_cav *c = pbw_cav_new(C);
+    c->h.key = 77;
+    c->h.p[0] = 0.2;
+    c->h.p[1] = 0.2;
+    c->h.origin = 0;
+    c->it.notify = -1;
+    int32_t hi = pbw_hold_new(C, c->h.key, 1, 0);
+    pbw_part_add(c, 0);
+    pbw_push_seed(C, c, mkref(0, x), NOREF, NOREF, -1, -1, SEED_START);
+    ck_assert_int_eq(pbw_process(C, c, hi, 1), PR_DONE);
+    ck_assert_int_eq(c->ntodo, 0);
+    pbw_finish(C, c);
+    ck_assert_int_eq(C->res.cavities_local, 1);
+    ck_assert_int_eq(C->res.ghosted, 1);
+    ck_assert_int_eq(C->nlive, 3);
+    ck_assert(!alive(C, x) && C->role[x] == ROLE_TOMB && C->lk[x] == -1);
+    int32_t t = pbw_resolve_tomb(C, x, 2, 1);
+    ck_assert(alive(C, t));
+    int j = pbw_find_edge(C, t, 1, 2);
+    ck_assert_int_ge(j, 0);
+    ck_assert(C->tn[3 * t + j] == mkref(1, 7));
+    ck_assert_int_eq(C->gx[3 * t + j], 3);
+    ck_assert_int_eq(C->nlbuf, 1);
+    ck_assert(C->lbuf[0].target == mkref(1, 7) && C->lbuf[0].newref == mkref(0, t));
+    ck_assert(C->lbuf[0].ga == 1 && C->lbuf[0].gb == 2);
+    ck_assert_int_eq(C->res.links, 1);
+    ck_assert_int_eq(pbw_hold_find(C, 77), -1);
+    C->nlbuf = 0;
+    pbw_cav_free(c);
+    pbw_ctx_free(C);
+}
+END_TEST
+
 int main(void) {
     Suite *s = suite_create("pbw");
     TCase *tc = tcase_create("pbw");
@@ -378,6 +576,10 @@ int main(void) {
     tcase_add_test(tc, test_deferred_wakes);
     tcase_add_test(tc, test_holds);
     tcase_add_test(tc, test_cavity_wire_format);
+    tcase_add_test(tc, test_ghost_conflict);
+    tcase_add_test(tc, test_tombstones);
+    tcase_add_test(tc, test_ghost_commit);
+    tcase_add_test(tc, test_link_update);
     tcase_add_test(tc, test_rules_edge_forced);
     tcase_add_test(tc, test_rules_priority_floor);
     tcase_add_test(tc, test_rules_unsuitable);

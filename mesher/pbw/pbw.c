@@ -18,12 +18,15 @@
  * non-constraint edge is a member iff p lies strictly in its circumcircle (exact incircle);
  * every other neighbour of a member (across a constraint, or not in conflict) is a halo
  * triangle.  Members and halos are locked by the cavity, whichever rank owns them, because a
- * commit deletes the members and rewrites one link of each halo.  A boundary edge of the
- * cavity (member | non-member, or a constraint edge, or the domain boundary) is reported by
- * the rank owning the outside triangle (or the member when there is none); that rank reserves
- * a slot for the new triangle (a, b, p) on it, so the OWNERSHIP RULE is: the new triangle on a
- * cavity boundary edge belongs to the owner of the triangle on the other side of that edge
- * (the member's owner on the domain boundary).  The reporter also evaluates, exactly, whether p
+ * commit deletes the members and rewrites one link of each halo -- except a ghost (GHOSTS
+ * below).  A boundary edge of the cavity (member | non-member, or a constraint edge, or the
+ * domain boundary) is reported by the rank owning the outside triangle (or the member when
+ * there is none or it is a ghost); that rank reserves a slot for the new triangle (a, b, p) on
+ * it, so the OWNERSHIP RULE is: the new triangle on a cavity boundary edge belongs to the owner
+ * of the triangle on the other side of that edge (the member's owner on the domain boundary
+ * and across a ghost).  (Measured, issue 13: giving the new triangles to the starter instead
+ * makes the rank boundary twice as long and the RSRs 1.5 times as many; giving them all to the
+ * member's owner, 15% longer and 15% more.)  The reporter also evaluates, exactly, whether p
  * is strictly left of the edge (star-shapedness) and whether p encroaches a constraint edge.
  * The members must form a disk with every vertex on its boundary (their dual graph a tree):
  * a member reached a second time across a non-constraint edge means the cavity encloses a
@@ -44,6 +47,29 @@
  * (and the wasted expansion time, which goes to RT_TIME_UNDO).  Locks are held until the
  * owner applies the commit, so nobody follows a link that is being rewritten; a link to a slot
  * reserved by a cavity whose commit has not arrived yet finds that slot locked.
+ *
+ * GHOSTS (issue 13).  Of the two triangles on a rank boundary edge, the one on the LOWER rank
+ * keeps a ghost of the other: its apex (gx, a vertex slot; the edge's vertices are its own),
+ * set by the initial distribution and by every commit that makes such an edge (the apex of
+ * each new triangle's neighbours is known from the cavity's boundary).  When a cavity's member
+ * x on rank A has a neighbour n on rank B > A with a ghost, A decides n on the ghost, exactly
+ * as B would (incircle; across a constraint no test): n in conflict is visited (locked) as
+ * before; otherwise n is NOT locked -- A reports the edge itself, with the new triangle T on A,
+ * so a cavity whose remote neighbours are all unconflicted stays local.  Its commit writes T's
+ * link to n, makes x a TOMBSTONE (dead, never reused, keeping across that edge a forward link
+ * to T) and sends B a one-way LINK (n's link := T; buffered, one RSR per rank per work step).
+ * Why the ghost is exact: n only dies in a cavity that has n as a member, expanded on B; B is
+ * the higher rank, so B never uses a ghost of A's side: it locks the triangle across (x, or T
+ * through the tombstones), and that cavity's commit rewrites A's link (and ghost) before the
+ * lock is released; so while A's triangle is unlocked and links n, n is alive and unchanged.
+ * (Both sides deciding on ghosts at once could leave a non-Delaunay edge between the two new
+ * fans: hence the rank order.)  Why a stale link is harmless: until LINK arrives (or for ever,
+ * if n changed meanwhile: LINK applies only while n still links to a triangle of A, and an
+ * older LINK arriving late points n at a tombstone, which is still correct), n links the
+ * tombstone x; an expansion that follows it arrives at A, which follows the forward links to
+ * the live triangle on that edge (pbw_resolve_tomb) and goes on from there; if that triangle
+ * is the one the expansion came from (seed.back), the seed is the edge it came in through and
+ * is dropped.  Nothing else reads a remote link.  So LINK only shortens forward chains.
  *
  * CONFLICTS AND PROGRESS (wait-die).  Each cavity has a priority stamp (Lamport clock, rank),
  * kept across retries of the same work item; smaller = older.  When an expansion meets a
@@ -94,8 +120,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-const char *const pbw_rsr_kind_name[PBW_RSR_NKINDS] = {"expansion", "reply", "release",
-                                                       "commit",    "split", "wake"};
+const char *const pbw_rsr_kind_name[PBW_RSR_NKINDS] = {"expansion", "reply", "release", "commit",
+                                                       "split",     "wake",  "link"};
 
 int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat *local,
              pbw_result *res) {
@@ -141,8 +167,9 @@ int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat 
         C->res.phase1_s = rt_wtime() - t0;
     }
     rt_run(pbw_work, C);
-    if (C->npk != 0 || C->inflight != 0)
-        MESH_BUG("%d parked, %d in flight at the end", C->npk, C->inflight);
+    if (C->npk != 0 || C->inflight != 0 || C->nlbuf != 0)
+        MESH_BUG("%d parked, %d in flight, %d link updates unsent at the end", C->npk, C->inflight,
+                 C->nlbuf);
     for (int32_t i = 0; i < C->nhd; i++)
         if (C->hd[i].active)
             MESH_BUG("cavity %llx still holds locks", (unsigned long long)C->hd[i].key);

@@ -1,11 +1,13 @@
 /* pbw_cavity.c: the cavity of one Steiner point -- its travelling state (packed into the
  * EXPAND and REPLY payloads), its expansion on each rank it reaches (Bowyer-Watson: members by
- * exact incircle, halos locked, boundary edges reported with reserved slots), and its
+ * exact incircle, halos locked or decided on their ghost, boundary edges reported with reserved
+ * slots, stale links forwarded by tombstones, see GHOSTS in pbw.c), and its
  * outcome: the commit (one message per participant with its new triangles) or the release
  * everywhere (undo), the rejection of a point that encroaches subsegments (which are split
- * instead), and the failures (not star-shaped, a member reached twice).  The protocol and its
- * progress argument are in pbw.c.  Invariant: nothing is written until every triangle the
- * commit touches is locked, so an undo is only a release of locks. */
+ * instead), and the failures (not star-shaped, a member reached twice); the link updates a
+ * commit owes the owners of its ghosts.  The protocol and its progress argument are in pbw.c.
+ * Invariant: nothing is written until every triangle the commit touches is locked or is a
+ * ghost whose apex is exact, so an undo is only a release of locks. */
 #include "pbw/pbw_impl.h"
 
 #include <math.h>
@@ -46,9 +48,9 @@ void pbw_part_remove(pbw_cav *c, int32_t r) {
         }
 }
 
-void pbw_push_seed(pbw_ctx *C, pbw_cav *c, int64_t target, int64_t from, int64_t ga, int64_t gb,
-                   int mode) {
-    pbw_seed s = {target, from, ga, gb, mode, 0};
+void pbw_push_seed(pbw_ctx *C, pbw_cav *c, int64_t target, int64_t from, int64_t back, int64_t ga,
+                   int64_t gb, int mode) {
+    pbw_seed s = {target, from, ga, gb, back, mode, 0};
     if (ref_rank(target) == C->rank) {
         MESH_GROW(c->stk, c->nstk, c->scap);
         c->stk[c->nstk++] = s;
@@ -112,9 +114,9 @@ void pbw_cav_unpack_into(pbw_cav *c, const void *data, uint32_t len) {
 }
 
 /* Reports boundary edge ga->gb (vertex slots la, lb here) and reserves the new triangle's
- * slot on this rank. */
+ * slot on this rank.  oapex: vertex id of out's apex if out is a ghost (not locked), else -1. */
 static void report(pbw_ctx *C, pbw_cav *c, int32_t hi, int32_t la, int32_t lb, int64_t out,
-                   int64_t inref, int32_t cseg, int32_t clev, int64_t ck) {
+                   int64_t inref, int32_t cseg, int32_t clev, int64_t ck, int64_t oapex) {
     int32_t s = pbw_slot_alloc(C);
     pbw_lock_slot(C, s, hi, ROLE_RES);
     pbw_bnd r;
@@ -127,6 +129,7 @@ static void report(pbw_ctx *C, pbw_cav *c, int32_t hi, int32_t la, int32_t lb, i
     r.cseg = cseg;
     r.clev = clev;
     r.ck = ck;
+    r.oapex = oapex;
     if (geom_orient2d(VX(C, la), VX(C, lb), c->h.p) <= 0) r.flags |= BF_BEYOND;
     if (cseg >= 0 && mesh_rules_encroaches(&C->R, VX(C, la), VX(C, lb), c->h.p)) r.flags |= BF_ENC;
     MESH_GROW(c->b, c->nb, c->bcap);
@@ -138,7 +141,9 @@ static int is_open_edge(const pbw_cav *c, int64_t ga, int64_t gb) {
            ((ga == c->h.su && gb == c->h.sv) || (ga == c->h.sv && gb == c->h.su));
 }
 
-/* Member x (reached from member `from`) joins the cavity: visit its neighbours. */
+/* Member x (reached from member `from`) joins the cavity: visit its neighbours.  A remote
+ * neighbour on this edge's ghost side with a known ghost is not visited unless it is in
+ * conflict (exact incircle on the ghost): its edge is reported here, unlocked (GHOSTS, pbw.c). */
 static void expand_member(pbw_ctx *C, pbw_cav *c, int32_t hi, int32_t x, int64_t from) {
     int64_t self = mkref(C->rank, x);
     for (int j = 0; j < 3; j++) {
@@ -146,17 +151,22 @@ static void expand_member(pbw_ctx *C, pbw_cav *c, int32_t hi, int32_t x, int64_t
         int32_t la = C->tv[e], lb = C->tv[3 * (size_t)x + (size_t)((j + 1) % 3)];
         int64_t ga = C->vgid[la], gb = C->vgid[lb], n = C->tn[e];
         if (n != NOREF && n == from) continue;
+        int32_t g = ghost_side(C, n) ? C->gx[e] : -1; /* n = (lb, la, g), counter-clockwise */
         if (is_open_edge(c, ga, gb)) {
-            if (n != NOREF) pbw_push_seed(C, c, n, self, ga, gb, SEED_OPEN);
+            if (n != NOREF) pbw_push_seed(C, c, n, self, from, ga, gb, SEED_OPEN);
         } else if (C->cs[e] >= 0) {
             if (n == NOREF)
-                report(C, c, hi, la, lb, NOREF, self, C->cs[e], C->cl[e], C->ck[e]);
+                report(C, c, hi, la, lb, NOREF, self, C->cs[e], C->cl[e], C->ck[e], -1);
+            else if (g >= 0)
+                report(C, c, hi, la, lb, n, self, C->cs[e], C->cl[e], C->ck[e], C->vgid[g]);
             else
-                pbw_push_seed(C, c, n, self, ga, gb, SEED_HALO);
+                pbw_push_seed(C, c, n, self, from, ga, gb, SEED_HALO);
         } else if (n == NOREF) {
-            report(C, c, hi, la, lb, NOREF, self, -1, -1, 0); /* cannot happen in a CDT */
+            report(C, c, hi, la, lb, NOREF, self, -1, -1, 0, -1); /* cannot happen in a CDT */
+        } else if (g >= 0 && geom_incircle(VX(C, lb), VX(C, la), VX(C, g), c->h.p) <= 0) {
+            report(C, c, hi, la, lb, n, self, -1, -1, 0, C->vgid[g]);
         } else {
-            pbw_push_seed(C, c, n, self, ga, gb, SEED_NORMAL);
+            pbw_push_seed(C, c, n, self, from, ga, gb, SEED_NORMAL);
         }
     }
 }
@@ -173,6 +183,21 @@ int pbw_process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial) {
         int32_t x = ref_idx(s.target);
         if (ref_rank(s.target) != C->rank || x < 0 || x >= C->nt)
             MESH_BUG("seed names triangle (%d, %d)", ref_rank(s.target), x);
+        if (s.mode != SEED_START && C->role[x] == ROLE_TOMB) {
+            /* a stale link (its LINK is in flight): the triangle on that edge now */
+            int32_t y = pbw_resolve_tomb(C, x, s.ga, s.gb);
+            int jy = pbw_find_edge(C, y, s.gb, s.ga);
+            if (C->tn[3 * (size_t)y + (size_t)jy] != s.from)
+                MESH_BUG("triangle %d on a forwarded edge does not border its member", y);
+            if (mkref(C->rank, y) == s.back) { /* the edge the expansion came in through */
+                c->nstk--;
+                C->res.forwarded++;
+                continue;
+            }
+            c->stk[c->nstk - 1].target = s.target = mkref(C->rank, y);
+            x = y;
+            C->res.forwarded++;
+        }
         int32_t h = C->lk[x];
         if (h >= 0 && h != hi) {
             c->h.holder = C->hd[h].key;
@@ -207,7 +232,7 @@ int pbw_process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial) {
             size_t e = 3 * (size_t)x + (size_t)j;
             /* x's edge is gb->ga: the cavity's edge ga->gb runs from x's vertex j+1 to j */
             report(C, c, hi, C->tv[3 * (size_t)x + (size_t)((j + 1) % 3)], C->tv[e],
-                   mkref(C->rank, x), s.from, C->cs[e], C->cl[e], C->ck[e]);
+                   mkref(C->rank, x), s.from, C->cs[e], C->cl[e], C->ck[e], -1);
             break;
         }
         case SEED_NORMAL:
@@ -222,7 +247,7 @@ int pbw_process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial) {
                 if (role == ROLE_NONE) pbw_lock_slot(C, x, hi, ROLE_HALO);
                 size_t e = 3 * (size_t)x + (size_t)j;
                 report(C, c, hi, C->tv[3 * (size_t)x + (size_t)((j + 1) % 3)], C->tv[e],
-                       mkref(C->rank, x), s.from, -1, -1, 0);
+                       mkref(C->rank, x), s.from, -1, -1, 0, -1);
             }
             break;
         default:
@@ -261,10 +286,27 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
     if (hi < 0) MESH_BUG("commit for unknown cavity %llx", (unsigned long long)ch->key);
     pbw_hold *h = &C->hd[hi];
     pbw_vt_add(C, ch->pgid, ch->p[0], ch->p[1], ch->pvseg);
+    /* ghost edges: the member there becomes a tombstone forwarding to the new triangle */
+    for (int32_t i = 0; i < ch->n; i++) {
+        const pbw_newtri *r = &nt[i];
+        if (r->nb[0] == NOREF || ref_rank(r->nb[0]) == C->rank) continue;
+        int32_t m = ref_idx(r->in);
+        int jm = ref_rank(r->in) == C->rank && m >= 0 && m < C->nt && C->lk[m] == hi
+                     ? pbw_find_edge(C, m, r->g[0], r->g[1])
+                     : -1;
+        if (jm < 0 || (C->role[m] != ROLE_MEMBER && C->role[m] != ROLE_TOMB))
+            MESH_BUG("ghost edge of the new triangle in slot %d has no member here", r->slot);
+        C->tn[3 * (size_t)m + (size_t)jm] = mkref(C->rank, r->slot);
+        C->role[m] = ROLE_TOMB;
+    }
     for (int32_t i = 0; i < h->n; i++) {
         int32_t s = h->slots[i];
-        if (C->lk[s] == hi && C->role[s] == ROLE_MEMBER) {
+        if (C->lk[s] != hi) continue;
+        if (C->role[s] == ROLE_MEMBER) {
             pbw_slot_free(C, s);
+            C->nlive--;
+        } else if (C->role[s] == ROLE_TOMB) {
+            C->lk[s] = -1; /* dead, kept: never reused */
             C->nlive--;
         }
     }
@@ -279,6 +321,9 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
             size_t e = 3 * (size_t)s + (size_t)j;
             C->tv[e] = v;
             C->tn[e] = r->nb[j];
+            C->gx[e] = r->nb[j] != NOREF && ref_rank(r->nb[j]) != C->rank && r->ap[j] >= 0
+                           ? pbw_vt_find(C, r->ap[j])
+                           : -1;
             C->cs[e] = r->cseg[j];
             C->cl[e] = r->clev[j];
             C->ck[e] = r->ck[j];
@@ -286,13 +331,20 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
         C->lk[s] = -1;
         C->role[s] = ROLE_NONE;
         C->nlive++;
-        if (r->nb[0] != NOREF) {
-            if (ref_rank(r->nb[0]) != C->rank) MESH_BUG("halo of a new triangle on another rank");
+        if (r->nb[0] != NOREF && ref_rank(r->nb[0]) != C->rank) {
+            /* a ghost: its owner gets a one-way link update (GHOSTS, pbw.c) */
+            if (C->gx[3 * (size_t)s] < 0) MESH_BUG("ghost edge of slot %d without its apex", s);
+            pbw_link_msg l = {r->nb[0], r->g[0], r->g[1], mkref(C->rank, s)};
+            MESH_GROW(C->lbuf, C->nlbuf, C->lbufcap);
+            C->lbuf[C->nlbuf++] = l;
+            C->res.links++;
+        } else if (r->nb[0] != NOREF) {
             int32_t x = ref_idx(r->nb[0]);
             int j = alive(C, x) ? pbw_find_edge(C, x, r->g[1], r->g[0]) : -1;
             if (j < 0 || C->lk[x] != hi || C->role[x] != ROLE_HALO)
                 MESH_BUG("halo %d of the new triangle is not the cavity's", x);
             C->tn[3 * (size_t)x + (size_t)j] = mkref(C->rank, s);
+            C->gx[3 * (size_t)x + (size_t)j] = -1;
         }
     }
     for (int32_t i = 0; i < h->n; i++) {
@@ -392,21 +444,26 @@ int pbw_commit_all(pbw_ctx *C, pbw_cav *c) {
         r->g[2] = pgid;
         r->slot = ref_idx(b->newref);
         r->nb[0] = b->out;
+        r->in = b->inref;
+        r->ap[0] = b->oapex;
+        r->ap[1] = r->ap[2] = -1;
         r->cseg[0] = b->cseg;
         r->clev[0] = b->clev;
         r->ck[0] = b->ck;
         int ub = split && (b->gb == c->h.su || b->gb == c->h.sv);
         int ua = split && (b->ga == c->h.su || b->ga == c->h.sv);
         int32_t j = gmap_get(&A, b->gb), k = gmap_get(&B, b->ga);
-        if (j >= 0)
+        if (j >= 0) {
             r->nb[1] = c->b[j].newref;
-        else if (ub)
+            r->ap[1] = c->b[j].gb;
+        } else if (ub)
             r->nb[1] = NOREF;
         else
             bad = 1;
-        if (k >= 0)
+        if (k >= 0) {
             r->nb[2] = c->b[k].newref;
-        else if (ua)
+            r->ap[2] = c->b[k].ga;
+        } else if (ua)
             r->nb[2] = NOREF;
         else
             bad = 1;
@@ -524,14 +581,79 @@ void pbw_finish(pbw_ctx *C, pbw_cav *c) {
         if (split) pbw_notify(C, c->it.notify, c->it.ticket, 1);
         return;
     }
-    if (c->np > 1)
+    if (c->np > 1) {
         C->res.cavities_remote++;
-    else
+    } else {
         C->res.cavities_local++;
+        for (int32_t i = 0; i < c->nb; i++)
+            if (c->b[i].oapex >= 0) {
+                C->res.ghosted++;
+                break;
+            }
+    }
     if (split) {
         C->res.splits++;
         pbw_notify(C, c->it.notify, c->it.ticket, 0);
     } else {
         C->res.inserted++;
     }
+}
+
+/* A stale link (a seed across ga->gb naming tombstone slot x): the live triangle now on that
+ * edge, following the tombstones' forward links, or -1 if x is not a tombstone. */
+int32_t pbw_resolve_tomb(pbw_ctx *C, int32_t x, int64_t ga, int64_t gb) {
+    if (x < 0 || x >= C->nt || C->role[x] != ROLE_TOMB) return -1;
+    for (int32_t hops = 0; C->role[x] == ROLE_TOMB; hops++) {
+        int j = pbw_find_edge(C, x, gb, ga);
+        int64_t f = j >= 0 ? C->tn[3 * (size_t)x + (size_t)j] : NOREF;
+        if (f == NOREF || ref_rank(f) != C->rank || hops > C->nt)
+            MESH_BUG("tombstone %d has no forward link across %lld->%lld", x, (long long)gb,
+                     (long long)ga);
+        x = ref_idx(f);
+    }
+    if (!alive(C, x) || pbw_find_edge(C, x, gb, ga) < 0)
+        MESH_BUG("forward link ends at slot %d, which has no edge %lld->%lld", x, (long long)gb,
+                 (long long)ga);
+    return x;
+}
+
+/* Applies a link update (target's edge gb->ga now borders newref, sent by rank src): only if
+ * target is alive, has that edge and still links it to a triangle of src (anything else is a
+ * newer state; a link left on one of src's tombstones is forwarded there).  1 if applied. */
+int pbw_apply_link(pbw_ctx *C, const pbw_link_msg *l, int src) {
+    int32_t n = ref_idx(l->target);
+    if (ref_rank(l->target) != C->rank || ref_rank(l->newref) != src)
+        MESH_BUG("link update for (%d, %d) from rank %d", ref_rank(l->target), n, src);
+    if (!alive(C, n)) return 0;
+    int j = pbw_find_edge(C, n, l->gb, l->ga);
+    if (j < 0) return 0;
+    size_t e = 3 * (size_t)n + (size_t)j;
+    if (C->tn[e] == NOREF || ref_rank(C->tn[e]) != src) return 0;
+    C->tn[e] = l->newref;
+    C->gx[e] = -1; /* src is the lower rank: this side never decides on a ghost of it */
+    return 1;
+}
+
+static int link_cmp(const void *a, const void *b) {
+    int ra = ref_rank(((const pbw_link_msg *)a)->target);
+    int rb = ref_rank(((const pbw_link_msg *)b)->target);
+    return (ra > rb) - (ra < rb);
+}
+
+/* Sends the buffered link updates: one LINK RSR per destination rank with all of its updates
+ * (they are one-way and may be late: a stale link is forwarded by the tombstones).  Called at
+ * the end of each work step, commit handler and cavity task, so none is left when rt_run ends. */
+void pbw_flush_links(pbw_ctx *C) {
+    if (C->nlbuf == 0) return;
+    qsort(C->lbuf, (size_t)C->nlbuf, sizeof *C->lbuf, link_cmp);
+    for (int32_t i = 0; i < C->nlbuf;) {
+        int32_t k = i, r = ref_rank(C->lbuf[i].target);
+        while (k < C->nlbuf && ref_rank(C->lbuf[k].target) == r)
+            k++;
+        size_t len = (size_t)(k - i) * sizeof *C->lbuf;
+        if (len > MAXMSG) MESH_BUG("link message of %zu bytes", len);
+        rt_rsr(r, C->hid[PBW_RSR_LINK], &C->lbuf[i], (uint32_t)len);
+        i = k;
+    }
+    C->nlbuf = 0;
 }

@@ -36,7 +36,10 @@ static inline int32_t ref_idx(int64_t r) {
     return (int32_t)(uint32_t)(r & 0xffffffff);
 }
 
-enum { ROLE_NONE = 0, ROLE_MEMBER = 1, ROLE_HALO = 2, ROLE_RES = 3 };
+/* ROLE_TOMB: a dead triangle that keeps its vertices and, across each ghost edge (an edge whose
+ * remote neighbour was not locked, see GHOSTS in pbw.c), the link to the triangle that replaced
+ * it there; it is never reused, so a stale link from another rank to it can be forwarded. */
+enum { ROLE_NONE = 0, ROLE_MEMBER = 1, ROLE_HALO = 2, ROLE_RES = 3, ROLE_TOMB = 4 };
 
 enum { SEED_START = 0, SEED_NORMAL = 1, SEED_HALO = 2, SEED_OPEN = 3 };
 
@@ -62,9 +65,11 @@ enum { IT_BAD = 0, IT_SPLIT = 1 };
 
 typedef struct pbw_seed { /* visit triangle target, reached from member `from` across ga->gb */
     int64_t target, from, ga, gb;
+    int64_t back; /* the triangle `from` was reached from (NOREF: none): a stale link resolved
+                   * to it is the edge the expansion came in through */
     int32_t mode, pad;
 } pbw_seed;
-_Static_assert(sizeof(pbw_seed) == 40, "pbw_seed layout");
+_Static_assert(sizeof(pbw_seed) == 48, "pbw_seed layout");
 
 typedef struct pbw_bnd { /* cavity boundary edge ga->gb (cavity on its left) */
     int64_t ga, gb;
@@ -76,8 +81,9 @@ typedef struct pbw_bnd { /* cavity boundary edge ga->gb (cavity on its left) */
     int32_t clev;   /* constraint: dyadic level, -1 if not dyadic */
     int32_t flags;  /* BF_* */
     int32_t pad;
+    int64_t oapex; /* vertex id of out's apex (the new triangle's ghost across ga-gb), or -1 */
 } pbw_bnd;
-_Static_assert(sizeof(pbw_bnd) == 64, "pbw_bnd layout");
+_Static_assert(sizeof(pbw_bnd) == 72, "pbw_bnd layout");
 
 typedef struct pbw_whdr { /* head of EXPAND and REPLY payloads */
     int64_t key;          /* (starter rank << 40) | attempt sequence: unique per attempt */
@@ -124,8 +130,15 @@ typedef struct pbw_newtri {
     int64_t ck[3];
     int32_t cseg[3], clev[3];
     int32_t slot, pad;
+    int64_t ap[3]; /* vertex id of the apex of nb[j] (a ghost if nb[j] is remote), or -1 */
+    int64_t in;    /* the member on edge a-b (its owner tombstones it if nb[0] is remote) */
 } pbw_newtri;
-_Static_assert(sizeof(pbw_newtri) == 104, "pbw_newtri layout");
+_Static_assert(sizeof(pbw_newtri) == 136, "pbw_newtri layout");
+
+typedef struct pbw_link_msg { /* one-way: target's edge gb->ga now borders newref */
+    int64_t target, ga, gb, newref;
+} pbw_link_msg;
+_Static_assert(sizeof(pbw_link_msg) == 32, "pbw_link_msg layout");
 
 /* ---- local state and the context -------------------------------------------------------- */
 
@@ -210,6 +223,7 @@ struct pbw_ctx {
     int32_t nt, tcap, nlive;
     int32_t *tv; /* 3 per slot; tv[3s] < 0: dead */
     int64_t *tn; /* 3 per slot */
+    int32_t *gx; /* 3 per slot: ghost -- vertex slot of the apex of a remote neighbour, or -1 */
     int32_t *cs, *cl;
     int64_t *ck;
     int32_t *lk; /* hold index or -1 */
@@ -248,6 +262,8 @@ struct pbw_ctx {
     int32_t npk, pkcap;
     pbw_cav **dy; /* tasks whose DIE reply arrived, not yet run */
     int32_t ndy, dycap;
+    pbw_link_msg *lbuf; /* link updates not sent yet (pbw_flush_links) */
+    int32_t nlbuf, lbufcap;
     int draining;
     int inflight;
     uint64_t lclock;
@@ -268,7 +284,13 @@ static inline int64_t TG(pbw_ctx *C, int32_t t, int j) { /* global id of vertex 
 }
 
 static inline int alive(pbw_ctx *C, int32_t t) {
-    return t >= 0 && t < C->nt && C->tv[3 * (size_t)t] >= 0;
+    return t >= 0 && t < C->nt && C->tv[3 * (size_t)t] >= 0 && C->role[t] != ROLE_TOMB;
+}
+
+/* 1 iff this rank may decide the conflict of remote neighbour n on its ghost and never lock
+ * it: the lower rank of the two does (see GHOSTS in pbw.c). */
+static inline int ghost_side(pbw_ctx *C, int64_t n) {
+    return n != NOREF && C->rank < ref_rank(n);
 }
 
 /* Priority order: stamp, then key (unique), smaller = older. */
@@ -390,8 +412,8 @@ void pbw_part_add(pbw_cav *c, int32_t r);
 void pbw_part_remove(pbw_cav *c, int32_t r);
 
 /* A triangle to visit: on this rank's stack, or pending for its owner (SEED_* mode). */
-void pbw_push_seed(pbw_ctx *C, pbw_cav *c, int64_t target, int64_t from, int64_t ga, int64_t gb,
-                   int mode);
+void pbw_push_seed(pbw_ctx *C, pbw_cav *c, int64_t target, int64_t from, int64_t back, int64_t ga,
+                   int64_t gb, int mode);
 /* Serialises c (full: with boundary edges and seeds). */
 void *pbw_cav_pack(pbw_cav *c, int full, uint32_t *len);
 
@@ -416,6 +438,20 @@ int pbw_commit_all(pbw_ctx *C, pbw_cav *c);
 /* The starter's decision once the whole cavity is known (or the expansion died). */
 void pbw_finish(pbw_ctx *C, pbw_cav *c);
 
+/* A stale link (a seed across ga->gb naming tombstone slot x): the live triangle now on that
+ * edge, following the tombstones' forward links, or -1 if x is not a tombstone. */
+int32_t pbw_resolve_tomb(pbw_ctx *C, int32_t x, int64_t ga, int64_t gb);
+
+/* Applies a link update (target's edge gb->ga now borders newref, sent by rank src): only if
+ * target is alive, has that edge and still links it to a triangle of src (anything else is a
+ * newer state; a link left on one of src's tombstones is forwarded there).  1 if applied. */
+int pbw_apply_link(pbw_ctx *C, const pbw_link_msg *l, int src);
+
+/* Sends the buffered link updates: one LINK RSR per destination rank with all of its updates
+ * (they are one-way and may be late: a stale link is forwarded by the tombstones).  Called at
+ * the end of each work step, commit handler and cavity task, so none is left when rt_run ends. */
+void pbw_flush_links(pbw_ctx *C);
+
 /* ---- pbw_proto.c: the protocol ---------------------------------------------------------- */
 
 /* The task of a distributed cavity: send the expansion, wait in the blocking queue for the
@@ -435,7 +471,8 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
               size_t errlen);
 /* The end check of the bounds (as mesh_count_unmet): every triangle this rank owns that is
  * outside them, except a small angle forced by the input (a corner vertex, or the shared
- * forced-angle rule on its shortest edge).  Fills C->res.unmet and C->res.forced. */
+ * forced-angle rule on its shortest edge).  Fills C->res.unmet and C->res.forced, and the
+ * rank boundary's statistics C->res.iface_edges and iface_len. */
 void pbw_count_unmet(pbw_ctx *C);
 
 /* Test-only fault (env PBW_TEST_BREAK_IFACE=R): rank R loses the first triangle it owns that

@@ -1,5 +1,5 @@
 /* pbw_proto.c: PBW's remote service requests (TR-97-17 section 2, Table 1): the handlers
- * (EXPAND, REPLY, RELEASE, COMMIT, SPLIT, WAKE), the chains of remote expansion (a cavity
+ * (EXPAND, REPLY, RELEASE, COMMIT, SPLIT, WAKE, LINK), the chains of remote expansion (a cavity
  * grows on a rank, then is forwarded to the next rank with pending seeds, the last one replies
  * to the waiting task), the parking of an older cavity behind a younger lock (wait-die), and
  * the task that waits for a distributed cavity's reply in the runtime's blocking queue.  The
@@ -160,6 +160,7 @@ static void h_commit(const rt_msg *m, void *arg) {
     if (m->len < sizeof *ch || m->len != sizeof *ch + (size_t)ch->n * sizeof(pbw_newtri))
         MESH_BUG("malformed commit (%u bytes)", (unsigned)m->len);
     pbw_apply_commit(C, ch, (const pbw_newtri *)(ch + 1), 1);
+    pbw_flush_links(C);
     drain_parked(C);
 }
 
@@ -177,6 +178,15 @@ static void h_split(const rt_msg *m, void *arg) {
     it.stamp = s->stamp;
     it.forced = 1;
     pbw_iv_push(&C->splitq, &it);
+}
+
+static void h_link(const rt_msg *m, void *arg) {
+    pbw_ctx *C = handler_ctx(arg);
+    if (m->len == 0 || m->len % sizeof(pbw_link_msg) != 0)
+        MESH_BUG("malformed link message (%u bytes)", (unsigned)m->len);
+    const pbw_link_msg *l = m->data;
+    for (uint32_t i = 0; i < m->len / sizeof(pbw_link_msg); i++)
+        pbw_apply_link(C, &l[i], m->src);
 }
 
 static void h_wake(const rt_msg *m, void *arg) {
@@ -207,6 +217,7 @@ rt_task_status pbw_cav_task(rt_task *t, void *state) {
         }
     pbw_cav_unpack_into(c, c->reply, c->replylen);
     pbw_finish(C, c);
+    pbw_flush_links(C);
     C->inflight--;
     C->ev_epoch++; /* a slot for another distributed cavity */
     pbw_cav_free(c);
@@ -227,6 +238,7 @@ int pbw_register(void) {
         {"pbw_commit", h_commit, RT_NONTHREADED | RT_VARSIZE, MAXMSG},
         {"pbw_split", h_split, RT_NONTHREADED, sizeof(pbw_split_msg)},
         {"pbw_wake", h_wake, RT_NONTHREADED, sizeof(pbw_wake_msg)},
+        {"pbw_link", h_link, RT_NONTHREADED | RT_VARSIZE, MAXMSG},
     };
     for (int k = 0; k < PBW_RSR_NKINDS; k++) {
         int id =

@@ -159,6 +159,9 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
             C->tv[f] = m0.tv[e];
             int32_t nb = m0.tn[e];
             C->tn[f] = nb >= 0 ? mkref(own[nb / 3], lidx[nb / 3]) : NOREF;
+            /* ghost: the remote neighbour's apex (input and initial vertices: id = slot) */
+            if (nb >= 0 && own[nb / 3] != C->rank)
+                C->gx[f] = m0.tv[3 * (nb / 3) + (nb % 3 + 2) % 3];
             const mesh_subseg *ss = mesh_subseg_of_edge(&m0, e);
             if (mesh_edge_constrained(&m0, e) && !ss) MESH_BUG("constraint edge without record");
             C->cs[f] = ss ? ss->seg : -1;
@@ -179,10 +182,19 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
 
 /* The end check of the bounds (as mesh_count_unmet): every triangle this rank owns that is
  * outside them, except a small angle forced by the input (a corner vertex, or the shared
- * forced-angle rule on its shortest edge).  Fills C->res.unmet and C->res.forced. */
+ * forced-angle rule on its shortest edge).  Fills C->res.unmet and C->res.forced, and the
+ * rank boundary's statistics C->res.iface_edges and iface_len. */
 void pbw_count_unmet(pbw_ctx *C) {
     for (int32_t t = 0; t < C->nt; t++) {
         if (!alive(C, t)) continue;
+        for (int j = 0; j < 3; j++) { /* the rank boundary (a statistic: its length) */
+            int64_t n = C->tn[3 * (size_t)t + (size_t)j];
+            if (n == NOREF || ref_rank(n) == C->rank) continue;
+            C->res.iface_edges++;
+            C->res.iface_len +=
+                sqrt(geom_dist2(VX(C, C->tv[3 * (size_t)t + (size_t)j]),
+                                VX(C, C->tv[3 * (size_t)t + (size_t)((j + 1) % 3)])));
+        }
         int sh = 0, why = pbw_quality(C, t, NULL, &sh);
         if (!why) continue;
         const int32_t *tv = C->tv + 3 * (size_t)t;
@@ -276,7 +288,8 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f) {
 
 void pbw_ctx_free(pbw_ctx *C) {
     free(C->xy), free(C->vgid), free(C->vseg), free(C->vh);
-    free(C->tv), free(C->tn), free(C->cs), free(C->cl), free(C->ck), free(C->lk), free(C->role);
+    free(C->tv), free(C->tn), free(C->gx), free(C->lbuf), free(C->cs), free(C->cl), free(C->ck),
+        free(C->lk), free(C->role);
     free(C->fre);
     free(C->seg), free(C->pieces), free(C->smarker), free(C->in_vmarker), free(C->inc_off),
         free(C->inc_seg);
@@ -298,7 +311,7 @@ void pbw_ctx_free(pbw_ctx *C) {
 
 size_t pbw_mesh_bytes(pbw_ctx *C) {
     size_t c = (size_t)C->tcap;
-    size_t b = c * (3 * (4 + 8 + 4 + 4 + 8) + 4 + 1);
+    size_t b = c * (3 * (4 + 8 + 4 + 4 + 4 + 8) + 4 + 1);
     b += (size_t)C->vcap * (16 + 8 + 4) + (size_t)C->vhcap * 4 + (size_t)C->frecap * 4;
     b += (size_t)C->poolcap * sizeof(qent);
     return b;

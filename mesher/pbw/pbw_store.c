@@ -1,6 +1,7 @@
 /* pbw_store.c: PBW's distributed mesh store on one rank -- the vertex table (global id ->
  * slot, open addressing), the triangle slots (3 vertex slots, 3 (rank, slot) neighbour
- * references and the constraint names of each edge, a lock and a role), and the bad-triangle
+ * references, the ghost apex of a remote neighbour and the constraint names of each edge, a
+ * lock and a role; a tombstone slot is never reused), and the bad-triangle
  * queue with the quality questions asked of the shared rules (seq/rules.h: what is bad, the
  * Steiner point, the forced small angle, the length floor).  Invariants: a slot is dead iff
  * tv[3s] < 0; every vertex a live slot uses is in the table, with the same coordinates on
@@ -70,6 +71,7 @@ int32_t pbw_slot_alloc(pbw_ctx *C) {
             size_t c = (size_t)C->tcap;
             C->tv = mesh_xrealloc(C->tv, 3 * c * sizeof(int32_t), 1);
             C->tn = mesh_xrealloc(C->tn, 3 * c * sizeof(int64_t), 1);
+            C->gx = mesh_xrealloc(C->gx, 3 * c * sizeof(int32_t), 1);
             C->cs = mesh_xrealloc(C->cs, 3 * c * sizeof(int32_t), 1);
             C->cl = mesh_xrealloc(C->cl, 3 * c * sizeof(int32_t), 1);
             C->ck = mesh_xrealloc(C->ck, 3 * c * sizeof(int64_t), 1);
@@ -79,6 +81,8 @@ int32_t pbw_slot_alloc(pbw_ctx *C) {
         s = C->nt++;
     }
     C->tv[3 * (size_t)s] = -1;
+    for (int j = 0; j < 3; j++)
+        C->gx[3 * (size_t)s + (size_t)j] = -1;
     C->lk[s] = -1;
     C->role[s] = ROLE_NONE;
     return s;

@@ -51,7 +51,7 @@ static void start_cavity(pbw_ctx *C, pbw_item *it, const double p[2], int32_t t,
     c->it = *it;
     int32_t hi = pbw_hold_new(C, c->h.key, c->h.stamp, C->rank);
     pbw_part_add(c, C->rank);
-    pbw_push_seed(C, c, mkref(C->rank, t), NOREF, -1, -1, SEED_START);
+    pbw_push_seed(C, c, mkref(C->rank, t), NOREF, NOREF, -1, -1, SEED_START);
     double t0 = rt_wtime();
     int r = pbw_process(C, c, hi, 1);
     C->hd[hi].t_spent += rt_wtime() - t0;
@@ -298,6 +298,7 @@ int pbw_work(void *ctx) {
         did = 1;
         process_item(C, &it);
     }
+    pbw_flush_links(C);
     if (C->stopped) {
         drop_all_items(C);
         return did ? RT_WORK_BUSY : RT_WORK_IDLE;
