@@ -166,6 +166,43 @@ START_TEST(test_deferred_wakes) {
 }
 END_TEST
 
+/* A cavity rejected for encroachment waits for its splits' WAKEs under its split ticket, not
+ * under its key: a WAKE naming the key (it released somewhere, sent to the cavities that died
+ * on it) must not send it back to work before its splits are done (the retry storm). */
+START_TEST(test_split_ticket) {
+    pbw_ctx *C = ctx_new(0, 0);
+    pbw_cav *c = pbw_cav_new(C);
+    c->h.key = ((int64_t)1 << 40) | 5;
+    c->h.kind = K_INSERT;
+    c->h.status = ST_OK;
+    c->it.kind = IT_BAD;
+    c->it.t = 3;
+    pbw_bnd b;
+    memset(&b, 0, sizeof b);
+    b.ga = 1;
+    b.gb = 2;
+    b.cseg = 0;
+    b.flags = BF_ENC;
+    b.inref = mkref(0, 3); /* the member on the subsegment: here, so the split is queued here */
+    c->b = mesh_xmalloc(1, sizeof b);
+    c->b[0] = b;
+    c->nb = c->bcap = 1;
+    pbw_finish(C, c);
+    ck_assert_int_eq(C->res.rejected, 1);
+    pbw_item got;
+    ck_assert(pbw_iv_pop(&C->splitq, &got));
+    ck_assert(got.ticket == split_ticket(c->h.key) && got.ticket != c->h.key);
+    ck_assert(pbw_iv_empty(&C->retryq));
+    pbw_wake_key(C, c->h.key, 0); /* released somewhere: not what it waits for */
+    ck_assert(pbw_iv_empty(&C->retryq));
+    pbw_wake_key(C, got.ticket, 0); /* its split is done */
+    ck_assert(pbw_iv_pop(&C->retryq, &got));
+    ck_assert_int_eq(got.t, 3);
+    pbw_cav_free(c);
+    pbw_ctx_free(C);
+}
+END_TEST
+
 START_TEST(test_holds) {
     pbw_ctx *C = ctx_new(0, 0);
     pbw_vt_add(C, 0, 0, 0, -1);
@@ -574,6 +611,7 @@ int main(void) {
     tcase_add_test(tc, test_slots_reuse);
     tcase_add_test(tc, test_bad_queue_order);
     tcase_add_test(tc, test_deferred_wakes);
+    tcase_add_test(tc, test_split_ticket);
     tcase_add_test(tc, test_holds);
     tcase_add_test(tc, test_cavity_wire_format);
     tcase_add_test(tc, test_ghost_conflict);

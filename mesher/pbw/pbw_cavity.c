@@ -562,17 +562,18 @@ void pbw_finish(pbw_ctx *C, pbw_cav *c) {
                 it.gu = b->ga;
                 it.gv = b->gb;
                 it.notify = C->rank;
-                it.ticket = c->h.key;
+                it.ticket = split_ticket(c->h.key);
                 it.stamp = sst;
                 it.forced = 1;
                 pbw_iv_push(&C->splitq, &it);
             } else {
-                pbw_split_msg m = {b->ga, b->gb, c->h.key, sst, ref_idx(b->inref), C->rank};
+                pbw_split_msg m = {b->ga,  b->gb, split_ticket(c->h.key), sst, ref_idx(b->inref),
+                                   C->rank};
                 rt_rsr(r, C->hid[PBW_RSR_SPLIT], &m, sizeof m);
             }
         }
-        /* retry once every split asked for is done (each one wakes us with our key) */
-        pbw_defer_item(C, &c->it, W_WAKE, c->h.key, nreq);
+        /* retry once every split asked for is done (each one wakes us with our ticket) */
+        pbw_defer_item(C, &c->it, W_WAKE, split_ticket(c->h.key), nreq);
         return;
     }
     if (nonstar || cbad || c->h.cycle || pbw_commit_all(C, c) != 0) {
