@@ -98,6 +98,7 @@ int api_make_pslg(const pcdm_input *in, pslg *g, pcdm_status *st) {
     g->xy = dup_array(in->points, 2 * nv, sizeof(double));
     g->vmarker = in->pointmarkers ? dup_array(in->pointmarkers, nv, sizeof(int32_t))
                                   : mesh_xcalloc(nv, sizeof(int32_t));
+    g->vline = mesh_xcalloc(nv, sizeof(int32_t)); /* no source lines: 0 */
     g->nattr = in->npointattr;
     if (in->npointattr > 0)
         g->vattr = dup_array(in->pointattr, (size_t)in->npointattr * nv, sizeof(double));
@@ -105,6 +106,7 @@ int api_make_pslg(const pcdm_input *in, pslg *g, pcdm_status *st) {
     g->seg = dup_array(in->segments, 2 * ns, sizeof(int32_t));
     g->smarker = in->segmentmarkers ? dup_array(in->segmentmarkers, ns, sizeof(int32_t))
                                     : mesh_xcalloc(ns, sizeof(int32_t));
+    g->sline = mesh_xcalloc(ns, sizeof(int32_t));
     g->nholes = in->nholes;
     g->holes = dup_array(in->holes, 2 * (size_t)in->nholes, sizeof(double));
     g->nregions = in->nregions;
