@@ -104,7 +104,8 @@ typedef struct pcdm_options {
 void pcdm_options_default(pcdm_options *o);
 
 /* A mesh (or one rank's part of it).  Points: npoints, points[2i], points[2i+1];
- * pointmarkers (npoints); pointattr (npointattr per point, or NULL).  The input's points come
+ * pointmarkers (npoints); pointattr (npointattr per point; NULL with npointattr 0 while the
+ * mesher does not carry point attributes to the mesh).  The input's points come
  * first, in their order (after merging duplicates), then the Steiner points.  Triangles:
  * triangles[3t..3t+2], counter-clockwise; triangleattr (one per triangle: its region's
  * attribute, or NULL when the mesher does not provide them).  Segments: the subsegments of the
