@@ -417,8 +417,9 @@ int pcdm_triangulate_par(MPI_Comm comm, const pcdm_input *in, const pcdm_options
                         "MPI_THREAD_FUNNELED and be called from its main thread)",
                         rt_strerror(rc));
     int P = rt_size();
-    rc = pcdm_register();
-    if (rc < 0) rc = api_fail(st, PCDM_EMESH, "cannot register the handlers: %s", rt_strerror(rc));
+    int hid = pcdm_register();
+    rc = hid < 0 ? api_fail(st, PCDM_EMESH, "cannot register the handlers: %s", rt_strerror(hid))
+                 : PCDM_OK;
     if (rc == 0) rc = api_check_args(in, &o, st);
     if (rc == 0 && (o.root >= P))
         rc = api_fail(st, PCDM_EINVAL, "root %d: the communicator has %d ranks", o.root, P);
@@ -438,11 +439,8 @@ int pcdm_triangulate_par(MPI_Comm comm, const pcdm_input *in, const pcdm_options
         if ((rc == PCDM_OK || rc == PCDM_ESTEINER) && o.root >= 0) {
             pcdm_mesh part = *out;
             int keep = st->code;
-            if (gather_whole(&part, o.root, out, st) != PCDM_OK) {
-                pcdm_mesh_free(out);
-            } else {
-                st->code = keep;
-            }
+            memset(out, 0, sizeof *out);
+            if (gather_whole(&part, o.root, out, st) == PCDM_OK) st->code = keep;
             agree(st->code == PCDM_ESTEINER ? PCDM_OK : st->code, st);
         }
     }
