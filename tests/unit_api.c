@@ -11,7 +11,9 @@
 #include "api_check.h"
 
 #include <check.h>
+#include <stdio.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 START_TEST(test_plate) {
     pcdm_input in = plate();
@@ -115,6 +117,31 @@ START_TEST(test_steiner_limit) {
 }
 END_TEST
 
+/* Duplicate points are merged and repeated segments dropped without a word on stderr (the
+ * library never prints; the programs warn). */
+START_TEST(test_quiet) {
+    const double pts[] = {0, 0, 1, 0, 1, 1, 0, 1, 1, 0};
+    const int32_t segs[] = {0, 1, 1, 2, 2, 3, 3, 0, 4, 2, 0, 1};
+    pcdm_input in = {.npoints = 5, .points = pts, .nsegments = 6, .segments = segs};
+    FILE *tmp = tmpfile();
+    ck_assert_ptr_nonnull(tmp);
+    fflush(stderr);
+    int saved = dup(2);
+    dup2(fileno(tmp), 2);
+    pcdm_mesh m;
+    pcdm_status st;
+    int rc = pcdm_triangulate(&in, NULL, &m, &st);
+    fflush(stderr);
+    dup2(saved, 2);
+    close(saved);
+    ck_assert_int_eq(rc, PCDM_OK);
+    ck_assert_int_eq((int)lseek(fileno(tmp), 0, SEEK_END), 0);
+    fclose(tmp);
+    ck_assert(valid(&in, &m, 20.7, 0));
+    pcdm_mesh_free(&m);
+}
+END_TEST
+
 int main(void) {
     Suite *s = suite_create("api");
     TCase *tc = tcase_create("api");
@@ -123,6 +150,7 @@ int main(void) {
     tcase_add_test(tc, test_callback);
     tcase_add_test(tc, test_errors);
     tcase_add_test(tc, test_steiner_limit);
+    tcase_add_test(tc, test_quiet);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);
     srunner_run_all(sr, CK_NORMAL);
