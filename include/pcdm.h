@@ -84,6 +84,12 @@ typedef struct pcdm_input {
  * thread-safe, and in the parallel call the same function on every rank. */
 typedef int (*pcdm_unsuitable_fn)(void *ctx, const double *const corner[3], double area);
 
+/* The parallel meshers (pcdm_options.method).  PCDM (TR-97-17 section 3): subdomains with
+ * artificial interface segments, each refined by its rank, interface splits by remote request.
+ * PBW (section 2): one distributed mesh refined by parallel Bowyer-Watson with remote cavity
+ * expansion and locks (no size callback). */
+enum { PCDM_METHOD_PCDM = 0, PCDM_METHOD_PBW = 1 };
+
 typedef struct pcdm_options {
     double min_angle;    /* degrees: no triangle angle below it (0: none; default 20.7; at
                           * most about 34 is reached on every input) */
@@ -95,6 +101,7 @@ typedef struct pcdm_options {
     pcdm_unsuitable_fn unsuitable; /* NULL: none (default) */
     void *unsuitable_ctx;
     /* pcdm_triangulate_par only */
+    int method;         /* PCDM_METHOD_PCDM (default) or PCDM_METHOD_PBW */
     int32_t subdomains; /* subdomains of the decomposition (0: one per rank; default 0) */
     int root;           /* < 0: every rank keeps its part (default -1); >= 0: the whole mesh
                          * is collected on this rank (others get an empty mesh) */
@@ -151,9 +158,9 @@ int pcdm_triangulate(const pcdm_input *in, const pcdm_options *opt, pcdm_mesh *o
  * library neither initialises nor finalises MPI, and leaves comm as it was (it works on
  * duplicates).  Every rank passes the same input and options.  PCDM (TR-97-17): the domain is
  * cut into subdomains (METIS on a coarse mesh), each rank refines its own, splitting interface
- * subsegments by remote requests; the mesh is numbered globally by prefix sums, never gathered
- * unless opt->root >= 0.  Every rank returns the same code and message.  The parallel runtime
- * runs inside the call only: one call at a time per process. */
+ * subsegments by remote requests (or PBW, opt->method); the mesh is numbered globally by prefix
+ * sums, never gathered unless opt->root >= 0.  Every rank returns the same code and message.  The
+ * parallel runtime runs inside the call only: one call at a time per process. */
 int pcdm_triangulate_par(MPI_Comm comm, const pcdm_input *in, const pcdm_options *opt,
                          pcdm_mesh *out, pcdm_status *st);
 

@@ -8,6 +8,7 @@
  *  - on the halves of a split MPI_COMM_WORLD (both meshing at once), every rank keeps its part:
  *    each global point number is owned by exactly one rank, triangle numbers follow by prefix
  *    sums, and the counts agree with the same call collecting on a root;
+ *  - PBW through the same call gives a valid mesh (and refuses the size callback);
  *  - bad input fails on every rank with the same code and message, and the next call works.
  * Results are reduced over ranks before asserting, so no rank waits in a collective that
  * another rank skipped.  Runs with CK_NOFORK (MPI does not survive fork).
@@ -119,6 +120,30 @@ START_TEST(test_split_parts) {
 }
 END_TEST
 
+/* PBW through the same call: the whole mesh on rank 0 passes the validator; the size callback
+ * is refused (PBW has its own rules instance). */
+START_TEST(test_pbw) {
+    int rank;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    pcdm_input in = plate();
+    pcdm_options o;
+    pcdm_options_default(&o);
+    o.method = PCDM_METHOD_PBW;
+    o.max_area = 0.1;
+    o.root = 0;
+    pcdm_mesh m;
+    pcdm_status st;
+    int rc = pcdm_triangulate_par(MPI_COMM_WORLD, &in, &o, &m, &st);
+    ck_assert_msg(all_true(rc == PCDM_OK, MPI_COMM_WORLD), "code %d: %s", rc, st.message);
+    int ok = rank != 0 || valid(&in, &m, 20.7, 0.1);
+    pcdm_mesh_free(&m);
+    o.unsuitable = small_near_origin;
+    rc = pcdm_triangulate_par(MPI_COMM_WORLD, &in, &o, &m, &st);
+    ok = ok && rc == PCDM_EINVAL && strstr(st.message, "size callback") != NULL;
+    ck_assert(all_true(ok, MPI_COMM_WORLD));
+}
+END_TEST
+
 START_TEST(test_errors_agree) {
     pcdm_input in = plate();
     int32_t bad[16];
@@ -154,6 +179,7 @@ int main(int argc, char **argv) {
     TCase *tc = tcase_create("mpi_api");
     tcase_add_test(tc, test_world_root);
     tcase_add_test(tc, test_split_parts);
+    tcase_add_test(tc, test_pbw);
     tcase_add_test(tc, test_errors_agree);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);

@@ -27,6 +27,7 @@
 #include "geom/geom.h"
 #include "par/par.h"
 #include "par/pout.h"
+#include "pbw/pbw.h"
 #include "pcdm/pcdm.h"
 #include "rt.h"
 
@@ -286,8 +287,62 @@ static int gather_whole(pcdm_mesh *p, int root, pcdm_mesh *out, pcdm_status *st)
 
 /* Collective.  Refines this rank's part of d to o's bounds and leaves it, checked along the
  * interfaces and numbered, in out (see part_to_mesh).  The runtime is up. */
-static int mesh_part(const pcdm_decomp *d, const pslg *in, const pcdm_options *o, pcdm_mesh *out,
-                     pcdm_status *st) {
+/* Collective.  The common end of both meshers: the refined parts (local, this rank's;
+ * artificial, topen: as par_output_sub takes them, may be NULL), checked along the interfaces,
+ * numbered and copied into out.  limited/unmet_all: the Steiner limit stopped refinement with
+ * unmet_all triangles outside the bounds (PCDM_ESTEINER).  Frees local, artificial and topen. */
+static int finish_part(mesh_flat *local, const pslg *in, uint8_t *artificial, uint8_t *topen,
+                       int limited, long long unmet_all, const pcdm_options *o, pcdm_mesh *out,
+                       pcdm_status *st) {
+    int rank = rt_rank();
+    MPI_Comm c = rt_app_comm();
+    char err[1024], msg[600];
+    local->scale_exp = in->scale_exp;
+    int rc = par_check_interfaces_open(local, topen, msg, sizeof msg) == 0
+                 ? PCDM_OK
+                 : api_fail(st, PCDM_EMESH, "rank %d: %s", rank, msg);
+    par_numbering num;
+    memset(&num, 0, sizeof num);
+    if (!agree(rc, st)) {
+        if (par_number_open(local, in, artificial, topen, &num, err, sizeof err) != 0)
+            api_fail(st, PCDM_EMESH, "%s", err); /* the same on every rank */
+    }
+    if (st->code == PCDM_OK) {
+        /* attributes only when every part has them (an empty part has none to offer) */
+        int mine[2] = {local->vattr && local->nattr == in->nattr ? in->nattr : 0,
+                       local->tattr != NULL || local->ntris == 0},
+            all[2];
+        if (local->ntris == 0 && in->nattr && !local->vattr) mine[0] = in->nattr;
+        MESH_MPI(MPI_Allreduce(mine, all, 2, MPI_INT, MPI_MIN, c));
+        int any_t = local->tattr != NULL, any_all = 0;
+        MESH_MPI(MPI_Allreduce(&any_t, &any_all, 1, MPI_INT, MPI_MAX, c));
+        part_to_mesh(local, in, &num, all[0], all[1] && any_all, out);
+        par_numbering_free(&num);
+        if (limited)
+            api_fail(st, PCDM_ESTEINER,
+                     "Steiner point limit (%lld) reached with %lld triangles outside the bounds; "
+                     "the mesh is conforming but does not meet them",
+                     (long long)o->max_steiner, unmet_all);
+    }
+    free(artificial);
+    free(topen);
+    mesh_flat_free(local);
+    return st->code;
+}
+
+static int unmet_fail(long long unmet_all, long long refused, const pcdm_options *o,
+                      pcdm_status *st) {
+    return api_fail(st, PCDM_EUNMET,
+                    "cannot meet the bounds: %lld triangles still violate them after %lld refused "
+                    "splits (features below the precision of the coordinates, a region too thin "
+                    "for its length, or min_angle %g beyond what refinement reaches)",
+                    unmet_all, refused, o->min_angle);
+}
+
+/* Collective.  PCDM: refines this rank's subdomains of d to o's bounds (the runtime is up,
+ * pcdm_register called) and leaves the part in out (finish_part). */
+static int mesh_part_pcdm(const pcdm_decomp *d, const pslg *in, const pcdm_options *o,
+                          pcdm_mesh *out, pcdm_status *st) {
     int rank = rt_rank();
     MPI_Comm c = rt_app_comm();
     char err[1024];
@@ -312,53 +367,51 @@ static int mesh_part(const pcdm_decomp *d, const pslg *in, const pcdm_options *o
     pcdm_part_refine(&part, &q, 300);
     int limit_any = 0;
     MESH_MPI(MPI_Allreduce(&part.limit_hit, &limit_any, 1, MPI_INT, MPI_MAX, c));
-    long long unmet = (long long)mesh_count_unmet(&part.m, NULL), unmet_all = 0;
-    MESH_MPI(MPI_Allreduce(&unmet, &unmet_all, 1, MPI_LONG_LONG, MPI_SUM, c));
-    int limited = limit_any && unmet_all > 0;
-    if (unmet_all > 0 && !limited) {
+    long long un[2] = {(long long)mesh_count_unmet(&part.m, NULL),
+                       (long long)part.m.stats.unresolved},
+              un_all[2] = {0, 0};
+    MESH_MPI(MPI_Allreduce(un, un_all, 2, MPI_LONG_LONG, MPI_SUM, c));
+    int limited = limit_any && un_all[0] > 0;
+    if (un_all[0] > 0 && !limited) {
         pcdm_part_free(&part);
-        return api_fail(st, PCDM_EUNMET,
-                        "cannot meet the bounds: %lld triangles still violate them (features "
-                        "below the precision of the coordinates, a region too thin for its "
-                        "length, or min_angle %g beyond what refinement reaches)",
-                        unmet_all, o->min_angle);
+        return unmet_fail(un_all[0], un_all[1], o, st);
     }
     uint8_t *artificial = pcdm_part_artificial(&part), *topen = NULL;
     mesh_flat local;
     pcdm_part_take_flat(&part, &local, NULL, &topen);
     pcdm_part_free(&part);
-    local.scale_exp = in->scale_exp;
-    char msg[600];
-    rc = par_check_interfaces_open(&local, topen, msg, sizeof msg) == 0
-             ? PCDM_OK
-             : api_fail(st, PCDM_EMESH, "rank %d: %s", rank, msg);
-    par_numbering num;
-    memset(&num, 0, sizeof num);
-    if (!agree(rc, st)) {
-        if (par_number_open(&local, in, artificial, topen, &num, err, sizeof err) != 0)
-            api_fail(st, PCDM_EMESH, "%s", err); /* the same on every rank */
+    return finish_part(&local, in, artificial, topen, limited, un_all[0], o, out, st);
+}
+
+/* Collective.  PBW (TR-97-17 section 2): one distributed mesh refined by remote cavity
+ * expansion (the runtime is up, pbw_register called); the part into out (finish_part). */
+static int mesh_part_pbw(const pcdm_decomp *d, const pslg *in, const pcdm_options *o,
+                         pcdm_mesh *out, pcdm_status *st) {
+    par_opts po;
+    memset(&po, 0, sizeof po);
+    po.prog = "pbw";
+    po.min_angle = o->min_angle;
+    po.max_area = o->max_area;
+    po.max_steiner = o->max_steiner;
+    po.circumcenters = o->circumcenters;
+    po.imbalance = 1;
+    mesh_flat local;
+    pbw_result res;
+    /* fails on every rank alike only when the input does not triangulate, which the
+     * decomposition has ruled out already */
+    if (pbw_mesh(&po, in, d, &local, &res) != 0)
+        return api_fail(st, PCDM_EMESH, "pbw: the distributed mesh cannot be built");
+    MPI_Comm c = rt_app_comm();
+    int limit_any = 0;
+    MESH_MPI(MPI_Allreduce(&res.limit_hit, &limit_any, 1, MPI_INT, MPI_MAX, c));
+    long long un[2] = {(long long)res.unmet, (long long)res.unresolved}, un_all[2] = {0, 0};
+    MESH_MPI(MPI_Allreduce(un, un_all, 2, MPI_LONG_LONG, MPI_SUM, c));
+    int limited = limit_any && un_all[0] > 0;
+    if (un_all[0] > 0 && !limited) {
+        mesh_flat_free(&local);
+        return unmet_fail(un_all[0], un_all[1], o, st);
     }
-    if (st->code == PCDM_OK) {
-        /* attributes only when every part has them (an empty part has none to offer) */
-        int mine[2] = {local.vattr && local.nattr == in->nattr ? in->nattr : 0,
-                       local.tattr != NULL || local.ntris == 0},
-            all[2];
-        if (local.ntris == 0 && in->nattr && !local.vattr) mine[0] = in->nattr;
-        MESH_MPI(MPI_Allreduce(mine, all, 2, MPI_INT, MPI_MIN, c));
-        int any_t = local.tattr != NULL, any_all = 0;
-        MESH_MPI(MPI_Allreduce(&any_t, &any_all, 1, MPI_INT, MPI_MAX, c));
-        part_to_mesh(&local, in, &num, all[0], all[1] && any_all, out);
-        par_numbering_free(&num);
-        if (limited)
-            api_fail(st, PCDM_ESTEINER,
-                     "Steiner point limit (%lld) reached with %lld triangles outside the bounds; "
-                     "the mesh is conforming but does not meet them",
-                     (long long)o->max_steiner, unmet_all);
-    }
-    free(artificial);
-    free(topen);
-    mesh_flat_free(&local);
-    return st->code;
+    return finish_part(&local, in, NULL, NULL, limited, un_all[0], o, out, st);
 }
 
 /* Collective.  Every rank builds the same decomposition of in for the communicator's ranks. */
@@ -417,10 +470,17 @@ int pcdm_triangulate_par(MPI_Comm comm, const pcdm_input *in, const pcdm_options
                         "MPI_THREAD_FUNNELED and be called from its main thread)",
                         rt_strerror(rc));
     int P = rt_size();
-    int hid = pcdm_register();
+    if (o.method != PCDM_METHOD_PCDM && o.method != PCDM_METHOD_PBW) o.method = -1;
+    int hid = o.method == PCDM_METHOD_PBW ? pbw_register() : pcdm_register();
     rc = hid < 0 ? api_fail(st, PCDM_EMESH, "cannot register the handlers: %s", rt_strerror(hid))
                  : PCDM_OK;
     if (rc == 0) rc = api_check_args(in, &o, st);
+    if (rc == 0 && o.method < 0)
+        rc = api_fail(st, PCDM_EINVAL, "method: PCDM_METHOD_PCDM or PCDM_METHOD_PBW");
+    if (rc == 0 && o.method == PCDM_METHOD_PBW && o.unsuitable)
+        rc = api_fail(st, PCDM_EINVAL,
+                      "the size callback (unsuitable) works with "
+                      "PCDM_METHOD_PCDM and pcdm_triangulate only");
     if (rc == 0 && (o.root >= P))
         rc = api_fail(st, PCDM_EINVAL, "root %d: the communicator has %d ranks", o.root, P);
     geom_init();
@@ -434,7 +494,8 @@ int pcdm_triangulate_par(MPI_Comm comm, const pcdm_input *in, const pcdm_options
     }
     pcdm_decomp d;
     if (decompose(&g, &o, &d, st) == PCDM_OK) {
-        rc = mesh_part(&d, &g, &o, out, st);
+        rc = o.method == PCDM_METHOD_PBW ? mesh_part_pbw(&d, &g, &o, out, st)
+                                         : mesh_part_pcdm(&d, &g, &o, out, st);
         pcdm_decomp_free(&d);
         if ((rc == PCDM_OK || rc == PCDM_ESTEINER) && o.root >= 0) {
             pcdm_mesh part = *out;
