@@ -117,8 +117,10 @@ void pcdm_options_default(pcdm_options *o);
  * triangles[3t..3t+2], counter-clockwise; triangleattr (one per triangle: its region's
  * attribute, or NULL when the mesher does not provide them).  Segments: the subsegments of the
  * input's segments (both endpoints), with segmentmarkers.
+ * A whole mesh may list input points no triangle uses (inside a hole, or merged duplicates).
  * A rank's part (pcdm_triangulate_par, root < 0): points are the vertices its triangles use
- * (a vertex on the boundary between two parts appears in both), pointglobal[i] is point i's
+ * (a vertex on the boundary between two parts appears in both; rank 0 lists every input point
+ * first, numbers 0 .. ninput-1, whether its triangles use it or not), pointglobal[i] is point i's
  * number in the whole mesh, pointowned[i] is 1 on exactly one rank for each number (the input
  * points: rank 0); triangle t is number trianglefirst + t of the whole mesh; a segment shared
  * by two parts is listed by one; nglobal* count the whole mesh.  pointglobal and pointowned are

@@ -6,11 +6,13 @@
  *    caller's coordinates (the mesher works on scaled ones), and without it that corner is
  *    coarse;
  *  - bad arguments and bad input return a code and a message, never a mesh; the Steiner limit
- *    returns PCDM_ESTEINER with a valid mesh; pcdm_mesh_free is idempotent.
+ *    returns PCDM_ESTEINER with a valid mesh; pcdm_mesh_free is idempotent;
+ *  - nothing is printed (duplicates merged quietly); two threads meshing at once agree with one.
  */
 #include "api_check.h"
 
 #include <check.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <unistd.h>
@@ -142,6 +144,37 @@ START_TEST(test_quiet) {
 }
 END_TEST
 
+static void *mesh_plate(void *arg) {
+    pcdm_mesh *m = arg;
+    pcdm_input in = plate();
+    pcdm_options o;
+    pcdm_options_default(&o);
+    o.max_area = 0.05;
+    o.unsuitable = small_near_origin;
+    return pcdm_triangulate(&in, &o, m, NULL) == PCDM_OK ? m : NULL;
+}
+
+/* Two threads at once (no state outside the call) make the mesh one thread makes. */
+START_TEST(test_threads) {
+    pcdm_mesh one, two[2];
+    ck_assert_ptr_nonnull(mesh_plate(&one));
+    pthread_t th[2];
+    for (int i = 0; i < 2; i++)
+        ck_assert_int_eq(pthread_create(&th[i], NULL, mesh_plate, &two[i]), 0);
+    for (int i = 0; i < 2; i++) {
+        void *r;
+        ck_assert_int_eq(pthread_join(th[i], &r), 0);
+        ck_assert_ptr_nonnull(r);
+        ck_assert_int_eq(two[i].ntriangles, one.ntriangles);
+        ck_assert_int_eq(two[i].npoints, one.npoints);
+        ck_assert(!memcmp(two[i].points, one.points, 2 * (size_t)one.npoints * sizeof(double)));
+        ck_assert(!memcmp(two[i].triangles, one.triangles, 3 * (size_t)one.ntriangles * 4));
+        pcdm_mesh_free(&two[i]);
+    }
+    pcdm_mesh_free(&one);
+}
+END_TEST
+
 int main(void) {
     Suite *s = suite_create("api");
     TCase *tc = tcase_create("api");
@@ -151,6 +184,7 @@ int main(void) {
     tcase_add_test(tc, test_errors);
     tcase_add_test(tc, test_steiner_limit);
     tcase_add_test(tc, test_quiet);
+    tcase_add_test(tc, test_threads);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);
     srunner_run_all(sr, CK_NORMAL);
