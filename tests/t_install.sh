@@ -14,7 +14,7 @@ cd "$(dirname "$0")/.."
 MPIRUN=${MPIRUN:-mpirun --oversubscribe}
 CC_USER=${CC_USER:-cc}
 if [ "$(id -u)" -eq 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
-if [ "${SANITIZE:-}" = 1 ] || [ "${DEBUG:-}" = 1 ]; then
+if [ "${SANITIZE:-}" = 1 ] || [ "${DEBUG:-}" = 1 ] || [ "${B:-build}" != build ]; then
     echo "t_install: SKIP: sanitizer/debug build (the installed library is the normal build's)"
     exit 0
 fi
