@@ -105,8 +105,10 @@ $(B)/bench/%: $(B)/obj/bench/%.o $(MESH_LIB) $(RT_LIB)
 
 # ---- the library (issue 15): libpcdm.a and libpcdm.so from position-independent objects
 # ($(B)/pic), the public header include/pcdm.h (mesher/api implements it), pcdm.pc.
-PCDM_VERSION := 1.0.0
-PCDM_SOMAJOR := 1
+# The version is include/pcdm.h's (PCDM_VERSION_MAJOR/MINOR/PATCH); the soname carries the major.
+pcdm_ver = $(shell sed -n 's/^\#define PCDM_VERSION_$(1) *\([0-9]*\).*/\1/p' include/pcdm.h)
+PCDM_SOMAJOR := $(call pcdm_ver,MAJOR)
+PCDM_VERSION := $(PCDM_SOMAJOR).$(call pcdm_ver,MINOR).$(call pcdm_ver,PATCH)
 LIB_SRC := $(RT_SRC) $(MESH_SRC)
 PIC_OBJ := $(patsubst %.c,$(B)/pic/%.o,$(LIB_SRC))
 LIB_A := $(B)/lib/libpcdm.a
