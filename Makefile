@@ -7,6 +7,8 @@
 #   make deps       install Open MPI, Check, METIS  make SANITIZE=1 test   ASan + UBSan build
 #   make DEBUG=1    debug build (build/debug, MESH_ASSERT on)
 #   make format     clang-format the tree       make clean
+#   make install    programs, libpcdm (.a, .so), include/pcdm.h and pcdm.pc into PREFIX
+#                   (default /usr/local; DESTDIR for staging)    make uninstall
 #   make fuzz       libFuzzer run of ./mesh's reader and mesher (FUZZ_TIME seconds, default 90;
 #                   clang-14; corpus tests/fuzz/corpus, findings in build/fuzz/artifacts)
 
@@ -34,7 +36,7 @@ else
 B := build
 endif
 
-ALL_CFLAGS = $(STD) $(WARN) $(OPT) -Iruntime -Imesher $(CFLAGS)
+ALL_CFLAGS = $(STD) $(WARN) $(OPT) -Iinclude -Iruntime -Imesher $(CFLAGS)
 CHECK_CFLAGS = $(shell pkg-config --cflags check 2>/dev/null)
 CHECK_LIBS = $(shell pkg-config --libs check 2>/dev/null)
 
@@ -53,12 +55,12 @@ APPS := $(patsubst apps/%.c,%,$(APP_SRC))
 TESTS := $(patsubst tests/%.c,$(B)/tests/%,$(TEST_SRC))
 BENCHES := $(patsubst bench/%.c,$(B)/bench/%,$(BENCH_SRC))
 
-.PHONY: all deps fuzz fuzz-deps fuzz-replay test check-deps demo bench bench-quick bench-seq bench-primitives format clean
+.PHONY: all libs install uninstall examples deps fuzz fuzz-deps fuzz-replay test check-deps demo bench bench-quick bench-seq bench-primitives format clean
 .DEFAULT_GOAL := all
 # Keep the objects of programs and tests (they are intermediate files to make otherwise).
 .SECONDARY: $(patsubst %.c,$(B)/obj/%.o,$(APP_SRC) $(TEST_SRC) $(BENCH_SRC))
 
-all: $(patsubst %,$(B)/bin/%,$(APPS)) $(APPS) $(TESTS) $(BENCHES)
+all: $(patsubst %,$(B)/bin/%,$(APPS)) $(APPS) $(TESTS) $(BENCHES) libs
 
 # Install what the build needs when it is missing (Debian); does nothing otherwise.
 deps:
@@ -101,6 +103,63 @@ $(B)/bench/%: $(B)/obj/bench/%.o $(MESH_LIB) $(RT_LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $< $(MESH_LIB) $(RT_LIB) $(LDLIBS) -o $@
 
+# ---- the library (issue 15): libpcdm.a and libpcdm.so from position-independent objects
+# ($(B)/pic), the public header include/pcdm.h (mesher/api implements it), pcdm.pc.
+# The version is include/pcdm.h's (PCDM_VERSION_MAJOR/MINOR/PATCH); the soname carries the major.
+pcdm_ver = $(shell sed -n 's/^\#define PCDM_VERSION_$(1) *\([0-9]*\).*/\1/p' include/pcdm.h)
+PCDM_SOMAJOR := $(call pcdm_ver,MAJOR)
+PCDM_VERSION := $(PCDM_SOMAJOR).$(call pcdm_ver,MINOR).$(call pcdm_ver,PATCH)
+LIB_SRC := $(RT_SRC) $(MESH_SRC)
+PIC_OBJ := $(patsubst %.c,$(B)/pic/%.o,$(LIB_SRC))
+LIB_A := $(B)/lib/libpcdm.a
+LIB_SO := $(B)/lib/libpcdm.so.$(PCDM_VERSION)
+PREFIX ?= /usr/local
+DESTDIR ?=
+BINDIR = $(PREFIX)/bin
+LIBDIR = $(PREFIX)/lib
+INCDIR = $(PREFIX)/include
+MPI_CFLAGS = $(shell $(CC) -showme:compile 2>/dev/null)
+MPI_LIBS = $(shell $(CC) -showme:link 2>/dev/null)
+
+libs: $(LIB_A) $(LIB_SO)
+
+$(B)/pic/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) -fPIC -MMD -MP -c $< -o $@
+
+$(LIB_A): $(PIC_OBJ)
+	@mkdir -p $(dir $@)
+	rm -f $@ && ar rcs $@ $^
+
+# Only the public API is exported (mesher/api/pcdm.map); the layers below stay internal.
+$(LIB_SO): $(PIC_OBJ) mesher/api/pcdm.map
+	@mkdir -p $(dir $@)
+	$(CC) -shared $(LDFLAGS) -Wl,-soname,libpcdm.so.$(PCDM_SOMAJOR) \
+	    -Wl,--version-script,mesher/api/pcdm.map $(PIC_OBJ) $(LDLIBS) -o $@
+
+$(B)/pcdm.pc: mesher/api/pcdm.pc.in Makefile
+	@mkdir -p $(dir $@)
+	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@VERSION@|$(PCDM_VERSION)|' \
+	    -e 's|@MPI_CFLAGS@|$(MPI_CFLAGS)|' -e 's|@MPI_LIBS@|$(MPI_LIBS)|' $< > $@
+
+# The .pc file names PREFIX, so it is rebuilt on every install.
+install: $(patsubst %,$(B)/bin/%,$(APPS)) libs
+	@rm -f $(B)/pcdm.pc && $(MAKE) --no-print-directory $(B)/pcdm.pc PREFIX=$(PREFIX)
+	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR)/pkgconfig $(DESTDIR)$(INCDIR)
+	install -m 755 $(patsubst %,$(B)/bin/%,$(APPS)) $(DESTDIR)$(BINDIR)/
+	install -m 644 $(LIB_A) $(DESTDIR)$(LIBDIR)/
+	install -m 755 $(LIB_SO) $(DESTDIR)$(LIBDIR)/
+	ln -sf libpcdm.so.$(PCDM_VERSION) $(DESTDIR)$(LIBDIR)/libpcdm.so.$(PCDM_SOMAJOR)
+	ln -sf libpcdm.so.$(PCDM_SOMAJOR) $(DESTDIR)$(LIBDIR)/libpcdm.so
+	install -m 644 include/pcdm.h $(DESTDIR)$(INCDIR)/
+	install -m 644 $(B)/pcdm.pc $(DESTDIR)$(LIBDIR)/pkgconfig/
+
+uninstall:
+	rm -f $(patsubst %,$(DESTDIR)$(BINDIR)/%,$(APPS)) $(DESTDIR)$(INCDIR)/pcdm.h \
+	    $(DESTDIR)$(LIBDIR)/libpcdm.a $(DESTDIR)$(LIBDIR)/libpcdm.so \
+	    $(DESTDIR)$(LIBDIR)/libpcdm.so.$(PCDM_SOMAJOR) $(DESTDIR)$(LIBDIR)/libpcdm.so.$(PCDM_VERSION) \
+	    $(DESTDIR)$(LIBDIR)/pkgconfig/pcdm.pc
+
 test: deps
 	@$(MAKE) --no-print-directory all
 	@BUILD=$(B) SANITIZE=$(SANITIZE) bash tests/run.sh
@@ -127,7 +186,7 @@ bench-primitives: deps
 
 CLANG_FORMAT ?= $(shell command -v clang-format || command -v clang-format-14)
 format:
-	$(CLANG_FORMAT) -i $(wildcard runtime/*.[ch] mesher/*/*.[ch] apps/*.[ch] tests/*.[ch] tests/fuzz/*.c bench/*.c)
+	$(CLANG_FORMAT) -i $(wildcard runtime/*.[ch] mesher/*/*.[ch] apps/*.[ch] tests/*.[ch] tests/fuzz/*.c bench/*.c include/*.h examples/*.[ch])
 
 # ---- fuzzing (issue 10): clang's libFuzzer with ASan + UBSan over the reader and the mesher.
 # The seed corpus lives in git (tests/fuzz/corpus); the run works on a copy in build/fuzz, so

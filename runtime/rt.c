@@ -199,7 +199,18 @@ int rt_prefer_local_pml(void) {
     return setenv("OMPI_MCA_pml", "ob1", 0) == 0;
 }
 
+/* The common start of rt_init and rt_init_comm: MPI is initialised (by us or the caller). */
+static int init_on(MPI_Comm world, const rt_config *cfg, int *argc, char ***argv, int may_init);
+
 int rt_init(int *argc, char ***argv, const rt_config *cfg) {
+    return init_on(MPI_COMM_WORLD, cfg, argc, argv, 1);
+}
+
+int rt_init_comm(MPI_Comm comm, const rt_config *cfg) {
+    return init_on(comm, cfg, NULL, NULL, 0);
+}
+
+static int init_on(MPI_Comm world, const rt_config *cfg, int *argc, char ***argv, int may_init) {
     if (rt_g.initialised) return RT_ESTATE;
     memset(&rt_g, 0, sizeof rt_g);
     if (cfg)
@@ -215,7 +226,10 @@ int rt_init(int *argc, char ***argv, const rt_config *cfg) {
     if (c->idle_max_ns < c->idle_min_ns) c->idle_max_ns = c->idle_min_ns;
 
     int inited = 0, provided = 0;
+    int fin = 0;
     MPI_Initialized(&inited);
+    MPI_Finalized(&fin);
+    if (fin || (!inited && !may_init)) return RT_ESTATE;
     if (!inited) {
         rt_prefer_local_pml();
         if (MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS) {
@@ -229,16 +243,18 @@ int rt_init(int *argc, char ***argv, const rt_config *cfg) {
     int is_main = 0;
     RT_MPI(MPI_Is_thread_main(&is_main));
     if (provided < MPI_THREAD_FUNNELED || !is_main) {
-        fprintf(stderr,
-                "rt_init: MPI provides thread level %d (need MPI_THREAD_FUNNELED = %d) and "
-                "rt_init must run on MPI's main thread (%s)\n",
-                provided, MPI_THREAD_FUNNELED, is_main ? "it does" : "it does not");
+        if (may_init) /* rt_init_comm (a library) never prints */
+            fprintf(stderr,
+                    "rt_init: MPI provides thread level %d (need MPI_THREAD_FUNNELED = %d) and "
+                    "rt_init must run on MPI's main thread (%s)\n",
+                    provided, MPI_THREAD_FUNNELED, is_main ? "it does" : "it does not");
         return RT_EMPI;
     }
-    /* Every communicator returns errors, so the checks on each MPI call can fire. */
-    if (MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN) != MPI_SUCCESS ||
-        MPI_Comm_dup(MPI_COMM_WORLD, &rt_g.comm) != MPI_SUCCESS ||
-        MPI_Comm_dup(MPI_COMM_WORLD, &rt_g.app_comm) != MPI_SUCCESS ||
+    /* Every communicator returns errors, so the checks on each MPI call can fire (a caller's
+     * communicator is left as it is: the runtime's dups get the handler) */
+    if ((may_init && MPI_Comm_set_errhandler(world, MPI_ERRORS_RETURN) != MPI_SUCCESS) ||
+        MPI_Comm_dup(world, &rt_g.comm) != MPI_SUCCESS ||
+        MPI_Comm_dup(world, &rt_g.app_comm) != MPI_SUCCESS ||
         MPI_Comm_set_errhandler(rt_g.comm, MPI_ERRORS_RETURN) != MPI_SUCCESS ||
         MPI_Comm_set_errhandler(rt_g.app_comm, MPI_ERRORS_RETURN) != MPI_SUCCESS ||
         MPI_Comm_rank(rt_g.comm, &rt_g.rank) != MPI_SUCCESS ||

@@ -77,6 +77,14 @@ void rt_config_default(rt_config *cfg);
  * (may be NULL).  Returns RT_OK or RT_EMPI / RT_ETHREAD / RT_ESTATE (already initialised). */
 int rt_init(int *argc, char ***argv, const rt_config *cfg);
 
+/* Collective over comm.  rt_init for a library inside a program that owns MPI: MPI must
+ * already be initialised (MPI_THREAD_FUNNELED or more, called on MPI's main thread; else
+ * RT_ESTATE / RT_EMPI); the runtime's communicators are dups of comm (any communicator, e.g.
+ * a split of MPI_COMM_WORLD: ranks are numbered in comm), comm's own error handler is left
+ * alone, and rt_finalize never finalises MPI.  rt_init and rt_init_comm may be called again
+ * after rt_finalize.  Returns as rt_init. */
+int rt_init_comm(MPI_Comm comm, const rt_config *cfg);
+
 /* Collective.  Stops the workers, frees the runtime, and calls MPI_Finalize if rt_init
  * initialised MPI.  No RSR may be in flight (call after rt_run returned). */
 void rt_finalize(void);

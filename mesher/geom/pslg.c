@@ -867,9 +867,11 @@ int pslg_check(pslg *g, char *err, size_t errlen) {
             int32_t a = vk[i].i, b = vk[rep].i;
             map[a] = b;
             ndup++;
-            fprintf(stderr, "%s:%d: warning: vertex %d duplicates vertex %d (line %d); merged\n",
-                    vf, g->vline ? g->vline[a] : 0, a + g->first_index, b + g->first_index,
-                    g->vline ? g->vline[b] : 0);
+            if (!g->quiet)
+                fprintf(stderr,
+                        "%s:%d: warning: vertex %d duplicates vertex %d (line %d); merged\n", vf,
+                        g->vline ? g->vline[a] : 0, a + g->first_index, b + g->first_index,
+                        g->vline ? g->vline[b] : 0);
             if (g->vmarker && g->vmarker[b] == 0) g->vmarker[b] = g->vmarker[a];
         } else {
             rep = i;
@@ -932,9 +934,11 @@ int pslg_check(pslg *g, char *err, size_t errlen) {
         } else {
             int32_t s = sk[i].i, t = sk[run].i; /* the first of a run is kept */
             keep[s] = 0;
-            fprintf(stderr, "%s:%d: warning: segment %d repeats segment %d (line %d); dropped\n",
-                    sf, g->sline ? g->sline[s] : 0, s + g->first_index, t + g->first_index,
-                    g->sline ? g->sline[t] : 0);
+            if (!g->quiet)
+                fprintf(stderr,
+                        "%s:%d: warning: segment %d repeats segment %d (line %d); dropped\n", sf,
+                        g->sline ? g->sline[s] : 0, s + g->first_index, t + g->first_index,
+                        g->sline ? g->sline[t] : 0);
         }
     }
     free(sk);

@@ -35,6 +35,7 @@ typedef struct pslg {
     int32_t nregions;
     double *regions;   /* 4 * nregions: x, y, attribute, max area */
     int first_index;   /* 0 or 1: the numbering the file used */
+    int quiet;         /* 1: pslg_check prints no warnings (the library never prints) */
     int scale_exp;     /* pslg_check multiplied every coordinate by 2^scale_exp (0: untouched) */
     char path[512];    /* file the vertices came from (for messages) */
     char segpath[512]; /* file the segments, holes and regions came from (= path unless a .poly
@@ -59,7 +60,7 @@ int pslg_read(const char *path, pslg *out, char *err, size_t errlen);
 #define PSLG_MAX_SCALE 822 /* 2^(GRID - MAX_SCALE) = 2^-1022: unscaled points stay normal */
 
 /* Validates and normalises geometry (see above).  Returns 0, or -1 with a message in err.
- * Warnings (merged duplicates) go to stderr prefixed with the file and line. */
+ * Warnings (merged duplicates) go to stderr prefixed with the file and line, unless g->quiet. */
 int pslg_check(pslg *g, char *err, size_t errlen);
 
 /* Area of the domain the PSLG describes, computed from the PSLG alone (independently of any

@@ -149,6 +149,9 @@ typedef struct mesh {
     int32_t last; /* remembered triangle for walks */
     /* refinement */
     mesh_quality q;
+    /* a caller's size rule (mesh_set_size_rule; NULL: none) */
+    int (*size_rule)(void *ctx, const double *const p[3], double area);
+    void *size_rule_ctx;
     mesh_hooks hooks;
     mesh_stats stats;
     mesh_refine_state *rf;
@@ -214,6 +217,12 @@ void mesh_set_quality(mesh *m, const mesh_quality *q);
  * (its extent and smallest features), not on which part a rank holds, as ./mesh's does. */
 void mesh_fix_length_floor(mesh *m);
 void mesh_set_hooks(mesh *m, const mesh_hooks *h);
+/* Local.  A caller's size rule (mesh_rules.unsuitable, rules.h: Triangle's triunsuitable; NULL:
+ * none) for every later refinement, kept across mesh_set_quality: fn sees the mesh's working
+ * coordinates (the input's times 2^scale_exp; the library, mesher/api, unscales them for its
+ * user).  Must be pure and thread-safe; ctx must outlive the refinement. */
+void mesh_set_size_rule(mesh *m, int (*fn)(void *ctx, const double *const p[3], double area),
+                        void *ctx);
 
 typedef enum {
     MESH_REFINE_DONE,          /* no bad triangle and no encroached subsegment left */

@@ -1,0 +1,173 @@
+/* pcdm.h: the public interface of libpcdm -- quality triangulation in one call, sequential or
+ * parallel (Chew, Chrisochoides, Sukup, "Parallel Constrained Delaunay Meshing", TR-97-17).
+ *
+ * In the spirit of Triangle's triangulate(): give a planar straight-line graph (points,
+ * segments with boundary markers, holes, regions, point attributes) and the bounds, get back a
+ * conforming constrained Delaunay mesh whose triangles meet them.  pcdm_triangulate meshes on
+ * the calling thread (Ruppert/Chew refinement); pcdm_triangulate_par is Collective over a
+ * communicator the caller gives (PCDM: a decomposition, every rank refines its subdomains) and
+ * leaves every rank with its own part in global numbering, or the whole mesh on one rank.
+ *
+ * Contracts.  Every array in pcdm_input is borrowed (read only, for the duration of the call).
+ * Every array in pcdm_mesh is allocated by the library and owned by the caller, who frees them
+ * all with pcdm_mesh_free.  The library never prints and never exits: every failure returns a
+ * nonzero PCDM_E* code with a message in the pcdm_status.  Indices are 0-based.  Coordinates
+ * are the caller's: the meshers scale them internally by a power of two (exactly), and every
+ * coordinate the library returns or shows the size callback is in the caller's units.
+ * Out of memory is the one exception: the allocation funnel aborts the process.
+ *
+ * Link with `pkg-config --cflags --libs pcdm` (the library uses MPI, METIS and pthreads).
+ */
+#ifndef PCDM_PUBLIC_H
+#define PCDM_PUBLIC_H
+
+#include <mpi.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define PCDM_VERSION_MAJOR 1
+#define PCDM_VERSION_MINOR 0
+#define PCDM_VERSION_PATCH 0
+
+/* Local.  The library's version string ("1.0.0"). */
+const char *pcdm_version(void);
+
+/* Return codes (pcdm_status.code). */
+enum {
+    PCDM_OK = 0,
+    PCDM_EINVAL = 1,   /* bad argument (NULL pointer, an option out of range) */
+    PCDM_EINPUT = 2,   /* bad input geometry (message names the point or segment) */
+    PCDM_ESTEINER = 3, /* the Steiner limit stopped refinement before the bounds were met: the
+                        * mesh is returned (conforming, valid, coarser than asked) */
+    PCDM_EUNMET = 4,   /* the bounds cannot be met (features below the precision of the
+                        * coordinates, a region too thin, an angle bound refinement cannot
+                        * reach): no mesh is returned */
+    PCDM_EMPI = 5,     /* MPI is not initialised (or lacks MPI_THREAD_FUNNELED), or an MPI call
+                        * failed */
+    PCDM_EBUSY = 6,    /* the parallel runtime is already in use in this process */
+    PCDM_EMESH = 7     /* the mesher failed (a bug: please report the message) */
+};
+
+typedef struct pcdm_status {
+    int code;          /* PCDM_OK or a PCDM_E* code (also the functions' return value) */
+    char message[512]; /* "" or one line saying what went wrong */
+} pcdm_status;
+
+/* The PSLG to mesh.  Points: npoints, points[2i], points[2i+1].  pointmarkers (npoints, may be
+ * NULL: 0), pointattr (npointattr per point, may be NULL when npointattr is 0).  Segments:
+ * segments[2s], segments[2s+1] are point indices; segmentmarkers (may be NULL: 0).  With no
+ * segments the domain is the convex hull of the points.  Holes: nholes points, each inside a
+ * region to remove (holes[2h], holes[2h+1]).  Regions: nregions records of four doubles
+ * (x, y, attribute, maximum area), as in Triangle's .poly.  Duplicate points are merged and
+ * repeated segments dropped (silently); a point inside a segment splits it. */
+typedef struct pcdm_input {
+    int32_t npoints;
+    const double *points;
+    const int32_t *pointmarkers;
+    int npointattr;
+    const double *pointattr;
+    int32_t nsegments;
+    const int32_t *segments;
+    const int32_t *segmentmarkers;
+    int32_t nholes;
+    const double *holes;
+    int32_t nregions;
+    const double *regions;
+} pcdm_input;
+
+/* A caller's size rule, Triangle's triunsuitable without recompiling: called with the
+ * counter-clockwise triangle's corners (caller's coordinates) and its area; return nonzero if
+ * the triangle is too big (it is then split).  Must be a pure function of its arguments and
+ * thread-safe, and in the parallel call the same function on every rank. */
+typedef int (*pcdm_unsuitable_fn)(void *ctx, const double *const corner[3], double area);
+
+/* The parallel meshers (pcdm_options.method).  PCDM (TR-97-17 section 3): subdomains with
+ * artificial interface segments, each refined by its rank, interface splits by remote request.
+ * PBW (section 2): one distributed mesh refined by parallel Bowyer-Watson with remote cavity
+ * expansion and locks (no size callback). */
+enum { PCDM_METHOD_PCDM = 0, PCDM_METHOD_PBW = 1 };
+
+typedef struct pcdm_options {
+    double min_angle;    /* degrees: no triangle angle below it (0: none; default 20.7; at
+                          * most about 34 is reached on every input) */
+    double max_area;     /* no triangle larger (0: no bound; default 0) */
+    int64_t max_steiner; /* at most this many points added (< 0: no limit; default -1); in
+                          * the parallel call the budget of all ranks together */
+    int circumcenters;   /* 1: circumcenters only (Triangle's default); 0: off-centers where
+                          * closer (fewer points; default 0) */
+    pcdm_unsuitable_fn unsuitable; /* NULL: none (default) */
+    void *unsuitable_ctx;
+    /* pcdm_triangulate_par only */
+    int method;         /* PCDM_METHOD_PCDM (default) or PCDM_METHOD_PBW */
+    int32_t subdomains; /* subdomains of the decomposition (0: one per rank; default 0) */
+    int root;           /* < 0: every rank keeps its part (default -1); >= 0: the whole mesh
+                         * is collected on this rank (others get an empty mesh) */
+} pcdm_options;
+
+/* Local.  Fills *o with the defaults above. */
+void pcdm_options_default(pcdm_options *o);
+
+/* A mesh (or one rank's part of it).  Points: npoints, points[2i], points[2i+1];
+ * pointmarkers (npoints); pointattr (npointattr per point; NULL with npointattr 0 while the
+ * mesher does not carry point attributes to the mesh).  The input's points come
+ * first, in their order (after merging duplicates), then the Steiner points.  Triangles:
+ * triangles[3t..3t+2], counter-clockwise; triangleattr (one per triangle: its region's
+ * attribute, or NULL when the mesher does not provide them).  Segments: the subsegments of the
+ * input's segments (both endpoints), with segmentmarkers.
+ * A whole mesh may list input points no triangle uses (inside a hole, or merged duplicates).
+ * A rank's part (pcdm_triangulate_par, root < 0): points are the vertices its triangles use
+ * (a vertex on the boundary between two parts appears in both; rank 0 lists every input point
+ * first, numbers 0 .. ninput-1, whether its triangles use it or not), pointglobal[i] is point i's
+ * number in the whole mesh, pointowned[i] is 1 on exactly one rank for each number (the input
+ * points: rank 0); triangle t is number trianglefirst + t of the whole mesh; a segment shared
+ * by two parts is listed by one; nglobal* count the whole mesh.  pointglobal and pointowned are
+ * NULL for a whole mesh. */
+typedef struct pcdm_mesh {
+    int32_t npoints;
+    double *points;
+    int32_t *pointmarkers;
+    int npointattr;
+    double *pointattr;
+    int32_t ntriangles;
+    int32_t *triangles;
+    double *triangleattr;
+    int32_t nsegments;
+    int32_t *segments;
+    int32_t *segmentmarkers;
+    /* parallel parts only */
+    int64_t *pointglobal;
+    uint8_t *pointowned;
+    int64_t trianglefirst;
+    int64_t nglobalpoints, nglobaltriangles, nglobalsegments;
+} pcdm_mesh;
+
+/* Local.  Frees every array of m and zeroes it (a zeroed or already freed m is fine). */
+void pcdm_mesh_free(pcdm_mesh *m);
+
+/* Local (no MPI needed).  Meshes in (the constrained Delaunay triangulation, then Delaunay
+ * refinement to opt's bounds; opt NULL: the defaults).  out is overwritten: on PCDM_OK and
+ * PCDM_ESTEINER it holds the mesh (free with pcdm_mesh_free), otherwise nothing.  st may be
+ * NULL.  Returns st->code.  Thread-safe for distinct arguments (the callback's own state
+ * aside). */
+int pcdm_triangulate(const pcdm_input *in, const pcdm_options *opt, pcdm_mesh *out,
+                     pcdm_status *st);
+
+/* Collective over comm (any communicator: MPI_COMM_WORLD, a split, ...).  The caller has
+ * initialised MPI with at least MPI_THREAD_FUNNELED and calls from MPI's main thread; the
+ * library neither initialises nor finalises MPI, and leaves comm as it was (it works on
+ * duplicates).  Every rank passes the same input and options.  PCDM (TR-97-17): the domain is
+ * cut into subdomains (METIS on a coarse mesh), each rank refines its own, splitting interface
+ * subsegments by remote requests (or PBW, opt->method); the mesh is numbered globally by prefix
+ * sums, never gathered unless opt->root >= 0.  Every rank returns the same code and message.  The
+ * parallel runtime runs inside the call only: one call at a time per process. */
+int pcdm_triangulate_par(MPI_Comm comm, const pcdm_input *in, const pcdm_options *opt,
+                         pcdm_mesh *out, pcdm_status *st);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,193 @@
+// ranks: 1 2 4
+/* mpi_api: Check suite for libpcdm's parallel call (include/pcdm.h, mesher/api/api_par.c).
+ *
+ * The program owns MPI, as a library user would: main calls MPI_Init_thread and MPI_Finalize,
+ * the library only duplicates the communicators it is given.
+ *  - the whole mesh collected on a root of MPI_COMM_WORLD passes the validator with the bounds,
+ *    and the size callback is honoured in its corner on every rank;
+ *  - on the halves of a split MPI_COMM_WORLD (both meshing at once), every rank keeps its part:
+ *    each global point number is owned by exactly one rank, triangle numbers follow by prefix
+ *    sums, and the counts agree with the same call collecting on a root;
+ *  - PBW through the same call gives a valid mesh (and refuses the size callback);
+ *  - bad input fails on every rank with the same code and message, and the next call works.
+ * Results are reduced over ranks before asserting, so no rank waits in a collective that
+ * another rank skipped.  Runs with CK_NOFORK (MPI does not survive fork).
+ */
+#include "api_check.h"
+
+#include <check.h>
+#include <mpi.h>
+#include <stdlib.h>
+
+static int all_true(int local, MPI_Comm c) {
+    int g = 0;
+    MPI_Allreduce(&local, &g, 1, MPI_INT, MPI_LAND, c);
+    return g;
+}
+
+START_TEST(test_world_root) {
+    int rank, size;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+    pcdm_input in = plate();
+    pcdm_options o;
+    pcdm_options_default(&o);
+    o.min_angle = 25;
+    o.max_area = 0.3;
+    o.unsuitable = small_near_origin; /* no context: it is called on every rank */
+    o.root = size - 1;
+    pcdm_mesh m;
+    pcdm_status st;
+    int rc = pcdm_triangulate_par(MPI_COMM_WORLD, &in, &o, &m, &st);
+    ck_assert_msg(all_true(rc == PCDM_OK, MPI_COMM_WORLD), "code %d: %s", rc, st.message);
+    int ok = 1;
+    if (rank == size - 1) {
+        double near, far;
+        areas(&m, &near, &far);
+        ok = valid(&in, &m, 25, 0.3) && near <= NEAR_AREA && m.ntriangles == m.nglobaltriangles;
+    } else {
+        ok = m.ntriangles == 0 && m.triangles == NULL && m.nglobaltriangles > 0;
+    }
+    pcdm_mesh_free(&m);
+    ck_assert(all_true(ok, MPI_COMM_WORLD));
+}
+END_TEST
+
+START_TEST(test_split_parts) {
+    int wrank, wsize, rank, size;
+    MPI_Comm_rank(MPI_COMM_WORLD, &wrank);
+    MPI_Comm_size(MPI_COMM_WORLD, &wsize);
+    MPI_Comm half;
+    MPI_Comm_split(MPI_COMM_WORLD, wrank % 2, wsize - wrank, &half); /* reversed order */
+    MPI_Comm_rank(half, &rank);
+    MPI_Comm_size(half, &size);
+    pcdm_input in = plate();
+    pcdm_options o;
+    pcdm_options_default(&o);
+    o.max_area = 0.05;
+    pcdm_mesh m, w;
+    pcdm_status st;
+    int rc = pcdm_triangulate_par(half, &in, &o, &m, &st);
+    ck_assert_msg(all_true(rc == PCDM_OK, MPI_COMM_WORLD), "code %d: %s", rc, st.message);
+    /* every global number owned once: gather the owned numbers on the half's rank 0 */
+    int ok = m.pointglobal && m.pointowned;
+    long long mine = 0, first = 0, nt = m.ntriangles;
+    MPI_Exscan(&nt, &first, 1, MPI_LONG_LONG, MPI_SUM, half);
+    if (rank == 0) first = 0;
+    ok = ok && first == m.trianglefirst;
+    int64_t *gid = malloc(((size_t)m.npoints + 1) * sizeof(int64_t));
+    for (int32_t i = 0; i < m.npoints; i++) {
+        ok = ok && m.pointglobal[i] >= 0 && m.pointglobal[i] < m.nglobalpoints;
+        if (m.pointowned[i]) gid[mine++] = m.pointglobal[i];
+    }
+    for (int32_t k = 0; k < 3 * m.ntriangles; k++)
+        ok = ok && m.triangles[k] >= 0 && m.triangles[k] < m.npoints;
+    int cnt = (int)mine, *cnts = malloc((size_t)size * sizeof(int)), *dsp = NULL;
+    MPI_Gather(&cnt, 1, MPI_INT, cnts, 1, MPI_INT, 0, half);
+    int64_t *all = NULL;
+    long long tot = 0;
+    if (rank == 0) {
+        dsp = malloc((size_t)size * sizeof(int));
+        for (int r = 0; r < size; r++) {
+            dsp[r] = (int)tot;
+            tot += cnts[r];
+        }
+        all = malloc(((size_t)tot + 1) * sizeof(int64_t));
+    }
+    MPI_Gatherv(gid, cnt, MPI_INT64_T, all, cnts, dsp, MPI_INT64_T, 0, half);
+    if (rank == 0) { /* rank order lists the numbers in order: 0, 1, 2, ... */
+        ok = ok && tot == m.nglobalpoints;
+        for (long long i = 0; i < tot; i++)
+            ok = ok && all[i] == i;
+    }
+    long long sumt = 0;
+    MPI_Allreduce(&nt, &sumt, 1, MPI_LONG_LONG, MPI_SUM, half);
+    ok = ok && sumt == m.nglobaltriangles;
+    /* the same call collecting the whole mesh: the same counts, a valid mesh */
+    o.root = 0;
+    rc = pcdm_triangulate_par(half, &in, &o, &w, &st);
+    ok = ok && rc == PCDM_OK && w.nglobalpoints == m.nglobalpoints &&
+         w.nglobaltriangles == m.nglobaltriangles && w.nglobalsegments == m.nglobalsegments;
+    if (rank == 0) ok = ok && valid(&in, &w, 20.7, 0.05);
+    pcdm_mesh_free(&w);
+    pcdm_mesh_free(&m);
+    free(gid);
+    free(cnts);
+    free(dsp);
+    free(all);
+    MPI_Comm_free(&half);
+    ck_assert(all_true(ok, MPI_COMM_WORLD));
+}
+END_TEST
+
+/* PBW through the same call: the whole mesh on rank 0 passes the validator; the size callback
+ * is refused (PBW has its own rules instance). */
+START_TEST(test_pbw) {
+    int rank;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    pcdm_input in = plate();
+    pcdm_options o;
+    pcdm_options_default(&o);
+    o.method = PCDM_METHOD_PBW;
+    o.max_area = 0.1;
+    o.root = 0;
+    pcdm_mesh m;
+    pcdm_status st;
+    int rc = pcdm_triangulate_par(MPI_COMM_WORLD, &in, &o, &m, &st);
+    ck_assert_msg(all_true(rc == PCDM_OK, MPI_COMM_WORLD), "code %d: %s", rc, st.message);
+    int ok = rank != 0 || valid(&in, &m, 20.7, 0.1);
+    pcdm_mesh_free(&m);
+    o.unsuitable = small_near_origin;
+    rc = pcdm_triangulate_par(MPI_COMM_WORLD, &in, &o, &m, &st);
+    ok = ok && rc == PCDM_EINVAL && strstr(st.message, "size callback") != NULL;
+    ck_assert(all_true(ok, MPI_COMM_WORLD));
+}
+END_TEST
+
+START_TEST(test_errors_agree) {
+    pcdm_input in = plate();
+    int32_t bad[16];
+    memcpy(bad, plate_segs, sizeof bad);
+    bad[0] = -1;
+    in.segments = bad;
+    pcdm_mesh m;
+    pcdm_status st;
+    int rc = pcdm_triangulate_par(MPI_COMM_WORLD, &in, NULL, &m, &st);
+    int ok = rc == PCDM_EINPUT && strstr(st.message, "segment 0: point -1") != NULL &&
+             m.triangles == NULL;
+    pcdm_options o;
+    pcdm_options_default(&o);
+    o.root = 1000;
+    in = plate();
+    rc = pcdm_triangulate_par(MPI_COMM_WORLD, &in, &o, &m, &st);
+    ok = ok && rc == PCDM_EINVAL && strstr(st.message, "root 1000") != NULL;
+    o.root = -1; /* and the runtime starts again after the failures */
+    int size;
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+    o.subdomains = 2 * size;
+    rc = pcdm_triangulate_par(MPI_COMM_WORLD, &in, &o, &m, &st);
+    ok = ok && rc == PCDM_OK && m.nglobaltriangles > 0;
+    pcdm_mesh_free(&m);
+    ck_assert(all_true(ok, MPI_COMM_WORLD));
+}
+END_TEST
+
+int main(int argc, char **argv) {
+    int provided;
+    MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+    Suite *s = suite_create("mpi_api");
+    TCase *tc = tcase_create("mpi_api");
+    tcase_add_test(tc, test_world_root);
+    tcase_add_test(tc, test_split_parts);
+    tcase_add_test(tc, test_pbw);
+    tcase_add_test(tc, test_errors_agree);
+    suite_add_tcase(s, tc);
+    SRunner *sr = srunner_create(s);
+    srunner_set_fork_status(sr, CK_NOFORK);
+    srunner_run_all(sr, CK_NORMAL);
+    int nf = srunner_ntests_failed(sr), any = 0;
+    srunner_free(sr);
+    MPI_Allreduce(&nf, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    MPI_Finalize();
+    return any ? EXIT_FAILURE : EXIT_SUCCESS;
+}

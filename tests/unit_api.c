@@ -1,0 +1,194 @@
+/* unit_api: Check suite for libpcdm's sequential call (include/pcdm.h, mesher/api/api.c).
+ *
+ *  - a plate with a hole meshed to an angle and an area bound passes the validator, and the
+ *    input points keep their indices and markers;
+ *  - the size callback (Triangle's triunsuitable) is honoured in one corner only, is shown the
+ *    caller's coordinates (the mesher works on scaled ones), and without it that corner is
+ *    coarse;
+ *  - bad arguments and bad input return a code and a message, never a mesh; the Steiner limit
+ *    returns PCDM_ESTEINER with a valid mesh; pcdm_mesh_free is idempotent;
+ *  - nothing is printed (duplicates merged quietly); two threads meshing at once agree with one.
+ */
+#include "api_check.h"
+
+#include <check.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+START_TEST(test_plate) {
+    pcdm_input in = plate();
+    pcdm_options o;
+    pcdm_options_default(&o);
+    o.min_angle = 28;
+    o.max_area = 0.2;
+    pcdm_mesh m;
+    pcdm_status st;
+    ck_assert_int_eq(pcdm_triangulate(&in, &o, &m, &st), PCDM_OK);
+    ck_assert_str_eq(st.message, "");
+    ck_assert_int_gt(m.ntriangles, 100);
+    ck_assert_int_eq((int)m.nglobaltriangles, m.ntriangles);
+    ck_assert(valid(&in, &m, 28, 0.2));
+    for (int i = 0; i < 8; i++) { /* the input's points first, in its order */
+        ck_assert_double_eq(m.points[2 * i], plate_pts[2 * i]);
+        ck_assert_double_eq(m.points[2 * i + 1], plate_pts[2 * i + 1]);
+        ck_assert_int_eq(m.pointmarkers[i], plate_vmk[i]);
+    }
+    for (int32_t s = 0; s < m.nsegments; s++)
+        ck_assert(m.segmentmarkers[s] == 1 || m.segmentmarkers[s] == 2);
+    ck_assert_ptr_null(m.pointglobal);
+    pcdm_mesh_free(&m);
+    pcdm_mesh_free(&m); /* idempotent */
+    ck_assert_str_eq(pcdm_version(), "1.0.0");
+}
+END_TEST
+
+START_TEST(test_callback) {
+    pcdm_input in = plate();
+    pcdm_options o;
+    pcdm_options_default(&o);
+    pcdm_mesh m;
+    pcdm_status st;
+    double near, far;
+    /* without the rule the corner is coarse: the test below would fail */
+    ck_assert_int_eq(pcdm_triangulate(&in, &o, &m, &st), PCDM_OK);
+    areas(&m, &near, &far);
+    ck_assert_double_gt(near, 10 * NEAR_AREA);
+    pcdm_mesh_free(&m);
+    seen s = {0, 0};
+    o.unsuitable = small_near_origin;
+    o.unsuitable_ctx = &s;
+    ck_assert_int_eq(pcdm_triangulate(&in, &o, &m, &st), PCDM_OK);
+    areas(&m, &near, &far);
+    ck_assert_double_le(near, NEAR_AREA);
+    ck_assert_double_gt(far, 100 * NEAR_AREA); /* honoured in the corner only */
+    ck_assert_int_gt(s.calls, 0);
+    ck_assert_double_eq(s.maxabs, 10); /* the caller's coordinates, not the scaled ones */
+    ck_assert(valid(&in, &m, 20.7, 0));
+    pcdm_mesh_free(&m);
+}
+END_TEST
+
+START_TEST(test_errors) {
+    pcdm_input in = plate();
+    pcdm_options o;
+    pcdm_options_default(&o);
+    pcdm_mesh m;
+    pcdm_status st;
+    int32_t bad[16];
+    memcpy(bad, plate_segs, sizeof bad);
+    bad[5] = 8;
+    in.segments = bad;
+    ck_assert_int_eq(pcdm_triangulate(&in, &o, &m, &st), PCDM_EINPUT);
+    ck_assert_int_eq(st.code, PCDM_EINPUT);
+    ck_assert_ptr_nonnull(strstr(st.message, "segment 2: point 8 out of range"));
+    ck_assert_ptr_null(m.triangles);
+    in = plate();
+    o.min_angle = 65;
+    ck_assert_int_eq(pcdm_triangulate(&in, &o, &m, &st), PCDM_EINVAL);
+    ck_assert_ptr_nonnull(strstr(st.message, "min_angle 65"));
+    o.min_angle = 20;
+    ck_assert_int_eq(pcdm_triangulate(&in, &o, NULL, &st), PCDM_EINVAL);
+    ck_assert_int_eq(pcdm_triangulate(NULL, &o, &m, NULL), PCDM_EINVAL);
+    const double line[] = {0, 0, 1, 1, 2, 2, 3, 3};
+    pcdm_input col = {.npoints = 4, .points = line};
+    ck_assert_int_eq(pcdm_triangulate(&col, &o, &m, &st), PCDM_EINPUT);
+    ck_assert_str_ne(st.message, "");
+    const double inf[] = {0, 0, 1, 0, INFINITY, 1};
+    pcdm_input nf = {.npoints = 3, .points = inf};
+    ck_assert_int_eq(pcdm_triangulate(&nf, NULL, &m, &st), PCDM_EINPUT);
+    ck_assert_ptr_nonnull(strstr(st.message, "non-finite"));
+}
+END_TEST
+
+START_TEST(test_steiner_limit) {
+    pcdm_input in = plate();
+    pcdm_options o;
+    pcdm_options_default(&o);
+    o.min_angle = 30;
+    o.max_area = 0.01;
+    o.max_steiner = 20;
+    pcdm_mesh m;
+    pcdm_status st;
+    ck_assert_int_eq(pcdm_triangulate(&in, &o, &m, &st), PCDM_ESTEINER);
+    ck_assert_ptr_nonnull(strstr(st.message, "Steiner point limit (20)"));
+    ck_assert_int_le(m.npoints, 8 + 20);
+    ck_assert(valid(&in, &m, 0, 0)); /* conforming, without the bounds */
+    pcdm_mesh_free(&m);
+}
+END_TEST
+
+/* Duplicate points are merged and repeated segments dropped without a word on stderr (the
+ * library never prints; the programs warn). */
+START_TEST(test_quiet) {
+    const double pts[] = {0, 0, 1, 0, 1, 1, 0, 1, 1, 0};
+    const int32_t segs[] = {0, 1, 1, 2, 2, 3, 3, 0, 4, 2, 0, 1};
+    pcdm_input in = {.npoints = 5, .points = pts, .nsegments = 6, .segments = segs};
+    FILE *tmp = tmpfile();
+    ck_assert_ptr_nonnull(tmp);
+    fflush(stderr);
+    int saved = dup(2);
+    dup2(fileno(tmp), 2);
+    pcdm_mesh m;
+    pcdm_status st;
+    int rc = pcdm_triangulate(&in, NULL, &m, &st);
+    fflush(stderr);
+    dup2(saved, 2);
+    close(saved);
+    ck_assert_int_eq(rc, PCDM_OK);
+    ck_assert_int_eq((int)lseek(fileno(tmp), 0, SEEK_END), 0);
+    fclose(tmp);
+    ck_assert(valid(&in, &m, 20.7, 0));
+    pcdm_mesh_free(&m);
+}
+END_TEST
+
+static void *mesh_plate(void *arg) {
+    pcdm_mesh *m = arg;
+    pcdm_input in = plate();
+    pcdm_options o;
+    pcdm_options_default(&o);
+    o.max_area = 0.05;
+    o.unsuitable = small_near_origin;
+    return pcdm_triangulate(&in, &o, m, NULL) == PCDM_OK ? m : NULL;
+}
+
+/* Two threads at once (no state outside the call) make the mesh one thread makes. */
+START_TEST(test_threads) {
+    pcdm_mesh one, two[2];
+    ck_assert_ptr_nonnull(mesh_plate(&one));
+    pthread_t th[2];
+    for (int i = 0; i < 2; i++)
+        ck_assert_int_eq(pthread_create(&th[i], NULL, mesh_plate, &two[i]), 0);
+    for (int i = 0; i < 2; i++) {
+        void *r;
+        ck_assert_int_eq(pthread_join(th[i], &r), 0);
+        ck_assert_ptr_nonnull(r);
+        ck_assert_int_eq(two[i].ntriangles, one.ntriangles);
+        ck_assert_int_eq(two[i].npoints, one.npoints);
+        ck_assert(!memcmp(two[i].points, one.points, 2 * (size_t)one.npoints * sizeof(double)));
+        ck_assert(!memcmp(two[i].triangles, one.triangles, 3 * (size_t)one.ntriangles * 4));
+        pcdm_mesh_free(&two[i]);
+    }
+    pcdm_mesh_free(&one);
+}
+END_TEST
+
+int main(void) {
+    Suite *s = suite_create("api");
+    TCase *tc = tcase_create("api");
+    tcase_set_timeout(tc, 120);
+    tcase_add_test(tc, test_plate);
+    tcase_add_test(tc, test_callback);
+    tcase_add_test(tc, test_errors);
+    tcase_add_test(tc, test_steiner_limit);
+    tcase_add_test(tc, test_quiet);
+    tcase_add_test(tc, test_threads);
+    suite_add_tcase(s, tc);
+    SRunner *sr = srunner_create(s);
+    srunner_run_all(sr, CK_NORMAL);
+    int nf = srunner_ntests_failed(sr);
+    srunner_free(sr);
+    return nf ? EXIT_FAILURE : EXIT_SUCCESS;
+}
