@@ -10,8 +10,8 @@ of one run (tests/t_xwrite.sh) against its own PREFIX.node/.ele, read independen
  - --msh: meshio reads the Gmsh file; its triangles (or triangle6) are the .ele's (as sets of
    coordinates), its lines the boundary and segment edges, physical groups named;
  - --vtk (with --o2): meshio reads the quadratic VTK (triangle6 cells).
- --keys OUT writes the edges (with markers) and the neighbour pairs as sorted coordinate keys,
- so that runs at different rank counts can be compared.  Exit 1 with a message on a problem."""
+ --keys OUT writes the triangles, the edges (with markers) and the neighbour pairs as sorted
+ coordinate keys, so that runs at different rank counts can be compared.  Exit 1 with a message on a problem."""
 import os
 import sys
 
@@ -168,6 +168,7 @@ def main():
                                                                          nt, nv))
         print("ok   %s: meshio reads %d triangle6" % (vtk, n6))
     if keys:
+        out_keys += ["T %r" % (tuple(sorted(xy[v] for v in tr[:3])),) for tr in tris]
         with open(keys, "w") as f:
             f.write("\n".join(sorted(out_keys)) + "\n")
 
