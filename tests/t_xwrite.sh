@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # t_xwrite: the derived outputs (issue 15; mesher/io/xwrite.h, mesher/par/pextra.h) end to end:
-# -e PREFIX.edge, -n PREFIX.neigh, --order2 (quadratic .node/.ele, and VTK cell type 22 from
-# ./mesh) and --msh (Gmsh 4.1), from ./mesh, ./pcdm at 1, 2 and 4 ranks and ./pbw at 3 ranks.
+# -e PREFIX.edge, -n PREFIX.neigh, --order2 (quadratic .node/.ele, and VTK cell type 22: one
+# legacy file, also from the parallel meshers) and --msh (Gmsh 4.1), from ./mesh, ./pcdm at 1, 2 and 4 ranks and ./pbw at 3 ranks.
 # Every run passes its --check; tests/xcheck.py then checks each output against the run's own
 # .node/.ele (every edge once with Triangle's markers, neighbours across the right edges, -1
 # only on the boundary, one midpoint node per edge, meshio reading the .msh and the VTK).  Where
@@ -50,9 +50,10 @@ checked "mesh -e -n --msh" "$T/s1" --msh "$T/s1.msh" --keys "$T/s1.keys"
 
 for np in 1 2 4; do
     p=$T/p$np
-    timeout 120 $MPIRUN -np $np "$BIN/pcdm" $X --order2 --msh "$p.msh" -o "$p" data/lake.poly >"$T/out" 2>&1
+    timeout 120 $MPIRUN -np $np "$BIN/pcdm" $X --order2 --msh "$p.msh" --vtk "$p.pvtu" -o "$p" data/lake.poly >"$T/out" 2>&1
     rc=$?
-    checked "pcdm np=$np -e -n --order2 --msh" "$p" --o2 --msh "$p.msh" --keys "$p.keys"
+    checked "pcdm np=$np -e -n --order2 --msh --vtk" "$p" --o2 --msh "$p.msh" --vtk "$p.vtk" --keys "$p.keys"
+    [ ! -e "$p.pvtu" ] || fail "pcdm np=$np --order2 --vtk: linear pieces written too"
     if [ "$(grep '^T' "$p.keys" 2>/dev/null)" = "$(grep '^T' "$T/s2.keys")" ]; then
         cmp -s "$p.keys" "$T/s2.keys" && ok "pcdm np=$np: the same edges, markers and neighbours as ./mesh" ||
             fail "pcdm np=$np: the same triangles as ./mesh, other edges or neighbours"

@@ -203,7 +203,8 @@ static void *gather_distinct(const void *mine, int32_t n, size_t sz, MPI_Datatyp
 int par_write_extras(const par_opts *o, const pslg *in, const mesh_flat *local,
                      const uint8_t *artificial, const par_numbering *num) {
     const char *prefix = o->out_prefix;
-    if (!((prefix && (o->edges || o->neighbors || o->order2)) || o->msh)) return 0;
+    if (!((prefix && (o->edges || o->neighbors || o->order2)) || o->msh || (o->vtk && o->order2)))
+        return 0;
     MPI_Comm c = rt_app_comm();
     int rank = rt_rank();
     mesh_xview x;
@@ -262,7 +263,22 @@ int par_write_extras(const par_opts *o, const pslg *in, const mesh_flat *local,
         x.bbox[2] = hi[0];
         x.bbox[3] = hi[1];
     }
-    mesh_xreq r = {prefix, o->edges, o->neighbors, o->order2, o->msh, NULL};
+    /* -o2 --vtk F.pvtu (or F.vtu, F.vtk): one quadratic legacy file F.vtk, global numbering */
+    char vtk[1100] = "";
+    if (o->vtk && o->order2) {
+        snprintf(vtk, sizeof vtk - 4, "%s", o->vtk);
+        size_t n = strlen(vtk);
+        static const char *const ext[3] = {".pvtu", ".vtu", ".vtk"};
+        for (int k = 0; k < 3; k++) {
+            size_t e = strlen(ext[k]);
+            if (n > e && !strcmp(vtk + n - e, ext[k])) {
+                vtk[n - e] = '\0';
+                break;
+            }
+        }
+        strcat(vtk, ".vtk");
+    }
+    mesh_xreq r = {prefix, o->edges, o->neighbors, o->order2, o->msh, vtk[0] ? vtk : NULL};
     char err[600];
     int rc = mesh_xview_write(&x, c, &r, err, sizeof err);
     if (rc != 0 && rank == 0) fprintf(stderr, "%s: %s\n", o->prog, err);

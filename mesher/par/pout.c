@@ -313,7 +313,7 @@ int par_write_parts(const par_opts *o, const pslg *in, const mesh_flat *local, c
             return -1;
         }
     }
-    if (o->vtk) {
+    if (o->vtk && !o->order2) { /* -o2: one quadratic VTK file (pextra.c) */
         char prefix[1024];
         snprintf(prefix, sizeof prefix, "%s", o->vtk);
         size_t n = strlen(prefix);
