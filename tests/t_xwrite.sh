@@ -6,7 +6,8 @@
 # .node/.ele (every edge once with Triangle's markers, neighbours across the right edges, -1
 # only on the boundary, one midpoint node per edge, meshio reading the .msh and the VTK).  Where
 # ./pcdm's mesh equals ./mesh's (as sets of exact coordinates), the edges, markers and
-# neighbour relations must be equal too.  A .msh that cannot be written fails every rank with
+# neighbour relations must be equal too; on inputs whose CDT is unique, ./mesh --cdt-only gives
+# Triangle's own .edge, .neigh and -o2 nodes (tests/xtriangle.py, PyPI triangle).  A .msh that cannot be written fails every rank with
 # exit status 1.  Without python3 and meshio the file checks are skipped (SKIP).  Env: BIN,
 # MPIRUN as the other tests.
 set -u
@@ -65,6 +66,22 @@ done
 timeout 120 $MPIRUN -np 3 "$BIN/pbw" -q 25 -a 1e-4 --check -e -n --order2 --msh "$T/b.msh" -o "$T/b" data/lake.poly >"$T/out" 2>&1
 rc=$?
 checked "pbw np=3 -a 1e-4 -e -n --order2 --msh" "$T/b" --o2 --msh "$T/b.msh"
+
+# Triangle itself (the PyPI triangle package, when installed) on the same inputs: the CDT is
+# unique there, so the edges with their markers, the neighbours and the -o2 nodes must be its own
+if python3 -c 'import triangle' 2>/dev/null; then
+    for n in lake holes; do
+        if ! "$BIN/mesh" --cdt-only -e -n --order2 -o "$T/c$n" data/$n.poly >"$T/out" 2>&1; then
+            fail "mesh --cdt-only $n: $(head -2 "$T/out")"
+        elif r=$(python3 tests/xtriangle.py data $n "$T/c$n" 2>&1); then
+            ok "$r"
+        else
+            fail "$n: $(echo "$r" | tail -2)"
+        fi
+    done
+else
+    echo "skip the comparison with Triangle: python triangle is not installed"
+fi
 
 # a file that cannot be written: exit 1 (every rank), a message naming it
 "$BIN/mesh" -q 25 --msh "$T/no/such/dir/x.msh" data/lake.poly >"$T/out" 2>&1
