@@ -74,7 +74,7 @@ if python3 -c 'import triangle' 2>/dev/null; then
         if ! "$BIN/mesh" --cdt-only -e -n --order2 -o "$T/c$n" data/$n.poly >"$T/out" 2>&1; then
             fail "mesh --cdt-only $n: $(head -2 "$T/out")"
         elif r=$(python3 tests/xtriangle.py data $n "$T/c$n" 2>&1); then
-            ok "$r"
+            ok "${r#ok   }"
         else
             fail "$n: $(echo "$r" | tail -2)"
         fi
