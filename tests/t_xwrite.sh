@@ -67,6 +67,11 @@ timeout 120 $MPIRUN -np 3 "$BIN/pbw" -q 25 -a 1e-4 --check -e -n --order2 --msh 
 rc=$?
 checked "pbw np=3 -a 1e-4 -e -n --order2 --msh" "$T/b" --o2 --msh "$T/b.msh"
 
+# two triangles on four ranks: ranks without a triangle write nothing but agree on the headers
+timeout 120 $MPIRUN -np 4 "$BIN/pbw" -q 20 --check -e -n --order2 --msh "$T/e.msh" -o "$T/e" data/square.poly >"$T/out" 2>&1
+rc=$?
+checked "pbw np=4 square (empty ranks)" "$T/e" --o2 --msh "$T/e.msh"
+
 # Triangle itself (the PyPI triangle package, when installed) on the same inputs: the CDT is
 # unique there, so the edges with their markers, the neighbours and the -o2 nodes must be its own
 if python3 -c 'import triangle' 2>/dev/null; then

@@ -173,13 +173,9 @@ static char *node2_mrec(void *c, int64_t k, char *q) {
     return q;
 }
 
-static int ele_nattr(const mesh_flat *f) {
-    return f->tattr || f->trank ? 1 : 0;
-}
-
 static char *ele2_head(void *c, char *q) {
     wctx *w = c;
-    if (w->rank == 0) q += sprintf(q, "%lld 6 %d\n", (long long)w->x->ttot, ele_nattr(w->x->f));
+    if (w->rank == 0) q += sprintf(q, "%lld 6 %d\n", (long long)w->x->ttot, w->x->ele_attr ? 1 : 0);
     return q;
 }
 
@@ -195,12 +191,12 @@ static char *ele2_rec(void *c, int64_t t, char *q) {
         *q++ = ' ';
         q = fmt_int(q, mid_num(x, (int32_t)t, j) + 1);
     }
-    if (f->tattr) {
+    if (x->ele_attr == 1) {
         *q++ = ' ';
-        q = fmt_dbl(q, f->tattr[t]);
-    } else if (f->trank) {
+        q = fmt_dbl(q, f->tattr ? f->tattr[t] : 0.0);
+    } else if (x->ele_attr == 2) {
         *q++ = ' ';
-        q = fmt_int(q, f->trank[t]);
+        q = fmt_int(q, f->trank ? f->trank[t] : 0);
     }
     *q++ = '\n';
     return q;
@@ -558,6 +554,7 @@ int meshio_write_extras(const mesh_flat *m, const mesh_xreq *r, char *err, size_
     x.nvtot = x.nsel = m->nverts;
     x.ttot = m->ntris;
     x.nattr = m->vattr ? m->nattr : 0;
+    x.ele_attr = m->tattr ? 1 : m->trank ? 2 : 0;
     mesh_xview_finish(&x);
     x.etot = x.nwe;
     x.ltot = x.nwl;

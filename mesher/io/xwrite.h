@@ -49,7 +49,9 @@ typedef struct mesh_xview {
     const double *hxy;
     const int32_t *hvmarker;
     const int32_t *vsel;
-    int nattr; /* vertex attributes written (f->vattr; 0 when the head has none) */
+    int nattr;    /* vertex attributes written (f->vattr; 0 when the head has none) */
+    int ele_attr; /* the -o2 .ele's triangle attribute: 0 none, 1 f->tattr, 2 f->trank (the same
+                   * on every rank; a rank without the array writes 0) */
     /* edge topology (owned; mesh_xview_topo) */
     int32_t *nb;      /* 3 * ntris: the local triangle across half-edge h, or -1 */
     int64_t *gnb;     /* 3 * ntris: the neighbour's global number, or -1 (mesh boundary) */
