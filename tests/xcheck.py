@@ -8,7 +8,8 @@ of one run (tests/t_xwrite.sh) against its own PREFIX.node/.ele, read independen
  - --o2: .ele has six nodes, node 3+j is the midpoint of the edge opposite corner j, every
    midpoint node is one edge's;
  - --msh: meshio reads the Gmsh file; its triangles (or triangle6) are the .ele's (as sets of
-   coordinates), its lines the boundary and segment edges, physical groups named;
+   coordinates), its lines the boundary and segment edges, physical groups named; and when
+   Gmsh's Python package is installed, gmsh reads the same triangles and groups;
  - --vtk (with --o2): meshio reads the quadratic VTK (triangle6 cells).
  --keys OUT writes the triangles, the edges (with markers) and the neighbour pairs as sorted
  coordinate keys, so that runs at different rank counts can be compared.  Exit 1 with a message on a problem."""
@@ -160,6 +161,22 @@ def main():
             fail("%s: no physical groups" % msh)
         print("ok   %s: meshio reads %d %s, %d %s, groups %s" %
               (msh, nt, tt, len(lines), lt, sorted(m.field_data)))
+    if msh:
+        try:
+            import gmsh
+        except ImportError:
+            gmsh = None
+        if gmsh:  # Gmsh itself, when its Python package is installed (pip install gmsh)
+            gmsh.initialize()
+            gmsh.option.setNumber("General.Terminal", 0)
+            gmsh.open(msh)
+            names = sorted(gmsh.model.getPhysicalName(d, t)
+                           for d, t in gmsh.model.getPhysicalGroups())
+            ntri = sum(len(tags) for tags in gmsh.model.mesh.getElements(2)[1])
+            gmsh.finalize()
+            if ntri != nt or names != sorted(m.field_data):
+                fail("%s: gmsh reads %d triangles, groups %s" % (msh, ntri, names))
+            print("ok   %s: gmsh reads %d triangles, groups %s" % (msh, ntri, names))
     if vtk and o2:
         m = meshio.read(vtk)
         n6 = sum(len(c.data) for c in m.cells if c.type == "triangle6")
