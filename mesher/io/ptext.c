@@ -18,6 +18,7 @@
 
 #include <errno.h>
 #include <stdarg.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -31,6 +32,13 @@ MESH_PRINTF(3, 4) static void pt_err(char *err, size_t errlen, const char *fmt, 
     va_start(ap, fmt);
     vsnprintf(err, errlen, fmt, ap);
     va_end(ap);
+}
+
+/* n, after checking that the callback kept within its room (a bug otherwise). */
+static long long pt_len(ptrdiff_t n, size_t room) {
+    if (n < 0 || (size_t)n > room)
+        MESH_BUG("ptext: %lld bytes in a room of %zu", (long long)n, room);
+    return (long long)n;
 }
 
 static size_t line_room(const mesh_text_sec *s, int ns) {
@@ -49,10 +57,10 @@ int meshio_write_sections(const char *path, const mesh_text_sec *s, int ns, char
     char *line = mesh_xmalloc(line_room(s, ns), 1);
     for (int k = 0; k < ns; k++) {
         const mesh_text_sec *c = &s[k];
-        if (c->head) fwrite(line, 1, (size_t)(c->head(c->ctx, line) - line), w.f);
+        if (c->head) fwrite(line, 1, (size_t)pt_len(c->head(c->ctx, line) - line, c->headmax), w.f);
         for (int64_t i = 0; i < c->nrec; i++)
-            fwrite(line, 1, (size_t)(c->rec(c->ctx, i, line) - line), w.f);
-        if (c->tail) fwrite(line, 1, (size_t)(c->tail(c->ctx, line) - line), w.f);
+            fwrite(line, 1, (size_t)pt_len(c->rec(c->ctx, i, line) - line, c->recmax), w.f);
+        if (c->tail) fwrite(line, 1, (size_t)pt_len(c->tail(c->ctx, line) - line, c->headmax), w.f);
     }
     free(line);
     return meshio_wclose(&w, 0);
@@ -107,10 +115,10 @@ int meshio_pwrite_sections(MPI_Comm comm, const char *path, const mesh_text_sec 
               below[MESH_TEXT_MAXSEC] = {0};
     for (int k = 0; k < ns; k++) {
         const mesh_text_sec *c = &s[k];
-        if (c->head) mine[k] += c->head(c->ctx, line) - line;
+        if (c->head) mine[k] += pt_len(c->head(c->ctx, line) - line, c->headmax);
         for (int64_t i = 0; i < c->nrec; i++)
-            mine[k] += c->rec(c->ctx, i, line) - line;
-        if (c->tail) mine[k] += c->tail(c->ctx, line) - line;
+            mine[k] += pt_len(c->rec(c->ctx, i, line) - line, c->recmax);
+        if (c->tail) mine[k] += pt_len(c->tail(c->ctx, line) - line, c->headmax);
     }
     MESH_MPI(MPI_Allreduce(mine, tot, ns, MPI_LONG_LONG, MPI_SUM, comm));
     MESH_MPI(MPI_Exscan(mine, below, ns, MPI_LONG_LONG, MPI_SUM, comm));

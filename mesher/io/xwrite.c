@@ -306,7 +306,7 @@ static char *vtk_mmark(void *c, int64_t k, char *q) {
 /* ---- Gmsh MSH 4.1 ------------------------------------------------------------------------- */
 
 static size_t msh_headmax(const mesh_xview *x) {
-    return 1024 + 200 * ((size_t)x->ncurve + (size_t)x->nsurf);
+    return 1024 + 256 * ((size_t)x->ncurve + (size_t)x->nsurf);
 }
 
 static long long msh_nnodes(const wctx *w) {
@@ -492,7 +492,7 @@ int mesh_xview_write(const mesh_xview *x, MPI_Comm comm, const mesh_xreq *r, cha
     }
     if (errlen) err[0] = '\0';
     const int64_t nv = x->nhead + x->nsel, nt = x->f->ntris;
-    const size_t rm = 160 + 32 * (size_t)x->nattr; /* one record's room */
+    const size_t rm = 400 + 32 * (size_t)x->nattr; /* one record's room, block header included */
     char path[1100];
     int rc = 0;
     if (r->prefix && strlen(r->prefix) + 8 > sizeof path) {
