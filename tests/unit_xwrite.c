@@ -48,8 +48,13 @@ START_TEST(test_topology) {
     ck_assert_int_eq(x.nb[0], 1);
     ck_assert_int_eq(x.nb[1], 3);
     ck_assert_int_eq(x.nb[2], -1);
-    ck_assert_int_eq(x.gnb[2], -1);
-    ck_assert_int_eq(x.gnb[0], 1);
+    ck_assert_int_eq(mesh_xview_neighbour(&x, 2), -1);
+    x.tfirst = 10; /* global numbers: this part's first triangle is 10 */
+    ck_assert_int_eq(mesh_xview_neighbour(&x, 0), 11);
+    mesh_xview_set_remote(&x, 2, 3, 1, 77); /* rank 3: across (0, 1) rank 1's triangle 77 */
+    ck_assert_int_eq(mesh_xview_neighbour(&x, 2), 77);
+    ck_assert(x.eflag[x.eid[2]] & XE_OTHER);
+    ck_assert(!(x.eflag[x.eid[2]] & XE_BOUND));
     /* markers: (0,1) its segment's 5; (1,2) segment marker 0 on the boundary: 1; spokes 0 */
     ck_assert_int_eq(x.emark[x.eid[2]], 5);
     ck_assert_int_eq(x.emark[x.eid[3 + 2]], 1);

@@ -1,9 +1,11 @@
 /* xtopo.c: the edge topology of a mesh part for the derived outputs (xwrite.h).
  *
- * Algorithm.  Every half-edge h = 3t + j gets the key (min << 32 | max) of its two local
- * vertices; sorting (key, h) pairs groups the half-edges of one edge (O(n log n), no hash
- * table): a pair of them are neighbours, a single one is open.  An edge is listed once, under
- * its first half-edge in the sorted run (the lowest triangle).  The part's input segments (not
+ * Algorithm.  The half-edges (h = 3t + j) are bucketed by their lower vertex (a counting sort:
+ * one int32 per half-edge, one per vertex); each bucket, a few entries, is sorted by (upper
+ * vertex, h), so the half-edges of one edge are adjacent: two are neighbours, one alone is open.
+ * Edges are numbered in (lower, upper) vertex order, each listed under its first half-edge (the
+ * lowest triangle).  O(n) time but for the buckets' small sorts, and about 12 bytes per triangle
+ * besides the results (no table of all edge keys).  The part's input segments (not
  * the artificial ones) are keyed the same way and sorted; an edge is on a segment when its key
  * is found there (bsearch), taking that segment's marker.  Gmsh groups: sorted distinct values,
  * found again by bsearch.  Everything here is Local and works in the part's numbering.
@@ -26,8 +28,20 @@ static int cmp_key(const void *pa, const void *pb) { /* first int64 of a pair */
     return (a > b) - (a < b);
 }
 
+/* The local ends of half-edge h (the edge opposite corner h % 3 of triangle h / 3). */
+static void he_ends_f(const mesh_flat *f, int32_t h, int32_t *a, int32_t *b) {
+    const int32_t *t = f->tri + 3 * (size_t)(h / 3);
+    *a = t[(h % 3 + 1) % 3];
+    *b = t[(h % 3 + 2) % 3];
+}
+
 static int64_t ekey(int32_t a, int32_t b) {
     return (int64_t)(a < b ? a : b) << 32 | (int64_t)(a < b ? b : a);
+}
+
+static int cmp_u64(const void *pa, const void *pb) {
+    uint64_t a = *(const uint64_t *)pa, b = *(const uint64_t *)pb;
+    return (a > b) - (a < b);
 }
 
 void mesh_xview_topo(mesh_xview *x, const mesh_flat *f, const uint8_t *artificial) {
@@ -35,24 +49,21 @@ void mesh_xview_topo(mesh_xview *x, const mesh_flat *f, const uint8_t *artificia
     x->f = f;
     x->artificial = artificial;
     size_t nh = 3 * (size_t)f->ntris;
-    int64_t *kp = mesh_xmalloc(2 * nh + 1, sizeof(int64_t));
+    /* half-edges bucketed by their lower vertex (counting sort) */
+    int32_t *start = mesh_xcalloc((size_t)f->nverts + 2, sizeof(int32_t));
+    int32_t *he = mesh_xmalloc(nh + 1, sizeof(int32_t));
     for (size_t h = 0; h < nh; h++) {
-        size_t t = h / 3, j = h % 3;
-        kp[2 * h] = ekey(f->tri[3 * t + (j + 1) % 3], f->tri[3 * t + (j + 2) % 3]);
-        kp[2 * h + 1] = (int64_t)h;
+        int32_t a, b;
+        he_ends_f(f, (int32_t)h, &a, &b);
+        start[(a < b ? a : b) + 2]++;
     }
-    qsort(kp, nh, 2 * sizeof(int64_t), cmp_pair);
-    x->nb = mesh_xmalloc(nh + 1, sizeof(int32_t));
-    x->gnb = mesh_xmalloc(nh + 1, sizeof(int64_t));
-    x->eid = mesh_xmalloc(nh + 1, sizeof(int32_t));
-    int32_t ne = 0;
-    for (size_t i = 0; i < nh; i++)
-        ne += i == 0 || kp[2 * i] != kp[2 * (i - 1)];
-    x->ne = ne;
-    x->ehe = mesh_xmalloc((size_t)ne + 1, sizeof(int32_t));
-    x->emark = mesh_xcalloc((size_t)ne + 1, sizeof(int32_t));
-    x->eflag = mesh_xcalloc((size_t)ne + 1, 1);
-    x->egid = mesh_xmalloc((size_t)ne + 1, sizeof(int64_t));
+    for (int32_t v = 0; v < f->nverts; v++)
+        start[v + 2] += start[v + 1];
+    for (size_t h = 0; h < nh; h++) {
+        int32_t a, b;
+        he_ends_f(f, (int32_t)h, &a, &b);
+        he[start[(a < b ? a : b) + 1]++] = (int32_t)h;
+    }
     /* the input segments of the part, keyed */
     int64_t *sk = mesh_xmalloc(2 * (size_t)f->nsegs + 1, sizeof(int64_t));
     size_t ns = 0;
@@ -64,44 +75,82 @@ void mesh_xview_topo(mesh_xview *x, const mesh_flat *f, const uint8_t *artificia
         ns++;
     }
     qsort(sk, ns, 2 * sizeof(int64_t), cmp_pair);
-    int32_t e = -1;
-    for (size_t i = 0; i < nh; i++) {
-        int32_t h = (int32_t)kp[2 * i + 1];
-        x->nb[h] = -1;
-        x->gnb[h] = -1;
-        if (i == 0 || kp[2 * i] != kp[2 * (i - 1)]) {
-            e++;
-            x->ehe[e] = h;
-            x->egid[e] = -1;
-            int open = i + 1 == nh || kp[2 * (i + 1)] != kp[2 * i];
-            if (open) x->eflag[e] |= XE_OPEN | XE_BOUND;
-            const int64_t *hit = ns ? bsearch(&kp[2 * i], sk, ns, 2 * sizeof(int64_t), cmp_key) : 0;
-            if (hit) {
-                x->eflag[e] |= XE_SEG;
-                x->emark[e] = (int32_t)hit[1];
-            }
-        } else { /* the second half-edge of the edge: neighbours */
-            int32_t g = (int32_t)kp[2 * (i - 1) + 1];
-            x->nb[h] = g / 3;
-            x->nb[g] = h / 3;
+    /* each bucket sorted by (upper vertex, half-edge): a run of one upper vertex is an edge */
+    int32_t big = 0;
+    for (int32_t v = 0; v < f->nverts; v++)
+        if (start[v + 1] - start[v] > big) big = start[v + 1] - start[v];
+    uint64_t *run = mesh_xmalloc((size_t)big + 1, sizeof(uint64_t));
+    x->nb = mesh_xmalloc(nh + 1, sizeof(int32_t));
+    x->eid = mesh_xmalloc(nh + 1, sizeof(int32_t));
+    size_t cap = nh / 2 + 16;
+    x->ehe = mesh_xmalloc(cap, sizeof(int32_t));
+    x->emark = mesh_xmalloc(cap, sizeof(int32_t));
+    x->eflag = mesh_xmalloc(cap, 1);
+    int32_t ne = 0;
+    for (int32_t v = 0; v < f->nverts; v++) {
+        int32_t n = start[v + 1] - start[v];
+        for (int32_t i = 0; i < n; i++) {
+            int32_t h = he[start[v] + i], a, b;
+            he_ends_f(f, h, &a, &b);
+            run[i] = (uint64_t)(a < b ? b : a) << 32 | (uint64_t)h;
         }
-        x->eid[h] = e;
+        qsort(run, (size_t)n, sizeof *run, cmp_u64);
+        for (int32_t i = 0; i < n;) {
+            int32_t j = i + 1;
+            while (j < n && run[j] >> 32 == run[i] >> 32)
+                j++;
+            if ((size_t)ne + 1 >= cap) {
+                cap *= 2;
+                x->ehe = mesh_xrealloc(x->ehe, cap, sizeof(int32_t));
+                x->emark = mesh_xrealloc(x->emark, cap, sizeof(int32_t));
+                x->eflag = mesh_xrealloc(x->eflag, cap, 1);
+            }
+            int32_t h0 = (int32_t)(run[i] & 0xffffffffu);
+            x->ehe[ne] = h0;
+            x->emark[ne] = 0;
+            x->eflag[ne] = 0;
+            for (int32_t k = i; k < j; k++) {
+                int32_t h = (int32_t)(run[k] & 0xffffffffu);
+                x->eid[h] = ne;
+                x->nb[h] = -1;
+            }
+            if (j - i == 1) {
+                x->eflag[ne] |= XE_OPEN | XE_BOUND;
+            } else { /* two half-edges: neighbours (a third would be no manifold; left open) */
+                int32_t h1 = (int32_t)(run[i + 1] & 0xffffffffu);
+                x->nb[h0] = h1 / 3;
+                x->nb[h1] = h0 / 3;
+            }
+            int64_t key = (int64_t)v << 32 | (int64_t)(run[i] >> 32);
+            const int64_t *hit = ns ? bsearch(&key, sk, ns, 2 * sizeof(int64_t), cmp_key) : 0;
+            if (hit) {
+                x->eflag[ne] |= XE_SEG;
+                x->emark[ne] = (int32_t)hit[1];
+            }
+            ne++;
+            i = j;
+        }
     }
+    x->ne = ne;
+    x->egid = mesh_xmalloc((size_t)ne + 1, sizeof(int64_t));
+    for (int32_t e = 0; e < ne; e++)
+        x->egid[e] = -1;
+    free(run);
     free(sk);
-    free(kp);
+    free(he);
+    free(start);
 }
 
 void mesh_xview_set_remote(mesh_xview *x, int32_t h, int rank, int orank, int64_t gtri) {
     int32_t e = x->eid[h];
-    x->gnb[h] = gtri;
+    MESH_GROW(x->otri, x->notri, x->cap_otri);
+    x->otri[x->notri] = gtri;
+    x->nb[h] = -2 - x->notri++;
     x->eflag[e] &= (uint8_t)~XE_BOUND;
     if (orank < rank) x->eflag[e] |= XE_OTHER;
 }
 
 void mesh_xview_finish(mesh_xview *x) {
-    const mesh_flat *f = x->f;
-    for (size_t h = 0; h < 3 * (size_t)f->ntris; h++)
-        if (x->nb[h] >= 0) x->gnb[h] = x->tfirst + x->nb[h];
     x->we = mesh_xmalloc((size_t)x->ne + 1, sizeof(int32_t));
     x->wl = mesh_xmalloc((size_t)x->ne + 1, sizeof(int32_t));
     x->nwe = x->nwl = 0;
@@ -214,7 +263,7 @@ void mesh_xview_groups(mesh_xview *x, const int32_t *marks, int32_t nmarks, cons
 
 void mesh_xview_free(mesh_xview *x) {
     free(x->nb);
-    free(x->gnb);
+    free(x->otri);
     free(x->eid);
     free(x->ehe);
     free(x->emark);

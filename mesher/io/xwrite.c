@@ -118,7 +118,7 @@ static char *neigh_rec(void *c, int64_t t, char *q) {
     const mesh_xview *x = ((wctx *)c)->x;
     q = fmt_int(q, (long long)(x->tfirst + t) + 1);
     for (int j = 0; j < 3; j++) {
-        int64_t n = x->gnb[3 * t + j];
+        int64_t n = mesh_xview_neighbour(x, (int32_t)(3 * t + j));
         *q++ = ' ';
         q = fmt_int(q, n < 0 ? -1 : (long long)n + 1);
     }

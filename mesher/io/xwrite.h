@@ -53,8 +53,10 @@ typedef struct mesh_xview {
     int ele_attr; /* the -o2 .ele's triangle attribute: 0 none, 1 f->tattr, 2 f->trank (the same
                    * on every rank; a rank without the array writes 0) */
     /* edge topology (owned; mesh_xview_topo) */
-    int32_t *nb;      /* 3 * ntris: the local triangle across half-edge h, or -1 */
-    int64_t *gnb;     /* 3 * ntris: the neighbour's global number, or -1 (mesh boundary) */
+    int32_t *nb;   /* 3 * ntris: the local triangle across half-edge h; -1: none (mesh
+                    * boundary); -2 - k: another rank's triangle number otri[k] */
+    int64_t *otri; /* notri triangle numbers across rank interfaces */
+    int32_t notri, cap_otri;
     int32_t *eid;     /* 3 * ntris: the local edge of half-edge h */
     int32_t ne;       /* local edges */
     int32_t *ehe;     /* ne: a half-edge of each edge (the one of the lowest triangle) */
@@ -79,6 +81,12 @@ typedef struct mesh_xview {
  * and their markers.  Every open edge is taken as mesh boundary (XE_BOUND) until
  * mesh_xview_set_remote says otherwise.  The numbering fields are left for the caller. */
 void mesh_xview_topo(mesh_xview *x, const mesh_flat *f, const uint8_t *artificial);
+
+/* Local.  The global number of the triangle across half-edge h, or -1 (mesh boundary). */
+static inline int64_t mesh_xview_neighbour(const mesh_xview *x, int32_t h) {
+    int32_t n = x->nb[h];
+    return n >= 0 ? x->tfirst + n : n == -1 ? -1 : x->otri[-2 - n];
+}
 
 /* Local.  Half-edge h (open) lies against rank orank's triangle number gtri: not mesh boundary,
  * neighbour gtri, written here only when rank < orank. */
