@@ -93,7 +93,8 @@ static inline int64_t mesh_xview_neighbour(const mesh_xview *x, int32_t h) {
 void mesh_xview_set_remote(mesh_xview *x, int32_t h, int rank, int orank, int64_t gtri);
 
 /* Local.  After the remote sides are known: markers, XE_WRITE / XE_LINE, the lists we and wl
- * (local edge order), egid of the written edges from efirst (set x->efirst first). */
+ * (local edge order), egid of the written edges from x->efirst (a caller that learns its
+ * efirst later renumbers them: egid[we[k]] = efirst + k). */
 void mesh_xview_finish(mesh_xview *x);
 
 /* Local.  Gmsh groups from the (sorted, distinct) markers and attributes of every rank (attrs
