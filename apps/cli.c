@@ -127,7 +127,8 @@ static const cli_opt mesher_rows[] = {
     {.name = "order2",
      .value = &v_flag,
      .at = CLI_AT(par.order2),
-     .help = "quadratic triangles: six nodes each, edge midpoints added (Triangle's -o2)"},
+     .help = "quadratic triangles: six nodes each, edge midpoints added to .node (Triangle's -o2); "
+             "--vtk: cell type 22, one file"},
     {.letter = 'r',
      .name = "refine",
      .value = &v_flag,
@@ -152,7 +153,8 @@ static const cli_opt mesher_rows[] = {
     {.name = "msh",
      .value = &v_file,
      .at = CLI_AT(par.msh),
-     .help = "write Gmsh 4.1 (physical groups from boundary markers and region attributes)"},
+     .help = "write Gmsh MSH 4.1 ASCII (physical curves by boundary marker, surfaces by regional "
+             "attribute; one file)"},
     {.name = "size",
      .value = &v_file,
      .at = CLI_AT(par.size_field),

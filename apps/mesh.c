@@ -15,6 +15,7 @@
 #include "geom/pslg.h"
 #include "io/meshio.h"
 #include "io/validate.h"
+#include "io/xwrite.h"
 
 #include "cli.h"
 
@@ -116,7 +117,7 @@ int main(int argc, char **argv) {
 
     int rc = 0;
     mesh_flat f;
-    int need_flat = prefix || vtk || svg || check;
+    int need_flat = prefix || vtk || svg || check || o.par.msh;
     double t_out = now();
     if (need_flat && mesh_to_flat(&m, &f) != 0) {
         fprintf(stderr, "mesh: out of memory\n");
@@ -126,7 +127,16 @@ int main(int argc, char **argv) {
         fprintf(stderr, "mesh: %s\n", err);
         rc = 1;
     }
-    if (vtk && meshio_write_vtk(&f, !o.par.vtk_ascii, vtk, err, sizeof err) != 0) {
+    /* -e, -n, -o2 (quadratic .node/.ele and VTK), --msh: io/xwrite.h */
+    mesh_xreq xr = {prefix,       o.par.edges, o.par.neighbors,
+                    o.par.order2, o.par.msh,   o.par.order2 ? vtk : NULL};
+    if ((prefix && (xr.edges || xr.neighbors || xr.order2)) || xr.msh || xr.vtk) {
+        if (meshio_write_extras(&f, &xr, err, sizeof err) != 0) {
+            fprintf(stderr, "mesh: %s\n", err);
+            rc = 1;
+        }
+    }
+    if (vtk && !xr.vtk && meshio_write_vtk(&f, !o.par.vtk_ascii, vtk, err, sizeof err) != 0) {
         fprintf(stderr, "mesh: %s\n", err);
         rc = 1;
     }

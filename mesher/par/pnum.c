@@ -84,6 +84,10 @@ static void *exchange(const void *recs, size_t sz, const int *dest, int64_t n, i
     return rb;
 }
 
+void *par_exchange(const void *recs, size_t sz, const int *dest, int64_t n, int64_t *nout) {
+    return exchange(recs, sz, dest, n, nout);
+}
+
 /* ---- records ------------------------------------------------------------------------------- */
 
 typedef struct vq { /* a candidate shared vertex, to its rendezvous */

@@ -26,6 +26,7 @@
 #include "base/base.h"
 #include "geom/geom.h"
 #include "io/pwrite.h"
+#include "par/pextra.h"
 #include "rt.h"
 
 #include <math.h>
@@ -312,7 +313,7 @@ int par_write_parts(const par_opts *o, const pslg *in, const mesh_flat *local, c
             return -1;
         }
     }
-    if (o->vtk) {
+    if (o->vtk && !o->order2) { /* -o2: one quadratic VTK file (pextra.c) */
         char prefix[1024];
         snprintf(prefix, sizeof prefix, "%s", o->vtk);
         size_t n = strlen(prefix);
@@ -406,6 +407,7 @@ int par_output_sub(const par_opts *o, const pslg *in, mesh_flat *local, const ui
     }
     double t2 = rt_wtime();
     if (status == 0 && par_write_parts(o, in, local, tsub, &num) != 0) status = 1;
+    if (status == 0 && par_write_extras(o, in, local, artificial, &num) != 0) status = 1;
     double t3 = rt_wtime();
     sum->ntris = num.ntris;
     sum->nverts = num.nverts;

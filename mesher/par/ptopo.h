@@ -7,6 +7,7 @@
 #ifndef PAR_PTOPO_H
 #define PAR_PTOPO_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "io/meshio.h"
@@ -38,5 +39,10 @@ int64_t par_open_edges(const mesh_flat *f, const par_vtris *x,
 
 /* Number of f's triangles that have the (undirected) edge {a, b}.  Needs the rows. */
 int par_edge_uses(const mesh_flat *f, const par_vtris *x, int32_t a, int32_t b);
+
+/* Collective (pnum.c).  Sends record i of recs (n records of sz bytes) to rank dest[i] over
+ * rt_app_comm(); returns the records this rank received (grouped by source rank, in rank order;
+ * free with free()) and their number in *nout. */
+void *par_exchange(const void *recs, size_t sz, const int *dest, int64_t n, int64_t *nout);
 
 #endif

@@ -1,0 +1,196 @@
+/* ptext.c: sectioned text files, sequential and with MPI-IO (ptext.h).
+ *
+ * Sequential: the records go through a wfile (temporary name, renamed on success).
+ * Parallel: pass 1 formats every record of this rank into a scratch line to count its bytes
+ * (the shortest round-trip coordinates have no cheaper length), per section; an MPI_Allreduce of
+ * the section sizes and an MPI_Exscan of this rank's give its offset in each section: the
+ * sections of all ranks before, then the lower ranks' bytes of this section.  Rank 0 creates
+ * the temporary file (mkstemp) and names it to all; pass 2 formats the records again into a
+ * 1 MiB chunk and writes each full chunk at its offset (independent MPI_File_write_at, so no
+ * rank waits for another inside the loop).  Each rank checks that pass 2 made exactly pass 1's
+ * bytes; after MPI_File_close the ranks agree, and rank 0 renames or removes the file.
+ * Invariant: every rank returns the same status.
+ */
+#include "io/ptext.h"
+
+#include "base/base.h"
+#include "io/wfile.h"
+
+#include <errno.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#define PT_CHUNK ((size_t)1 << 20)
+
+MESH_PRINTF(3, 4) static void pt_err(char *err, size_t errlen, const char *fmt, ...) {
+    if (!errlen) return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err, errlen, fmt, ap);
+    va_end(ap);
+}
+
+/* n, after checking that the callback kept within its room (a bug otherwise). */
+static long long pt_len(ptrdiff_t n, size_t room) {
+    if (n < 0 || (size_t)n > room)
+        MESH_BUG("ptext: %lld bytes in a room of %zu", (long long)n, room);
+    return (long long)n;
+}
+
+static size_t line_room(const mesh_text_sec *s, int ns) {
+    size_t room = 256;
+    for (int k = 0; k < ns; k++) {
+        if (s[k].headmax + 64 > room) room = s[k].headmax + 64;
+        if (s[k].recmax + 64 > room) room = s[k].recmax + 64;
+    }
+    return room;
+}
+
+int meshio_write_sections(const char *path, const mesh_text_sec *s, int ns, char *err,
+                          size_t errlen) {
+    wfile w;
+    if (meshio_wopen(&w, path, err, errlen)) return -1;
+    char *line = mesh_xmalloc(line_room(s, ns), 1);
+    for (int k = 0; k < ns; k++) {
+        const mesh_text_sec *c = &s[k];
+        if (c->head) fwrite(line, 1, (size_t)pt_len(c->head(c->ctx, line) - line, c->headmax), w.f);
+        for (int64_t i = 0; i < c->nrec; i++)
+            fwrite(line, 1, (size_t)pt_len(c->rec(c->ctx, i, line) - line, c->recmax), w.f);
+        if (c->tail) fwrite(line, 1, (size_t)pt_len(c->tail(c->ctx, line) - line, c->headmax), w.f);
+    }
+    free(line);
+    return meshio_wclose(&w, 0);
+}
+
+/* Collective.  0 when ok on every rank, else -1 everywhere with the lowest failing rank's
+ * message in err. */
+static int pt_agree(MPI_Comm comm, int ok, char *err, size_t errlen) {
+    int rank, size;
+    MESH_MPI(MPI_Comm_rank(comm, &rank));
+    MESH_MPI(MPI_Comm_size(comm, &size));
+    int mine = ok ? size : rank, first;
+    MESH_MPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm));
+    if (first == size) return 0;
+    char msg[512] = "";
+    if (rank == first && errlen) snprintf(msg, sizeof msg, "%s", err);
+    MESH_MPI(MPI_Bcast(msg, (int)sizeof msg, MPI_CHAR, first, comm));
+    if (errlen) snprintf(err, errlen, "%s", msg);
+    return -1;
+}
+
+/* Writes n bytes of b at off (pieces of at most 1 GiB); 0, or -1 with err. */
+static int pt_write_at(MPI_File fh, long long off, const char *b, size_t n, const char *path,
+                       char *err, size_t errlen) {
+    size_t done = 0;
+    while (done < n) {
+        size_t piece = n - done < ((size_t)1 << 30) ? n - done : (size_t)1 << 30;
+        MPI_Status st;
+        int got = 0, rc = MPI_File_write_at(fh, (MPI_Offset)(off + (long long)done), b + done,
+                                            (int)piece, MPI_BYTE, &st);
+        if (rc == MPI_SUCCESS) MPI_Get_count(&st, MPI_BYTE, &got);
+        if (rc != MPI_SUCCESS || got != (int)piece) {
+            pt_err(err, errlen, "%s: write failed at byte %lld (MPI-IO error %d)", path,
+                   off + (long long)done, rc);
+            return -1;
+        }
+        done += piece;
+    }
+    return 0;
+}
+
+int meshio_pwrite_sections(MPI_Comm comm, const char *path, const mesh_text_sec *s, int ns,
+                           char *err, size_t errlen) {
+    int rank;
+    MESH_MPI(MPI_Comm_rank(comm, &rank));
+    if (errlen) err[0] = '\0';
+    if (ns > MESH_TEXT_MAXSEC) MESH_BUG("ptext: %d sections", ns);
+    size_t room = line_room(s, ns);
+    char *line = mesh_xmalloc(room, 1);
+    /* pass 1: this rank's bytes per section */
+    long long mine[MESH_TEXT_MAXSEC] = {0}, tot[MESH_TEXT_MAXSEC] = {0},
+              below[MESH_TEXT_MAXSEC] = {0};
+    for (int k = 0; k < ns; k++) {
+        const mesh_text_sec *c = &s[k];
+        if (c->head) mine[k] += pt_len(c->head(c->ctx, line) - line, c->headmax);
+        for (int64_t i = 0; i < c->nrec; i++)
+            mine[k] += pt_len(c->rec(c->ctx, i, line) - line, c->recmax);
+        if (c->tail) mine[k] += pt_len(c->tail(c->ctx, line) - line, c->headmax);
+    }
+    MESH_MPI(MPI_Allreduce(mine, tot, ns, MPI_LONG_LONG, MPI_SUM, comm));
+    MESH_MPI(MPI_Exscan(mine, below, ns, MPI_LONG_LONG, MPI_SUM, comm));
+    if (rank == 0) memset(below, 0, sizeof below);
+    /* the temporary file, created by rank 0 */
+    char tmp[1100] = "";
+    int ok = 1;
+    if (rank == 0) {
+        int fd = meshio_mktemp(path, tmp, sizeof tmp, err, errlen);
+        if (fd < 0)
+            ok = 0;
+        else
+            close(fd);
+    }
+    if (pt_agree(comm, ok, err, errlen)) {
+        free(line);
+        return -1;
+    }
+    MESH_MPI(MPI_Bcast(tmp, (int)sizeof tmp, MPI_CHAR, 0, comm));
+    MPI_File fh;
+    if (MPI_File_open(comm, tmp, MPI_MODE_WRONLY, MPI_INFO_NULL, &fh) != MPI_SUCCESS) {
+        ok = 0;
+        pt_err(err, errlen, "%s: cannot open for parallel writing", path);
+    }
+    if (pt_agree(comm, ok, err, errlen)) {
+        if (rank == 0) unlink(tmp);
+        free(line);
+        return -1;
+    }
+    MESH_MPI(MPI_File_set_errhandler(fh, MPI_ERRORS_RETURN));
+    /* pass 2: format again, chunk by chunk */
+    char *buf = mesh_xmalloc(PT_CHUNK + room, 1);
+    long long base = 0;
+    for (int k = 0; k < ns && ok; k++) {
+        const mesh_text_sec *c = &s[k];
+        long long at = base + below[k], start = at;
+        char *q = buf;
+        if (c->head) q = c->head(c->ctx, q);
+        for (int64_t i = 0; i <= c->nrec && ok; i++) {
+            if (i < c->nrec) q = c->rec(c->ctx, i, q);
+            if (i == c->nrec && c->tail) q = c->tail(c->ctx, q);
+            if ((size_t)(q - buf) >= PT_CHUNK || i == c->nrec) {
+                size_t n = (size_t)(q - buf);
+                if (n && pt_write_at(fh, at, buf, n, path, err, errlen) != 0) ok = 0;
+                at += (long long)n;
+                q = buf;
+            }
+        }
+        if (ok && at - start != mine[k]) {
+            ok = 0;
+            pt_err(err, errlen, "%s: internal error: %lld bytes counted, %lld written", path,
+                   mine[k], at - start);
+        }
+        base += tot[k];
+    }
+    free(buf);
+    free(line);
+    if (MPI_File_close(&fh) != MPI_SUCCESS && ok) {
+        ok = 0;
+        pt_err(err, errlen, "%s: closing failed", path);
+    }
+    int all = pt_agree(comm, ok, err, errlen) == 0;
+    ok = 1;
+    if (rank == 0) {
+        if (!all) {
+            unlink(tmp);
+        } else if (rename(tmp, path) != 0) {
+            ok = 0;
+            pt_err(err, errlen, "%s: cannot rename the written file: %s", path, strerror(errno));
+            unlink(tmp);
+        }
+    }
+    if (!all) return -1;
+    return pt_agree(comm, ok, err, errlen);
+}
