@@ -66,9 +66,7 @@ int meshio_write_sections(const char *path, const mesh_text_sec *s, int ns, char
     return meshio_wclose(&w, 0);
 }
 
-/* Collective.  0 when ok on every rank, else -1 everywhere with the lowest failing rank's
- * message in err. */
-static int pt_agree(MPI_Comm comm, int ok, char *err, size_t errlen) {
+int meshio_pagree(MPI_Comm comm, int ok, char *err, size_t errlen) {
     int rank, size;
     MESH_MPI(MPI_Comm_rank(comm, &rank));
     MESH_MPI(MPI_Comm_size(comm, &size));
@@ -82,9 +80,8 @@ static int pt_agree(MPI_Comm comm, int ok, char *err, size_t errlen) {
     return -1;
 }
 
-/* Writes n bytes of b at off (pieces of at most 1 GiB); 0, or -1 with err. */
-static int pt_write_at(MPI_File fh, long long off, const char *b, size_t n, const char *path,
-                       char *err, size_t errlen) {
+int meshio_pwrite_at(MPI_File fh, long long off, const char *b, size_t n, const char *path,
+                     char *err, size_t errlen) {
     size_t done = 0;
     while (done < n) {
         size_t piece = n - done < ((size_t)1 << 30) ? n - done : (size_t)1 << 30;
@@ -133,7 +130,7 @@ int meshio_pwrite_sections(MPI_Comm comm, const char *path, const mesh_text_sec 
         else
             close(fd);
     }
-    if (pt_agree(comm, ok, err, errlen)) {
+    if (meshio_pagree(comm, ok, err, errlen)) {
         free(line);
         return -1;
     }
@@ -143,7 +140,7 @@ int meshio_pwrite_sections(MPI_Comm comm, const char *path, const mesh_text_sec 
         ok = 0;
         pt_err(err, errlen, "%s: cannot open for parallel writing", path);
     }
-    if (pt_agree(comm, ok, err, errlen)) {
+    if (meshio_pagree(comm, ok, err, errlen)) {
         if (rank == 0) unlink(tmp);
         free(line);
         return -1;
@@ -162,7 +159,7 @@ int meshio_pwrite_sections(MPI_Comm comm, const char *path, const mesh_text_sec 
             if (i == c->nrec && c->tail) q = c->tail(c->ctx, q);
             if ((size_t)(q - buf) >= PT_CHUNK || i == c->nrec) {
                 size_t n = (size_t)(q - buf);
-                if (n && pt_write_at(fh, at, buf, n, path, err, errlen) != 0) ok = 0;
+                if (n && meshio_pwrite_at(fh, at, buf, n, path, err, errlen) != 0) ok = 0;
                 at += (long long)n;
                 q = buf;
             }
@@ -180,7 +177,7 @@ int meshio_pwrite_sections(MPI_Comm comm, const char *path, const mesh_text_sec 
         ok = 0;
         pt_err(err, errlen, "%s: closing failed", path);
     }
-    int all = pt_agree(comm, ok, err, errlen) == 0;
+    int all = meshio_pagree(comm, ok, err, errlen) == 0;
     ok = 1;
     if (rank == 0) {
         if (!all) {
@@ -192,5 +189,5 @@ int meshio_pwrite_sections(MPI_Comm comm, const char *path, const mesh_text_sec 
         }
     }
     if (!all) return -1;
-    return pt_agree(comm, ok, err, errlen);
+    return meshio_pagree(comm, ok, err, errlen);
 }

@@ -40,4 +40,15 @@ int meshio_write_sections(const char *path, const mesh_text_sec *s, int ns, char
 int meshio_pwrite_sections(MPI_Comm comm, const char *path, const mesh_text_sec *s, int ns,
                            char *err, size_t errlen);
 
+/* The two primitives every MPI-IO writer here shares (ptext.c, pwrite.c). */
+
+/* Collective over comm.  0 when ok on every rank, else -1 everywhere with the lowest failing
+ * rank's message in err. */
+int meshio_pagree(MPI_Comm comm, int ok, char *err, size_t errlen);
+
+/* Local.  Writes n bytes of b at byte off of fh (pieces of at most 1 GiB: MPI counts are int);
+ * 0, or -1 with "path: write failed at byte N" in err. */
+int meshio_pwrite_at(MPI_File fh, long long off, const char *b, size_t n, const char *path,
+                     char *err, size_t errlen);
+
 #endif

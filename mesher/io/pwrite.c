@@ -33,6 +33,7 @@
 
 #include "base/base.h"
 #include "io/fmt.h"
+#include "io/ptext.h"
 #include "io/wfile.h"
 
 #include <errno.h>
@@ -46,23 +47,7 @@
 #define PATH_MAX_LEN 1024
 #define ERR_LEN 512
 
-/* ---- collective agreement ------------------------------------------------------------ */
-
-/* Collective.  0 when ok on every rank; otherwise -1 everywhere, with the message of the
- * lowest failing rank copied into err on every rank. */
-static int agree(MPI_Comm comm, int ok, char *err, size_t errlen) {
-    int rank, size;
-    MESH_MPI(MPI_Comm_rank(comm, &rank));
-    MESH_MPI(MPI_Comm_size(comm, &size));
-    int mine = ok ? size : rank, first;
-    MESH_MPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm));
-    if (first == size) return 0;
-    char msg[ERR_LEN] = "";
-    if (rank == first) snprintf(msg, sizeof msg, "%s", errlen ? err : "");
-    MESH_MPI(MPI_Bcast(msg, (int)sizeof msg, MPI_CHAR, first, comm));
-    if (errlen) snprintf(err, errlen, "%s", msg);
-    return -1;
-}
+/* ---- errors ------------------------------------------------------------------------- */
 
 MESH_PRINTF(3, 4) static void efmt(char *err, size_t errlen, const char *fmt, ...) {
     if (!errlen) return;
@@ -253,27 +238,6 @@ static size_t fill_chunk(ftext *x, int64_t *i, int *tail_done, char *buf, size_t
 
 /* ---- one shared file ------------------------------------------------------------------- */
 
-/* Writes n bytes at off, in pieces of at most 1 GiB (counts are int); 0 or -1 with err. */
-static int write_at(MPI_File fh, long long off, const char *b, size_t n, const char *path,
-                    char *err, size_t errlen) {
-    size_t done = 0;
-    while (done < n) {
-        size_t piece = n - done < ((size_t)1 << 30) ? n - done : (size_t)1 << 30;
-        MPI_Status st;
-        int rc = MPI_File_write_at(fh, (MPI_Offset)(off + (long long)done), b + done, (int)piece,
-                                   MPI_BYTE, &st);
-        int got = 0;
-        if (rc == MPI_SUCCESS) MPI_Get_count(&st, MPI_BYTE, &got);
-        if (rc != MPI_SUCCESS || got != (int)piece) {
-            efmt(err, errlen, "%s: write failed at byte %lld (MPI-IO error %d)", path,
-                 off + (long long)done, rc);
-            return -1;
-        }
-        done += piece;
-    }
-    return 0;
-}
-
 #define NFILES 3
 
 /* Collective.  Writes every rank's texts x[0 .. nf) into path[0 .. nf), each file atomically,
@@ -298,7 +262,7 @@ static int write_files(MPI_Comm comm, const char (*path)[PATH_MAX_LEN + 8], ftex
             close(fd);
         }
     }
-    if (agree(comm, ok, err, errlen)) return -1;
+    if (meshio_pagree(comm, ok, err, errlen)) return -1;
     MESH_MPI(MPI_Bcast(tmp, (int)sizeof tmp, MPI_CHAR, 0, comm));
 
     /* pass 1: each file's first chunk (for the .node text keep bytes more) formatted and kept,
@@ -335,7 +299,7 @@ static int write_files(MPI_Comm comm, const char (*path)[PATH_MAX_LEN + 8], ftex
             efmt(err, errlen, "%s: cannot open for parallel writing (MPI-IO error %d)", path[nopen],
                  rc);
         }
-        if (agree(comm, ok, err, errlen)) break;
+        if (meshio_pagree(comm, ok, err, errlen)) break;
         MESH_MPI(MPI_File_set_errhandler(fh[nopen], MPI_ERRORS_RETURN));
     }
     for (int k = 0; k < nf && nopen == nf && ok; k++) {
@@ -343,7 +307,7 @@ static int write_files(MPI_Comm comm, const char (*path)[PATH_MAX_LEN + 8], ftex
         long long at = off[f];
         size_t n = kept[f];
         while (ok) {
-            if (n && write_at(fh[f], at, buf[f], n, path[f], err, errlen) != 0) ok = 0;
+            if (n && meshio_pwrite_at(fh[f], at, buf[f], n, path[f], err, errlen) != 0) ok = 0;
             at += (long long)n;
             if (i[f] == x[f].nrec && (tail_done[f] || !x[f].last)) break;
             n = fill_chunk(&x[f], &i[f], &tail_done[f], buf[f], chunk);
@@ -362,7 +326,7 @@ static int write_files(MPI_Comm comm, const char (*path)[PATH_MAX_LEN + 8], ftex
             ok = 0;
             efmt(err, errlen, "%s: closing failed", path[f]);
         }
-    int all = nopen == nf && agree(comm, ok, err, errlen) == 0;
+    int all = nopen == nf && meshio_pagree(comm, ok, err, errlen) == 0;
     ok = 1;
     for (int f = 0; f < nf && rank == 0; f++) {
         if (!all || !ok) {
@@ -374,7 +338,7 @@ static int write_files(MPI_Comm comm, const char (*path)[PATH_MAX_LEN + 8], ftex
         }
     }
     if (!all) return -1;
-    return agree(comm, ok, err, errlen);
+    return meshio_pagree(comm, ok, err, errlen);
 }
 
 /* ---- Triangle files ------------------------------------------------------------------- */
@@ -590,7 +554,7 @@ int meshio_pwrite_pvtu(MPI_Comm comm, const mesh_flat *local, const int32_t *tsu
         snprintf(path, sizeof path, "%s_%d.vtu", prefix, rank);
         ok = meshio_write_vtu(local, rank, tsub, binary, path, err, errlen) == 0;
     }
-    if (agree(comm, ok, err, errlen)) return -1;
+    if (meshio_pagree(comm, ok, err, errlen)) return -1;
     if (rank == 0) {
         const char *slash = strrchr(prefix, '/');
         const char *base = slash ? slash + 1 : prefix;
@@ -615,5 +579,5 @@ int meshio_pwrite_pvtu(MPI_Comm comm, const mesh_flat *local, const int32_t *tsu
             ok = meshio_wclose(&w, 0) == 0;
         }
     }
-    return agree(comm, ok, err, errlen);
+    return meshio_pagree(comm, ok, err, errlen);
 }
