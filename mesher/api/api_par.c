@@ -60,25 +60,6 @@ static int agree(int code, pcdm_status *st) {
     return 1;
 }
 
-static uint64_t hash_bytes(uint64_t h, const void *p, size_t n) {
-    const unsigned char *b = p;
-    for (size_t i = 0; i < n; i++)
-        h = mesh_hash64(h ^ b[i]);
-    return h;
-}
-
-/* Collective.  1 iff every rank computed the same decomposition (the same input and options
- * were passed everywhere). */
-static int decomp_agrees(const pcdm_decomp *d) {
-    uint64_t h = 0, lo = 0, hi = 0;
-    h = hash_bytes(h, d->g.xy, 2 * (size_t)d->g.nverts * sizeof(double));
-    h = hash_bytes(h, d->g.seg, 2 * (size_t)d->g.nsegs * sizeof(int32_t));
-    h = hash_bytes(h, d->sub_owner, (size_t)d->nsub * sizeof(int32_t));
-    MESH_MPI(MPI_Allreduce(&h, &lo, 1, MPI_UINT64_T, MPI_MIN, rt_app_comm()));
-    MESH_MPI(MPI_Allreduce(&h, &hi, 1, MPI_UINT64_T, MPI_MAX, rt_app_comm()));
-    return lo == hi;
-}
-
 /* Local.  This rank's part (local numbering f, global numbering num) into out, as the header
  * describes; rank 0 lists the input points first.  nattr: point attributes per point (0: none;
  * taken from in for input points, from f for the others). */
@@ -435,7 +416,7 @@ static int decompose(const pslg *in, const pcdm_options *o, pcdm_decomp *d, pcdm
                       P);
     else if (pcdm_decomp_auto(in, &dopt, d, err, sizeof err) != 0)
         rc = api_fail(st, PCDM_EINPUT, "cannot decompose the input for %d ranks: %.900s", P, err);
-    if (!agree(rc, st) && !decomp_agrees(d))
+    if (!agree(rc, st) && !par_decomp_agrees(d))
         rc = api_fail(st, PCDM_EINVAL,
                       "the ranks computed different decompositions (was the same input and "
                       "options passed on every rank?)");

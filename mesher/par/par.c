@@ -65,9 +65,7 @@ static uint64_t hash_bytes(uint64_t h, const void *p, size_t n) {
     return h;
 }
 
-/* Collective.  Every rank computed its decomposition alone (deterministic code, no
- * communication); this compares a hash of what the meshers consume across the ranks. */
-static int decomp_agrees(const pcdm_decomp *d) {
+int par_decomp_agrees(const pcdm_decomp *d) {
     uint64_t h = 0;
     h = hash_bytes(h, d->g.xy, 2 * (size_t)d->g.nverts * sizeof(double));
     h = hash_bytes(h, d->g.seg, 2 * (size_t)d->g.nsegs * sizeof(int32_t));
@@ -124,7 +122,7 @@ int par_load(const par_opts *o, pslg *in, pcdm_decomp *d) {
     }
     int failed = rc != 0, failed_any = 0;
     MESH_MPI(MPI_Allreduce(&failed, &failed_any, 1, MPI_INT, MPI_MAX, rt_app_comm()));
-    if (!failed_any && !decomp_agrees(d)) {
+    if (!failed_any && !par_decomp_agrees(d)) {
         snprintf(err, sizeof err, "the ranks computed different decompositions of %.200s",
                  o->input);
         rc = -1;

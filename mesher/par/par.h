@@ -88,6 +88,11 @@ int par_startup(int *argc, char ***argv, const char *prog, par_parse_fn parse, c
  * returns -1 (the caller then exits non-zero after rt_finalize). */
 int par_load(const par_opts *o, pslg *in, pcdm_decomp *d);
 
+/* Collective over rt_app_comm().  1 iff every rank computed the same decomposition: each rank
+ * builds it alone (deterministic code, no communication), so a hash of what the meshers consume
+ * (the cut geometry, the cuts' subdomains, the owners) is compared across the ranks. */
+int par_decomp_agrees(const pcdm_decomp *d);
+
 /* Collective over rt_app_comm().  The cheap check that always runs before any output: every
  * open edge of a rank's piece (an edge of exactly one local triangle) that is not a
  * non-interface constraint (a domain-boundary subsegment) must be the open edge of exactly one
