@@ -14,6 +14,7 @@
 #include "cli.h"
 
 #include "base/base.h"
+#include "base/version.h"
 #include "par/pout.h"
 
 #include <ctype.h>
@@ -24,10 +25,12 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 /* ---- the tables ------------------------------------------------------------------------ */
 
 static const cli_value v_help = {CLI_HELP, NULL, 0, 0, 0};
+static const cli_value v_version = {CLI_VERSION, NULL, 0, 0, 0};
 static const cli_value v_flag = {CLI_FLAG, NULL, 0, 0, 0};
 static const cli_value v_file = {CLI_STRING, "FILE", 0, 0, 0};
 static const cli_value v_prefix = {CLI_STRING, "PREFIX", 0, 0, 0};
@@ -42,26 +45,38 @@ static const cli_value v_poll = {CLI_INT32, "N", 1, 1e6, 0};
 /* Every program. */
 static const cli_opt common_rows[] = {
     {.letter = 'h', .name = "help", .value = &v_help, .help = "print this text and exit"},
+    {.name = "version",
+     .value = &v_version,
+     .help = "print the program's name and version and exit"},
     {.help = NULL}};
 
 /* What every mesher (./mesh, ./pcdm, ./pbw) is told. */
 _Static_assert(PAR_SVG_MAX_TRIS == 2000000, "--svg's help text states the cap");
 
 static const cli_opt mesher_rows[] = {
+    {.letter = 'p',
+     .value = &v_flag,
+     .at = CLI_AT(pslg),
+     .help = "the input is a PSLG (Triangle's -p: accepted; the input is always read as one, a "
+             ".node file as its vertices alone)"},
     {.letter = 'q',
      .value = &v_angle,
      .at = CLI_AT(par.min_angle),
      .dflt = 20.7,
+     .bare = "20",
      .warn_above = 34,
-     .warning = "above about 34 degrees may not terminate",
-     .help = "minimum angle bound in degrees, 0 to 60 (0: none; above about 34, refinement may "
-             "not terminate)"},
+     .warning = "above about 34 degrees may not be reachable (refinement then stops with an "
+                "error)",
+     .help = "minimum angle bound in degrees, 0 to 60 (0: none; -q without a number: 20, as "
+             "Triangle; above about 34, refinement may stall: it then stops with an error)"},
     {.letter = 'a',
      .value = &v_area,
      .at = CLI_AT(par.max_area),
      .dflt = 0,
      .dflt_text = "none",
-     .help = "maximum triangle area (0: none)"},
+     .bare = "--region-areas",
+     .help = "maximum triangle area (0: none; -a without a number: --region-areas, as "
+             "Triangle)"},
     {.letter = 'S',
      .value = &v_count,
      .at = CLI_AT(par.max_steiner),
@@ -71,7 +86,25 @@ static const cli_opt mesher_rows[] = {
     {.letter = 'o',
      .value = &v_prefix,
      .at = CLI_AT(par.out_prefix),
-     .help = "write PREFIX.node, PREFIX.ele, PREFIX.poly (Triangle's formats)"},
+     .dflt_text = "as Triangle, next to the input: NAME.1 for NAME.poly; with -r, NAME.2 for "
+                  "NAME.1",
+     .help = "write PREFIX.node, PREFIX.ele, PREFIX.poly (Triangle's formats; -o2 is not a "
+             "prefix but --order2: write a prefix starting with 2 spaced, -o 2x)"},
+    {.letter = 'N',
+     .name = "no-node",
+     .value = &v_flag,
+     .at = CLI_AT(par.no_node),
+     .help = "write no .node file (Triangle's -N; -NEP: no Triangle files at all)"},
+    {.letter = 'E',
+     .name = "no-ele",
+     .value = &v_flag,
+     .at = CLI_AT(par.no_ele),
+     .help = "write no .ele file (Triangle's -E)"},
+    {.letter = 'P',
+     .name = "no-poly",
+     .value = &v_flag,
+     .at = CLI_AT(par.no_poly),
+     .help = "write no .poly file (Triangle's -P)"},
     {.name = "vtk",
      .value = &v_file,
      .at = CLI_AT(par.vtk),
@@ -125,9 +158,11 @@ static const cli_opt mesher_rows[] = {
      .at = CLI_AT(par.neighbors),
      .help = "also write PREFIX.neigh (the three neighbours of every triangle)"},
     {.name = "order2",
+     .spelling = "o2",
      .value = &v_flag,
      .at = CLI_AT(par.order2),
-     .help = "quadratic triangles: six nodes each, edge midpoints added (Triangle's -o2)"},
+     .help = "quadratic triangles: six nodes each, edge midpoints added (Triangle's -o2, "
+             "also inside a switch string: -pq30o2)"},
     {.letter = 'r',
      .name = "refine",
      .value = &v_flag,
@@ -138,12 +173,18 @@ static const cli_opt mesher_rows[] = {
      .name = "quiet",
      .value = &v_flag,
      .at = CLI_AT(par.quiet),
-     .help = "quiet: nothing but errors"},
+     .help = "quiet: nothing on stdout or stderr but errors (and --stats, when asked for; "
+             "--check's report only when it fails)"},
     {.letter = 'V',
      .name = "verbose",
      .value = &v_flag,
      .at = CLI_AT(par.verbose),
-     .help = "verbose: more detail on stderr"},
+     .help = "verbose: a summary on stderr (input counts, bounds, phase times, the mesh made)"},
+    {.name = "write-partial",
+     .value = &v_flag,
+     .at = CLI_AT(par.write_partial),
+     .help = "when refinement cannot meet the bounds, still write the mesh made so far (as "
+             "asked: conforming, outside the bounds; exit status 1 all the same)"},
     {.name = "strict",
      .value = &v_flag,
      .at = CLI_AT(par.strict),
@@ -242,40 +283,52 @@ static const cli_opt *const pcdm_tables[] = {mesher_rows, parallel_rows, common_
 static const cli_opt *const pbw_tables[] = {mesher_rows, parallel_rows, pbw_rows, common_rows,
                                             NULL};
 
-const cli_prog cli_mesh = {"mesh",
-                           "./mesh [options] input.poly",
-                           "Constrained Delaunay triangulation + Ruppert/Chew quality refinement.",
-                           mesh_tables,
-                           {"input.poly", NULL},
-                           "Coordinates: any finite doubles whose largest magnitude is at least "
-                           "2^-723 (about 1.8e-218); nonzero coordinates below 2^-247 (about "
-                           "4.4e-75) times the largest are rejected (FILE:LINE message).  Features "
-                           "below about 2^-44 of the coordinates' magnitude cannot be resolved: "
-                           "such inputs, and angle bounds refinement cannot reach, end with an "
-                           "error (exit 1), never with a mesh outside the bounds."};
+const cli_prog cli_mesh = {
+    .name = "mesh",
+    .usage = "./mesh [options] input.poly",
+    .about = "Constrained Delaunay triangulation + Ruppert/Chew quality refinement.",
+    .tables = mesh_tables,
+    .args = {"input.poly", NULL},
+    .notes = "Coordinates: any finite doubles whose largest magnitude is at least 2^-723 (about "
+             "1.8e-218); nonzero coordinates below 2^-247 (about 4.4e-75) times the largest are "
+             "rejected (FILE:LINE message).  Features below about 2^-44 of the coordinates' "
+             "magnitude cannot be resolved: such inputs, and angle bounds refinement cannot "
+             "reach, end with an error (exit 1), never with a mesh outside the bounds unless "
+             "--write-partial asks for it.",
+    .triangle_names = 1};
 const cli_prog cli_meshcheck = {
-    "meshcheck",
-    "meshcheck [options] input.poly PREFIX",
-    "Validates PREFIX.node/.ele (and PREFIX.poly) against input.poly: conformity, orientation, "
-    "input vertices and segments present, domain area, local Delaunay property, and the quality "
-    "bounds given.",
-    meshcheck_tables,
-    {"input.poly", "PREFIX"},
-    NULL};
-const cli_prog cli_pcdm = {"pcdm",
-                           "mpirun -np P ./pcdm [options] input.poly",
-                           "Parallel constrained Delaunay meshing (PCDM: constrained subdomains, "
-                           "TR-97-17 section 3).",
-                           pcdm_tables,
-                           {"input.poly", NULL},
-                           "Every rank exits with the same status."};
-const cli_prog cli_pbw = {"pbw",
-                          "mpirun -np P ./pbw [options] input.poly",
-                          "Parallel Delaunay meshing (PBW: distributed Bowyer-Watson, TR-97-17 "
-                          "section 2).",
-                          pbw_tables,
-                          {"input.poly", NULL},
-                          "Every rank exits with the same status."};
+    .name = "meshcheck",
+    .usage = "meshcheck [options] input.poly PREFIX",
+    .about = "Validates PREFIX.node/.ele (and PREFIX.poly) against input.poly: conformity, "
+             "orientation, input vertices and segments present, domain area, local Delaunay "
+             "property, and the quality bounds given.",
+    .tables = meshcheck_tables,
+    .args = {"input.poly", "PREFIX"}};
+const cli_prog cli_pcdm = {.name = "pcdm",
+                           .usage = "mpirun -np P ./pcdm [options] input.poly",
+                           .about = "Parallel constrained Delaunay meshing (PCDM: constrained "
+                                    "subdomains, TR-97-17 section 3).",
+                           .tables = pcdm_tables,
+                           .args = {"input.poly", NULL},
+                           .notes = "Every rank exits with the same status.",
+                           .triangle_names = 1};
+const cli_prog cli_pbw = {.name = "pbw",
+                          .usage = "mpirun -np P ./pbw [options] input.poly",
+                          .about = "Parallel Delaunay meshing (PBW: distributed Bowyer-Watson, "
+                                   "TR-97-17 section 2).",
+                          .tables = pbw_tables,
+                          .args = {"input.poly", NULL},
+                          .notes = "Every rank exits with the same status.",
+                          .triangle_names = 1};
+
+/* The meshers' --help states the switch-string rule (cli.h) in short. */
+static const char syntax_text[] =
+    "Switch strings as Triangle's: -pq30a0.01Q is -p -q 30 -a 0.01 -Q (a glued number ends at "
+    "the next letter); -q and -a without a number mean 20 degrees and --region-areas; -q or -a "
+    "alone take the next argument only if it looks like a number (-q 30, but -q lake.poly is "
+    "-q 20); -o2 (also inside a string: -pq30o2) is --order2, any other -oPREFIX or -o PREFIX "
+    "the output prefix.  Without -o, output goes next to the input: NAME.1.node/.ele/.poly for "
+    "NAME.poly (-r: NAME.2 for NAME.1); -NEP writes none of them.";
 
 static const char exit_text[] = "Exit status: 0 success; 1 bad input (an unreadable or invalid "
                                 "file), an output error, a failed mesh or a failed check; 2 "
@@ -287,6 +340,7 @@ static const char exit_text[] = "Exit status: 0 success; 1 bad input (an unreada
 static size_t kind_size(cli_kind k) {
     switch (k) {
     case CLI_HELP:
+    case CLI_VERSION:
         return 0;
     case CLI_FLAG:
         return sizeof(int);
@@ -305,8 +359,11 @@ static size_t kind_size(cli_kind k) {
 }
 
 static int takes_value(const cli_opt *r) {
-    return r->value->kind != CLI_FLAG && r->value->kind != CLI_HELP;
+    return r->value->kind != CLI_FLAG && r->value->kind != CLI_HELP &&
+           r->value->kind != CLI_VERSION;
 }
+
+static const cli_opt *find_name(const cli_prog *p, const char *name, size_t len);
 
 /* Bug unless every row is well formed and no letter or name repeats within p. */
 static void check_prog(const cli_prog *p) {
@@ -324,6 +381,16 @@ static void check_prog(const cli_prog *p) {
                         (r->name && s->name && !strcmp(r->name, s->name)))
                         MESH_BUG("%s: option %c%s declared twice", p->name,
                                  r->letter ? r->letter : '-', r->name ? r->name : "");
+            if (r->spelling && (r->value->kind != CLI_FLAG || strlen(r->spelling) < 2))
+                MESH_BUG("%s: spelling %s on a row that is not a flag", p->name, r->spelling);
+            if (r->bare && (!takes_value(r) || !r->letter))
+                MESH_BUG("%s: a bare meaning on a row without a letter and a value", p->name);
+            if (r->bare && r->bare[0] == '-') {
+                const cli_opt *f = find_name(p, r->bare + 2, strlen(r->bare + 2));
+                if (strncmp(r->bare, "--", 2) || !f || f->value->kind != CLI_FLAG)
+                    MESH_BUG("%s: -%c's bare meaning %s is not a flag of the program", p->name,
+                             r->letter, r->bare);
+            }
         }
 }
 
@@ -468,7 +535,8 @@ static int store(const parse_ctx *c, const cli_opt *r, const char *val, cli_opts
         *(int *)dst = 1;
         return 0;
     case CLI_HELP:
-        MESH_BUG("--help reached store()");
+    case CLI_VERSION:
+        MESH_BUG("--help or --version reached store()");
     case CLI_STRING:
         ok = val[0] != 0;
         if (ok) *(const char **)dst = val;
@@ -496,6 +564,154 @@ static int store(const parse_ctx *c, const cli_opt *r, const char *val, cli_opts
     else
         describe(v, what, sizeof what);
     return usage_error(c, "bad value '%s': %s needs %s", val, row_name(r, name, sizeof name), what);
+}
+
+/* Triangle's letters this project does not implement, for a clearer refusal than "unknown". */
+static const struct {
+    char letter;
+    const char *what;
+} triangle_only[] = {{'c', "enclose the convex hull"},
+                     {'D', "conforming Delaunay"},
+                     {'j', "jettison unused vertices"},
+                     {'v', "Voronoi diagram"},
+                     {'g', "OFF output"},
+                     {'B', "no boundary markers"},
+                     {'I', "no iteration numbers"},
+                     {'O', "ignore holes"},
+                     {'X', "no exact arithmetic"},
+                     {'z', "numbering from zero"},
+                     {'Y', "no Steiner points on the boundary"},
+                     {'i', "incremental triangulation"},
+                     {'F', "Fortune's sweepline"},
+                     {'l', "vertical cuts only"},
+                     {'s', "segments split instead of constrained"},
+                     {'C', "consistency check; here: --check"},
+                     {'u', "a compiled-in size test; here: --size FILE"},
+                     {'U', "a compiled-in size test; here: --size FILE"}};
+
+/* The letter at s is no option of p: one usage error naming it (and the string it is in). */
+static int bad_letter(const parse_ctx *c, const char *s, const char *arg) {
+    char in[160] = "";
+    if (strlen(arg) > 2) snprintf(in, sizeof in, " in '%.120s'", arg);
+    for (size_t k = 0; k < sizeof triangle_only / sizeof *triangle_only; k++)
+        if (triangle_only[k].letter == *s)
+            return usage_error(c, "option -%c%s is not supported (in Triangle: %s)", *s, in,
+                               triangle_only[k].what);
+    return usage_error(c, "unknown option '-%c'%s", *s, in);
+}
+
+/* Where a number glued on in a switch string begins: a digit, a point and a digit, or a sign
+ * and either. */
+static int glued_start(const char *s) {
+    if (*s == '-' || *s == '+') s++;
+    return isdigit((unsigned char)s[0]) || (s[0] == '.' && isdigit((unsigned char)s[1]));
+}
+
+/* Whether a whole argument is meant as a letter's value rather than the next option or the
+ * input: it starts as a number does, or spells nan or inf (each refused later, strictly). */
+static int looks_like_value(const char *s) {
+    if (glued_start(s) || (s[0] == '.' && !s[1])) return 1;
+    if (*s == '-' || *s == '+') s++;
+    return !strncasecmp(s, "nan", 3) || !strncasecmp(s, "inf", 3);
+}
+
+static int stop_help(const parse_ctx *c, const cli_opt *r, FILE *out) {
+    if (r->value->kind == CLI_HELP) {
+        if (out) cli_help(c->p, out);
+    } else if (out) {
+        fprintf(out, "%s (pcdm) %s\n", c->p->name, PCDM_VERSION);
+    }
+    *c->status = CLI_EXIT_OK;
+    return 1;
+}
+
+/* Row r's meaning without a value: its bare number, or the flag row it names. */
+static int store_bare(const parse_ctx *c, const cli_opt *r, cli_opts *o) {
+    if (r->bare[0] != '-') return store(c, r, r->bare, o);
+    return store(c, find_name(c->p, r->bare + 2, strlen(r->bare + 2)), NULL, o);
+}
+
+/* Walks the switch string argv[*i] (cli.h states the rule), storing each option; may take the
+ * next argument as a lone letter's value (then *i moves on).  Returns 0 to go on, or 1 to stop
+ * (help, version or a usage error, with *c->status). */
+static int walk_switches(const parse_ctx *c, int argc, char **argv, int *i, FILE *out,
+                         cli_opts *o) {
+    const char *arg = argv[*i], *s = arg + 1;
+    char name[64];
+    while (*s) {
+        const cli_opt *r = NULL;
+        for (const cli_opt *const *t = c->p->tables; *t && !r; t++)
+            for (const cli_opt *q = *t; q->help && !r; q++)
+                if (q->spelling && !strncmp(s, q->spelling, strlen(q->spelling))) r = q;
+        const char *at = s;
+        if (r) {
+            s += strlen(r->spelling);
+        } else if ((r = find_letter(c->p, *s)) != NULL) {
+            s++;
+        } else {
+            return bad_letter(c, s, arg);
+        }
+        if (r->value->kind == CLI_HELP || r->value->kind == CLI_VERSION)
+            return stop_help(c, r, out);
+        if (!takes_value(r)) {
+            if (store(c, r, NULL, o)) return 1;
+            continue;
+        }
+        int alone = at == arg + 1 && !*s;
+        if (r->value->kind == CLI_STRING) {
+            if (at != arg + 1)
+                return usage_error(c,
+                                   "option -%c (%s) must open its argument, as in -%c %s, not '%s'",
+                                   r->letter, r->value->metavar, r->letter, r->value->metavar, arg);
+            if (!*s && *i + 1 >= argc)
+                return usage_error(c, "option %s needs a value (%s)",
+                                   row_name(r, name, sizeof name), r->value->metavar);
+            return store(c, r, *s ? s : argv[++*i], o);
+        }
+        if (glued_start(s)) { /* the number glued on: as far as strtod reads, then to a letter */
+            char *e;
+            (void)strtod(s, &e);
+            while (*e && !isalpha((unsigned char)*e))
+                e++;
+            char val[128];
+            snprintf(val, sizeof val, "%.*s", (int)(e - s), s);
+            if (store(c, r, val, o)) return 1;
+            s = e;
+        } else if (alone && *i + 1 < argc && (!r->bare || looks_like_value(argv[*i + 1]))) {
+            return store(c, r, argv[++*i], o); /* the spaced form, -q 30 */
+        } else if (r->bare) {
+            if (store_bare(c, r, o)) return 1;
+        } else {
+            return usage_error(c, "option %s needs a value (%s)%s%s%s",
+                               row_name(r, name, sizeof name), r->value->metavar,
+                               alone ? "" : " glued on, in '", alone ? "" : arg, alone ? "" : "'");
+        }
+    }
+    return 0;
+}
+
+int cli_output_name(const char *input, int refine, char *buf, size_t n) {
+    static const char *const ext[] = {".poly", ".node", ".ele", ".area"};
+    size_t len = strlen(input);
+    for (size_t k = 0; k < sizeof ext / sizeof *ext; k++) {
+        size_t e = strlen(ext[k]);
+        if (len > e && !strcmp(input + len - e, ext[k])) {
+            len -= e;
+            break;
+        }
+    }
+    unsigned long long num = 1;
+    if (refine) { /* NAME.N -> NAME.N+1 (up to 18 digits; more is no number) */
+        size_t d = len;
+        while (d > 0 && isdigit((unsigned char)input[d - 1]))
+            d--;
+        if (d < len && len - d <= 18 && d > 0 && input[d - 1] == '.') {
+            num = strtoull(input + d, NULL, 10) + 1;
+            len = d - 1;
+        }
+    }
+    int w = snprintf(buf, n, "%.*s.%llu", (int)len, input, num);
+    return w < 0 || (size_t)w >= n ? -1 : 0;
 }
 
 int cli_parse(const cli_prog *p, int argc, char **argv, FILE *out, FILE *err, cli_opts *o,
@@ -526,10 +742,8 @@ int cli_parse(const cli_prog *p, int argc, char **argv, FILE *out, FILE *err, cl
                 return usage_error(&c, "option --%s takes no value", r->name);
             if (eq) val = eq + 1;
         } else if (!options_done && a[0] == '-' && a[1]) {
-            /* a Triangle switch string would be walked here, letter by letter */
-            r = find_letter(p, a[1]);
-            if (!r || (a[2] && !takes_value(r))) return usage_error(&c, "unknown option '%s'", a);
-            if (a[2]) val = a + 2;
+            if (walk_switches(&c, argc, argv, &i, out, o)) return 1;
+            continue;
         } else {
             if (npos == 0 && !p->args[0]) return usage_error(&c, "unexpected argument '%s'", a);
             if (npos == 2 || !p->args[npos])
@@ -538,10 +752,8 @@ int cli_parse(const cli_prog *p, int argc, char **argv, FILE *out, FILE *err, cl
             *pos[npos++] = a;
             continue;
         }
-        if (r->value->kind == CLI_HELP) {
-            if (out) cli_help(p, out);
-            return 1;
-        }
+        if (r->value->kind == CLI_HELP || r->value->kind == CLI_VERSION)
+            return stop_help(&c, r, out);
         if (takes_value(r) && !val) {
             if (i + 1 >= argc)
                 return usage_error(&c, "option %s needs a value (%s)",
@@ -552,11 +764,17 @@ int cli_parse(const cli_prog *p, int argc, char **argv, FILE *out, FILE *err, cl
     }
     if (npos < 2 && p->args[npos])
         return usage_error(&c, "missing %s; usage: %s", p->args[npos], p->usage);
+    if (p->triangle_names && !o->par.out_prefix) {
+        if (cli_output_name(o->par.input, o->par.refine, o->par.out_name, sizeof o->par.out_name))
+            return usage_error(&c, "input name '%.100s...' too long to name the output (give -o)",
+                               o->par.input);
+        o->par.out_prefix = o->par.out_name;
+    }
     for (const cli_opt *const *t = p->tables; *t; t++)
         for (const cli_opt *r = *t; r->help; r++) {
             if (r->value->kind != CLI_REAL || !(r->warn_above > 0)) continue;
             double x = *(const double *)((const char *)o + r->at.offset);
-            if (x > r->warn_above && err)
+            if (x > r->warn_above && err && !o->par.quiet)
                 fprintf(err, "%s: warning: %s %g %s\n", p->name, row_name(r, name, sizeof name), x,
                         r->warning);
         }
@@ -595,9 +813,10 @@ void cli_help(const cli_prog *p, FILE *f) {
         for (const cli_opt *r = *t; r->help; r++) {
             char left[64], text[512], dflt[96] = "";
             int n = snprintf(left, sizeof left, "  ");
-            if (r->letter)
-                n += snprintf(left + n, sizeof left - (size_t)n, "-%c%s", r->letter,
-                              r->name ? ", " : "");
+            char sw[2] = {r->letter, 0};
+            if (r->letter || r->spelling)
+                n += snprintf(left + n, sizeof left - (size_t)n, "-%s%s",
+                              r->spelling ? r->spelling : sw, r->name ? ", " : "");
             if (r->name) n += snprintf(left + n, sizeof left - (size_t)n, "--%s", r->name);
             if (takes_value(r))
                 n += snprintf(left + n, sizeof left - (size_t)n, " %s", r->value->metavar);
@@ -613,6 +832,7 @@ void cli_help(const cli_prog *p, FILE *f) {
                 fprintf(f, "%*s", COL - n, "");
             wrap(f, text, COL);
         }
+    if (p->triangle_names) wrap(f, syntax_text, 0);
     wrap(f, exit_text, 0);
     if (p->notes) wrap(f, p->notes, 0);
 }
@@ -622,5 +842,6 @@ int cli_par_parse(int argc, char **argv, int rank, const void *prog, par_opts *o
     int stop = cli_parse(prog, argc, argv, rank == 0 ? stdout : NULL, rank == 0 ? stderr : NULL, &c,
                          status);
     *o = c.par;
+    if (c.par.out_prefix == c.par.out_name) o->out_prefix = o->out_name; /* not into c */
     return stop;
 }
