@@ -22,7 +22,7 @@ bad() { fail=$((fail + 1)); printf 'FAIL %s\n' "$*"; }
 expect_fail() { # prog np pattern args...
     local prog=$1 np=$2 pat=$3
     shift 3
-    timeout 120 $MPIRUN -np "$np" "$BIN/$prog" "$@" >"$tmp/out" 2>"$tmp/err"
+    timeout 120 $MPIRUN -np "$np" "$BIN/$prog" -NEP "$@" >"$tmp/out" 2>"$tmp/err"
     local rc=$?
     if [ $rc -eq 1 ] && grep -q -- "$pat" "$tmp/err"; then
         ok "$prog np=$np $*: exit 1, '$pat'"
