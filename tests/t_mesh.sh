@@ -53,6 +53,19 @@ grep -q "^meshcheck: OK" <<<"$res" || fail "-S 100: the mesh is not conforming: 
 [ -s "$T/s100.ele" ] || fail "-S 100: no mesh written"
 res=$("$M" -NEP -S 100000 -q 20 data/square.poly 2>&1) || fail "-S not reached must exit 0: $res"
 
+# a bound refinement cannot reach (issue 15): a message and exit 1, nothing written; with
+# --write-partial the mesh made so far is written (conforming: ./meshcheck without the bounds
+# passes), still exit 1
+rc=0
+res=$("$M" -q 45 -o "$T/q45" data/lake.poly 2>&1) || rc=$?
+[ "$rc" = 1 ] && grep -q "cannot meet the bounds" <<<"$res" && [ ! -e "$T/q45.ele" ] ||
+    fail "-q 45: exit $rc, or files written: $res"
+rc=0
+res=$("$M" -q 45 --write-partial --check -o "$T/q45" data/lake.poly 2>&1) || rc=$?
+[ "$rc" = 1 ] && grep -q "cannot meet the bounds.*--write-partial" <<<"$res" &&
+    grep -q "^meshcheck: OK" <<<"$res" && "$MC" data/lake.poly "$T/q45" >/dev/null ||
+    fail "-q 45 --write-partial: exit $rc, or no checked mesh: $res"
+
 # a .node file (point set): the convex hull is the domain
 awk 'BEGIN { srand(7); print 200, 2, 0, 0; for (i = 1; i <= 200; i++) print i, rand(), rand() }' \
     >"$T/points.node"
