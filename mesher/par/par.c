@@ -166,6 +166,11 @@ int par_startup(int *argc, char ***argv, const char *prog, par_parse_fn parse, c
         return 1;
     }
     if (o->perturb) rt_perturb_set(o->perturb);
+    /* Triangle's output name (no -o): rank 0 decides, every rank writes to the same files */
+    int named = o->out_prefix == o->out_name;
+    MESH_MPI(MPI_Bcast(&named, 1, MPI_INT, 0, rt_app_comm()));
+    MESH_MPI(MPI_Bcast(o->out_name, (int)sizeof o->out_name, MPI_CHAR, 0, rt_app_comm()));
+    if (named) o->out_prefix = o->out_name;
     geom_init();
     if (par_load(o, in, d) != 0) {
         rt_finalize();

@@ -97,7 +97,8 @@ typedef int (*par_parse_fn)(int argc, char **argv, int rank, const void *ctx, pa
 
 /* Collective over MPI_COMM_WORLD.  The common start of ./pcdm and ./pbw: rt_init, the
  * command line (parse, with ctx; every rank stops, or none, with the same status), the
- * program's handler registration (reg, before rt_start), the --perturb seed, and par_load.
+ * program's handler registration (reg, before rt_start), the --perturb seed, Triangle's output
+ * name (rank 0's, when -o is not given) and par_load.
  * Returns 0 to go on (the runtime is up; *o, *in and *d are filled, *in and *d owned by the
  * caller), or 1 when the program must exit with *code (the runtime is already finalised;
  * messages printed on rank 0). */
