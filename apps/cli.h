@@ -4,8 +4,9 @@
  * of its value (cli_value), where the value goes in cli_opts, its default and its help text.
  * The same rows parse the command line and write --help, so the two cannot disagree.  A program
  * (cli_prog) is a list of tables: the shared mesher options (-q -a -S -o --vtk --svg --stats
- * --check --progress), the parallel ones (pcdm, pbw) and its own; --help/-h belongs to every
- * program.  Option letters and names are unique within a program (checked at every parse).
+ * --check --progress, Triangle's switches), the parallel ones (pcdm, pbw) and its own; --help/-h
+ * and --version belong to every program.  Option letters and names are unique within a program
+ * (checked at every parse).  The tables and --help are cli_tables.c, the parser cli.c.
  *
  * Exit statuses, the same in every program (and on every rank of the parallel ones):
  *   0 success; 1 bad input (an unreadable or invalid file), an output error, a failed mesh or a
@@ -125,8 +126,8 @@ int cli_parse(const cli_prog *p, int argc, char **argv, FILE *out, FILE *err, cl
 
 /* Local.  Triangle's output name for input (without -o): the input's name without a final
  * .poly, .node, .ele or .area, then ".1"; with refine, a final ".N" (N decimal) becomes ".N+1"
- * (lake.1 -> lake.2; without a number, ".1" is appended).  Returns 0, or -1 if it does not fit
- * in n bytes or N+1 overflows. */
+ * (lake.1 -> lake.2; without a number, or with more than 18 digits, ".1" is appended).  Returns
+ * 0, or -1 if it does not fit in n bytes. */
 int cli_output_name(const char *input, int refine, char *buf, size_t n);
 
 /* Local.  Writes p's --help text (usage, options with defaults, exit statuses) to f. */

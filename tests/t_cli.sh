@@ -263,6 +263,8 @@ triangle_cases() {
     # -Q: nothing but errors; -V: a summary on stderr
     run "$prog" "$np" -NEPQ -q 35 -a 0.05 --check data/square.poly
     [ "$rc" -eq 0 ] && [ -z "$out$err" ] && ok || fail "$prog (np $np) -Q: exit $rc, printed '$out$err'"
+    run "$prog" "$np" -NEPQ tests/bad/duplicate_points.poly # the reader's "merged" warning too
+    [ "$rc" -eq 0 ] && [ -z "$out$err" ] && ok || fail "$prog (np $np) -Q duplicates: exit $rc, '$out$err'"
     run "$prog" "$np" -NEPV data/square.poly
     [ "$rc" -eq 0 ] && grep -q "^$prog: data/square.poly: 4 vertices, 4 segments" <<<"$err" &&
         grep -q "^$prog: .*[0-9]* triangles" <<<"$err" && ok || fail "$prog (np $np) -V: exit $rc, '$err'"
