@@ -4,10 +4,11 @@
  * is looked up by long name; any other argument starting with '-' is a switch string, walked
  * letter by letter as Triangle does (walk_switches; the rule, glued and spaced values and the
  * bare -q and -a, is in cli.h); any other argument is positional.  Without -o a mesher's output
- * prefix is Triangle's name for the input (cli_output_name).  A row's value is read by the reader of its kind (read_real,
- * read_int, read_uint: decimal only, no blanks, NaN, infinities or overflow; each reports where
- * its number ends) and checked against the row's range; strings must not be empty.  The first
- * problem ends the parse with one line "PROG: problem (try --help)" and status 2.
+ * prefix is Triangle's name for the input (cli_output_name).  A row's value is read by the
+ * reader of its kind (read_real, read_int, read_uint: decimal only, no blanks, NaN, infinities
+ * or overflow; each reports where its number ends) and checked against the row's range; strings
+ * must not be empty.  The first problem ends the parse with one line "PROG: problem (try
+ * --help)" and status 2.
  *
  * Invariants: every row's destination has the size its kind stores (checked, with letter and
  * name uniqueness, by check_prog at every parse: a bad table is a bug, reported as one); the
