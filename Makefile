@@ -42,8 +42,9 @@ CHECK_LIBS = $(shell pkg-config --libs check 2>/dev/null)
 
 RT_SRC := $(wildcard runtime/*.c)
 MESH_SRC := $(wildcard mesher/*/*.c)
-# apps/: the programs' mains, and the front end they share (apps/cli.c, linked into each).
-APP_LIB_SRC := apps/cli.c
+# apps/: the programs' mains, and the front end they share (apps/cli.c, apps/cli_tables.c,
+# linked into each).
+APP_LIB_SRC := $(wildcard apps/cli*.c)
 APP_SRC := $(filter-out $(APP_LIB_SRC),$(wildcard apps/*.c))
 TEST_SRC := $(wildcard tests/unit_*.c tests/mpi_*.c)
 BENCH_SRC := $(wildcard bench/*.c)

@@ -1,11 +1,14 @@
-/* cli.c: the option tables of the four programs and the one parser that reads them.
+/* cli.c: the one parser that reads the option tables (cli_tables.c) of the four programs.
  *
  * cli_parse walks argv once, left to right: "--" ends the options; "--name" or "--name=value"
- * is looked up by long name, "-x" by letter (a letter's value may be glued on, "-q30"); any
- * other argument is positional.  A row's value is read by the reader of its kind (read_real,
- * read_int, read_uint: decimal only, no blanks, NaN, infinities or overflow; each reports where
- * its number ends) and checked against the row's range; strings must not be empty.  The first
- * problem ends the parse with one line "PROG: problem (try --help)" and status 2.
+ * is looked up by long name; any other argument starting with '-' is a switch string, walked
+ * letter by letter as Triangle does (walk_switches; the rule, glued and spaced values and the
+ * bare -q and -a, is in cli.h); any other argument is positional.  Without -o a mesher's output
+ * prefix is Triangle's name for the input (cli_output_name).  A row's value is read by the
+ * reader of its kind (read_real, read_int, read_uint: decimal only, no blanks, NaN, infinities
+ * or overflow; each reports where its number ends) and checked against the row's range; strings
+ * must not be empty.  The first problem ends the parse with one line "PROG: problem (try
+ * --help)" and status 2.
  *
  * Invariants: every row's destination has the size its kind stores (checked, with letter and
  * name uniqueness, by check_prog at every parse: a bad table is a bug, reported as one); the
@@ -14,7 +17,7 @@
 #include "cli.h"
 
 #include "base/base.h"
-#include "par/pout.h"
+#include "base/version.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -24,271 +27,14 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* ---- the tables ------------------------------------------------------------------------ */
-
-static const cli_value v_help = {CLI_HELP, NULL, 0, 0, 0};
-static const cli_value v_flag = {CLI_FLAG, NULL, 0, 0, 0};
-static const cli_value v_file = {CLI_STRING, "FILE", 0, 0, 0};
-static const cli_value v_prefix = {CLI_STRING, "PREFIX", 0, 0, 0};
-static const cli_value v_angle = {CLI_REAL, "DEG", 0, 60, 0};
-static const cli_value v_area = {CLI_REAL, "AREA", 0, INFINITY, 0};
-static const cli_value v_count = {CLI_INT64, "N", 0, INFINITY, 0};
-static const cli_value v_nsub = {CLI_INT32, "K", 1, 1e6, 0};
-static const cli_value v_ratio = {CLI_REAL, "R", 0, 1e6, 1};
-static const cli_value v_seed = {CLI_UINT64, "SEED", 0, INFINITY, 0};
-static const cli_value v_poll = {CLI_INT32, "N", 1, 1e6, 0};
-
-/* Every program. */
-static const cli_opt common_rows[] = {
-    {.letter = 'h', .name = "help", .value = &v_help, .help = "print this text and exit"},
-    {.help = NULL}};
-
-/* What every mesher (./mesh, ./pcdm, ./pbw) is told. */
-_Static_assert(PAR_SVG_MAX_TRIS == 2000000, "--svg's help text states the cap");
-
-static const cli_opt mesher_rows[] = {
-    {.letter = 'q',
-     .value = &v_angle,
-     .at = CLI_AT(par.min_angle),
-     .dflt = 20.7,
-     .warn_above = 34,
-     .warning = "above about 34 degrees may not terminate",
-     .help = "minimum angle bound in degrees, 0 to 60 (0: none; above about 34, refinement may "
-             "not terminate)"},
-    {.letter = 'a',
-     .value = &v_area,
-     .at = CLI_AT(par.max_area),
-     .dflt = 0,
-     .dflt_text = "none",
-     .help = "maximum triangle area (0: none)"},
-    {.letter = 'S',
-     .value = &v_count,
-     .at = CLI_AT(par.max_steiner),
-     .dflt = -1,
-     .dflt_text = "none",
-     .help = "at most N Steiner points in all (the parallel meshers share them among the ranks)"},
-    {.letter = 'o',
-     .value = &v_prefix,
-     .at = CLI_AT(par.out_prefix),
-     .help = "write PREFIX.node, PREFIX.ele, PREFIX.poly (Triangle's formats)"},
-    {.name = "vtk",
-     .value = &v_file,
-     .at = CLI_AT(par.vtk),
-     .help = "write VTK, binary unless --vtk-ascii (./mesh: legacy FILE; ./pcdm, ./pbw: FILE's "
-             ".pvtu index, e.g. F.pvtu for F.vtk, with one piece F_R.vtu per rank, cell data "
-             "rank; no gather)"},
-    {.name = "vtk-ascii",
-     .value = &v_flag,
-     .at = CLI_AT(par.vtk_ascii),
-     .help = "write --vtk as ASCII (default: binary)"},
-    {.name = "svg",
-     .value = &v_file,
-     .at = CLI_AT(par.svg),
-     .help = "write an SVG picture (parallel meshers: coloured by rank, interfaces drawn; "
-             "collected on rank 0, at most 2000000 triangles)"},
-    {.name = "stats",
-     .value = &v_flag,
-     .at = CLI_AT(par.stats),
-     .help = "print the statistics line last (parallel meshers: per-rank lines before it)"},
-    {.name = "check",
-     .value = &v_flag,
-     .at = CLI_AT(par.check),
-     .help = "validate the mesh as ./meshcheck does (parallel meshers: each rank its own "
-             "part, interfaces compared, results reduced); exit 1 if it fails"},
-    {.name = "circumcenters",
-     .value = &v_flag,
-     .at = CLI_AT(par.circumcenters),
-     .help = "insert circumcenters only, the paper's choice (default: Ungor's off-centers where "
-             "they are closer, fewer triangles)"},
-    {.name = "progress",
-     .value = &v_flag,
-     .at = CLI_AT(par.progress),
-     .help = "progress lines on stderr (./mesh prints them anyway when stderr is a terminal)"},
-    {.letter = 'A',
-     .name = "region-attributes",
-     .value = &v_flag,
-     .at = CLI_AT(par.region_attr),
-     .help = "give each triangle its region's attribute (the .poly's regions), written to .ele"},
-    {.name = "region-areas",
-     .value = &v_flag,
-     .at = CLI_AT(par.region_area),
-     .help = "honour the .poly's per-region area bounds (Triangle's -a without a number)"},
-    {.letter = 'e',
-     .name = "edges",
-     .value = &v_flag,
-     .at = CLI_AT(par.edges),
-     .help = "also write PREFIX.edge (every edge, with its boundary marker)"},
-    {.letter = 'n',
-     .name = "neighbors",
-     .value = &v_flag,
-     .at = CLI_AT(par.neighbors),
-     .help = "also write PREFIX.neigh (the three neighbours of every triangle)"},
-    {.name = "order2",
-     .value = &v_flag,
-     .at = CLI_AT(par.order2),
-     .help = "quadratic triangles: six nodes each, edge midpoints added to .node (Triangle's -o2); "
-             "--vtk: cell type 22, one file"},
-    {.letter = 'r',
-     .name = "refine",
-     .value = &v_flag,
-     .at = CLI_AT(par.refine),
-     .help = "refine a mesh: the input is NAME.node/NAME.ele (and NAME.poly, NAME.area if "
-             "present)"},
-    {.letter = 'Q',
-     .name = "quiet",
-     .value = &v_flag,
-     .at = CLI_AT(par.quiet),
-     .help = "quiet: nothing but errors"},
-    {.letter = 'V',
-     .name = "verbose",
-     .value = &v_flag,
-     .at = CLI_AT(par.verbose),
-     .help = "verbose: more detail on stderr"},
-    {.name = "strict",
-     .value = &v_flag,
-     .at = CLI_AT(par.strict),
-     .help = "refuse crossing or overlapping segments (default: split them at the intersection, "
-             "as Triangle does)"},
-    {.name = "msh",
-     .value = &v_file,
-     .at = CLI_AT(par.msh),
-     .help = "write Gmsh MSH 4.1 ASCII (physical curves by boundary marker, surfaces by regional "
-             "attribute; one file)"},
-    {.name = "size",
-     .value = &v_file,
-     .at = CLI_AT(par.size_field),
-     .help = "size field: a background mesh (.node with one attribute, the target edge length "
-             "per vertex, and .ele), interpolated"},
-    {.help = NULL}};
-
-/* What both parallel meshers are told on top. */
-static const cli_opt parallel_rows[] = {
-    {.name = "subdomains",
-     .value = &v_nsub,
-     .at = CLI_AT(par.nsub),
-     .dflt_text = "the number of ranks",
-     .help = "number of subdomains, at least the number of ranks"},
-    {.name = "imbalance",
-     .value = &v_ratio,
-     .at = CLI_AT(par.imbalance),
-     .dflt = 1,
-     .help = "rank 0 gets R times the work of every other rank (the paper's two-to-one "
-             "experiment)"},
-    {.name = "cuts",
-     .value = &v_file,
-     .at = CLI_AT(par.cuts),
-     .help = "take the subdomain cuts from FILE (x1 y1 x2 y2 per line)"},
-    {.name = "write-cuts",
-     .value = &v_file,
-     .at = CLI_AT(par.write_cuts),
-     .help = "write the cuts used to FILE (rank 0)"},
-    {.name = "poll",
-     .value = &v_poll,
-     .at = CLI_AT(par.poll_every),
-     .dflt = 0,
-     .dflt_text = "300 for ./pcdm, 64 for ./pbw",
-     .help = "local work units (insertions, splits) between two services of incoming requests "
-             "(1: after every insertion, as the paper)"},
-    {.name = "perturb",
-     .value = &v_seed,
-     .at = CLI_AT(par.perturb),
-     .dflt_text = "off, or the environment's RT_PERTURB",
-     .help = "delay and reorder message delivery, reproducibly from SEED; 0: off"},
-    {.help = NULL}};
-
-static const cli_opt pbw_rows[] = {
-    {.name = "phases",
-     .value = &v_flag,
-     .at = CLI_AT(par.phases),
-     .help = "refine in phases (the data-parallel variant of the paper's Figure 1)"},
-    {.help = NULL}};
-
-static const cli_opt mesh_rows[] = {
-    {.name = "lens",
-     .value = &v_flag,
-     .at = CLI_AT(lens),
-     .help = "diametral lenses decide encroachment (as Triangle -q); default: diametral circles "
-             "(Ruppert)"},
-    {.name = "cdt-only",
-     .value = &v_flag,
-     .at = CLI_AT(cdt_only),
-     .help = "no refinement at all: the constrained Delaunay triangulation"},
-    {.help = NULL}};
-
-/* ./meshcheck's -q and -a are the bounds to verify: the same values and checks as the
- * meshers', but no bound unless given. */
-static const cli_opt meshcheck_rows[] = {
-    {.letter = 'q',
-     .value = &v_angle,
-     .at = CLI_AT(par.min_angle),
-     .dflt = 0,
-     .dflt_text = "no check",
-     .help = "fail if a triangle has an angle below DEG degrees (triangles at input angles "
-             "below 60 degrees are exempt)"},
-    {.letter = 'a',
-     .value = &v_area,
-     .at = CLI_AT(par.max_area),
-     .dflt = 0,
-     .dflt_text = "no check",
-     .help = "fail if a triangle's area exceeds AREA"},
-    {.name = "interfaces-delaunay",
-     .value = &v_flag,
-     .at = CLI_AT(interfaces_delaunay),
-     .help = "interface constraint edges must be locally Delaunay too"},
-    {.help = NULL}};
-
-static const cli_opt *const mesh_tables[] = {mesher_rows, mesh_rows, common_rows, NULL};
-static const cli_opt *const meshcheck_tables[] = {meshcheck_rows, common_rows, NULL};
-static const cli_opt *const pcdm_tables[] = {mesher_rows, parallel_rows, common_rows, NULL};
-static const cli_opt *const pbw_tables[] = {mesher_rows, parallel_rows, pbw_rows, common_rows,
-                                            NULL};
-
-const cli_prog cli_mesh = {"mesh",
-                           "./mesh [options] input.poly",
-                           "Constrained Delaunay triangulation + Ruppert/Chew quality refinement.",
-                           mesh_tables,
-                           {"input.poly", NULL},
-                           "Coordinates: any finite doubles whose largest magnitude is at least "
-                           "2^-723 (about 1.8e-218); nonzero coordinates below 2^-247 (about "
-                           "4.4e-75) times the largest are rejected (FILE:LINE message).  Features "
-                           "below about 2^-44 of the coordinates' magnitude cannot be resolved: "
-                           "such inputs, and angle bounds refinement cannot reach, end with an "
-                           "error (exit 1), never with a mesh outside the bounds."};
-const cli_prog cli_meshcheck = {
-    "meshcheck",
-    "meshcheck [options] input.poly PREFIX",
-    "Validates PREFIX.node/.ele (and PREFIX.poly) against input.poly: conformity, orientation, "
-    "input vertices and segments present, domain area, local Delaunay property, and the quality "
-    "bounds given.",
-    meshcheck_tables,
-    {"input.poly", "PREFIX"},
-    NULL};
-const cli_prog cli_pcdm = {"pcdm",
-                           "mpirun -np P ./pcdm [options] input.poly",
-                           "Parallel constrained Delaunay meshing (PCDM: constrained subdomains, "
-                           "TR-97-17 section 3).",
-                           pcdm_tables,
-                           {"input.poly", NULL},
-                           "Every rank exits with the same status."};
-const cli_prog cli_pbw = {"pbw",
-                          "mpirun -np P ./pbw [options] input.poly",
-                          "Parallel Delaunay meshing (PBW: distributed Bowyer-Watson, TR-97-17 "
-                          "section 2).",
-                          pbw_tables,
-                          {"input.poly", NULL},
-                          "Every rank exits with the same status."};
-
-static const char exit_text[] = "Exit status: 0 success; 1 bad input (an unreadable or invalid "
-                                "file), an output error, a failed mesh or a failed check; 2 "
-                                "usage error; 3 the Steiner limit (-S) stopped refinement: the "
-                                "mesh is written and conforming but does not meet -q/-a.";
+#include <strings.h>
 
 /* ---- table checks ------------------------------------------------------------------------ */
 
 static size_t kind_size(cli_kind k) {
     switch (k) {
     case CLI_HELP:
+    case CLI_VERSION:
         return 0;
     case CLI_FLAG:
         return sizeof(int);
@@ -307,8 +53,11 @@ static size_t kind_size(cli_kind k) {
 }
 
 static int takes_value(const cli_opt *r) {
-    return r->value->kind != CLI_FLAG && r->value->kind != CLI_HELP;
+    return r->value->kind != CLI_FLAG && r->value->kind != CLI_HELP &&
+           r->value->kind != CLI_VERSION;
 }
+
+static const cli_opt *find_name(const cli_prog *p, const char *name, size_t len);
 
 /* Bug unless every row is well formed and no letter or name repeats within p. */
 static void check_prog(const cli_prog *p) {
@@ -326,6 +75,16 @@ static void check_prog(const cli_prog *p) {
                         (r->name && s->name && !strcmp(r->name, s->name)))
                         MESH_BUG("%s: option %c%s declared twice", p->name,
                                  r->letter ? r->letter : '-', r->name ? r->name : "");
+            if (r->spelling && (r->value->kind != CLI_FLAG || strlen(r->spelling) < 2))
+                MESH_BUG("%s: spelling %s on a row that is not a flag", p->name, r->spelling);
+            if (r->bare && (!takes_value(r) || !r->letter))
+                MESH_BUG("%s: a bare meaning on a row without a letter and a value", p->name);
+            if (r->bare && r->bare[0] == '-') {
+                const cli_opt *f = find_name(p, r->bare + 2, strlen(r->bare + 2));
+                if (strncmp(r->bare, "--", 2) || !f || f->value->kind != CLI_FLAG)
+                    MESH_BUG("%s: -%c's bare meaning %s is not a flag of the program", p->name,
+                             r->letter, r->bare);
+            }
         }
 }
 
@@ -470,7 +229,8 @@ static int store(const parse_ctx *c, const cli_opt *r, const char *val, cli_opts
         *(int *)dst = 1;
         return 0;
     case CLI_HELP:
-        MESH_BUG("--help reached store()");
+    case CLI_VERSION:
+        MESH_BUG("--help or --version reached store()");
     case CLI_STRING:
         ok = val[0] != 0;
         if (ok) *(const char **)dst = val;
@@ -498,6 +258,154 @@ static int store(const parse_ctx *c, const cli_opt *r, const char *val, cli_opts
     else
         describe(v, what, sizeof what);
     return usage_error(c, "bad value '%s': %s needs %s", val, row_name(r, name, sizeof name), what);
+}
+
+/* Triangle's letters this project does not implement, for a clearer refusal than "unknown". */
+static const struct {
+    char letter;
+    const char *what;
+} triangle_only[] = {{'c', "enclose the convex hull"},
+                     {'D', "conforming Delaunay"},
+                     {'j', "jettison unused vertices"},
+                     {'v', "Voronoi diagram"},
+                     {'g', "OFF output"},
+                     {'B', "no boundary markers"},
+                     {'I', "no iteration numbers"},
+                     {'O', "ignore holes"},
+                     {'X', "no exact arithmetic"},
+                     {'z', "numbering from zero"},
+                     {'Y', "no Steiner points on the boundary"},
+                     {'i', "incremental triangulation"},
+                     {'F', "Fortune's sweepline"},
+                     {'l', "vertical cuts only"},
+                     {'s', "segments split instead of constrained"},
+                     {'C', "consistency check; here: --check"},
+                     {'u', "a compiled-in size test; here: --size FILE"},
+                     {'U', "a compiled-in size test; here: --size FILE"}};
+
+/* The letter at s is no option of p: one usage error naming it (and the string it is in). */
+static int bad_letter(const parse_ctx *c, const char *s, const char *arg) {
+    char in[160] = "";
+    if (strlen(arg) > 2) snprintf(in, sizeof in, " in '%.120s'", arg);
+    for (size_t k = 0; k < sizeof triangle_only / sizeof *triangle_only; k++)
+        if (triangle_only[k].letter == *s)
+            return usage_error(c, "option -%c%s is not supported (in Triangle: %s)", *s, in,
+                               triangle_only[k].what);
+    return usage_error(c, "unknown option '-%c'%s", *s, in);
+}
+
+/* Where a number glued on in a switch string begins: a digit, a point and a digit, or a sign
+ * and either. */
+static int glued_start(const char *s) {
+    if (*s == '-' || *s == '+') s++;
+    return isdigit((unsigned char)s[0]) || (s[0] == '.' && isdigit((unsigned char)s[1]));
+}
+
+/* Whether a whole argument is meant as a letter's value rather than the next option or the
+ * input: it starts as a number does, or spells nan or inf (each refused later, strictly). */
+static int looks_like_value(const char *s) {
+    if (glued_start(s) || (s[0] == '.' && !s[1])) return 1;
+    if (*s == '-' || *s == '+') s++;
+    return !strncasecmp(s, "nan", 3) || !strncasecmp(s, "inf", 3);
+}
+
+static int stop_help(const parse_ctx *c, const cli_opt *r, FILE *out) {
+    if (r->value->kind == CLI_HELP) {
+        if (out) cli_help(c->p, out);
+    } else if (out) {
+        fprintf(out, "%s (pcdm) %s\n", c->p->name, PCDM_VERSION);
+    }
+    *c->status = CLI_EXIT_OK;
+    return 1;
+}
+
+/* Row r's meaning without a value: its bare number, or the flag row it names. */
+static int store_bare(const parse_ctx *c, const cli_opt *r, cli_opts *o) {
+    if (r->bare[0] != '-') return store(c, r, r->bare, o);
+    return store(c, find_name(c->p, r->bare + 2, strlen(r->bare + 2)), NULL, o);
+}
+
+/* Walks the switch string argv[*i] (cli.h states the rule), storing each option; may take the
+ * next argument as a lone letter's value (then *i moves on).  Returns 0 to go on, or 1 to stop
+ * (help, version or a usage error, with *c->status). */
+static int walk_switches(const parse_ctx *c, int argc, char **argv, int *i, FILE *out,
+                         cli_opts *o) {
+    const char *arg = argv[*i], *s = arg + 1;
+    char name[64];
+    while (*s) {
+        const cli_opt *r = NULL;
+        for (const cli_opt *const *t = c->p->tables; *t && !r; t++)
+            for (const cli_opt *q = *t; q->help && !r; q++)
+                if (q->spelling && !strncmp(s, q->spelling, strlen(q->spelling))) r = q;
+        const char *at = s;
+        if (r) {
+            s += strlen(r->spelling);
+        } else if ((r = find_letter(c->p, *s)) != NULL) {
+            s++;
+        } else {
+            return bad_letter(c, s, arg);
+        }
+        if (r->value->kind == CLI_HELP || r->value->kind == CLI_VERSION)
+            return stop_help(c, r, out);
+        if (!takes_value(r)) {
+            if (store(c, r, NULL, o)) return 1;
+            continue;
+        }
+        int alone = at == arg + 1 && !*s;
+        if (r->value->kind == CLI_STRING) {
+            if (at != arg + 1)
+                return usage_error(c,
+                                   "option -%c (%s) must open its argument, as in -%c %s, not '%s'",
+                                   r->letter, r->value->metavar, r->letter, r->value->metavar, arg);
+            if (!*s && *i + 1 >= argc)
+                return usage_error(c, "option %s needs a value (%s)",
+                                   row_name(r, name, sizeof name), r->value->metavar);
+            return store(c, r, *s ? s : argv[++*i], o);
+        }
+        if (glued_start(s)) { /* the number glued on: as far as strtod reads, then to a letter */
+            char *e;
+            (void)strtod(s, &e);
+            while (*e && !isalpha((unsigned char)*e))
+                e++;
+            char val[128];
+            snprintf(val, sizeof val, "%.*s", (int)(e - s), s);
+            if (store(c, r, val, o)) return 1;
+            s = e;
+        } else if (alone && *i + 1 < argc && (!r->bare || looks_like_value(argv[*i + 1]))) {
+            return store(c, r, argv[++*i], o); /* the spaced form, -q 30 */
+        } else if (r->bare) {
+            if (store_bare(c, r, o)) return 1;
+        } else {
+            return usage_error(c, "option %s needs a value (%s)%s%s%s",
+                               row_name(r, name, sizeof name), r->value->metavar,
+                               alone ? "" : " glued on, in '", alone ? "" : arg, alone ? "" : "'");
+        }
+    }
+    return 0;
+}
+
+int cli_output_name(const char *input, int refine, char *buf, size_t n) {
+    static const char *const ext[] = {".poly", ".node", ".ele", ".area"};
+    size_t len = strlen(input);
+    for (size_t k = 0; k < sizeof ext / sizeof *ext; k++) {
+        size_t e = strlen(ext[k]);
+        if (len > e && !strcmp(input + len - e, ext[k])) {
+            len -= e;
+            break;
+        }
+    }
+    unsigned long long num = 1;
+    if (refine) { /* NAME.N -> NAME.N+1 (up to 18 digits; more is no number) */
+        size_t d = len;
+        while (d > 0 && isdigit((unsigned char)input[d - 1]))
+            d--;
+        if (d < len && len - d <= 18 && d > 0 && input[d - 1] == '.') {
+            num = strtoull(input + d, NULL, 10) + 1;
+            len = d - 1;
+        }
+    }
+    int w = snprintf(buf, n, "%.*s.%llu", (int)len, input, num);
+    return w < 0 || (size_t)w >= n ? -1 : 0;
 }
 
 int cli_parse(const cli_prog *p, int argc, char **argv, FILE *out, FILE *err, cli_opts *o,
@@ -528,10 +436,8 @@ int cli_parse(const cli_prog *p, int argc, char **argv, FILE *out, FILE *err, cl
                 return usage_error(&c, "option --%s takes no value", r->name);
             if (eq) val = eq + 1;
         } else if (!options_done && a[0] == '-' && a[1]) {
-            /* a Triangle switch string would be walked here, letter by letter */
-            r = find_letter(p, a[1]);
-            if (!r || (a[2] && !takes_value(r))) return usage_error(&c, "unknown option '%s'", a);
-            if (a[2]) val = a + 2;
+            if (walk_switches(&c, argc, argv, &i, out, o)) return 1;
+            continue;
         } else {
             if (npos == 0 && !p->args[0]) return usage_error(&c, "unexpected argument '%s'", a);
             if (npos == 2 || !p->args[npos])
@@ -540,10 +446,8 @@ int cli_parse(const cli_prog *p, int argc, char **argv, FILE *out, FILE *err, cl
             *pos[npos++] = a;
             continue;
         }
-        if (r->value->kind == CLI_HELP) {
-            if (out) cli_help(p, out);
-            return 1;
-        }
+        if (r->value->kind == CLI_HELP || r->value->kind == CLI_VERSION)
+            return stop_help(&c, r, out);
         if (takes_value(r) && !val) {
             if (i + 1 >= argc)
                 return usage_error(&c, "option %s needs a value (%s)",
@@ -554,69 +458,21 @@ int cli_parse(const cli_prog *p, int argc, char **argv, FILE *out, FILE *err, cl
     }
     if (npos < 2 && p->args[npos])
         return usage_error(&c, "missing %s; usage: %s", p->args[npos], p->usage);
+    if (p->triangle_names && !o->par.out_prefix) {
+        if (cli_output_name(o->par.input, o->par.refine, o->par.out_name, sizeof o->par.out_name))
+            return usage_error(&c, "input name '%.100s...' too long to name the output (give -o)",
+                               o->par.input);
+        o->par.out_prefix = o->par.out_name;
+    }
     for (const cli_opt *const *t = p->tables; *t; t++)
         for (const cli_opt *r = *t; r->help; r++) {
             if (r->value->kind != CLI_REAL || !(r->warn_above > 0)) continue;
             double x = *(const double *)((const char *)o + r->at.offset);
-            if (x > r->warn_above && err)
+            if (x > r->warn_above && err && !o->par.quiet)
                 fprintf(err, "%s: warning: %s %g %s\n", p->name, row_name(r, name, sizeof name), x,
                         r->warning);
         }
     return 0;
-}
-
-/* ---- help -------------------------------------------------------------------------------- */
-
-/* Writes text from column col (the cursor is there), wrapping at 100 columns back to col. */
-static void wrap(FILE *f, const char *text, int col) {
-    int at = col;
-    while (*text) {
-        while (*text == ' ')
-            text++;
-        size_t w = strcspn(text, " ");
-        if (at > col && at + 1 + (int)w > 100) {
-            fprintf(f, "\n%*s", col, "");
-            at = col;
-        } else if (at > col) {
-            fputc(' ', f);
-            at++;
-        }
-        fprintf(f, "%.*s", (int)w, text);
-        at += (int)w;
-        text += w;
-    }
-    fputc('\n', f);
-}
-
-void cli_help(const cli_prog *p, FILE *f) {
-    enum { COL = 24 };
-    fprintf(f, "usage: %s\n", p->usage);
-    wrap(f, p->about, 0);
-    fprintf(f, "Options:\n");
-    for (const cli_opt *const *t = p->tables; *t; t++)
-        for (const cli_opt *r = *t; r->help; r++) {
-            char left[64], text[512], dflt[96] = "";
-            int n = snprintf(left, sizeof left, "  ");
-            if (r->letter)
-                n += snprintf(left + n, sizeof left - (size_t)n, "-%c%s", r->letter,
-                              r->name ? ", " : "");
-            if (r->name) n += snprintf(left + n, sizeof left - (size_t)n, "--%s", r->name);
-            if (takes_value(r))
-                n += snprintf(left + n, sizeof left - (size_t)n, " %s", r->value->metavar);
-            if (r->dflt_text)
-                snprintf(dflt, sizeof dflt, " (default: %s)", r->dflt_text);
-            else if (takes_value(r) && r->value->kind != CLI_STRING)
-                snprintf(dflt, sizeof dflt, " (default: %.15g)", r->dflt);
-            snprintf(text, sizeof text, "%s%s", r->help, dflt);
-            fputs(left, f);
-            if (n >= COL - 1)
-                fprintf(f, "\n%*s", COL, "");
-            else
-                fprintf(f, "%*s", COL - n, "");
-            wrap(f, text, COL);
-        }
-    wrap(f, exit_text, 0);
-    if (p->notes) wrap(f, p->notes, 0);
 }
 
 int cli_par_parse(int argc, char **argv, int rank, const void *prog, par_opts *o, int *status) {
@@ -624,5 +480,6 @@ int cli_par_parse(int argc, char **argv, int rank, const void *prog, par_opts *o
     int stop = cli_parse(prog, argc, argv, rank == 0 ? stdout : NULL, rank == 0 ? stderr : NULL, &c,
                          status);
     *o = c.par;
+    if (c.par.out_prefix == c.par.out_name) o->out_prefix = o->out_name; /* not into c */
     return stop;
 }

@@ -2,13 +2,15 @@
  *
  * Reads a PSLG (Triangle's .poly or .node), builds its constrained Delaunay triangulation and
  * refines it with Ruppert/Chew Delaunay refinement (mesher/seq/mesh.h), then writes the requested
- * outputs.  Options, usage errors and exit statuses: the front end (apps/cli.c; ./mesh --help).
- * Bad input: one message "FILE:LINE: problem" and exit status 1.  With --stats the
- * last line printed is
- *   stats: triangles=N vertices=N steiner=N min_angle=D max_area=A wall_s=T peak_rss_mb=M
- *          bytes_per_tri=B
- * (one line) where wall_s is the meshing time (triangulation + refinement, no file I/O) and
- * bytes_per_tri is the process's peak resident memory divided by the number of triangles.
+ * outputs: the Triangle files where Triangle puts them unless -o names a prefix (or -NEP none).
+ * -Q keeps stdout and stderr for errors (and --stats); -V adds a summary on stderr.  Bounds
+ * refinement cannot reach end with a message and exit 1, the mesh written only with
+ * --write-partial.  Options, usage errors and exit statuses: the front end (apps/cli.c; ./mesh
+ * --help). Bad input: one message "FILE:LINE: problem" and exit status 1.  With --stats the last
+ * line printed is stats: triangles=N vertices=N steiner=N min_angle=D max_area=A wall_s=T
+ * peak_rss_mb=M bytes_per_tri=B (one line) where wall_s is the meshing time (triangulation +
+ * refinement, no file I/O) and bytes_per_tri is the process's peak resident memory divided by the
+ * number of triangles.
  */
 #include "seq/mesh.h"
 #include "geom/geom.h"
@@ -19,6 +21,7 @@
 
 #include "cli.h"
 
+#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -51,6 +54,40 @@ static int poll_progress(void *ctx) {
     return 0;
 }
 
+/* pslg_check, its warnings (merged duplicates) silenced under -Q: stderr points at /dev/null
+ * while it runs; its errors come back in err. */
+static int check_input(pslg *g, int quiet, char *err, size_t errlen) {
+    if (!quiet) return pslg_check(g, err, errlen);
+    fflush(stderr);
+    int saved = dup(2), devnull = open("/dev/null", O_WRONLY);
+    if (saved >= 0 && devnull >= 0) dup2(devnull, 2);
+    int rc = pslg_check(g, err, errlen);
+    fflush(stderr);
+    if (saved >= 0 && devnull >= 0) dup2(saved, 2);
+    if (saved >= 0) close(saved);
+    if (devnull >= 0) close(devnull);
+    return rc;
+}
+
+/* -V: what was read and what is asked for. */
+static void verbose_input(const cli_opts *o, const pslg *g, double read_s) {
+    char area[64] = "none", steiner[64] = "none";
+    if (o->par.max_area > 0) snprintf(area, sizeof area, "%g", o->par.max_area);
+    if (o->par.max_steiner >= 0)
+        snprintf(steiner, sizeof steiner, "%lld", (long long)o->par.max_steiner);
+    fprintf(stderr,
+            "mesh: %s: %ld vertices, %ld segments, %ld holes, %ld regions (read and checked in "
+            "%.3f s)\n",
+            o->par.input, (long)g->nverts, (long)g->nsegs, (long)g->nholes, (long)g->nregions,
+            read_s);
+    if (o->cdt_only)
+        fprintf(stderr, "mesh: bounds: none (--cdt-only)\n");
+    else
+        fprintf(stderr, "mesh: bounds: -q %g, -a %s, -S %s; %s, diametral %s\n", o->par.min_angle,
+                area, steiner, o->par.circumcenters ? "circumcenters" : "off-centers",
+                o->lens ? "lenses" : "circles");
+}
+
 int main(int argc, char **argv) {
     cli_opts o;
     int code;
@@ -59,20 +96,25 @@ int main(int argc, char **argv) {
     double qdeg = o.par.min_angle, area = o.par.max_area;
     long long steiner = (long long)o.par.max_steiner;
     int stats = o.par.stats, check = o.par.check, cdt_only = o.cdt_only;
+    int quiet = o.par.quiet, verbose = o.par.verbose && !quiet;
+    /* the Triangle files: prefix is -o's or Triangle's name (the front end's); -NEP: none */
+    int write_tri = prefix && par_skip_files(&o.par) != MESHIO_SKIP_ALL;
 
     geom_init();
     char err[1024];
     pslg g;
+    double t_read = now();
     if (pslg_read(input, &g, err, sizeof err) != 0) {
         fprintf(stderr, "mesh: %s\n", err);
         return 1;
     }
-    if (pslg_check(&g, err, sizeof err) != 0) {
+    if (check_input(&g, quiet, err, sizeof err) != 0) {
         fprintf(stderr, "mesh: %s\n", err);
         pslg_free(&g);
         return 1;
     }
     double t0 = now();
+    if (verbose) verbose_input(&o, &g, t0 - t_read);
     mesh m;
     mesh_init(&m);
     if (mesh_build_cdt(&m, &g, NULL, err, sizeof err) != 0) {
@@ -81,7 +123,8 @@ int main(int argc, char **argv) {
         pslg_free(&g);
         return 1;
     }
-    progress pr = {o.par.progress || isatty(2), t0, t0, &m};
+    double t_cdt = now() - t0;
+    progress pr = {!quiet && (o.par.progress || isatty(2)), t0, t0, &m};
     mesh_hooks h = {NULL, poll_progress, 4096, &pr};
     mesh_set_hooks(&m, &h);
     mesh_refine_result rr = MESH_REFINE_DONE;
@@ -103,27 +146,40 @@ int main(int argc, char **argv) {
                 "mesh: %s: Steiner point limit (-S %lld) reached with %lld triangles outside the "
                 "bounds; the mesh is conforming but does not meet them (exit status 3)\n",
                 input, steiner, (long long)unmet);
-    if (unmet > 0 && !limited) {
+    /* bounds refinement cannot reach: an error; the mesh made so far is written (and checked
+     * without the bounds) only when --write-partial asks for it */
+    int partial = unmet > 0 && !limited;
+    if (partial) {
         fprintf(stderr,
                 "mesh: %s: cannot meet the bounds: %lld triangles still violate them after %lld "
                 "refused splits (features below the precision of the coordinates, a region too "
                 "thin for its length, or -q %g "
-                "beyond what refinement reaches on this input)\n",
-                input, (long long)unmet, (long long)m.stats.unresolved, qdeg);
-        mesh_free(&m);
-        pslg_free(&g);
-        return 1;
+                "beyond what refinement reaches on this input)%s\n",
+                input, (long long)unmet, (long long)m.stats.unresolved, qdeg,
+                o.par.write_partial ? "; writing the mesh made so far (--write-partial)" : "");
+        if (!o.par.write_partial) {
+            mesh_free(&m);
+            pslg_free(&g);
+            return 1;
+        }
     }
+    if (verbose)
+        fprintf(stderr,
+                "mesh: triangulation %.4f s, refinement %.4f s: %ld triangles, %ld vertices (%ld "
+                "Steiner points)\n",
+                t_cdt, wall - t_cdt, (long)m.nlive, (long)m.nv, (long)(m.nv - m.ninput));
 
     int rc = 0;
     mesh_flat f;
-    int need_flat = prefix || vtk || svg || check || o.par.msh;
+    int need_flat = write_tri || vtk || svg || check || o.par.msh ||
+                    (prefix && (o.par.edges || o.par.neighbors || o.par.order2));
     double t_out = now();
     if (need_flat && mesh_to_flat(&m, &f) != 0) {
         fprintf(stderr, "mesh: out of memory\n");
         return 1;
     }
-    if (prefix && meshio_write_triangle(&f, prefix, err, sizeof err) != 0) {
+    if (write_tri &&
+        meshio_write_triangle_some(&f, prefix, par_skip_files(&o.par), err, sizeof err) != 0) {
         fprintf(stderr, "mesh: %s\n", err);
         rc = 1;
     }
@@ -145,12 +201,17 @@ int main(int argc, char **argv) {
         rc = 1;
     }
     t_out = now() - t_out; /* the flat form and the files (-o, --vtk, --svg) */
+    if (verbose && write_tri && rc == 0)
+        fprintf(stderr, "mesh: wrote %s%s%s%s (%.3f s with the other outputs)\n", prefix,
+                o.par.no_node ? "" : ".node ", o.par.no_ele ? "" : ".ele ",
+                o.par.no_poly ? "" : ".poly", t_out);
     if (check) {
-        int nob = cdt_only || limited; /* the bounds were given up: check the rest */
+        int nob = cdt_only || limited || partial; /* the bounds were given up: check the rest */
         validate_opts vo = {nob ? 0 : qdeg, nob ? 0 : area, 0, 0};
         validate_report vr;
-        if (!mesh_validate(&g, &f, &vo, &vr)) rc = 1;
-        validate_report_print(&vr, stdout);
+        int good = mesh_validate(&g, &f, &vo, &vr);
+        if (!good) rc = 1;
+        if (!quiet || !good) validate_report_print(&vr, stdout);
     }
     if (stats) {
         double amin = 180, amax = 0;
@@ -184,5 +245,5 @@ int main(int argc, char **argv) {
     if (need_flat) mesh_flat_free(&f);
     mesh_free(&m);
     pslg_free(&g);
-    return rc == 0 && limited ? 3 : rc;
+    return partial ? 1 : rc == 0 && limited ? 3 : rc;
 }

@@ -96,6 +96,8 @@ int main(int argc, char **argv) {
         return code;
     int rank = rt_rank(), size = rt_size();
     MPI_Comm comm = rt_app_comm();
+    int verbose = o.verbose && !o.quiet; /* -Q wins */
+    if (verbose) par_verbose_input(&o, &in, &d);
     MESH_MPI(MPI_Barrier(comm));
     double t0 = rt_wtime(), c0 = par_cpu_seconds();
     rt_stats_reset();
@@ -164,14 +166,18 @@ int main(int argc, char **argv) {
                 "pbw: %s: Steiner point limit (-S %lld) reached with %lld triangles outside the "
                 "bounds; the mesh is conforming but does not meet them (exit status 3)\n",
                 o.input, (long long)o.max_steiner, unmet_all[0]);
-    if (unmet_all[0] > 0 && !limited) {
-        if (rank == 0)
-            fprintf(stderr,
-                    "pbw: %s: cannot meet the bounds: %lld triangles still violate them after "
-                    "%lld refused splits (features below the precision of the coordinates, a "
-                    "region too thin for its length, or "
-                    "-q %g beyond what refinement reaches on this input)\n",
-                    o.input, unmet_all[0], unmet_all[1], o.min_angle);
+    /* bounds refinement cannot reach: an error on every rank; the mesh made so far is written
+     * (checked without the bounds) only with --write-partial */
+    int partial = unmet_all[0] > 0 && !limited;
+    if (partial && rank == 0)
+        fprintf(stderr,
+                "pbw: %s: cannot meet the bounds: %lld triangles still violate them after "
+                "%lld refused splits (features below the precision of the coordinates, a "
+                "region too thin for its length, or -q %g beyond what refinement reaches on this "
+                "input)%s\n",
+                o.input, unmet_all[0], unmet_all[1], o.min_angle,
+                o.write_partial ? "; writing the mesh made so far (--write-partial)" : "");
+    if (partial && !o.write_partial) {
         mesh_flat_free(&local);
         pcdm_decomp_free(&d);
         pslg_free(&in);
@@ -181,12 +187,14 @@ int main(int argc, char **argv) {
     /* the common end: interface check, numbering, --check, output (no gather) */
     par_summary sum;
     par_opts oc = o; /* what --check holds the mesh to */
-    if (limited) oc.min_angle = oc.max_area = 0;
+    if (limited || partial) oc.min_angle = oc.max_area = 0;
     int status = par_output(&oc, &in, &local, NULL, &sum);
     mesh_flat_free(&local);
     /* statistics: reductions of per-rank figures; memory taken now, after the output */
     rs[RS_RSS] = (double)par_peak_rss_bytes();
     rs[RS_OUT] = sum.number_s + sum.check_s + sum.write_s;
+    if (verbose && status == 0)
+        par_verbose_result(&o, rs[RS_WALL], sum.ntris, sum.nverts, sum.min_angle, rs[RS_OUT]);
     double tot[RS_N], mx[RS_N];
     all = par_stats_collect(rs, RS_N, o.stats, tot, mx);
     if (all) {
@@ -239,5 +247,5 @@ int main(int argc, char **argv) {
     pcdm_decomp_free(&d);
     pslg_free(&in);
     rt_finalize();
-    return status == 0 && limited ? 3 : status;
+    return partial ? 1 : status == 0 && limited ? 3 : status;
 }

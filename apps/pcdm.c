@@ -77,6 +77,8 @@ int main(int argc, char **argv) {
         return code;
     int rank = rt_rank(), size = rt_size();
     MPI_Comm comm = rt_app_comm();
+    int verbose = o.verbose && !o.quiet; /* -Q wins */
+    if (verbose) par_verbose_input(&o, &in, &d);
 
     /* wall_s starts here: input read, checked and decomposed on every rank */
     MESH_MPI(MPI_Barrier(comm));
@@ -92,7 +94,7 @@ int main(int argc, char **argv) {
         rt_finalize();
         return 1;
     }
-    part.progress = o.progress && rank == 0;
+    part.progress = o.progress && !o.quiet && rank == 0;
     mesh_quality q;
     memset(&q, 0, sizeof q);
     /* a hair above the requested bound, as ./mesh does, so rounding in the quality test can
@@ -149,14 +151,17 @@ int main(int argc, char **argv) {
                 "pcdm: %s: Steiner point limit (-S %lld) reached with %lld triangles outside the "
                 "bounds; the mesh is conforming but does not meet them (exit status 3)\n",
                 o.input, (long long)o.max_steiner, unmet_all);
-    if (unmet_all > 0 && !limited) {
-        if (rank == 0)
-            fprintf(stderr,
-                    "pcdm: %s: cannot meet the bounds: %lld triangles still violate them "
-                    "(features below the precision of the coordinates, a region too thin for its "
-                    "length, or -q %g beyond what "
-                    "refinement reaches on this input)\n",
-                    o.input, unmet_all, o.min_angle);
+    /* bounds refinement cannot reach: an error on every rank; the mesh made so far is written
+     * (checked without the bounds) only with --write-partial */
+    int partial = unmet_all > 0 && !limited;
+    if (partial && rank == 0)
+        fprintf(stderr,
+                "pcdm: %s: cannot meet the bounds: %lld triangles still violate them "
+                "(features below the precision of the coordinates, a region too thin for its "
+                "length, or -q %g beyond what refinement reaches on this input)%s\n",
+                o.input, unmet_all, o.min_angle,
+                o.write_partial ? "; writing the mesh made so far (--write-partial)" : "");
+    if (partial && !o.write_partial) {
         free(artificial);
         pcdm_part_free(&part);
         pcdm_decomp_free(&d);
@@ -172,7 +177,7 @@ int main(int argc, char **argv) {
     par_summary sum;
     double c2 = par_cpu_seconds();
     par_opts oc = o; /* what --check holds the mesh to */
-    if (limited) oc.min_angle = oc.max_area = 0;
+    if (limited || partial) oc.min_angle = oc.max_area = 0;
     int status = par_output_sub(&oc, &in, &local, artificial, tsub, topen, &sum);
     free(artificial);
     free(tsub);
@@ -184,6 +189,8 @@ int main(int argc, char **argv) {
     rs[RS_NUMBER] = sum.number_s;
     rs[RS_WRITE] = sum.write_s;
     rs[RS_OUTCPU] = par_cpu_seconds() - c2;
+    if (verbose && status == 0)
+        par_verbose_result(&o, rs[RS_WALL], sum.ntris, sum.nverts, sum.min_angle, rs[RS_OUT]);
     double tot[RS_N], mx[RS_N];
     all = par_stats_collect(rs, RS_N, o.stats, tot, mx);
     if (all) {
@@ -220,5 +227,5 @@ int main(int argc, char **argv) {
     pcdm_decomp_free(&d);
     pslg_free(&in);
     rt_finalize();
-    return status == 0 && limited ? 3 : status;
+    return partial ? 1 : status == 0 && limited ? 3 : status;
 }

@@ -180,17 +180,17 @@ run_one() {
     local -a imbargs=()
     [ "$imb" != 1 ] && imbargs=(--imbalance "$imb")
     if [ "$prog" = mesh ]; then
-        cmd=(timeout "$tmo" "${RSS_WRAP[@]}" "$exe" -q "$QDEG" -a "$area" --stats "$@" "$DOMAIN")
+        cmd=(timeout "$tmo" "${RSS_WRAP[@]}" "$exe" -NEP -q "$QDEG" -a "$area" --stats "$@" "$DOMAIN")
     else
         cmd=(timeout "$tmo" mpirun --oversubscribe -np "$np" "${RSS_WRAP[@]}"
-             "$exe" -q "$QDEG" -a "$area" "${imbargs[@]}" --stats "$@" "$DOMAIN")
+             "$exe" -NEP -q "$QDEG" -a "$area" "${imbargs[@]}" --stats "$@" "$DOMAIN")
     fi
-    # The command as a user would type it (without the RSS shim).
+    # The command as a user would type it (without the RSS shim); -NEP: no Triangle files
     local shown
     if [ "$prog" = mesh ]; then
-        shown="$exe -q $QDEG -a $area --stats $* $DOMAIN"
+        shown="$exe -NEP -q $QDEG -a $area --stats $* $DOMAIN"
     else
-        shown="timeout $tmo mpirun --oversubscribe -np $np $exe -q $QDEG -a $area ${imbargs[*]} --stats $* $DOMAIN"
+        shown="timeout $tmo mpirun --oversubscribe -np $np $exe -NEP -q $QDEG -a $area ${imbargs[*]} --stats $* $DOMAIN"
     fi
     echo "$section/$label rep $rep: $(echo "$shown" | tr -s ' ')" >>"$CMDS"
     local t0 t1 rc
@@ -246,8 +246,8 @@ section_end() {
 # Triangles scale about as 1/area: a few ./mesh runs find the -a that gives the target count.
 calib_run() { # calib_run AREA -> triangle count (or empty)
     local out
-    out=$(timeout "$RUN_TIMEOUT" "$MESH" -q "$QDEG" -a "$1" --stats "$DOMAIN" 2>/dev/null | grep '^stats:' | tail -1)
-    echo "$MESH -q $QDEG -a $1 --stats $DOMAIN   # calibration" >>"$CMDS"
+    out=$(timeout "$RUN_TIMEOUT" "$MESH" -NEP -q "$QDEG" -a "$1" --stats "$DOMAIN" 2>/dev/null | grep '^stats:' | tail -1)
+    echo "$MESH -NEP -q $QDEG -a $1 --stats $DOMAIN   # calibration" >>"$CMDS"
     key triangles "$out"
 }
 # REF_A/REF_N: the latest successful (area, triangles) pair; scaled TARGET extrapolates from it.

@@ -73,13 +73,13 @@ summary=()
 run_case() { # domain n repeat
     local f=data/$1.poly n=$2 rep=$3
     local area a afix label
-    area=$("$MESH" --cdt-only --check "$f" 2>/dev/null | sed -n 's/.* domain_area=\([^ ]*\).*/\1/p')
+    area=$("$MESH" -NEP --cdt-only --check "$f" 2>/dev/null | sed -n 's/.* domain_area=\([^ ]*\).*/\1/p')
     [ -n "$area" ] || { echo "$1: cannot compute the domain area"; return; }
     a=$(awk -v A="$area" -v n="$n" 'BEGIN { printf "%.6g", A * 1.55 / n }')
     afix=$(awk -v a="$a" 'BEGIN { printf "%.15f", a }' | sed 's/0*$//') # Triangle: no exponent
     label="$1@$(awk -v n="$n" 'BEGIN { printf "%gM", n / 1e6 }')"
     local ml tl=""
-    ml=$(best_of "$rep" "$MESH" --stats -q "$Q" -a "$a" "$f")
+    ml=$(best_of "$rep" "$MESH" -NEP --stats -q "$Q" -a "$a" "$f")
     if [ "$ml" = FAILED ]; then
         printf '%-16s %-8s FAILED\n' "$label" mesh
         return

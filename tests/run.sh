@@ -18,6 +18,9 @@ export B
 MPIRUN="mpirun --oversubscribe"
 export MPIRUN
 pass=0 fail=0 failed=()
+# Nothing a test runs may write into the repository's inputs (a mesher without -o writes
+# NAME.1.* next to its input, as Triangle does: tests pass -o into a temporary folder or -NEP).
+inputs_before=$(ls data tests/inputs 2>/dev/null)
 log=$B/test-logs
 mkdir -p "$log"
 run() { # name, command...
@@ -48,6 +51,12 @@ for sh in tests/t_*.sh; do
     [ -e "$sh" ] || continue
     run "$(basename "$sh" .sh)" timeout 900 bash "$sh"
 done
+inputs_after=$(ls data tests/inputs 2>/dev/null)
+if [ "$inputs_before" != "$inputs_after" ]; then
+    fail=$((fail + 1)); failed+=("inputs-untouched")
+    echo "FAIL inputs-untouched: tests wrote into data/ or tests/inputs/:"
+    diff <(echo "$inputs_before") <(echo "$inputs_after") | sed -n 's/^> /    /p'
+fi
 echo
 [ "$fail" -gt 0 ] && printf 'failed: %s\n' "${failed[*]}"
 echo "$pass passed, $fail failed"

@@ -4,7 +4,9 @@
 # errors (unknown option, missing value, -q nan, -q inf, -a -1, -a 1e400, integer overflow,
 # missing input argument) exit 2 with one line "PROG: ... (try --help)"; a missing input file
 # exits 1 naming the file; every rank of a parallel run exits with the same status, and none
-# hangs (timeout); the shared options' help lines are the same in every mesher.
+# hangs (timeout); the shared options' help lines are the same in every mesher.  Triangle's
+# syntax end to end (issue 15): switch strings, NAME.1 output next to the input, -NEP, -N, -Q,
+# -V, --version, letters not supported (triangle_cases below).
 set -u
 cd "$(dirname "$0")/.."
 BIN=${BIN:-.}
@@ -109,7 +111,11 @@ common_cases() {
     local args=("$@")
     expect_help "$prog" "$np"
     expect_usage "$prog" "$np" "unknown option '--no-such-option'" --no-such-option "${args[@]}"
-    expect_usage "$prog" "$np" "option -a needs a value" "${args[@]}" -a
+    # a value letter last: -S always needs its value (./meshcheck's -a too; the meshers' lone -a
+    # is Triangle's "regional bounds")
+    local vopt=-S
+    [ "$prog" = meshcheck ] && vopt=-a
+    expect_usage "$prog" "$np" "option $vopt needs a value" "${args[@]}" "$vopt"
     expect_usage "$prog" "$np" "bad value 'nan': -q needs a non-negative number" -q nan "${args[@]}"
     expect_usage "$prog" "$np" "bad value 'inf': -q" -q inf "${args[@]}"
     expect_usage "$prog" "$np" "bad value '-1': -a needs a non-negative number" -a -1 "${args[@]}"
@@ -125,7 +131,7 @@ more_cases() {
     expect_usage "$prog" "$np" "bad value '-inf': -q" -q -inf "${args[@]}"
     expect_usage "$prog" "$np" "bad value '30x': -q" -q 30x "${args[@]}"
     expect_usage "$prog" "$np" "bad value '70': -q .*at most 60" -q 70 "${args[@]}"
-    expect_usage "$prog" "$np" "bad value 'NaN': -a" -aNaN "${args[@]}"
+    expect_usage "$prog" "$np" "unknown option '-x' in '-q30x'" -q30x "${args[@]}"
     expect_usage "$prog" "$np" "missing input.poly; usage: " -q 20
 }
 
@@ -139,7 +145,7 @@ mesher_cases() {
     expect_usage "$prog" "$np" "unexpected argument 'data/lake.poly'" data/square.poly data/lake.poly
     expect_missing_file "$prog" "$np" -q30 -a0.1 "$T/nosuch.poly"
     # accepted forms: glued values, --name=value, "--" before a name starting with '-'
-    run "$prog" "$np" -q30 -a0.05 --vtk="$T/v.vtk" -- data/square.poly
+    run "$prog" "$np" -NEP -q30 -a0.05 --vtk="$T/v.vtk" -- data/square.poly
     # ./mesh writes FILE; the parallel meshers FILE's .pvtu index and one .vtu piece per rank
     local vok=0
     if [ "$np" -eq 0 ]; then
@@ -150,7 +156,7 @@ mesher_cases() {
     [ "$rc" -eq 0 ] && [ "$vok" = 1 ] && ok || fail "$prog (np $np) -q30 -a0.05 --vtk=F: exit $rc: $err"
     rm -f "$T"/v.vtk "$T"/v.pvtu "$T"/v_*.vtu
     # -q above what refinement can promise warns (once) and runs
-    run "$prog" "$np" -q 35 -a 0.05 data/square.poly
+    run "$prog" "$np" -NEP -q 35 -a 0.05 data/square.poly
     [ "$rc" -eq 0 ] && [ "$(grep -c "^$prog: warning: -q 35 above about 34" <<<"$err")" -eq 1 ] && ok ||
         fail "$prog (np $np) -q 35: exit $rc, expected one warning: $err"
 }
@@ -214,6 +220,67 @@ done
 cmp -s "$T/help.mesh" "$T/help.pcdm" || fail "shared help differs: mesh vs pcdm: $(diff "$T/help.mesh" "$T/help.pcdm")"
 cmp -s "$T/help.mesh" "$T/help.pbw" || fail "shared help differs: mesh vs pbw: $(diff "$T/help.mesh" "$T/help.pbw")"
 [ "$(grep -c '^  -' "$T/help.mesh")" -eq 12 ] || fail "expected 12 shared options in --help: $(cat "$T/help.mesh")"
+
+# Triangle's syntax end to end (issue 15; the parse of every switch string against its spaced
+# form is unit_cli's): a switch string meshes as its spaced form does (./mesh: the same bytes;
+# the parallel meshers: both pass ./meshcheck with the bounds), the files land where Triangle
+# puts them (NAME.1 next to the input), -NEP writes none and -N no .node, -Q prints nothing
+# (not the -q 35 warning, not --check's OK), -V prints a summary, --version, a Triangle letter
+# we do not implement is refused by name.
+same_mesh() { # PROG WHAT PREFIX1 PREFIX2 INPUT Q A
+    local prog=$1 what=$2 p1=$3 p2=$4 in=$5 q=$6 a=$7 e
+    for e in node ele poly; do [ -s "$p1.$e" ] && [ -s "$p2.$e" ] || { fail "$what: no $e files"; return; }; done
+    if [ "$prog" = mesh ]; then
+        for e in node ele poly; do cmp -s "$p1.$e" "$p2.$e" || { fail "$what: .$e files differ"; return; }; done
+    else
+        for p in "$p1" "$p2"; do
+            "$BIN/meshcheck" -q "$q" -a "$a" "$in" "$p" >/dev/null 2>&1 || { fail "$what: $p fails ./meshcheck"; return; }
+        done
+    fi
+    ok
+}
+triangle_cases() {
+    local prog=$1 np=$2 d="$T/tri.$1"
+    rm -rf "$d" && mkdir -p "$d" && cp data/lake.poly "$d/lake.poly"
+    run "$prog" "$np" -pq30a0.01Q "$d/lake.poly"
+    [ "$rc" -eq 0 ] && [ -z "$out$err" ] ||
+        fail "$prog (np $np) -pq30a0.01Q: exit $rc, output '$out$err'"
+    run "$prog" "$np" -p -q 30 -a 0.01 -Q -o "$d/spaced" "$d/lake.poly"
+    same_mesh "$prog" "$prog (np $np) -pq30a0.01Q vs -p -q 30 -a 0.01 -Q" "$d/lake.1" "$d/spaced" \
+        "$d/lake.poly" 30 0.01
+    run "$prog" "$np" -q -o "$d/bare" "$d/lake.poly"
+    run "$prog" "$np" -q 20 -o "$d/twenty" "$d/lake.poly"
+    same_mesh "$prog" "$prog (np $np) -q vs -q 20" "$d/bare" "$d/twenty" "$d/lake.poly" 20 0
+    # -o PREFIX opens its argument (a prefix is no switch): -Ao is refused, not read as -A -o
+    expect_usage "$prog" "$np" "option -o (PREFIX) must open its argument" -Ao "$d/long" data/square.poly
+    # -NEP writes nothing, -N all but the .node
+    rm -f "$d"/lake.1.*
+    run "$prog" "$np" -pqNEP "$d/lake.poly"
+    [ "$rc" -eq 0 ] && ! ls "$d"/lake.1.* >/dev/null 2>&1 || fail "$prog (np $np) -pqNEP: exit $rc, or files: $(ls "$d")"
+    run "$prog" "$np" -pqN "$d/lake.poly"
+    [ "$rc" -eq 0 ] && [ ! -e "$d/lake.1.node" ] && [ -s "$d/lake.1.ele" ] && [ -s "$d/lake.1.poly" ] && ok ||
+        fail "$prog (np $np) -pqN: exit $rc, files: $(ls "$d")"
+    # -Q: nothing but errors; -V: a summary on stderr
+    run "$prog" "$np" -NEPQ -q 35 -a 0.05 --check data/square.poly
+    [ "$rc" -eq 0 ] && [ -z "$out$err" ] && ok || fail "$prog (np $np) -Q: exit $rc, printed '$out$err'"
+    run "$prog" "$np" -NEPQ tests/bad/duplicate_points.poly # the reader's "merged" warning too
+    [ "$rc" -eq 0 ] && [ -z "$out$err" ] && ok || fail "$prog (np $np) -Q duplicates: exit $rc, '$out$err'"
+    run "$prog" "$np" -NEPV data/square.poly
+    [ "$rc" -eq 0 ] && grep -q "^$prog: data/square.poly: 4 vertices, 4 segments" <<<"$err" &&
+        grep -q "^$prog: .*[0-9]* triangles" <<<"$err" && ok || fail "$prog (np $np) -V: exit $rc, '$err'"
+    expect_usage "$prog" "$np" "option -c in '-pqc' is not supported (in Triangle: enclose the convex hull)" \
+        -pqc data/square.poly
+}
+triangle_cases mesh 0
+triangle_cases pcdm 2
+triangle_cases pbw 2
+for prog in mesh meshcheck pcdm pbw; do
+    np=0
+    [ "$prog" = pcdm ] || [ "$prog" = pbw ] && np=2
+    run "$prog" "$np" --version
+    [ "$rc" -eq 0 ] && [[ "$out" =~ ^$prog\ \(pcdm\)\ [0-9]+\.[0-9]+\.[0-9]+$ ]] && ok ||
+        fail "$prog (np $np) --version: exit $rc, '$out'"
+done
 
 echo "t_cli: $nok passed, $nfail failed"
 [ "$nfail" -eq 0 ]

@@ -33,7 +33,7 @@ run() { # prog np input extra-args...
     shift 3
     local a=${AREA[$(basename "$f")]}
     local name="$prog np=$np $(basename "$f") -q 30 -a $a $*"
-    timeout 120 $MPIRUN -np "$np" "$BIN/$prog" -q 30 -a "$a" --check --stats "$@" "$f" \
+    timeout 120 $MPIRUN -np "$np" "$BIN/$prog" -NEP -q 30 -a "$a" --check --stats "$@" "$f" \
         >"$tmp/out" 2>"$tmp/err"
     local rc=$?
     if [ $rc -ne 0 ]; then
@@ -64,7 +64,7 @@ run pcdm 3 tests/inputs/letter_a.poly --imbalance 2
 for f in letter_a inclusion map segments; do
     a=$(awk -v a="${AREA[$f.poly]}" 'BEGIN { printf "%.6g", a / 10 }')
     name="pcdm np=3 $f.poly -q 30 -a $a (coarse route)"
-    timeout 120 $MPIRUN -np 3 "$BIN/pcdm" -q 30 -a "$a" --check --stats "tests/inputs/$f.poly" \
+    timeout 120 $MPIRUN -np 3 "$BIN/pcdm" -NEP -q 30 -a "$a" --check --stats "tests/inputs/$f.poly" \
         >"$tmp/out" 2>"$tmp/err"
     rc=$?
     if [ $rc -ne 0 ] || ! grep -q '^meshcheck: OK' "$tmp/out"; then
@@ -83,8 +83,8 @@ count_case() { # name np maxdev maxbal input q a [pcdm-only args...]
     local name=$1 np=$2 maxdev=$3 maxbal=$4 f=$5 q=$6 a=$7
     shift 7
     local ref
-    ref=$("$BIN/mesh" --stats -q "$q" -a "$a" "$f" 2>/dev/null | grep '^stats:' | field triangles)
-    timeout 120 $MPIRUN -np "$np" "$BIN/pcdm" --check --stats -q "$q" -a "$a" "$@" "$f" \
+    ref=$("$BIN/mesh" -NEP --stats -q "$q" -a "$a" "$f" 2>/dev/null | grep '^stats:' | field triangles)
+    timeout 120 $MPIRUN -np "$np" "$BIN/pcdm" -NEP --check --stats -q "$q" -a "$a" "$@" "$f" \
         >"$tmp/out" 2>"$tmp/err"
     local rc=$?
     if [ $rc -ne 0 ] || ! grep -q '^meshcheck: OK' "$tmp/out" || [ -z "$ref" ]; then
@@ -115,7 +115,7 @@ count_case "pcdm np=2 channel -q 30 --subdomains 128" 2 1000 1.10 data/channel.p
 
 # --write-cuts, then the same decomposition read back with --cuts
 f=tests/inputs/inclusion.poly
-if timeout 60 $MPIRUN -np 3 "$BIN/pcdm" -q 30 -a 0.001 --write-cuts "$tmp/cuts" "$f" \
+if timeout 60 $MPIRUN -np 3 "$BIN/pcdm" -NEP -q 30 -a 0.001 --write-cuts "$tmp/cuts" "$f" \
     >/dev/null 2>&1 && [ -s "$tmp/cuts" ]; then
     run pcdm 3 "$f" --cuts "$tmp/cuts"
     run pbw 2 "$f" --cuts "$tmp/cuts"
@@ -125,7 +125,7 @@ fi
 printf '# one cut\n0.15 0 0.15 1\n' >"$tmp/square.cuts"
 run pcdm 2 tests/inputs/segments.poly --cuts "$tmp/square.cuts"
 printf '0.1 0.1 0.2 0.8\n' >"$tmp/dangling.cuts"
-if timeout 60 $MPIRUN -np 2 "$BIN/pcdm" --cuts "$tmp/dangling.cuts" tests/inputs/segments.poly \
+if timeout 60 $MPIRUN -np 2 "$BIN/pcdm" -NEP --cuts "$tmp/dangling.cuts" tests/inputs/segments.poly \
     >"$tmp/out" 2>&1; then
     bad "a dangling cut was accepted"
 elif grep -q "dangling.cuts:1: the cut does not separate" "$tmp/out"; then

@@ -95,7 +95,7 @@ for f in "$dir"/*.poly "$dir"/*.node; do
     n=$((n + 1))
     for b in "${bounds[@]}"; do
         # shellcheck disable=SC2086
-        timeout 120 "$BIN/mesh" $b --check "$f" >"$tmp/m.txt" 2>&1
+        timeout 120 "$BIN/mesh" -NEP $b --check "$f" >"$tmp/m.txt" 2>&1
         want=$?
         name="$(basename "$f") $b"
         if [ "$want" = 0 ] && ! grep -q '^meshcheck: OK' "$tmp/m.txt"; then
@@ -110,7 +110,7 @@ for f in "$dir"/*.poly "$dir"/*.node; do
         for run in "pcdm 3" "pcdm 8" "pbw 3"; do
             set -- $run
             # shellcheck disable=SC2086
-            timeout 300 $MPIRUN -np "$2" "$BIN/$1" $b --check "$f" >"$tmp/p.txt" 2>&1
+            timeout 300 $MPIRUN -np "$2" "$BIN/$1" -NEP $b --check "$f" >"$tmp/p.txt" 2>&1
             got=$?
             if [ "$got" != "$want" ]; then
                 bad "$name: ./$1 at $2 ranks exit $got, ./mesh exit $want: $(first "$tmp/p.txt")"

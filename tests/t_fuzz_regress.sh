@@ -19,7 +19,7 @@ while IFS='|' read -r file optstr want pat; do
     extra=()
     [ "$want" = 0 ] && extra=(--check)
     n=$((n + 1))
-    out=$(timeout 90 "$M" "${opts[@]}" "${extra[@]}" "$D/$file" 2>&1)
+    out=$(timeout 90 "$M" -NEP "${opts[@]}" "${extra[@]}" "$D/$file" 2>&1) # -NEP: no files
     rc=$?
     if [ "$rc" != "$want" ]; then
         echo "FAIL: $M ${opts[*]} ${extra[*]} $D/$file: exit $rc, expected $want: ${out:0:300}"

@@ -22,7 +22,7 @@ bad() { fail=$((fail + 1)); printf 'FAIL %s\n' "$*"; }
 expect_fail() { # prog np pattern args...
     local prog=$1 np=$2 pat=$3
     shift 3
-    timeout 120 $MPIRUN -np "$np" "$BIN/$prog" "$@" >"$tmp/out" 2>"$tmp/err"
+    timeout 120 $MPIRUN -np "$np" "$BIN/$prog" -NEP "$@" >"$tmp/out" 2>"$tmp/err"
     local rc=$?
     if [ $rc -eq 1 ] && grep -q -- "$pat" "$tmp/err"; then
         ok "$prog np=$np $*: exit 1, '$pat'"
@@ -32,6 +32,20 @@ expect_fail() { # prog np pattern args...
 }
 expect_fail pcdm 2 "cannot meet the bounds" -q 35 data/lake.poly
 expect_fail pbw 2 "cannot meet the bounds" -q 40 data/lake.poly
+# --write-partial: the same error and exit status on every rank, but the mesh made so far is
+# written, conforming (./meshcheck without the bounds)
+for prog in pcdm pbw; do
+    rm -f "$tmp"/wp.*
+    timeout 120 $MPIRUN -np 2 "$BIN/$prog" -q 45 --write-partial --check -o "$tmp/wp" data/lake.poly \
+        >"$tmp/out" 2>"$tmp/err"
+    rc=$?
+    if [ $rc -eq 1 ] && grep -q "cannot meet the bounds.*--write-partial" "$tmp/err" &&
+        grep -q '^meshcheck: OK' "$tmp/out" && "$BIN/meshcheck" data/lake.poly "$tmp/wp" >/dev/null 2>&1; then
+        ok "$prog np=2 -q 45 --write-partial: exit 1, the mesh made written and conforming"
+    else
+        bad "$prog np=2 -q 45 --write-partial: exit $rc: $(head -c 300 "$tmp/err")"
+    fi
+done
 
 in=tests/fuzz/regress/holes_1e-161.poly
 for prog in pcdm pbw; do

@@ -45,7 +45,7 @@ declare -A SEQ
 seq_count() { # domain q -> ./mesh's triangle count (cached)
     local k="$1/$2"
     if [ -z "${SEQ[$k]:-}" ]; then
-        SEQ[$k]=$("$BIN/mesh" -q "$2" -a "${AREA[$1]}" --stats "data/$1.poly" |
+        SEQ[$k]=$("$BIN/mesh" -NEP -q "$2" -a "${AREA[$1]}" --stats "data/$1.poly" |
             sed -n 's/^stats: triangles=\([0-9]*\).*/\1/p')
         [ -n "${SEQ[$k]}" ] || fail "./mesh gave no triangle count for $1"
     fi
@@ -122,7 +122,7 @@ run 4 holes 20.7 --imbalance 2
 run 4 lake 30 --circumcenters --poll 1
 
 # bad input and impossible requests: one clear message, non-zero exit from every rank
-out=$(timeout 60 $MPIRUN -np 4 "$BIN/pbw" tests/bad/self_intersecting.poly 2>&1)
+out=$(timeout 60 $MPIRUN -np 4 "$BIN/pbw" -NEP tests/bad/self_intersecting.poly 2>&1)
 rc=$?
 echo "bad input -> $rc: $(head -n 1 <<<"$out")"
 [ "$rc" -ne 0 ] || fail "bad input accepted"
@@ -132,7 +132,7 @@ out=$(timeout 60 $MPIRUN -np 2 "$BIN/pbw" "$T/nosuch.poly" 2>&1)
 rc=$?
 [ "$rc" -ne 0 ] || fail "missing input accepted"
 grep -q 'nosuch.poly' <<<"$out" || fail "missing-file message does not name the file: $out"
-out=$(timeout 60 $MPIRUN -np 2 "$BIN/pbw" -q abc data/square.poly 2>&1)
+out=$(timeout 60 $MPIRUN -np 2 "$BIN/pbw" -NEP -q abc data/square.poly 2>&1)
 rc=$?
 [ "$rc" -ne 0 ] || fail "bad -q accepted"
 out=$(timeout 60 $MPIRUN -np 1 "$BIN/pbw" --help 2>&1)
@@ -161,7 +161,7 @@ all_exit_1() { # np file: every rank recorded status 1
 bounded() { # label np args...: "cannot meet" with exit 1 on every rank, or exit 0 with --check OK
     local label=$1 np=$2
     shift 2
-    out=$(ranks_exit "$np" "$T/rc" --check "$@" 2>&1)
+    out=$(ranks_exit "$np" "$T/rc" -NEP --check "$@" 2>&1)
     local rc=$?
     echo "np=$np $label -> [$(tr '\n' ' ' <"$T/rc" 2>/dev/null)]: $(grep -m1 -o 'cannot meet.*\|^meshcheck: OK' <<<"$out" | cut -c1-80)"
     [ "$rc" -ne 124 ] || fail "$label at $np ranks: timeout"
@@ -206,7 +206,7 @@ while IFS='|' read -r f opts want pat; do
         continue
     fi
     for np in $REG_NPS; do
-        out=$(ranks_exit "$np" "$T/rc" $opts --check "tests/fuzz/regress/$f" 2>&1 </dev/null)
+        out=$(ranks_exit "$np" "$T/rc" -NEP $opts --check "tests/fuzz/regress/$f" 2>&1 </dev/null)
         [ "$?" -ne 124 ] || fail "regress $f $opts np=$np: timeout"
         st=$(awk '{print $2}' "$T/rc" | sort -u | tr '\n' ' ')
         [ "$(wc -l <"$T/rc")" -eq "$np" ] || fail "regress $f $opts np=$np: not every rank ended: $st"
@@ -240,7 +240,7 @@ echo "np=3 -S 100 -> [$(tr '\n' ' ' <"$T/rc")]"
 [ "$(awk '$2 == 3' "$T/rc" | wc -l)" -eq 3 ] || fail "-S 100: not every rank exited 3: $(cat "$T/rc") $out"
 grep -q "Steiner point limit (-S 100) reached" <<<"$out" && grep -q '^meshcheck: OK' <<<"$out" &&
     [ -s "$T/s100.ele" ] || fail "-S 100: no message, no --check OK or no mesh: $out"
-out=$(ranks_exit 3 "$T/rc" -S 100000 -a 0.01 --check data/square.poly 2>&1)
+out=$(ranks_exit 3 "$T/rc" -NEP -S 100000 -a 0.01 --check data/square.poly 2>&1)
 [ "$(awk '$2 == 0' "$T/rc" | wc -l)" -eq 3 ] || fail "-S not reached: $(cat "$T/rc") $out"
 n=$((n + 2))
 

@@ -42,7 +42,7 @@ field() { sed -n "s/.* $1=\([^ ]*\).*/\1/p" | tail -1; } # value of key in a sta
 run_case() { # name, np, q, a, extra args..., then the input last
     local name=$1 np=$2 q=$3 a=$4; shift 4
     local out="$tmp/out.txt" err="$tmp/err.txt"
-    timeout 120 $MPIRUN -np "$np" "$BIN/pcdm" -q "$q" -a "$a" --check --stats "$@" >"$out" 2>"$err"
+    timeout 120 $MPIRUN -np "$np" "$BIN/pcdm" -NEP -q "$q" -a "$a" --check --stats "$@" >"$out" 2>"$err"
     local rc=$?
     local sl
     sl=$(grep '^stats:' "$out" | tail -1)
@@ -61,7 +61,7 @@ run_case() { # name, np, q, a, extra args..., then the input last
 for d in square lshape wedge lake holes channel; do
     a=$(area $d)
     for q in 20.7 30; do
-        ref=$(timeout 120 "$BIN/mesh" -q "$q" -a "$a" --stats "data/$d.poly" 2>/dev/null |
+        ref=$(timeout 120 "$BIN/mesh" -NEP -q "$q" -a "$a" --stats "data/$d.poly" 2>/dev/null |
               grep '^stats:' | field triangles)
         if [ -z "$ref" ]; then
             bad "$d -q $q -a $a: ./mesh gave no stats line"
@@ -117,7 +117,7 @@ run_case "$name" 3 20.7 "$(area square)" --imbalance 2 data/square.poly &&
     ok "$name: valid"
 # the paper's choices: circumcenters only, requests serviced after every insertion; the count
 # follows ./mesh --circumcenters (not the off-center default)
-ref=$("$BIN/mesh" -q 30 -a "$(area lake)" --circumcenters --stats data/lake.poly | grep '^stats:' |
+ref=$("$BIN/mesh" -NEP -q 30 -a "$(area lake)" --circumcenters --stats data/lake.poly | grep '^stats:' |
     field triangles)
 for np in 1 4; do
     name="lake np=$np -q 30 --circumcenters --poll 1"
@@ -150,7 +150,7 @@ fi
 # ---- 4: bad input -------------------------------------------------------------------------------
 expect_error() { # name, want (an exit status, or "nonzero"), np, args...
     local name=$1 want=$2 np=$3; shift 3
-    timeout 60 $MPIRUN -np "$np" "$BIN/pcdm" "$@" >"$tmp/out.txt" 2>"$tmp/err.txt"
+    timeout 60 $MPIRUN -np "$np" "$BIN/pcdm" -NEP "$@" >"$tmp/out.txt" 2>"$tmp/err.txt"
     local rc=$?
     local msg
     msg=$(grep -m1 '^pcdm:' "$tmp/err.txt")
@@ -173,8 +173,8 @@ expect_error() { # name, want (an exit status, or "nonzero"), np, args...
 expect_error "missing file" 1 2 data/no-such-file.poly
 for f in tests/bad/*.poly tests/bad/*.node; do
     [ -e "$f" ] || continue
-    if "$BIN/mesh" "$f" >/dev/null 2>&1; then # accepted with a warning (e.g. merged duplicates)
-        if timeout 60 $MPIRUN -np 2 "$BIN/pcdm" --check "$f" >"$tmp/out.txt" 2>&1; then
+    if "$BIN/mesh" -NEP "$f" >/dev/null 2>&1; then # accepted with a warning (e.g. merged duplicates)
+        if timeout 60 $MPIRUN -np 2 "$BIN/pcdm" -NEP --check "$f" >"$tmp/out.txt" 2>&1; then
             ok "input $f: accepted like ./mesh accepts it"
         else
             bad "input $f: ./mesh accepts it, ./pcdm fails: $(grep -m1 'pcdm:' "$tmp/out.txt")"
@@ -201,7 +201,7 @@ else
     bad "-S 100: exit $rc: $(head -c 400 "$tmp/out.txt")"
 fi
 rc=0
-timeout 120 $MPIRUN -np 3 "$BIN/pcdm" -S 100000 -a 0.01 --check data/square.poly \
+timeout 120 $MPIRUN -np 3 "$BIN/pcdm" -NEP -S 100000 -a 0.01 --check data/square.poly \
     >"$tmp/out.txt" 2>&1 || rc=$?
 [ "$rc" = 0 ] && ok "-S not reached: exit 0" || bad "-S not reached: exit $rc"
 

@@ -45,7 +45,7 @@ while IFS='|' read -r f opts want pat; do
     fi
     for np in $NPS; do
         # shellcheck disable=SC2086
-        out=$(ranks_exit "$np" "$T/rc" $opts --check "tests/fuzz/regress/$f" 2>&1 </dev/null)
+        out=$(ranks_exit "$np" "$T/rc" -NEP $opts --check "tests/fuzz/regress/$f" 2>&1 </dev/null)
         rc=$?
         n=$((n + 1))
         name="$f $opts np=$np"

@@ -35,8 +35,8 @@ python3 tests/readers.py "$T" 1 2 4 || exit 1
 # --vtk-ascii: meshio reads each; ./mesh: the same points (bit for bit, and as the .node has them),
 # triangles and markers in both encodings; ./pcdm: every piece whole, its cells its rank's
 "$BIN/mesh" -q 30 -a 2e-4 -o "$T/s" --vtk "$T/sb.vtk" data/lake.poly >/dev/null 2>&1 &&
-    "$BIN/mesh" -q 30 -a 2e-4 --vtk "$T/sa.vtk" --vtk-ascii data/lake.poly >/dev/null 2>&1 &&
-    timeout 300 $MPIRUN -np 2 "$BIN/pcdm" -q 30 -a 2e-4 --subdomains 4 --vtk "$T/pa.pvtu" \
+    "$BIN/mesh" -NEP -q 30 -a 2e-4 --vtk "$T/sa.vtk" --vtk-ascii data/lake.poly >/dev/null 2>&1 &&
+    timeout 300 $MPIRUN -np 2 "$BIN/pcdm" -NEP -q 30 -a 2e-4 --subdomains 4 --vtk "$T/pa.pvtu" \
         --vtk-ascii data/lake.poly >/dev/null 2>&1 || { echo "FAIL: writing the VTK files"; exit 1; }
 grep -q '^BINARY$' "$T/sb.vtk" && grep -q '^ASCII$' "$T/sa.vtk" || { echo "FAIL: VTK encodings"; exit 1; }
 grep -q 'format="ascii"' "$T/pa_0.vtu" && grep -q 'format="appended"' "$T/m2_0.vtu" ||

@@ -89,13 +89,13 @@ else
 fi
 
 # a file that cannot be written: exit 1 (every rank), a message naming it
-"$BIN/mesh" -q 25 --msh "$T/no/such/dir/x.msh" data/lake.poly >"$T/out" 2>&1
+"$BIN/mesh" -q 25 -NEP --msh "$T/no/such/dir/x.msh" data/lake.poly >"$T/out" 2>&1
 rc=$?
 [ $rc -eq 1 ] && grep -q "no/such/dir/x.msh" "$T/out" && ok "mesh: unwritable --msh: exit 1, named" ||
     fail "mesh: unwritable --msh: exit $rc: $(head -2 "$T/out")"
 rm -f "$T"/rc.*
 timeout 120 $MPIRUN -np 2 sh -c '"$0" "$@"; echo $? >"'"$T"'/rc.${OMPI_COMM_WORLD_RANK:-${PMIX_RANK:-x}}"' \
-    "$BIN/pcdm" -q 25 --msh "$T/no/such/dir/x.msh" data/lake.poly >"$T/out" 2>&1
+    "$BIN/pcdm" -q 25 -NEP --msh "$T/no/such/dir/x.msh" data/lake.poly >"$T/out" 2>&1
 rcs="$(cat "$T/rc.0" 2>/dev/null) $(cat "$T/rc.1" 2>/dev/null)"
 [ "$rcs" = "1 1" ] && grep -q "no/such/dir/x.msh" "$T/out" && ok "pcdm np=2: unwritable --msh: every rank exits 1" ||
     fail "pcdm np=2: unwritable --msh: statuses '$rcs': $(head -2 "$T/out")"

@@ -187,14 +187,19 @@ static int write_poly(const mesh_flat *m, const char *path, char *err, size_t er
 }
 
 int meshio_write_triangle(const mesh_flat *m, const char *prefix, char *err, size_t errlen) {
+    return meshio_write_triangle_some(m, prefix, 0, err, errlen);
+}
+
+int meshio_write_triangle_some(const mesh_flat *m, const char *prefix, unsigned skip, char *err,
+                               size_t errlen) {
     char path[1024];
     if (strlen(prefix) + 6 > sizeof path) return efail(err, errlen, "%s: path too long", prefix);
     snprintf(path, sizeof path, "%s.node", prefix);
-    if (write_node(m, path, err, errlen)) return -1;
+    if (!(skip & MESHIO_SKIP_NODE) && write_node(m, path, err, errlen)) return -1;
     snprintf(path, sizeof path, "%s.ele", prefix);
-    if (write_ele(m, path, err, errlen)) return -1;
+    if (!(skip & MESHIO_SKIP_ELE) && write_ele(m, path, err, errlen)) return -1;
     snprintf(path, sizeof path, "%s.poly", prefix);
-    return write_poly(m, path, err, errlen);
+    return skip & MESHIO_SKIP_POLY ? 0 : write_poly(m, path, err, errlen);
 }
 
 /* ---------------------------------------------------------------- reading back ---------- */

@@ -34,6 +34,13 @@ typedef struct mesh_flat {
 /* Writes PREFIX.node, PREFIX.ele and PREFIX.poly (1-based, as Triangle writes them). */
 int meshio_write_triangle(const mesh_flat *m, const char *prefix, char *err, size_t errlen);
 
+/* The Triangle files a writer may leave out (Triangle's -N, -E, -P), or-ed together. */
+enum { MESHIO_SKIP_NODE = 1, MESHIO_SKIP_ELE = 2, MESHIO_SKIP_POLY = 4, MESHIO_SKIP_ALL = 7 };
+
+/* meshio_write_triangle without the files skip names (MESHIO_SKIP_ALL: writes nothing). */
+int meshio_write_triangle_some(const mesh_flat *m, const char *prefix, unsigned skip, char *err,
+                               size_t errlen);
+
 /* Reads PREFIX.node and PREFIX.ele (and PREFIX.poly when present) back into m. */
 int meshio_read_triangle(const char *prefix, mesh_flat *m, char *err, size_t errlen);
 

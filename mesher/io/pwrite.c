@@ -67,6 +67,9 @@ void meshio_pwrite_set_chunk(size_t bytes) {
 }
 
 enum { F_NODE, F_ELE, F_POLY };
+_Static_assert(MESHIO_SKIP_NODE == 1 << F_NODE && MESHIO_SKIP_ELE == 1 << F_ELE &&
+                   MESHIO_SKIP_POLY == 1 << F_POLY,
+               "mesh_part.skip has one bit per file kind");
 
 /* What one rank writes into one file: its records (first = number base + 1), the header
  * (rank 0) and the trailer (last rank). */
@@ -358,6 +361,7 @@ int meshio_pwrite_triangle(MPI_Comm comm, const mesh_part *p, const char *prefix
     MESH_MPI(MPI_Comm_rank(comm, &rank));
     MESH_MPI(MPI_Comm_size(comm, &size));
     if (errlen) err[0] = '\0';
+    if ((p->skip & MESHIO_SKIP_ALL) == MESHIO_SKIP_ALL) return 0; /* -NEP: every rank alike */
     long long tot[3], base[3];
     counts(comm, p, tot, base);
     static const char *const ext[3] = {"node", "ele", "poly"};
@@ -366,7 +370,7 @@ int meshio_pwrite_triangle(MPI_Comm comm, const mesh_part *p, const char *prefix
      * a count per local vertex; numbers of more than 8 digits are formatted each time) */
     uint64_t *vdig = NULL;
     uint8_t *vlen = NULL;
-    if (!p->tri && p->ltri && p->nlocal > 0 && p->ntris > 0) {
+    if (!p->tri && p->ltri && p->nlocal > 0 && p->ntris > 0 && !(p->skip & MESHIO_SKIP_ELE)) {
         vdig = mesh_xmalloc((size_t)p->nlocal, sizeof *vdig);
         vlen = mesh_xmalloc((size_t)p->nlocal, 1);
         for (int64_t v = 0; v < p->nlocal; v++) {
@@ -380,24 +384,27 @@ int meshio_pwrite_triangle(MPI_Comm comm, const mesh_part *p, const char *prefix
     }
     char path[NFILES][PATH_MAX_LEN + 8];
     ftext x[NFILES];
-    for (int f = 0; f < NFILES; f++) {
-        snprintf(path[f], sizeof path[f], "%s.%s", prefix, ext[f]);
+    int nf = 0; /* the files written, in kind order (-N, -E, -P leave some out) */
+    for (int k = 0; k < NFILES; k++) {
+        if (p->skip & (1u << k)) continue;
+        int f = nf++;
+        snprintf(path[f], sizeof path[f], "%s.%s", prefix, ext[k]);
         memset(&x[f], 0, sizeof x[f]);
         x[f].p = p;
-        x[f].kind = f;
-        x[f].tot = tot[f];
-        x[f].base = base[f];
+        x[f].kind = k;
+        x[f].tot = tot[k];
+        x[f].base = base[k];
         x[f].first = rank == 0;
         x[f].last = rank == size - 1;
-        x[f].nrec = nrec[f];
+        x[f].nrec = nrec[k];
         x[f].recmax = 128 + 32 * (size_t)(p->nattr > 0 ? p->nattr : 0);
         x[f].ctr_i = -1;
-        if (f == F_ELE) {
+        if (k == F_ELE) {
             x[f].vdig = vdig;
             x[f].vlen = vlen;
         }
     }
-    int rc = write_files(comm, (const char(*)[PATH_MAX_LEN + 8]) path, x, NFILES, err, errlen);
+    int rc = write_files(comm, (const char(*)[PATH_MAX_LEN + 8]) path, x, nf, err, errlen);
     free(vdig);
     free(vlen);
     return rc;

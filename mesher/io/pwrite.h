@@ -54,6 +54,7 @@ typedef struct mesh_part {
                     * 0: unscaled */
     size_t keep;   /* bytes of .node text pass 1 may format ahead and keep for pass 2 (beyond
                     * one chunk), saving their second formatting; 0: one chunk */
+    unsigned skip; /* MESHIO_SKIP_* (io/meshio.h): files not written (the same on every rank) */
 } mesh_part;
 
 /* Collective.  Writes PREFIX.node, PREFIX.ele and PREFIX.poly from every rank's part.  Memory:

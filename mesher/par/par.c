@@ -44,9 +44,9 @@ int par_fail_any(int local_fail, const char *msg) {
 /* ---- loading ---------------------------------------------------------------------------- */
 
 /* pslg_check's warnings (merged duplicates) would be printed once per rank; only rank 0 keeps
- * stderr while it runs. */
-static int check_quietly(pslg *g, char *err, size_t errlen) {
-    if (rt_rank() == 0) return pslg_check(g, err, errlen);
+ * stderr while it runs, and not even rank 0 with -Q (its errors come back in err). */
+static int check_quietly(pslg *g, int quiet, char *err, size_t errlen) {
+    if (rt_rank() == 0 && !quiet) return pslg_check(g, err, errlen);
     fflush(stderr);
     int saved = dup(2), devnull = open("/dev/null", O_WRONLY);
     if (saved >= 0 && devnull >= 0) dup2(devnull, 2);
@@ -83,7 +83,7 @@ int par_load(const par_opts *o, pslg *in, pcdm_decomp *d) {
     memset(d, 0, sizeof *d);
     geom_init();
     int rc = pslg_read(o->input, in, err, sizeof err);
-    if (rc == 0) rc = check_quietly(in, err, sizeof err);
+    if (rc == 0) rc = check_quietly(in, o->quiet, err, sizeof err);
     if (rc == 0) {
         pcdm_decomp_opts dopt;
         pcdm_decomp_opts_default(&dopt);
@@ -164,6 +164,11 @@ int par_startup(int *argc, char ***argv, const char *prog, par_parse_fn parse, c
         return 1;
     }
     if (o->perturb) rt_perturb_set(o->perturb);
+    /* Triangle's output name (no -o): rank 0 decides, every rank writes to the same files */
+    int named = o->out_prefix == o->out_name;
+    MESH_MPI(MPI_Bcast(&named, 1, MPI_INT, 0, rt_app_comm()));
+    MESH_MPI(MPI_Bcast(o->out_name, (int)sizeof o->out_name, MPI_CHAR, 0, rt_app_comm()));
+    if (named) o->out_prefix = o->out_name;
     geom_init();
     if (par_load(o, in, d) != 0) {
         rt_finalize();
@@ -199,4 +204,36 @@ long par_peak_rss_bytes(void) {
     struct rusage ru;
     if (getrusage(RUSAGE_SELF, &ru) != 0) return 0;
     return (long)ru.ru_maxrss * 1024L;
+}
+
+/* ---- -V --------------------------------------------------------------------------------- */
+
+void par_verbose_input(const par_opts *o, const pslg *in, const pcdm_decomp *d) {
+    double build = d->build_s;
+    MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, &build, 1, MPI_DOUBLE, MPI_MAX, rt_app_comm()));
+    if (rt_rank() != 0) return;
+    char area[64] = "none", steiner[64] = "none";
+    if (o->max_area > 0) snprintf(area, sizeof area, "%g", o->max_area);
+    if (o->max_steiner >= 0) snprintf(steiner, sizeof steiner, "%lld", (long long)o->max_steiner);
+    fprintf(stderr, "%s: %s: %ld vertices, %ld segments, %ld holes, %ld regions\n", o->prog,
+            o->input, (long)in->nverts, (long)in->nsegs, (long)in->nholes, (long)in->nregions);
+    fprintf(stderr, "%s: %d ranks, %d subdomains (%s, %.4f s)\n", o->prog, rt_size(), (int)d->nsub,
+            o->cuts ? "--cuts" : "automatic", build);
+    fprintf(stderr, "%s: bounds: -q %g, -a %s, -S %s; %s\n", o->prog, o->min_angle, area, steiner,
+            o->circumcenters ? "circumcenters" : "off-centers");
+}
+
+void par_verbose_result(const par_opts *o, double wall, int64_t ntris, int64_t nverts,
+                        double min_angle, double out_s) {
+    double t[2] = {wall, out_s};
+    MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, t, 2, MPI_DOUBLE, MPI_MAX, rt_app_comm()));
+    if (rt_rank() != 0) return;
+    fprintf(stderr,
+            "%s: refinement %.4f s (slowest rank): %lld triangles, %lld vertices, "
+            "smallest angle %.4f degrees\n",
+            o->prog, t[0], (long long)ntris, (long long)nverts, min_angle);
+    if (o->out_prefix && par_skip_files(o) != MESHIO_SKIP_ALL)
+        fprintf(stderr, "%s: wrote %s%s%s%s\n", o->prog, o->out_prefix, o->no_node ? "" : ".node ",
+                o->no_ele ? "" : ".ele ", o->no_poly ? "" : ".poly");
+    fprintf(stderr, "%s: output %.4f s (numbering, --check, files; slowest rank)\n", o->prog, t[1]);
 }

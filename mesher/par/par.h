@@ -20,15 +20,23 @@
 #include "io/meshio.h"
 #include "io/validate.h"
 
+/* Longest output prefix a mesher accepts (bytes, the terminating zero included). */
+#define PAR_NAME_MAX 1000
+
 /* What the parallel meshers are told; filled by the programs' front end (apps/cli.h), which
  * owns the options' names, defaults and checks. */
 typedef struct par_opts {
-    const char *prog;       /* "pcdm" or "pbw" (for messages) */
-    const char *input;      /* input .poly */
-    double min_angle;       /* -q DEG (default 20.7) */
-    double max_area;        /* -a AREA (0 = none) */
-    int64_t max_steiner;    /* -S N (< 0: none) */
-    const char *out_prefix; /* -o PREFIX: PREFIX.node/.ele/.poly */
+    const char *prog;             /* "pcdm" or "pbw" (for messages) */
+    const char *input;            /* input .poly */
+    double min_angle;             /* -q DEG (default 20.7) */
+    double max_area;              /* -a AREA (0 = none) */
+    int64_t max_steiner;          /* -S N (< 0: none) */
+    const char *out_prefix;       /* -o PREFIX: PREFIX.node/.ele/.poly; without -o the front end
+                                     points it at out_name (apps/cli.h) */
+    char out_name[PAR_NAME_MAX];  /* Triangle's name when -o is not given: the input's name
+                                     without its extension, then ".1" (-r: its number plus 1) */
+    int no_node, no_ele, no_poly; /* -N, -E, -P: write no PREFIX.node, .ele, .poly */
+    int write_partial;      /* --write-partial: write the mesh although it misses the bounds */
     const char *vtk;        /* --vtk FILE */
     int vtk_ascii;          /* --vtk-ascii: ASCII VTK instead of binary */
     const char *svg;        /* --svg FILE */
@@ -61,6 +69,20 @@ typedef struct par_opts {
                                vertex */
 } par_opts;
 
+/* Collective.  -V: rank 0 prints what was read and decomposed and the bounds asked for. */
+void par_verbose_input(const par_opts *o, const pslg *in, const pcdm_decomp *d);
+
+/* Collective.  -V: rank 0 prints the slowest rank's refinement seconds (wall: this rank's), the
+ * mesh made (ntris, nverts, min_angle over all ranks) and the output seconds. */
+void par_verbose_result(const par_opts *o, double wall, int64_t ntris, int64_t nverts,
+                        double min_angle, double out_s);
+
+/* Local.  The Triangle files o asks to leave out (-N, -E, -P), as MESHIO_SKIP_* bits. */
+static inline unsigned par_skip_files(const par_opts *o) {
+    return (o->no_node ? MESHIO_SKIP_NODE : 0u) | (o->no_ele ? MESHIO_SKIP_ELE : 0u) |
+           (o->no_poly ? MESHIO_SKIP_POLY : 0u);
+}
+
 /* Local.  How par_startup reads the command line (the front end lives above this layer): called
  * on every rank once the runtime is up, with the arguments MPI left, this rank's number (only
  * rank 0 may print) and ctx.  Fills *o; returns 0 to go on, or 1 when the program must exit
@@ -75,7 +97,8 @@ typedef int (*par_parse_fn)(int argc, char **argv, int rank, const void *ctx, pa
 
 /* Collective over MPI_COMM_WORLD.  The common start of ./pcdm and ./pbw: rt_init, the
  * command line (parse, with ctx; every rank stops, or none, with the same status), the
- * program's handler registration (reg, before rt_start), the --perturb seed, and par_load.
+ * program's handler registration (reg, before rt_start), the --perturb seed, Triangle's output
+ * name (rank 0's, when -o is not given) and par_load.
  * Returns 0 to go on (the runtime is up; *o, *in and *d are filled, *in and *d owned by the
  * caller), or 1 when the program must exit with *code (the runtime is already finalised;
  * messages printed on rank 0). */

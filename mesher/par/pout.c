@@ -161,7 +161,7 @@ int par_check_parts(const par_opts *o, const pslg *in, mesh_flat *local, const p
     r->ok = !(r->bad_orient || r->bad_conform || r->missing_verts || r->missing_segs ||
               r->stray_boundary || r->non_delaunay || r->bad_angle || r->bad_area ||
               r->area_mismatch || r->first_problem[0]);
-    if (print && rank == 0) validate_report_print(r, stdout);
+    if (print && rank == 0 && (!o->quiet || !r->ok)) validate_report_print(r, stdout);
     return r->ok;
 }
 
@@ -201,7 +201,8 @@ static int write_triangle(const par_opts *o, const pslg *in, const mesh_flat *f,
                     * hold about 38 bytes per triangle here, so this stays near the refining
                     * mesh's peak (about 45) and saves half the second formatting of the
                     * coordinates */
-                   .keep = 8 * (size_t)f->ntris};
+                   .keep = 8 * (size_t)f->ntris,
+                   .skip = par_skip_files(o)};
     int rc = meshio_pwrite_triangle(rt_app_comm(), &p, o->out_prefix, err, errlen);
     free(seg);
     free(smk);
@@ -307,7 +308,7 @@ static int write_svg(const par_opts *o, const mesh_flat *f, const par_numbering 
 int par_write_parts(const par_opts *o, const pslg *in, const mesh_flat *local, const int32_t *tsub,
                     const par_numbering *num) {
     char err[1024] = "", msg[1200];
-    if (o->out_prefix) { /* collective: the same status everywhere */
+    if (o->out_prefix && par_skip_files(o) != MESHIO_SKIP_ALL) { /* collective: one status */
         if (write_triangle(o, in, local, num, err, sizeof err) != 0) {
             if (rt_rank() == 0) fprintf(stderr, "%s: %s\n", o->prog, err);
             return -1;
@@ -414,7 +415,8 @@ int par_output_sub(const par_opts *o, const pslg *in, mesh_flat *local, const ui
     sum->nsegs = num.nsegs;
     sum->nshared = num.nshared;
     par_numbering_free(&num);
-    if (o->stats) par_quality_all(local, &sum->min_angle, &sum->max_area); /* only printed there */
+    if (o->stats || o->verbose) /* only printed there */
+        par_quality_all(local, &sum->min_angle, &sum->max_area);
     sum->number_s = t1 - t0;
     sum->check_s = t2 - t1;
     sum->write_s = t3 - t2;

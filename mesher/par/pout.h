@@ -123,7 +123,7 @@ double *par_stats_collect(const double *mine, int n, int on, double *tot, double
 /* What par_output found (the same on every rank). */
 typedef struct par_summary {
     int64_t ntris, nverts, nsegs;      /* the whole mesh as written */
-    double min_angle, max_area;        /* over all triangles (with --stats only; else 0) */
+    double min_angle, max_area;        /* over all triangles (with --stats or -V only; else 0) */
     int32_t nshared;                   /* this rank's vertices another rank also holds */
     double number_s, check_s, write_s; /* seconds (this rank) in each step */
 } par_summary;

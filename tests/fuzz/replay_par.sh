@@ -41,7 +41,7 @@ par() { # program np kind file...: runs it, each rank appending "RANK STATUS"; j
     local prog=$1 np=$2 kind=$3 src=$4 out rc st
     rm -f "$T/rc"
     out=$(timeout "$PAR_TIMEOUT" $MPIRUN -np "$np" sh -c \
-        '"$0" "$@"; echo "$OMPI_COMM_WORLD_RANK $?" >>"'"$T/rc"'"' "$BIN/$prog" -q "$q" \
+        '"$0" "$@"; echo "$OMPI_COMM_WORLD_RANK $?" >>"'"$T/rc"'"' "$BIN/$prog" -NEP -q "$q" \
         -S "$LIMIT" --check "$in" 2>&1 </dev/null)
     rc=$?
     if [ "$rc" = 124 ]; then fail "$src" "$prog" "$np" "timeout (${PAR_TIMEOUT} s)"; return; fi
@@ -74,7 +74,7 @@ for dir in "$@"; do
         if [ $((opt & 128)) -ne 0 ]; then in="$T/in.node"; else in="$T/in.poly"; fi
         rm -f "$T"/in.*
         tail -c +2 "$f" >"$in"
-        out=$(timeout "$TIMEOUT" "$BIN/mesh" -q "$q" -S "$LIMIT" "$in" 2>&1 </dev/null)
+        out=$(timeout "$TIMEOUT" "$BIN/mesh" -NEP -q "$q" -S "$LIMIT" "$in" 2>&1 </dev/null)
         rc=$?
         case "$rc" in
         0) kind=meshed ;;

@@ -1,0 +1,386 @@
+/* cli_tables.c: the option tables of the four programs and their --help.
+ *
+ * Each row is one option (apps/cli.h: cli_opt); a program is a list of tables: the shared
+ * mesher rows (Triangle's switches among them), the parallel rows, the program's own and the
+ * common ones (--help, --version).  cli_help writes every row as "  -x, --name VALUE  help
+ * (default: ...)", then the switch-string rule (meshers), the exit statuses and the program's
+ * notes, wrapped at 100 columns.  The parser is cli.c; it checks these tables at every parse
+ * (check_prog), so a malformed row is reported as a bug at once.
+ */
+#include "cli.h"
+
+#include "par/pout.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
+/* ---- the tables ------------------------------------------------------------------------ */
+
+static const cli_value v_help = {CLI_HELP, NULL, 0, 0, 0};
+static const cli_value v_version = {CLI_VERSION, NULL, 0, 0, 0};
+static const cli_value v_flag = {CLI_FLAG, NULL, 0, 0, 0};
+static const cli_value v_file = {CLI_STRING, "FILE", 0, 0, 0};
+static const cli_value v_prefix = {CLI_STRING, "PREFIX", 0, 0, 0};
+static const cli_value v_angle = {CLI_REAL, "DEG", 0, 60, 0};
+static const cli_value v_area = {CLI_REAL, "AREA", 0, INFINITY, 0};
+static const cli_value v_count = {CLI_INT64, "N", 0, INFINITY, 0};
+static const cli_value v_nsub = {CLI_INT32, "K", 1, 1e6, 0};
+static const cli_value v_ratio = {CLI_REAL, "R", 0, 1e6, 1};
+static const cli_value v_seed = {CLI_UINT64, "SEED", 0, INFINITY, 0};
+static const cli_value v_poll = {CLI_INT32, "N", 1, 1e6, 0};
+
+/* Every program. */
+static const cli_opt common_rows[] = {
+    {.letter = 'h', .name = "help", .value = &v_help, .help = "print this text and exit"},
+    {.name = "version",
+     .value = &v_version,
+     .help = "print the program's name and version and exit"},
+    {.help = NULL}};
+
+/* What every mesher (./mesh, ./pcdm, ./pbw) is told. */
+_Static_assert(PAR_SVG_MAX_TRIS == 2000000, "--svg's help text states the cap");
+
+static const cli_opt mesher_rows[] = {
+    {.letter = 'p',
+     .value = &v_flag,
+     .at = CLI_AT(pslg),
+     .help = "the input is a PSLG (Triangle's -p: accepted; the input is always read as one, a "
+             ".node file as its vertices alone)"},
+    {.letter = 'q',
+     .value = &v_angle,
+     .at = CLI_AT(par.min_angle),
+     .dflt = 20.7,
+     .bare = "20",
+     .warn_above = 34,
+     .warning = "above about 34 degrees may not be reachable (refinement then stops with an "
+                "error)",
+     .help = "minimum angle bound in degrees, 0 to 60 (0: none; -q without a number: 20, as "
+             "Triangle; above about 34, refinement may stall: it then stops with an error)"},
+    {.letter = 'a',
+     .value = &v_area,
+     .at = CLI_AT(par.max_area),
+     .dflt = 0,
+     .dflt_text = "none",
+     .bare = "--region-areas",
+     .help = "maximum triangle area (0: none; -a without a number: --region-areas, as "
+             "Triangle)"},
+    {.letter = 'S',
+     .value = &v_count,
+     .at = CLI_AT(par.max_steiner),
+     .dflt = -1,
+     .dflt_text = "none",
+     .help = "at most N Steiner points in all (the parallel meshers share them among the ranks)"},
+    {.letter = 'o',
+     .value = &v_prefix,
+     .at = CLI_AT(par.out_prefix),
+     .dflt_text = "as Triangle, next to the input: NAME.1 for NAME.poly; with -r, NAME.2 for "
+                  "NAME.1",
+     .help = "write PREFIX.node, PREFIX.ele, PREFIX.poly (Triangle's formats; -o2 is not a "
+             "prefix but --order2: write a prefix starting with 2 spaced, -o 2x)"},
+    {.letter = 'N',
+     .name = "no-node",
+     .value = &v_flag,
+     .at = CLI_AT(par.no_node),
+     .help = "write no .node file (Triangle's -N; -NEP: no Triangle files at all)"},
+    {.letter = 'E',
+     .name = "no-ele",
+     .value = &v_flag,
+     .at = CLI_AT(par.no_ele),
+     .help = "write no .ele file (Triangle's -E)"},
+    {.letter = 'P',
+     .name = "no-poly",
+     .value = &v_flag,
+     .at = CLI_AT(par.no_poly),
+     .help = "write no .poly file (Triangle's -P)"},
+    {.name = "vtk",
+     .value = &v_file,
+     .at = CLI_AT(par.vtk),
+     .help = "write VTK, binary unless --vtk-ascii (./mesh: legacy FILE; ./pcdm, ./pbw: FILE's "
+             ".pvtu index, e.g. F.pvtu for F.vtk, with one piece F_R.vtu per rank, cell data "
+             "rank; no gather)"},
+    {.name = "vtk-ascii",
+     .value = &v_flag,
+     .at = CLI_AT(par.vtk_ascii),
+     .help = "write --vtk as ASCII (default: binary)"},
+    {.name = "svg",
+     .value = &v_file,
+     .at = CLI_AT(par.svg),
+     .help = "write an SVG picture (parallel meshers: coloured by rank, interfaces drawn; "
+             "collected on rank 0, at most 2000000 triangles)"},
+    {.name = "stats",
+     .value = &v_flag,
+     .at = CLI_AT(par.stats),
+     .help = "print the statistics line last (parallel meshers: per-rank lines before it)"},
+    {.name = "check",
+     .value = &v_flag,
+     .at = CLI_AT(par.check),
+     .help = "validate the mesh as ./meshcheck does (parallel meshers: each rank its own "
+             "part, interfaces compared, results reduced); exit 1 if it fails"},
+    {.name = "circumcenters",
+     .value = &v_flag,
+     .at = CLI_AT(par.circumcenters),
+     .help = "insert circumcenters only, the paper's choice (default: Ungor's off-centers where "
+             "they are closer, fewer triangles)"},
+    {.name = "progress",
+     .value = &v_flag,
+     .at = CLI_AT(par.progress),
+     .help = "progress lines on stderr (./mesh prints them anyway when stderr is a terminal)"},
+    {.letter = 'A',
+     .name = "region-attributes",
+     .value = &v_flag,
+     .at = CLI_AT(par.region_attr),
+     .help = "give each triangle its region's attribute (the .poly's regions), written to .ele"},
+    {.name = "region-areas",
+     .value = &v_flag,
+     .at = CLI_AT(par.region_area),
+     .help = "honour the .poly's per-region area bounds (Triangle's -a without a number)"},
+    {.letter = 'e',
+     .name = "edges",
+     .value = &v_flag,
+     .at = CLI_AT(par.edges),
+     .help = "also write PREFIX.edge (every edge, with its boundary marker)"},
+    {.letter = 'n',
+     .name = "neighbors",
+     .value = &v_flag,
+     .at = CLI_AT(par.neighbors),
+     .help = "also write PREFIX.neigh (the three neighbours of every triangle)"},
+    {.name = "order2",
+     .spelling = "o2",
+     .value = &v_flag,
+     .at = CLI_AT(par.order2),
+     .help = "quadratic triangles: six nodes each, edge midpoints added to .node (Triangle's -o2, "
+             "also inside a switch string: -pq30o2); --vtk: cell type 22, one file"},
+    {.letter = 'r',
+     .name = "refine",
+     .value = &v_flag,
+     .at = CLI_AT(par.refine),
+     .help = "refine a mesh: the input is NAME.node/NAME.ele (and NAME.poly, NAME.area if "
+             "present)"},
+    {.letter = 'Q',
+     .name = "quiet",
+     .value = &v_flag,
+     .at = CLI_AT(par.quiet),
+     .help = "quiet: nothing on stdout or stderr but errors (and --stats, when asked for; "
+             "--check's report only when it fails)"},
+    {.letter = 'V',
+     .name = "verbose",
+     .value = &v_flag,
+     .at = CLI_AT(par.verbose),
+     .help = "verbose: a summary on stderr (input counts, bounds, phase times, the mesh made)"},
+    {.name = "write-partial",
+     .value = &v_flag,
+     .at = CLI_AT(par.write_partial),
+     .help = "when refinement cannot meet the bounds, still write the mesh made so far (as "
+             "asked: conforming, outside the bounds; exit status 1 all the same)"},
+    {.name = "strict",
+     .value = &v_flag,
+     .at = CLI_AT(par.strict),
+     .help = "refuse crossing or overlapping segments (default: split them at the intersection, "
+             "as Triangle does)"},
+    {.name = "msh",
+     .value = &v_file,
+     .at = CLI_AT(par.msh),
+     .help = "write Gmsh MSH 4.1 ASCII (physical curves by boundary marker, surfaces by regional "
+             "attribute; one file)"},
+    {.name = "size",
+     .value = &v_file,
+     .at = CLI_AT(par.size_field),
+     .help = "size field: a background mesh (.node with one attribute, the target edge length "
+             "per vertex, and .ele), interpolated"},
+    {.help = NULL}};
+
+/* What both parallel meshers are told on top. */
+static const cli_opt parallel_rows[] = {
+    {.name = "subdomains",
+     .value = &v_nsub,
+     .at = CLI_AT(par.nsub),
+     .dflt_text = "the number of ranks",
+     .help = "number of subdomains, at least the number of ranks"},
+    {.name = "imbalance",
+     .value = &v_ratio,
+     .at = CLI_AT(par.imbalance),
+     .dflt = 1,
+     .help = "rank 0 gets R times the work of every other rank (the paper's two-to-one "
+             "experiment)"},
+    {.name = "cuts",
+     .value = &v_file,
+     .at = CLI_AT(par.cuts),
+     .help = "take the subdomain cuts from FILE (x1 y1 x2 y2 per line)"},
+    {.name = "write-cuts",
+     .value = &v_file,
+     .at = CLI_AT(par.write_cuts),
+     .help = "write the cuts used to FILE (rank 0)"},
+    {.name = "poll",
+     .value = &v_poll,
+     .at = CLI_AT(par.poll_every),
+     .dflt = 0,
+     .dflt_text = "300 for ./pcdm, 64 for ./pbw",
+     .help = "local work units (insertions, splits) between two services of incoming requests "
+             "(1: after every insertion, as the paper)"},
+    {.name = "perturb",
+     .value = &v_seed,
+     .at = CLI_AT(par.perturb),
+     .dflt_text = "off, or the environment's RT_PERTURB",
+     .help = "delay and reorder message delivery, reproducibly from SEED; 0: off"},
+    {.help = NULL}};
+
+static const cli_opt pbw_rows[] = {
+    {.name = "phases",
+     .value = &v_flag,
+     .at = CLI_AT(par.phases),
+     .help = "refine in phases (the data-parallel variant of the paper's Figure 1)"},
+    {.help = NULL}};
+
+static const cli_opt mesh_rows[] = {
+    {.name = "lens",
+     .value = &v_flag,
+     .at = CLI_AT(lens),
+     .help = "diametral lenses decide encroachment (as Triangle -q); default: diametral circles "
+             "(Ruppert)"},
+    {.name = "cdt-only",
+     .value = &v_flag,
+     .at = CLI_AT(cdt_only),
+     .help = "no refinement at all: the constrained Delaunay triangulation"},
+    {.help = NULL}};
+
+/* ./meshcheck's -q and -a are the bounds to verify: the same values and checks as the
+ * meshers', but no bound unless given. */
+static const cli_opt meshcheck_rows[] = {
+    {.letter = 'q',
+     .value = &v_angle,
+     .at = CLI_AT(par.min_angle),
+     .dflt = 0,
+     .dflt_text = "no check",
+     .help = "fail if a triangle has an angle below DEG degrees (triangles at input angles "
+             "below 60 degrees are exempt)"},
+    {.letter = 'a',
+     .value = &v_area,
+     .at = CLI_AT(par.max_area),
+     .dflt = 0,
+     .dflt_text = "no check",
+     .help = "fail if a triangle's area exceeds AREA"},
+    {.name = "interfaces-delaunay",
+     .value = &v_flag,
+     .at = CLI_AT(interfaces_delaunay),
+     .help = "interface constraint edges must be locally Delaunay too"},
+    {.help = NULL}};
+
+static const cli_opt *const mesh_tables[] = {mesher_rows, mesh_rows, common_rows, NULL};
+static const cli_opt *const meshcheck_tables[] = {meshcheck_rows, common_rows, NULL};
+static const cli_opt *const pcdm_tables[] = {mesher_rows, parallel_rows, common_rows, NULL};
+static const cli_opt *const pbw_tables[] = {mesher_rows, parallel_rows, pbw_rows, common_rows,
+                                            NULL};
+
+const cli_prog cli_mesh = {
+    .name = "mesh",
+    .usage = "./mesh [options] input.poly",
+    .about = "Constrained Delaunay triangulation + Ruppert/Chew quality refinement.",
+    .tables = mesh_tables,
+    .args = {"input.poly", NULL},
+    .notes = "Coordinates: any finite doubles whose largest magnitude is at least 2^-723 (about "
+             "1.8e-218); nonzero coordinates below 2^-247 (about 4.4e-75) times the largest are "
+             "rejected (FILE:LINE message).  Features below about 2^-44 of the coordinates' "
+             "magnitude cannot be resolved: such inputs, and angle bounds refinement cannot "
+             "reach, end with an error (exit 1), never with a mesh outside the bounds unless "
+             "--write-partial asks for it.",
+    .triangle_names = 1};
+const cli_prog cli_meshcheck = {
+    .name = "meshcheck",
+    .usage = "meshcheck [options] input.poly PREFIX",
+    .about = "Validates PREFIX.node/.ele (and PREFIX.poly) against input.poly: conformity, "
+             "orientation, input vertices and segments present, domain area, local Delaunay "
+             "property, and the quality bounds given.",
+    .tables = meshcheck_tables,
+    .args = {"input.poly", "PREFIX"}};
+const cli_prog cli_pcdm = {.name = "pcdm",
+                           .usage = "mpirun -np P ./pcdm [options] input.poly",
+                           .about = "Parallel constrained Delaunay meshing (PCDM: constrained "
+                                    "subdomains, TR-97-17 section 3).",
+                           .tables = pcdm_tables,
+                           .args = {"input.poly", NULL},
+                           .notes = "Every rank exits with the same status.",
+                           .triangle_names = 1};
+const cli_prog cli_pbw = {.name = "pbw",
+                          .usage = "mpirun -np P ./pbw [options] input.poly",
+                          .about = "Parallel Delaunay meshing (PBW: distributed Bowyer-Watson, "
+                                   "TR-97-17 section 2).",
+                          .tables = pbw_tables,
+                          .args = {"input.poly", NULL},
+                          .notes = "Every rank exits with the same status.",
+                          .triangle_names = 1};
+
+/* The meshers' --help states the switch-string rule (cli.h) in short. */
+static const char syntax_text[] =
+    "Switch strings as Triangle's: -pq30a0.01Q is -p -q 30 -a 0.01 -Q (a glued number ends at "
+    "the next letter); -q and -a without a number mean 20 degrees and --region-areas; -q or -a "
+    "alone take the next argument only if it looks like a number (-q 30, but -q lake.poly is "
+    "-q 20); -o2 (also inside a string: -pq30o2) is --order2, any other -oPREFIX or -o PREFIX "
+    "the output prefix.  Without -o, output goes next to the input: NAME.1.node/.ele/.poly for "
+    "NAME.poly (-r: NAME.2 for NAME.1); -NEP writes none of them.";
+
+static const char exit_text[] = "Exit status: 0 success; 1 bad input (an unreadable or invalid "
+                                "file), an output error, a failed mesh or a failed check; 2 "
+                                "usage error; 3 the Steiner limit (-S) stopped refinement: the "
+                                "mesh is written and conforming but does not meet -q/-a.";
+
+static int has_value(const cli_opt *r) {
+    return r->value->kind != CLI_FLAG && r->value->kind != CLI_HELP &&
+           r->value->kind != CLI_VERSION;
+}
+
+/* ---- help -------------------------------------------------------------------------------- */
+
+/* Writes text from column col (the cursor is there), wrapping at 100 columns back to col. */
+static void wrap(FILE *f, const char *text, int col) {
+    int at = col;
+    while (*text) {
+        while (*text == ' ')
+            text++;
+        size_t w = strcspn(text, " ");
+        if (at > col && at + 1 + (int)w > 100) {
+            fprintf(f, "\n%*s", col, "");
+            at = col;
+        } else if (at > col) {
+            fputc(' ', f);
+            at++;
+        }
+        fprintf(f, "%.*s", (int)w, text);
+        at += (int)w;
+        text += w;
+    }
+    fputc('\n', f);
+}
+
+void cli_help(const cli_prog *p, FILE *f) {
+    enum { COL = 24 };
+    fprintf(f, "usage: %s\n", p->usage);
+    wrap(f, p->about, 0);
+    fprintf(f, "Options:\n");
+    for (const cli_opt *const *t = p->tables; *t; t++)
+        for (const cli_opt *r = *t; r->help; r++) {
+            char left[64], text[512], dflt[96] = "";
+            int n = snprintf(left, sizeof left, "  ");
+            char sw[2] = {r->letter, 0};
+            if (r->letter || r->spelling)
+                n += snprintf(left + n, sizeof left - (size_t)n, "-%s%s",
+                              r->spelling ? r->spelling : sw, r->name ? ", " : "");
+            if (r->name) n += snprintf(left + n, sizeof left - (size_t)n, "--%s", r->name);
+            if (has_value(r))
+                n += snprintf(left + n, sizeof left - (size_t)n, " %s", r->value->metavar);
+            if (r->dflt_text)
+                snprintf(dflt, sizeof dflt, " (default: %s)", r->dflt_text);
+            else if (has_value(r) && r->value->kind != CLI_STRING)
+                snprintf(dflt, sizeof dflt, " (default: %.15g)", r->dflt);
+            snprintf(text, sizeof text, "%s%s", r->help, dflt);
+            fputs(left, f);
+            if (n >= COL - 1)
+                fprintf(f, "\n%*s", COL, "");
+            else
+                fprintf(f, "%*s", COL - n, "");
+            wrap(f, text, COL);
+        }
+    if (p->triangle_names) wrap(f, syntax_text, 0);
+    wrap(f, exit_text, 0);
+    if (p->notes) wrap(f, p->notes, 0);
+}
