@@ -66,7 +66,7 @@ int main(int argc, char **argv) {
         fprintf(stderr, "mesh: %s\n", err);
         return 1;
     }
-    if (pslg_check(&g, err, sizeof err) != 0) {
+    if (pslg_check_ex(&g, o.par.strict ? 0 : PSLG_SPLIT, err, sizeof err) != 0) {
         fprintf(stderr, "mesh: %s\n", err);
         pslg_free(&g);
         return 1;

@@ -17,6 +17,7 @@
 #include "base/base.h"
 
 #include "geom/geom.h"
+#include "geom/pslg_impl.h"
 
 #include <errno.h>
 #include <float.h>
@@ -833,23 +834,18 @@ static int pslg_scale(pslg *g, char *err, size_t errlen) {
     return 0;
 }
 
-int pslg_check(pslg *g, char *err, size_t errlen) {
-    geom_init();
-    if (errlen) err[0] = '\0';
+/* One normalisation pass of pslg_check_ex: merges duplicate vertices, rejects zero-length
+ * segments, drops repeated ones and looks for conflicting pairs (crossing or overlapping).
+ * quiet: no warnings (after a split the pieces are not the file's segments).  Without split the
+ * conflict whose later segment comes first in the file is the error; with split every
+ * conflicting pair goes into *pairs (s < t, two entries each, *npairs of them). */
+static int normalise(pslg *g, int split, int quiet, int32_t **pairs, int64_t *npairs, char *err,
+                     size_t errlen) {
     const char *vf = g->path[0] ? g->path : "(input)";
     const char *sf = g->segpath[0] ? g->segpath : vf;
     int32_t n = g->nverts;
-    for (int32_t i = 0; i < n; i++)
-        if (!isfinite(g->xy[2 * i]) || !isfinite(g->xy[2 * i + 1]))
-            return gfail(err, errlen, "%s:%d: vertex %d has a non-finite coordinate", vf,
-                         g->vline ? g->vline[i] : 0, i + g->first_index);
-    for (int32_t s = 0; s < g->nsegs; s++)
-        for (int k = 0; k < 2; k++)
-            if (g->seg[2 * s + k] < 0 || g->seg[2 * s + k] >= n)
-                return gfail(err, errlen, "%s:%d: segment %d: vertex %d out of range", sf,
-                             g->sline ? g->sline[s] : 0, s + g->first_index,
-                             g->seg[2 * s + k] + g->first_index);
-    if (pslg_scale(g, err, errlen) != 0) return -1;
+    *pairs = NULL;
+    *npairs = 0;
     /* 1. merge duplicate vertices */
     vkey *vk = mesh_xmalloc((size_t)(n ? n : 1) * sizeof *vk, 1);
     int32_t *map = mesh_xmalloc((size_t)(n ? n : 1) * sizeof *map, 1);
@@ -867,9 +863,11 @@ int pslg_check(pslg *g, char *err, size_t errlen) {
             int32_t a = vk[i].i, b = vk[rep].i;
             map[a] = b;
             ndup++;
-            fprintf(stderr, "%s:%d: warning: vertex %d duplicates vertex %d (line %d); merged\n",
-                    vf, g->vline ? g->vline[a] : 0, a + g->first_index, b + g->first_index,
-                    g->vline ? g->vline[b] : 0);
+            if (!quiet)
+                fprintf(stderr,
+                        "%s:%d: warning: vertex %d duplicates vertex %d (line %d); merged\n", vf,
+                        g->vline ? g->vline[a] : 0, a + g->first_index, b + g->first_index,
+                        g->vline ? g->vline[b] : 0);
             if (g->vmarker && g->vmarker[b] == 0) g->vmarker[b] = g->vmarker[a];
         } else {
             rep = i;
@@ -932,24 +930,29 @@ int pslg_check(pslg *g, char *err, size_t errlen) {
         } else {
             int32_t s = sk[i].i, t = sk[run].i; /* the first of a run is kept */
             keep[s] = 0;
-            fprintf(stderr, "%s:%d: warning: segment %d repeats segment %d (line %d); dropped\n",
-                    sf, g->sline ? g->sline[s] : 0, s + g->first_index, t + g->first_index,
-                    g->sline ? g->sline[t] : 0);
+            if (!quiet)
+                fprintf(stderr,
+                        "%s:%d: warning: segment %d repeats segment %d (line %d); dropped\n", sf,
+                        g->sline ? g->sline[s] : 0, s + g->first_index, t + g->first_index,
+                        g->sline ? g->sline[t] : 0);
         }
     }
     free(sk);
     int32_t nk = 0;
     for (int32_t s = 0; s < ns; s++)
         if (keep[s]) ids[nk++] = s;
-    /* 3. crossings: grid candidates, exact decision */
+    free(keep);
+    /* 3. crossings and overlaps: grid candidates, exact decision */
     grid gr;
     int rc = 0;
+    int32_t *pr = NULL;
+    int64_t np = 0, pcap = 0;
     if (grid_build_segments(&gr, g->xy, g->seg, ids, nk)) {
         rc = gfail(err, errlen, "%s: out of memory checking segment crossings", sf);
     } else {
         int32_t bs = -1, bt = -1;
         size_t ncell = (size_t)gr.nx * gr.ny;
-        for (size_t c = 0; c < ncell; c++) {
+        for (size_t c = 0; c < ncell && rc == 0; c++) {
             for (int32_t i = gr.start[c]; i < gr.start[c + 1]; i++)
                 for (int32_t j = i + 1; j < gr.start[c + 1]; j++) {
                     int32_t s = gr.item[i], t = gr.item[j];
@@ -959,33 +962,95 @@ int pslg_check(pslg *g, char *err, size_t errlen) {
                         t = x;
                     }
                     /* report the pair whose later segment comes first in the file */
-                    if (bt >= 0 && (t > bt || (t == bt && s >= bs))) continue;
-                    if (segs_conflict(g->xy, g->seg[2 * s], g->seg[2 * s + 1], g->seg[2 * t],
-                                      g->seg[2 * t + 1])) {
-                        bs = s;
-                        bt = t;
+                    if (!split && bt >= 0 && (t > bt || (t == bt && s >= bs))) continue;
+                    if (!segs_conflict(g->xy, g->seg[2 * s], g->seg[2 * s + 1], g->seg[2 * t],
+                                       g->seg[2 * t + 1]))
+                        continue;
+                    bs = s;
+                    bt = t;
+                    if (!split) continue;
+                    if (np == pcap) {
+                        pcap = pcap ? 2 * pcap : 64;
+                        pr = mesh_xrealloc(pr, (size_t)pcap, 2 * sizeof *pr);
                     }
+                    pr[2 * np] = s;
+                    pr[2 * np + 1] = t;
+                    np++;
                 }
         }
-        if (bt >= 0)
+        if (!split && bt >= 0)
             rc = gfail(err, errlen, "%s:%d: segment %d crosses segment %d (line %d)", sf,
                        g->sline ? g->sline[bt] : 0, bt + g->first_index, bs + g->first_index,
                        g->sline ? g->sline[bs] : 0);
     }
     grid_free(&gr);
-    if (rc == 0 && nk < ns) {
+    if (rc == 0 && nk < ns) { /* compact; pairs follow the segments' new numbers */
+        int32_t *pos = mesh_xmalloc((size_t)ns, sizeof *pos);
         for (int32_t i = 0; i < nk; i++) {
             int32_t s = ids[i];
+            pos[s] = i;
             g->seg[2 * i] = g->seg[2 * s];
             g->seg[2 * i + 1] = g->seg[2 * s + 1];
             if (g->smarker) g->smarker[i] = g->smarker[s];
             if (g->sline) g->sline[i] = g->sline[s];
         }
+        for (int64_t k = 0; k < 2 * np; k++)
+            pr[k] = pos[pr[k]];
+        free(pos);
         g->nsegs = nk;
     }
     free(ids);
-    free(keep);
+    if (rc == 0) {
+        *pairs = pr;
+        *npairs = np;
+    } else {
+        free(pr);
+    }
     return rc;
+}
+
+int pslg_check_ex(pslg *g, unsigned flags, char *err, size_t errlen) {
+    geom_init();
+    if (errlen) err[0] = '\0';
+    const char *vf = g->path[0] ? g->path : "(input)";
+    const char *sf = g->segpath[0] ? g->segpath : vf;
+    int32_t n = g->nverts;
+    for (int32_t i = 0; i < n; i++)
+        if (!isfinite(g->xy[2 * i]) || !isfinite(g->xy[2 * i + 1]))
+            return gfail(err, errlen, "%s:%d: vertex %d has a non-finite coordinate", vf,
+                         g->vline ? g->vline[i] : 0, i + g->first_index);
+    for (int32_t s = 0; s < g->nsegs; s++)
+        for (int k = 0; k < 2; k++)
+            if (g->seg[2 * s + k] < 0 || g->seg[2 * s + k] >= n)
+                return gfail(err, errlen, "%s:%d: segment %d: vertex %d out of range", sf,
+                             g->sline ? g->sline[s] : 0, s + g->first_index,
+                             g->seg[2 * s + k] + g->first_index);
+    if (pslg_scale(g, err, errlen) != 0) return -1;
+    int split = (flags & PSLG_SPLIT) != 0;
+    for (int round = 0;; round++) {
+        int32_t *pairs;
+        int64_t np;
+        if (normalise(g, split, round > 0, &pairs, &np, err, errlen) != 0) return -1;
+        if (np == 0) return 0;
+        int rc = 0;
+        if (round == PSLG_SPLIT_ROUNDS) {
+            int32_t s = pairs[0], t = pairs[1];
+            rc = gfail(err, errlen,
+                       "%s:%d: the segment on this line crosses the segment on line %d, and "
+                       "splitting them at their intersection keeps making new crossings "
+                       "(intersection points rounded to doubles; the segments are too close to "
+                       "resolve): move them apart, or use --strict to see the first crossing",
+                       sf, g->sline ? g->sline[t] : 0, g->sline ? g->sline[s] : 0);
+        } else {
+            rc = pslg_split_pairs(g, pairs, np, err, errlen);
+        }
+        free(pairs);
+        if (rc != 0) return -1;
+    }
+}
+
+int pslg_check(pslg *g, char *err, size_t errlen) {
+    return pslg_check_ex(g, 0, err, errlen);
 }
 
 /* ---------------------------------------------------------------- arrangement ----------- */

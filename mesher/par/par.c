@@ -45,12 +45,12 @@ int par_fail_any(int local_fail, const char *msg) {
 
 /* pslg_check's warnings (merged duplicates) would be printed once per rank; only rank 0 keeps
  * stderr while it runs. */
-static int check_quietly(pslg *g, char *err, size_t errlen) {
-    if (rt_rank() == 0) return pslg_check(g, err, errlen);
+static int check_quietly(pslg *g, unsigned flags, char *err, size_t errlen) {
+    if (rt_rank() == 0) return pslg_check_ex(g, flags, err, errlen);
     fflush(stderr);
     int saved = dup(2), devnull = open("/dev/null", O_WRONLY);
     if (saved >= 0 && devnull >= 0) dup2(devnull, 2);
-    int rc = pslg_check(g, err, errlen);
+    int rc = pslg_check_ex(g, flags, err, errlen);
     fflush(stderr);
     if (saved >= 0 && devnull >= 0) dup2(saved, 2);
     if (saved >= 0) close(saved);
@@ -85,7 +85,7 @@ int par_load(const par_opts *o, pslg *in, pcdm_decomp *d) {
     memset(d, 0, sizeof *d);
     geom_init();
     int rc = pslg_read(o->input, in, err, sizeof err);
-    if (rc == 0) rc = check_quietly(in, err, sizeof err);
+    if (rc == 0) rc = check_quietly(in, o->strict ? 0 : PSLG_SPLIT, err, sizeof err);
     if (rc == 0) {
         pcdm_decomp_opts dopt;
         pcdm_decomp_opts_default(&dopt);
