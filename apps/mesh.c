@@ -14,6 +14,7 @@
 #include "geom/geom.h"
 #include "geom/pslg.h"
 #include "io/meshio.h"
+#include "io/sizefield.h"
 #include "io/validate.h"
 
 #include "cli.h"
@@ -62,11 +63,20 @@ int main(int argc, char **argv) {
     geom_init();
     char err[1024];
     pslg g;
-    if (pslg_read(input, &g, err, sizeof err) != 0) {
+    if ((o.par.refine ? size_field_read_mesh_pslg(input, &g, err, sizeof err)
+                      : pslg_read(input, &g, err, sizeof err)) != 0) {
         fprintf(stderr, "mesh: %s\n", err);
         return 1;
     }
     if (pslg_check_ex(&g, o.par.strict ? 0 : PSLG_SPLIT, err, sizeof err) != 0) {
+        fprintf(stderr, "mesh: %s\n", err);
+        pslg_free(&g);
+        return 1;
+    }
+    /* -r with -a alone: the old mesh's .area; --size: a background mesh (sizefield.h) */
+    size_field sizes;
+    if (size_field_load(&sizes, o.par.refine && o.par.region_area ? input : NULL, o.par.size_field,
+                        g.scale_exp, err, sizeof err) != 0) {
         fprintf(stderr, "mesh: %s\n", err);
         pslg_free(&g);
         return 1;
@@ -90,6 +100,7 @@ int main(int argc, char **argv) {
         mesh_quality q = {qdeg > 0 ? qdeg * (1 + 1e-9) + 1e-12 : 0, area, steiner,
                           !o.par.circumcenters, o.lens};
         mesh_set_quality(&m, &q);
+        if (sizes.active) mesh_set_size_rule(&m, size_field_unsuitable, &sizes);
         rr = mesh_refine(&m);
     }
     double wall = now() - t0;
@@ -174,5 +185,6 @@ int main(int argc, char **argv) {
     if (need_flat) mesh_flat_free(&f);
     mesh_free(&m);
     pslg_free(&g);
+    size_field_free(&sizes);
     return rc == 0 && limited ? 3 : rc;
 }

@@ -89,6 +89,13 @@ int main(int argc, char **argv) {
     if (par_startup(&argc, &argv, cli_pbw.name, cli_par_parse, &cli_pbw, pbw_register, &o, &in, &d,
                     &code))
         return code;
+    size_field sizes;
+    if (par_load_sizes(&o, &in, &sizes) != 0) {
+        pcdm_decomp_free(&d);
+        pslg_free(&in);
+        rt_finalize();
+        return 1;
+    }
     int rank = rt_rank(), size = rt_size();
     MPI_Comm comm = rt_app_comm();
     MESH_MPI(MPI_Barrier(comm));
@@ -224,6 +231,7 @@ int main(int argc, char **argv) {
     }
     free(all);
     pcdm_decomp_free(&d);
+    size_field_free(&sizes);
     pslg_free(&in);
     rt_finalize();
     return status == 0 && limited ? 3 : status;

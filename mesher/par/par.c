@@ -84,7 +84,8 @@ int par_load(const par_opts *o, pslg *in, pcdm_decomp *d) {
     memset(in, 0, sizeof *in);
     memset(d, 0, sizeof *d);
     geom_init();
-    int rc = pslg_read(o->input, in, err, sizeof err);
+    int rc = o->refine ? size_field_read_mesh_pslg(o->input, in, err, sizeof err)
+                       : pslg_read(o->input, in, err, sizeof err);
     if (rc == 0) rc = check_quietly(in, o->strict ? 0 : PSLG_SPLIT, err, sizeof err);
     if (rc == 0) {
         pcdm_decomp_opts dopt;

@@ -107,6 +107,18 @@ void mesh_set_quality(mesh *m, const mesh_quality *q) {
     mesh_refine_state *r = rf_get(m);
     m->q = *q;
     mesh_rules_init(&r->R, q->min_angle, scaled_area(m, q->max_area), q->offcenter, q->lens);
+    r->R.unsuitable = m->unsuitable;
+    r->R.unsuitable_ctx = m->unsuitable_ctx;
+    r->need_scan = 1;
+}
+
+void mesh_set_size_rule(mesh *m, int (*fn)(void *ctx, const double *const p[3], double area),
+                        void *ctx) {
+    mesh_refine_state *r = rf_get(m);
+    m->unsuitable = fn;
+    m->unsuitable_ctx = ctx;
+    r->R.unsuitable = fn;
+    r->R.unsuitable_ctx = ctx;
     r->need_scan = 1;
 }
 
@@ -137,6 +149,8 @@ static int quality(const mesh *m, const mesh_rules *R, int32_t t, int *bucket, i
 int mesh_tri_bad(const mesh *m, int32_t t) {
     mesh_rules R;
     mesh_rules_init(&R, m->q.min_angle, scaled_area(m, m->q.max_area), 0, 0);
+    R.unsuitable = m->unsuitable;
+    R.unsuitable_ctx = m->unsuitable_ctx;
     return quality(m, &R, t, NULL, NULL);
 }
 
