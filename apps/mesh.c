@@ -16,6 +16,7 @@
 #include "io/meshio.h"
 #include "io/sizefield.h"
 #include "io/validate.h"
+#include "seq/vattr.h"
 
 #include "cli.h"
 
@@ -70,6 +71,11 @@ int main(int argc, char **argv) {
     }
     if (pslg_check_ex(&g, o.par.strict ? 0 : PSLG_SPLIT, err, sizeof err) != 0) {
         fprintf(stderr, "mesh: %s\n", err);
+        pslg_free(&g);
+        return 1;
+    }
+    if (pslg_boundary_markers(&g) != 0) { /* Triangle's marker rules, inherited by the mesh */
+        fprintf(stderr, "mesh: %s: out of memory\n", input);
         pslg_free(&g);
         return 1;
     }
@@ -133,7 +139,10 @@ int main(int argc, char **argv) {
         fprintf(stderr, "mesh: out of memory\n");
         return 1;
     }
-    if (prefix && meshio_write_triangle(&f, prefix, err, sizeof err) != 0) {
+    if (prefix && mesh_interpolate_attributes(&g, &f, err, sizeof err) != 0) {
+        fprintf(stderr, "mesh: %s: %s\n", input, err);
+        rc = 1;
+    } else if (prefix && meshio_write_triangle(&f, prefix, err, sizeof err) != 0) {
         fprintf(stderr, "mesh: %s\n", err);
         rc = 1;
     }

@@ -1644,3 +1644,64 @@ oom:
     pslg_pieces_free(P);
     return -1;
 }
+
+/* ---------------------------------------------------------------- markers --------------- */
+
+/* 1 iff exactly one side of half-edge h is a kept face: the piece is on the domain's boundary. */
+static int on_boundary(const faces *F, int32_t h) {
+    int32_t f1 = face_left(F, h), f2 = face_left(F, h ^ 1);
+    return ((f1 >= 0 && !F->cy[f1].removed) != 0) + ((f2 >= 0 && !F->cy[f2].removed) != 0) == 1;
+}
+
+int pslg_boundary_markers(pslg *g) {
+    geom_init();
+    if (g->nsegs == 0 || !g->smarker) return 0;
+    faces F;
+    if (faces_build(g, &F)) return -1;
+    uint8_t *onb = mesh_xcalloc((size_t)g->nsegs + 1, 1);
+    /* the vertices along each segment, in order (as pslg_segment_pieces walks them) */
+    int32_t *start = mesh_xmalloc((size_t)g->nsegs + 1, sizeof(int32_t)), nv = 0, cap = 64;
+    int32_t *vert = mesh_xmalloc((size_t)cap, sizeof(int32_t));
+    for (int32_t s = 0; s < g->nsegs; s++) {
+        int32_t a = g->seg[2 * s], b = g->seg[2 * s + 1], cur = a;
+        const double *pb = g->xy + 2 * b;
+        start[s] = nv;
+        for (int32_t steps = 0; cur != b && steps <= F.A.ne; steps++) {
+            int32_t next = -1;
+            for (int32_t i = F.A.vstart[cur]; i < F.A.vstart[cur + 1]; i++) {
+                int32_t h = F.A.out[i], w = F.A.org[h ^ 1];
+                const double *pc = g->xy + 2 * cur, *pw = g->xy + 2 * w;
+                if (w != b && !(geom_orient2d(pc, pb, pw) == 0 && strictly_between(pc, pb, pw)))
+                    continue;
+                if (on_boundary(&F, h)) onb[s] = 1;
+                if (w != b) {
+                    if (nv == cap) vert = mesh_xrealloc(vert, (size_t)(cap *= 2), sizeof(int32_t));
+                    vert[nv++] = w;
+                }
+                next = w;
+                break;
+            }
+            if (next < 0) break;
+            cur = next;
+        }
+    }
+    faces_free(&F);
+    if (g->vmarker) /* pass 1: the input's nonzero segment markers; pass 2: boundary ones */
+        for (int pass = 0; pass < 2; pass++) {
+            for (int32_t s = 0; s < g->nsegs; s++) {
+                int32_t mk = g->smarker[s] ? g->smarker[s] : pass && onb[s] ? 1 : 0;
+                if (!mk) continue;
+                int32_t end = s + 1 < g->nsegs ? start[s + 1] : nv;
+                for (int32_t i = start[s] - 2; i < end; i++) {
+                    int32_t v = i < start[s] ? g->seg[2 * s + (i - start[s] + 2)] : vert[i];
+                    if (g->vmarker[v] == 0) g->vmarker[v] = mk;
+                }
+            }
+        }
+    for (int32_t s = 0; s < g->nsegs; s++)
+        if (g->smarker[s] == 0 && onb[s]) g->smarker[s] = 1;
+    free(onb);
+    free(start);
+    free(vert);
+    return 0;
+}

@@ -83,6 +83,15 @@ enum {
  * or -1 with a message in err. */
 int pslg_check_ex(pslg *g, unsigned flags, char *err, size_t errlen);
 
+/* Boundary markers as Triangle assigns them (its documentation of .node and .poly), on the
+ * PSLG before meshing so that every mesher's output inherits them: a segment with marker 0
+ * that borders the domain on exactly one side somewhere (the outer boundary, a hole's) gets 1;
+ * a vertex with marker 0 lying on a segment (an endpoint, or inside it) takes the segment's
+ * nonzero marker -- the file's markers first, then the boundary's 1.  Vertices on no such
+ * segment keep 0.  The meshers give a new vertex on a segment that segment's marker, and other
+ * new vertices 0.  Call after pslg_check.  Returns 0, or -1 (out of memory). */
+int pslg_boundary_markers(pslg *g);
+
 /* Area of the domain the PSLG describes, computed from the PSLG alone (independently of any
  * mesh): the union of the bounded faces of the segment arrangement, minus the faces that
  * contain a hole point.  A hole point exactly on a segment or a vertex removes every face

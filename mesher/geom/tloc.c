@@ -114,6 +114,38 @@ int32_t tloc_find(const tloc *L, const double p[2]) {
     return -1;
 }
 
+/* The smallest barycentric weight of p in triangle t (rounded; negative outside). */
+static double min_weight(const tloc *L, int32_t t, const double p[2]) {
+    const int32_t *v = L->tri + 3 * (size_t)t;
+    const double *q[3] = {L->xy + 2 * (size_t)v[0], L->xy + 2 * (size_t)v[1],
+                          L->xy + 2 * (size_t)v[2]};
+    double a = geom_area(q[0], q[1], q[2]), w = INFINITY;
+    if (a == 0) return -INFINITY;
+    for (int k = 0; k < 3; k++)
+        w = fmin(w, geom_area(p, q[(k + 1) % 3], q[(k + 2) % 3]) / a);
+    return w;
+}
+
+int32_t tloc_find_near(const tloc *L, const double p[2]) {
+    int32_t t = tloc_find(L, p);
+    if (t >= 0 || !L->start) return t;
+    double best = -INFINITY;
+    int32_t i0 = cell_of(p[0], L->x0, L->cw, L->nx), j0 = cell_of(p[1], L->y0, L->ch, L->ny);
+    for (int32_t j = j0 - 1; j <= j0 + 1; j++)
+        for (int32_t i = i0 - 1; i <= i0 + 1; i++) {
+            if (i < 0 || j < 0 || i >= L->nx || j >= L->ny) continue;
+            size_t c = (size_t)j * L->nx + i;
+            for (int32_t k = L->start[c]; k < L->start[c + 1]; k++) {
+                double w = min_weight(L, L->item[k], p);
+                if (w > best) {
+                    best = w;
+                    t = L->item[k];
+                }
+            }
+        }
+    return t;
+}
+
 void tloc_weights(const tloc *L, int32_t t, const double p[2], double w[3]) {
     const int32_t *v = L->tri + 3 * (size_t)t;
     const double *q[3] = {L->xy + 2 * (size_t)v[0], L->xy + 2 * (size_t)v[1],

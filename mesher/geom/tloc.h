@@ -31,6 +31,11 @@ int tloc_build(tloc *L, const double *xy, const int32_t *tri, int32_t ntris);
  * or -1 when p is in none. */
 int32_t tloc_find(const tloc *L, const double p[2]);
 
+/* tloc_find, or when p is in no triangle (a point that rounding put just outside the set) the
+ * triangle of p's cell or the cells around it whose smallest barycentric weight of p is the
+ * largest (the nearest in that sense); -1 when there is none nearby. */
+int32_t tloc_find_near(const tloc *L, const double p[2]);
+
 /* Barycentric weights of p in triangle t (rounded; clamped to [0, 1] and summing to 1, so a
  * point just outside gets the nearest value on the triangle). */
 void tloc_weights(const tloc *L, int32_t t, const double p[2], double w[3]);

@@ -87,6 +87,10 @@ int par_load(const par_opts *o, pslg *in, pcdm_decomp *d) {
     int rc = o->refine ? size_field_read_mesh_pslg(o->input, in, err, sizeof err)
                        : pslg_read(o->input, in, err, sizeof err);
     if (rc == 0) rc = check_quietly(in, o->strict ? 0 : PSLG_SPLIT, err, sizeof err);
+    if (rc == 0 && pslg_boundary_markers(in) != 0) { /* Triangle's rules, as ./mesh */
+        snprintf(err, sizeof err, "%s: out of memory", o->input);
+        rc = -1;
+    }
     if (rc == 0) {
         pcdm_decomp_opts dopt;
         pcdm_decomp_opts_default(&dopt);
