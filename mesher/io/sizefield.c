@@ -246,9 +246,13 @@ static int read_area(const char *path, int32_t nt, int first, double *area, char
         goto out;
     }
     long n = strtol(s, &end, 10);
-    if (end == s || n != nt) {
-        sfail(err, errlen, "%s:%ld: triangle count %.20s does not match the mesh's %d triangles",
-              path, line, s, (int)nt);
+    if (end == s) {
+        sfail(err, errlen, "%s:%ld: malformed triangle count", path, line);
+        goto out;
+    }
+    if (n != nt) {
+        sfail(err, errlen, "%s:%ld: triangle count %ld does not match the mesh's %d triangles",
+              path, line, n, (int)nt);
         goto out;
     }
     for (int32_t t = 0; t < nt; t++) {
