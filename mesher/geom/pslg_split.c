@@ -35,6 +35,7 @@
 typedef struct split_pt {
     int32_t seg, v;
     double key;
+    int64_t next; /* the previous point added on the same segment (-1: none) */
 } split_pt;
 
 typedef struct splitter {
@@ -43,6 +44,7 @@ typedef struct splitter {
     int64_t npt, cap;
     int32_t nv0;  /* vertices before this round: later ones are crossing vertices */
     int32_t vcap; /* capacity of g's vertex arrays */
+    int64_t *head; /* per segment: the last point added on it (-1: none) */
 } splitter;
 
 static int sgn(double v) {
@@ -64,7 +66,8 @@ static void add_point(splitter *S, int32_t s, int32_t v) {
         S->cap = S->cap ? 2 * S->cap : 64;
         S->pt = mesh_xrealloc(S->pt, (size_t)S->cap, sizeof *S->pt);
     }
-    S->pt[S->npt++] = (split_pt){s, v, along(S, s, V(S, v))};
+    S->pt[S->npt] = (split_pt){s, v, along(S, s, V(S, v)), S->head[s]};
+    S->head[s] = S->npt++;
 }
 
 /* 1 if p (collinear with ab) lies strictly between a and b. */
@@ -104,9 +107,9 @@ static int32_t new_vertex(splitter *S, int32_t s, const double *p) {
 
 /* A crossing vertex already on segment s within tol of p (per axis), or -1. */
 static int32_t near_vertex(const splitter *S, int32_t s, const double *p, double tol) {
-    for (int64_t i = 0; i < S->npt; i++) {
+    for (int64_t i = S->head[s]; i >= 0; i = S->pt[i].next) {
         const split_pt *q = &S->pt[i];
-        if (q->seg != s || q->v < S->nv0) continue;
+        if (q->v < S->nv0) continue;
         const double *x = V(S, q->v);
         if (fabs(x[0] - p[0]) <= tol && fabs(x[1] - p[1]) <= tol) return q->v;
     }
@@ -173,11 +176,15 @@ static int cmp_pt(const void *x, const void *y) {
 int pslg_split_pairs(pslg *g, const int32_t *pairs, int64_t npairs, char *err, size_t errlen) {
     (void)err;
     (void)errlen;
-    splitter S = {g, NULL, 0, 0, g->nverts, g->nverts};
+    splitter S = {g, NULL, 0, 0, g->nverts, g->nverts, NULL};
+    S.head = mesh_xmalloc((size_t)g->nsegs + 1, sizeof *S.head);
+    for (int32_t s = 0; s < g->nsegs; s++)
+        S.head[s] = -1;
     if (!g->vmarker) g->vmarker = mesh_xcalloc((size_t)g->nverts + 1, sizeof(int32_t));
     if (!g->vline) g->vline = mesh_xcalloc((size_t)g->nverts + 1, sizeof(int32_t));
     for (int64_t k = 0; k < npairs; k++)
         split_pair(&S, pairs[2 * k], pairs[2 * k + 1]);
+    free(S.head);
     qsort(S.pt, (size_t)S.npt, sizeof *S.pt, cmp_pt);
     /* the pieces, segment by segment in the file's order */
     int32_t ns = g->nsegs;
