@@ -42,8 +42,8 @@ typedef struct splitter {
     pslg *g;
     split_pt *pt;
     int64_t npt, cap;
-    int32_t nv0;  /* vertices before this round: later ones are crossing vertices */
-    int32_t vcap; /* capacity of g's vertex arrays */
+    int32_t nv0;   /* vertices before this round: later ones are crossing vertices */
+    int32_t vcap;  /* capacity of g's vertex arrays */
     int64_t *head; /* per segment: the last point added on it (-1: none) */
 } splitter;
 
