@@ -7,7 +7,9 @@
  * endpoint inside a segment is not a conflict: nothing changes), collinear overlaps and chains
  * (the union's pieces, the earlier segment's marker kept), three segments through one point
  * whose crossing is not representable (one shared vertex), a star of eight segments through the
- * origin, and attributes interpolated on a crossing vertex.
+ * origin, and attributes interpolated on a crossing vertex.  Also Triangle's boundary markers
+ * (pslg_boundary_markers): outer and hole boundaries 1, a marked edge and the file's vertex
+ * markers kept, interior segments 0.
  */
 #include "geom/geom.h"
 #include "geom/pslg.h"
@@ -252,6 +254,31 @@ START_TEST(test_scaled_input) {
 }
 END_TEST
 
+START_TEST(test_boundary_markers) {
+    /* a square (bottom marker 7) with a square hole and a dangling interior segment, all other
+     * markers 0; vertex 3 (0, 4) has marker 3 in the file */
+    const double xy[] = {0, 0, 4, 0, 4, 4, 0, 4, 1, 1, 2, 1, 2, 2, 1, 2, 3, 3, 3.5, 2};
+    const int32_t seg[] = {0, 1, 1, 2, 2, 3, 3, 0, 4, 5, 5, 6, 6, 7, 7, 4, 8, 2, 8, 9};
+    const int32_t mk[] = {7, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+    pslg g;
+    build(&g, 10, xy, 10, seg, mk);
+    g.vmarker[3] = 3;
+    g.nholes = 1;
+    g.holes = malloc(2 * sizeof(double));
+    g.holes[0] = g.holes[1] = 1.5;
+    char err[256];
+    ck_assert_msg(pslg_check(&g, err, sizeof err) == 0, "%s", err);
+    ck_assert_int_eq(pslg_boundary_markers(&g), 0);
+    const int32_t want_s[] = {7, 1, 1, 1, 1, 1, 1, 1, 0, 0};
+    const int32_t want_v[] = {7, 7, 1, 3, 1, 1, 1, 1, 0, 0};
+    for (int s = 0; s < 10; s++)
+        ck_assert_msg(g.smarker[s] == want_s[s], "segment %d: %d", s, g.smarker[s]);
+    for (int v = 0; v < 10; v++)
+        ck_assert_msg(g.vmarker[v] == want_v[v], "vertex %d: %d", v, g.vmarker[v]);
+    pslg_free(&g);
+}
+END_TEST
+
 int main(void) {
     geom_init();
     Suite *s = suite_create("split");
@@ -266,6 +293,7 @@ int main(void) {
     tcase_add_test(tc, test_grid_of_crossings);
     tcase_add_test(tc, test_attributes_interpolated);
     tcase_add_test(tc, test_scaled_input);
+    tcase_add_test(tc, test_boundary_markers);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);
     srunner_run_all(sr, CK_NORMAL);
