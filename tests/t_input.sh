@@ -127,7 +127,21 @@ with open(f"{T}/s1.area", "w") as f:
 EOF
 ok_check "mesh -r .area" "$M" -r --region-areas -q 20 --check -o "$T/s2" "$T/s1"
 ok_check "pbw -r .area" par "$BIN/pbw" -r --region-areas -q 20 --check -o "$T/s3" "$T/s1"
-python3 - "$T" <<'EOF' || fail "-r: old vertices or .area bounds (see above)"
+# Triangle's own example of -r with a .area (and one with a hole and no .poly), when the PyPI
+# triangle package that ships them is installed
+pairs="s1:s2 s1:s3"
+tri=$(python3 -c 'import triangle, os; print(os.path.dirname(triangle.__file__))' 2>/dev/null)
+if [ -n "$tri" ] && [ -e "$tri/data/bbox.1.area" ]; then
+    for e in node ele area; do cp "$tri/data/bbox.1.$e" "$T/b1.$e"; done
+    for e in node ele; do cp "$tri/data/square_circle_hole.1.$e" "$T/h1.$e"; done
+    ok_check "mesh -r Triangle's bbox.1.area" "$M" -r --region-areas -q 25 --check -o "$T/b2" "$T/b1"
+    ok_check "pcdm -r Triangle's square_circle_hole.1" par "$BIN/pcdm" -r -q 25 --check \
+        -o "$T/h2" "$T/h1"
+    pairs="$pairs b1:b2"
+else
+    echo "skip Triangle's example files (python3 -c 'import triangle' failed)"
+fi
+python3 - "$T" $pairs <<'EOF' || fail "-r: old vertices or .area bounds (see above)"
 import sys
 T = sys.argv[1]
 def rows(p):
@@ -152,10 +166,13 @@ for old, new in (("l1", "l2"), ("l1", "l3"), ("l1", "l4"), ("s1", "s2"), ("s1", 
         print(f"FAIL: {new}: {len(missing)} old vertices missing, e.g. {missing[0]}"); bad += 1
     if new in ("l2", "l3", "l4") and len(ntris) <= len(otris):
         print(f"FAIL: {new}: {len(ntris)} triangles, not more than {len(otris)}"); bad += 1
-oxy, otris = mesh("s1")
-bound = [float(r[1]) for r in rows(f"{T}/s1.area")[1:]]
-for new in ("s2", "s3"):
+for old, new in (a.split(":") for a in sys.argv[2:]):
+    oxy, otris = mesh(old)
+    bound = [float(r[1]) for r in rows(f"{T}/{old}.area")[1:]]
     _, ntris = mesh(new)
+    have = set(_.values())
+    if any(p not in have for p in oxy.values()):
+        print(f"FAIL: {new}: old vertices missing"); bad += 1
     for t in ntris:
         c = (sum(p[0] for p in t) / 3, sum(p[1] for p in t) / 3)
         for i, o in enumerate(otris):
