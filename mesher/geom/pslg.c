@@ -904,7 +904,7 @@ static int normalise(pslg *g, int split, int quiet, int32_t **pairs, int64_t *np
     free(map);
     /* 2. zero-length and repeated segments */
     int32_t ns = g->nsegs;
-    for (int32_t s = 0; s < ns; s++)
+    for (int32_t s = 0; s < ns && !quiet; s++) /* pieces of a split: dropped below */
         if (g->seg[2 * s] == g->seg[2 * s + 1])
             return gfail(err, errlen, "%s:%d: segment %d has zero length (both endpoints are %s)",
                          sf, g->sline ? g->sline[s] : 0, s + g->first_index,
@@ -924,6 +924,8 @@ static int normalise(pslg *g, int split, int quiet, int32_t **pairs, int64_t *np
         keep[s] = 1;
     }
     qsort(sk, (size_t)ns, sizeof *sk, cmp_skey);
+    for (int32_t i = 0; i < ns; i++) /* a piece whose ends merged (quiet passes only) */
+        if (sk[i].lo == sk[i].hi) keep[sk[i].i] = 0;
     for (int32_t i = 1, run = 0; i < ns; i++) {
         if (sk[i].lo != sk[run].lo || sk[i].hi != sk[run].hi) {
             run = i;
