@@ -155,8 +155,9 @@ static const cli_opt mesher_rows[] = {
      .name = "refine",
      .value = &v_flag,
      .at = CLI_AT(par.refine),
-     .help = "refine a mesh: the input is NAME.node/NAME.ele (and NAME.poly, NAME.area if "
-             "present)"},
+     .help = "refine a mesh, keeping its vertices: the input is NAME (NAME.node, NAME.ele; "
+             "NAME.poly if present, else its boundary edges are the segments; with -a alone "
+             "NAME.area's bound per old triangle)"},
     {.letter = 'Q',
      .name = "quiet",
      .value = &v_flag,
@@ -186,8 +187,9 @@ static const cli_opt mesher_rows[] = {
     {.name = "size",
      .value = &v_file,
      .at = CLI_AT(par.size_field),
-     .help = "size field: a background mesh (.node with one attribute, the target edge length "
-             "per vertex, and .ele), interpolated"},
+     .help = "size field: a background mesh (FILE.node with one attribute, the target edge "
+             "length h per vertex, and FILE.ele); h interpolated at each triangle's centroid, "
+             "area at most sqrt(3)/4 h^2 (no bound outside it)"},
     {.help = NULL}};
 
 /* What both parallel meshers are told on top. */

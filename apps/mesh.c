@@ -16,12 +16,13 @@
 #include "geom/geom.h"
 #include "geom/pslg.h"
 #include "io/meshio.h"
+#include "io/sizefield.h"
 #include "io/validate.h"
 #include "io/xwrite.h"
+#include "seq/vattr.h"
 
 #include "cli.h"
 
-#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -52,21 +53,6 @@ static int poll_progress(void *ctx) {
                 (long)p->m->nv);
     }
     return 0;
-}
-
-/* pslg_check, its warnings (merged duplicates) silenced under -Q: stderr points at /dev/null
- * while it runs; its errors come back in err. */
-static int check_input(pslg *g, int quiet, char *err, size_t errlen) {
-    if (!quiet) return pslg_check(g, err, errlen);
-    fflush(stderr);
-    int saved = dup(2), devnull = open("/dev/null", O_WRONLY);
-    if (saved >= 0 && devnull >= 0) dup2(devnull, 2);
-    int rc = pslg_check(g, err, errlen);
-    fflush(stderr);
-    if (saved >= 0 && devnull >= 0) dup2(saved, 2);
-    if (saved >= 0) close(saved);
-    if (devnull >= 0) close(devnull);
-    return rc;
 }
 
 /* -V: what was read and what is asked for. */
@@ -104,11 +90,26 @@ int main(int argc, char **argv) {
     char err[1024];
     pslg g;
     double t_read = now();
-    if (pslg_read(input, &g, err, sizeof err) != 0) {
+    if ((o.par.refine ? size_field_read_mesh_pslg(input, &g, err, sizeof err)
+                      : pslg_read(input, &g, err, sizeof err)) != 0) {
         fprintf(stderr, "mesh: %s\n", err);
         return 1;
     }
-    if (check_input(&g, quiet, err, sizeof err) != 0) {
+    g.quiet = quiet; /* -Q: no warnings (merged duplicates) */
+    if (pslg_check_ex(&g, o.par.strict ? 0 : PSLG_SPLIT, err, sizeof err) != 0) {
+        fprintf(stderr, "mesh: %s\n", err);
+        pslg_free(&g);
+        return 1;
+    }
+    if (pslg_boundary_markers(&g) != 0) { /* Triangle's marker rules, inherited by the mesh */
+        fprintf(stderr, "mesh: %s: out of memory\n", input);
+        pslg_free(&g);
+        return 1;
+    }
+    /* -r with -a alone: the old mesh's .area; --size: a background mesh (sizefield.h) */
+    size_field sizes;
+    if (size_field_load(&sizes, o.par.refine && o.par.region_area ? input : NULL, o.par.size_field,
+                        g.scale_exp, err, sizeof err) != 0) {
         fprintf(stderr, "mesh: %s\n", err);
         pslg_free(&g);
         return 1;
@@ -134,6 +135,7 @@ int main(int argc, char **argv) {
         mesh_quality q = {qdeg > 0 ? qdeg * (1 + 1e-9) + 1e-12 : 0, area, steiner,
                           !o.par.circumcenters, o.lens};
         mesh_set_quality(&m, &q);
+        if (sizes.active) mesh_set_size_rule(&m, size_field_unsuitable, &sizes);
         rr = mesh_refine(&m);
     }
     double wall = now() - t0;
@@ -178,8 +180,11 @@ int main(int argc, char **argv) {
         fprintf(stderr, "mesh: out of memory\n");
         return 1;
     }
-    if (write_tri &&
-        meshio_write_triangle_some(&f, prefix, par_skip_files(&o.par), err, sizeof err) != 0) {
+    if (prefix && mesh_interpolate_attributes(&g, &f, err, sizeof err) != 0) {
+        fprintf(stderr, "mesh: %s: %s\n", input, err);
+        rc = 1;
+    } else if (write_tri && meshio_write_triangle_some(&f, prefix, par_skip_files(&o.par), err,
+                                                       sizeof err) != 0) {
         fprintf(stderr, "mesh: %s\n", err);
         rc = 1;
     }
@@ -245,5 +250,6 @@ int main(int argc, char **argv) {
     if (need_flat) mesh_flat_free(&f);
     mesh_free(&m);
     pslg_free(&g);
+    size_field_free(&sizes);
     return partial ? 1 : rc == 0 && limited ? 3 : rc;
 }

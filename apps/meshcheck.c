@@ -27,7 +27,7 @@ int main(int argc, char **argv) {
     geom_init();
     char err[1024];
     pslg g;
-    if (pslg_read(input, &g, err, sizeof err) || pslg_check(&g, err, sizeof err)) {
+    if (pslg_read(input, &g, err, sizeof err) || pslg_check_ex(&g, PSLG_SPLIT, err, sizeof err)) {
         fprintf(stderr, "meshcheck: %s\n", err);
         pslg_free(&g);
         return 1;

@@ -94,6 +94,13 @@ int main(int argc, char **argv) {
     if (par_startup(&argc, &argv, cli_pbw.name, cli_par_parse, &cli_pbw, pbw_register, &o, &in, &d,
                     &code))
         return code;
+    size_field sizes;
+    if (par_load_sizes(&o, &in, &sizes) != 0) {
+        pcdm_decomp_free(&d);
+        pslg_free(&in);
+        rt_finalize();
+        return 1;
+    }
     int rank = rt_rank(), size = rt_size();
     MPI_Comm comm = rt_app_comm();
     int verbose = o.verbose && !o.quiet; /* -Q wins */
@@ -245,6 +252,7 @@ int main(int argc, char **argv) {
     }
     free(all);
     pcdm_decomp_free(&d);
+    size_field_free(&sizes);
     pslg_free(&in);
     rt_finalize();
     return partial ? 1 : status == 0 && limited ? 3 : status;

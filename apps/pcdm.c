@@ -75,6 +75,13 @@ int main(int argc, char **argv) {
     if (par_startup(&argc, &argv, cli_pcdm.name, cli_par_parse, &cli_pcdm, pcdm_register, &o, &in,
                     &d, &code))
         return code;
+    size_field sizes;
+    if (par_load_sizes(&o, &in, &sizes) != 0) {
+        pcdm_decomp_free(&d);
+        pslg_free(&in);
+        rt_finalize();
+        return 1;
+    }
     int rank = rt_rank(), size = rt_size();
     MPI_Comm comm = rt_app_comm();
     int verbose = o.verbose && !o.quiet; /* -Q wins */
@@ -111,6 +118,7 @@ int main(int argc, char **argv) {
         q.max_steiner = (int64_t)((double)o.max_steiner * share);
     }
     rt_stats_reset();
+    if (o.unsuitable) mesh_set_size_rule(&part.m, o.unsuitable, o.unsuitable_ctx);
     pcdm_part_refine(&part, &q, o.poll_every > 0 ? o.poll_every : 300);
     double t1 = rt_wtime();
 
@@ -225,6 +233,7 @@ int main(int argc, char **argv) {
     fflush(stdout);
     free(all);
     pcdm_decomp_free(&d);
+    size_field_free(&sizes);
     pslg_free(&in);
     rt_finalize();
     return partial ? 1 : status == 0 && limited ? 3 : status;

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # t_decomp: the decomposition on inputs of every class (tests/inputs/: a letter with a hole, an
 # inclusion with two materials, separate faces, internal and dangling segments, many small
-# regions, far-from-origin coordinates, a thin sliver, small input angles, a point set), each
+# regions, far-from-origin coordinates, a thin sliver, small input angles, a point set,
+# crossing and overlapping segments split at their intersections), each
 # meshed by ./pcdm and ./pbw at 1, 2, 3, 4 and 8 ranks with --check, runs with --perturb seeds, --subdomains
 # and --imbalance, --write-cuts read back with --cuts, the coarse route on larger meshes, counts
 # and balance against ./mesh on small angle-only domains and at 128 subdomains, and the
@@ -24,7 +25,8 @@ bad() { fail=$((fail + 1)); printf 'FAIL %s\n' "$*"; }
 # area bounds: about 1-3K triangles each
 declare -A AREA=([letter_a.poly]=0.005 [inclusion.poly]=0.001 [map.poly]=0.003
     [segments.poly]=0.002 [grid.poly]=0.001 [far.poly]=0.00000006 [sliver.poly]=0.00002
-    [angles.poly]=0.0003 [points.node]=0.001)
+    [angles.poly]=0.0003 [points.node]=0.001 [cross.poly]=0.01 [star.poly]=0.02
+    [overlap.poly]=0.008 [markers.poly]=0.01 [attributes.poly]=0.01)
 NPS="1 2 3 4 8"
 [ "${SANITIZE:-}" = 1 ] && NPS="1 3 8"
 

@@ -122,7 +122,7 @@ run 4 holes 20.7 --imbalance 2
 run 4 lake 30 --circumcenters --poll 1
 
 # bad input and impossible requests: one clear message, non-zero exit from every rank
-out=$(timeout 60 $MPIRUN -np 4 "$BIN/pbw" -NEP tests/bad/self_intersecting.poly 2>&1)
+out=$(timeout 60 $MPIRUN -np 4 "$BIN/pbw" -NEP --strict tests/bad/self_intersecting.poly 2>&1)
 rc=$?
 echo "bad input -> $rc: $(head -n 1 <<<"$out")"
 [ "$rc" -ne 0 ] || fail "bad input accepted"

@@ -17,6 +17,7 @@
 #include "base/base.h"
 
 #include "geom/geom.h"
+#include "geom/pslg_impl.h"
 
 #include <errno.h>
 #include <float.h>
@@ -833,23 +834,18 @@ static int pslg_scale(pslg *g, char *err, size_t errlen) {
     return 0;
 }
 
-int pslg_check(pslg *g, char *err, size_t errlen) {
-    geom_init();
-    if (errlen) err[0] = '\0';
+/* One normalisation pass of pslg_check_ex: merges duplicate vertices, rejects zero-length
+ * segments, drops repeated ones and looks for conflicting pairs (crossing or overlapping).
+ * quiet: no warnings (after a split the pieces are not the file's segments).  Without split the
+ * conflict whose later segment comes first in the file is the error; with split every
+ * conflicting pair goes into *pairs (s < t, two entries each, *npairs of them). */
+static int normalise(pslg *g, int split, int quiet, int32_t **pairs, int64_t *npairs, char *err,
+                     size_t errlen) {
     const char *vf = g->path[0] ? g->path : "(input)";
     const char *sf = g->segpath[0] ? g->segpath : vf;
     int32_t n = g->nverts;
-    for (int32_t i = 0; i < n; i++)
-        if (!isfinite(g->xy[2 * i]) || !isfinite(g->xy[2 * i + 1]))
-            return gfail(err, errlen, "%s:%d: vertex %d has a non-finite coordinate", vf,
-                         g->vline ? g->vline[i] : 0, i + g->first_index);
-    for (int32_t s = 0; s < g->nsegs; s++)
-        for (int k = 0; k < 2; k++)
-            if (g->seg[2 * s + k] < 0 || g->seg[2 * s + k] >= n)
-                return gfail(err, errlen, "%s:%d: segment %d: vertex %d out of range", sf,
-                             g->sline ? g->sline[s] : 0, s + g->first_index,
-                             g->seg[2 * s + k] + g->first_index);
-    if (pslg_scale(g, err, errlen) != 0) return -1;
+    *pairs = NULL;
+    *npairs = 0;
     /* 1. merge duplicate vertices */
     vkey *vk = mesh_xmalloc((size_t)(n ? n : 1) * sizeof *vk, 1);
     int32_t *map = mesh_xmalloc((size_t)(n ? n : 1) * sizeof *map, 1);
@@ -867,7 +863,7 @@ int pslg_check(pslg *g, char *err, size_t errlen) {
             int32_t a = vk[i].i, b = vk[rep].i;
             map[a] = b;
             ndup++;
-            if (!g->quiet)
+            if (!quiet && !g->quiet)
                 fprintf(stderr,
                         "%s:%d: warning: vertex %d duplicates vertex %d (line %d); merged\n", vf,
                         g->vline ? g->vline[a] : 0, a + g->first_index, b + g->first_index,
@@ -908,7 +904,7 @@ int pslg_check(pslg *g, char *err, size_t errlen) {
     free(map);
     /* 2. zero-length and repeated segments */
     int32_t ns = g->nsegs;
-    for (int32_t s = 0; s < ns; s++)
+    for (int32_t s = 0; s < ns && !quiet; s++) /* pieces of a split: dropped below */
         if (g->seg[2 * s] == g->seg[2 * s + 1])
             return gfail(err, errlen, "%s:%d: segment %d has zero length (both endpoints are %s)",
                          sf, g->sline ? g->sline[s] : 0, s + g->first_index,
@@ -928,13 +924,15 @@ int pslg_check(pslg *g, char *err, size_t errlen) {
         keep[s] = 1;
     }
     qsort(sk, (size_t)ns, sizeof *sk, cmp_skey);
+    for (int32_t i = 0; i < ns; i++) /* a piece whose ends merged (quiet passes only) */
+        if (sk[i].lo == sk[i].hi) keep[sk[i].i] = 0;
     for (int32_t i = 1, run = 0; i < ns; i++) {
         if (sk[i].lo != sk[run].lo || sk[i].hi != sk[run].hi) {
             run = i;
         } else {
             int32_t s = sk[i].i, t = sk[run].i; /* the first of a run is kept */
             keep[s] = 0;
-            if (!g->quiet)
+            if (!quiet && !g->quiet)
                 fprintf(stderr,
                         "%s:%d: warning: segment %d repeats segment %d (line %d); dropped\n", sf,
                         g->sline ? g->sline[s] : 0, s + g->first_index, t + g->first_index,
@@ -945,15 +943,18 @@ int pslg_check(pslg *g, char *err, size_t errlen) {
     int32_t nk = 0;
     for (int32_t s = 0; s < ns; s++)
         if (keep[s]) ids[nk++] = s;
-    /* 3. crossings: grid candidates, exact decision */
+    free(keep);
+    /* 3. crossings and overlaps: grid candidates, exact decision */
     grid gr;
     int rc = 0;
+    int32_t *pr = NULL;
+    int64_t np = 0, pcap = 0;
     if (grid_build_segments(&gr, g->xy, g->seg, ids, nk)) {
         rc = gfail(err, errlen, "%s: out of memory checking segment crossings", sf);
     } else {
         int32_t bs = -1, bt = -1;
         size_t ncell = (size_t)gr.nx * gr.ny;
-        for (size_t c = 0; c < ncell; c++) {
+        for (size_t c = 0; c < ncell && rc == 0; c++) {
             for (int32_t i = gr.start[c]; i < gr.start[c + 1]; i++)
                 for (int32_t j = i + 1; j < gr.start[c + 1]; j++) {
                     int32_t s = gr.item[i], t = gr.item[j];
@@ -963,33 +964,95 @@ int pslg_check(pslg *g, char *err, size_t errlen) {
                         t = x;
                     }
                     /* report the pair whose later segment comes first in the file */
-                    if (bt >= 0 && (t > bt || (t == bt && s >= bs))) continue;
-                    if (segs_conflict(g->xy, g->seg[2 * s], g->seg[2 * s + 1], g->seg[2 * t],
-                                      g->seg[2 * t + 1])) {
-                        bs = s;
-                        bt = t;
+                    if (!split && bt >= 0 && (t > bt || (t == bt && s >= bs))) continue;
+                    if (!segs_conflict(g->xy, g->seg[2 * s], g->seg[2 * s + 1], g->seg[2 * t],
+                                       g->seg[2 * t + 1]))
+                        continue;
+                    bs = s;
+                    bt = t;
+                    if (!split) continue;
+                    if (np == pcap) {
+                        pcap = pcap ? 2 * pcap : 64;
+                        pr = mesh_xrealloc(pr, (size_t)pcap, 2 * sizeof *pr);
                     }
+                    pr[2 * np] = s;
+                    pr[2 * np + 1] = t;
+                    np++;
                 }
         }
-        if (bt >= 0)
+        if (!split && bt >= 0)
             rc = gfail(err, errlen, "%s:%d: segment %d crosses segment %d (line %d)", sf,
                        g->sline ? g->sline[bt] : 0, bt + g->first_index, bs + g->first_index,
                        g->sline ? g->sline[bs] : 0);
     }
     grid_free(&gr);
-    if (rc == 0 && nk < ns) {
+    if (rc == 0 && nk < ns) { /* compact; pairs follow the segments' new numbers */
+        int32_t *pos = mesh_xmalloc((size_t)ns, sizeof *pos);
         for (int32_t i = 0; i < nk; i++) {
             int32_t s = ids[i];
+            pos[s] = i;
             g->seg[2 * i] = g->seg[2 * s];
             g->seg[2 * i + 1] = g->seg[2 * s + 1];
             if (g->smarker) g->smarker[i] = g->smarker[s];
             if (g->sline) g->sline[i] = g->sline[s];
         }
+        for (int64_t k = 0; k < 2 * np; k++)
+            pr[k] = pos[pr[k]];
+        free(pos);
         g->nsegs = nk;
     }
     free(ids);
-    free(keep);
+    if (rc == 0) {
+        *pairs = pr;
+        *npairs = np;
+    } else {
+        free(pr);
+    }
     return rc;
+}
+
+int pslg_check_ex(pslg *g, unsigned flags, char *err, size_t errlen) {
+    geom_init();
+    if (errlen) err[0] = '\0';
+    const char *vf = g->path[0] ? g->path : "(input)";
+    const char *sf = g->segpath[0] ? g->segpath : vf;
+    int32_t n = g->nverts;
+    for (int32_t i = 0; i < n; i++)
+        if (!isfinite(g->xy[2 * i]) || !isfinite(g->xy[2 * i + 1]))
+            return gfail(err, errlen, "%s:%d: vertex %d has a non-finite coordinate", vf,
+                         g->vline ? g->vline[i] : 0, i + g->first_index);
+    for (int32_t s = 0; s < g->nsegs; s++)
+        for (int k = 0; k < 2; k++)
+            if (g->seg[2 * s + k] < 0 || g->seg[2 * s + k] >= n)
+                return gfail(err, errlen, "%s:%d: segment %d: vertex %d out of range", sf,
+                             g->sline ? g->sline[s] : 0, s + g->first_index,
+                             g->seg[2 * s + k] + g->first_index);
+    if (pslg_scale(g, err, errlen) != 0) return -1;
+    int split = (flags & PSLG_SPLIT) != 0;
+    for (int round = 0;; round++) {
+        int32_t *pairs;
+        int64_t np;
+        if (normalise(g, split, round > 0, &pairs, &np, err, errlen) != 0) return -1;
+        if (np == 0) return 0;
+        int rc = 0;
+        if (round == PSLG_SPLIT_ROUNDS) {
+            int32_t s = pairs[0], t = pairs[1];
+            rc = gfail(err, errlen,
+                       "%s:%d: the segment on this line crosses the segment on line %d, and "
+                       "splitting them at their intersection keeps making new crossings "
+                       "(intersection points rounded to doubles; the segments are too close to "
+                       "resolve): move them apart, or use --strict to see the first crossing",
+                       sf, g->sline ? g->sline[t] : 0, g->sline ? g->sline[s] : 0);
+        } else {
+            rc = pslg_split_pairs(g, pairs, np, err, errlen);
+        }
+        free(pairs);
+        if (rc != 0) return -1;
+    }
+}
+
+int pslg_check(pslg *g, char *err, size_t errlen) {
+    return pslg_check_ex(g, 0, err, errlen);
 }
 
 /* ---------------------------------------------------------------- arrangement ----------- */
@@ -1582,4 +1645,65 @@ oom:
     if (have) faces_free(&F);
     pslg_pieces_free(P);
     return -1;
+}
+
+/* ---------------------------------------------------------------- markers --------------- */
+
+/* 1 iff exactly one side of half-edge h is a kept face: the piece is on the domain's boundary. */
+static int on_boundary(const faces *F, int32_t h) {
+    int32_t f1 = face_left(F, h), f2 = face_left(F, h ^ 1);
+    return ((f1 >= 0 && !F->cy[f1].removed) != 0) + ((f2 >= 0 && !F->cy[f2].removed) != 0) == 1;
+}
+
+int pslg_boundary_markers(pslg *g) {
+    geom_init();
+    if (g->nsegs == 0 || !g->smarker) return 0;
+    faces F;
+    if (faces_build(g, &F)) return -1;
+    uint8_t *onb = mesh_xcalloc((size_t)g->nsegs + 1, 1);
+    /* the vertices along each segment, in order (as pslg_segment_pieces walks them) */
+    int32_t *start = mesh_xmalloc((size_t)g->nsegs + 1, sizeof(int32_t)), nv = 0, cap = 64;
+    int32_t *vert = mesh_xmalloc((size_t)cap, sizeof(int32_t));
+    for (int32_t s = 0; s < g->nsegs; s++) {
+        int32_t a = g->seg[2 * s], b = g->seg[2 * s + 1], cur = a;
+        const double *pb = g->xy + 2 * b;
+        start[s] = nv;
+        for (int32_t steps = 0; cur != b && steps <= F.A.ne; steps++) {
+            int32_t next = -1;
+            for (int32_t i = F.A.vstart[cur]; i < F.A.vstart[cur + 1]; i++) {
+                int32_t h = F.A.out[i], w = F.A.org[h ^ 1];
+                const double *pc = g->xy + 2 * cur, *pw = g->xy + 2 * w;
+                if (w != b && !(geom_orient2d(pc, pb, pw) == 0 && strictly_between(pc, pb, pw)))
+                    continue;
+                if (on_boundary(&F, h)) onb[s] = 1;
+                if (w != b) {
+                    if (nv == cap) vert = mesh_xrealloc(vert, (size_t)(cap *= 2), sizeof(int32_t));
+                    vert[nv++] = w;
+                }
+                next = w;
+                break;
+            }
+            if (next < 0) break;
+            cur = next;
+        }
+    }
+    faces_free(&F);
+    if (g->vmarker) /* pass 1: the input's nonzero segment markers; pass 2: boundary ones */
+        for (int pass = 0; pass < 2; pass++) {
+            for (int32_t s = 0; s < g->nsegs; s++) {
+                int32_t mk = g->smarker[s] ? g->smarker[s] : pass && onb[s] ? 1 : 0;
+                if (!mk) continue;
+                int32_t end = s + 1 < g->nsegs ? start[s + 1] : nv;
+                for (int32_t i = start[s] - 2; i < end; i++) {
+                    int32_t v = i < start[s] ? g->seg[2 * s + (i - start[s] + 2)] : vert[i];
+                    if (g->vmarker[v] == 0) g->vmarker[v] = mk;
+                }
+            }
+        }
+    for (int32_t s = 0; s < g->nsegs; s++)
+        if (g->smarker[s] == 0 && onb[s]) g->smarker[s] = 1;
+    free(onb);
+    free(start);
+    free(vert);
+    return 0;
 }

@@ -11,7 +11,8 @@
  * (reported as self-intersecting, naming both segments and their lines).  Duplicate vertices
  * are merged (a warning names both lines) and segments are remapped; repeated segments are
  * dropped.  A vertex lying in the interior of a segment is allowed: the segment is split there
- * by the triangulator.
+ * by the triangulator.  pslg_check_ex(PSLG_SPLIT) instead splits crossing and overlapping
+ * segments as Triangle does (the meshers' default; --strict keeps the refusal).
  */
 #ifndef PSLG_H
 #define PSLG_H
@@ -62,6 +63,35 @@ int pslg_read(const char *path, pslg *out, char *err, size_t errlen);
 /* Validates and normalises geometry (see above).  Returns 0, or -1 with a message in err.
  * Warnings (merged duplicates) go to stderr prefixed with the file and line, unless g->quiet. */
 int pslg_check(pslg *g, char *err, size_t errlen);
+
+/* pslg_check_ex flags. */
+enum {
+    /* Split crossing and overlapping segments instead of refusing them (Triangle's behaviour):
+     * collinear overlapping segments become the pieces of their union between each other's
+     * endpoints (a piece covered twice keeps the marker of the segment first in the file); two
+     * segments crossing in their interiors get a new vertex at the intersection point rounded
+     * to doubles (marker 0, attributes interpolated linearly along the first segment), shared
+     * by every segment through the same point, and their pieces become segments with the
+     * segments' markers.  Every case is decided with the exact orient2d, and the result is
+     * checked again the same way; pieces that the rounded points make cross are split again,
+     * up to PSLG_SPLIT_ROUNDS rounds, then the one clear error "FILE:LINE: ... too close to
+     * resolve".  Crossing vertices are numbered after the file's vertices. */
+    PSLG_SPLIT = 1
+};
+#define PSLG_SPLIT_ROUNDS 8
+
+/* pslg_check, with flags (PSLG_SPLIT or 0; pslg_check is pslg_check_ex(g, 0, ...)).  Returns 0,
+ * or -1 with a message in err. */
+int pslg_check_ex(pslg *g, unsigned flags, char *err, size_t errlen);
+
+/* Boundary markers as Triangle assigns them (its documentation of .node and .poly), on the
+ * PSLG before meshing so that every mesher's output inherits them: a segment with marker 0
+ * that borders the domain on exactly one side somewhere (the outer boundary, a hole's) gets 1;
+ * a vertex with marker 0 lying on a segment (an endpoint, or inside it) takes the segment's
+ * nonzero marker -- the file's markers first, then the boundary's 1.  Vertices on no such
+ * segment keep 0.  The meshers give a new vertex on a segment that segment's marker, and other
+ * new vertices 0.  Call after pslg_check.  Returns 0, or -1 (out of memory). */
+int pslg_boundary_markers(pslg *g);
 
 /* Area of the domain the PSLG describes, computed from the PSLG alone (independently of any
  * mesh): the union of the bounded faces of the segment arrangement, minus the faces that

@@ -19,7 +19,6 @@
 #include "geom/geom.h"
 #include "rt.h"
 
-#include <fcntl.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
@@ -43,19 +42,11 @@ int par_fail_any(int local_fail, const char *msg) {
 
 /* ---- loading ---------------------------------------------------------------------------- */
 
-/* pslg_check's warnings (merged duplicates) would be printed once per rank; only rank 0 keeps
- * stderr while it runs, and not even rank 0 with -Q (its errors come back in err). */
-static int check_quietly(pslg *g, int quiet, char *err, size_t errlen) {
-    if (rt_rank() == 0 && !quiet) return pslg_check(g, err, errlen);
-    fflush(stderr);
-    int saved = dup(2), devnull = open("/dev/null", O_WRONLY);
-    if (saved >= 0 && devnull >= 0) dup2(devnull, 2);
-    int rc = pslg_check(g, err, errlen);
-    fflush(stderr);
-    if (saved >= 0 && devnull >= 0) dup2(saved, 2);
-    if (saved >= 0) close(saved);
-    if (devnull >= 0) close(devnull);
-    return rc;
+/* pslg_check_ex, its warnings (merged duplicates) printed by rank 0 only, and not even there
+ * with -Q (pslg.quiet); its errors come back in err. */
+static int check_quietly(pslg *g, int quiet, unsigned flags, char *err, size_t errlen) {
+    g->quiet = quiet || rt_rank() != 0;
+    return pslg_check_ex(g, flags, err, errlen);
 }
 
 static uint64_t hash_bytes(uint64_t h, const void *p, size_t n) {
@@ -82,8 +73,13 @@ int par_load(const par_opts *o, pslg *in, pcdm_decomp *d) {
     memset(in, 0, sizeof *in);
     memset(d, 0, sizeof *d);
     geom_init();
-    int rc = pslg_read(o->input, in, err, sizeof err);
-    if (rc == 0) rc = check_quietly(in, o->quiet, err, sizeof err);
+    int rc = o->refine ? size_field_read_mesh_pslg(o->input, in, err, sizeof err)
+                       : pslg_read(o->input, in, err, sizeof err);
+    if (rc == 0) rc = check_quietly(in, o->quiet, o->strict ? 0 : PSLG_SPLIT, err, sizeof err);
+    if (rc == 0 && pslg_boundary_markers(in) != 0) { /* Triangle's rules, as ./mesh */
+        snprintf(err, sizeof err, "%s: out of memory", o->input);
+        rc = -1;
+    }
     if (rc == 0) {
         pcdm_decomp_opts dopt;
         pcdm_decomp_opts_default(&dopt);

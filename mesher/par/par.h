@@ -18,6 +18,7 @@
 #include "decomp/decomp.h"
 #include "geom/pslg.h"
 #include "io/meshio.h"
+#include "io/sizefield.h"
 #include "io/validate.h"
 
 /* Longest output prefix a mesher accepts (bytes, the terminating zero included). */
@@ -67,6 +68,10 @@ typedef struct par_opts {
     const char *msh;        /* --msh FILE: Gmsh 4.1 output */
     const char *size_field; /* --size FILE: background mesh with a target edge length per
                                vertex */
+    /* Set by the program after par_startup (par_load_sizes), not by the front end: the size
+     * rule of -r's .area and --size (mesh_rules.unsuitable; NULL: none). */
+    int (*unsuitable)(void *ctx, const double *const p[3], double area);
+    void *unsuitable_ctx;
 } par_opts;
 
 /* Collective.  -V: rank 0 prints what was read and decomposed and the bounds asked for. */
@@ -115,6 +120,12 @@ int par_load(const par_opts *o, pslg *in, pcdm_decomp *d);
  * builds it alone (deterministic code, no communication), so a hash of what the meshers consume
  * (the cut geometry, the cuts' subdomains, the owners) is compared across the ranks. */
 int par_decomp_agrees(const pcdm_decomp *d);
+
+/* Collective (psizes.c).  Loads the size rules o asks for (-r with -a alone: the input mesh's
+ * .area; --size: the background mesh) into S on every rank, in the scale of in, and points
+ * o->unsuitable at them (NULL when there are none).  Returns 0 (free S with size_field_free),
+ * or -1 on every rank with the message printed by rank 0 (S then holds nothing). */
+int par_load_sizes(par_opts *o, const pslg *in, size_field *S);
 
 /* Collective over rt_app_comm().  The cheap check that always runs before any output: every
  * open edge of a rank's piece (an edge of exactly one local triangle) that is not a

@@ -28,6 +28,7 @@
 #include "io/pwrite.h"
 #include "par/pextra.h"
 #include "rt.h"
+#include "seq/vattr.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -184,6 +185,9 @@ static int write_triangle(const par_opts *o, const pslg *in, const mesh_flat *f,
                    .nhead = nin,
                    .hxy = in->xy,
                    .hvmarker = in->vmarker,
+                   .nattr = f->vattr ? in->nattr : 0,
+                   .hvattr = f->vattr ? in->vattr : NULL,
+                   .vattr = f->vattr,
                    .xy = f->xy,
                    .vmarker = f->vmarker,
                    .vsel = num->owned,
@@ -407,6 +411,11 @@ int par_output_sub(const par_opts *o, const pslg *in, mesh_flat *local, const ui
         if (!par_check_parts(o, in, local, &num, 1, &vr)) status = 1;
     }
     double t2 = rt_wtime();
+    if (status == 0 && o->out_prefix && in->nattr > 0) { /* attributes of the new vertices */
+        int bad = mesh_interpolate_attributes(in, local, err, sizeof err) != 0;
+        snprintf(msg, sizeof msg, "%s: %s: %s", o->prog, in->path, err);
+        if (par_fail_any(bad, msg)) status = 1;
+    }
     if (status == 0 && par_write_parts(o, in, local, tsub, &num) != 0) status = 1;
     if (status == 0 && par_write_extras(o, in, local, artificial, &num) != 0) status = 1;
     double t3 = rt_wtime();

@@ -143,6 +143,8 @@ int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat 
         if (!(area > 0)) area = DBL_MIN;
     }
     mesh_rules_init(&C->R, qa, area, !o->circumcenters, 0);
+    C->R.unsuitable = o->unsuitable;
+    C->R.unsuitable_ctx = o->unsuitable_ctx;
     C->poll_every = o->poll_every > 0 ? o->poll_every : WORK_BATCH;
     C->steiner_limit = o->max_steiner >= 0 ? (o->max_steiner + C->size - 1) / C->size : -1;
     memset(local, 0, sizeof *local);
