@@ -234,6 +234,16 @@ static const cli_opt meshcheck_rows[] = {
      .value = &v_flag,
      .at = CLI_AT(interfaces_delaunay),
      .help = "interface constraint edges must be locally Delaunay too"},
+    {.letter = 'A',
+     .name = "region-attributes",
+     .value = &v_flag,
+     .at = CLI_AT(par.region_attr),
+     .help = "fail unless each triangle's .ele attribute is its region's (found from the .poly; "
+             "0 outside every region)"},
+    {.name = "region-areas",
+     .value = &v_flag,
+     .at = CLI_AT(par.region_area),
+     .help = "fail if a triangle's area exceeds its region's bound (the .poly's regions)"},
     {.help = NULL}};
 
 static const cli_opt *const mesh_tables[] = {mesher_rows, mesh_rows, common_rows, NULL};

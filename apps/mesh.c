@@ -80,6 +80,7 @@ int main(int argc, char **argv) {
         pslg_free(&g);
         return 1;
     }
+    if (o.par.region_attr || o.par.region_area) mesh_set_regions(&m, &g, o.par.region_area);
     progress pr = {o.par.progress || isatty(2), t0, t0, &m};
     mesh_hooks h = {NULL, poll_progress, 4096, &pr};
     mesh_set_hooks(&m, &h);
@@ -118,9 +119,13 @@ int main(int argc, char **argv) {
     mesh_flat f;
     int need_flat = prefix || vtk || svg || check;
     double t_out = now();
-    if (need_flat && mesh_to_flat(&m, &f) != 0) {
+    if (need_flat && (mesh_to_flat(&m, &f) != 0 || meshio_flat_domain(&f, &g) != 0)) {
         fprintf(stderr, "mesh: out of memory\n");
         return 1;
+    }
+    if (need_flat && !o.par.region_attr) { /* labels only for the region bounds: not written */
+        free(f.tattr);
+        f.tattr = NULL;
     }
     if (prefix && meshio_write_triangle(&f, prefix, err, sizeof err) != 0) {
         fprintf(stderr, "mesh: %s\n", err);
@@ -137,7 +142,8 @@ int main(int argc, char **argv) {
     t_out = now() - t_out; /* the flat form and the files (-o, --vtk, --svg) */
     if (check) {
         int nob = cdt_only || limited; /* the bounds were given up: check the rest */
-        validate_opts vo = {nob ? 0 : qdeg, nob ? 0 : area, 0, 0};
+        validate_opts vo = {nob ? 0 : qdeg,    nob ? 0 : area,           0, 0,
+                            o.par.region_attr, !nob && o.par.region_area};
         validate_report vr;
         if (!mesh_validate(&g, &f, &vo, &vr)) rc = 1;
         validate_report_print(&vr, stdout);

@@ -68,6 +68,24 @@ int pslg_check(pslg *g, char *err, size_t errlen);
  * whose closure contains it (as the mesher's carving does).  Used by the validator. */
 double pslg_domain_area(const pslg *g);
 
+/* The input's regions found from the PSLG alone (independently of any mesh), for the
+ * validator: region point i marks the face of the segment arrangement strictly containing it
+ * (a point exactly on a segment or a vertex of one, outside every bounded face, or in a face a
+ * hole removed marks nothing); where two points mark the same face the later one in the file
+ * wins (as the meshers do, mesh_set_regions).  Build once, then ask per point; g must outlive
+ * the lookup. */
+typedef struct pslg_regions pslg_regions;
+
+/* Returns the lookup (free with pslg_regions_free), or NULL (out of memory, or no segments:
+ * then no point is in a region). */
+pslg_regions *pslg_regions_build(const pslg *g);
+
+/* The region (index into g->regions) of the face strictly containing p, or -1 (no region, or p
+ * on no face: outside, on a segment).  p must not lie on a segment for a meaningful answer. */
+int32_t pslg_region_at(const pslg_regions *R, const double p[2]);
+
+void pslg_regions_free(pslg_regions *R);
+
 /* The pieces of every segment (cut at the vertices lying on it) and whether each borders the
  * domain: segment s runs through vertices vert[start[s] .. start[s+1]) in order from its
  * first endpoint; the piece from vert[i] to vert[i+1] has the domain on at least one side iff

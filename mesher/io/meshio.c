@@ -147,7 +147,7 @@ static int write_node(const mesh_flat *m, const char *path, char *err, size_t er
 static int write_ele(const mesh_flat *m, const char *path, char *err, size_t errlen) {
     wfile w;
     if (meshio_wopen(&w, path, err, errlen)) return -1;
-    fprintf(w.f, "%d 3 %d\n", (int)m->ntris, m->trank ? 1 : 0);
+    fprintf(w.f, "%d 3 %d\n", (int)m->ntris, m->tattr || m->trank ? 1 : 0);
     char line[128];
     for (int32_t t = 0; t < m->ntris; t++) {
         char *p = fmt_int(line, (long long)t + 1);
@@ -155,24 +155,34 @@ static int write_ele(const mesh_flat *m, const char *path, char *err, size_t err
             *p++ = ' ';
             p = fmt_int(p, (long long)m->tri[3 * t + k] + 1);
         }
-        if (m->trank) {
+        if (m->tattr) { /* Triangle's -A: the regional attribute */
+            *p++ = ' ';
+            p = fmt_dbl(p, m->tattr[t]);
+        } else if (m->trank) {
             *p++ = ' ';
             p = fmt_int(p, m->trank[t]);
         }
         *p++ = '\n';
         fwrite(line, 1, (size_t)(p - line), w.f);
     }
-    fprintf(w.f, "# written by pcdm%s\n", m->trank ? " (attribute: owning rank)" : "");
+    fprintf(w.f, "# written by pcdm%s\n",
+            m->tattr   ? " (attribute: regional attribute)"
+            : m->trank ? " (attribute: owning rank)"
+                       : "");
     return meshio_wclose(&w, 0);
 }
 
 static int write_poly(const mesh_flat *m, const char *path, char *err, size_t errlen) {
     wfile w;
     if (meshio_wopen(&w, path, err, errlen)) return -1;
-    fprintf(w.f, "0 2 0 1\n%d 1\n", (int)m->nsegs);
+    int32_t ns = 0;
+    for (int32_t s = 0; s < m->nsegs; s++)
+        ns += !(m->sinterface && m->sinterface[s]);
+    fprintf(w.f, "0 2 0 1\n%d 1\n", (int)ns);
     char line[128];
-    for (int32_t s = 0; s < m->nsegs; s++) {
-        char *p = fmt_int(line, (long long)s + 1);
+    for (int32_t s = 0, id = 0; s < m->nsegs; s++) {
+        if (m->sinterface && m->sinterface[s]) continue; /* artificial: not the input's */
+        char *p = fmt_int(line, (long long)++id);
         for (int k = 0; k < 2; k++) {
             *p++ = ' ';
             p = fmt_int(p, (long long)m->seg[2 * s + k] + 1);
@@ -182,8 +192,33 @@ static int write_poly(const mesh_flat *m, const char *path, char *err, size_t er
         *p++ = '\n';
         fwrite(line, 1, (size_t)(p - line), w.f);
     }
-    fprintf(w.f, "0\n");
+    meshio_put_domain(w.f, m);
     return meshio_wclose(&w, 0);
+}
+
+void meshio_put_domain(FILE *f, const mesh_flat *m) {
+    int e = m->scale_exp;
+    fprintf(f, "%d\n", (int)m->nholes);
+    for (int32_t i = 0; i < m->nholes; i++)
+        fprintf(f, "%d %.17g %.17g\n", (int)i + 1, ldexp(m->holes[2 * i], -e),
+                ldexp(m->holes[2 * i + 1], -e));
+    if (m->nregions) fprintf(f, "%d\n", (int)m->nregions);
+    for (int32_t i = 0; i < m->nregions; i++) {
+        const double *r = m->regions + 4 * i;
+        fprintf(f, "%d %.17g %.17g %.17g %.17g\n", (int)i + 1, ldexp(r[0], -e), ldexp(r[1], -e),
+                r[2], r[3] > 0 ? ldexp(r[3], -2 * e) : r[3]);
+    }
+}
+
+int meshio_flat_domain(mesh_flat *m, const struct pslg *g) {
+    m->holes = mesh_xmalloc(2 * (size_t)g->nholes * sizeof(double) + 1, 1);
+    m->regions = mesh_xmalloc(4 * (size_t)g->nregions * sizeof(double) + 1, 1);
+    if (!m->holes || !m->regions) return -1;
+    m->nholes = g->nholes;
+    m->nregions = g->nregions;
+    if (g->nholes) memcpy(m->holes, g->holes, 2 * (size_t)g->nholes * sizeof(double));
+    if (g->nregions) memcpy(m->regions, g->regions, 4 * (size_t)g->nregions * sizeof(double));
+    return 0;
 }
 
 int meshio_write_triangle(const mesh_flat *m, const char *prefix, char *err, size_t errlen) {
@@ -306,7 +341,8 @@ static int read_ele(const char *path, mesh_flat *m, int first, char *err, size_t
     m->ntris = (int32_t)nt;
     m->tri = mesh_xmalloc(((size_t)nt * 3 + 1) * sizeof(int32_t), 1);
     m->trank = nattr ? mesh_xmalloc(((size_t)nt + 1) * sizeof(int32_t), 1) : NULL;
-    if (!m->tri || (nattr && !m->trank)) {
+    m->tattr = nattr ? mesh_xmalloc(((size_t)nt + 1) * sizeof(double), 1) : NULL;
+    if (!m->tri || (nattr && (!m->trank || !m->tattr))) {
         lfail(err, errlen, path, line, "out of memory for %ld triangles", nt);
         goto out;
     }
@@ -342,6 +378,7 @@ static int read_ele(const char *path, mesh_flat *m, int first, char *err, size_t
                 goto out;
             }
             if (k == 0) {
+                m->tattr[t] = a;
                 if (a >= 0 && a <= INT32_MAX && a == floor(a))
                     m->trank[t] = (int32_t)a;
                 else
@@ -375,6 +412,8 @@ void mesh_flat_free(mesh_flat *m) {
     free(m->seg);
     free(m->smarker);
     free(m->sinterface);
+    free(m->holes);
+    free(m->regions);
     memset(m, 0, sizeof *m);
 }
 
@@ -509,6 +548,19 @@ int meshio_write_vtk(const mesh_flat *m, int binary, const char *path, char *err
     vtk_ints(&w, NULL, m->ntris, 5, binary);
     fprintf(wf.f, "CELL_DATA %d\nSCALARS rank int 1\nLOOKUP_TABLE default\n", (int)m->ntris);
     vtk_ints(&w, m->trank, m->ntris, 0, binary);
+    if (m->tattr) {
+        fprintf(wf.f, "SCALARS region_attr double 1\nLOOKUP_TABLE default\n");
+        for (int32_t t = 0; t < m->ntris; t++) {
+            if (binary) {
+                be_f64(&w, m->tattr[t]);
+            } else {
+                char *p = fmt_dbl(line, m->tattr[t]);
+                *p++ = '\n';
+                fwrite(line, 1, (size_t)(p - line), wf.f);
+            }
+        }
+        if (binary) be_end(&w);
+    }
     fprintf(wf.f, "POINT_DATA %d\nSCALARS marker int 1\nLOOKUP_TABLE default\n", (int)m->nverts);
     vtk_ints(&w, m->vmarker, m->nverts, 0, binary);
     return meshio_wclose(&wf, 0);
