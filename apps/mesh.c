@@ -80,7 +80,7 @@ int main(int argc, char **argv) {
         pslg_free(&g);
         return 1;
     }
-    if (o.par.region_attr || o.par.region_area) mesh_set_regions(&m, &g, o.par.region_area);
+    if (o.par.region_attr || o.par.region_area) mesh_set_regions(&m, &g, o.par.region_area, m.nseg);
     progress pr = {o.par.progress || isatty(2), t0, t0, &m};
     mesh_hooks h = {NULL, poll_progress, 4096, &pr};
     mesh_set_hooks(&m, &h);

@@ -192,22 +192,30 @@ static int write_poly(const mesh_flat *m, const char *path, char *err, size_t er
         *p++ = '\n';
         fwrite(line, 1, (size_t)(p - line), w.f);
     }
-    meshio_put_domain(w.f, m);
+    char *dom = mesh_xmalloc(meshio_domain_maxlen(m->nholes, m->nregions), 1);
+    char *q = meshio_fmt_domain(dom, m->nholes, m->holes, m->nregions, m->regions, m->scale_exp);
+    fwrite(dom, 1, (size_t)(q - dom), w.f);
+    free(dom);
     return meshio_wclose(&w, 0);
 }
 
-void meshio_put_domain(FILE *f, const mesh_flat *m) {
-    int e = m->scale_exp;
-    fprintf(f, "%d\n", (int)m->nholes);
-    for (int32_t i = 0; i < m->nholes; i++)
-        fprintf(f, "%d %.17g %.17g\n", (int)i + 1, ldexp(m->holes[2 * i], -e),
-                ldexp(m->holes[2 * i + 1], -e));
-    if (m->nregions) fprintf(f, "%d\n", (int)m->nregions);
-    for (int32_t i = 0; i < m->nregions; i++) {
-        const double *r = m->regions + 4 * i;
-        fprintf(f, "%d %.17g %.17g %.17g %.17g\n", (int)i + 1, ldexp(r[0], -e), ldexp(r[1], -e),
-                r[2], r[3] > 0 ? ldexp(r[3], -2 * e) : r[3]);
+size_t meshio_domain_maxlen(int32_t nholes, int32_t nregions) {
+    return 64 + 96 * (size_t)nholes + 160 * (size_t)nregions; /* 25 bytes per number at most */
+}
+
+char *meshio_fmt_domain(char *q, int32_t nholes, const double *holes, int32_t nregions,
+                        const double *regions, int e) {
+    q += sprintf(q, "%d\n", (int)nholes);
+    for (int32_t i = 0; i < nholes; i++)
+        q += sprintf(q, "%d %.17g %.17g\n", (int)i + 1, ldexp(holes[2 * i], -e),
+                     ldexp(holes[2 * i + 1], -e));
+    if (nregions) q += sprintf(q, "%d\n", (int)nregions);
+    for (int32_t i = 0; i < nregions; i++) {
+        const double *r = regions + 4 * i;
+        q += sprintf(q, "%d %.17g %.17g %.17g %.17g\n", (int)i + 1, ldexp(r[0], -e),
+                     ldexp(r[1], -e), r[2], r[3] > 0 ? ldexp(r[3], -2 * e) : r[3]);
     }
+    return q;
 }
 
 int meshio_flat_domain(mesh_flat *m, const struct pslg *g) {

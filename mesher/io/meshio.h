@@ -45,9 +45,13 @@ struct pslg;
  * memory). */
 int meshio_flat_domain(mesh_flat *m, const struct pslg *g);
 
-/* Writes the holes section and, when m has regions, the regions section of a .poly to f (the
- * parallel .poly writer uses it too). */
-void meshio_put_domain(FILE *f, const mesh_flat *m);
+/* The end of a .poly: the holes section and, when there are regions, the regions section
+ * (coordinates divided by 2^scale_exp, areas by 2^(2 scale_exp)), formatted at q, which has
+ * room for meshio_domain_maxlen bytes; returns the new end.  The sequential and the parallel
+ * .poly writers both end with it. */
+char *meshio_fmt_domain(char *q, int32_t nholes, const double *holes, int32_t nregions,
+                        const double *regions, int scale_exp);
+size_t meshio_domain_maxlen(int32_t nholes, int32_t nregions);
 
 /* Writes PREFIX.node, PREFIX.ele and PREFIX.poly (1-based, as Triangle writes them; the .poly
  * lists the segments but not the interface ones (sinterface), then m's holes and regions). */

@@ -85,6 +85,11 @@ int pcdm_register(void) {
 /* ---- build ------------------------------------------------------------------------------- */
 
 int pcdm_part_build(pcdm_part *p, const pcdm_decomp *d, int rank, char *err, size_t errlen) {
+    return pcdm_part_build_regions(p, d, rank, PCDM_REGIONS_NONE, err, errlen);
+}
+
+int pcdm_part_build_regions(pcdm_part *p, const pcdm_decomp *d, int rank, int regions, char *err,
+                            size_t errlen) {
     memset(p, 0, sizeof *p);
     p->d = d;
     p->rank = rank;
@@ -174,6 +179,8 @@ int pcdm_part_build(pcdm_part *p, const pcdm_decomp *d, int rank, char *err, siz
      * practically forever (a fuzzed point set 8e29 long and 2 wide, at 3 ranks) */
     if (!bad) {
         mesh_fix_length_floor(m);
+        if (regions != PCDM_REGIONS_NONE) /* the whole coarse CDT, the same on every rank */
+            mesh_set_regions(m, &d->g, regions == PCDM_REGIONS_AREA, d->nboundary);
         mesh_keep_regions(m, label, keep);
     }
     free(label);

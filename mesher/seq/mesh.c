@@ -724,40 +724,41 @@ void mesh_keep_regions(mesh *m, const int32_t *label, const uint8_t *keep) {
 
 /* ---- input regions ------------------------------------------------------------------------ */
 
-/* 1 iff constraint edge e is an input segment's piece (not an interface edge). */
-static int input_constraint(const mesh *m, int32_t e) {
+/* 1 iff constraint edge e is a piece of a real segment (id below nreal), not an artificial one;
+ * an edge with no record counts as real. */
+static int input_constraint(const mesh *m, int32_t e, int32_t nreal) {
     if (!mesh_edge_constrained(m, e)) return 0;
     const mesh_subseg *s = mesh_subseg_of_edge(m, e);
-    return !(s && m->siface && m->siface[s->seg]);
+    return !s || s->seg < nreal;
 }
 
 /* 1 iff vertex v is an endpoint of an input-segment edge (scans the live triangles: region
  * points exactly on a vertex are rare). */
-static int on_input_constraint_vertex(const mesh *m, int32_t v) {
+static int on_input_constraint_vertex(const mesh *m, int32_t v, int32_t nreal) {
     for (int32_t t = 0; t < m->nt; t++) {
         if (!mesh_tri_alive(m, t)) continue;
         for (int j = 0; j < 3; j++)
             if ((m->tv[3 * t + j] == v || mesh_dest(m, 3 * t + j) == v) &&
-                input_constraint(m, 3 * t + j))
+                input_constraint(m, 3 * t + j, nreal))
                 return 1;
     }
     return 0;
 }
 
 /* The triangle region point p marks, or -1 (outside the domain, or on an input segment). */
-static int32_t region_seed(mesh *m, const double p[2]) {
+static int32_t region_seed(mesh *m, const double p[2], int32_t nreal) {
     int32_t t = mesh_locate(m, p, -1);
     if (t < 0) return -1;
     for (int j = 0; j < 3; j++) {
         int32_t e = 3 * t + j, a = m->tv[e], b = mesh_dest(m, e);
         const double *pa = mesh_vertex_xy(m, a), *pb = mesh_vertex_xy(m, b);
-        if (pa[0] == p[0] && pa[1] == p[1]) return on_input_constraint_vertex(m, a) ? -1 : t;
-        if (geom_orient2d(pa, pb, p) == 0 && input_constraint(m, e)) return -1;
+        if (pa[0] == p[0] && pa[1] == p[1]) return on_input_constraint_vertex(m, a, nreal) ? -1 : t;
+        if (geom_orient2d(pa, pb, p) == 0 && input_constraint(m, e, nreal)) return -1;
     }
     return t;
 }
 
-void mesh_set_regions(mesh *m, const pslg *g, int use_area) {
+void mesh_set_regions(mesh *m, const pslg *g, int use_area, int32_t nreal) {
     free(m->treg), free(m->reg_attr), free(m->reg_area);
     m->nregion = g->nregions;
     m->treg = mesh_xmalloc((size_t)m->tcap * sizeof(int32_t) + 1, 1);
@@ -782,7 +783,7 @@ void mesh_set_regions(mesh *m, const pslg *g, int use_area) {
             int32_t t = stk[--n];
             for (int j = 0; j < 3; j++) {
                 int32_t e = 3 * t + j, nb = m->tn[e];
-                if (nb < 0 || comp[nb / 3] >= 0 || input_constraint(m, e)) continue;
+                if (nb < 0 || comp[nb / 3] >= 0 || input_constraint(m, e, nreal)) continue;
                 comp[nb / 3] = ncomp;
                 stk[n++] = nb / 3;
             }
@@ -794,7 +795,7 @@ void mesh_set_regions(mesh *m, const pslg *g, int use_area) {
     for (int32_t c = 0; c < ncomp; c++)
         creg[c] = -1;
     for (int32_t i = 0; i < g->nregions; i++) { /* in file order: the later one wins */
-        int32_t t = region_seed(m, g->regions + 4 * i);
+        int32_t t = region_seed(m, g->regions + 4 * i, nreal);
         if (t >= 0) creg[comp[t]] = i;
     }
     for (int32_t t = 0; t < m->nt; t++)

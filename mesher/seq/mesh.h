@@ -194,8 +194,10 @@ void mesh_keep_regions(mesh *m, const int32_t *label, const uint8_t *keep);
 
 /* Labels every live triangle with the input region it lies in (g->regions, already scaled by
  * pslg_check; region i is the set of triangles reachable from the triangle containing region
- * point i without crossing an input segment -- interface segments are crossed, so the parallel
- * meshers label their coarse CDT whole, before keeping their subdomains).  Where two region
+ * point i without crossing an input segment).  Segments nreal .. nseg-1 are artificial (a
+ * decomposition's interface edges, pcdm_decomp's segments from nboundary on) and are crossed,
+ * so the parallel meshers label their coarse CDT whole, before keeping their subdomains;
+ * ./mesh passes m->nseg.  Where two region
  * points fall in the same such component the later one in the file wins; triangles in no
  * region get -1 (attribute 0, no own bound).  A region point outside the domain (or in a
  * hole) or exactly on a segment (endpoints included) marks nothing; location is exact
@@ -204,7 +206,7 @@ void mesh_keep_regions(mesh *m, const int32_t *label, const uint8_t *keep);
  * Afterwards every new triangle inherits the region of the cavity triangle it replaces on the
  * same side (a cavity never crosses a segment, and a split segment's two sides keep theirs),
  * so labels stay exact through refinement.  Local.  Call once, after mesh_build_cdt. */
-void mesh_set_regions(mesh *m, const pslg *g, int use_area);
+void mesh_set_regions(mesh *m, const pslg *g, int use_area, int32_t nreal);
 
 /* The area bound of live triangle t in working units: mesh_rules_area_bound of the global
  * bound (working units) and t's region's, 0 if none. */
