@@ -48,7 +48,9 @@ void pbw_part_remove(pbw_cav *c, int32_t r) {
 
 void pbw_push_seed(pbw_ctx *C, pbw_cav *c, int64_t target, int64_t from, int64_t ga, int64_t gb,
                    int mode) {
-    pbw_seed s = {target, from, ga, gb, mode, 0};
+    int32_t reg =
+        C->treg && from != NOREF && ref_rank(from) == C->rank ? C->treg[ref_idx(from)] : -1;
+    pbw_seed s = {target, from, ga, gb, mode, reg};
     if (ref_rank(target) == C->rank) {
         MESH_GROW(c->stk, c->nstk, c->scap);
         c->stk[c->nstk++] = s;
@@ -114,7 +116,7 @@ void pbw_cav_unpack_into(pbw_cav *c, const void *data, uint32_t len) {
 /* Reports boundary edge ga->gb (vertex slots la, lb here) and reserves the new triangle's
  * slot on this rank. */
 static void report(pbw_ctx *C, pbw_cav *c, int32_t hi, int32_t la, int32_t lb, int64_t out,
-                   int64_t inref, int32_t cseg, int32_t clev, int64_t ck) {
+                   int64_t inref, int32_t cseg, int32_t clev, int64_t ck, int32_t reg) {
     int32_t s = pbw_slot_alloc(C);
     pbw_lock_slot(C, s, hi, ROLE_RES);
     pbw_bnd r;
@@ -127,6 +129,7 @@ static void report(pbw_ctx *C, pbw_cav *c, int32_t hi, int32_t la, int32_t lb, i
     r.cseg = cseg;
     r.clev = clev;
     r.ck = ck;
+    r.reg = reg;
     if (geom_orient2d(VX(C, la), VX(C, lb), c->h.p) <= 0) r.flags |= BF_BEYOND;
     if (cseg >= 0 && mesh_rules_encroaches(&C->R, VX(C, la), VX(C, lb), c->h.p)) r.flags |= BF_ENC;
     MESH_GROW(c->b, c->nb, c->bcap);
@@ -141,6 +144,7 @@ static int is_open_edge(const pbw_cav *c, int64_t ga, int64_t gb) {
 /* Member x (reached from member `from`) joins the cavity: visit its neighbours. */
 static void expand_member(pbw_ctx *C, pbw_cav *c, int32_t hi, int32_t x, int64_t from) {
     int64_t self = mkref(C->rank, x);
+    int32_t reg = C->treg ? C->treg[x] : -1;
     for (int j = 0; j < 3; j++) {
         size_t e = 3 * (size_t)x + (size_t)j;
         int32_t la = C->tv[e], lb = C->tv[3 * (size_t)x + (size_t)((j + 1) % 3)];
@@ -150,11 +154,11 @@ static void expand_member(pbw_ctx *C, pbw_cav *c, int32_t hi, int32_t x, int64_t
             if (n != NOREF) pbw_push_seed(C, c, n, self, ga, gb, SEED_OPEN);
         } else if (C->cs[e] >= 0) {
             if (n == NOREF)
-                report(C, c, hi, la, lb, NOREF, self, C->cs[e], C->cl[e], C->ck[e]);
+                report(C, c, hi, la, lb, NOREF, self, C->cs[e], C->cl[e], C->ck[e], reg);
             else
                 pbw_push_seed(C, c, n, self, ga, gb, SEED_HALO);
         } else if (n == NOREF) {
-            report(C, c, hi, la, lb, NOREF, self, -1, -1, 0); /* cannot happen in a CDT */
+            report(C, c, hi, la, lb, NOREF, self, -1, -1, 0, reg); /* cannot happen in a CDT */
         } else {
             pbw_push_seed(C, c, n, self, ga, gb, SEED_NORMAL);
         }
@@ -207,7 +211,7 @@ int pbw_process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial) {
             size_t e = 3 * (size_t)x + (size_t)j;
             /* x's edge is gb->ga: the cavity's edge ga->gb runs from x's vertex j+1 to j */
             report(C, c, hi, C->tv[3 * (size_t)x + (size_t)((j + 1) % 3)], C->tv[e],
-                   mkref(C->rank, x), s.from, C->cs[e], C->cl[e], C->ck[e]);
+                   mkref(C->rank, x), s.from, C->cs[e], C->cl[e], C->ck[e], s.reg);
             break;
         }
         case SEED_NORMAL:
@@ -222,7 +226,7 @@ int pbw_process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial) {
                 if (role == ROLE_NONE) pbw_lock_slot(C, x, hi, ROLE_HALO);
                 size_t e = 3 * (size_t)x + (size_t)j;
                 report(C, c, hi, C->tv[3 * (size_t)x + (size_t)((j + 1) % 3)], C->tv[e],
-                       mkref(C->rank, x), s.from, -1, -1, 0);
+                       mkref(C->rank, x), s.from, -1, -1, 0, s.reg);
             }
             break;
         default:
@@ -285,6 +289,7 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
         }
         C->lk[s] = -1;
         C->role[s] = ROLE_NONE;
+        if (C->treg) C->treg[s] = r->reg; /* the member's on its edge: same side of segments */
         C->nlive++;
         if (r->nb[0] != NOREF) {
             if (ref_rank(r->nb[0]) != C->rank) MESH_BUG("halo of a new triangle on another rank");
@@ -391,6 +396,7 @@ int pbw_commit_all(pbw_ctx *C, pbw_cav *c) {
         r->g[1] = b->gb;
         r->g[2] = pgid;
         r->slot = ref_idx(b->newref);
+        r->reg = b->reg;
         r->nb[0] = b->out;
         r->cseg[0] = b->cseg;
         r->clev[0] = b->clev;
