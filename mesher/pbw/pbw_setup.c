@@ -316,7 +316,7 @@ void pbw_ctx_free(pbw_ctx *C) {
 
 size_t pbw_mesh_bytes(pbw_ctx *C) {
     size_t c = (size_t)C->tcap;
-    size_t b = c * (3 * (4 + 8 + 4 + 4 + 8) + 4 + 1);
+    size_t b = c * (3 * (4 + 8 + 4 + 4 + 8) + 4 + 1 + (C->treg ? 4 : 0));
     b += (size_t)C->vcap * (16 + 8 + 4) + (size_t)C->vhcap * 4 + (size_t)C->frecap * 4;
     b += (size_t)C->poolcap * sizeof(qent);
     return b;
