@@ -109,11 +109,13 @@ static const cli_opt mesher_rows[] = {
      .name = "region-attributes",
      .value = &v_flag,
      .at = CLI_AT(par.region_attr),
-     .help = "give each triangle its region's attribute (the .poly's regions), written to .ele"},
+     .help = "give each triangle its region's attribute (the .poly's regions; 0 in none): the "
+             ".ele's attribute column and VTK cell data region_attr"},
     {.name = "region-areas",
      .value = &v_flag,
      .at = CLI_AT(par.region_area),
-     .help = "honour the .poly's per-region area bounds (Triangle's -a without a number)"},
+     .help = "honour the .poly's per-region area bounds (Triangle's -a without a number; with "
+             "-a AREA the smaller bound wins)"},
     {.letter = 'e',
      .name = "edges",
      .value = &v_flag,
