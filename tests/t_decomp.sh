@@ -24,7 +24,7 @@ bad() { fail=$((fail + 1)); printf 'FAIL %s\n' "$*"; }
 # area bounds: about 1-3K triangles each
 declare -A AREA=([letter_a.poly]=0.005 [inclusion.poly]=0.001 [map.poly]=0.003
     [segments.poly]=0.002 [grid.poly]=0.001 [far.poly]=0.00000006 [sliver.poly]=0.00002
-    [angles.poly]=0.0003 [points.node]=0.001)
+    [angles.poly]=0.0003 [points.node]=0.001 [regions.poly]=0.01)
 NPS="1 2 3 4 8"
 [ "${SANITIZE:-}" = 1 ] && NPS="1 3 8"
 

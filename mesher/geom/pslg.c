@@ -8,7 +8,9 @@
  * visits along its length, and every candidate is decided with the exact geom_orient2d.
  * pslg_domain_area() measures the domain from the PSLG alone by tracing the faces of the
  * segment arrangement (half-edges sorted around each vertex by exact angular order), so the
- * validator can compare a mesh against an independent figure.  Invariant after pslg_check():
+ * validator can compare a mesh against an independent figure; pslg_regions() maps the region
+ * points onto the same faces (exact point-in-walk tests), so the validator finds each
+ * triangle's region without the mesher's labels.  Invariant after pslg_check():
  * distinct vertex coordinates, distinct non-degenerate segments, no two segments meeting
  * except at shared endpoints or at a vertex lying inside a segment.
  */

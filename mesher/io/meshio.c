@@ -7,7 +7,9 @@
  * file.  Coordinates are printed with "%.17g" so that a written mesh reads back bit for bit;
  * integers are formatted by hand because the big meshes have tens of millions of them.  The
  * SVG groups triangles by owning rank (one fill per <g>, no per-element style) so a picture of
- * a million triangles stays a few tens of megabytes.  The reader takes .node (and .poly
+ * a million triangles stays a few tens of megabytes.  The .poly lists the input's segments (not
+ * interface ones) and ends with the input's holes and regions (meshio_fmt_domain, which the
+ * parallel writer shares), so it meshes the same domain again.  The reader takes .node (and .poly
  * segments) through pslg.c and parses .ele itself with the same full-token checks.
  */
 #include "io/meshio.h"

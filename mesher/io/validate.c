@@ -11,7 +11,8 @@
  * vertices are found by hashing their exact coordinates.  Areas use compensated summation;
  * total triangle area, area enclosed by the boundary edges and pslg_domain_area() must agree
  * to a relative 1e-9.  Quality checks exempt triangles at small input angles (rule in
- * validate.h).
+ * validate.h).  Regions (-A, --region-areas) are found from the input alone: the face of the
+ * segment arrangement (pslg_regions) holding a point exactly inside each triangle.
  */
 #include "io/validate.h"
 

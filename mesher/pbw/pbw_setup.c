@@ -1,7 +1,9 @@
 /* pbw_setup.c: the start and the end of a PBW run on one rank.  Start: every rank builds the
  * same CDT of the input (refined coarsely with an area bound, so every rank owns a piece),
  * computes the length floor from it as ./mesh does, and keeps the triangles whose centroid
- * lies in one of its subdomains (exact point location in the decomposition's CDT).  End: the
+ * lies in one of its subdomains (exact point location in the decomposition's CDT), with their
+ * input regions when asked (mesh_set_regions on the CDT; new triangles inherit the region of
+ * the cavity member on their edge, carried in the seeds and boundary records).  End: the
  * count of triangles left outside the bounds that the input does not force, the test-only
  * fault (PBW_TEST_BREAK_IFACE), this rank's triangles as a mesh_flat, and freeing the
  * context. */

@@ -8,7 +8,9 @@
  * record), has the triangle on the left of s, so the region lies in d->seg_sub[2s], otherwise
  * in d->seg_sub[2s + 1].  Every constraint edge of a region must agree (checked), so a wrong
  * decomposition is reported instead of producing a wrong mesh.  Regions of other ranks are
- * deleted (mesh_keep_regions).
+ * deleted (mesh_keep_regions).  The input's regions (-A, --region-areas) are labelled on the
+ * whole coarse CDT first (mesh_set_regions crosses the interface edges), identically on every
+ * rank, so a region spanning subdomains has one label everywhere; refinement inherits it.
  *
  * Refine: rt_run's local work step is mesh_refine with a poll hook that stops it every
  * poll_every insertions (resumable), so the scheduler services incoming split requests between
