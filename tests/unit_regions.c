@@ -203,6 +203,8 @@ START_TEST(test_flat_write_validate) {
     ck_assert_ptr_nonnull(c.tattr);
     for (int32_t t = 0; t < a.ntris; t++)
         ck_assert_double_eq(a.tattr[t], c.tattr[t]);
+    ck_assert_int_eq(c.nholes, g.nholes); /* read back from the .poly too */
+    ck_assert_int_eq(c.nregions, g.nregions);
     ck_assert_msg(mesh_validate(&g, &c, &vo, &r), "%s", r.first_problem);
     char poly[96];
     snprintf(poly, sizeof poly, "%s.poly", prefix);

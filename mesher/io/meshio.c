@@ -458,7 +458,12 @@ int meshio_read_triangle(const char *prefix, mesh_flat *m, char *err, size_t err
         m->nsegs = g.nsegs;
         m->seg = g.seg;
         m->smarker = g.smarker;
+        m->nholes = g.nholes; /* kept, so that writing m again keeps them (Triangle's -r) */
+        m->holes = g.holes;
+        m->nregions = g.nregions;
+        m->regions = g.regions;
         g.seg = g.smarker = NULL;
+        g.holes = g.regions = NULL;
         pslg_free(&g);
     }
     return 0;

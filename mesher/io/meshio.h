@@ -57,8 +57,9 @@ size_t meshio_domain_maxlen(int32_t nholes, int32_t nregions);
  * lists the segments but not the interface ones (sinterface), then m's holes and regions). */
 int meshio_write_triangle(const mesh_flat *m, const char *prefix, char *err, size_t errlen);
 
-/* Reads PREFIX.node and PREFIX.ele (and PREFIX.poly when present) back into m.  The .ele's first
- * attribute goes into tattr (and into trank too when every value is a non-negative integer). */
+/* Reads PREFIX.node and PREFIX.ele (and PREFIX.poly when present: segments, holes, regions)
+ * back into m.  The .ele's first attribute goes into tattr (and into trank too when every value
+ * is a non-negative integer). */
 int meshio_read_triangle(const char *prefix, mesh_flat *m, char *err, size_t errlen);
 
 /* Legacy VTK unstructured grid, with the rank (and with tattr the regional attribute,
