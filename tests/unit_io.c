@@ -405,7 +405,7 @@ START_TEST(test_node_and_regions) {
     ck_assert_int_eq(g.nregions, 2);
     ck_assert_double_eq(g.regions[3], 0.25);
     ck_assert_double_eq(g.regions[6], 4);
-    ck_assert_double_eq(g.regions[7], -1); /* no area given */
+    ck_assert_double_eq(g.regions[7], 4); /* one value: attribute and area bound (Triangle) */
     ck_assert_str_eq(g.path, p);
     ck_assert_str_eq(g.segpath, q);
     ck_assert(pslg_check(&g, err, sizeof err) == 0);

@@ -475,7 +475,11 @@ static int read_poly(const char *path, pslg *g, int skip_node, int32_t nv, int f
             parse_double(&r, "x", "region", id, &q[0]) ||
             parse_double(&r, "y", "region", id, &q[1]))
             goto out;
-        if (peek_tok(&r) && parse_double(&r, "attribute", "region", id, &q[2])) goto out;
+        if (peek_tok(&r)) {
+            if (parse_double(&r, "attribute", "region", id, &q[2])) goto out;
+            /* one value serves as both attribute and area bound (Triangle's .poly format) */
+            q[3] = q[2];
+        }
         if (peek_tok(&r) && parse_double(&r, "maximum area", "region", id, &q[3])) goto out;
         if (line_end(&r)) goto out;
     }

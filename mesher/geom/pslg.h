@@ -33,7 +33,8 @@ typedef struct pslg {
     int32_t nholes;
     double *holes; /* 2 * nholes */
     int32_t nregions;
-    double *regions;   /* 4 * nregions: x, y, attribute, max area */
+    double *regions;   /* 4 * nregions: x, y, attribute, max area (a line with one value after
+                        * x y uses it for both, as Triangle; none: attribute 0, max area -1) */
     int first_index;   /* 0 or 1: the numbering the file used */
     int scale_exp;     /* pslg_check multiplied every coordinate by 2^scale_exp (0: untouched) */
     char path[512];    /* file the vertices came from (for messages) */
