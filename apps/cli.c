@@ -17,7 +17,7 @@
 #include "cli.h"
 
 #include "base/base.h"
-#include "base/version.h"
+#include "pcdm.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -313,7 +313,7 @@ static int stop_help(const parse_ctx *c, const cli_opt *r, FILE *out) {
     if (r->value->kind == CLI_HELP) {
         if (out) cli_help(c->p, out);
     } else if (out) {
-        fprintf(out, "%s (pcdm) %s\n", c->p->name, PCDM_VERSION);
+        fprintf(out, "%s (pcdm) %s\n", c->p->name, pcdm_version());
     }
     *c->status = CLI_EXIT_OK;
     return 1;

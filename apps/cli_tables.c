@@ -130,11 +130,13 @@ static const cli_opt mesher_rows[] = {
      .name = "region-attributes",
      .value = &v_flag,
      .at = CLI_AT(par.region_attr),
-     .help = "give each triangle its region's attribute (the .poly's regions), written to .ele"},
+     .help = "give each triangle its region's attribute (the .poly's regions; 0 in none): the "
+             ".ele's attribute column and VTK cell data region_attr"},
     {.name = "region-areas",
      .value = &v_flag,
      .at = CLI_AT(par.region_area),
-     .help = "honour the .poly's per-region area bounds (Triangle's -a without a number)"},
+     .help = "honour the .poly's per-region area bounds (Triangle's -a without a number; with "
+             "-a AREA the smaller bound wins)"},
     {.letter = 'e',
      .name = "edges",
      .value = &v_flag,
@@ -266,6 +268,16 @@ static const cli_opt meshcheck_rows[] = {
      .value = &v_flag,
      .at = CLI_AT(interfaces_delaunay),
      .help = "interface constraint edges must be locally Delaunay too"},
+    {.letter = 'A',
+     .name = "region-attributes",
+     .value = &v_flag,
+     .at = CLI_AT(par.region_attr),
+     .help = "fail unless each triangle's .ele attribute is its region's (found from the .poly; "
+             "0 outside every region)"},
+    {.name = "region-areas",
+     .value = &v_flag,
+     .at = CLI_AT(par.region_area),
+     .help = "fail if a triangle's area exceeds its region's bound (the .poly's regions)"},
     {.help = NULL}};
 
 static const cli_opt *const mesh_tables[] = {mesher_rows, mesh_rows, common_rows, NULL};

@@ -124,6 +124,7 @@ int main(int argc, char **argv) {
         pslg_free(&g);
         return 1;
     }
+    if (o.par.region_attr || o.par.region_area) mesh_set_regions(&m, &g, o.par.region_area, m.nseg);
     double t_cdt = now() - t0;
     progress pr = {!quiet && (o.par.progress || isatty(2)), t0, t0, &m};
     mesh_hooks h = {NULL, poll_progress, 4096, &pr};
@@ -176,9 +177,13 @@ int main(int argc, char **argv) {
     int need_flat = write_tri || vtk || svg || check || o.par.msh ||
                     (prefix && (o.par.edges || o.par.neighbors || o.par.order2));
     double t_out = now();
-    if (need_flat && mesh_to_flat(&m, &f) != 0) {
+    if (need_flat && (mesh_to_flat(&m, &f) != 0 || meshio_flat_domain(&f, &g) != 0)) {
         fprintf(stderr, "mesh: out of memory\n");
         return 1;
+    }
+    if (need_flat && !o.par.region_attr) { /* labels only for the region bounds: not written */
+        free(f.tattr);
+        f.tattr = NULL;
     }
     if (prefix && mesh_interpolate_attributes(&g, &f, err, sizeof err) != 0) {
         fprintf(stderr, "mesh: %s: %s\n", input, err);
@@ -212,7 +217,8 @@ int main(int argc, char **argv) {
                 o.par.no_poly ? "" : ".poly", t_out);
     if (check) {
         int nob = cdt_only || limited || partial; /* the bounds were given up: check the rest */
-        validate_opts vo = {nob ? 0 : qdeg, nob ? 0 : area, 0, 0};
+        validate_opts vo = {nob ? 0 : qdeg,    nob ? 0 : area,           0, 0,
+                            o.par.region_attr, !nob && o.par.region_area};
         validate_report vr;
         int good = mesh_validate(&g, &f, &vo, &vr);
         if (!good) rc = 1;

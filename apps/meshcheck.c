@@ -1,6 +1,6 @@
 /* meshcheck: validates a mesh written in Triangle's format against its input PSLG.
  *
- *   ./meshcheck [-q DEG] [-a AREA] [--interfaces-delaunay] input.poly PREFIX
+ *   ./meshcheck [-q DEG] [-a AREA] [-A] [--region-areas] [--interfaces-delaunay] input.poly PREFIX
  *
  * Reads and checks the input (pslg_read, pslg_check), reads PREFIX.node/.ele (and .poly when
  * present) with meshio_read_triangle, runs mesh_validate and prints its one-line summary.
@@ -22,7 +22,9 @@ int main(int argc, char **argv) {
     if (cli_parse(&cli_meshcheck, argc, argv, stdout, stderr, &co, &code)) return code;
     validate_opts o = {.min_angle = co.par.min_angle,
                        .max_area = co.par.max_area,
-                       .check_delaunay_interfaces = co.interfaces_delaunay};
+                       .check_delaunay_interfaces = co.interfaces_delaunay,
+                       .region_attr = co.par.region_attr,
+                       .region_area = co.par.region_area};
     const char *input = co.par.input, *prefix = co.mesh_prefix;
     geom_init();
     char err[1024];

@@ -194,7 +194,7 @@ int main(int argc, char **argv) {
     /* the common end: interface check, numbering, --check, output (no gather) */
     par_summary sum;
     par_opts oc = o; /* what --check holds the mesh to */
-    if (limited || partial) oc.min_angle = oc.max_area = 0;
+    if (limited || partial) oc.min_angle = oc.max_area = 0, oc.region_area = 0;
     int status = par_output(&oc, &in, &local, NULL, &sum);
     mesh_flat_free(&local);
     /* statistics: reductions of per-rank figures; memory taken now, after the output */

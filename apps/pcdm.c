@@ -92,7 +92,10 @@ int main(int argc, char **argv) {
     double t0 = rt_wtime(), c0 = par_cpu_seconds();
     char err[1024], msg[1200];
     pcdm_part part;
-    rc = pcdm_part_build(&part, &d, rank, err, sizeof err);
+    int regions = o.region_area   ? PCDM_REGIONS_AREA
+                  : o.region_attr ? PCDM_REGIONS_LABEL
+                                  : PCDM_REGIONS_NONE;
+    rc = pcdm_part_build_regions(&part, &d, rank, regions, err, sizeof err);
     snprintf(msg, sizeof msg, "pcdm: %s", err);
     if (par_fail_any(rc != 0, msg)) {
         if (rc == 0) pcdm_part_free(&part);
@@ -185,7 +188,7 @@ int main(int argc, char **argv) {
     par_summary sum;
     double c2 = par_cpu_seconds();
     par_opts oc = o; /* what --check holds the mesh to */
-    if (limited || partial) oc.min_angle = oc.max_area = 0;
+    if (limited || partial) oc.min_angle = oc.max_area = 0, oc.region_area = 0;
     int status = par_output_sub(&oc, &in, &local, artificial, tsub, topen, &sum);
     free(artificial);
     free(tsub);

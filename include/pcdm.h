@@ -28,11 +28,13 @@
 extern "C" {
 #endif
 
-#define PCDM_VERSION_MAJOR 1
-#define PCDM_VERSION_MINOR 0
+#define PCDM_VERSION_MAJOR 0
+#define PCDM_VERSION_MINOR 15
 #define PCDM_VERSION_PATCH 0
 
-/* Local.  The library's version string ("1.0.0"). */
+/* Local.  The version string ("MAJOR.MINOR.PATCH" of the macros above: the one place the
+ * project states its version; the programs print it for --version, the Makefile names the
+ * shared library and pcdm.pc after it). */
 const char *pcdm_version(void);
 
 /* Return codes (pcdm_status.code). */
@@ -100,6 +102,12 @@ typedef struct pcdm_options {
                           * closer (fewer points; default 0) */
     pcdm_unsuitable_fn unsuitable; /* NULL: none (default) */
     void *unsuitable_ctx;
+    int region_attributes; /* 1: triangleattr = each triangle's region's attribute (0 in none;
+                            * Triangle's -A); default 0.  pcdm_triangulate only for now: the
+                            * parallel call refuses it (PCDM_EINVAL) */
+    int region_areas;      /* 1: honour the regions' area bounds (Triangle's -a without a
+                            * number; the smaller of it and max_area wins); default 0; as
+                            * region_attributes, pcdm_triangulate only */
     /* pcdm_triangulate_par only */
     int method;         /* PCDM_METHOD_PCDM (default) or PCDM_METHOD_PBW */
     int32_t subdomains; /* subdomains of the decomposition (0: one per rank; default 0) */

@@ -93,7 +93,7 @@ static int valid(const pcdm_input *in, const pcdm_mesh *m, double min_angle, dou
     f.nsegs = m->nsegments;
     f.seg = m->segments;
     f.smarker = m->segmentmarkers;
-    validate_opts o = {min_angle, max_area, 0, 0};
+    validate_opts o = {.min_angle = min_angle, .max_area = max_area};
     validate_report r;
     int ok = mesh_validate(&g, &f, &o, &r);
     if (!ok) validate_report_print(&r, stderr);

@@ -233,7 +233,7 @@ static void roundtrip(int how) {
                       "segments differ from the sequential mesh's");
         free(a);
         free(b);
-        validate_opts vo = {QDEG, AREA, 0, 0};
+        validate_opts vo = {QDEG, AREA, 0, 0, 0, 0};
         validate_report vr;
         good = mesh_validate(&in, &R, &vo, &vr);
         if (!good) fprintf(stderr, "mpi_pout: read back: %s\n", vr.first_problem);

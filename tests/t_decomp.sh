@@ -26,7 +26,7 @@ bad() { fail=$((fail + 1)); printf 'FAIL %s\n' "$*"; }
 declare -A AREA=([letter_a.poly]=0.005 [inclusion.poly]=0.001 [map.poly]=0.003
     [segments.poly]=0.002 [grid.poly]=0.001 [far.poly]=0.00000006 [sliver.poly]=0.00002
     [angles.poly]=0.0003 [points.node]=0.001 [cross.poly]=0.01 [star.poly]=0.02
-    [overlap.poly]=0.008 [markers.poly]=0.01 [attributes.poly]=0.01)
+    [overlap.poly]=0.008 [markers.poly]=0.01 [attributes.poly]=0.01 [regions.poly]=0.01)
 NPS="1 2 3 4 8"
 [ "${SANITIZE:-}" = 1 ] && NPS="1 3 8"
 

@@ -20,6 +20,9 @@ if [ "${SANITIZE:-}" = 1 ] || [ "${DEBUG:-}" = 1 ] || [ "${B:-build}" != build ]
 fi
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/t_install.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
+# the version is include/pcdm.h's (the one place it is stated)
+ver() { sed -n "s/^#define PCDM_VERSION_$1 *\([0-9]*\).*/\1/p" include/pcdm.h; }
+M=$(ver MAJOR) V=$(ver MAJOR).$(ver MINOR).$(ver PATCH)
 fail=0
 bad() { echo "t_install: FAIL: $*"; fail=1; }
 
@@ -27,11 +30,11 @@ p=$tmp/usr
 make -s --no-print-directory install PREFIX="$p" >"$tmp/install.log" 2>&1 ||
     { cat "$tmp/install.log"; echo "t_install: FAIL: make install"; exit 1; }
 for f in bin/mesh bin/pcdm bin/pbw bin/meshcheck include/pcdm.h lib/libpcdm.a \
-    lib/libpcdm.so.1.0.0 lib/libpcdm.so.1 lib/libpcdm.so lib/pkgconfig/pcdm.pc; do
+    lib/libpcdm.so.$V lib/libpcdm.so.$M lib/libpcdm.so lib/pkgconfig/pcdm.pc; do
     [ -e "$p/$f" ] || bad "make install did not install $f"
 done
-[ "$(readlink "$p/lib/libpcdm.so")" = libpcdm.so.1 ] || bad "libpcdm.so does not link to libpcdm.so.1"
-readelf -d "$p/lib/libpcdm.so.1.0.0" | grep -q 'SONAME.*libpcdm.so.1\]' || bad "soname is not libpcdm.so.1"
+[ "$(readlink "$p/lib/libpcdm.so")" = libpcdm.so.$M ] || bad "libpcdm.so does not link to libpcdm.so.$M"
+readelf -d "$p/lib/libpcdm.so.$V" | grep -q "SONAME.*libpcdm.so.$M\\]" || bad "soname is not libpcdm.so.$M"
 # only the public API is exported
 exported=$(nm -D --defined-only "$p/lib/libpcdm.so" | awk '$2 == "T" {print $3}' | sed 's/@.*//' | sort | tr '\n' ' ')
 [ "$exported" = "pcdm_mesh_free pcdm_options_default pcdm_triangulate pcdm_triangulate_par pcdm_version " ] ||
@@ -40,7 +43,7 @@ exported=$(nm -D --defined-only "$p/lib/libpcdm.so" | awk '$2 == "T" {print $3}'
 grep '#include' "$p/include/pcdm.h" | grep -qv -e '<mpi.h>' -e '<stdint.h>' && bad "pcdm.h includes an internal header"
 
 export PKG_CONFIG_PATH=$p/lib/pkgconfig
-[ "$(pkg-config --modversion pcdm)" = 1.0.0 ] || bad "pkg-config --modversion pcdm: $(pkg-config --modversion pcdm)"
+[ "$(pkg-config --modversion pcdm)" = "$V" ] || bad "pkg-config --modversion pcdm: $(pkg-config --modversion pcdm)"
 cflags=$(pkg-config --cflags pcdm) libs=$(pkg-config --libs pcdm)
 echo "cflags: $cflags"
 echo "libs: $libs"
@@ -49,7 +52,7 @@ echo "libs: $libs"
 $CC_USER -std=c11 -Wall -Wextra -Werror examples/triangulate.c $cflags $libs -o "$tmp/tri" ||
     bad "examples/triangulate.c does not build with pkg-config's flags"
 if [ -x "$tmp/tri" ]; then
-    readelf -d "$tmp/tri" | grep -q 'NEEDED.*libpcdm.so.1\]' || bad "triangulate is not linked to libpcdm.so.1"
+    readelf -d "$tmp/tri" | grep -q "NEEDED.*libpcdm.so.$M\\]" || bad "triangulate is not linked to libpcdm.so.$M"
     (cd "$tmp" && LD_LIBRARY_PATH=$p/lib ./tri seq) || bad "triangulate failed"
     "$p/bin/meshcheck" -q 25 -a 0.5 "$tmp/seq.poly" "$tmp/seq.1" || bad "triangulate's mesh fails meshcheck"
 fi
@@ -73,7 +76,7 @@ fi
 # staged install: DESTDIR + PREFIX, then uninstall leaves nothing
 s=$tmp/stage
 make -s --no-print-directory install DESTDIR="$s" PREFIX=/opt/pcdm >"$tmp/stage.log" 2>&1 || bad "make install DESTDIR"
-[ -e "$s/opt/pcdm/lib/libpcdm.so.1.0.0" ] || bad "DESTDIR install: no $s/opt/pcdm/lib/libpcdm.so.1.0.0"
+[ -e "$s/opt/pcdm/lib/libpcdm.so.$V" ] || bad "DESTDIR install: no $s/opt/pcdm/lib/libpcdm.so.$V"
 grep -qx 'prefix=/opt/pcdm' "$s/opt/pcdm/lib/pkgconfig/pcdm.pc" || bad "DESTDIR install: pcdm.pc does not name PREFIX"
 make -s --no-print-directory uninstall DESTDIR="$s" PREFIX=/opt/pcdm >>"$tmp/stage.log" 2>&1 || bad "make uninstall"
 left=$(find "$s" -type f -o -type l)

@@ -40,7 +40,42 @@ START_TEST(test_plate) {
     ck_assert_ptr_null(m.pointglobal);
     pcdm_mesh_free(&m);
     pcdm_mesh_free(&m); /* idempotent */
-    ck_assert_str_eq(pcdm_version(), "1.0.0");
+    char v[32];
+    snprintf(v, sizeof v, "%d.%d.%d", PCDM_VERSION_MAJOR, PCDM_VERSION_MINOR, PCDM_VERSION_PATCH);
+    ck_assert_str_eq(pcdm_version(), v);
+}
+END_TEST
+
+/* Regions (Triangle's -A and -a without a number): the plate is one region (attribute 7, area
+ * bound 0.05); with region_areas every triangle meets the bound, without it some does not; with
+ * region_attributes every triangle carries 7, without it there is no triangleattr. */
+START_TEST(test_regions) {
+    static const double reg[] = {1, 1, 7, 0.05};
+    pcdm_input in = plate();
+    in.nregions = 1;
+    in.regions = reg;
+    pcdm_options o;
+    pcdm_options_default(&o);
+    o.region_attributes = o.region_areas = 1;
+    pcdm_mesh m;
+    pcdm_status st;
+    ck_assert_int_eq(pcdm_triangulate(&in, &o, &m, &st), PCDM_OK);
+    ck_assert_ptr_nonnull(m.triangleattr);
+    double amax = 0;
+    for (int32_t t = 0; t < m.ntriangles; t++) {
+        ck_assert_double_eq(m.triangleattr[t], 7);
+        const int32_t *v = m.triangles + 3 * t;
+        const double *a = m.points + 2 * v[0], *b = m.points + 2 * v[1], *c = m.points + 2 * v[2];
+        amax = fmax(amax, 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])));
+    }
+    ck_assert(amax <= 0.05);
+    ck_assert(valid(&in, &m, 20.7, 0.05));
+    pcdm_mesh_free(&m);
+    o.region_attributes = o.region_areas = 0;
+    ck_assert_int_eq(pcdm_triangulate(&in, &o, &m, &st), PCDM_OK);
+    ck_assert_ptr_null(m.triangleattr);
+    ck_assert(!valid(&in, &m, 20.7, 0.05)); /* the bound was not asked for: not met */
+    pcdm_mesh_free(&m);
 }
 END_TEST
 
@@ -180,6 +215,7 @@ int main(void) {
     TCase *tc = tcase_create("api");
     tcase_set_timeout(tc, 120);
     tcase_add_test(tc, test_plate);
+    tcase_add_test(tc, test_regions);
     tcase_add_test(tc, test_callback);
     tcase_add_test(tc, test_errors);
     tcase_add_test(tc, test_steiner_limit);

@@ -12,7 +12,7 @@
  * its copy through cli_par_parse).
  */
 #include "../apps/cli.h"
-#include "base/version.h"
+#include "pcdm.h"
 
 #include <check.h>
 #include <stdarg.h>
@@ -335,7 +335,7 @@ START_TEST(test_version) {
         cli_opts o;
         char msg[256], want[128];
         ck_assert_int_eq(parse(progs[k], &o, msg, sizeof msg, "--version", NULL), 0);
-        snprintf(want, sizeof want, "%s (pcdm) %s\n", progs[k]->name, PCDM_VERSION);
+        snprintf(want, sizeof want, "%s (pcdm) %s\n", progs[k]->name, pcdm_version());
         ck_assert_str_eq(msg, want);
     }
 }

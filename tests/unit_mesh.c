@@ -114,7 +114,7 @@ static void validate(const mesh *m, const pslg *g, double qmin, double amax) {
     check_structure(m);
     mesh_flat f;
     ck_assert_int_eq(mesh_to_flat(m, &f), 0);
-    validate_opts o = {qmin, amax, 0, 0};
+    validate_opts o = {qmin, amax, 0, 0, 0, 0};
     validate_report r;
     int ok = mesh_validate(g, &f, &o, &r);
     ck_assert_msg(ok, "mesh_validate failed: %s (ntris %ld)", r.first_problem, r.ntris);

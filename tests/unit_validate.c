@@ -55,7 +55,7 @@ static double sq_xy[] = {0, 0, 1, 0, 1, 1, 0, 1};
 static int32_t sq_seg[] = {0, 1, 1, 2, 2, 3, 3, 0};
 
 static int run(const pslg *g, const mesh_flat *m, double q, double a, validate_report *r) {
-    validate_opts o = {q, a, 0, 0};
+    validate_opts o = {q, a, 0, 0, 0, 0};
     int ok = mesh_validate(g, m, &o, r);
     validate_report_print(r, stdout);
     ck_assert_int_eq(ok, r->ok);
@@ -144,7 +144,7 @@ START_TEST(test_interface_delaunay) {
     mesh_flat m = flat(4, xy, 2, tri, 5, mseg);
     m.sinterface = iface;
     validate_report r;
-    validate_opts o = {0, 0, 0, 0};
+    validate_opts o = {0};
     ck_assert_msg(mesh_validate(&g, &m, &o, &r), "%s", r.first_problem);
     o.check_delaunay_interfaces = 1;
     ck_assert(!mesh_validate(&g, &m, &o, &r));

@@ -207,6 +207,7 @@ int pcdm_triangulate(const pcdm_input *in, const pcdm_options *opt, pcdm_mesh *o
         pslg_free(&g);
         return api_fail(st, PCDM_EINPUT, "%s", err);
     }
+    if (o.region_attributes || o.region_areas) mesh_set_regions(&m, &g, o.region_areas, m.nseg);
     api_rule rule;
     mesh_quality q;
     api_quality(&o, &q);
@@ -227,6 +228,10 @@ int pcdm_triangulate(const pcdm_input *in, const pcdm_options *opt, pcdm_mesh *o
     }
     mesh_flat f;
     if (mesh_to_flat(&m, &f) != 0) MESH_BUG("out of memory");
+    if (!o.region_attributes) { /* labels only for the region bounds: not returned */
+        free(f.tattr);
+        f.tattr = NULL;
+    }
     flat_to_mesh(&f, g.scale_exp, out);
     mesh_flat_free(&f);
     mesh_free(&m);

@@ -19,9 +19,10 @@
  * decomposition needs no communication.
  *
  * Work (weight) of a coarse triangle: with an area bound a, max(1, area / a) (the triangles it
- * will become, at least one where the local feature size already makes it small); with no area
- * bound, 1 (the coarse mesh is then graded by the local feature size like the final one); on
- * the exact preview, 1.
+ * will become, at least one where the local feature size already makes it small; a is the
+ * smaller of the global bound and the bound of the triangle's input region, with
+ * region_area); with no area bound, 1 (the coarse mesh is then graded by the local feature size
+ * like the final one); on the exact preview, 1.
  *
  * Cuts file format (pcdm_decomp_read_cuts, and what pcdm_decomp_write_cuts writes):
  *     # comment (from '#' to the end of the line; blank lines are ignored)
@@ -56,6 +57,9 @@ typedef struct pcdm_decomp_opts {
                             * triangles per subdomain (0 = default 1000; < 0 = never) */
     int64_t max_steiner;   /* the final mesh's Steiner budget (< 0: none); with a budget the
                             * exact preview is not used (it would spend the budget) */
+    int region_area;       /* 1: the input's per-region area bounds hold too (--region-areas):
+                            * auto: they enter the work weights, the exact preview and its
+                            * trial (a cuts file's weights ignore them) */
 } pcdm_decomp_opts;
 
 typedef struct pcdm_decomp {

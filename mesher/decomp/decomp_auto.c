@@ -48,6 +48,7 @@
 
 #include "base/base.h"
 #include "geom/geom.h"
+#include "seq/rules.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -566,7 +567,7 @@ static void fill_empty(const mesh *m, int32_t *part, int32_t K) {
  * with an area bound up to min_per_sub triangles per subdomain).
  * Returns 1 if m is now the exact preview, 0 if it was not tried (m untouched), -1 if it was
  * tried and the final mesh is too large (m is spoilt: rebuild it). */
-static int exact_preview(mesh *m, const pcdm_decomp_opts *o, int32_t K, double A,
+static int exact_preview(mesh *m, const pslg *in, const pcdm_decomp_opts *o, int32_t K, double A,
                          int32_t min_per_sub) {
     int32_t eps = o->exact_per_sub == 0 ? EXACT_PER_SUB_DEFAULT : o->exact_per_sub;
     if (K == 1 || eps < 0 || o->max_steiner >= 0) return 0;
@@ -575,6 +576,7 @@ static int exact_preview(mesh *m, const pcdm_decomp_opts *o, int32_t K, double A
     /* the bound exactly as ./mesh and ./pcdm refine with */
     double q = o->min_angle > 0 ? o->min_angle * (1 + 1e-9) + 1e-12 : 0;
     int64_t limit = tmax / 2 + 1; /* Steiner vertices: about half the triangles */
+    if (o->region_area) mesh_set_regions(m, in, 1, m->nseg); /* the final mesh's bounds */
     if (refine(m, q, o->max_area, limit) != MESH_REFINE_DONE || m->nlive > tmax) return -1;
     /* enough triangles to balance the ranks, and min_per_sub per subdomain */
     int64_t want = (int64_t)o->nranks * EXACT_MIN_PER_RANK;
@@ -603,7 +605,8 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
         return -1;
     }
     int exact =
-        mode == 2 ? 0 : exact_preview(&m, o, K, mesh_area(&m), mode == 0 ? 2 : EXACT_SAFE_PER_SUB);
+        mode == 2 ? 0
+                  : exact_preview(&m, in, o, K, mesh_area(&m), mode == 0 ? 2 : EXACT_SAFE_PER_SUB);
     if (exact < 0) { /* the final mesh is larger: start again from the CDT */
         mesh_free(&m);
         mesh_init(&m);
@@ -613,6 +616,9 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
         }
         exact = 0;
     }
+    /* the coarse route: region labels only (the coarse mesh stays coarser than their bounds),
+     * for the work weights below */
+    if (o->region_area && !exact) mesh_set_regions(&m, in, 0, m.nseg);
     double qc = o->min_angle + 2;
     qc = qc < 30 ? 30 : qc > 33 ? 33 : qc;
     if (K > 1 && !exact) {
@@ -639,7 +645,10 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
         if (id[t] < 0) continue;
         double ar = geom_area(mesh_vertex_xy(&m, m.tv[3 * t]), mesh_vertex_xy(&m, m.tv[3 * t + 1]),
                               mesh_vertex_xy(&m, m.tv[3 * t + 2]));
-        tw[t] = o->max_area > 0 && ar > o->max_area ? ar / o->max_area : 1;
+        double b = o->max_area;
+        if (o->region_area && m.treg && m.treg[t] >= 0)
+            b = mesh_rules_area_bound(b, in->regions[4 * m.treg[t] + 3]);
+        tw[t] = b > 0 && ar > b ? ar / b : 1;
     }
     double *target = mesh_xmalloc((size_t)K, sizeof(double));
     int32_t *planned = mesh_xmalloc((size_t)K, sizeof(int32_t));
@@ -688,6 +697,7 @@ static int trial_ok(const pcdm_decomp *d, const pcdm_decomp_opts *o) {
         q.max_area = o->max_area;
         q.max_steiner = -1;
         q.offcenter = 1;
+        if (o->region_area) mesh_set_regions(&m, &d->g, 1, d->nboundary);
         mesh_set_quality(&m, &q);
         ok = mesh_refine(&m) == MESH_REFINE_DONE && mesh_count_unmet(&m, NULL) == 0;
     }

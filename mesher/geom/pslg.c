@@ -8,7 +8,9 @@
  * visits along its length, and every candidate is decided with the exact geom_orient2d.
  * pslg_domain_area() measures the domain from the PSLG alone by tracing the faces of the
  * segment arrangement (half-edges sorted around each vertex by exact angular order), so the
- * validator can compare a mesh against an independent figure.  Invariant after pslg_check():
+ * validator can compare a mesh against an independent figure; pslg_regions() maps the region
+ * points onto the same faces (exact point-in-walk tests), so the validator finds each
+ * triangle's region without the mesher's labels.  Invariant after pslg_check():
  * distinct vertex coordinates, distinct non-degenerate segments, no two segments meeting
  * except at shared endpoints or at a vertex lying inside a segment.
  */
@@ -474,7 +476,11 @@ static int read_poly(const char *path, pslg *g, int skip_node, int32_t nv, int f
             parse_double(&r, "x", "region", id, &q[0]) ||
             parse_double(&r, "y", "region", id, &q[1]))
             goto out;
-        if (peek_tok(&r) && parse_double(&r, "attribute", "region", id, &q[2])) goto out;
+        if (peek_tok(&r)) {
+            if (parse_double(&r, "attribute", "region", id, &q[2])) goto out;
+            /* one value serves as both attribute and area bound (Triangle's .poly format) */
+            q[3] = q[2];
+        }
         if (peek_tok(&r) && parse_double(&r, "maximum area", "region", id, &q[3])) goto out;
         if (line_end(&r)) goto out;
     }
@@ -1570,6 +1576,61 @@ double pslg_domain_area(const pslg *g) {
     total += comp;
     faces_free(&F);
     return total;
+}
+
+struct pslg_regions {
+    faces F;
+    int32_t *freg; /* per walk: the region of its face (positive walks), or -1 */
+};
+
+/* 1 iff p lies on a segment of the arrangement (endpoints included). */
+static int on_arrangement(const faces *F, const pslg *g, const double *p) {
+    const arr *A = &F->A;
+    for (int32_t h = 0; h < 2 * A->ne; h += 2) {
+        const double *a = g->xy + 2 * A->org[h], *b = g->xy + 2 * A->org[h + 1];
+        if ((a[0] == p[0] && a[1] == p[1]) || (b[0] == p[0] && b[1] == p[1]) ||
+            (geom_orient2d(a, b, p) == 0 && strictly_between(a, b, p)))
+            return 1;
+    }
+    return 0;
+}
+
+pslg_regions *pslg_regions_build(const pslg *g) {
+    geom_init();
+    pslg_regions *R = mesh_xcalloc(1, sizeof *R);
+    if (!R) return NULL;
+    if (g->nsegs == 0 || faces_build(g, &R->F)) {
+        free(R);
+        return NULL;
+    }
+    R->freg = mesh_xmalloc((size_t)R->F.nc * sizeof(int32_t) + 1, 1);
+    if (!R->freg) {
+        faces_free(&R->F);
+        free(R);
+        return NULL;
+    }
+    for (int32_t i = 0; i < R->F.nc; i++)
+        R->freg[i] = -1;
+    for (int32_t i = 0; i < g->nregions; i++) { /* in file order: the later one wins */
+        const double *p = g->regions + 4 * i;
+        if (on_arrangement(&R->F, g, p)) continue;
+        int32_t f = enclosing(&R->F.A, R->F.cy, R->F.nc, p, -1);
+        if (f >= 0 && !R->F.cy[f].removed) R->freg[f] = i;
+    }
+    return R;
+}
+
+int32_t pslg_region_at(const pslg_regions *R, const double p[2]) {
+    if (!R) return -1;
+    int32_t f = enclosing(&R->F.A, R->F.cy, R->F.nc, p, -1);
+    return f >= 0 ? R->freg[f] : -1;
+}
+
+void pslg_regions_free(pslg_regions *R) {
+    if (!R) return;
+    faces_free(&R->F);
+    free(R->freg);
+    free(R);
 }
 
 /* 1 iff the half-edge h borders a kept face on one side or the other. */

@@ -34,7 +34,8 @@ typedef struct pslg {
     int32_t nholes;
     double *holes; /* 2 * nholes */
     int32_t nregions;
-    double *regions;   /* 4 * nregions: x, y, attribute, max area */
+    double *regions;   /* 4 * nregions: x, y, attribute, max area (a line with one value after
+                        * x y uses it for both, as Triangle; none: attribute 0, max area -1) */
     int first_index;   /* 0 or 1: the numbering the file used */
     int quiet;         /* 1: pslg_check prints no warnings (the library never prints) */
     int scale_exp;     /* pslg_check multiplied every coordinate by 2^scale_exp (0: untouched) */
@@ -98,6 +99,24 @@ int pslg_boundary_markers(pslg *g);
  * contain a hole point.  A hole point exactly on a segment or a vertex removes every face
  * whose closure contains it (as the mesher's carving does).  Used by the validator. */
 double pslg_domain_area(const pslg *g);
+
+/* The input's regions found from the PSLG alone (independently of any mesh), for the
+ * validator: region point i marks the face of the segment arrangement strictly containing it
+ * (a point exactly on a segment or a vertex of one, outside every bounded face, or in a face a
+ * hole removed marks nothing); where two points mark the same face the later one in the file
+ * wins (as the meshers do, mesh_set_regions).  Build once, then ask per point; g must outlive
+ * the lookup. */
+typedef struct pslg_regions pslg_regions;
+
+/* Returns the lookup (free with pslg_regions_free), or NULL (out of memory, or no segments:
+ * then no point is in a region). */
+pslg_regions *pslg_regions_build(const pslg *g);
+
+/* The region (index into g->regions) of the face strictly containing p, or -1 (no region, or p
+ * on no face: outside, on a segment).  p must not lie on a segment for a meaningful answer. */
+int32_t pslg_region_at(const pslg_regions *R, const double p[2]);
+
+void pslg_regions_free(pslg_regions *R);
 
 /* The pieces of every segment (cut at the vertices lying on it) and whether each borders the
  * domain: segment s runs through vertices vert[start[s] .. start[s+1]) in order from its

@@ -7,7 +7,9 @@
  * file.  Coordinates are printed with "%.17g" so that a written mesh reads back bit for bit;
  * integers are formatted by hand because the big meshes have tens of millions of them.  The
  * SVG groups triangles by owning rank (one fill per <g>, no per-element style) so a picture of
- * a million triangles stays a few tens of megabytes.  The reader takes .node (and .poly
+ * a million triangles stays a few tens of megabytes.  The .poly lists the input's segments (not
+ * interface ones) and ends with the input's holes and regions (meshio_fmt_domain, which the
+ * parallel writer shares), so it meshes the same domain again.  The reader takes .node (and .poly
  * segments) through pslg.c and parses .ele itself with the same full-token checks.
  */
 #include "io/meshio.h"
@@ -147,7 +149,7 @@ static int write_node(const mesh_flat *m, const char *path, char *err, size_t er
 static int write_ele(const mesh_flat *m, const char *path, char *err, size_t errlen) {
     wfile w;
     if (meshio_wopen(&w, path, err, errlen)) return -1;
-    fprintf(w.f, "%d 3 %d\n", (int)m->ntris, m->trank ? 1 : 0);
+    fprintf(w.f, "%d 3 %d\n", (int)m->ntris, m->tattr || m->trank ? 1 : 0);
     char line[128];
     for (int32_t t = 0; t < m->ntris; t++) {
         char *p = fmt_int(line, (long long)t + 1);
@@ -155,24 +157,34 @@ static int write_ele(const mesh_flat *m, const char *path, char *err, size_t err
             *p++ = ' ';
             p = fmt_int(p, (long long)m->tri[3 * t + k] + 1);
         }
-        if (m->trank) {
+        if (m->tattr) { /* Triangle's -A: the regional attribute */
+            *p++ = ' ';
+            p = fmt_dbl(p, m->tattr[t]);
+        } else if (m->trank) {
             *p++ = ' ';
             p = fmt_int(p, m->trank[t]);
         }
         *p++ = '\n';
         fwrite(line, 1, (size_t)(p - line), w.f);
     }
-    fprintf(w.f, "# written by pcdm%s\n", m->trank ? " (attribute: owning rank)" : "");
+    fprintf(w.f, "# written by pcdm%s\n",
+            m->tattr   ? " (attribute: regional attribute)"
+            : m->trank ? " (attribute: owning rank)"
+                       : "");
     return meshio_wclose(&w, 0);
 }
 
 static int write_poly(const mesh_flat *m, const char *path, char *err, size_t errlen) {
     wfile w;
     if (meshio_wopen(&w, path, err, errlen)) return -1;
-    fprintf(w.f, "0 2 0 1\n%d 1\n", (int)m->nsegs);
+    int32_t ns = 0;
+    for (int32_t s = 0; s < m->nsegs; s++)
+        ns += !(m->sinterface && m->sinterface[s]);
+    fprintf(w.f, "0 2 0 1\n%d 1\n", (int)ns);
     char line[128];
-    for (int32_t s = 0; s < m->nsegs; s++) {
-        char *p = fmt_int(line, (long long)s + 1);
+    for (int32_t s = 0, id = 0; s < m->nsegs; s++) {
+        if (m->sinterface && m->sinterface[s]) continue; /* artificial: not the input's */
+        char *p = fmt_int(line, (long long)++id);
         for (int k = 0; k < 2; k++) {
             *p++ = ' ';
             p = fmt_int(p, (long long)m->seg[2 * s + k] + 1);
@@ -182,8 +194,41 @@ static int write_poly(const mesh_flat *m, const char *path, char *err, size_t er
         *p++ = '\n';
         fwrite(line, 1, (size_t)(p - line), w.f);
     }
-    fprintf(w.f, "0\n");
+    char *dom = mesh_xmalloc(meshio_domain_maxlen(m->nholes, m->nregions), 1);
+    char *q = meshio_fmt_domain(dom, m->nholes, m->holes, m->nregions, m->regions, m->scale_exp);
+    fwrite(dom, 1, (size_t)(q - dom), w.f);
+    free(dom);
     return meshio_wclose(&w, 0);
+}
+
+size_t meshio_domain_maxlen(int32_t nholes, int32_t nregions) {
+    return 64 + 96 * (size_t)nholes + 160 * (size_t)nregions; /* 25 bytes per number at most */
+}
+
+char *meshio_fmt_domain(char *q, int32_t nholes, const double *holes, int32_t nregions,
+                        const double *regions, int e) {
+    q += sprintf(q, "%d\n", (int)nholes);
+    for (int32_t i = 0; i < nholes; i++)
+        q += sprintf(q, "%d %.17g %.17g\n", (int)i + 1, ldexp(holes[2 * i], -e),
+                     ldexp(holes[2 * i + 1], -e));
+    if (nregions) q += sprintf(q, "%d\n", (int)nregions);
+    for (int32_t i = 0; i < nregions; i++) {
+        const double *r = regions + 4 * i;
+        q += sprintf(q, "%d %.17g %.17g %.17g %.17g\n", (int)i + 1, ldexp(r[0], -e),
+                     ldexp(r[1], -e), r[2], r[3] > 0 ? ldexp(r[3], -2 * e) : r[3]);
+    }
+    return q;
+}
+
+int meshio_flat_domain(mesh_flat *m, const struct pslg *g) {
+    m->holes = mesh_xmalloc(2 * (size_t)g->nholes * sizeof(double) + 1, 1);
+    m->regions = mesh_xmalloc(4 * (size_t)g->nregions * sizeof(double) + 1, 1);
+    if (!m->holes || !m->regions) return -1;
+    m->nholes = g->nholes;
+    m->nregions = g->nregions;
+    if (g->nholes) memcpy(m->holes, g->holes, 2 * (size_t)g->nholes * sizeof(double));
+    if (g->nregions) memcpy(m->regions, g->regions, 4 * (size_t)g->nregions * sizeof(double));
+    return 0;
 }
 
 int meshio_write_triangle(const mesh_flat *m, const char *prefix, char *err, size_t errlen) {
@@ -311,7 +356,8 @@ static int read_ele(const char *path, mesh_flat *m, int first, char *err, size_t
     m->ntris = (int32_t)nt;
     m->tri = mesh_xmalloc(((size_t)nt * 3 + 1) * sizeof(int32_t), 1);
     m->trank = nattr ? mesh_xmalloc(((size_t)nt + 1) * sizeof(int32_t), 1) : NULL;
-    if (!m->tri || (nattr && !m->trank)) {
+    m->tattr = nattr ? mesh_xmalloc(((size_t)nt + 1) * sizeof(double), 1) : NULL;
+    if (!m->tri || (nattr && (!m->trank || !m->tattr))) {
         lfail(err, errlen, path, line, "out of memory for %ld triangles", nt);
         goto out;
     }
@@ -347,6 +393,7 @@ static int read_ele(const char *path, mesh_flat *m, int first, char *err, size_t
                 goto out;
             }
             if (k == 0) {
+                m->tattr[t] = a;
                 if (a >= 0 && a <= INT32_MAX && a == floor(a))
                     m->trank[t] = (int32_t)a;
                 else
@@ -380,6 +427,8 @@ void mesh_flat_free(mesh_flat *m) {
     free(m->seg);
     free(m->smarker);
     free(m->sinterface);
+    free(m->holes);
+    free(m->regions);
     memset(m, 0, sizeof *m);
 }
 
@@ -414,7 +463,12 @@ int meshio_read_triangle(const char *prefix, mesh_flat *m, char *err, size_t err
         m->nsegs = g.nsegs;
         m->seg = g.seg;
         m->smarker = g.smarker;
+        m->nholes = g.nholes; /* kept, so that writing m again keeps them (Triangle's -r) */
+        m->holes = g.holes;
+        m->nregions = g.nregions;
+        m->regions = g.regions;
         g.seg = g.smarker = NULL;
+        g.holes = g.regions = NULL;
         pslg_free(&g);
     }
     return 0;
@@ -514,6 +568,19 @@ int meshio_write_vtk(const mesh_flat *m, int binary, const char *path, char *err
     vtk_ints(&w, NULL, m->ntris, 5, binary);
     fprintf(wf.f, "CELL_DATA %d\nSCALARS rank int 1\nLOOKUP_TABLE default\n", (int)m->ntris);
     vtk_ints(&w, m->trank, m->ntris, 0, binary);
+    if (m->tattr) {
+        fprintf(wf.f, "SCALARS region_attr double 1\nLOOKUP_TABLE default\n");
+        for (int32_t t = 0; t < m->ntris; t++) {
+            if (binary) {
+                be_f64(&w, m->tattr[t]);
+            } else {
+                char *p = fmt_dbl(line, m->tattr[t]);
+                *p++ = '\n';
+                fwrite(line, 1, (size_t)(p - line), wf.f);
+            }
+        }
+        if (binary) be_end(&w);
+    }
     fprintf(wf.f, "POINT_DATA %d\nSCALARS marker int 1\nLOOKUP_TABLE default\n", (int)m->nverts);
     vtk_ints(&w, m->vmarker, m->nverts, 0, binary);
     return meshio_wclose(&wf, 0);

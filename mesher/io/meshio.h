@@ -12,6 +12,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 typedef struct mesh_flat {
     int32_t nverts;
@@ -22,16 +23,38 @@ typedef struct mesh_flat {
     int32_t ntris;
     int32_t *tri;   /* 3 * ntris, counter-clockwise, 0-based */
     int32_t *trank; /* ntris owning rank (may be NULL: all 0) */
-    double *tattr;  /* ntris regional attribute (-A; may be NULL: not asked, or no regions) */
+    double *tattr;  /* ntris regional attribute (-A; may be NULL: not asked).  Written as the
+                     * .ele's one attribute column (in place of trank) and as VTK cell data */
     int32_t nsegs;
     int32_t *seg;        /* 2 * nsegs subsegment endpoints */
     int32_t *smarker;    /* nsegs (may be NULL) */
     int32_t *sinterface; /* nsegs: 1 if an artificial (interface) constraint (may be NULL) */
     int scale_exp;       /* xy holds the true coordinates times 2^scale_exp (pslg_check's scaling);
                           * the writers undo it exactly.  0 for meshes read from files. */
+    /* the input's holes and regions, written into the .poly so that meshing it again meshes the
+     * same domain (Triangle does the same); scaled like xy (region areas by 2^(2 scale_exp));
+     * may be 0 / NULL (meshio_flat_domain fills them) */
+    int32_t nholes, nregions;
+    double *holes;   /* 2 * nholes */
+    double *regions; /* 4 * nregions: x, y, attribute, maximum area */
 } mesh_flat;
 
-/* Writes PREFIX.node, PREFIX.ele and PREFIX.poly (1-based, as Triangle writes them). */
+struct pslg;
+
+/* Copies g's holes and regions (pslg_check's scaled values) into m.  Returns 0 or -1 (out of
+ * memory). */
+int meshio_flat_domain(mesh_flat *m, const struct pslg *g);
+
+/* The end of a .poly: the holes section and, when there are regions, the regions section
+ * (coordinates divided by 2^scale_exp, areas by 2^(2 scale_exp)), formatted at q, which has
+ * room for meshio_domain_maxlen bytes; returns the new end.  The sequential and the parallel
+ * .poly writers both end with it. */
+char *meshio_fmt_domain(char *q, int32_t nholes, const double *holes, int32_t nregions,
+                        const double *regions, int scale_exp);
+size_t meshio_domain_maxlen(int32_t nholes, int32_t nregions);
+
+/* Writes PREFIX.node, PREFIX.ele and PREFIX.poly (1-based, as Triangle writes them; the .poly
+ * lists the segments but not the interface ones (sinterface), then m's holes and regions). */
 int meshio_write_triangle(const mesh_flat *m, const char *prefix, char *err, size_t errlen);
 
 /* The Triangle files a writer may leave out (Triangle's -N, -E, -P), or-ed together. */
@@ -41,13 +64,16 @@ enum { MESHIO_SKIP_NODE = 1, MESHIO_SKIP_ELE = 2, MESHIO_SKIP_POLY = 4, MESHIO_S
 int meshio_write_triangle_some(const mesh_flat *m, const char *prefix, unsigned skip, char *err,
                                size_t errlen);
 
-/* Reads PREFIX.node and PREFIX.ele (and PREFIX.poly when present) back into m. */
+/* Reads PREFIX.node and PREFIX.ele (and PREFIX.poly when present: segments, holes, regions)
+ * back into m.  The .ele's first attribute goes into tattr (and into trank too when every value
+ * is a non-negative integer). */
 int meshio_read_triangle(const char *prefix, mesh_flat *m, char *err, size_t errlen);
 
-/* Legacy VTK unstructured grid, with the rank as a cell scalar and the boundary marker as a
- * point scalar.  binary: the format's BINARY encoding (big-endian doubles and 32-bit ints, as
- * VTK, ParaView and meshio read it; 12 bytes of text per number fewer, and no formatting);
- * else ASCII (coordinates in the fewest digits that read back to the same bits). */
+/* Legacy VTK unstructured grid, with the rank (and with tattr the regional attribute,
+ * "region_attr") as cell scalars and the boundary marker as a point scalar.  binary: the format's
+ * BINARY encoding (big-endian doubles and 32-bit ints, as VTK, ParaView and meshio read it; 12
+ * bytes of text per number fewer, and no formatting); else ASCII (coordinates in the fewest digits
+ * that read back to the same bits). */
 int meshio_write_vtk(const mesh_flat *m, int binary, const char *path, char *err, size_t errlen);
 
 /* SVG picture: triangles filled by owning rank, constraint edges drawn thick, interface

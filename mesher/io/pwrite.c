@@ -92,7 +92,7 @@ static char *fmt_head(const ftext *x, char *q) {
     if (x->kind == F_NODE)
         q += sprintf(q, "%lld 2 %d 1\n", x->tot, p->nattr);
     else if (x->kind == F_ELE)
-        q += sprintf(q, "%lld 3 %d\n", x->tot, p->trank ? 1 : 0);
+        q += sprintf(q, "%lld 3 %d\n", x->tot, p->tattr || p->trank ? 1 : 0);
     else
         q += sprintf(q, "0 2 0 1\n%lld 1\n", x->tot);
     return q;
@@ -100,10 +100,13 @@ static char *fmt_head(const ftext *x, char *q) {
 
 static char *fmt_tail(const ftext *x, char *q) {
     if (x->kind == F_NODE) return q + sprintf(q, "# written by pcdm\n");
+    const mesh_part *p = x->p;
     if (x->kind == F_ELE)
-        return q +
-               sprintf(q, "# written by pcdm%s\n", x->p->trank ? " (attribute: owning rank)" : "");
-    return q + sprintf(q, "0\n");
+        return q + sprintf(q, "# written by pcdm%s\n",
+                           p->tattr   ? " (attribute: regional attribute)"
+                           : p->trank ? " (attribute: owning rank)"
+                                      : "");
+    return meshio_fmt_domain(q, p->nholes, p->holes, p->nregions, p->regions, p->scale_exp);
 }
 
 static long long tri_vertex(const mesh_part *p, int64_t i, int k) {
@@ -183,7 +186,10 @@ static char *fmt_rec(ftext *x, int64_t i, char *q) {
             *q++ = ' ';
             q = tri_number(x, i, k, q);
         }
-        if (p->trank) {
+        if (p->tattr) {
+            *q++ = ' ';
+            q = fmt_dbl(q, p->tattr[i]);
+        } else if (p->trank) {
             *q++ = ' ';
             q = fmt_int(q, p->trank[i]);
         }
@@ -218,7 +224,10 @@ static size_t rec_len(ftext *x, int64_t i) {
             n += 1 + (x->vdig && x->vlen[v] ? x->vlen[v]
                                             : (size_t)fmt_int_len(tri_vertex(p, i, k) + 1));
         }
-        if (p->trank) n += 1 + (size_t)fmt_int_len(p->trank[i]);
+        if (p->tattr)
+            n += 1 + (size_t)fmt_dbl_len(p->tattr[i]);
+        else if (p->trank)
+            n += 1 + (size_t)fmt_int_len(p->trank[i]);
         return n;
     }
     for (int k = 0; k < 2; k++)
@@ -271,7 +280,10 @@ static int write_files(MPI_Comm comm, const char (*path)[PATH_MAX_LEN + 8], ftex
     /* pass 1: each file's first chunk (for the .node text keep bytes more) formatted and kept,
      * the rest counted; a buffer's untouched pages cost nothing when the text is shorter */
     size_t chunk = chunk_bytes ? chunk_bytes : CHUNK_DEFAULT, kept[NFILES];
-    char *buf[NFILES], *scratch = mesh_xmalloc(x[0].recmax + 256, 1);
+    size_t rmax = 0;
+    for (int f = 0; f < nf; f++)
+        rmax = x[f].recmax > rmax ? x[f].recmax : rmax;
+    char *buf[NFILES], *scratch = mesh_xmalloc(rmax + 256, 1);
     int64_t i[NFILES];
     int tail_done[NFILES];
     long long mine[NFILES], off[NFILES] = {0};
@@ -398,6 +410,8 @@ int meshio_pwrite_triangle(MPI_Comm comm, const mesh_part *p, const char *prefix
         x[f].last = rank == size - 1;
         x[f].nrec = nrec[k];
         x[f].recmax = 128 + 32 * (size_t)(p->nattr > 0 ? p->nattr : 0);
+        if (f == F_POLY) /* the trailer (holes, regions) must fit where a record does */
+            x[f].recmax += meshio_domain_maxlen(p->nholes, p->nregions);
         x[f].ctr_i = -1;
         if (k == F_ELE) {
             x[f].vdig = vdig;
@@ -420,14 +434,14 @@ static int little_endian(void) {
 }
 
 /* The arrays of a piece, in file order: name, VTK type, bytes per value, components. */
-enum { A_MARKER, A_RANK, A_SUB, A_POINTS, A_CONN, A_OFFS, A_TYPES, A_N };
+enum { A_MARKER, A_RANK, A_SUB, A_ATTR, A_POINTS, A_CONN, A_OFFS, A_TYPES, A_N };
 static const struct vtu_arr {
     const char *name, *type;
     int size, ncomp;
-} vtu_arrs[A_N] = {{"marker", "Int32", 4, 1},       {"rank", "Int32", 4, 1},
-                   {"subdomain", "Int32", 4, 1},    {"Points", "Float64", 8, 3},
-                   {"connectivity", "Int64", 8, 1}, {"offsets", "Int64", 8, 1},
-                   {"types", "UInt8", 1, 1}};
+} vtu_arrs[A_N] = {{"marker", "Int32", 4, 1},    {"rank", "Int32", 4, 1},
+                   {"subdomain", "Int32", 4, 1}, {"region_attr", "Float64", 8, 1},
+                   {"Points", "Float64", 8, 3},  {"connectivity", "Int64", 8, 1},
+                   {"offsets", "Int64", 8, 1},   {"types", "UInt8", 1, 1}};
 
 /* Number of values of array a in m. */
 static size_t vtu_count(const mesh_flat *m, int a) {
@@ -454,6 +468,9 @@ static void vtu_fill(const mesh_flat *m, int rank, const int32_t *tsub, int a, s
         case A_SUB:
             i32[j] = tsub[k];
             break;
+        case A_ATTR:
+            f64[j] = m->tattr[k];
+            break;
         case A_POINTS:
             f64[j] = k % 3 == 2 ? 0.0 : ldexp(m->xy[k / 3 * 2 + k % 3], -m->scale_exp);
             break;
@@ -479,7 +496,7 @@ int meshio_write_vtu(const mesh_flat *m, int rank, const int32_t *tsub, int bina
     int use[A_N];
     uint64_t off[A_N], o = 0;
     for (int a = 0; a < A_N; a++) {
-        use[a] = a != A_SUB || tsub;
+        use[a] = (a != A_SUB || tsub) && (a != A_ATTR || m->tattr);
         off[a] = o;
         if (use[a]) o += 8 + (uint64_t)vtu_count(m, a) * (uint64_t)vtu_arrs[a].size;
     }
@@ -512,7 +529,8 @@ int meshio_write_vtu(const mesh_flat *m, int rank, const int32_t *tsub, int bina
                 for (size_t j = 0; j < nb; j++) {
                     char *q = line;
                     if (d->size == 4) q = fmt_int(q, ((const int32_t *)(void *)blk)[j]);
-                    if (a == A_POINTS) q = fmt_dbl(q, ((const double *)(void *)blk)[j]);
+                    if (a == A_POINTS || a == A_ATTR)
+                        q = fmt_dbl(q, ((const double *)(void *)blk)[j]);
                     if (a == A_CONN || a == A_OFFS)
                         q = fmt_int(q, ((const int64_t *)(void *)blk)[j]);
                     if (a == A_TYPES) q = fmt_int(q, blk[j]);
@@ -523,7 +541,7 @@ int meshio_write_vtu(const mesh_flat *m, int rank, const int32_t *tsub, int bina
             fputs("</DataArray>\n", f);
         }
         if (a == A_MARKER) fputs("</PointData>\n", f);
-        if (a == A_SUB || (a == A_RANK && !tsub)) fputs("</CellData>\n", f);
+        if (a == (m->tattr ? A_ATTR : tsub ? A_SUB : A_RANK)) fputs("</CellData>\n", f);
         if (a == A_POINTS) fputs("</Points>\n", f);
         if (a == A_TYPES) fputs("</Cells>\n", f);
     }
@@ -576,10 +594,11 @@ int meshio_pwrite_pvtu(MPI_Comm comm, const mesh_flat *local, const int32_t *tsu
                     "<PPointData Scalars=\"marker\"><PDataArray type=\"Int32\" "
                     "Name=\"marker\"/></PPointData>\n"
                     "<PCellData Scalars=\"rank\"><PDataArray type=\"Int32\" "
-                    "Name=\"rank\"/>%s</PCellData>\n"
+                    "Name=\"rank\"/>%s%s</PCellData>\n"
                     "<PPoints><PDataArray type=\"Float64\" NumberOfComponents=\"3\"/></PPoints>\n",
                     little_endian() ? "LittleEndian" : "BigEndian",
-                    tsub ? "<PDataArray type=\"Int32\" Name=\"subdomain\"/>" : "");
+                    tsub ? "<PDataArray type=\"Int32\" Name=\"subdomain\"/>" : "",
+                    local->tattr ? "<PDataArray type=\"Float64\" Name=\"region_attr\"/>" : "");
             for (int r = 0; r < size; r++)
                 fprintf(w.f, "<Piece Source=\"%s_%d.vtu\"/>\n", base, r);
             fputs("</PUnstructuredGrid>\n</VTKFile>\n", w.f);

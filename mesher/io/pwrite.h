@@ -46,9 +46,14 @@ typedef struct mesh_part {
     const int64_t *gid;   /* ... and each local vertex's global number */
     int64_t nlocal;       /* entries of gid (0: unknown; then the writer caches no numbers) */
     const int32_t *trank; /* ntris triangle attribute (NULL: none; same choice on every rank) */
+    const double *tattr;  /* ntris regional attributes (-A), written in trank's place (NULL:
+                           * none; same choice on every rank) */
     int64_t nsegs;
-    const int64_t *seg;     /* 2 * nsegs global vertex numbers */
-    const int32_t *smarker; /* nsegs (NULL: all 0) */
+    const int64_t *seg;       /* 2 * nsegs global vertex numbers */
+    const int32_t *smarker;   /* nsegs (NULL: all 0) */
+    int32_t nholes, nregions; /* the .poly's holes and regions sections (meshio_fmt_domain; */
+    const double *holes;      /* scaled like xy; the last rank writes them) */
+    const double *regions;
     int scale_exp; /* xy holds the true coordinates times 2^scale_exp (pslg.scale_exp: an input
                     * pslg_check scaled); the writer undoes it exactly, head vertices included.
                     * 0: unscaled */

@@ -11,7 +11,8 @@
  * vertices are found by hashing their exact coordinates.  Areas use compensated summation;
  * total triangle area, area enclosed by the boundary edges and pslg_domain_area() must agree
  * to a relative 1e-9.  Quality checks exempt triangles at small input angles (rule in
- * validate.h).
+ * validate.h).  Regions (-A, --region-areas) are found from the input alone: the face of the
+ * segment arrangement (pslg_regions) holding a point exactly inside each triangle.
  */
 #include "io/validate.h"
 
@@ -843,6 +844,66 @@ static int check_quality(vctx *c) {
     return 0;
 }
 
+/* A point strictly inside triangle (a, b, p), decided by exact orient2d: the centroid, or when
+ * rounding puts it on an edge (a sliver) another barycentric point.  0, or -1 if none is. */
+static int interior_point(const double *a, const double *b, const double *p, double out[2]) {
+    static const double w[4][3] = {
+        {1.0 / 3, 1.0 / 3, 1.0 / 3}, {0.5, 0.25, 0.25}, {0.25, 0.5, 0.25}, {0.25, 0.25, 0.5}};
+    for (int k = 0; k < 4; k++) {
+        out[0] = w[k][0] * a[0] + w[k][1] * b[0] + w[k][2] * p[0];
+        out[1] = w[k][0] * a[1] + w[k][1] * b[1] + w[k][2] * p[1];
+        if (geom_orient2d(a, b, out) > 0 && geom_orient2d(b, p, out) > 0 &&
+            geom_orient2d(p, a, out) > 0)
+            return 0;
+    }
+    return -1;
+}
+
+/* 10b. regions: attributes and per-region area bounds (rule in validate.h) */
+static int check_regions(vctx *c) {
+    const validate_opts *o = c->o;
+    validate_report *r = c->r;
+    if (!(o->region_attr || o->region_area) || !c->g) return 0;
+    if (o->region_attr && !c->m->tattr) {
+        r->bad_region++;
+        problem(r, "the mesh has no regional attributes (expected one per triangle)");
+        return 0;
+    }
+    pslg_regions *R = pslg_regions_build(c->g);
+    if (!R && c->g->nsegs > 0 && c->g->nregions > 0) {
+        oom(r);
+        return -1;
+    }
+    const double *reg = c->g->regions;
+    for (int32_t t = 0; t < c->nt; t++) {
+        if (c->tbad[t]) continue;
+        const int32_t *tv = c->tri + 3 * t;
+        const double *a = c->xy + 2 * tv[0], *b = c->xy + 2 * tv[1], *p = c->xy + 2 * tv[2];
+        double q[2];
+        if (interior_point(a, b, p, q)) continue;
+        int32_t k = c->g->nregions ? pslg_region_at(R, q) : -1;
+        if (o->region_attr) {
+            double want = k >= 0 ? reg[4 * k + 2] : 0;
+            if (c->m->tattr[t] != want) {
+                r->bad_region++;
+                problem(r, "triangle %d has attribute %.17g, its region's is %.17g", t,
+                        c->m->tattr[t], want);
+            }
+        }
+        if (o->region_area && k >= 0 && reg[4 * k + 3] > 0 &&
+            !(o->max_area > 0 && o->max_area < reg[4 * k + 3])) {
+            double ar = 0.5 * ((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]));
+            if (ar > reg[4 * k + 3] * (1 + 1e-12)) {
+                r->bad_area++;
+                problem(r, "triangle %d has area %.6g > %.6g, its region's bound", t, ar,
+                        reg[4 * k + 3]);
+            }
+        }
+    }
+    pslg_regions_free(R);
+    return 0;
+}
+
 /* 11. area of the domain */
 static int check_domain_area(vctx *c) {
     validate_report *r = c->r;
@@ -974,11 +1035,11 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
     if (!check_indices(&c) && !check_orientation(&c) && !build_edge_buckets(&c) &&
         !add_segment_edges(&c) && !check_conformity(&c) && !check_input_vertices(&c) &&
         !find_small_corners(&c) && !check_input_segments(&c) && !check_delaunay(&c) &&
-        !check_quality(&c))
+        !check_quality(&c) && !check_regions(&c))
         check_domain_area(&c);
     r->ok = !(r->bad_orient || r->bad_conform || r->missing_verts || r->missing_segs ||
               r->stray_boundary || r->non_delaunay || r->bad_angle || r->bad_area ||
-              r->area_mismatch || r->first_problem[0]);
+              r->area_mismatch || r->bad_region || r->first_problem[0]);
     free(c.tbad);
     free(c.vflag);
     free(c.bstart);

@@ -31,6 +31,14 @@
  * b.  Chains are walked over the mesh's listed segments (m->seg) and its boundary edges.  A
  * listed segment edge that lies on no input segment counts as an interface constraint
  * (sinterface may be NULL, e.g. after meshio_read_triangle).
+ *
+ * Regions (region_attr, region_area): the validator finds each triangle's region itself, from
+ * the input alone (pslg_regions: the face of the segment arrangement strictly containing a
+ * point strictly inside the triangle -- its centroid, or another barycentric point when
+ * rounding puts the centroid on or outside an edge, checked by exact orient2d; a triangle with
+ * no such point is not checked), never from the mesher's labels.  The attribute must equal the
+ * region's exactly (0 outside every region); the area bound is the smaller of max_area and the
+ * region's positive bound.
  */
 #ifndef VALIDATE_H
 #define VALIDATE_H
@@ -48,6 +56,8 @@ typedef struct validate_opts {
                * and segments whose endpoints or chains lie partly elsewhere are not required,
                * boundary edges may be interface edges (compared across ranks by the caller),
                * and the domain area is the caller's check (a sum over the parts) */
+    int region_attr; /* 1: every triangle's attribute (m->tattr) is its region's (-A) */
+    int region_area; /* 1: every triangle's area within its region's bound too (--region-areas) */
 } validate_opts;
 
 typedef struct validate_report {
@@ -61,6 +71,7 @@ typedef struct validate_report {
     double mesh_area_w, domain_area_w;
     long bad_orient, bad_conform, missing_verts, missing_segs, stray_boundary, non_delaunay,
         bad_angle, bad_area;
+    long bad_region;         /* triangles whose attribute is not their region's (region_attr) */
     long area_mismatch;      /* 1 if the mesh area differs from the domain area (relative 1e-9) */
     long nexempt;            /* triangles exempted from the angle bound (not a failure) */
     char first_problem[256]; /* description of the first failure found */

@@ -89,6 +89,7 @@ int par_load(const par_opts *o, pslg *in, pcdm_decomp *d) {
         dopt.max_area = o->max_area;
         dopt.imbalance = o->imbalance;
         dopt.max_steiner = o->max_steiner;
+        dopt.region_area = o->region_area;
         int32_t k = o->nsub > 0 ? o->nsub : rt_size();
         if (!o->cuts && k > PAR_MAX_SUBDOMAINS) {
             snprintf(err, sizeof err,

@@ -73,6 +73,8 @@ int par_check_parts(const par_opts *o, const pslg *in, mesh_flat *local, const p
     vo.max_area = o->max_area;
     vo.check_delaunay_interfaces = 1;
     vo.part = 1;
+    vo.region_attr = o->region_attr;
+    vo.region_area = o->region_area;
     validate_report lr;
     mesh_validate(in, local, &vo, &lr);
     /* the edges between parts: locally Delaunay across ranks (the part's validator cannot see
@@ -196,10 +198,15 @@ static int write_triangle(const par_opts *o, const pslg *in, const mesh_flat *f,
                    .gid = num->gid,
                    .nlocal = f->nverts,
                    .trank = f->trank,
+                   .tattr = f->tattr,
                    .nsegs = num->nwseg,
                    .seg = seg,
                    .smarker = smk,
                    .scale_exp = in->scale_exp,
+                   .nholes = in->nholes,
+                   .holes = in->holes,
+                   .nregions = in->nregions,
+                   .regions = in->regions,
                    /* pass 1 formats up to 8 bytes per triangle ahead and keeps them, about
                     * half a rank's .node text: the part, its numbering and the digit cache
                     * hold about 38 bytes per triangle here, so this stays near the refining
@@ -391,6 +398,10 @@ int par_output_sub(const par_opts *o, const pslg *in, mesh_flat *local, const ui
     memset(sum, 0, sizeof *sum);
     /* the parts are in the input's working scale (pslg_check); the writers undo it */
     local->scale_exp = in->scale_exp;
+    if (!o->region_attr) { /* labels kept only for the region bounds: not written, not checked */
+        free(local->tattr);
+        local->tattr = NULL;
+    }
     /* never a silent broken mesh: both sides of every interface must agree first */
     char imsg[600], msg[1300];
     int ibad = par_check_interfaces_open(local, topen, imsg, sizeof imsg) != 0;

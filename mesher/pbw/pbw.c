@@ -150,7 +150,12 @@ int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat 
     memset(local, 0, sizeof *local);
     char err[1024], msg[1200];
     err[0] = 0;
-    pbw_setup_opts so = {qa, o->max_area, o->max_steiner, !o->circumcenters};
+    pbw_setup_opts so = {qa,
+                         o->max_area,
+                         o->max_steiner,
+                         !o->circumcenters,
+                         o->region_attr || o->region_area,
+                         o->region_area};
     int rc = pbw_setup(C, &so, in, d, err, sizeof err);
     snprintf(msg, sizeof msg, "%s: %s", o->prog ? o->prog : "pbw", err);
     if (par_fail_any(rc != 0, msg)) {

@@ -50,7 +50,9 @@ void pbw_part_remove(pbw_cav *c, int32_t r) {
 
 void pbw_push_seed(pbw_ctx *C, pbw_cav *c, int64_t target, int64_t from, int64_t back, int64_t ga,
                    int64_t gb, int mode) {
-    pbw_seed s = {target, from, ga, gb, back, mode, 0};
+    int32_t reg =
+        C->treg && from != NOREF && ref_rank(from) == C->rank ? C->treg[ref_idx(from)] : -1;
+    pbw_seed s = {target, from, ga, gb, back, mode, reg};
     if (ref_rank(target) == C->rank) {
         MESH_GROW(c->stk, c->nstk, c->scap);
         c->stk[c->nstk++] = s;
@@ -116,7 +118,8 @@ void pbw_cav_unpack_into(pbw_cav *c, const void *data, uint32_t len) {
 /* Reports boundary edge ga->gb (vertex slots la, lb here) and reserves the new triangle's
  * slot on this rank.  oapex: vertex id of out's apex if out is a ghost (not locked), else -1. */
 static void report(pbw_ctx *C, pbw_cav *c, int32_t hi, int32_t la, int32_t lb, int64_t out,
-                   int64_t inref, int32_t cseg, int32_t clev, int64_t ck, int64_t oapex) {
+                   int64_t inref, int32_t cseg, int32_t clev, int64_t ck, int64_t oapex,
+                   int32_t reg) {
     int32_t s = pbw_slot_alloc(C);
     pbw_lock_slot(C, s, hi, ROLE_RES);
     pbw_bnd r;
@@ -130,6 +133,7 @@ static void report(pbw_ctx *C, pbw_cav *c, int32_t hi, int32_t la, int32_t lb, i
     r.clev = clev;
     r.ck = ck;
     r.oapex = oapex;
+    r.reg = reg;
     if (geom_orient2d(VX(C, la), VX(C, lb), c->h.p) <= 0) r.flags |= BF_BEYOND;
     if (cseg >= 0 && mesh_rules_encroaches(&C->R, VX(C, la), VX(C, lb), c->h.p)) r.flags |= BF_ENC;
     MESH_GROW(c->b, c->nb, c->bcap);
@@ -146,6 +150,7 @@ static int is_open_edge(const pbw_cav *c, int64_t ga, int64_t gb) {
  * conflict (exact incircle on the ghost): its edge is reported here, unlocked (GHOSTS, pbw.c). */
 static void expand_member(pbw_ctx *C, pbw_cav *c, int32_t hi, int32_t x, int64_t from) {
     int64_t self = mkref(C->rank, x);
+    int32_t reg = C->treg ? C->treg[x] : -1;
     for (int j = 0; j < 3; j++) {
         size_t e = 3 * (size_t)x + (size_t)j;
         int32_t la = C->tv[e], lb = C->tv[3 * (size_t)x + (size_t)((j + 1) % 3)];
@@ -156,15 +161,15 @@ static void expand_member(pbw_ctx *C, pbw_cav *c, int32_t hi, int32_t x, int64_t
             if (n != NOREF) pbw_push_seed(C, c, n, self, from, ga, gb, SEED_OPEN);
         } else if (C->cs[e] >= 0) {
             if (n == NOREF)
-                report(C, c, hi, la, lb, NOREF, self, C->cs[e], C->cl[e], C->ck[e], -1);
+                report(C, c, hi, la, lb, NOREF, self, C->cs[e], C->cl[e], C->ck[e], -1, reg);
             else if (g >= 0)
-                report(C, c, hi, la, lb, n, self, C->cs[e], C->cl[e], C->ck[e], C->vgid[g]);
+                report(C, c, hi, la, lb, n, self, C->cs[e], C->cl[e], C->ck[e], C->vgid[g], reg);
             else
                 pbw_push_seed(C, c, n, self, from, ga, gb, SEED_HALO);
         } else if (n == NOREF) {
-            report(C, c, hi, la, lb, NOREF, self, -1, -1, 0, -1); /* cannot happen in a CDT */
+            report(C, c, hi, la, lb, NOREF, self, -1, -1, 0, -1, reg); /* cannot happen in a CDT */
         } else if (g >= 0 && geom_incircle(VX(C, lb), VX(C, la), VX(C, g), c->h.p) <= 0) {
-            report(C, c, hi, la, lb, n, self, -1, -1, 0, C->vgid[g]);
+            report(C, c, hi, la, lb, n, self, -1, -1, 0, C->vgid[g], reg);
         } else {
             pbw_push_seed(C, c, n, self, from, ga, gb, SEED_NORMAL);
         }
@@ -232,7 +237,7 @@ int pbw_process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial) {
             size_t e = 3 * (size_t)x + (size_t)j;
             /* x's edge is gb->ga: the cavity's edge ga->gb runs from x's vertex j+1 to j */
             report(C, c, hi, C->tv[3 * (size_t)x + (size_t)((j + 1) % 3)], C->tv[e],
-                   mkref(C->rank, x), s.from, C->cs[e], C->cl[e], C->ck[e], -1);
+                   mkref(C->rank, x), s.from, C->cs[e], C->cl[e], C->ck[e], -1, s.reg);
             break;
         }
         case SEED_NORMAL:
@@ -247,7 +252,7 @@ int pbw_process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial) {
                 if (role == ROLE_NONE) pbw_lock_slot(C, x, hi, ROLE_HALO);
                 size_t e = 3 * (size_t)x + (size_t)j;
                 report(C, c, hi, C->tv[3 * (size_t)x + (size_t)((j + 1) % 3)], C->tv[e],
-                       mkref(C->rank, x), s.from, -1, -1, 0, -1);
+                       mkref(C->rank, x), s.from, -1, -1, 0, -1, s.reg);
             }
             break;
         default:
@@ -330,6 +335,7 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
         }
         C->lk[s] = -1;
         C->role[s] = ROLE_NONE;
+        if (C->treg) C->treg[s] = r->reg; /* the member's on its edge: same side of segments */
         C->nlive++;
         if (r->nb[0] != NOREF && ref_rank(r->nb[0]) != C->rank) {
             /* a ghost: its owner gets a one-way link update (GHOSTS, pbw.c) */
@@ -443,6 +449,7 @@ int pbw_commit_all(pbw_ctx *C, pbw_cav *c) {
         r->g[1] = b->gb;
         r->g[2] = pgid;
         r->slot = ref_idx(b->newref);
+        r->reg = b->reg;
         r->nb[0] = b->out;
         r->in = b->inref;
         r->ap[0] = b->oapex;

@@ -77,7 +77,8 @@ typedef struct pbw_seed { /* visit triangle target, reached from member `from` a
     int64_t target, from, ga, gb;
     int64_t back; /* the triangle `from` was reached from (NOREF: none): a stale link resolved
                    * to it is the edge the expansion came in through */
-    int32_t mode, pad;
+    int32_t mode;
+    int32_t reg; /* input region of member `from` (-1: none, or no regions) */
 } pbw_seed;
 _Static_assert(sizeof(pbw_seed) == 48, "pbw_seed layout");
 
@@ -90,8 +91,8 @@ typedef struct pbw_bnd { /* cavity boundary edge ga->gb (cavity on its left) */
     int32_t cseg;   /* constraint: original segment, -1 if not a constraint edge */
     int32_t clev;   /* constraint: dyadic level, -1 if not dyadic */
     int32_t flags;  /* BF_* */
-    int32_t pad;
-    int64_t oapex; /* vertex id of out's apex (the new triangle's ghost across ga-gb), or -1 */
+    int32_t reg;    /* input region of the member on this edge (the new triangle's) */
+    int64_t oapex;  /* vertex id of out's apex (the new triangle's ghost across ga-gb), or -1 */
 } pbw_bnd;
 _Static_assert(sizeof(pbw_bnd) == 72, "pbw_bnd layout");
 
@@ -139,9 +140,9 @@ typedef struct pbw_newtri {
     int64_t nb[3]; /* neighbours across a-b, b-p, p-a */
     int64_t ck[3];
     int32_t cseg[3], clev[3];
-    int32_t slot, pad;
-    int64_t ap[3]; /* vertex id of the apex of nb[j] (a ghost if nb[j] is remote), or -1 */
-    int64_t in;    /* the member on edge a-b (its owner tombstones it if nb[0] is remote) */
+    int32_t slot, reg; /* reg: input region (-1: none) */
+    int64_t ap[3];     /* vertex id of the apex of nb[j] (a ghost if nb[j] is remote), or -1 */
+    int64_t in;        /* the member on edge a-b (its owner tombstones it if nb[0] is remote) */
 } pbw_newtri;
 _Static_assert(sizeof(pbw_newtri) == 136, "pbw_newtri layout");
 
@@ -238,6 +239,9 @@ struct pbw_ctx {
     int64_t *ck;
     int32_t *lk; /* hold index or -1 */
     uint8_t *role;
+    int32_t *treg; /* per slot: input region (-1: none); NULL: regions not asked (-A, areas) */
+    int32_t nregion;
+    double *reg_attr, *reg_area; /* per region: attribute, area bound in working units (0) */
     int32_t *fre, nfree, frecap;
     /* input */
     int32_t ninput, nseg;
@@ -318,7 +322,9 @@ static inline uint64_t stamp_derived(uint64_t s) { /* just older than s, same cl
 typedef struct pbw_setup_opts {
     double min_angle, max_area;
     int64_t max_steiner;
-    int offcenter; /* 0: --circumcenters */
+    int offcenter;   /* 0: --circumcenters */
+    int regions;     /* 1: label the input's regions (-A or --region-areas) */
+    int region_area; /* 1: and honour their area bounds */
 } pbw_setup_opts;
 
 /* ---- pbw_store.c: the store ------------------------------------------------------------- */

@@ -1,7 +1,9 @@
 /* pbw_setup.c: the start and the end of a PBW run on one rank.  Start: every rank builds the
  * same CDT of the input (refined coarsely with an area bound, so every rank owns a piece),
  * computes the length floor from it as ./mesh does, and keeps the triangles whose centroid
- * lies in one of its subdomains (exact point location in the decomposition's CDT).  End: the
+ * lies in one of its subdomains (exact point location in the decomposition's CDT), with their
+ * input regions when asked (mesh_set_regions on the CDT; new triangles inherit the region of
+ * the cavity member on their edge, carried in the seeds and boundary records).  End: the
  * count of triangles left outside the bounds that the input does not force, the test-only
  * fault (PBW_TEST_BREAK_IFACE), this rank's triangles as a mesh_flat, and freeing the
  * context. */
@@ -96,6 +98,9 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
         mesh_free(&m0);
         return -1;
     }
+    /* regions labelled on the CDT (the pre-refinement below inherits them; their bounds are
+     * the parallel phase's) */
+    if (so->regions) mesh_set_regions(&m0, in, 0, m0.nseg);
     /* the length floor of the initial CDT, as ./mesh computes it from the same CDT */
     C->floor2 = mesh_rules_length_floor2(m0.xy, m0.nv, m0.tv, m0.nt);
     double dom_area = mesh_area(&m0);
@@ -148,6 +153,17 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
         const double *p = mesh_vertex_xy(&m0, v);
         pbw_vt_add(C, v, p[0], p[1], v < m0.ninput ? -1 : m0.vseg[v]);
     }
+    if (so->regions) {
+        C->treg = mesh_xrealloc(NULL, ((size_t)C->tcap + 1) * sizeof(int32_t), 1);
+        C->nregion = in->nregions;
+        C->reg_attr = mesh_xrealloc(NULL, ((size_t)in->nregions + 1) * sizeof(double), 1);
+        C->reg_area = mesh_xrealloc(NULL, ((size_t)in->nregions + 1) * sizeof(double), 1);
+        for (int32_t i = 0; i < in->nregions; i++) {
+            C->reg_attr[i] = in->regions[4 * i + 2];
+            double a = in->regions[4 * i + 3]; /* scaled by pslg_check, like the coordinates */
+            C->reg_area[i] = so->region_area && a > 0 ? a : 0;
+        }
+    }
     /* this rank's triangles, in CDT slot order */
     for (int32_t t = 0; t < m0.nt; t++) {
         if (own[t] != C->rank) continue;
@@ -168,6 +184,7 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
             C->cl[f] = ss ? ss->level : -1;
             C->ck[f] = ss ? ss->k : 0;
         }
+        if (C->treg) C->treg[s] = m0.treg[t];
         C->nlive++;
     }
     free(cnt);
@@ -261,6 +278,7 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f) {
     f->ntris = ntri;
     f->tri = mesh_xrealloc(NULL, 3 * ((size_t)ntri + 1) * sizeof(int32_t), 1);
     f->trank = mesh_xrealloc(NULL, ((size_t)ntri + 1) * sizeof(int32_t), 1);
+    if (C->treg) f->tattr = mesh_xrealloc(NULL, ((size_t)ntri + 1) * sizeof(double), 1);
     f->nsegs = nseg;
     f->seg = mesh_xrealloc(NULL, 2 * ((size_t)nseg + 1) * sizeof(int32_t), 1);
     f->smarker = mesh_xrealloc(NULL, ((size_t)nseg + 1) * sizeof(int32_t), 1);
@@ -280,6 +298,7 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f) {
             }
         }
         f->trank[ntri] = C->rank;
+        if (f->tattr) f->tattr[ntri] = C->treg[t] >= 0 ? C->reg_attr[C->treg[t]] : 0;
         ntri++;
     }
     free(map);
@@ -291,6 +310,7 @@ void pbw_ctx_free(pbw_ctx *C) {
     free(C->tv), free(C->tn), free(C->gx), free(C->lbuf), free(C->cs), free(C->cl), free(C->ck),
         free(C->lk), free(C->role);
     free(C->fre);
+    free(C->treg), free(C->reg_attr), free(C->reg_area);
     free(C->seg), free(C->pieces), free(C->smarker), free(C->in_vmarker), free(C->inc_off),
         free(C->inc_seg);
     free(C->corner);
@@ -311,7 +331,7 @@ void pbw_ctx_free(pbw_ctx *C) {
 
 size_t pbw_mesh_bytes(pbw_ctx *C) {
     size_t c = (size_t)C->tcap;
-    size_t b = c * (3 * (4 + 8 + 4 + 4 + 4 + 8) + 4 + 1);
+    size_t b = c * (3 * (4 + 8 + 4 + 4 + 4 + 8) + 4 + 1 + (C->treg ? 4 : 0));
     b += (size_t)C->vcap * (16 + 8 + 4) + (size_t)C->vhcap * 4 + (size_t)C->frecap * 4;
     b += (size_t)C->poolcap * sizeof(qent);
     return b;

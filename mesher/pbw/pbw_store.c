@@ -77,6 +77,7 @@ int32_t pbw_slot_alloc(pbw_ctx *C) {
             C->ck = mesh_xrealloc(C->ck, 3 * c * sizeof(int64_t), 1);
             C->lk = mesh_xrealloc(C->lk, c * sizeof(int32_t), 1);
             C->role = mesh_xrealloc(C->role, c, 1);
+            if (C->treg) C->treg = mesh_xrealloc(C->treg, c * sizeof(int32_t), 1);
         }
         s = C->nt++;
     }
@@ -85,6 +86,7 @@ int32_t pbw_slot_alloc(pbw_ctx *C) {
         C->gx[3 * (size_t)s + (size_t)j] = -1;
     C->lk[s] = -1;
     C->role[s] = ROLE_NONE;
+    if (C->treg) C->treg[s] = -1;
     return s;
 }
 
@@ -109,7 +111,8 @@ int pbw_quality(pbw_ctx *C, int32_t t, int *bucket, int *sh) {
     const int32_t *tv = C->tv + 3 * (size_t)t;
     const double *p[3] = {VX(C, tv[0]), VX(C, tv[1]), VX(C, tv[2])};
     double l2;
-    int res = mesh_rules_bad(&C->R, p, sh, &l2);
+    double rb = C->treg && C->treg[t] >= 0 ? C->reg_area[C->treg[t]] : 0;
+    int res = mesh_rules_bad_bound(&C->R, mesh_rules_area_bound(C->R.max_area, rb), p, sh, &l2);
     if (res && bucket) *bucket = mesh_rules_bucket(l2);
     return res;
 }

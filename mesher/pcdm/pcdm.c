@@ -8,7 +8,9 @@
  * record), has the triangle on the left of s, so the region lies in d->seg_sub[2s], otherwise
  * in d->seg_sub[2s + 1].  Every constraint edge of a region must agree (checked), so a wrong
  * decomposition is reported instead of producing a wrong mesh.  Regions of other ranks are
- * deleted (mesh_keep_regions).
+ * deleted (mesh_keep_regions).  The input's regions (-A, --region-areas) are labelled on the
+ * whole coarse CDT first (mesh_set_regions crosses the interface edges), identically on every
+ * rank, so a region spanning subdomains has one label everywhere; refinement inherits it.
  *
  * Refine: rt_run's local work step is mesh_refine with a poll hook that stops it every
  * poll_every insertions (resumable), so the scheduler services incoming split requests between
@@ -85,6 +87,11 @@ int pcdm_register(void) {
 /* ---- build ------------------------------------------------------------------------------- */
 
 int pcdm_part_build(pcdm_part *p, const pcdm_decomp *d, int rank, char *err, size_t errlen) {
+    return pcdm_part_build_regions(p, d, rank, PCDM_REGIONS_NONE, err, errlen);
+}
+
+int pcdm_part_build_regions(pcdm_part *p, const pcdm_decomp *d, int rank, int regions, char *err,
+                            size_t errlen) {
     memset(p, 0, sizeof *p);
     p->d = d;
     p->rank = rank;
@@ -174,6 +181,8 @@ int pcdm_part_build(pcdm_part *p, const pcdm_decomp *d, int rank, char *err, siz
      * practically forever (a fuzzed point set 8e29 long and 2 wide, at 3 ranks) */
     if (!bad) {
         mesh_fix_length_floor(m);
+        if (regions != PCDM_REGIONS_NONE) /* the whole coarse CDT, the same on every rank */
+            mesh_set_regions(m, &d->g, regions == PCDM_REGIONS_AREA, d->nboundary);
         mesh_keep_regions(m, label, keep);
     }
     free(label);

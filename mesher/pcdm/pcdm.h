@@ -70,6 +70,17 @@ int pcdm_register(void);
  * Returns 0, or -1 with a message in err (p then holds nothing). */
 int pcdm_part_build(pcdm_part *p, const pcdm_decomp *d, int rank, char *err, size_t errlen);
 
+/* Region labels for pcdm_part_build_regions. */
+enum { PCDM_REGIONS_NONE = 0, PCDM_REGIONS_LABEL = 1, PCDM_REGIONS_AREA = 2 };
+
+/* Local.  pcdm_part_build, and with regions != PCDM_REGIONS_NONE the input's regions (d->g's,
+ * copied from the input) labelled on the whole coarse CDT before the subdomains are kept
+ * (mesh_set_regions crosses interface edges, so a region spanning subdomains gets one label
+ * on every rank); new triangles inherit them.  PCDM_REGIONS_AREA: the regions' area bounds
+ * are honoured too.  The flat forms then carry tattr. */
+int pcdm_part_build_regions(pcdm_part *p, const pcdm_decomp *d, int rank, int regions, char *err,
+                            size_t errlen);
+
 /* Collective (calls rt_run).  Refines p's mesh to q (per-rank Steiner limit: q->max_steiner
  * as given) with the split protocol above; poll_every (0: 300) insertions per work step
  * between two services of incoming RSRs.  Returns when every rank is done and no request is in

@@ -14,11 +14,15 @@
  * cavity's slots.  Invariants: every live non-ghost triangle is counter-clockwise; tn is an
  * involution on live edges (tn[tn[e]] == e) or -1; both sides of a constraint edge carry its
  * bit; before any write the cavity is checked star-shaped from the point (exact orient2d), so a
- * failed insertion leaves the mesh unchanged.
+ * failed insertion leaves the mesh unchanged.  Input regions (mesh_set_regions) are the
+ * components of the triangles under adjacency across every edge but an input segment's, each
+ * taking the last region point located in it; a cavity records, per boundary edge, the region
+ * of the triangle inside it, and the new triangle on that edge inherits it.
  */
 #include "mesh_impl.h"
 
 #include "geom/geom.h"
+#include "seq/rules.h"
 
 #include <math.h>
 #include <string.h>
@@ -69,6 +73,9 @@ void mesh_free(mesh *m) {
     free(m->bnd);
     free(m->stk);
     free(m->newt);
+    free(m->treg);
+    free(m->reg_attr);
+    free(m->reg_area);
     memset(m, 0, sizeof *m);
     m->free_head = -1;
     m->ss_free = -1;
@@ -101,11 +108,13 @@ int32_t mesh_tri_new(mesh *m) {
             m->tv = mesh_xrealloc(m->tv, 3 * (size_t)cap, sizeof(int32_t));
             m->tn = mesh_xrealloc(m->tn, 3 * (size_t)cap, sizeof(int32_t));
             m->tf = mesh_xrealloc(m->tf, cap, 1);
+            if (m->treg) m->treg = mesh_xrealloc(m->treg, cap, sizeof(int32_t));
             m->tcap = cap;
         }
         t = m->nt++;
     }
     m->tf[t] = 0;
+    if (m->treg) m->treg[t] = -1;
     m->nlive++;
     return t;
 }
@@ -340,6 +349,7 @@ int mesh_cavity_collect(mesh *m, const double p[2], int32_t t0, int32_t split_e,
         b->twin = nb;
         b->cons = (uint8_t)mesh_edge_constrained(m, e);
         b->split = (uint8_t)(e == split_e);
+        b->reg = m->treg ? m->treg[e / 3] : -1;
         /* remember the inner edge code in the stack array's slot: reuse twin for star check */
         if (!b->split && b->org >= 0 && b->dest >= 0 &&
             geom_orient2d(m->xy + 2 * b->org, m->xy + 2 * b->dest, p) <= 0) {
@@ -386,6 +396,7 @@ void mesh_cavity_commit(mesh *m, int32_t v, int32_t su, int32_t sv) {
             if (b->dest == su || b->dest == sv) f |= 2;
         }
         m->tf[t] = f;
+        if (m->treg) m->treg[t] = b->reg;
         if (b->org >= 0) m->vtri[b->org] = t;
         if (b->dest >= 0) m->vtri[b->dest] = t; /* the chain's last vertex is no origin */
     }
@@ -468,6 +479,7 @@ void mesh_flip(mesh *m, int32_t e) {
     bn[1] = n_vw;
     if (n_vw >= 0) m->tn[n_vw] = 3 * t2 + 1;
     bn[2] = 3 * t1 + 2;
+    if (m->treg) m->treg[t2] = m->treg[t1]; /* an unconstrained edge: one region */
     m->tf[t1] = (uint8_t)(c_wu | (c_uz << 1));
     m->tf[t2] = (uint8_t)(c_zv | (c_vw << 1));
     if (w >= 0) m->vtri[w] = t1;
@@ -710,6 +722,92 @@ void mesh_keep_regions(mesh *m, const int32_t *label, const uint8_t *keep) {
     m->last = -1;
 }
 
+/* ---- input regions ------------------------------------------------------------------------ */
+
+/* 1 iff constraint edge e is a piece of a real segment (id below nreal), not an artificial one;
+ * an edge with no record counts as real. */
+static int input_constraint(const mesh *m, int32_t e, int32_t nreal) {
+    if (!mesh_edge_constrained(m, e)) return 0;
+    const mesh_subseg *s = mesh_subseg_of_edge(m, e);
+    return !s || s->seg < nreal;
+}
+
+/* 1 iff vertex v is an endpoint of an input-segment edge (scans the live triangles: region
+ * points exactly on a vertex are rare). */
+static int on_input_constraint_vertex(const mesh *m, int32_t v, int32_t nreal) {
+    for (int32_t t = 0; t < m->nt; t++) {
+        if (!mesh_tri_alive(m, t)) continue;
+        for (int j = 0; j < 3; j++)
+            if ((m->tv[3 * t + j] == v || mesh_dest(m, 3 * t + j) == v) &&
+                input_constraint(m, 3 * t + j, nreal))
+                return 1;
+    }
+    return 0;
+}
+
+/* The triangle region point p marks, or -1 (outside the domain, or on an input segment). */
+static int32_t region_seed(mesh *m, const double p[2], int32_t nreal) {
+    int32_t t = mesh_locate(m, p, -1);
+    if (t < 0) return -1;
+    for (int j = 0; j < 3; j++) {
+        int32_t e = 3 * t + j, a = m->tv[e], b = mesh_dest(m, e);
+        const double *pa = mesh_vertex_xy(m, a), *pb = mesh_vertex_xy(m, b);
+        if (pa[0] == p[0] && pa[1] == p[1]) return on_input_constraint_vertex(m, a, nreal) ? -1 : t;
+        if (geom_orient2d(pa, pb, p) == 0 && input_constraint(m, e, nreal)) return -1;
+    }
+    return t;
+}
+
+void mesh_set_regions(mesh *m, const pslg *g, int use_area, int32_t nreal) {
+    free(m->treg), free(m->reg_attr), free(m->reg_area);
+    m->nregion = g->nregions;
+    m->treg = mesh_xmalloc((size_t)m->tcap * sizeof(int32_t) + 1, 1);
+    m->reg_attr = mesh_xmalloc((size_t)g->nregions * sizeof(double) + 1, 1);
+    m->reg_area = mesh_xmalloc((size_t)g->nregions * sizeof(double) + 1, 1);
+    for (int32_t i = 0; i < g->nregions; i++) {
+        m->reg_attr[i] = g->regions[4 * i + 2];
+        double a = g->regions[4 * i + 3];
+        m->reg_area[i] = use_area && a > 0 ? a : 0;
+    }
+    /* components across every edge but the input segments' (interface edges are crossed) */
+    int32_t *comp = m->treg, *stk = mesh_xmalloc((size_t)m->nt * sizeof(int32_t) + 1, 1);
+    for (int32_t t = 0; t < m->nt; t++)
+        comp[t] = -1;
+    int32_t ncomp = 0;
+    for (int32_t t0 = 0; t0 < m->nt; t0++) {
+        if (!mesh_tri_alive(m, t0) || comp[t0] >= 0) continue;
+        int32_t n = 0;
+        stk[n++] = t0;
+        comp[t0] = ncomp;
+        while (n > 0) {
+            int32_t t = stk[--n];
+            for (int j = 0; j < 3; j++) {
+                int32_t e = 3 * t + j, nb = m->tn[e];
+                if (nb < 0 || comp[nb / 3] >= 0 || input_constraint(m, e, nreal)) continue;
+                comp[nb / 3] = ncomp;
+                stk[n++] = nb / 3;
+            }
+        }
+        ncomp++;
+    }
+    free(stk);
+    int32_t *creg = mesh_xmalloc((size_t)ncomp * sizeof(int32_t) + 1, 1);
+    for (int32_t c = 0; c < ncomp; c++)
+        creg[c] = -1;
+    for (int32_t i = 0; i < g->nregions; i++) { /* in file order: the later one wins */
+        int32_t t = region_seed(m, g->regions + 4 * i, nreal);
+        if (t >= 0) creg[comp[t]] = i;
+    }
+    for (int32_t t = 0; t < m->nt; t++)
+        m->treg[t] = comp[t] >= 0 ? creg[comp[t]] : -1;
+    free(creg);
+}
+
+double mesh_tri_area_bound(const mesh *m, int32_t t, double global) {
+    double r = m->treg && m->treg[t] >= 0 ? m->reg_area[m->treg[t]] : 0;
+    return mesh_rules_area_bound(global, r);
+}
+
 /* ---- output --------------------------------------------------------------------------------*/
 
 int mesh_to_flat(const mesh *m, mesh_flat *f) {
@@ -734,6 +832,7 @@ int mesh_to_flat(const mesh *m, mesh_flat *f) {
     }
     memcpy(f->xy, m->xy, 2 * (size_t)m->nv * sizeof(double));
     f->scale_exp = m->scale_exp;
+    if (m->treg) f->tattr = mesh_xmalloc((size_t)nt * sizeof(double) + 1, 1);
     for (int32_t v = 0; v < m->nv; v++)
         f->vmarker[v] = v < m->ninput     ? (m->in_vmarker ? m->in_vmarker[v] : 0)
                         : m->vseg[v] >= 0 ? m->smarker[m->vseg[v]]
@@ -742,6 +841,7 @@ int mesh_to_flat(const mesh *m, mesh_flat *f) {
     for (int32_t t = 0; t < m->nt; t++) {
         if (!mesh_tri_alive(m, t) || ghost_index(m, t) >= 0) continue;
         memcpy(f->tri + 3 * (size_t)nt, m->tv + 3 * (size_t)t, 3 * sizeof(int32_t));
+        if (f->tattr) f->tattr[nt] = m->treg[t] >= 0 ? m->reg_attr[m->treg[t]] : 0;
         nt++;
     }
     int32_t ns = 0;
@@ -773,6 +873,7 @@ void mesh_take_flat(mesh *m, mesh_flat *f, uint8_t **topen) {
     for (int32_t t = 0; t < m->nt; t++) {
         if (!mesh_tri_alive(m, t) || ghost_index(m, t) >= 0) continue;
         if (nt != t) memmove(m->tv + 3 * (size_t)nt, m->tv + 3 * (size_t)t, 3 * sizeof(int32_t));
+        if (m->treg) m->treg[nt] = m->treg[t]; /* compacted too, then turned into tattr */
         if (open)
             open[nt] = (uint8_t)((m->tn[3 * (size_t)t] < 0) | (m->tn[3 * (size_t)t + 1] < 0) << 1 |
                                  (m->tn[3 * (size_t)t + 2] < 0) << 2);
@@ -785,6 +886,11 @@ void mesh_take_flat(mesh *m, mesh_flat *f, uint8_t **topen) {
     f->ntris = nt;
     f->tri = mesh_xrealloc(m->tv, 3 * (size_t)nt + 1, sizeof(int32_t));
     m->tv = NULL;
+    if (m->treg) { /* attributes in place of the labels (a double each) */
+        f->tattr = mesh_xmalloc((size_t)nt * sizeof(double) + 1, 1);
+        for (int32_t t = 0; t < nt; t++)
+            f->tattr[t] = m->treg[t] >= 0 ? m->reg_attr[m->treg[t]] : 0;
+    }
     f->nsegs = m->ss_live;
     f->seg = mesh_xmalloc(2 * (size_t)m->ss_live + 1, sizeof(int32_t));
     f->smarker = mesh_xmalloc((size_t)m->ss_live + 1, sizeof(int32_t));
@@ -829,5 +935,6 @@ size_t mesh_memory_bytes(const mesh *m) {
     b += (size_t)m->sscap * sizeof(mesh_subseg) + 2 * (size_t)m->hcap * sizeof(int32_t);
     b += (size_t)m->cavcap * 4 + (size_t)m->bndcap * sizeof(mesh_bedge);
     b += (size_t)(m->stkcap + m->newtcap) * 4;
+    if (m->treg) b += (size_t)m->tcap * sizeof(int32_t);
     return b;
 }

@@ -134,6 +134,11 @@ typedef struct mesh {
     uint8_t *corner;            /* ninput: 1 if two segments meet there at < 60 degrees */
     int has_corners;
     int scale_exp; /* xy = input coordinates * 2^scale_exp (pslg.scale_exp; areas by 2^2e) */
+    /* input regions (mesh_set_regions; all NULL and 0 until then) */
+    int32_t nregion;
+    int32_t *treg;    /* per triangle slot: the input region it lies in (-1: none) */
+    double *reg_attr; /* nregion regional attributes */
+    double *reg_area; /* nregion area bounds in working units (0: none, or not asked) */
     /* subsegment side table */
     mesh_subseg *ss;
     int32_t nss, sscap, ss_free, ss_live;
@@ -168,7 +173,7 @@ void mesh_free(mesh *m);
  * exactly through a vertex), then triangles outside the domain removed: those reachable from
  * the convex hull and from each hole point without crossing a segment.  If g has no segments,
  * its convex hull is the domain and the hull edges become segments (marker 1).  iface (nsegs
- * flags, may be NULL) marks the interface segments (PCDM).  Regional attributes are ignored.
+ * flags, may be NULL) marks the interface segments (PCDM).  Regions: mesh_set_regions.
  * m must be empty (fresh from mesh_init).  Returns 0, or -1 with "FILE: problem" in err (e.g.
  * all vertices collinear, empty domain). */
 int mesh_build_cdt(mesh *m, const pslg *g, const uint8_t *iface, char *err, size_t errlen);
@@ -187,6 +192,28 @@ int32_t mesh_label_regions(const mesh *m, int32_t *label);
 /* Deletes every live triangle t with keep[label[t]] == 0 (label from mesh_label_regions),
  * then drops subsegment records no longer on any triangle. */
 void mesh_keep_regions(mesh *m, const int32_t *label, const uint8_t *keep);
+
+/* ---- input regions (Triangle's regional attributes and area constraints) -------------- */
+
+/* Labels every live triangle with the input region it lies in (g->regions, already scaled by
+ * pslg_check; region i is the set of triangles reachable from the triangle containing region
+ * point i without crossing an input segment).  Segments nreal .. nseg-1 are artificial (a
+ * decomposition's interface edges, pcdm_decomp's segments from nboundary on) and are crossed,
+ * so the parallel meshers label their coarse CDT whole, before keeping their subdomains;
+ * ./mesh passes m->nseg.  Where two region
+ * points fall in the same such component the later one in the file wins; triangles in no
+ * region get -1 (attribute 0, no own bound).  A region point outside the domain (or in a
+ * hole) or exactly on a segment (endpoints included) marks nothing; location is exact
+ * (mesh_locate, orient2d).  use_area: keep the regions' positive maximum areas as per-triangle
+ * bounds (mesh_refine then splits a triangle above min(q.max_area, its region's bound)).
+ * Afterwards every new triangle inherits the region of the cavity triangle it replaces on the
+ * same side (a cavity never crosses a segment, and a split segment's two sides keep theirs),
+ * so labels stay exact through refinement.  Local.  Call once, after mesh_build_cdt. */
+void mesh_set_regions(mesh *m, const pslg *g, int use_area, int32_t nreal);
+
+/* The area bound of live triangle t in working units: mesh_rules_area_bound of the global
+ * bound (working units) and t's region's, 0 if none. */
+double mesh_tri_area_bound(const mesh *m, int32_t t, double global);
 
 /* ---- point location and insertion ---------------------------------------------------- */
 
@@ -281,12 +308,13 @@ void mesh_dyadic_point(const double a[2], const double b[2], int32_t level, int6
 
 /* Fills f (which it allocates; free with mesh_flat_free): every vertex (input numbering
  * first), live triangles compacted in slot order, the subsegments with their segment's marker
- * and interface flag.  Returns 0, or -1 if out of memory. */
+ * and interface flag; f->tattr (each triangle's regional attribute, 0 outside every region)
+ * when mesh_set_regions was called, else NULL.  Returns 0, or -1 if out of memory. */
 int mesh_to_flat(const mesh *m, mesh_flat *f);
 
-/* Moves m into f: the same f as mesh_to_flat, built from m's own arrays (live triangles
- * compacted in place, vertex markers written over vseg, arrays shrunk) while everything else
- * of m is freed first, so the mesh is never held twice (the parallel meshers' memory peak).
+/* Moves m into f: the same f as mesh_to_flat (tattr included), built from m's own arrays (live
+ * triangles compacted in place, vertex markers written over vseg, arrays shrunk) while everything
+ * else of m is freed first, so the mesh is never held twice (the parallel meshers' memory peak).
  * When topen is not NULL, *topen gets one byte per triangle of f (free with free()): bit j set
  * iff edge j (tri[3t + j] -> tri[3t + (j + 1) % 3]) has no neighbour in m.  m is empty
  * afterwards (as after mesh_free).  Free f with mesh_flat_free. */

@@ -18,6 +18,7 @@ typedef struct mesh_bedge {
     int32_t twin;  /* edge code outside the cavity, or -1 */
     uint8_t cons;  /* 1 if a constraint edge */
     uint8_t split; /* 1 if this is the edge being split (one-sided split) */
+    int32_t reg;   /* region of the cavity triangle inside this edge (treg; -1: none) */
 } mesh_bedge;
 
 /* Cavity outcome. */

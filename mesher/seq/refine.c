@@ -136,7 +136,7 @@ static int quality(const mesh *m, const mesh_rules *R, int32_t t, int *bucket, i
     const int32_t *tv = m->tv + 3 * (size_t)t;
     const double *p[3] = {X(m, tv[0]), X(m, tv[1]), X(m, tv[2])};
     double l2;
-    int res = mesh_rules_bad(R, p, sh, &l2);
+    int res = mesh_rules_bad_bound(R, mesh_tri_area_bound(m, t, R->max_area), p, sh, &l2);
     if (res && bucket) {
         uint64_t bits;
         memcpy(&bits, &l2, sizeof bits);

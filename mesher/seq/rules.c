@@ -39,6 +39,11 @@ void mesh_rules_init(mesh_rules *R, double min_angle, double max_area, int offce
 }
 
 int mesh_rules_bad(const mesh_rules *R, const double *const p[3], int *sh, double *short2) {
+    return mesh_rules_bad_bound(R, R->max_area, p, sh, short2);
+}
+
+int mesh_rules_bad_bound(const mesh_rules *R, double max_area, const double *const p[3], int *sh,
+                         double *short2) {
     double ex[3], ey[3], l[3];
     for (int j = 0; j < 3; j++) { /* edge j: p[j] -> p[j+1] */
         ex[j] = p[(j + 1) % 3][0] - p[j][0];
@@ -55,9 +60,9 @@ int mesh_rules_bad(const mesh_rules *R, const double *const p[3], int *sh, doubl
         double dot = -(ex[a] * ex[b] + ey[a] * ey[b]);
         if (dot > 0 && dot * dot > R->cosb * R->cosb * l[a] * l[b]) res = MESH_BAD_ANGLE;
     }
-    if (R->max_area > 0 || R->unsuitable) {
+    if (max_area > 0 || R->unsuitable) {
         double area = 0.5 * (ex[0] * -ey[2] - ey[0] * -ex[2]);
-        if (R->max_area > 0 && area > R->max_area) res |= MESH_BAD_AREA;
+        if (max_area > 0 && area > max_area) res |= MESH_BAD_AREA;
         if (R->unsuitable && !(res & MESH_BAD_AREA) && R->unsuitable(R->unsuitable_ctx, p, area))
             res |= MESH_BAD_AREA;
     }

@@ -45,6 +45,19 @@ enum { MESH_BAD_ANGLE = 1, MESH_BAD_AREA = 2 };
  * squared length. */
 int mesh_rules_bad(const mesh_rules *R, const double *const p[3], int *sh, double *short2);
 
+/* mesh_rules_bad with the area bound max_area (<= 0: none) in place of R->max_area: a triangle
+ * in a region with its own bound (the .poly's regional area constraints, Triangle's -a without
+ * a number) is tested against mesh_rules_area_bound(R->max_area, region bound). */
+int mesh_rules_bad_bound(const mesh_rules *R, double max_area, const double *const p[3], int *sh,
+                         double *short2);
+
+/* The area bound of a triangle in a region with bound region (<= 0: none) when the global bound
+ * is global (<= 0: none): the smaller of the positive ones, 0 if neither. */
+static inline double mesh_rules_area_bound(double global, double region) {
+    if (!(region > 0)) return global > 0 ? global : 0;
+    return global > 0 && global < region ? global : region;
+}
+
 /* Steiner point of bad triangle p[0] p[1] p[2] whose shortest edge is sh: the circumcenter,
  * or with R->offcenter Ungor's off-center on the shortest edge's bisector when it is closer
  * (Ungor, "Off-centers", LATIN 2004).  Returns 0, or -1 if the triangle is degenerate. */

@@ -73,7 +73,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         /* ./mesh reports success exactly when this holds (apps/mesh.c) */
         if (rr == MESH_REFINE_DONE && mesh_count_unmet(&m, NULL) == 0 &&
             mesh_to_flat(&m, &fl) == 0) {
-            validate_opts vo = {q, area, 0, 0};
+            validate_opts vo = {q, area, 0, 0, 0, 0};
             validate_report vr;
             if (!mesh_validate(&g, &fl, &vo, &vr)) {
                 validate_report_print(&vr, stderr);
