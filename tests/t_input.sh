@@ -47,10 +47,10 @@ for f in cross star overlap; do
     grep -q "tests/inputs/$f.poly:[0-9]*: segment [0-9]* crosses segment" <<<"$out" ||
         fail "--strict $f: $out"
 done
-ok_check "pcdm cross" par "$BIN/pcdm" -q 25 -a 0.05 --check tests/inputs/cross.poly
-ok_check "pbw cross" par "$BIN/pbw" -q 25 -a 0.05 --check tests/inputs/cross.poly
-ok_check "pcdm star" par "$BIN/pcdm" -q 25 -a 0.05 --check tests/inputs/star.poly
-ok_check "pbw overlap" par "$BIN/pbw" -q 25 -a 0.05 --check tests/inputs/overlap.poly
+ok_check "pcdm cross" par "$BIN/pcdm" -NEP -q 25 -a 0.05 --check tests/inputs/cross.poly
+ok_check "pbw cross" par "$BIN/pbw" -NEP -q 25 -a 0.05 --check tests/inputs/cross.poly
+ok_check "pcdm star" par "$BIN/pcdm" -NEP -q 25 -a 0.05 --check tests/inputs/star.poly
+ok_check "pbw overlap" par "$BIN/pbw" -NEP -q 25 -a 0.05 --check tests/inputs/overlap.poly
 out=$(par "$BIN/pcdm" --strict tests/inputs/cross.poly 2>&1) && fail "pcdm --strict accepted"
 grep -q 'cross.poly:17: segment 6 crosses segment 5' <<<"$out" || fail "pcdm --strict: $out"
 

@@ -105,7 +105,7 @@ done
 run 8 lshape 30 --perturb 7
 # ghosts (issue 13): a cavity whose remote neighbours are not in conflict is decided on their
 # ghosts at the lower rank and stays local; the one-way link updates come from several ranks
-out=$(timeout 120 $MPIRUN -np 8 "$BIN/pbw" -q 20.7 -a "${AREA[lake]}" --check --stats \
+out=$(timeout 120 $MPIRUN -np 8 "$BIN/pbw" -NEP -q 20.7 -a "${AREA[lake]}" --check --stats \
     data/lake.poly 2>&1) || fail "./pbw with ghosts: $(tail -n 5 <<<"$out")"
 grep -q '^meshcheck: OK' <<<"$out" || fail "--check did not pass (ghosts)"
 nl=$(grep -Ec '^rank [0-9]+: .* link_sent=[1-9][0-9]*$' <<<"$out")
