@@ -185,6 +185,7 @@ int main(int argc, char **argv) {
                 o.input, unmet_all[0], unmet_all[1], o.min_angle,
                 o.write_partial ? "; writing the mesh made so far (--write-partial)" : "");
     if (partial && !o.write_partial) {
+        free(res.topen);
         mesh_flat_free(&local);
         pcdm_decomp_free(&d);
         pslg_free(&in);
@@ -195,7 +196,8 @@ int main(int argc, char **argv) {
     par_summary sum;
     par_opts oc = o; /* what --check holds the mesh to */
     if (limited || partial) oc.min_angle = oc.max_area = 0, oc.region_area = 0;
-    int status = par_output(&oc, &in, &local, NULL, &sum);
+    int status = par_output_sub(&oc, &in, &local, NULL, NULL, res.topen, &sum);
+    free(res.topen);
     mesh_flat_free(&local);
     /* statistics: reductions of per-rank figures; memory taken now, after the output */
     rs[RS_RSS] = (double)par_peak_rss_bytes();

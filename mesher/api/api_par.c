@@ -382,6 +382,7 @@ static int mesh_part_pbw(const pcdm_decomp *d, const pslg *in, const pcdm_option
      * decomposition has ruled out already */
     if (pbw_mesh(&po, in, d, &local, &res) != 0)
         return api_fail(st, PCDM_EMESH, "pbw: the distributed mesh cannot be built");
+    free(res.topen); /* finish_part finds the open edges itself */
     MPI_Comm c = rt_app_comm();
     int limit_any = 0;
     MESH_MPI(MPI_Allreduce(&res.limit_hit, &limit_any, 1, MPI_INT, MPI_MAX, c));

@@ -191,7 +191,7 @@ int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat 
                  left[0], left[1], left[2], left[3], left[4]);
     pbw_count_unmet(C);
     pbw_test_fault(C);
-    pbw_to_flat(C, local);
+    pbw_to_flat(C, local, res ? &C->res.topen : NULL);
     C->res.ntris = C->nlive;
     C->res.mesh_bytes = pbw_mesh_bytes(C);
     for (int k = 0; k < PBW_RSR_NKINDS; k++) {

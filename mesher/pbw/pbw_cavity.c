@@ -286,11 +286,14 @@ void pbw_check_new_triangle(pbw_ctx *C, int32_t t) {
 
 /* Applies this rank's part of a commit: members die, reserved slots become the new triangles,
  * halos get their link to the new triangle, everything is unlocked. */
+/* How many earlier records of a commit pbw_apply_commit searches for a vertex's slot. */
+#define FAN_LOOKBACK 8
+
 void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt, int bump) {
     int32_t hi = pbw_hold_find(C, ch->key);
     if (hi < 0) MESH_BUG("commit for unknown cavity %llx", (unsigned long long)ch->key);
     pbw_hold *h = &C->hd[hi];
-    pbw_vt_add(C, ch->pgid, ch->p[0], ch->p[1], ch->pvseg);
+    int32_t pv = pbw_vt_add(C, ch->pgid, ch->p[0], ch->p[1], ch->pvseg);
     /* ghost edges: the member there becomes a tombstone forwarding to the new triangle */
     for (int32_t i = 0; i < ch->n; i++) {
         const pbw_newtri *r = &nt[i];
@@ -321,7 +324,13 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
         if (s < 0 || s >= C->nt || C->lk[s] != hi || C->role[s] != ROLE_RES)
             MESH_BUG("commit writes slot %d not reserved by the cavity", s);
         for (int j = 0; j < 3; j++) {
-            int32_t v = pbw_vt_find(C, r->g[j]);
+            /* the fan's vertices: p itself, each boundary vertex in two new triangles (the
+             * previous records hold it, in cache; the vertex table costs a cache miss) */
+            int32_t v = j == 2 && r->g[2] == ch->pgid ? pv : -1;
+            for (int32_t k = i - 1; v < 0 && k >= 0 && i - k <= FAN_LOOKBACK; k--)
+                for (int jj = 0; jj < 2 && v < 0; jj++)
+                    if (nt[k].g[jj] == r->g[j]) v = C->tv[3 * (size_t)nt[k].slot + (size_t)jj];
+            if (v < 0) v = pbw_vt_find(C, r->g[j]);
             if (v < 0) MESH_BUG("commit names unknown vertex %lld", (long long)r->g[j]);
             size_t e = 3 * (size_t)s + (size_t)j;
             C->tv[e] = v;

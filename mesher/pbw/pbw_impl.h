@@ -497,8 +497,9 @@ void pbw_count_unmet(pbw_ctx *C);
  * interface check) must then fail every rank; tests/t_pbw.sh shows it does. */
 void pbw_test_fault(pbw_ctx *C);
 
-/* This rank's triangles as a mesh_flat (local numbering of the vertices they use). */
-int pbw_to_flat(pbw_ctx *C, mesh_flat *f);
+/* This rank's triangles as a mesh_flat (local numbering of the vertices they use); *topen (topen
+ * may be NULL): their open edges (pbw_result.topen). */
+int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen);
 
 /* Frees C and everything it owns. */
 void pbw_ctx_free(pbw_ctx *C);

@@ -247,14 +247,19 @@ void pbw_test_fault(pbw_ctx *C) {
 }
 
 /* This rank's triangles as a mesh_flat (local numbering of the vertices they use). */
-int pbw_to_flat(pbw_ctx *C, mesh_flat *f) {
+/* 1 iff slot t is written into the flat form (live and not locked). */
+static int written(pbw_ctx *C, int32_t t) {
+    return alive(C, t) && C->lk[t] < 0;
+}
+
+int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
     memset(f, 0, sizeof *f);
     int32_t *map = mesh_xrealloc(NULL, ((size_t)C->nv + 1) * sizeof(int32_t), 1);
     for (int32_t v = 0; v < C->nv; v++)
         map[v] = -1;
     int32_t nv = 0, ntri = 0, nseg = 0;
     for (int32_t t = 0; t < C->nt; t++) {
-        if (!alive(C, t) || C->lk[t] >= 0) continue;
+        if (!written(C, t)) continue;
         ntri++;
         for (int j = 0; j < 3; j++) {
             int32_t v = C->tv[3 * (size_t)t + (size_t)j];
@@ -283,12 +288,17 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f) {
     f->seg = mesh_xrealloc(NULL, 2 * ((size_t)nseg + 1) * sizeof(int32_t), 1);
     f->smarker = mesh_xrealloc(NULL, ((size_t)nseg + 1) * sizeof(int32_t), 1);
     f->sinterface = mesh_xrealloc(NULL, ((size_t)nseg + 1) * sizeof(int32_t), 1);
+    uint8_t *open = topen ? mesh_xrealloc(NULL, (size_t)ntri + 1, 1) : NULL;
     ntri = nseg = 0;
     for (int32_t t = 0; t < C->nt; t++) {
-        if (!alive(C, t) || C->lk[t] >= 0) continue;
+        if (!written(C, t)) continue;
+        if (open) open[ntri] = 0;
         for (int j = 0; j < 3; j++) {
             size_t e = 3 * (size_t)t + (size_t)j;
             f->tri[3 * (size_t)ntri + (size_t)j] = map[C->tv[e]];
+            int64_t n = C->tn[e]; /* open: no neighbour written here (boundary, another rank) */
+            if (open && !(n != NOREF && ref_rank(n) == C->rank && written(C, ref_idx(n))))
+                open[ntri] |= (uint8_t)(1u << j);
             if (C->cs[e] >= 0) {
                 f->seg[2 * (size_t)nseg] = map[C->tv[e]];
                 f->seg[2 * (size_t)nseg + 1] = map[C->tv[3 * (size_t)t + (size_t)((j + 1) % 3)]];
@@ -301,6 +311,7 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f) {
         if (f->tattr) f->tattr[ntri] = C->treg[t] >= 0 ? C->reg_attr[C->treg[t]] : 0;
         ntri++;
     }
+    if (topen) *topen = open;
     free(map);
     return 0;
 }
