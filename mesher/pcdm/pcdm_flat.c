@@ -108,6 +108,25 @@ void pcdm_det_take(pcdm_part *p, mesh_flat *f, uint8_t **artificial, int32_t **t
                    uint8_t **topen) {
     int32_t nm = pcdm_det_nmesh(p), nboundary = p->d->nboundary;
     memset(f, 0, sizeof *f);
+    if (nm == 1) { /* one subdomain: moved as it is (the memory peak of the asynchronous mode) */
+        int32_t sub;
+        mesh *m = pcdm_det_mesh(p, 0, &sub);
+        uint8_t *a = mesh_xmalloc((size_t)m->ss_live + 1, 1);
+        int32_t k = 0;
+        for (int32_t r = 0; r < m->nss; r++)
+            if (m->ss[r].level != -2) a[k++] = m->ss[r].seg >= nboundary;
+        mesh_take_flat(m, f, topen);
+        f->trank = mesh_xmalloc((size_t)f->ntris + 1, sizeof(int32_t));
+        for (int32_t t = 0; t < f->ntris; t++)
+            f->trank[t] = p->rank;
+        if (tsub) {
+            *tsub = mesh_xmalloc((size_t)f->ntris + 1, sizeof(int32_t));
+            for (int32_t t = 0; t < f->ntris; t++)
+                (*tsub)[t] = sub;
+        }
+        *artificial = a;
+        return;
+    }
     int64_t ncand = 0, nseg_if = 0;
     for (int32_t i = 0; i < nm; i++) {
         int32_t sub;
