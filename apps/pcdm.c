@@ -83,8 +83,9 @@ int main(int argc, char **argv) {
     double t0 = rt_wtime(), c0 = par_cpu_seconds();
     char err[1024], msg[1200];
     pcdm_part part;
-    rc = o.deterministic ? pcdm_part_build_det(&part, &d, rank, err, sizeof err)
-                         : pcdm_part_build(&part, &d, rank, err, sizeof err);
+    int det = o.deterministic || !o.async;
+    rc = det ? pcdm_part_build_det(&part, &d, rank, err, sizeof err)
+             : pcdm_part_build(&part, &d, rank, err, sizeof err);
     snprintf(msg, sizeof msg, "pcdm: %s", err);
     if (par_fail_any(rc != 0, msg)) {
         if (rc == 0) pcdm_part_free(&part);
@@ -103,7 +104,7 @@ int main(int argc, char **argv) {
     q.offcenter = !o.circumcenters; /* as ./mesh; lens stays 0: diametral circles make the interface
                         subsegments Delaunay edges of the merged mesh */
     q.max_steiner = -1;
-    if (o.max_steiner >= 0 && o.deterministic) { /* shared by the subdomains (pcdm_det.c) */
+    if (o.max_steiner >= 0 && det) { /* shared by the subdomains (pcdm_det.c) */
         q.max_steiner = o.max_steiner;
     } else if (o.max_steiner >= 0) { /* the global budget shared by target weight */
         double share = 0;

@@ -194,6 +194,8 @@ int pcdm_part_build_det(pcdm_part *p, const pcdm_decomp *d, int rank, char *err,
     memset(p, 0, sizeof *p);
     p->d = d;
     p->rank = rank;
+    const char *fault = getenv("PCDM_TEST_DROP_SPLIT");
+    if (fault && rank == 1) p->fault_drop = (int32_t)atoi(fault);
     for (int32_t s = 0; s < d->nsub; s++)
         if (d->sub_owner[s] == rank) p->nsub_owned++;
     mesh_init(&p->m); /* stays empty */
