@@ -13,8 +13,11 @@
  *   stats: ranks=P triangles=N vertices=N rsr=S min_angle=D wall_s=T busy_max_s=B busy_sum_s=U
  *          subdomains=K idle_max_s=I max_area=A ignored=G mpi_msgs=M speedup_model=X
  *          peak_rss_mb=R bytes_per_tri=Y mesh_bytes_per_tri=Z output_s=W cpu_max_s=C
- *          cpu_sum_s=E
- * (one line).  wall_s runs from a barrier after input loading and decomposition to the moment
+ *          cpu_sum_s=E decomp_s=D tri_max=N tri_mean=M decomp_exact=0|1 rounds=R hash=H
+ * (one line).  rounds: the deterministic mode's rounds (0 with --async); hash: the mesh hash
+ * (pcdm_flat_hash summed over the ranks' parts), the same for the same mesh whatever its
+ * numbering and rank count.
+ * wall_s runs from a barrier after input loading and decomposition to the moment
  * the last rank left rt_run (CDT build + region selection + refinement + termination; no
  * numbering, no file output) -- the same span as ./mesh's wall_s.  busy = time in local work and
  * handlers (rt_stats RT_TIME_BUSY + RT_TIME_HANDLER); speedup_model = busy_sum / busy_max.

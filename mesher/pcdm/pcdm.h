@@ -9,11 +9,16 @@
  * dyadic midpoint (bit for bit: mesh_dyadic_point from the original endpoints).  A request for
  * a subsegment already split is counted and dropped.  Termination: the runtime's detector.
  *
+ * That is the asynchronous mode (./pcdm --async): the mesh depends on message timing.  The
+ * deterministic mode (pcdm_part_build_det, pcdm_det.c; ./pcdm's default) refines each
+ * subdomain in its own mesh, in rounds, so the mesh depends only on the input, the bounds and
+ * the decomposition.
+ *
  * Usage (SPMD):
  *     rt_init(...); pcdm_register();            // before rt_start / the first rt_run
- *     pcdm_part p; pcdm_part_build(&p, &d, rt_rank(), err, sizeof err);
+ *     pcdm_part p; pcdm_part_build(&p, &d, rt_rank(), err, sizeof err);  // or _build_det
  *     pcdm_part_refine(&p, &q, 0);              // Collective (rt_run)
- *     pcdm_part_flat(&p, &flat);                // then par_output(..., &flat, ...)
+ *     pcdm_part_take(&p, &flat, &art, ...);     // then par_output(..., &flat, art, ...)
  *     pcdm_part_free(&p);
  */
 #ifndef PCDM_H
@@ -117,20 +122,20 @@ void pcdm_part_take(pcdm_part *p, mesh_flat *f, uint8_t **artificial, int32_t **
  * the sum over the ranks' parts (MPI_SUM of uint64) hashes the whole mesh for any rank count. */
 uint64_t pcdm_flat_hash(const mesh_flat *f);
 
-/* Local.  The part as a mesh_flat (local numbering) with trank set to p->rank.  Returns 0 or
- * -1 (out of memory).  Free with mesh_flat_free. */
+/* Local, asynchronous parts only.  The part as a mesh_flat (local numbering) with trank set to
+ * p->rank.  Returns 0 or -1 (out of memory).  Free with mesh_flat_free. */
 int pcdm_part_flat(const pcdm_part *p, mesh_flat *f);
 
-/* Local.  Moves the part's mesh into f (mesh_take_flat: the mesh is never held twice) with
- * trank set to p->rank; when tsub is not NULL, *tsub gets each triangle's subdomain (f->ntris
- * entries, same order; free with free()); when topen is not NULL, *topen the open-edge mask
- * of mesh_take_flat.  p's mesh is empty afterwards: take every figure from it (and
+/* Local, asynchronous parts only.  Moves the part's mesh into f (mesh_take_flat: the mesh is never
+ * held twice) with trank set to p->rank; when tsub is not NULL, *tsub gets each triangle's
+ * subdomain (f->ntris entries, same order; free with free()); when topen is not NULL, *topen the
+ * open-edge mask of mesh_take_flat.  p's mesh is empty afterwards: take every figure from it (and
  * pcdm_part_artificial) first.  Free f with mesh_flat_free. */
 void pcdm_part_take_flat(pcdm_part *p, mesh_flat *f, int32_t **tsub, uint8_t **topen);
 
-/* Local.  Per subsegment of pcdm_part_flat's output (same order): 1 if it is an artificial
- * interface edge of the decomposition (not an input constraint: not written to .poly files),
- * else 0.  The caller frees the array (free). */
+/* Local, asynchronous parts only.  Per subsegment of pcdm_part_flat's output (same order): 1 if it
+ * is an artificial interface edge of the decomposition (not an input constraint: not written to
+ * .poly files), else 0.  The caller frees the array (free). */
 uint8_t *pcdm_part_artificial(const pcdm_part *p);
 
 /* Local.  Frees the part's mesh and zeroes it. */
