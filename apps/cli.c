@@ -196,17 +196,12 @@ static const cli_opt parallel_rows[] = {
     {.help = NULL}};
 
 static const cli_opt pcdm_rows[] = {
-    {.name = "async",
-     .value = &v_flag,
-     .at = CLI_AT(par.async),
-     .help = "the asynchronous protocol (a split request applied when it arrives): no rounds, "
-             "but the mesh depends on message timing and on the rank count"},
     {.name = "deterministic",
      .value = &v_flag,
      .at = CLI_AT(par.deterministic),
-     .help = "the default (overrides --async): each subdomain refined in rounds, its neighbours' "
-             "splits applied in canonical order; the same mesh, bit for bit, for any rank count "
-             "and message timing, given the input, the bounds and the subdomains (--subdomains)"},
+     .help = "refine each subdomain in rounds, its neighbours' splits applied in canonical order: "
+             "the same mesh, bit for bit, for any rank count and message timing, given the "
+             "input, the bounds and the subdomains (--subdomains)"},
     {.help = NULL}};
 
 static const cli_opt pbw_rows[] = {

@@ -14,7 +14,7 @@
  *          subdomains=K idle_max_s=I max_area=A ignored=G mpi_msgs=M speedup_model=X
  *          peak_rss_mb=R bytes_per_tri=Y mesh_bytes_per_tri=Z output_s=W cpu_max_s=C
  *          cpu_sum_s=E decomp_s=D tri_max=N tri_mean=M decomp_exact=0|1 rounds=R hash=H
- * (one line).  rounds: the deterministic mode's rounds (0 with --async); hash: the mesh hash
+ * (one line).  rounds: --deterministic's rounds (0 without); hash: the mesh hash
  * (pcdm_flat_hash summed over the ranks' parts), the same for the same mesh whatever its
  * numbering and rank count.
  * wall_s runs from a barrier after input loading and decomposition to the moment
@@ -86,7 +86,7 @@ int main(int argc, char **argv) {
     double t0 = rt_wtime(), c0 = par_cpu_seconds();
     char err[1024], msg[1200];
     pcdm_part part;
-    int det = o.deterministic || !o.async;
+    int det = o.deterministic;
     rc = det ? pcdm_part_build_det(&part, &d, rank, err, sizeof err)
              : pcdm_part_build(&part, &d, rank, err, sizeof err);
     snprintf(msg, sizeof msg, "pcdm: %s", err);

@@ -36,7 +36,7 @@ for dom in data/lake.poly tests/inputs/letter_a.poly tests/inputs/map.poly data/
         for r in $runs; do
             np=${r%%:*} seed=${r##*:}
             flags="--subdomains 8 --perturb $seed --stats"
-            if [ $mode = det ]; then flags="$flags --deterministic --check"; else flags="$flags --async"; fi
+            if [ $mode = det ]; then flags="$flags --deterministic --check"; fi
             # shellcheck disable=SC2086
             out=$(timeout 120 $MPIRUN -np "$np" "$BIN/pcdm" $flags $b "$dom" 2>&1)
             st=$?

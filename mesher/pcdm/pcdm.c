@@ -1,6 +1,6 @@
 /* pcdm.c: one rank of the Parallel Constrained Delaunay Meshing algorithm (TR-97-17 section 3,
  * "Parallel Constrained Meshing Algorithm"; the runtime of section 4 carries the requests),
- * asynchronous mode; the deterministic rounds (./pcdm's default) are in pcdm_det.c and share
+ * asynchronous mode; the deterministic rounds (./pcdm --deterministic) are in pcdm_det.c and share
  * the build below (pcdm_build_mesh).
  *
  * Build: every rank triangulates the same augmented PSLG (input + interface cuts), so the

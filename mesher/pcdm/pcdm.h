@@ -9,8 +9,8 @@
  * dyadic midpoint (bit for bit: mesh_dyadic_point from the original endpoints).  A request for
  * a subsegment already split is counted and dropped.  Termination: the runtime's detector.
  *
- * That is the asynchronous mode (./pcdm --async): the mesh depends on message timing.  The
- * deterministic mode (pcdm_part_build_det, pcdm_det.c; ./pcdm's default) refines each
+ * That is the asynchronous mode (./pcdm's default): the mesh depends on message timing.  The
+ * deterministic mode (pcdm_part_build_det, pcdm_det.c; ./pcdm --deterministic) refines each
  * subdomain in its own mesh, in rounds, so the mesh depends only on the input, the bounds and
  * the decomposition.
  *
