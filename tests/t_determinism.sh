@@ -5,7 +5,8 @@
 #     subdomains exchange interface splits), --subdomains 8 at 1, 2, 3, 4 and 8 ranks and under
 #     --perturb seeds: every run passes --check, and the mesh hash of --stats is one value;
 #     at least one domain needs more than one round (the protocol is exercised);
-#  2. a measurement, not a test: the asynchronous mode's hashes for the same runs (how many
+#  2. -S (the Steiner budget, split among the subdomains) and --poll 1 do not change the mesh;
+#  3. a measurement, not a test: the asynchronous mode's hashes for the same runs (how many
 #     distinct meshes it made), printed as "note" lines.
 # Env: BIN (directory of the programs, default .), MPIRUN (default "mpirun --oversubscribe").
 # One line per case; exit status 1 if any case failed.
@@ -64,6 +65,25 @@ for dom in data/lake.poly tests/inputs/letter_a.poly tests/inputs/map.poly data/
         fi
     done
 done
+# the Steiner budget (-S: split among the subdomains by weight) and the poll interval (--poll 1:
+# the kernel stops after every insertion) must not change the mesh either
+hs=""
+for r in "1 " "3 " "2 --poll 1"; do
+    np=${r%% *} extra=${r#* }
+    # shellcheck disable=SC2086
+    out=$(timeout 120 $MPIRUN -np "$np" "$BIN/pcdm" --deterministic --subdomains 4 -q 30 -a 1e-4 \
+        -S 5000 --stats --check $extra data/lake.poly 2>&1)
+    st=$?
+    h=$(printf '%s\n' "$out" | grep '^stats:' | field hash)
+    if [ $st -ne 3 ] || ! printf '%s\n' "$out" | grep -q 'check: OK' || [ -z "$h" ]; then
+        bad "-S 5000 np=$np $extra: exit $st (want 3, the limit), no passing check or hash"
+    fi
+    hs="$hs $h"
+done
+n=$(printf '%s\n' $hs | sort -u | wc -l)
+if [ "$n" -eq 1 ]; then ok "-S 5000 (exit 3) at 1 and 3 ranks and with --poll 1: one hash"; else
+    bad "-S 5000 / --poll 1: $n different hashes:$hs"
+fi
 if [ "$maxrounds" -ge 2 ]; then
     ok "the domains needed up to $maxrounds rounds"
 else
