@@ -5,6 +5,7 @@
 #     subdomains exchange interface splits), --subdomains 8 at 1, 2, 3, 4 and 8 ranks and under
 #     --perturb seeds: every run passes --check, and the mesh hash of --stats is one value;
 #     at least one domain needs more than one round (the protocol is exercised);
+#     and 16 subdomains at up to 16 ranks;
 #  2. -S (the Steiner budget, split among the subdomains) and --poll 1 do not change the mesh;
 #  3. a measurement, not a test: the asynchronous mode's hashes for the same runs (how many
 #     distinct meshes it made), printed as "note" lines.
@@ -65,6 +66,28 @@ for dom in data/lake.poly tests/inputs/letter_a.poly tests/inputs/map.poly data/
         fi
     done
 done
+# 16 subdomains (3 rounds here) at 1, 5, 8 and 16 ranks, perturbed
+hs="" allok=1
+for r in 1:0 5:3 8:9 16:2; do
+    np=${r%%:*} seed=${r##*:}
+    out=$(timeout 120 $MPIRUN -np "$np" "$BIN/pcdm" --deterministic --perturb "$seed" \
+        --subdomains 16 -q 31 -a 1e-4 --check --stats tests/inputs/map.poly 2>&1)
+    st=$?
+    h=$(printf '%s\n' "$out" | grep '^stats:' | field hash)
+    if [ $st -ne 0 ] || ! printf '%s\n' "$out" | grep -q 'check: OK' || [ -z "$h" ]; then
+        bad "map --subdomains 16 np=$np perturb=$seed: exit $st, no passing check or hash"
+        allok=0
+    fi
+    rounds=$(printf '%s\n' "$out" | grep '^stats:' | field rounds)
+    [ "${rounds:-0}" -gt $maxrounds ] && maxrounds=$rounds
+    hs="$hs $h"
+done
+n=$(printf '%s\n' $hs | sort -u | wc -l)
+if [ $allok = 1 ] && [ "$n" -eq 1 ]; then
+    ok "map -q 31 -a 1e-4 --subdomains 16: one hash at 1, 5, 8, 16 ranks (perturbed)"
+elif [ $allok = 1 ]; then
+    bad "map --subdomains 16: $n different hashes:$hs"
+fi
 # the Steiner budget (-S: split among the subdomains by weight) and the poll interval (--poll 1:
 # the kernel stops after every insertion) must not change the mesh either
 hs=""
