@@ -369,7 +369,7 @@ static void start_round(pcdm_det *D, int32_t i) {
     int refine = r == 0;
     if (r > 0) {
         det_list *l = &s->in[(r - 1) & 1];
-        qsort(l->v, (size_t)l->n, sizeof *l->v, split_cmp);
+        if (l->n > 1) qsort(l->v, (size_t)l->n, sizeof *l->v, split_cmp);
         for (int32_t k = 0; k < l->n; k++) {
             if (k > 0 && split_cmp(&l->v[k - 1], &l->v[k]) == 0) continue;
             switch (mesh_split_subsegment_named(&s->m, l->v[k].seg, l->v[k].level, l->v[k].k)) {
