@@ -229,6 +229,15 @@ static const cli_opt parallel_rows[] = {
      .help = "delay and reorder message delivery, reproducibly from SEED; 0: off"},
     {.help = NULL}};
 
+static const cli_opt pcdm_rows[] = {
+    {.name = "deterministic",
+     .value = &v_flag,
+     .at = CLI_AT(par.deterministic),
+     .help = "refine each subdomain in rounds, its neighbours' splits applied in canonical order: "
+             "the same mesh, bit for bit, for any rank count and message timing, given the "
+             "input, the bounds and the subdomains (--subdomains)"},
+    {.help = NULL}};
+
 static const cli_opt pbw_rows[] = {
     {.name = "phases",
      .value = &v_flag,
@@ -282,7 +291,8 @@ static const cli_opt meshcheck_rows[] = {
 
 static const cli_opt *const mesh_tables[] = {mesher_rows, mesh_rows, common_rows, NULL};
 static const cli_opt *const meshcheck_tables[] = {meshcheck_rows, common_rows, NULL};
-static const cli_opt *const pcdm_tables[] = {mesher_rows, parallel_rows, common_rows, NULL};
+static const cli_opt *const pcdm_tables[] = {mesher_rows, parallel_rows, pcdm_rows, common_rows,
+                                             NULL};
 static const cli_opt *const pbw_tables[] = {mesher_rows, parallel_rows, pbw_rows, common_rows,
                                             NULL};
 

@@ -13,8 +13,11 @@
  *   stats: ranks=P triangles=N vertices=N rsr=S min_angle=D wall_s=T busy_max_s=B busy_sum_s=U
  *          subdomains=K idle_max_s=I max_area=A ignored=G mpi_msgs=M speedup_model=X
  *          peak_rss_mb=R bytes_per_tri=Y mesh_bytes_per_tri=Z output_s=W cpu_max_s=C
- *          cpu_sum_s=E
- * (one line).  wall_s runs from a barrier after input loading and decomposition to the moment
+ *          cpu_sum_s=E decomp_s=D tri_max=N tri_mean=M decomp_exact=0|1 rounds=R hash=H
+ * (one line).  rounds: --deterministic's rounds (0 without); hash: the mesh hash
+ * (pcdm_flat_hash summed over the ranks' parts), the same for the same mesh whatever its
+ * numbering and rank count.
+ * wall_s runs from a barrier after input loading and decomposition to the moment
  * the last rank left rt_run (CDT build + region selection + refinement + termination; no
  * numbering, no file output) -- the same span as ./mesh's wall_s.  busy = time in local work and
  * handlers (rt_stats RT_TIME_BUSY + RT_TIME_HANDLER); speedup_model = busy_sum / busy_max.
@@ -95,7 +98,9 @@ int main(int argc, char **argv) {
     int regions = o.region_area   ? PCDM_REGIONS_AREA
                   : o.region_attr ? PCDM_REGIONS_LABEL
                                   : PCDM_REGIONS_NONE;
-    rc = pcdm_part_build_regions(&part, &d, rank, regions, err, sizeof err);
+    int det = o.deterministic;
+    rc = det ? pcdm_part_build_det(&part, &d, rank, regions, err, sizeof err)
+             : pcdm_part_build_regions(&part, &d, rank, regions, err, sizeof err);
     snprintf(msg, sizeof msg, "pcdm: %s", err);
     if (par_fail_any(rc != 0, msg)) {
         if (rc == 0) pcdm_part_free(&part);
@@ -114,7 +119,9 @@ int main(int argc, char **argv) {
     q.offcenter = !o.circumcenters; /* as ./mesh; lens stays 0: diametral circles make the interface
                         subsegments Delaunay edges of the merged mesh */
     q.max_steiner = -1;
-    if (o.max_steiner >= 0) { /* the global budget shared by target weight */
+    if (o.max_steiner >= 0 && det) { /* shared by the subdomains (pcdm_det.c) */
+        q.max_steiner = o.max_steiner;
+    } else if (o.max_steiner >= 0) { /* the global budget shared by target weight */
         double share = 0;
         for (int32_t s = 0; s < d.nsub; s++)
             if (d.sub_owner[s] == rank) share += d.sub_target[s];
@@ -128,13 +135,14 @@ int main(int argc, char **argv) {
     /* figures from the mesh first: the part is then moved into its flat form (never held
      * twice, the memory peak), then the common end: interface check, numbering, --check,
      * output */
-    uint8_t *artificial = pcdm_part_artificial(&part);
+    pcdm_figures fig;
+    pcdm_part_figures(&part, &fig);
     double rs[RS_N], *all = NULL;
     rt_stats st;
     rt_stats_local(&st);
     memset(rs, 0, sizeof rs);
-    rs[RS_NTRIS] = part.m.nlive;
-    rs[RS_NVERTS] = part.m.nv;
+    rs[RS_NTRIS] = (double)fig.ntris;
+    rs[RS_NVERTS] = (double)fig.nverts;
     rs[RS_NSUB] = part.nsub_owned;
     rs[RS_SENT] = (double)part.split_sent;
     rs[RS_RECV] = (double)part.split_recv;
@@ -144,8 +152,8 @@ int main(int argc, char **argv) {
     rs[RS_IDLE] = st.time[RT_TIME_IDLE];
     rs[RS_HANDLER] = st.time[RT_TIME_HANDLER];
     rs[RS_COMM] = st.time[RT_TIME_COMM];
-    rs[RS_MESHBYTES] = (double)mesh_memory_bytes(&part.m);
-    rs[RS_INSERTED] = (double)part.m.stats.inserted;
+    rs[RS_MESHBYTES] = (double)fig.mesh_bytes;
+    rs[RS_INSERTED] = (double)fig.inserted;
     rs[RS_MPI] = (double)st.mpi_sent;
     rs[RS_WALL] = t1 - t0;
     rs[RS_CPU] = par_cpu_seconds() - c0;
@@ -154,7 +162,7 @@ int main(int argc, char **argv) {
     /* never a silent success outside the bounds (as ./mesh): what is left must be forced by an
      * input corner (corners of the decomposition get no exemption), or the Steiner limit the
      * user set stopped refinement (exit 3: the mesh written, checked without the bounds) */
-    long long unmet = (long long)mesh_count_unmet(&part.m, NULL), unmet_all = 0;
+    long long unmet = (long long)fig.unmet, unmet_all = 0;
     MESH_MPI(MPI_Allreduce(&unmet, &unmet_all, 1, MPI_LONG_LONG, MPI_SUM, comm));
     int limited = limit_any && unmet_all > 0;
     if (limited && rank == 0)
@@ -173,7 +181,6 @@ int main(int argc, char **argv) {
                 o.input, unmet_all, o.min_angle,
                 o.write_partial ? "; writing the mesh made so far (--write-partial)" : "");
     if (partial && !o.write_partial) {
-        free(artificial);
         pcdm_part_free(&part);
         pcdm_decomp_free(&d);
         pslg_free(&in);
@@ -183,8 +190,13 @@ int main(int argc, char **argv) {
     mesh_flat local;
     int32_t *tsub = NULL;
     uint8_t *topen = NULL;
-    pcdm_part_take_flat(&part, &local, o.vtk ? &tsub : NULL, &topen);
+    uint8_t *artificial = NULL;
+    int32_t rounds = part.rounds;
+    pcdm_part_take(&part, &local, &artificial, o.vtk ? &tsub : NULL, &topen);
     pcdm_part_free(&part);
+    /* the mesh hash: a sum over triangles, so one reduction of the parts' sums */
+    uint64_t hash = 0, hash_part = o.stats ? pcdm_flat_hash(&local) : 0;
+    if (o.stats) MESH_MPI(MPI_Reduce(&hash_part, &hash, 1, MPI_UINT64_T, MPI_SUM, 0, comm));
     par_summary sum;
     double c2 = par_cpu_seconds();
     par_opts oc = o; /* what --check holds the mesh to */
@@ -226,12 +238,13 @@ int main(int argc, char **argv) {
                "max_area=%.6g ignored=%.0f mpi_msgs=%.0f speedup_model=%.2f "
                "peak_rss_mb=%.1f bytes_per_tri=%.1f mesh_bytes_per_tri=%.1f output_s=%.3f "
                "cpu_max_s=%.3f cpu_sum_s=%.3f decomp_s=%.3f tri_max=%.0f tri_mean=%.1f "
-               "decomp_exact=%d\n",
+               "decomp_exact=%d rounds=%d hash=%016llx\n",
                size, (long long)sum.ntris, (long long)sum.nverts, tot[RS_SENT], sum.min_angle,
                mx[RS_WALL], mx[RS_BUSY], tot[RS_BUSY], (int)d.nsub, mx[RS_IDLE], sum.max_area,
                tot[RS_IGNORED], tot[RS_MPI], mx[RS_BUSY] > 0 ? tot[RS_BUSY] / mx[RS_BUSY] : 0.0,
                mx[RS_RSS] / 1048576.0, tot[RS_RSS] / nt, tot[RS_MESHBYTES] / nt, mx[RS_OUT],
-               mx[RS_CPU], tot[RS_CPU], d.build_s, mx[RS_NTRIS], tot[RS_NTRIS] / size, d.exact);
+               mx[RS_CPU], tot[RS_CPU], d.build_s, mx[RS_NTRIS], tot[RS_NTRIS] / size, d.exact,
+               (int)rounds, (unsigned long long)hash);
     }
     fflush(stdout);
     free(all);

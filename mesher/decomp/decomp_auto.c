@@ -578,8 +578,10 @@ static int exact_preview(mesh *m, const pslg *in, const pcdm_decomp_opts *o, int
     int64_t limit = tmax / 2 + 1; /* Steiner vertices: about half the triangles */
     if (o->region_area) mesh_set_regions(m, in, 1, m->nseg); /* the final mesh's bounds */
     if (refine(m, q, o->max_area, limit) != MESH_REFINE_DONE || m->nlive > tmax) return -1;
-    /* enough triangles to balance the ranks, and min_per_sub per subdomain */
-    int64_t want = (int64_t)o->nranks * EXACT_MIN_PER_RANK;
+    /* enough triangles to balance the ranks, and min_per_sub per subdomain; counted per
+     * subdomain (K >= P), so the subdomains depend on K alone, not on the rank count (the
+     * deterministic mode's promise: the same mesh for any rank count, given K) */
+    int64_t want = (int64_t)K * EXACT_MIN_PER_RANK;
     if (want < min_per_sub * (int64_t)K) want = min_per_sub * (int64_t)K;
     if (m->nlive < want) { /* the final mesh has too few triangles to share out */
         if (refine(m, q, A / (double)want, limit) != MESH_REFINE_DONE) return -1;

@@ -54,6 +54,8 @@ typedef struct par_opts {
                                RSRs (0: the program's default; 1: after every insertion, as
                                the paper) */
     uint64_t perturb;       /* --perturb SEED (0 = off; also env RT_PERTURB) */
+    int deterministic;      /* --deterministic (pcdm only): refinement in rounds, the same mesh
+                               for any rank count and timing (mesher/pcdm/pcdm_det.c) */
     /* Triangle's switches (issue 15); the same for all three meshers. */
     int region_attr;        /* -A: regional attributes carried into .ele (and VTK/Gmsh) */
     int region_area;        /* -a without a number: the .poly's per-region area bounds (with -r:

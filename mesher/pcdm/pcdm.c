@@ -1,5 +1,7 @@
 /* pcdm.c: one rank of the Parallel Constrained Delaunay Meshing algorithm (TR-97-17 section 3,
- * "Parallel Constrained Meshing Algorithm"; the runtime of section 4 carries the requests).
+ * "Parallel Constrained Meshing Algorithm"; the runtime of section 4 carries the requests),
+ * asynchronous mode; the deterministic rounds (./pcdm --deterministic) are in pcdm_det.c and share
+ * the build below (pcdm_build_mesh).
  *
  * Build: every rank triangulates the same augmented PSLG (input + interface cuts), so the
  * coarse CDT, its vertex numbering and its segment numbering are identical everywhere.  Each
@@ -29,7 +31,7 @@
  * conforms.  The work function returns IDLE only when mesh_refine returned DONE (or hit the
  * Steiner limit) and no request arrived since, honouring rt_run's termination contract.
  */
-#include "pcdm/pcdm.h"
+#include "pcdm/pcdm_impl.h"
 
 #include "base/base.h"
 
@@ -81,26 +83,14 @@ int pcdm_register(void) {
                                  (uint32_t)sizeof(pcdm_split_msg));
     if (id < 0) return id;
     slot.handler = id;
-    return 0;
+    return pcdm_det_register();
 }
 
 /* ---- build ------------------------------------------------------------------------------- */
 
-int pcdm_part_build(pcdm_part *p, const pcdm_decomp *d, int rank, char *err, size_t errlen) {
-    return pcdm_part_build_regions(p, d, rank, PCDM_REGIONS_NONE, err, errlen);
-}
-
-int pcdm_part_build_regions(pcdm_part *p, const pcdm_decomp *d, int rank, int regions, char *err,
-                            size_t errlen) {
-    memset(p, 0, sizeof *p);
-    p->d = d;
-    p->rank = rank;
-    const char *fault = getenv("PCDM_TEST_DROP_SPLIT");
-    if (fault && rank == 1) p->fault_drop = (int32_t)atoi(fault);
-    for (int32_t s = 0; s < d->nsub; s++)
-        if (d->sub_owner[s] == rank) p->nsub_owned++;
-    mesh_init(&p->m);
-    mesh *m = &p->m;
+int pcdm_build_mesh(mesh *m, const pcdm_decomp *d, int rank, int32_t only_sub, int regions,
+                    char *err, size_t errlen) {
+    mesh_init(m);
     if (mesh_build_cdt(m, &d->g, d->seg_iface, err, errlen) != 0) {
         mesh_free(m);
         return -1;
@@ -172,7 +162,7 @@ int pcdm_part_build_regions(pcdm_part *p, const pcdm_decomp *d, int rank, int re
             snprintf(err, errlen, "pcdm: a region of the CDT has no constraint edge");
             bad = 1;
         } else {
-            keep[r] = d->sub_owner[regsub[r]] == rank;
+            keep[r] = only_sub >= 0 ? regsub[r] == only_sub : d->sub_owner[regsub[r]] == rank;
         }
     }
     /* the length floor from the whole coarse CDT (the same on every rank, and like ./mesh's
@@ -193,6 +183,35 @@ int pcdm_part_build_regions(pcdm_part *p, const pcdm_decomp *d, int rank, int re
         return -1;
     }
     return 0;
+}
+
+/* The part's fields before its mesh is built (both modes). */
+static void part_init(pcdm_part *p, const pcdm_decomp *d, int rank) {
+    memset(p, 0, sizeof *p);
+    p->d = d;
+    p->rank = rank;
+    const char *fault = getenv("PCDM_TEST_DROP_SPLIT");
+    if (fault && rank == 1) p->fault_drop = (int32_t)atoi(fault);
+    for (int32_t s = 0; s < d->nsub; s++)
+        if (d->sub_owner[s] == rank) p->nsub_owned++;
+}
+
+int pcdm_part_build(pcdm_part *p, const pcdm_decomp *d, int rank, char *err, size_t errlen) {
+    return pcdm_part_build_regions(p, d, rank, PCDM_REGIONS_NONE, err, errlen);
+}
+
+int pcdm_part_build_regions(pcdm_part *p, const pcdm_decomp *d, int rank, int regions, char *err,
+                            size_t errlen) {
+    part_init(p, d, rank);
+    return pcdm_build_mesh(&p->m, d, rank, -1, regions, err, errlen);
+}
+
+int pcdm_part_build_det(pcdm_part *p, const pcdm_decomp *d, int rank, int regions, char *err,
+                        size_t errlen) {
+    part_init(p, d, rank);
+    p->regions = regions;
+    mesh_init(&p->m); /* stays empty */
+    return pcdm_det_build(p, err, errlen);
 }
 
 /* ---- refinement -------------------------------------------------------------------------- */
@@ -249,6 +268,11 @@ static int work(void *ctx) {
 
 int pcdm_part_refine(pcdm_part *p, const mesh_quality *q, int32_t poll_every) {
     p->poll_every = poll_every > 0 ? poll_every : 300;
+    if (p->det) {
+        p->t_start = p->t_last = rt_wtime();
+        pcdm_det_refine(p, q);
+        return 0;
+    }
     mesh_set_quality(&p->m, q);
     mesh_hooks h;
     memset(&h, 0, sizeof h);
@@ -331,7 +355,31 @@ uint8_t *pcdm_part_artificial(const pcdm_part *p) {
     return a;
 }
 
+void pcdm_part_figures(pcdm_part *p, pcdm_figures *f) {
+    if (p->det) {
+        pcdm_det_figures(p, f);
+        return;
+    }
+    memset(f, 0, sizeof *f);
+    f->ntris = p->m.nlive;
+    f->nverts = p->m.nv;
+    f->inserted = p->m.stats.inserted;
+    f->mesh_bytes = mesh_memory_bytes(&p->m);
+    f->unmet = mesh_count_unmet(&p->m, NULL);
+}
+
+void pcdm_part_take(pcdm_part *p, mesh_flat *f, uint8_t **artificial, int32_t **tsub,
+                    uint8_t **topen) {
+    if (p->det) {
+        pcdm_det_take(p, f, artificial, tsub, topen);
+        return;
+    }
+    *artificial = pcdm_part_artificial(p);
+    pcdm_part_take_flat(p, f, tsub, topen);
+}
+
 void pcdm_part_free(pcdm_part *p) {
+    pcdm_det_free(p);
     mesh_free(&p->m);
     memset(p, 0, sizeof *p);
 }

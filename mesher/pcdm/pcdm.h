@@ -9,11 +9,16 @@
  * dyadic midpoint (bit for bit: mesh_dyadic_point from the original endpoints).  A request for
  * a subsegment already split is counted and dropped.  Termination: the runtime's detector.
  *
+ * That is the asynchronous mode (./pcdm's default): the mesh depends on message timing.  The
+ * deterministic mode (pcdm_part_build_det, pcdm_det.c; ./pcdm --deterministic) refines each
+ * subdomain in its own mesh, in rounds, so the mesh depends only on the input, the bounds and
+ * the decomposition.
+ *
  * Usage (SPMD):
  *     rt_init(...); pcdm_register();            // before rt_start / the first rt_run
- *     pcdm_part p; pcdm_part_build(&p, &d, rt_rank(), err, sizeof err);
+ *     pcdm_part p; pcdm_part_build(&p, &d, rt_rank(), err, sizeof err);  // or _build_det
  *     pcdm_part_refine(&p, &q, 0);              // Collective (rt_run)
- *     pcdm_part_flat(&p, &flat);                // then par_output(..., &flat, ...)
+ *     pcdm_part_take(&p, &flat, &art, ...);     // then par_output(..., &flat, art, ...)
  *     pcdm_part_free(&p);
  */
 #ifndef PCDM_H
@@ -35,9 +40,15 @@ typedef struct pcdm_split_msg {
 } pcdm_split_msg;
 _Static_assert(sizeof(pcdm_split_msg) == 16, "pcdm_split_msg must be 16 bytes, no padding");
 
+typedef struct pcdm_det pcdm_det; /* private to pcdm_det.c */
+
 /* One rank's part of the PCDM computation. */
 typedef struct pcdm_part {
-    mesh m;                 /* the local mesh: every subdomain this rank owns */
+    mesh m;                 /* the local mesh: every subdomain this rank owns (asynchronous mode;
+                             * empty in deterministic mode, which keeps one mesh per subdomain) */
+    pcdm_det *det;          /* deterministic mode's state (pcdm_part_build_det), else NULL */
+    int32_t rounds;         /* deterministic mode: rounds until no split anywhere (the same on
+                             * every rank); 0 in asynchronous mode */
     const pcdm_decomp *d;   /* borrowed; must outlive the part */
     int rank;               /* owner of this part */
     int32_t nsub_owned;     /* subdomains owned by this rank */
@@ -53,6 +64,7 @@ typedef struct pcdm_part {
     uint64_t split_ignored;  /* of those, subsegment already split here (dropped) */
     uint64_t split_notfound; /* of those, segment not present here (a protocol error) */
     uint64_t work_steps;     /* calls of the local work function that refined */
+    int regions;             /* PCDM_REGIONS_* the deterministic build labels each mesh with */
     int32_t fault_drop;      /* test-only: split requests still to drop (env PCDM_TEST_DROP_SPLIT=N
                               * drops rank 1's first N split requests: breaks an interface so
                               * the interface check must fail) */
@@ -81,26 +93,62 @@ enum { PCDM_REGIONS_NONE = 0, PCDM_REGIONS_LABEL = 1, PCDM_REGIONS_AREA = 2 };
 int pcdm_part_build_regions(pcdm_part *p, const pcdm_decomp *d, int rank, int regions, char *err,
                             size_t errlen);
 
+/* Local.  Deterministic mode (pcdm_det.c): like pcdm_part_build, but one mesh per owned
+ * subdomain, each built from the same coarse CDT and holding that subdomain alone.  Refined by
+ * pcdm_part_refine in rounds: in round r a subdomain applies, in canonical order (sorted by
+ * (seg, level, k)), the interface splits its neighbours made in round r-1, refines to completion
+ * and sends each neighbour its round-r splits (possibly none); it waits only for its neighbours'
+ * previous round.  The run ends after the first round in which no subdomain split an interface
+ * subsegment.  Each subdomain's mesh is then a pure function of the input, the bounds and the
+ * decomposition: bit-identical for any rank count and any message timing.  With -S each
+ * subdomain gets the budget's share of its weight (sub_weight / total_weight).  regions: as
+ * pcdm_part_build_regions.  Returns 0, or -1 with a message in err. */
+int pcdm_part_build_det(pcdm_part *p, const pcdm_decomp *d, int rank, int regions, char *err,
+                        size_t errlen);
+
 /* Collective (calls rt_run).  Refines p's mesh to q (per-rank Steiner limit: q->max_steiner
  * as given) with the split protocol above; poll_every (0: 300) insertions per work step
  * between two services of incoming RSRs.  Returns when every rank is done and no request is in
  * flight.  Returns 0. */
 int pcdm_part_refine(pcdm_part *p, const mesh_quality *q, int32_t poll_every);
 
-/* Local.  The part as a mesh_flat (local numbering) with trank set to p->rank.  Returns 0 or
- * -1 (out of memory).  Free with mesh_flat_free. */
+/* Figures of a refined part (either mode; sums over its meshes). */
+typedef struct pcdm_figures {
+    int64_t ntris, nverts, inserted, unmet;
+    size_t mesh_bytes;
+} pcdm_figures;
+
+/* Local.  Fills *f (unmet: mesh_count_unmet summed). */
+void pcdm_part_figures(pcdm_part *p, pcdm_figures *f);
+
+/* Local.  Either mode: moves the part into f as pcdm_part_take_flat does; *artificial gets
+ * pcdm_part_artificial's flags for f's subsegments (free with free()).  In deterministic mode
+ * the subdomains' meshes are merged into one part: the vertices two of them share (on their
+ * interface, bit-equal coordinates) and the subsegments of that interface appear once; topen
+ * then marks the edges open in the merged part. */
+void pcdm_part_take(pcdm_part *p, mesh_flat *f, uint8_t **artificial, int32_t **tsub,
+                    uint8_t **topen);
+
+/* Local, pure.  The mesh hash: the sum (mod 2^64) over f's triangles of a strong 64-bit mix of
+ * the triangle's three vertices' coordinate bits, taken counter-clockwise from the vertex with
+ * the smallest (x, y) (-0.0 as +0.0).  It does not depend on vertex or triangle numbering, so
+ * the sum over the ranks' parts (MPI_SUM of uint64) hashes the whole mesh for any rank count. */
+uint64_t pcdm_flat_hash(const mesh_flat *f);
+
+/* Local, asynchronous parts only.  The part as a mesh_flat (local numbering) with trank set to
+ * p->rank.  Returns 0 or -1 (out of memory).  Free with mesh_flat_free. */
 int pcdm_part_flat(const pcdm_part *p, mesh_flat *f);
 
-/* Local.  Moves the part's mesh into f (mesh_take_flat: the mesh is never held twice) with
- * trank set to p->rank; when tsub is not NULL, *tsub gets each triangle's subdomain (f->ntris
- * entries, same order; free with free()); when topen is not NULL, *topen the open-edge mask
- * of mesh_take_flat.  p's mesh is empty afterwards: take every figure from it (and
+/* Local, asynchronous parts only.  Moves the part's mesh into f (mesh_take_flat: the mesh is never
+ * held twice) with trank set to p->rank; when tsub is not NULL, *tsub gets each triangle's
+ * subdomain (f->ntris entries, same order; free with free()); when topen is not NULL, *topen the
+ * open-edge mask of mesh_take_flat.  p's mesh is empty afterwards: take every figure from it (and
  * pcdm_part_artificial) first.  Free f with mesh_flat_free. */
 void pcdm_part_take_flat(pcdm_part *p, mesh_flat *f, int32_t **tsub, uint8_t **topen);
 
-/* Local.  Per subsegment of pcdm_part_flat's output (same order): 1 if it is an artificial
- * interface edge of the decomposition (not an input constraint: not written to .poly files),
- * else 0.  The caller frees the array (free). */
+/* Local, asynchronous parts only.  Per subsegment of pcdm_part_flat's output (same order): 1 if it
+ * is an artificial interface edge of the decomposition (not an input constraint: not written to
+ * .poly files), else 0.  The caller frees the array (free). */
 uint8_t *pcdm_part_artificial(const pcdm_part *p);
 
 /* Local.  Frees the part's mesh and zeroes it. */

@@ -1,0 +1,499 @@
+/* pcdm_det.c: PCDM in deterministic rounds -- the same mesh for any rank count and any message
+ * timing (issue 16).
+ *
+ * The asynchronous protocol (pcdm.c) refines a rank's subdomains in one mesh and applies a
+ * neighbour's split the moment it arrives, so the insertion order, and with it the mesh,
+ * depends on timing and on which subdomains share a rank.  Here every subdomain is refined on
+ * its own, in its own mesh (built from the same coarse CDT, holding that subdomain alone), in
+ * rounds: round 0 refines the coarse subdomain to completion; round r >= 1 waits until every
+ * neighbouring subdomain has sent its round r-1 splits (possibly none), applies them in
+ * canonical order (sorted by the dyadic name (seg, level, k), duplicates dropped), refines to
+ * completion (skipped when nothing arrived: the mesh is unchanged and already complete) and
+ * sends each neighbour the interface splits it made in round r (in its named splits' cascades
+ * and in its refinement), one message per neighbour per round.  A subdomain's mesh is then a
+ * pure function of its coarse mesh and the lists it received: its queues, vertex numbering,
+ * point-location random stream and Steiner budget are its own, and the lists depend on the
+ * neighbours' rounds alone, which are pure by induction.  Rounds of different subdomains overlap
+ * freely: a subdomain waits only for its neighbours' previous round (a deterministic dataflow);
+ * between subdomains of one rank the lists are handed over directly, between ranks as one RSR
+ * ("pcdm_round": header + splits).  Still only "split this constraint edge" crosses ranks.
+ *
+ * Termination: when all its subdomains have completed round r a rank reports the number of
+ * splits they sent in round r to every rank ("pcdm_rdone").  The first round R that every rank
+ * reported with no split anywhere ends the run: round R+1's lists are all empty, so nothing can
+ * change any more.  A subdomain may start round r only when rounds up to r - WINDOW are known
+ * (so subdomains with nothing to do do not race ahead through empty rounds); since the slowest
+ * subdomain is never held back by the window (the window never blocks a round <= known), some
+ * rank is always busy or a message is in flight until R is known: rt_run's detector cannot end
+ * the run early, and it ends once every rank knows R.  p->rounds = R + 1 on every rank.
+ *
+ * Invariants: a neighbour's round-r list arrives while its receiver has completed r or r + 1
+ * rounds (it needs the receiver's round r-1 list; the receiver needs it for round r+1), so two
+ * input slots by round parity suffice; each local interface split is sent exactly once, to the
+ * subdomain on the other side; splits are never undone.
+ */
+#include "pcdm/pcdm_impl.h"
+
+#include "base/base.h"
+
+#include "rt.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { DET_WINDOW = 3, DET_MAX_PAYLOAD = 1 << 28 };
+
+/* "pcdm_round" payload: this header, then n pcdm_split_msg. */
+typedef struct det_round_hdr {
+    int32_t dst;   /* receiving subdomain */
+    int32_t src;   /* sending subdomain */
+    int32_t round; /* the sender's round */
+    int32_t n;     /* splits that follow */
+} det_round_hdr;
+_Static_assert(sizeof(det_round_hdr) == 16, "det_round_hdr must be 16 bytes, no padding");
+
+/* "pcdm_rdone" payload: the sender's subdomains have all completed round `round` and sent
+ * `splits` splits in it. */
+typedef struct det_report {
+    int32_t round;
+    int32_t pad;
+    int64_t splits;
+} det_report;
+_Static_assert(sizeof(det_report) == 16, "det_report must be 16 bytes, no padding");
+
+typedef struct det_list {
+    pcdm_split_msg *v;
+    int32_t n, cap;
+} det_list;
+
+typedef struct det_sub {
+    int32_t id; /* subdomain number in the decomposition */
+    mesh m;
+    int32_t nnb;
+    int32_t *nb;    /* neighbouring subdomains, ascending */
+    det_list *out;  /* per neighbour: this round's splits for it */
+    det_list in[2]; /* by round parity: splits received for the next round */
+    int32_t got[2]; /* by round parity: neighbours heard from */
+    int32_t done;   /* rounds completed */
+    int64_t splits; /* splits sent in the current round */
+    pcdm_det *D;    /* back pointer (hook context) */
+} det_sub;
+
+struct pcdm_det {
+    pcdm_part *p;
+    int32_t n; /* owned subdomains */
+    det_sub *s;
+    int32_t *local; /* per subdomain of the decomposition: index into s, or -1 */
+    int32_t cur;    /* index of the subdomain being refined, or -1 */
+    /* per round: ranks that reported it, the splits they reported, this rank's own splits */
+    int32_t *rep_n;
+    int64_t *rep_splits, *mine;
+    int32_t rep_cap;
+    int32_t known;    /* rounds 0..known-1 reported by every rank */
+    int32_t reported; /* rounds this rank has reported */
+    int32_t stop;     /* the first round with no split anywhere, or -1 */
+    int32_t nbuf;     /* scratch for outgoing RSRs */
+    unsigned char *buf;
+};
+
+typedef struct det_slot {
+    int round_handler, report_handler;
+    pcdm_det *active;
+} det_slot;
+
+static det_slot dslot = {-1, -1, NULL};
+
+/* ---- round bookkeeping ---------------------------------------------------------------------- */
+
+static void rounds_grow(pcdm_det *D, int32_t r) {
+    if (r < D->rep_cap) return;
+    int32_t cap = D->rep_cap ? D->rep_cap : 16;
+    while (cap <= r)
+        cap *= 2;
+    D->rep_n = mesh_xrealloc(D->rep_n, (size_t)cap, sizeof *D->rep_n);
+    D->rep_splits = mesh_xrealloc(D->rep_splits, (size_t)cap, sizeof *D->rep_splits);
+    D->mine = mesh_xrealloc(D->mine, (size_t)cap, sizeof *D->mine);
+    for (int32_t i = D->rep_cap; i < cap; i++) {
+        D->rep_n[i] = 0;
+        D->rep_splits[i] = D->mine[i] = 0;
+    }
+    D->rep_cap = cap;
+}
+
+static void tally(pcdm_det *D, int32_t round, int64_t splits) {
+    rounds_grow(D, round);
+    D->rep_n[round]++;
+    D->rep_splits[round] += splits;
+    while (D->known < D->rep_cap && D->rep_n[D->known] == rt_size()) {
+        if (D->rep_splits[D->known] == 0 && D->stop < 0) D->stop = D->known;
+        D->known++;
+    }
+}
+
+static void report_handler(const rt_msg *msg, void *arg) {
+    det_slot *sl = arg;
+    if (!sl->active) MESH_BUG("round report from rank %d outside refinement", msg->src);
+    det_report r;
+    memcpy(&r, msg->data, sizeof r);
+    tally(sl->active, r.round, r.splits);
+}
+
+/* Reports every round all of this rank's subdomains have completed. */
+static void report_rounds(pcdm_det *D) {
+    int32_t low = INT32_MAX;
+    for (int32_t i = 0; i < D->n; i++)
+        if (D->s[i].done < low) low = D->s[i].done;
+    while (D->reported < low) {
+        det_report r;
+        memset(&r, 0, sizeof r);
+        r.round = D->reported;
+        rounds_grow(D, r.round);
+        r.splits = D->mine[r.round];
+        for (int q = 0; q < rt_size(); q++)
+            if (q != D->p->rank) rt_rsr(q, dslot.report_handler, &r, (uint32_t)sizeof r);
+        tally(D, r.round, r.splits);
+        D->reported++;
+    }
+}
+
+/* ---- split lists ---------------------------------------------------------------------------- */
+
+static void list_push(det_list *l, const pcdm_split_msg *v, int32_t n) {
+    if (n <= 0) return;
+    if (l->n + n > l->cap) {
+        int32_t cap = l->cap ? l->cap : 16;
+        while (cap < l->n + n)
+            cap *= 2;
+        l->v = mesh_xrealloc(l->v, (size_t)cap, sizeof *l->v);
+        l->cap = cap;
+    }
+    memcpy(l->v + l->n, v, (size_t)n * sizeof *v);
+    l->n += n;
+}
+
+static int split_cmp(const void *a, const void *b) {
+    const pcdm_split_msg *x = a, *y = b;
+    if (x->seg != y->seg) return x->seg < y->seg ? -1 : 1;
+    if (x->level != y->level) return x->level < y->level ? -1 : 1;
+    if (x->k != y->k) return x->k < y->k ? -1 : 1;
+    return 0;
+}
+
+static int32_t nb_index(const det_sub *s, int32_t sub) {
+    int32_t lo = 0, hi = s->nnb - 1;
+    while (lo <= hi) {
+        int32_t mid = (lo + hi) / 2;
+        if (s->nb[mid] == sub) return mid;
+        if (s->nb[mid] < sub)
+            lo = mid + 1;
+        else
+            hi = mid - 1;
+    }
+    return -1;
+}
+
+/* Subdomain src's round-r list for subdomain dst (owned here) arrives. */
+static void deliver(pcdm_det *D, const det_round_hdr *h, const pcdm_split_msg *v) {
+    int32_t li = h->dst >= 0 && h->dst < D->p->d->nsub ? D->local[h->dst] : -1;
+    if (li < 0) MESH_BUG("round list for subdomain %d, not owned by rank %d", h->dst, D->p->rank);
+    det_sub *s = &D->s[li];
+    if (s->done != h->round && s->done != h->round + 1)
+        MESH_BUG("subdomain %d: round %d list from %d after %d rounds", s->id, h->round, h->src,
+                 s->done);
+    int par = h->round & 1;
+    list_push(&s->in[par], v, h->n);
+    s->got[par]++;
+}
+
+static void round_handler(const rt_msg *msg, void *arg) {
+    det_slot *sl = arg;
+    if (!sl->active) MESH_BUG("round list from rank %d outside refinement", msg->src);
+    det_round_hdr h;
+    if (msg->len < sizeof h) MESH_BUG("short round list from rank %d", msg->src);
+    memcpy(&h, msg->data, sizeof h);
+    if (h.n < 0 || msg->len != sizeof h + (size_t)h.n * sizeof(pcdm_split_msg))
+        MESH_BUG("round list from rank %d: %d splits in %u bytes", msg->src, h.n,
+                 (unsigned)msg->len);
+    pcdm_split_msg *v = mesh_xmalloc((size_t)h.n + 1, sizeof *v);
+    memcpy(v, (const unsigned char *)msg->data + sizeof h, (size_t)h.n * sizeof *v);
+    deliver(sl->active, &h, v);
+    sl->active->p->split_recv += (uint64_t)h.n; /* from another rank */
+    free(v);
+}
+
+int pcdm_det_register(void) {
+    int a = rt_handler_register("pcdm_round", round_handler, &dslot, RT_NONTHREADED | RT_VARSIZE,
+                                (uint32_t)DET_MAX_PAYLOAD);
+    if (a < 0) return a;
+    int b = rt_handler_register("pcdm_rdone", report_handler, &dslot, RT_NONTHREADED,
+                                (uint32_t)sizeof(det_report));
+    if (b < 0) return b;
+    dslot.round_handler = a;
+    dslot.report_handler = b;
+    return 0;
+}
+
+/* ---- build ---------------------------------------------------------------------------------- */
+
+int pcdm_det_build(pcdm_part *p, char *err, size_t errlen) {
+    const pcdm_decomp *d = p->d;
+    pcdm_det *D = mesh_xcalloc(1, sizeof *D);
+    p->det = D;
+    D->p = p;
+    D->cur = -1;
+    D->stop = -1;
+    D->local = mesh_xmalloc((size_t)d->nsub + 1, sizeof(int32_t));
+    for (int32_t s = 0; s < d->nsub; s++)
+        D->local[s] = d->sub_owner[s] == p->rank ? D->n++ : -1;
+    D->s = mesh_xcalloc((size_t)D->n + 1, sizeof(det_sub));
+    int32_t *mark = mesh_xmalloc((size_t)d->nsub + 1, sizeof(int32_t));
+    for (int32_t s = 0; s < d->nsub; s++)
+        mark[s] = -1;
+    for (int32_t sub = 0, i = 0; sub < d->nsub; sub++) {
+        if (D->local[sub] < 0) continue;
+        det_sub *s = &D->s[i++];
+        s->id = sub;
+        s->D = D;
+        for (int32_t g = 0; g < d->g.nsegs; g++) { /* neighbours across interface pieces */
+            if (!d->seg_iface[g]) continue;
+            int32_t a = d->seg_sub[2 * (size_t)g], b = d->seg_sub[2 * (size_t)g + 1];
+            int32_t o = a == sub ? b : b == sub ? a : -1;
+            if (o < 0 || o == sub || mark[o] == sub) continue;
+            mark[o] = sub;
+            s->nb = mesh_xrealloc(s->nb, (size_t)s->nnb + 1, sizeof(int32_t));
+            s->nb[s->nnb++] = o;
+        }
+        for (int32_t x = 1; x < s->nnb; x++) /* ascending (few neighbours) */
+            for (int32_t y = x; y > 0 && s->nb[y - 1] > s->nb[y]; y--) {
+                int32_t t = s->nb[y];
+                s->nb[y] = s->nb[y - 1];
+                s->nb[y - 1] = t;
+            }
+        s->out = mesh_xcalloc((size_t)s->nnb + 1, sizeof(det_list));
+        if (pcdm_build_mesh(&s->m, d, p->rank, sub, p->regions, err, errlen) != 0) {
+            free(mark);
+            pcdm_det_free(p);
+            return -1;
+        }
+    }
+    free(mark);
+    return 0;
+}
+
+/* ---- refinement ----------------------------------------------------------------------------- */
+
+static void det_on_split(void *ctx, int32_t seg, int32_t level, int64_t k, unsigned flags) {
+    det_sub *s = ctx;
+    const pcdm_decomp *d = s->D->p->d;
+    if (!(flags & MESH_SPLIT_INTERFACE) || seg < 0 || seg >= d->g.nsegs || !d->seg_iface[seg])
+        return;
+    int32_t a = d->seg_sub[2 * (size_t)seg], b = d->seg_sub[2 * (size_t)seg + 1];
+    int32_t o = a == s->id ? b : a;
+    if (o < 0 || o == s->id) return;
+    int32_t i = nb_index(s, o);
+    if (i < 0) MESH_BUG("subdomain %d: split of segment %d, not next to %d", s->id, seg, o);
+    pcdm_part *p = s->D->p;
+    if (p->fault_drop > 0 && p->d->sub_owner[o] != p->rank) { /* test-only fault: lose it */
+        p->fault_drop--;
+        return;
+    }
+    pcdm_split_msg r;
+    memset(&r, 0, sizeof r);
+    r.seg = seg;
+    r.level = level;
+    r.k = k;
+    list_push(&s->out[i], &r, 1);
+    s->splits++;
+}
+
+static int det_poll(void *ctx) {
+    det_sub *s = ctx;
+    pcdm_part *p = s->D->p;
+    if (p->progress) {
+        double t = rt_wtime();
+        if (t - p->t_last >= 2.0) {
+            p->t_last = t;
+            fprintf(stderr, "pcdm: rank %d: %.1f s  subdomain %d round %d  %ld triangles\n",
+                    p->rank, t - p->t_start, (int)s->id, (int)s->done, (long)s->m.nlive);
+        }
+    }
+    return 1; /* back to the scheduler: service requests, flush ours */
+}
+
+/* Ends subdomain i's current round: one list to each neighbour. */
+static void finish_round(pcdm_det *D, int32_t i) {
+    det_sub *s = &D->s[i];
+    int32_t r = s->done;
+    for (int32_t j = 0; j < s->nnb; j++) {
+        det_list *l = &s->out[j];
+        det_round_hdr h = {s->nb[j], s->id, r, l->n};
+        if (D->local[h.dst] >= 0) {
+            deliver(D, &h, l->v);
+        } else {
+            size_t len = sizeof h + (size_t)l->n * sizeof(pcdm_split_msg);
+            if (len > DET_MAX_PAYLOAD) MESH_BUG("round list of %d splits", l->n);
+            if ((size_t)D->nbuf < len) {
+                D->buf = mesh_xrealloc(D->buf, len, 1);
+                D->nbuf = (int32_t)len;
+            }
+            memcpy(D->buf, &h, sizeof h);
+            if (l->n) memcpy(D->buf + sizeof h, l->v, (size_t)l->n * sizeof(pcdm_split_msg));
+            rt_rsr(D->p->d->sub_owner[h.dst], dslot.round_handler, D->buf, (uint32_t)len);
+            D->p->split_sent += (uint64_t)l->n; /* to another rank: the rsr= figure */
+        }
+        l->n = 0;
+    }
+    rounds_grow(D, r);
+    D->mine[r] += s->splits;
+    s->splits = 0;
+    s->done = r + 1;
+    D->cur = -1;
+    report_rounds(D);
+}
+
+static void refine_step(pcdm_det *D) {
+    det_sub *s = &D->s[D->cur];
+    mesh_refine_result r = mesh_refine(&s->m);
+    D->p->work_steps++;
+    if (r == MESH_REFINE_STOPPED) return;
+    if (r == MESH_REFINE_STEINER_LIMIT) D->p->limit_hit = 1;
+    finish_round(D, D->cur);
+}
+
+/* Starts subdomain i's next round: its neighbours' previous lists, in canonical order. */
+static void start_round(pcdm_det *D, int32_t i) {
+    det_sub *s = &D->s[i];
+    pcdm_part *p = D->p;
+    int32_t r = s->done;
+    int refine = r == 0;
+    if (r > 0) {
+        det_list *l = &s->in[(r - 1) & 1];
+        if (l->n > 1) qsort(l->v, (size_t)l->n, sizeof *l->v, split_cmp);
+        for (int32_t k = 0; k < l->n; k++) {
+            if (k > 0 && split_cmp(&l->v[k - 1], &l->v[k]) == 0) continue;
+            switch (mesh_split_subsegment_named(&s->m, l->v[k].seg, l->v[k].level, l->v[k].k)) {
+            case MESH_SPLIT_DONE:
+                p->split_done++;
+                break;
+            case MESH_SPLIT_ALREADY:
+                p->split_ignored++;
+                break;
+            case MESH_SPLIT_NOT_FOUND:
+                p->split_notfound++;
+                fprintf(stderr,
+                        "pcdm: rank %d: subdomain %d: split request for segment %d (%d, %lld): "
+                        "not in its mesh\n",
+                        p->rank, (int)s->id, (int)l->v[k].seg, (int)l->v[k].level,
+                        (long long)l->v[k].k);
+                break;
+            }
+            refine = 1; /* cheap when nothing changed: the queues are empty */
+        }
+        l->n = 0;
+        s->got[(r - 1) & 1] = 0;
+    }
+    if (refine) {
+        D->cur = i;
+        refine_step(D);
+    } else {
+        finish_round(D, i); /* nothing arrived: the mesh is unchanged and complete */
+    }
+}
+
+static int ready(const pcdm_det *D, const det_sub *s) {
+    int32_t r = s->done;
+    if (r >= D->known + DET_WINDOW) return 0;
+    return r == 0 || s->got[(r - 1) & 1] == s->nnb;
+}
+
+static int det_work(void *ctx) {
+    pcdm_det *D = ctx;
+    if (D->cur >= 0) {
+        refine_step(D);
+        return RT_WORK_BUSY;
+    }
+    if (D->stop >= 0) return RT_WORK_IDLE;
+    int32_t best = -1;
+    for (int32_t i = 0; i < D->n; i++) /* the least advanced ready subdomain */
+        if (ready(D, &D->s[i]) && (best < 0 || D->s[i].done < D->s[best].done)) best = i;
+    if (best < 0) return RT_WORK_IDLE; /* only a handler can make one ready */
+    start_round(D, best);
+    return RT_WORK_BUSY;
+}
+
+void pcdm_det_refine(pcdm_part *p, const mesh_quality *q) {
+    pcdm_det *D = p->det;
+    const pcdm_decomp *d = p->d;
+    if (dslot.round_handler < 0) MESH_BUG("pcdm_register was not called");
+    for (int32_t i = 0; i < D->n; i++) {
+        det_sub *s = &D->s[i];
+        mesh_quality qs = *q;
+        if (q->max_steiner >= 0) /* the budget's share of this subdomain's expected work */
+            qs.max_steiner =
+                d->total_weight > 0
+                    ? (int64_t)((double)q->max_steiner * d->sub_weight[s->id] / d->total_weight)
+                    : q->max_steiner;
+        mesh_set_quality(&s->m, &qs);
+        mesh_hooks h;
+        memset(&h, 0, sizeof h);
+        h.on_split = det_on_split;
+        h.poll = det_poll;
+        h.poll_every = p->poll_every;
+        h.ctx = s;
+        mesh_set_hooks(&s->m, &h);
+    }
+    dslot.active = D;
+    rt_run(det_work, D);
+    dslot.active = NULL;
+    if (D->stop < 0 || D->cur >= 0)
+        MESH_BUG("rank %d: rounds ended without a final round", p->rank);
+    p->rounds = D->stop + 1;
+}
+
+/* ---- figures and output --------------------------------------------------------------------- */
+
+void pcdm_det_figures(pcdm_part *p, pcdm_figures *f) {
+    pcdm_det *D = p->det;
+    memset(f, 0, sizeof *f);
+    for (int32_t i = 0; i < D->n; i++) {
+        mesh *m = &D->s[i].m;
+        f->ntris += m->nlive;
+        f->nverts += m->nv;
+        f->inserted += m->stats.inserted;
+        f->mesh_bytes += mesh_memory_bytes(m);
+        f->unmet += mesh_count_unmet(m, NULL);
+    }
+}
+
+void pcdm_det_free(pcdm_part *p) {
+    pcdm_det *D = p->det;
+    if (!D) return;
+    for (int32_t i = 0; i < D->n; i++) {
+        det_sub *s = &D->s[i];
+        mesh_free(&s->m);
+        for (int32_t j = 0; j < s->nnb; j++)
+            free(s->out[j].v);
+        free(s->out);
+        free(s->nb);
+        free(s->in[0].v);
+        free(s->in[1].v);
+    }
+    free(D->s);
+    free(D->local);
+    free(D->rep_n);
+    free(D->rep_splits);
+    free(D->mine);
+    free(D->buf);
+    free(D);
+    p->det = NULL;
+}
+
+int32_t pcdm_det_nmesh(const pcdm_part *p) {
+    return p->det ? p->det->n : 0;
+}
+
+mesh *pcdm_det_mesh(pcdm_part *p, int32_t i, int32_t *sub) {
+    *sub = p->det->s[i].id;
+    return &p->det->s[i].m;
+}
