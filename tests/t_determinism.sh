@@ -40,7 +40,7 @@ for dom in data/lake.poly tests/inputs/letter_a.poly tests/inputs/map.poly data/
             flags="--subdomains 8 --perturb $seed --stats"
             if [ $mode = det ]; then flags="$flags --deterministic --check"; fi
             # shellcheck disable=SC2086
-            out=$(timeout 120 $MPIRUN -np "$np" "$BIN/pcdm" $flags $b "$dom" 2>&1)
+            out=$(timeout 120 $MPIRUN -np "$np" "$BIN/pcdm" -NEP $flags $b "$dom" 2>&1)
             st=$?
             h=$(printf '%s\n' "$out" | grep '^stats:' | field hash)
             if [ $mode = det ]; then
@@ -70,7 +70,7 @@ done
 hs="" allok=1
 for r in 1:0 5:3 8:9 16:2; do
     np=${r%%:*} seed=${r##*:}
-    out=$(timeout 120 $MPIRUN -np "$np" "$BIN/pcdm" --deterministic --perturb "$seed" \
+    out=$(timeout 120 $MPIRUN -np "$np" "$BIN/pcdm" -NEP --deterministic --perturb "$seed" \
         --subdomains 16 -q 31 -a 1e-4 --check --stats tests/inputs/map.poly 2>&1)
     st=$?
     h=$(printf '%s\n' "$out" | grep '^stats:' | field hash)
@@ -94,7 +94,7 @@ hs=""
 for r in "1 " "3 " "2 --poll 1"; do
     np=${r%% *} extra=${r#* }
     # shellcheck disable=SC2086
-    out=$(timeout 120 $MPIRUN -np "$np" "$BIN/pcdm" --deterministic --subdomains 4 -q 30 -a 1e-4 \
+    out=$(timeout 120 $MPIRUN -np "$np" "$BIN/pcdm" -NEP --deterministic --subdomains 4 -q 30 -a 1e-4 \
         -S 5000 --stats --check $extra data/lake.poly 2>&1)
     st=$?
     h=$(printf '%s\n' "$out" | grep '^stats:' | field hash)
