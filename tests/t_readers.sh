@@ -6,7 +6,7 @@
 #  - meshio (every .vtu piece named by the .pvtu; cell data rank and subdomain, point data
 #    marker),
 # and requires: the same triangles (as sets of exact coordinates) from both readers, the counts
-# in the headers, the owning rank as the .ele attribute, segments in the .poly, cell data that
+# in the headers, no .ele attribute column (Triangle's: only with -A), segments in the .poly, cell data that
 # names the writing rank, and subdomains 0..3.  (Files written by 1-8 ranks for one mesh being
 # equal is tests/mpi_pout.c's; ./pcdm's mesh itself changes with the rank count.)  When python3, triangle or meshio is missing the test says so and passes
 # (SKIP); `make deps` tries to install them.  Env: BIN, MPIRUN as the other tests.

@@ -191,12 +191,9 @@ static char *ele2_rec(void *c, int64_t t, char *q) {
         *q++ = ' ';
         q = fmt_int(q, mid_num(x, (int32_t)t, j) + 1);
     }
-    if (x->ele_attr == 1) {
+    if (x->ele_attr) {
         *q++ = ' ';
         q = fmt_dbl(q, f->tattr ? f->tattr[t] : 0.0);
-    } else if (x->ele_attr == 2) {
-        *q++ = ' ';
-        q = fmt_int(q, f->trank ? f->trank[t] : 0);
     }
     *q++ = '\n';
     return q;
@@ -554,7 +551,7 @@ int meshio_write_extras(const mesh_flat *m, const mesh_xreq *r, char *err, size_
     x.nvtot = x.nsel = m->nverts;
     x.ttot = m->ntris;
     x.nattr = m->vattr ? m->nattr : 0;
-    x.ele_attr = m->tattr ? 1 : m->trank ? 2 : 0;
+    x.ele_attr = m->tattr ? 1 : 0; /* Triangle's: the region's with -A, else none */
     mesh_xview_finish(&x);
     x.etot = x.nwe;
     x.ltot = x.nwl;

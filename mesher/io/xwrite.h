@@ -50,8 +50,8 @@ typedef struct mesh_xview {
     const int32_t *hvmarker;
     const int32_t *vsel;
     int nattr;    /* vertex attributes written (f->vattr; 0 when the head has none) */
-    int ele_attr; /* the -o2 .ele's triangle attribute: 0 none, 1 f->tattr, 2 f->trank (the same
-                   * on every rank; a rank without the array writes 0) */
+    int ele_attr; /* the -o2 .ele's triangle attribute: 0 none, 1 f->tattr (the regional
+                   * attribute, -A; the same on every rank; a rank without the array writes 0) */
     /* edge topology (owned; mesh_xview_topo) */
     int32_t *nb;   /* 3 * ntris: the local triangle across half-edge h; -1: none (mesh
                     * boundary); -2 - k: another rank's triangle number otri[k] */

@@ -220,9 +220,11 @@ int par_write_extras(const par_opts *o, const pslg *in, const mesh_flat *local,
     x.vsel = num->owned;
     x.nsel = num->nowned;
     x.nattr = 0; /* the parallel .node carries no vertex attributes (pout.c) */
-    int ea = local->tattr ? 2 : local->trank ? 1 : 0; /* agreed: a rank may hold nothing */
+    /* the .ele's attribute: the region's with -A, else none, as the linear .ele (pout.c); agreed,
+     * a rank may hold nothing */
+    int ea = local->tattr ? 1 : 0;
     MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, &ea, 1, MPI_INT, MPI_MAX, c));
-    x.ele_attr = ea == 2 ? 1 : ea == 1 ? 2 : 0;
+    x.ele_attr = ea;
     int32_t *orank = mesh_xmalloc((size_t)x.ne + 1, sizeof(int32_t));
     int32_t *ohe = mesh_xmalloc((size_t)x.ne + 1, sizeof(int32_t));
     for (int32_t e = 0; e < x.ne; e++)
