@@ -21,6 +21,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 #if defined(__GNUC__)
 #define MESH_NORETURN __attribute__((noreturn))
@@ -81,6 +82,26 @@ static inline uint64_t mesh_hash64(uint64_t x) {
     x *= 0xc4ceb9fe1a85ec53ULL;
     x ^= x >> 33;
     return x;
+}
+
+/* The bits of a coordinate as a key: two points are one when their keys are equal (-0.0 is
+ * +0.0).  Local, pure. */
+static inline uint64_t mesh_dbits(double x) {
+    if (x == 0) x = 0;
+    uint64_t u;
+    memcpy(&u, &x, sizeof u);
+    return u;
+}
+
+/* qsort comparators of int32_t and of double (no NaN). */
+static inline int mesh_cmp_i32(const void *pa, const void *pb) {
+    int32_t a = *(const int32_t *)pa, b = *(const int32_t *)pb;
+    return (a > b) - (a < b);
+}
+
+static inline int mesh_cmp_dbl(const void *pa, const void *pb) {
+    double a = *(const double *)pa, b = *(const double *)pb;
+    return (a > b) - (a < b);
 }
 
 #endif

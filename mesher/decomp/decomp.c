@@ -194,11 +194,6 @@ static int cmp_rec_u(const void *x, const void *y) {
     return (a->u > b->u) - (a->u < b->u);
 }
 
-static int cmp_i32(const void *x, const void *y) {
-    int32_t a = *(const int32_t *)x, b = *(const int32_t *)y;
-    return (a > b) - (a < b);
-}
-
 /* 1 iff x is among the n sorted values a. */
 static int has_i32(const int32_t *a, int32_t n, int32_t x) {
     int32_t lo = 0, hi = n;
@@ -225,7 +220,7 @@ static void chain_order(rec *r, int32_t n, int32_t s) {
     int32_t *vs = mesh_xmalloc((size_t)n, sizeof *vs);
     for (int32_t k = 0; k < n; k++)
         vs[k] = r[k].v;
-    qsort(vs, (size_t)n, sizeof *vs, cmp_i32);
+    qsort(vs, (size_t)n, sizeof *vs, mesh_cmp_i32);
     rec *out = mesh_xmalloc((size_t)n, sizeof *out);
     int32_t no = 0;
     for (int32_t st = 0; st < n; st++) {

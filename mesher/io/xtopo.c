@@ -170,22 +170,12 @@ void mesh_xview_finish(mesh_xview *x) {
     }
 }
 
-static int cmp_i32(const void *pa, const void *pb) {
-    int32_t a = *(const int32_t *)pa, b = *(const int32_t *)pb;
-    return (a > b) - (a < b);
-}
-
-static int cmp_dbl(const void *pa, const void *pb) {
-    double a = *(const double *)pa, b = *(const double *)pb;
-    return (a > b) - (a < b);
-}
-
 void mesh_xview_local_groups(const mesh_xview *x, int32_t **marks, int32_t *nm, double **attrs,
                              int32_t *na) {
     int32_t *m = mesh_xmalloc((size_t)x->nwl + 1, sizeof(int32_t));
     for (int32_t k = 0; k < x->nwl; k++)
         m[k] = x->emark[x->wl[k]];
-    qsort(m, (size_t)x->nwl, sizeof *m, cmp_i32);
+    qsort(m, (size_t)x->nwl, sizeof *m, mesh_cmp_i32);
     int32_t n = 0;
     for (int32_t k = 0; k < x->nwl; k++)
         if (n == 0 || m[k] != m[n - 1]) m[n++] = m[k];
@@ -195,7 +185,7 @@ void mesh_xview_local_groups(const mesh_xview *x, int32_t **marks, int32_t *nm, 
     int32_t nt = f->tattr ? f->ntris : 0;
     double *a = mesh_xmalloc((size_t)nt + 1, sizeof(double));
     if (nt) memcpy(a, f->tattr, (size_t)nt * sizeof(double));
-    qsort(a, (size_t)nt, sizeof *a, cmp_dbl);
+    qsort(a, (size_t)nt, sizeof *a, mesh_cmp_dbl);
     n = 0;
     for (int32_t k = 0; k < nt; k++)
         if (n == 0 || a[k] != a[n - 1]) a[n++] = a[k];
@@ -240,7 +230,7 @@ void mesh_xview_groups(mesh_xview *x, const int32_t *marks, int32_t nmarks, cons
     x->lperm = mesh_xmalloc((size_t)x->nwl + 1, sizeof(int32_t));
     for (int32_t k = 0; k < x->nwl; k++) {
         int32_t m = x->emark[x->wl[k]];
-        const int32_t *hit = bsearch(&m, x->curve_mark, (size_t)nmarks, sizeof m, cmp_i32);
+        const int32_t *hit = bsearch(&m, x->curve_mark, (size_t)nmarks, sizeof m, mesh_cmp_i32);
         if (!hit) MESH_BUG("xview: marker %d of no group", (int)m);
         x->lperm[k] = k;
         grp[k] = (int32_t)(hit - x->curve_mark);
@@ -252,7 +242,7 @@ void mesh_xview_groups(mesh_xview *x, const int32_t *marks, int32_t nmarks, cons
         grp[t] = 0;
         if (x->surf_attr && f->tattr) {
             const double *hit =
-                bsearch(&f->tattr[t], x->surf_attr, (size_t)x->nsurf, sizeof(double), cmp_dbl);
+                bsearch(&f->tattr[t], x->surf_attr, (size_t)x->nsurf, sizeof(double), mesh_cmp_dbl);
             if (!hit) MESH_BUG("xview: attribute %g of no group", f->tattr[t]);
             grp[t] = (int32_t)(hit - x->surf_attr);
         }

@@ -27,13 +27,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static uint64_t xbits(double v) {
-    if (v == 0) v = 0; /* -0.0 and +0.0 are one point */
-    uint64_t u;
-    memcpy(&u, &v, sizeof u);
-    return u;
-}
-
 typedef struct eq { /* an open edge, to its rendezvous */
     double x[4];
     int64_t tri;
@@ -56,7 +49,7 @@ _Static_assert(sizeof(en) == 16, "en: no padding");
 static int cmp_eq(const void *pa, const void *pb) {
     const eq *a = pa, *b = pb;
     for (int k = 0; k < 4; k++) {
-        uint64_t u = xbits(a->x[k]), v = xbits(b->x[k]);
+        uint64_t u = mesh_dbits(a->x[k]), v = mesh_dbits(b->x[k]);
         if (u != v) return u < v ? -1 : 1;
     }
     return (a->rank > b->rank) - (a->rank < b->rank);
@@ -64,7 +57,7 @@ static int cmp_eq(const void *pa, const void *pb) {
 
 static int same_eq(const eq *a, const eq *b) {
     for (int k = 0; k < 4; k++)
-        if (xbits(a->x[k]) != xbits(b->x[k])) return 0;
+        if (mesh_dbits(a->x[k]) != mesh_dbits(b->x[k])) return 0;
     return 1;
 }
 
@@ -85,16 +78,17 @@ static void match_open_edges(mesh_xview *x, int32_t *orank, int32_t *ohe) {
         const int32_t *t = f->tri + 3 * (size_t)(h / 3);
         const double *p = f->xy + 2 * (size_t)t[(h % 3 + 1) % 3],
                      *r = f->xy + 2 * (size_t)t[(h % 3 + 2) % 3];
-        if (xbits(p[0]) > xbits(r[0]) ||
-            (xbits(p[0]) == xbits(r[0]) && xbits(p[1]) > xbits(r[1]))) {
+        if (mesh_dbits(p[0]) > mesh_dbits(r[0]) ||
+            (mesh_dbits(p[0]) == mesh_dbits(r[0]) && mesh_dbits(p[1]) > mesh_dbits(r[1]))) {
             const double *s = p;
             p = r;
             r = s;
         }
         q[n] = (eq){{p[0], p[1], r[0], r[1]}, x->tfirst + h / 3, rank, h};
-        uint64_t k = mesh_hash64(
-            xbits(p[0]) ^
-            mesh_hash64(xbits(p[1]) ^ mesh_hash64(xbits(r[0]) ^ mesh_hash64(xbits(r[1])))));
+        uint64_t k =
+            mesh_hash64(mesh_dbits(p[0]) ^
+                        mesh_hash64(mesh_dbits(p[1]) ^
+                                    mesh_hash64(mesh_dbits(r[0]) ^ mesh_hash64(mesh_dbits(r[1])))));
         dest[n++] = (int)(k % (uint64_t)P);
     }
     int64_t nr;
@@ -165,16 +159,6 @@ static void number_edges(mesh_xview *x, const int32_t *orank, const int32_t *ohe
     free(back);
 }
 
-static int cmp_i32(const void *pa, const void *pb) {
-    int32_t a = *(const int32_t *)pa, b = *(const int32_t *)pb;
-    return (a > b) - (a < b);
-}
-
-static int cmp_dbl(const void *pa, const void *pb) {
-    double a = *(const double *)pa, b = *(const double *)pb;
-    return (a > b) - (a < b);
-}
-
 /* Collective.  Gathers every rank's n values of sz bytes (sorted distinct) into one sorted
  * distinct array (*ntot values; free with free()). */
 static void *gather_distinct(const void *mine, int32_t n, size_t sz, MPI_Datatype t,
@@ -241,8 +225,9 @@ int par_write_extras(const par_opts *o, const pslg *in, const mesh_flat *local,
         mesh_xview_local_groups(&x, &marks, &nm, &attrs, &na);
         int hasattr = local->tattr != NULL;
         MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, &hasattr, 1, MPI_INT, MPI_MAX, c));
-        int32_t *gmarks = gather_distinct(marks, nm, sizeof(int32_t), MPI_INT32_T, cmp_i32, &gm);
-        double *gattrs = gather_distinct(attrs, na, sizeof(double), MPI_DOUBLE, cmp_dbl, &ga);
+        int32_t *gmarks =
+            gather_distinct(marks, nm, sizeof(int32_t), MPI_INT32_T, mesh_cmp_i32, &gm);
+        double *gattrs = gather_distinct(attrs, na, sizeof(double), MPI_DOUBLE, mesh_cmp_dbl, &ga);
         mesh_xview_groups(&x, gmarks, gm, hasattr && ga ? gattrs : NULL, ga);
         free(marks);
         free(attrs);

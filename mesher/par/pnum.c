@@ -30,15 +30,8 @@
 
 /* ---- exact coordinate keys ----------------------------------------------------------------- */
 
-static uint64_t dbits(double x) {
-    if (x == 0) x = 0; /* -0.0 and +0.0 are one point */
-    uint64_t u;
-    memcpy(&u, &x, sizeof u);
-    return u;
-}
-
 static uint64_t pt_hash(double x, double y) {
-    return mesh_hash64(dbits(x) * 0x9e3779b97f4a7c15ULL ^ mesh_hash64(dbits(y)));
+    return mesh_hash64(mesh_dbits(x) * 0x9e3779b97f4a7c15ULL ^ mesh_hash64(mesh_dbits(y)));
 }
 
 /* ---- all-to-all of fixed-size records ------------------------------------------------------ */
@@ -115,20 +108,21 @@ _Static_assert(sizeof(sq) == 40, "sq: no padding");
 
 static int cmp_vq(const void *pa, const void *pb) {
     const vq *a = pa, *b = pb;
-    uint64_t ax = dbits(a->x), bx = dbits(b->x), ay = dbits(a->y), by = dbits(b->y);
+    uint64_t ax = mesh_dbits(a->x), bx = mesh_dbits(b->x), ay = mesh_dbits(a->y),
+             by = mesh_dbits(b->y);
     if (ax != bx) return ax < bx ? -1 : 1;
     if (ay != by) return ay < by ? -1 : 1;
     return (a->rank > b->rank) - (a->rank < b->rank);
 }
 
 static int same_vq(const vq *a, const vq *b) {
-    return dbits(a->x) == dbits(b->x) && dbits(a->y) == dbits(b->y);
+    return mesh_dbits(a->x) == mesh_dbits(b->x) && mesh_dbits(a->y) == mesh_dbits(b->y);
 }
 
 static int cmp_sq(const void *pa, const void *pb) {
     const sq *a = pa, *b = pb;
     for (int k = 0; k < 4; k++) {
-        uint64_t u = dbits(a->x[k]), v = dbits(b->x[k]);
+        uint64_t u = mesh_dbits(a->x[k]), v = mesh_dbits(b->x[k]);
         if (u != v) return u < v ? -1 : 1;
     }
     return (a->rank > b->rank) - (a->rank < b->rank);
@@ -350,8 +344,8 @@ static void number_segments(const mesh_flat *f, const uint8_t *artificial, const
         int32_t s = cand[i];
         const double *p = f->xy + 2 * (size_t)f->seg[2 * (size_t)s],
                      *r = f->xy + 2 * (size_t)f->seg[2 * (size_t)s + 1];
-        int sw =
-            dbits(p[0]) > dbits(r[0]) || (dbits(p[0]) == dbits(r[0]) && dbits(p[1]) > dbits(r[1]));
+        int sw = mesh_dbits(p[0]) > mesh_dbits(r[0]) ||
+                 (mesh_dbits(p[0]) == mesh_dbits(r[0]) && mesh_dbits(p[1]) > mesh_dbits(r[1]));
         if (sw) {
             const double *t = p;
             p = r;

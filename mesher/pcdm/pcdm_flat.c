@@ -22,13 +22,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static uint64_t dbits(double x) {
-    if (x == 0) x = 0; /* -0.0 and +0.0 are one point */
-    uint64_t u;
-    memcpy(&u, &x, sizeof u);
-    return u;
-}
-
 /* ---- the mesh hash ------------------------------------------------------------------------- */
 
 uint64_t pcdm_flat_hash(const mesh_flat *f) {
@@ -43,8 +36,8 @@ uint64_t pcdm_flat_hash(const mesh_flat *f) {
         uint64_t h = 0x243f6a8885a308d3ULL;
         for (int j = 0; j < 3; j++) {
             const double *a = f->xy + 2 * (size_t)v[(first + j) % 3];
-            h = mesh_hash64(h ^ dbits(a[0]));
-            h = mesh_hash64(h ^ (dbits(a[1]) * 0x9e3779b97f4a7c15ULL));
+            h = mesh_hash64(h ^ mesh_dbits(a[0]));
+            h = mesh_hash64(h ^ (mesh_dbits(a[1]) * 0x9e3779b97f4a7c15ULL));
         }
         sum += h;
     }
@@ -70,7 +63,7 @@ static void table_init(id_table *t, int64_t n) {
 }
 
 static uint64_t pt_key(const double *p) {
-    return mesh_hash64(dbits(p[0]) * 0x9e3779b97f4a7c15ULL ^ mesh_hash64(dbits(p[1])));
+    return mesh_hash64(mesh_dbits(p[0]) * 0x9e3779b97f4a7c15ULL ^ mesh_hash64(mesh_dbits(p[1])));
 }
 
 static uint64_t pair_key(int32_t a, int32_t b) {
@@ -87,7 +80,8 @@ static int32_t vfind(const id_table *t, const double *xy, const double *p, uint6
     uint64_t i = pt_key(p) & t->mask;
     for (; t->slot[i] >= 0; i = (i + 1) & t->mask) {
         const double *q = xy + 2 * (size_t)t->slot[i];
-        if (dbits(q[0]) == dbits(p[0]) && dbits(q[1]) == dbits(p[1])) return t->slot[i];
+        if (mesh_dbits(q[0]) == mesh_dbits(p[0]) && mesh_dbits(q[1]) == mesh_dbits(p[1]))
+            return t->slot[i];
     }
     *at = i;
     return -1;
