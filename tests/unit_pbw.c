@@ -18,6 +18,7 @@ static pbw_ctx *ctx_new(double min_angle, double max_area) {
     C->rank = 0;
     C->size = 1;
     C->pool_free = -1;
+    C->confree = -1;
     C->cursor = NBUCKET + 1;
     for (int i = 0; i <= NBUCKET; i++)
         C->head[i] = -1;
@@ -34,9 +35,7 @@ static int32_t tri(pbw_ctx *C, int32_t a, int32_t b, int32_t c) {
     for (int j = 0; j < 3; j++) {
         C->tv[3 * s + j] = v[j];
         C->tn[3 * s + j] = NOREF;
-        C->cs[3 * s + j] = -1;
-        C->cl[3 * s + j] = -1;
-        C->ck[3 * s + j] = 0;
+        pbw_con_set(C, 3 * (size_t)s + (size_t)j, -1, -1, 0);
     }
     C->nlive++;
     return s;
@@ -418,7 +417,7 @@ static int32_t ghost_setup(pbw_ctx *C, int rank) {
         pbw_vt_add(C, i, xy[i][0], xy[i][1], -1);
     int32_t x = tri(C, 0, 1, 2);
     C->tn[3 * x + 1] = mkref(1, 7);
-    C->gx[3 * x + 1] = 3;
+    pbw_gx_set(C, 3 * (size_t)x + 1, 3);
     return x;
 }
 
@@ -465,7 +464,7 @@ START_TEST(test_ghost_conflict) {
     ck_assert_int_eq(c->nb, 2);
     pbw_cav_free(c);
     /* across a constraint edge the lower rank reports it with no incircle test at all */
-    C->cs[3 * x + 1] = 0;
+    pbw_con_set(C, 3 * (size_t)x + 1, 0, -1, 0);
     c = ghost_cavity(C, x, 0.45, 0.45);
     ck_assert_int_eq(c->ntodo, 0);
     ck_assert_int_eq(c->nb, 3);
@@ -481,7 +480,7 @@ START_TEST(test_ghost_conflict) {
     pbw_ctx_free(C);
     C = ctx_new(0, 0);
     x = ghost_setup(C, 0);
-    C->gx[3 * x + 1] = -1;
+    pbw_gx_set(C, 3 * (size_t)x + 1, -1);
     c = ghost_cavity(C, x, 0.2, 0.2);
     ck_assert_int_eq(c->ntodo, 1);
     pbw_cav_free(c);
@@ -548,7 +547,7 @@ START_TEST(test_link_update) {
     pbw_link_msg l = {mkref(2, n), 1, 2, mkref(1, 11)};
     ck_assert_int_eq(pbw_apply_link(C, &l, 1), 1);
     ck_assert(C->tn[3 * n] == mkref(1, 11));
-    ck_assert_int_eq(C->gx[3 * n], -1);
+    ck_assert_int_eq(GX(C, 3 * (size_t)n), -1);
     /* an older update arriving late still names a tombstone of rank 1 (forwarded there) */
     pbw_link_msg old = {mkref(2, n), 1, 2, mkref(1, 10)};
     ck_assert_int_eq(pbw_apply_link(C, &old, 1), 1);
@@ -592,7 +591,7 @@ START_TEST(test_ghost_commit) {
     int j = pbw_find_edge(C, t, 1, 2);
     ck_assert_int_ge(j, 0);
     ck_assert(C->tn[3 * t + j] == mkref(1, 7));
-    ck_assert_int_eq(C->gx[3 * t + j], 3);
+    ck_assert_int_eq(GX(C, 3 * (size_t)t + (size_t)j), 3);
     ck_assert_int_eq(C->nlbuf, 1);
     ck_assert(C->lbuf[0].target == mkref(1, 7) && C->lbuf[0].newref == mkref(0, t));
     ck_assert(C->lbuf[0].ga == 1 && C->lbuf[0].gb == 2);

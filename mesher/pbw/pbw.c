@@ -130,6 +130,7 @@ int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat 
     C->rank = rt_rank();
     C->size = rt_size();
     C->pool_free = -1;
+    C->confree = -1;
     C->cursor = NBUCKET + 1;
     for (int i = 0; i <= NBUCKET; i++)
         C->head[i] = -1;

@@ -156,14 +156,14 @@ static void expand_member(pbw_ctx *C, pbw_cav *c, int32_t hi, int32_t x, int64_t
         int32_t la = C->tv[e], lb = C->tv[3 * (size_t)x + (size_t)((j + 1) % 3)];
         int64_t ga = C->vgid[la], gb = C->vgid[lb], n = C->tn[e];
         if (n != NOREF && n == from) continue;
-        int32_t g = ghost_side(C, n) ? C->gx[e] : -1; /* n = (lb, la, g), counter-clockwise */
+        int32_t g = ghost_side(C, n) ? GX(C, e) : -1; /* n = (lb, la, g), counter-clockwise */
         if (is_open_edge(c, ga, gb)) {
             if (n != NOREF) pbw_push_seed(C, c, n, self, from, ga, gb, SEED_OPEN);
-        } else if (C->cs[e] >= 0) {
+        } else if (CS(C, e) >= 0) {
             if (n == NOREF)
-                report(C, c, hi, la, lb, NOREF, self, C->cs[e], C->cl[e], C->ck[e], -1, reg);
+                report(C, c, hi, la, lb, NOREF, self, CS(C, e), CL(C, e), CK(C, e), -1, reg);
             else if (g >= 0)
-                report(C, c, hi, la, lb, n, self, C->cs[e], C->cl[e], C->ck[e], C->vgid[g], reg);
+                report(C, c, hi, la, lb, n, self, CS(C, e), CL(C, e), CK(C, e), C->vgid[g], reg);
             else
                 pbw_push_seed(C, c, n, self, from, ga, gb, SEED_HALO);
         } else if (n == NOREF) {
@@ -237,7 +237,7 @@ int pbw_process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial) {
             size_t e = 3 * (size_t)x + (size_t)j;
             /* x's edge is gb->ga: the cavity's edge ga->gb runs from x's vertex j+1 to j */
             report(C, c, hi, C->tv[3 * (size_t)x + (size_t)((j + 1) % 3)], C->tv[e],
-                   mkref(C->rank, x), s.from, C->cs[e], C->cl[e], C->ck[e], -1, s.reg);
+                   mkref(C->rank, x), s.from, CS(C, e), CL(C, e), CK(C, e), -1, s.reg);
             break;
         }
         case SEED_NORMAL:
@@ -266,7 +266,7 @@ void pbw_check_new_triangle(pbw_ctx *C, int32_t t) {
     pbw_push_bad(C, t);
     for (int j = 0; j < 3; j++) {
         size_t e = 3 * (size_t)t + (size_t)j;
-        if (C->cs[e] < 0) continue;
+        if (CS(C, e) < 0) continue;
         int32_t a = C->tv[e], b = C->tv[3 * (size_t)t + (size_t)((j + 1) % 3)],
                 o = C->tv[3 * (size_t)t + (size_t)((j + 2) % 3)];
         if (mesh_rules_encroaches(&C->R, VX(C, a), VX(C, b), VX(C, o))) {
@@ -335,12 +335,11 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
             size_t e = 3 * (size_t)s + (size_t)j;
             C->tv[e] = v;
             C->tn[e] = r->nb[j];
-            C->gx[e] = r->nb[j] != NOREF && ref_rank(r->nb[j]) != C->rank && r->ap[j] >= 0
+            pbw_gx_set(C, e,
+                       r->nb[j] != NOREF && ref_rank(r->nb[j]) != C->rank && r->ap[j] >= 0
                            ? pbw_vt_find(C, r->ap[j])
-                           : -1;
-            C->cs[e] = r->cseg[j];
-            C->cl[e] = r->clev[j];
-            C->ck[e] = r->ck[j];
+                           : -1);
+            pbw_con_set(C, e, r->cseg[j], r->clev[j], r->ck[j]);
         }
         C->lk[s] = -1;
         C->role[s] = ROLE_NONE;
@@ -348,7 +347,7 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
         C->nlive++;
         if (r->nb[0] != NOREF && ref_rank(r->nb[0]) != C->rank) {
             /* a ghost: its owner gets a one-way link update (GHOSTS, pbw.c) */
-            if (C->gx[3 * (size_t)s] < 0) MESH_BUG("ghost edge of slot %d without its apex", s);
+            if (GX(C, 3 * (size_t)s) < 0) MESH_BUG("ghost edge of slot %d without its apex", s);
             pbw_link_msg l = {r->nb[0], r->g[0], r->g[1], mkref(C->rank, s)};
             MESH_GROW(C->lbuf, C->nlbuf, C->lbufcap);
             C->lbuf[C->nlbuf++] = l;
@@ -359,7 +358,7 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
             if (j < 0 || C->lk[x] != hi || C->role[x] != ROLE_HALO)
                 MESH_BUG("halo %d of the new triangle is not the cavity's", x);
             C->tn[3 * (size_t)x + (size_t)j] = mkref(C->rank, s);
-            C->gx[3 * (size_t)x + (size_t)j] = -1;
+            pbw_gx_set(C, 3 * (size_t)x + (size_t)j, -1);
         }
     }
     for (int32_t i = 0; i < h->n; i++) {
@@ -647,7 +646,7 @@ int pbw_apply_link(pbw_ctx *C, const pbw_link_msg *l, int src) {
     size_t e = 3 * (size_t)n + (size_t)j;
     if (C->tn[e] == NOREF || ref_rank(C->tn[e]) != src) return 0;
     C->tn[e] = l->newref;
-    C->gx[e] = -1; /* src is the lower rank: this side never decides on a ghost of it */
+    pbw_gx_set(C, e, -1); /* src is the lower rank: this side never decides on a ghost of it */
     return 1;
 }
 

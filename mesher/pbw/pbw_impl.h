@@ -155,6 +155,12 @@ _Static_assert(sizeof(pbw_link_msg) == 32, "pbw_link_msg layout");
 
 typedef struct pbw_ctx pbw_ctx;
 
+typedef struct pbw_con { /* what few edges have: a constraint, a ghost */
+    int64_t k;           /* constraint: dyadic index (free record: the next free one) */
+    int32_t seg, lev; /* constraint: original segment (-1: none); dyadic level (-1: not dyadic) */
+    int32_t gx, pad;  /* ghost: vertex slot of the remote neighbour's apex, or -1 */
+} pbw_con;
+
 typedef struct pbw_item { /* a unit of local work */
     int64_t gu, gv;       /* split: the subsegment */
     int64_t ticket;       /* split: key to wake the requester with */
@@ -232,12 +238,13 @@ struct pbw_ctx {
     int64_t nvown;
     /* triangles */
     int32_t nt, tcap, nlive;
-    int32_t *tv; /* 3 per slot; tv[3s] < 0: dead */
-    int64_t *tn; /* 3 per slot */
-    int32_t *gx; /* 3 per slot: ghost -- vertex slot of the apex of a remote neighbour, or -1 */
-    int32_t *cs, *cl;
-    int64_t *ck;
-    int32_t *lk; /* hold index or -1 */
+    int32_t *tv;  /* 3 per slot; tv[3s] < 0: dead */
+    int64_t *tn;  /* 3 per slot */
+    int32_t *ce;  /* 3 per slot: the edge's constraint record in con, or -1 (unconstrained) */
+    pbw_con *con; /* constraint records: few edges are constrained (a side table: 12 bytes per
+                   * triangle instead of 48 for seg, level and index on every edge) */
+    int32_t ncon, concap, confree; /* records used; capacity; free list head (-1: none) */
+    int32_t *lk;                   /* hold index or -1 */
     uint8_t *role;
     int32_t *treg; /* per slot: input region (-1: none); NULL: regions not asked (-A, areas) */
     int32_t nregion;
@@ -293,6 +300,24 @@ static inline const double *VX(pbw_ctx *C, int32_t v) {
     return C->xy + 2 * (size_t)v;
 }
 
+/* Edge e's constraint: its segment (-1: none), dyadic level and index. */
+static inline int32_t CS(const pbw_ctx *C, size_t e) {
+    return C->ce[e] < 0 ? -1 : C->con[C->ce[e]].seg;
+}
+
+static inline int32_t CL(const pbw_ctx *C, size_t e) {
+    return C->ce[e] < 0 ? -1 : C->con[C->ce[e]].lev;
+}
+
+static inline int64_t CK(const pbw_ctx *C, size_t e) {
+    return C->ce[e] < 0 ? 0 : C->con[C->ce[e]].k;
+}
+
+/* Edge e's ghost: the vertex slot of its remote neighbour's apex, or -1. */
+static inline int32_t GX(const pbw_ctx *C, size_t e) {
+    return C->ce[e] < 0 ? -1 : C->con[C->ce[e]].gx;
+}
+
 static inline int64_t TG(pbw_ctx *C, int32_t t, int j) { /* global id of vertex j of slot t */
     return C->vgid[C->tv[3 * (size_t)t + j]];
 }
@@ -340,6 +365,11 @@ int32_t pbw_vt_add(pbw_ctx *C, int64_t gid, double x, double y, int32_t vseg);
 
 /* A free triangle slot (dead, unlocked, role none; its arrays grown as needed). */
 int32_t pbw_slot_alloc(pbw_ctx *C);
+
+/* Sets edge e's constraint (seg < 0: none) / its ghost apex (gx < 0: none); a record is made
+ * when needed and released when it holds neither. */
+void pbw_con_set(pbw_ctx *C, size_t e, int32_t seg, int32_t lev, int64_t k);
+void pbw_gx_set(pbw_ctx *C, size_t e, int32_t gx);
 
 /* Kills slot s and puts it on the free list. */
 void pbw_slot_free(pbw_ctx *C, int32_t s);

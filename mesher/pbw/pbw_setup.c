@@ -177,12 +177,10 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
             C->tn[f] = nb >= 0 ? mkref(own[nb / 3], lidx[nb / 3]) : NOREF;
             /* ghost: the remote neighbour's apex (input and initial vertices: id = slot) */
             if (nb >= 0 && own[nb / 3] != C->rank)
-                C->gx[f] = m0.tv[3 * (nb / 3) + (nb % 3 + 2) % 3];
+                pbw_gx_set(C, f, m0.tv[3 * (nb / 3) + (nb % 3 + 2) % 3]);
             const mesh_subseg *ss = mesh_subseg_of_edge(&m0, e);
             if (mesh_edge_constrained(&m0, e) && !ss) MESH_BUG("constraint edge without record");
-            C->cs[f] = ss ? ss->seg : -1;
-            C->cl[f] = ss ? ss->level : -1;
-            C->ck[f] = ss ? ss->k : 0;
+            pbw_con_set(C, f, ss ? ss->seg : -1, ss ? ss->level : -1, ss ? ss->k : 0);
         }
         if (C->treg) C->treg[s] = m0.treg[t];
         C->nlive++;
@@ -264,7 +262,7 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
         for (int j = 0; j < 3; j++) {
             int32_t v = C->tv[3 * (size_t)t + (size_t)j];
             if (map[v] < 0) map[v] = nv++;
-            if (C->cs[3 * (size_t)t + (size_t)j] >= 0) nseg++;
+            if (CS(C, 3 * (size_t)t + (size_t)j) >= 0) nseg++;
         }
     }
     f->nverts = nv;
@@ -299,10 +297,10 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
             int64_t n = C->tn[e]; /* open: no neighbour written here (boundary, another rank) */
             if (open && !(n != NOREF && ref_rank(n) == C->rank && written(C, ref_idx(n))))
                 open[ntri] |= (uint8_t)(1u << j);
-            if (C->cs[e] >= 0) {
+            if (CS(C, e) >= 0) {
                 f->seg[2 * (size_t)nseg] = map[C->tv[e]];
                 f->seg[2 * (size_t)nseg + 1] = map[C->tv[3 * (size_t)t + (size_t)((j + 1) % 3)]];
-                f->smarker[nseg] = C->smarker[C->cs[e]];
+                f->smarker[nseg] = C->smarker[CS(C, e)];
                 f->sinterface[nseg] = 0;
                 nseg++;
             }
@@ -318,8 +316,7 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
 
 void pbw_ctx_free(pbw_ctx *C) {
     free(C->xy), free(C->vgid), free(C->vseg), free(C->vh);
-    free(C->tv), free(C->tn), free(C->gx), free(C->lbuf), free(C->cs), free(C->cl), free(C->ck),
-        free(C->lk), free(C->role);
+    free(C->tv), free(C->tn), free(C->lbuf), free(C->ce), free(C->con), free(C->lk), free(C->role);
     free(C->fre);
     free(C->treg), free(C->reg_attr), free(C->reg_area);
     free(C->seg), free(C->pieces), free(C->smarker), free(C->in_vmarker), free(C->inc_off),
@@ -342,7 +339,8 @@ void pbw_ctx_free(pbw_ctx *C) {
 
 size_t pbw_mesh_bytes(pbw_ctx *C) {
     size_t c = (size_t)C->tcap;
-    size_t b = c * (3 * (4 + 8 + 4 + 4 + 4 + 8) + 4 + 1 + (C->treg ? 4 : 0));
+    size_t b = c * (3 * (4 + 8 + 4) + 4 + 1 + (C->treg ? 4 : 0)); /* tv tn ce, lk role */
+    b += (size_t)C->concap * sizeof(pbw_con);
     b += (size_t)C->vcap * (16 + 8 + 4) + (size_t)C->vhcap * 4 + (size_t)C->frecap * 4;
     b += (size_t)C->poolcap * sizeof(qent);
     return b;

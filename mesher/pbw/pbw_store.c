@@ -71,10 +71,7 @@ int32_t pbw_slot_alloc(pbw_ctx *C) {
             size_t c = (size_t)C->tcap;
             C->tv = mesh_xrealloc(C->tv, 3 * c * sizeof(int32_t), 1);
             C->tn = mesh_xrealloc(C->tn, 3 * c * sizeof(int64_t), 1);
-            C->gx = mesh_xrealloc(C->gx, 3 * c * sizeof(int32_t), 1);
-            C->cs = mesh_xrealloc(C->cs, 3 * c * sizeof(int32_t), 1);
-            C->cl = mesh_xrealloc(C->cl, 3 * c * sizeof(int32_t), 1);
-            C->ck = mesh_xrealloc(C->ck, 3 * c * sizeof(int64_t), 1);
+            C->ce = mesh_xrealloc(C->ce, 3 * c * sizeof(int32_t), 1);
             C->lk = mesh_xrealloc(C->lk, c * sizeof(int32_t), 1);
             C->role = mesh_xrealloc(C->role, c, 1);
             if (C->treg) C->treg = mesh_xrealloc(C->treg, c * sizeof(int32_t), 1);
@@ -83,14 +80,66 @@ int32_t pbw_slot_alloc(pbw_ctx *C) {
     }
     C->tv[3 * (size_t)s] = -1;
     for (int j = 0; j < 3; j++)
-        C->gx[3 * (size_t)s + (size_t)j] = -1;
+        C->ce[3 * (size_t)s + (size_t)j] = -1;
     C->lk[s] = -1;
     C->role[s] = ROLE_NONE;
     if (C->treg) C->treg[s] = -1;
     return s;
 }
 
+/* Edge e's record, made (no constraint, no ghost) if it has none. */
+static int32_t rec_make(pbw_ctx *C, size_t e) {
+    int32_t i = C->ce[e];
+    if (i >= 0) return i;
+    if (C->confree >= 0) {
+        i = C->confree;
+        C->confree = (int32_t)C->con[i].k;
+    } else {
+        MESH_GROW(C->con, C->ncon, C->concap);
+        i = C->ncon++;
+    }
+    C->con[i] = (pbw_con){0, -1, -1, -1, 0};
+    C->ce[e] = i;
+    return i;
+}
+
+/* Releases edge e's record if it holds nothing any more. */
+static void rec_trim(pbw_ctx *C, size_t e) {
+    int32_t i = C->ce[e];
+    if (i < 0 || C->con[i].seg >= 0 || C->con[i].gx >= 0) return;
+    C->con[i].k = C->confree;
+    C->confree = i;
+    C->ce[e] = -1;
+}
+
+void pbw_con_set(pbw_ctx *C, size_t e, int32_t seg, int32_t lev, int64_t k) {
+    if (seg < 0) {
+        if (C->ce[e] >= 0) C->con[C->ce[e]].seg = -1;
+        rec_trim(C, e);
+        return;
+    }
+    int32_t i = rec_make(C, e); /* first: it may move C->con */
+    pbw_con *r = &C->con[i];
+    r->seg = seg;
+    r->lev = lev;
+    r->k = k;
+}
+
+void pbw_gx_set(pbw_ctx *C, size_t e, int32_t gx) {
+    if (gx < 0) {
+        if (C->ce[e] >= 0) C->con[C->ce[e]].gx = -1;
+        rec_trim(C, e);
+        return;
+    }
+    int32_t i = rec_make(C, e); /* first: it may move C->con */
+    C->con[i].gx = gx;
+}
+
 void pbw_slot_free(pbw_ctx *C, int32_t s) {
+    for (int j = 0; j < 3; j++) {
+        pbw_con_set(C, 3 * (size_t)s + (size_t)j, -1, -1, 0);
+        pbw_gx_set(C, 3 * (size_t)s + (size_t)j, -1);
+    }
     C->tv[3 * (size_t)s] = -1;
     C->lk[s] = -1;
     C->role[s] = ROLE_NONE;

@@ -131,7 +131,7 @@ static void process_item(pbw_ctx *C, pbw_item *it) {
         int j = pbw_find_edge(C, t, it->gu, it->gv);
         if (j < 0) j = pbw_find_edge(C, t, it->gv, it->gu);
         size_t e = 3 * (size_t)t + (size_t)j;
-        if (j < 0 || C->cs[e] < 0) { /* already split, or the triangle changed */
+        if (j < 0 || CS(C, e) < 0) { /* already split, or the triangle changed */
             pbw_notify(C, it->notify, it->ticket, 0);
             return;
         }
@@ -153,7 +153,7 @@ static void process_item(pbw_ctx *C, pbw_item *it) {
         double p[2];
         int32_t clev;
         int64_t ka, kb;
-        int sp = split_point(C, la, lb, C->cs[e], C->cl[e], C->ck[e], p, &clev, &ka, &kb);
+        int sp = split_point(C, la, lb, CS(C, e), CL(C, e), CK(C, e), p, &clev, &ka, &kb);
         /* too far off the line for the triangle beside it (a segment is on the domain's
          * boundary or between two ranks' triangles; this side's apex decides here) */
         if (sp == 0 &&
@@ -178,7 +178,7 @@ static void process_item(pbw_ctx *C, pbw_item *it) {
         }
         it->gu = C->vgid[la];
         it->gv = C->vgid[lb];
-        split_desc sd = {C->cs[e], clev, ka, kb};
+        split_desc sd = {CS(C, e), clev, ka, kb};
         start_cavity(C, it, p, t, &sd);
         return;
     }
