@@ -84,7 +84,7 @@ int main(int argc, char **argv) {
     int stats = o.par.stats, check = o.par.check, cdt_only = o.cdt_only;
     int quiet = o.par.quiet, verbose = o.par.verbose && !quiet;
     /* the Triangle files: prefix is -o's or Triangle's name (the front end's); -NEP: none */
-    int write_tri = prefix && par_skip_files(&o.par) != MESHIO_SKIP_ALL;
+    int write_tri = prefix && par_skip_linear(&o.par) != MESHIO_SKIP_ALL;
 
     geom_init();
     char err[1024];
@@ -188,14 +188,19 @@ int main(int argc, char **argv) {
     if (prefix && mesh_interpolate_attributes(&g, &f, err, sizeof err) != 0) {
         fprintf(stderr, "mesh: %s: %s\n", input, err);
         rc = 1;
-    } else if (write_tri && meshio_write_triangle_some(&f, prefix, par_skip_files(&o.par), err,
+    } else if (write_tri && meshio_write_triangle_some(&f, prefix, par_skip_linear(&o.par), err,
                                                        sizeof err) != 0) {
         fprintf(stderr, "mesh: %s\n", err);
         rc = 1;
     }
     /* -e, -n, -o2 (quadratic .node/.ele and VTK), --msh: io/xwrite.h */
-    mesh_xreq xr = {prefix,       o.par.edges, o.par.neighbors,
-                    o.par.order2, o.par.msh,   o.par.order2 ? vtk : NULL};
+    mesh_xreq xr = {prefix,
+                    o.par.edges,
+                    o.par.neighbors,
+                    o.par.order2,
+                    o.par.msh,
+                    o.par.order2 ? vtk : NULL,
+                    par_skip_files(&o.par)};
     if ((prefix && (xr.edges || xr.neighbors || xr.order2)) || xr.msh || xr.vtk) {
         if (meshio_write_extras(&f, &xr, err, sizeof err) != 0) {
             fprintf(stderr, "mesh: %s\n", err);

@@ -298,7 +298,7 @@ static void compare(int how) {
     snprintf(msh, sizeof msh, "%s/p.msh", dir);
     int ok = 1;
     if (rank == 0) {
-        mesh_xreq r = {sp, 1, 1, 1, NULL, NULL};
+        mesh_xreq r = {sp, 1, 1, 1, NULL, NULL, 0};
         ok = meshio_write_extras(&F, &r, err, sizeof err) == 0;
         if (!ok) fprintf(stderr, "mpi_pextra: %s\n", err);
     }

@@ -88,6 +88,19 @@ else
     echo "skip the comparison with Triangle: python triangle is not installed"
 fi
 
+# -o2 with -N: the quadratic .ele alone (the .node left out, no linear file written first)
+for prog in mesh pcdm; do
+    rm -f "$T/n2".*
+    if [ $prog = mesh ]; then
+        "$BIN/mesh" -q 25 --order2 -N -o "$T/n2" data/lake.poly >"$T/out" 2>&1
+    else
+        timeout 120 $MPIRUN -np 2 "$BIN/pcdm" -q 25 --order2 -N -o "$T/n2" data/lake.poly >"$T/out" 2>&1
+    fi
+    [ ! -e "$T/n2.node" ] && [ -e "$T/n2.poly" ] && [ "$(awk 'NR == 1 {print $2}' "$T/n2.ele")" = 6 ] &&
+        ok "$prog --order2 -N: six-node .ele, no .node" ||
+        fail "$prog --order2 -N: $(ls "$T" | grep n2 | tr '\n' ' ') $(head -1 "$T/n2.ele" 2>/dev/null)"
+done
+
 # a file that cannot be written: exit 1 (every rank), a message naming it
 "$BIN/mesh" -q 25 -NEP --msh "$T/no/such/dir/x.msh" data/lake.poly >"$T/out" 2>&1
 rc=$?

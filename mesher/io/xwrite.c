@@ -506,16 +506,16 @@ int mesh_xview_write(const mesh_xview *x, MPI_Comm comm, const mesh_xreq *r, cha
         mesh_text_sec s = {nt, neigh_head, neigh_rec, tail_pcdm, &w, 64, rm};
         rc = put(comm, path, &s, 1, err, errlen);
     }
-    if (rc == 0 && r->prefix && r->order2) {
+    if (rc == 0 && r->prefix && r->order2 && !(r->skip & MESHIO_SKIP_NODE)) {
         snprintf(path, sizeof path, "%s.node", r->prefix);
         mesh_text_sec s[2] = {{nv, node2_head, node2_vrec, NULL, &w, 64, rm},
                               {x->nwe, NULL, node2_mrec, tail_pcdm, &w, 64, rm}};
         rc = put(comm, path, s, 2, err, errlen);
-        if (rc == 0) {
-            snprintf(path, sizeof path, "%s.ele", r->prefix);
-            mesh_text_sec e = {nt, ele2_head, ele2_rec, tail_pcdm, &w, 64, rm};
-            rc = put(comm, path, &e, 1, err, errlen);
-        }
+    }
+    if (rc == 0 && r->prefix && r->order2 && !(r->skip & MESHIO_SKIP_ELE)) {
+        snprintf(path, sizeof path, "%s.ele", r->prefix);
+        mesh_text_sec e = {nt, ele2_head, ele2_rec, tail_pcdm, &w, 64, rm};
+        rc = put(comm, path, &e, 1, err, errlen);
     }
     if (rc == 0 && r->vtk && r->order2) {
         mesh_text_sec s[7] = {{nv, vtk_head, vtk_vrec, NULL, &w, 256, rm},

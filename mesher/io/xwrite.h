@@ -116,6 +116,7 @@ typedef struct mesh_xreq {
     int edges, neighbors, order2;
     const char *msh; /* Gmsh 4.1 */
     const char *vtk; /* quadratic legacy VTK (order2 only) */
+    unsigned skip;   /* -o2: MESHIO_SKIP_NODE / _ELE leave that file out (Triangle's -N, -E) */
 } mesh_xreq;
 
 /* comm == MPI_COMM_NULL: Local (x is the whole mesh); else Collective over comm with every

@@ -229,7 +229,7 @@ void par_verbose_result(const par_opts *o, double wall, int64_t ntris, int64_t n
             "%s: refinement %.4f s (slowest rank): %lld triangles, %lld vertices, "
             "smallest angle %.4f degrees\n",
             o->prog, t[0], (long long)ntris, (long long)nverts, min_angle);
-    if (o->out_prefix && par_skip_files(o) != MESHIO_SKIP_ALL)
+    if (o->out_prefix && par_skip_files(o) != MESHIO_SKIP_ALL) /* -o2: the quadratic ones */
         fprintf(stderr, "%s: wrote %s%s%s%s\n", o->prog, o->out_prefix, o->no_node ? "" : ".node ",
                 o->no_ele ? "" : ".ele ", o->no_poly ? "" : ".poly");
     fprintf(stderr, "%s: output %.4f s (numbering, --check, files; slowest rank)\n", o->prog, t[1]);

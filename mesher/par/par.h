@@ -90,6 +90,12 @@ static inline unsigned par_skip_files(const par_opts *o) {
            (o->no_poly ? MESHIO_SKIP_POLY : 0u);
 }
 
+/* Local.  What the linear Triangle writer leaves out: par_skip_files, and with -o2 the .node and
+ * .ele too (the quadratic writer, io/xwrite.h, writes those; once, not over the linear ones). */
+static inline unsigned par_skip_linear(const par_opts *o) {
+    return par_skip_files(o) | (o->order2 ? MESHIO_SKIP_NODE | MESHIO_SKIP_ELE : 0u);
+}
+
 /* Local.  How par_startup reads the command line (the front end lives above this layer): called
  * on every rank once the runtime is up, with the arguments MPI left, this rank's number (only
  * rank 0 may print) and ctx.  Fills *o; returns 0 to go on, or 1 when the program must exit

@@ -268,7 +268,8 @@ int par_write_extras(const par_opts *o, const pslg *in, const mesh_flat *local,
         }
         strcat(vtk, ".vtk");
     }
-    mesh_xreq r = {prefix, o->edges, o->neighbors, o->order2, o->msh, vtk[0] ? vtk : NULL};
+    mesh_xreq r = {prefix,           o->edges, o->neighbors, o->order2, o->msh, vtk[0] ? vtk : NULL,
+                   par_skip_files(o)};
     char err[600];
     int rc = mesh_xview_write(&x, c, &r, err, sizeof err);
     if (rc != 0 && rank == 0) fprintf(stderr, "%s: %s\n", o->prog, err);

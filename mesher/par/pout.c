@@ -214,7 +214,7 @@ static int write_triangle(const par_opts *o, const pslg *in, const mesh_flat *f,
                     * mesh's peak (about 45) and saves half the second formatting of the
                     * coordinates */
                    .keep = 8 * (size_t)f->ntris,
-                   .skip = par_skip_files(o)};
+                   .skip = par_skip_linear(o)};
     int rc = meshio_pwrite_triangle(rt_app_comm(), &p, o->out_prefix, err, errlen);
     free(seg);
     free(smk);
@@ -320,7 +320,7 @@ static int write_svg(const par_opts *o, const mesh_flat *f, const par_numbering 
 int par_write_parts(const par_opts *o, const pslg *in, const mesh_flat *local, const int32_t *tsub,
                     const par_numbering *num) {
     char err[1024] = "", msg[1200];
-    if (o->out_prefix && par_skip_files(o) != MESHIO_SKIP_ALL) { /* collective: one status */
+    if (o->out_prefix && par_skip_linear(o) != MESHIO_SKIP_ALL) { /* collective: one status */
         if (write_triangle(o, in, local, num, err, sizeof err) != 0) {
             if (rt_rank() == 0) fprintf(stderr, "%s: %s\n", o->prog, err);
             return -1;

@@ -803,11 +803,6 @@ void mesh_set_regions(mesh *m, const pslg *g, int use_area, int32_t nreal) {
     free(creg);
 }
 
-double mesh_tri_area_bound(const mesh *m, int32_t t, double global) {
-    double r = m->treg && m->treg[t] >= 0 ? m->reg_area[m->treg[t]] : 0;
-    return mesh_rules_area_bound(global, r);
-}
-
 /* ---- output --------------------------------------------------------------------------------*/
 
 int mesh_to_flat(const mesh *m, mesh_flat *f) {

@@ -58,6 +58,7 @@
 
 #include "geom/pslg.h"
 #include "io/meshio.h"
+#include "seq/rules.h"
 
 #define MESH_GHOST (-1) /* the vertex at infinity (only while building) */
 #define MESH_DEAD (-2)  /* tv[3t] of a dead triangle */
@@ -213,7 +214,10 @@ void mesh_set_regions(mesh *m, const pslg *g, int use_area, int32_t nreal);
 
 /* The area bound of live triangle t in working units: mesh_rules_area_bound of the global
  * bound (working units) and t's region's, 0 if none. */
-double mesh_tri_area_bound(const mesh *m, int32_t t, double global);
+static inline double mesh_tri_area_bound(const mesh *m, int32_t t, double global) {
+    if (!m->treg || m->treg[t] < 0) return global; /* on every quality test: inline */
+    return mesh_rules_area_bound(global, m->reg_area[m->treg[t]]);
+}
 
 /* ---- point location and insertion ---------------------------------------------------- */
 
