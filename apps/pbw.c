@@ -82,6 +82,7 @@ enum {
     RS_LINKS,   /* link updates (several per LINK RSR) */
     RS_IFEDGES, /* rank boundary edges (each counted by both sides) */
     RS_IFLEN,   /* their length */
+    RS_SELF,    /* RSRs a rank sent to itself (not in rsr=, which counts communication) */
     RS_KIND0,
     RS_N = RS_KIND0 + PBW_RSR_NKINDS
 };
@@ -150,7 +151,8 @@ int main(int argc, char **argv) {
     rs[RS_PHASE1] = res.phase1_s;
     rs[RS_CPU] = par_cpu_seconds() - c0;
     rs[RS_MPI] = (double)st.mpi_sent;
-    rs[RS_RSR] = (double)st.rsr_sent;
+    rs[RS_RSR] = (double)(st.rsr_sent - res.rsr_self);
+    rs[RS_SELF] = (double)res.rsr_self;
     rs[RS_UNRESOLVED] = (double)res.unresolved;
     rs[RS_FORCED] = (double)res.forced;
     rs[RS_BLOCKED] = (double)st.blocked_count;
@@ -222,7 +224,7 @@ int main(int argc, char **argv) {
         printf("rsr:");
         for (int k = 0; k < PBW_RSR_NKINDS; k++)
             printf(" %s=%.0f", pbw_rsr_kind_name[k], tot[RS_KIND0 + k]);
-        printf(" mpi_msgs=%.0f\n", tot[RS_MPI]);
+        printf(" mpi_msgs=%.0f self=%.0f\n", tot[RS_MPI], tot[RS_SELF]);
         printf("cavities: local=%.0f remote=%.0f undone_local=%.0f undone_remote=%.0f "
                "parked=%.0f rejected=%.0f failed=%.0f skipped_small=%.0f postponed=%.0f "
                "unresolved=%.0f forced=%.0f ghosted=%.0f forwarded=%.0f "

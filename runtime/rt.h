@@ -271,6 +271,7 @@ typedef struct rt_stats {
 typedef struct rt_handler_stats {
     char name[RT_NAME_MAX];
     uint64_t sent, recv, bytes_sent, bytes_recv;
+    uint64_t sent_self; /* of sent: to this rank itself (no communication) */
     double time;
 } rt_handler_stats;
 

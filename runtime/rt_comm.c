@@ -234,6 +234,7 @@ void rt_send_hdr(int to, rt_hdr *h, const void *payload) {
     rt_g.term.active = true;
     h->src = rt_g.rank;
     if (to == rt_g.rank) {
+        e->sent_self++;
         rt_queue_push(&rt_g.selfq, &rt_item_new(h, payload)->q);
         return;
     }

@@ -113,6 +113,7 @@ typedef struct rt_hentry {
     uint32_t flags, size;
     bool registered;
     uint64_t sent, recv, bytes_sent, bytes_recv; /* statistics (main thread) */
+    uint64_t sent_self;                          /* ... of sent, to this rank itself */
     double time;
 } rt_hentry;
 

@@ -65,6 +65,7 @@ int rt_stats_handler(int id, rt_handler_stats *out) {
     const rt_hentry *e = &rt_g.ht.e[id];
     memcpy(out->name, e->name, RT_NAME_MAX);
     out->sent = e->sent;
+    out->sent_self = e->sent_self;
     out->recv = e->recv;
     out->bytes_sent = e->bytes_sent;
     out->bytes_recv = e->bytes_recv;
@@ -101,7 +102,7 @@ void rt_stats_reset(void) {
     memset(&rt_g.st, 0, sizeof rt_g.st);
     for (int i = 0; i < rt_g.ht.n; i++) {
         rt_hentry *e = &rt_g.ht.e[i];
-        e->sent = e->recv = e->bytes_sent = e->bytes_recv = 0;
+        e->sent = e->sent_self = e->recv = e->bytes_sent = e->bytes_recv = 0;
         e->time = 0;
     }
     rt_tasks_reset_stats(&rt_g.tasks);

@@ -37,16 +37,26 @@
  * starter spawns a task which sends the cavity state (header, participants, boundary edges,
  * pending seeds = remote triangles to visit) as an EXPAND request to the owner of the first
  * seed; each rank locks and grows what it owns and FORWARDS the state to the next rank with
- * pending seeds (the chains A->B->C of the paper's Table 1), and the last one REPLIES to the
- * task, which sits in the blocking queue meanwhile while its rank goes on with other work.
- * The task then decides: COMMIT (one message per participant with its new triangles: links
- * are fully resolved because every reserved slot is known), or RELEASE everywhere (undo, after
- * a conflict; or reject: p encroaches a subsegment, which is then split by a SPLIT request to
- * the owner of the triangle on it; the bad triangle is retried after the split's WAKE).
+ * pending seeds (the chains A->B->C of the paper's Table 1).  The task sits in the blocking
+ * queue meanwhile, while its rank goes on with other work.  At most MAX_INFLIGHT distributed
+ * cavities per rank are in flight (more only raise the conflicts between them: at 16, half of
+ * the remote attempts died; measured, issue 13); a further one waits for a slot.
+ * DECIDE.  The rank where the chain ends knows the whole cavity.  If it is not the starter and
+ * the cavity commits (no conflict, star-shaped, no encroachment), it commits there and then:
+ * its own part at once, and one COMMIT per other participant with the new triangles it owns
+ * (links are fully resolved because every reserved slot is known); the starter's COMMIT is the
+ * reply that wakes its task.  So a cavity spanning two ranks costs two messages, EXPAND and
+ * COMMIT.  Otherwise the chain REPLIES to the task, which decides: COMMIT, or RELEASE
+ * everywhere (undo, after a conflict; or reject: p encroaches a subsegment, which is then split
+ * by a SPLIT request to the owner of the triangle on it; the bad triangle is retried after the
+ * split's WAKE).
  * Nothing is written until every triangle is locked, so undo is only a release of locks
  * (and the wasted expansion time, which goes to RT_TIME_UNDO).  Locks are held until the
  * owner applies the commit, so nobody follows a link that is being rewritten; a link to a slot
  * reserved by a cavity whose commit has not arrived yet finds that slot locked.
+ * LINKS (below) are one-way and only shorten forward chains, so they wait in a buffer until
+ * the rank runs out of local work (or LINK_BATCH of them pile up): one LINK RSR per
+ * destination then carries them all.
  *
  * GHOSTS (issue 13).  Of the two triangles on a rank boundary edge, the one on the LOWER rank
  * keeps a ghost of the other: its apex (gx, a vertex slot; the edge's vertices are its own),
@@ -197,7 +207,10 @@ int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat 
     C->res.mesh_bytes = pbw_mesh_bytes(C);
     for (int k = 0; k < PBW_RSR_NKINDS; k++) {
         rt_handler_stats hs;
-        if (rt_stats_handler(C->hid[k], &hs) == RT_OK) C->res.rsr_sent[k] = hs.sent;
+        if (rt_stats_handler(C->hid[k], &hs) == RT_OK) {
+            C->res.rsr_sent[k] = hs.sent - hs.sent_self;
+            C->res.rsr_self += hs.sent_self;
+        }
     }
     if (res) *res = C->res;
     pbw_detach();

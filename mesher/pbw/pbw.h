@@ -61,7 +61,8 @@ typedef struct pbw_result {
     int gave_up;         /* refusals passed the budget: this rank stopped refining */
     int limit_hit;       /* the Steiner limit stopped this rank */
     int32_t pre_tris;    /* triangles of the initial mesh (all ranks, before distribution) */
-    uint64_t rsr_sent[PBW_RSR_NKINDS]; /* RSRs this rank sent, by kind */
+    uint64_t rsr_sent[PBW_RSR_NKINDS]; /* RSRs this rank sent to other ranks, by kind */
+    uint64_t rsr_self;                 /* RSRs it sent to itself (a reply to its own task) */
     double phase1_s;                   /* --phases: seconds of phase 1 (0 otherwise) */
     size_t mesh_bytes;                 /* bytes of this rank's mesh arrays (capacities) */
     uint8_t *topen; /* *local's open edges, one byte per triangle: bit j set when edge j (tri[j]

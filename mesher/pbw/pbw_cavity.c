@@ -431,14 +431,14 @@ static void gmap_free(gmap *m) {
 
 /* Constraint info of the split half with endpoint w (w is su or sv). */
 static void half_info(const pbw_cav *c, int64_t w, int32_t *cseg, int32_t *clev, int64_t *ck) {
-    *cseg = c->sseg;
-    *clev = c->schild_lev;
-    *ck = c->schild_lev < 0 ? 0 : (w == c->h.su ? c->sk_u : c->sk_v);
+    *cseg = c->h.sseg;
+    *clev = c->h.schild_lev;
+    *ck = c->h.schild_lev < 0 ? 0 : (w == c->h.su ? c->h.sk_u : c->h.sk_v);
 }
 
 /* Builds the new triangles (one per boundary edge) and commits them on every participant.
  * Returns 0, or -1 if the boundary is not a proper fan (then nothing was sent). */
-int pbw_commit_all(pbw_ctx *C, pbw_cav *c) {
+int pbw_commit_all(pbw_ctx *C, pbw_cav *c, const rt_msg *to_origin) {
     int32_t n = c->nb;
     int split = c->h.kind == K_SPLIT;
     gmap A, B;
@@ -508,7 +508,7 @@ int pbw_commit_all(pbw_ctx *C, pbw_cav *c) {
         ch.pgid = pgid;
         ch.p[0] = c->h.p[0];
         ch.p[1] = c->h.p[1];
-        ch.pvseg = split ? c->sseg : -1;
+        ch.pvseg = split ? c->h.sseg : -1;
         ch.n = m;
         if (r == C->rank) {
             int32_t hi = pbw_hold_find(C, c->h.key);
@@ -518,7 +518,10 @@ int pbw_commit_all(pbw_ctx *C, pbw_cav *c) {
             char *buf = mesh_xrealloc(NULL, len, 1);
             memcpy(buf, &ch, sizeof ch);
             if (m > 0) memcpy(buf + sizeof ch, mine, (size_t)m * sizeof(pbw_newtri));
-            rt_rsr(r, C->hid[PBW_RSR_COMMIT], buf, (uint32_t)len);
+            if (to_origin && r == c->h.origin) /* it wakes the starter's task (DECIDE, pbw.c) */
+                rt_reply(to_origin, C->hid[PBW_RSR_COMMIT], buf, (uint32_t)len);
+            else
+                rt_rsr(r, C->hid[PBW_RSR_COMMIT], buf, (uint32_t)len);
             free(buf);
         }
     }
@@ -527,19 +530,9 @@ int pbw_commit_all(pbw_ctx *C, pbw_cav *c) {
     return 0;
 }
 
-/* The starter's decision once the whole cavity is known (or the expansion died). */
-void pbw_finish(pbw_ctx *C, pbw_cav *c) {
-    if (c->h.status == ST_DIE) {
-        release_all(C, c, 1);
-        C->res.undone_remote++;
-        if (c->h.died_at == C->rank)
-            pbw_defer_item(C, &c->it, W_HOLD, c->h.holder, 1);
-        else if (c->woken)
-            pbw_iv_push(&C->retryq, &c->it);
-        else
-            pbw_defer_item(C, &c->it, W_WAKE, c->h.holder, 1);
-        return;
-    }
+/* What the complete state of cavity c decides (pbw_outcome). */
+int pbw_outcome(const pbw_cav *c) {
+    if (c->h.status == ST_DIE) return OUT_DIE;
     int split = c->h.kind == K_SPLIT;
     int cbad = 0, nonstar = 0;
     for (int32_t i = 0; i < c->nb; i++) {
@@ -550,7 +543,46 @@ void pbw_finish(pbw_ctx *C, pbw_cav *c) {
             nonstar = 1;
         }
     }
-    if (!split && cbad && !c->h.cycle) {
+    if (!split && cbad && !c->h.cycle) return OUT_REJECT;
+    if (nonstar || cbad || c->h.cycle) return OUT_FAIL;
+    return OUT_COMMIT;
+}
+
+/* The starter's account of a committed cavity (committed here or by the chain's last rank). */
+void pbw_committed(pbw_ctx *C, pbw_cav *c, int remote) {
+    if (remote) {
+        C->res.cavities_remote++;
+    } else {
+        C->res.cavities_local++;
+        for (int32_t i = 0; i < c->nb; i++)
+            if (c->b[i].oapex >= 0) {
+                C->res.ghosted++;
+                break;
+            }
+    }
+    if (c->h.kind == K_SPLIT) {
+        C->res.splits++;
+        pbw_notify(C, c->it.notify, c->it.ticket, 0);
+    } else {
+        C->res.inserted++;
+    }
+}
+
+/* The starter's decision once the whole cavity is known (or the expansion died). */
+void pbw_finish(pbw_ctx *C, pbw_cav *c) {
+    int out = pbw_outcome(c);
+    if (out == OUT_DIE) {
+        release_all(C, c, 1);
+        C->res.undone_remote++;
+        if (c->h.died_at == C->rank)
+            pbw_defer_item(C, &c->it, W_HOLD, c->h.holder, 1);
+        else if (c->woken)
+            pbw_iv_push(&C->retryq, &c->it);
+        else
+            pbw_defer_item(C, &c->it, W_WAKE, c->h.holder, 1);
+        return;
+    }
+    if (out == OUT_REJECT) {
         /* p encroaches (or lies beyond) subsegments: discard it, split them, retry later */
         release_all(C, c, 0);
         C->res.rejected++;
@@ -591,28 +623,13 @@ void pbw_finish(pbw_ctx *C, pbw_cav *c) {
         pbw_defer_item(C, &c->it, W_WAKE, split_ticket(c->h.key), nreq);
         return;
     }
-    if (nonstar || cbad || c->h.cycle || pbw_commit_all(C, c) != 0) {
+    if (out == OUT_FAIL || pbw_commit_all(C, c, NULL) != 0) {
         release_all(C, c, 0);
         C->res.failed++;
-        if (split) pbw_notify(C, c->it.notify, c->it.ticket, 1);
+        if (c->h.kind == K_SPLIT) pbw_notify(C, c->it.notify, c->it.ticket, 1);
         return;
     }
-    if (c->np > 1) {
-        C->res.cavities_remote++;
-    } else {
-        C->res.cavities_local++;
-        for (int32_t i = 0; i < c->nb; i++)
-            if (c->b[i].oapex >= 0) {
-                C->res.ghosted++;
-                break;
-            }
-    }
-    if (split) {
-        C->res.splits++;
-        pbw_notify(C, c->it.notify, c->it.ticket, 0);
-    } else {
-        C->res.inserted++;
-    }
+    pbw_committed(C, c, c->np > 1);
 }
 
 /* A stale link (a seed across ga->gb naming tombstone slot x): the live triangle now on that

@@ -65,11 +65,13 @@ enum { IT_BAD = 0, IT_SPLIT = 1 };
 
 #define NBUCKET MESH_RULES_NBUCKET
 
-#define MAX_INFLIGHT 16
+#define MAX_INFLIGHT 2
 
 #define WORK_BATCH 64 /* work items per work step (between two services of RSRs): --poll */
 
 #define MAXMSG (1u << 28)
+
+#define LINK_BATCH 4096 /* buffered link updates that force a flush before the rank is idle */
 
 /* ---- wire formats (every handler payload is a plain struct or a header + arrays) -------- */
 
@@ -103,10 +105,12 @@ typedef struct pbw_whdr { /* head of EXPAND and REPLY payloads */
     int64_t holder;       /* DIE: key of the cavity holding the contested triangle */
     double p[2];          /* the new point */
     int32_t kind, status, origin, nparts, nbnd, nseed;
-    int32_t died_at; /* DIE: the rank where the conflict was found */
-    int32_t cycle;   /* 1: a member was reached twice, the cavity encloses a vertex */
+    int32_t died_at;          /* DIE: the rank where the conflict was found */
+    int32_t cycle;            /* 1: a member was reached twice, the cavity encloses a vertex */
+    int64_t sk_u, sk_v;       /* split: dyadic index of the half at su / at sv */
+    int32_t sseg, schild_lev; /* split: segment, level of the halves (-1: not dyadic) */
 } pbw_whdr;
-_Static_assert(sizeof(pbw_whdr) == 88, "pbw_whdr layout");
+_Static_assert(sizeof(pbw_whdr) == 112, "pbw_whdr layout");
 
 typedef struct pbw_release_msg {
     int64_t key;
@@ -206,10 +210,9 @@ typedef struct pbw_cav { /* a cavity's travelling state, at its starter or parke
     int phase;
     int woken; /* a WAKE for die_holder arrived before the task ran */
     int64_t die_holder;
-    void *reply;
+    void *reply; /* the chain's answer: a cavity state (REPLY) or this rank's commit */
     uint32_t replylen;
-    int32_t sseg, schild_lev; /* split: segment, level of the halves (-1: not dyadic) */
-    int64_t sk_u, sk_v;       /* split: dyadic index of the half at su / at sv */
+    int decided; /* the answer is a COMMIT: the chain's last rank decided (DECIDE, pbw.c) */
     /* parked only */
     int src;
     rt_token tok;
@@ -477,12 +480,24 @@ void pbw_check_new_triangle(pbw_ctx *C, int32_t t);
  * halos get their link to the new triangle, everything is unlocked. */
 void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt, int bump);
 
-/* Builds the new triangles (one per boundary edge) and commits them on every participant.
- * Returns 0, or -1 if the boundary is not a proper fan (then nothing was sent). */
-int pbw_commit_all(pbw_ctx *C, pbw_cav *c);
+/* Builds the new triangles (one per boundary edge) and commits them on every participant:
+ * here at once, elsewhere by a COMMIT; the origin's by rt_reply(to_origin) when to_origin is
+ * not NULL (the chain's last rank decides, DECIDE in pbw.c).  Returns 0, or -1 if the
+ * boundary is not a proper fan (then nothing was sent or written). */
+int pbw_commit_all(pbw_ctx *C, pbw_cav *c, const rt_msg *to_origin);
+
+/* What the complete state of cavity c decides: OUT_DIE (the expansion met a younger lock),
+ * OUT_REJECT (p encroaches or lies beyond subsegments: split them instead), OUT_FAIL (not
+ * star-shaped, or a member reached twice), OUT_COMMIT. */
+enum { OUT_COMMIT = 0, OUT_DIE = 1, OUT_REJECT = 2, OUT_FAIL = 3 };
+int pbw_outcome(const pbw_cav *c);
 
 /* The starter's decision once the whole cavity is known (or the expansion died). */
 void pbw_finish(pbw_ctx *C, pbw_cav *c);
+
+/* The starter's account of committed cavity c (remote: it had other participants): counts,
+ * and the WAKE a split owes its requester. */
+void pbw_committed(pbw_ctx *C, pbw_cav *c, int remote);
 
 /* A stale link (a seed across ga->gb naming tombstone slot x): the live triangle now on that
  * edge, following the tombstones' forward links, or -1 if x is not a tombstone. */

@@ -67,6 +67,11 @@ static void chain_continue(pbw_ctx *C, pbw_cav *c, int32_t hi) {
     } else if (c->ntodo > 0) {
         buf = pbw_cav_pack(c, 1, &len);
         rt_forward(&fm, ref_rank(c->todo[0].target), C->hid[PBW_RSR_EXPAND], buf, len);
+    } else if (c->h.origin != C->rank && pbw_outcome(c) == OUT_COMMIT &&
+               pbw_commit_all(C, c, &fm) == 0) {
+        /* the last rank of the chain knows the whole cavity: it commits (DECIDE, pbw.c) */
+        pbw_cav_free(c);
+        return;
     } else {
         buf = pbw_cav_pack(c, 1, &len);
         rt_reply(&fm, C->hid[PBW_RSR_REPLY], buf, len);
@@ -159,8 +164,16 @@ static void h_commit(const rt_msg *m, void *arg) {
     const pbw_commit_hdr *ch = m->data;
     if (m->len < sizeof *ch || m->len != sizeof *ch + (size_t)ch->n * sizeof(pbw_newtri))
         MESH_BUG("malformed commit (%u bytes)", (unsigned)m->len);
+    if (m->task) { /* the starter's part, decided by the chain's last rank: its task applies it */
+        pbw_cav *c = rt_task_data(m->task);
+        free(c->reply);
+        c->reply = mesh_xrealloc(NULL, m->len, 1);
+        memcpy(c->reply, m->data, m->len);
+        c->replylen = m->len;
+        c->decided = 1;
+        return;
+    }
     pbw_apply_commit(C, ch, (const pbw_newtri *)(ch + 1), 1);
-    pbw_flush_links(C);
     drain_parked(C);
 }
 
@@ -215,9 +228,14 @@ rt_task_status pbw_cav_task(rt_task *t, void *state) {
             C->dy[i] = C->dy[--C->ndy];
             break;
         }
-    pbw_cav_unpack_into(c, c->reply, c->replylen);
-    pbw_finish(C, c);
-    pbw_flush_links(C);
+    if (c->decided) {
+        const pbw_commit_hdr *ch = c->reply;
+        pbw_apply_commit(C, ch, (const pbw_newtri *)(ch + 1), 1);
+        pbw_committed(C, c, 1);
+    } else {
+        pbw_cav_unpack_into(c, c->reply, c->replylen);
+        pbw_finish(C, c);
+    }
     C->inflight--;
     C->ev_epoch++; /* a slot for another distributed cavity */
     pbw_cav_free(c);

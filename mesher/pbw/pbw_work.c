@@ -43,10 +43,10 @@ static void start_cavity(pbw_ctx *C, pbw_item *it, const double p[2], int32_t t,
     if (sd) {
         c->h.su = it->gu;
         c->h.sv = it->gv;
-        c->sseg = sd->sseg;
-        c->schild_lev = sd->child_lev;
-        c->sk_u = sd->ku;
-        c->sk_v = sd->kv;
+        c->h.sseg = sd->sseg;
+        c->h.schild_lev = sd->child_lev;
+        c->h.sk_u = sd->ku;
+        c->h.sk_v = sd->kv;
     }
     c->it = *it;
     int32_t hi = pbw_hold_new(C, c->h.key, c->h.stamp, C->rank);
@@ -298,11 +298,14 @@ int pbw_work(void *ctx) {
         did = 1;
         process_item(C, &it);
     }
-    pbw_flush_links(C);
     if (C->stopped) {
         drop_all_items(C);
+        pbw_flush_links(C);
         return did ? RT_WORK_BUSY : RT_WORK_IDLE;
     }
     pbw_refresh_deferred(C);
-    return (did || has_items(C)) ? RT_WORK_BUSY : RT_WORK_IDLE;
+    int busy = did || has_items(C);
+    /* link updates wait until the rank runs out of work (LINKS, pbw.c), or pile up */
+    if (!busy || C->nlbuf >= LINK_BATCH) pbw_flush_links(C);
+    return busy ? RT_WORK_BUSY : RT_WORK_IDLE;
 }
