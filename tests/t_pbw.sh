@@ -120,6 +120,9 @@ run 8 channel 20.7 --phases --perturb 2
 run 4 holes 20.7 --imbalance 2
 # the paper's choices: circumcenters only, requests serviced after every work item
 run 4 lake 30 --circumcenters --poll 1
+# every cavity through the general protocol (no local fast path, pbw_local.c), 1 and 4 ranks
+PBW_NO_FAST_PATH=1 run 1 lake 30
+PBW_NO_FAST_PATH=1 run 4 holes 20.7 --perturb 3
 
 # bad input and impossible requests: one clear message, non-zero exit from every rank
 out=$(timeout 60 $MPIRUN -np 4 "$BIN/pbw" -NEP --strict tests/bad/self_intersecting.poly 2>&1)

@@ -3,8 +3,8 @@
  * wakes, refused splits, holds), the cavity state's wire format, and the rules PBW shares with
  * refine.c (the forced-angle rule with its consecutive-segment test, the queue priority, the
  * length floor), and the ghosts (conflict decided on a remote neighbour's ghost, tombstones
- * forwarding stale links, the one-way link update).  Each test builds a context by hand, as
- * pbw_setup would, with rank 0 of 1. */
+ * forwarding stale links, the one-way link update), and the local fast path (pbw_local.c).  Each
+ * test builds a context by hand, as pbw_setup would, with rank 0 of 1. */
 #include "pbw/pbw_impl.h"
 
 #include <check.h>
@@ -603,7 +603,105 @@ START_TEST(test_ghost_commit) {
 }
 END_TEST
 
+/* The local fast path (pbw_local.c): an equilateral triangle T = (0, 1, 2) with an outer
+ * triangle on each edge whose apex lies 3 units out (not in conflict with T's centre); the
+ * outer triangles' other edges are domain boundary (constrained).  Returns T. */
+static int32_t fan_setup(pbw_ctx *C, int32_t outer[3]) {
+    const double h = sqrt(3.0);
+    const double xy[3][2] = {{0, 0}, {2, 0}, {1, h}};
+    for (int i = 0; i < 3; i++)
+        pbw_vt_add(C, i, xy[i][0], xy[i][1], -1);
+    int32_t t = tri(C, 0, 1, 2);
+    for (int j = 0; j < 3; j++) {
+        int a = j, b = (j + 1) % 3;
+        double mx = (xy[a][0] + xy[b][0]) / 2, my = (xy[a][1] + xy[b][1]) / 2;
+        double nx = xy[b][1] - xy[a][1], ny = -(xy[b][0] - xy[a][0]); /* outward, length 2 */
+        pbw_vt_add(C, 3 + j, mx + 1.5 * nx, my + 1.5 * ny, -1);
+        int32_t o = tri(C, b, a, 3 + j);
+        outer[j] = o;
+        C->tn[3 * t + j] = mkref(0, o);
+        C->tn[3 * o] = mkref(0, t);
+        pbw_con_set(C, 3 * (size_t)o + 1, 10 + 2 * j, -1, 0);
+        pbw_con_set(C, 3 * (size_t)o + 2, 11 + 2 * j, -1, 0);
+    }
+    return t;
+}
+
+/* Every live triangle is counter-clockwise and each local link is mutual, across the same
+ * edge reversed. */
+static void check_links(pbw_ctx *C) {
+    for (int32_t s = 0; s < C->nt; s++) {
+        if (!alive(C, s)) continue;
+        const int32_t *v = C->tv + 3 * s;
+        ck_assert(geom_orient2d(VX(C, v[0]), VX(C, v[1]), VX(C, v[2])) > 0);
+        for (int j = 0; j < 3; j++) {
+            int64_t n = C->tn[3 * s + j];
+            if (n == NOREF) continue;
+            int32_t y = ref_idx(n);
+            ck_assert(alive(C, y));
+            int jy = pbw_find_edge(C, y, TG(C, s, (j + 1) % 3), TG(C, s, j));
+            ck_assert_int_ge(jy, 0);
+            ck_assert(C->tn[3 * y + jy] == mkref(0, s));
+        }
+    }
+}
+
+START_TEST(test_local_fast_path) {
+    pbw_ctx *C = ctx_new(0, 0);
+    int32_t outer[3];
+    int32_t t = fan_setup(C, outer);
+    const double p[2] = {1.0, 0.55};
+    ck_assert_int_eq(C->nlive, 4);
+    ck_assert_int_eq(pbw_local_insert(C, p, t), 1);
+    ck_assert_int_eq(C->nlive, 6);
+    ck_assert_int_eq(C->res.inserted, 1);
+    ck_assert_int_eq(C->res.cavities_local, 1);
+    check_links(C);
+    /* the fan: three triangles on the new vertex, one on each old edge of T */
+    int32_t pv = pbw_vt_find(C, ((int64_t)1 << 32) | 0);
+    ck_assert_int_ge(pv, 0);
+    int on_p = 0, cons = 0;
+    for (int32_t s = 0; s < C->nt; s++) {
+        if (!alive(C, s)) continue;
+        for (int j = 0; j < 3; j++) {
+            on_p += C->tv[3 * s + j] == pv;
+            cons += CS(C, 3 * (size_t)s + (size_t)j) >= 0;
+        }
+    }
+    ck_assert_int_eq(on_p, 3);
+    ck_assert_int_eq(cons, 6); /* the outer triangles' boundary edges, untouched */
+    for (int j = 0; j < 3; j++)
+        ck_assert(C->role[outer[j]] == ROLE_NONE && C->lk[outer[j]] == -1);
+    pbw_ctx_free(C);
+
+    /* what the general path must decide: nothing is written, no mark is left */
+    for (int k = 0; k < 4; k++) {
+        C = ctx_new(0, 0);
+        t = fan_setup(C, outer);
+        double q[2] = {1.0, 0.55};
+        if (k == 0) C->lk[t] = 0;                   /* a locked member */
+        if (k == 1) C->lk[outer[1]] = 0;            /* a locked halo */
+        if (k == 2) C->tn[3 * t + 2] = mkref(1, 9); /* a remote neighbour */
+        if (k == 3) { /* p encroaches a constrained edge of T (both sides) */
+            pbw_con_set(C, 3 * (size_t)t, 0, -1, 0);
+            pbw_con_set(C, 3 * (size_t)outer[0], 0, -1, 0);
+            q[1] = 0.3;
+        }
+        int32_t nv = C->nv, nt = C->nt;
+        ck_assert_int_eq(pbw_local_insert(C, q, t), 0);
+        ck_assert_int_eq(C->nv, nv);
+        ck_assert_int_eq(C->nt, nt);
+        ck_assert_int_eq(C->nlive, 4);
+        for (int32_t s = 0; s < C->nt; s++)
+            ck_assert(C->role[s] == ROLE_NONE);
+        ck_assert_int_eq(C->res.inserted, 0);
+        pbw_ctx_free(C);
+    }
+}
+END_TEST
+
 int main(void) {
+
     Suite *s = suite_create("pbw");
     TCase *tc = tcase_create("pbw");
     tcase_add_test(tc, test_vertex_table);
@@ -617,6 +715,7 @@ int main(void) {
     tcase_add_test(tc, test_tombstones);
     tcase_add_test(tc, test_ghost_commit);
     tcase_add_test(tc, test_link_update);
+    tcase_add_test(tc, test_local_fast_path);
     tcase_add_test(tc, test_rules_edge_forced);
     tcase_add_test(tc, test_rules_priority_floor);
     tcase_add_test(tc, test_rules_unsuitable);

@@ -159,6 +159,8 @@ _Static_assert(sizeof(pbw_link_msg) == 32, "pbw_link_msg layout");
 
 typedef struct pbw_ctx pbw_ctx;
 
+typedef struct pbw_lscratch pbw_lscratch; /* pbw_local.c's scratch arrays */
+
 typedef struct pbw_con { /* what few edges have: a constraint, a ghost */
     int64_t k;           /* constraint: dyadic index (free record: the next free one) */
     int32_t seg, lev; /* constraint: original segment (-1: none); dyadic level (-1: not dyadic) */
@@ -293,6 +295,8 @@ struct pbw_ctx {
     uint64_t lclock;
     int64_t seq;
     pbw_result res;
+    pbw_lscratch *ls; /* the local fast path's scratch (pbw_local.c), NULL until used */
+    int no_fast;      /* env PBW_NO_FAST_PATH=1: every cavity takes the general path (tests) */
     /* PBW_DEBUG */
     int dbg_on; /* 0: not looked yet, 1: on, 2: off */
     double dbg_last;
@@ -512,6 +516,17 @@ int pbw_apply_link(pbw_ctx *C, const pbw_link_msg *l, int src);
  * (they are one-way and may be late: a stale link is forwarded by the tombstones).  Called at
  * the end of each work step, commit handler and cavity task, so none is left when rt_run ends. */
 void pbw_flush_links(pbw_ctx *C);
+
+/* ---- pbw_local.c: the local fast path ------------------------------------------------- */
+
+/* Inserts Steiner point p of bad triangle t at once if its cavity lies on this rank, touches
+ * no lock, ghost or tombstone, is star-shaped, has no vertex inside and p encroaches no
+ * subsegment (the new vertex, the fan, the counts, the new work).  Returns 1 if it did, 0 if
+ * the general path must decide (nothing was written). */
+int pbw_local_insert(pbw_ctx *C, const double p[2], int32_t t);
+
+/* Frees the fast path's scratch (NULL is fine). */
+void pbw_lscratch_free(pbw_lscratch *S);
 
 /* ---- pbw_proto.c: the protocol ---------------------------------------------------------- */
 

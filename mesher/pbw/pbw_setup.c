@@ -92,6 +92,8 @@ static int32_t *dup_i32(const int32_t *a, size_t n) {
 
 int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_decomp *d, char *err,
               size_t errlen) {
+    const char *nf = getenv("PBW_NO_FAST_PATH");
+    C->no_fast = nf && nf[0] == '1';
     mesh m0;
     mesh_init(&m0);
     if (mesh_build_cdt(&m0, in, NULL, err, errlen) != 0) {
@@ -323,6 +325,7 @@ void pbw_ctx_free(pbw_ctx *C) {
         free(C->inc_seg);
     free(C->corner);
     free(C->pool);
+    pbw_lscratch_free(C->ls);
     pbw_iv_free(&C->splitq), pbw_iv_free(&C->retryq), pbw_iv_free(&C->deferred),
         pbw_iv_free(&C->phase2);
     for (int32_t i = 0; i < C->nhd; i++)

@@ -209,6 +209,7 @@ static void process_item(pbw_ctx *C, pbw_item *it) {
         return;
     }
     if (limit_reached(C)) return;
+    if (!C->no_fast && pbw_local_insert(C, p, t)) return;
     start_cavity(C, it, p, t, NULL);
 }
 
