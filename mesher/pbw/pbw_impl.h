@@ -238,8 +238,12 @@ struct pbw_ctx {
     double *xy;
     int64_t *vgid;
     int32_t *vseg;
-    int32_t *vh;
+    int32_t *vh; /* hash of the vertices other ranks made (pbw_vt_find) */
     uint32_t vhcap;
+    int32_t nvh;   /* vertices in vh */
+    int32_t ninit; /* initial vertices: id i is slot i on every rank */
+    int32_t *own;  /* own[n]: slot of the n-th vertex this rank made (-1: none yet) */
+    int64_t nown, owncap;
     int64_t nvown;
     /* triangles */
     int32_t nt, tcap, nlive;

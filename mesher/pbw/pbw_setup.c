@@ -151,6 +151,7 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
     C->I.siface = NULL; /* PBW has no artificial segments */
     /* initial vertices keep their index as global id (input vertices first) */
     pbw_vt_rehash(C, 2048);
+    C->ninit = m0.nv;
     for (int32_t v = 0; v < m0.nv; v++) {
         const double *p = mesh_vertex_xy(&m0, v);
         pbw_vt_add(C, v, p[0], p[1], v < m0.ninput ? -1 : m0.vseg[v]);
@@ -317,7 +318,7 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
 }
 
 void pbw_ctx_free(pbw_ctx *C) {
-    free(C->xy), free(C->vgid), free(C->vseg), free(C->vh);
+    free(C->xy), free(C->vgid), free(C->vseg), free(C->vh), free(C->own);
     free(C->tv), free(C->tn), free(C->lbuf), free(C->ce), free(C->con), free(C->lk), free(C->role);
     free(C->fre);
     free(C->treg), free(C->reg_attr), free(C->reg_area);
@@ -345,6 +346,7 @@ size_t pbw_mesh_bytes(pbw_ctx *C) {
     size_t b = c * (3 * (4 + 8 + 4) + 4 + 1 + (C->treg ? 4 : 0)); /* tv tn ce, lk role */
     b += (size_t)C->concap * sizeof(pbw_con);
     b += (size_t)C->vcap * (16 + 8 + 4) + (size_t)C->vhcap * 4 + (size_t)C->frecap * 4;
+    b += (size_t)C->owncap * sizeof(int32_t);
     b += (size_t)C->poolcap * sizeof(qent);
     return b;
 }

@@ -13,7 +13,19 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Vertex ids this rank finds without the hash table: an initial vertex (id < ninit) is the slot
+ * of that index; one this rank made (id (rank + 1) << 32 | n) is own[n].  Only the vertices
+ * other ranks made are hashed (none on one rank). */
+static int direct(const pbw_ctx *C, int64_t gid) {
+    return (gid >= 0 && gid < C->ninit) || (gid >> 32) == (int64_t)C->rank + 1;
+}
+
 int32_t pbw_vt_find(pbw_ctx *C, int64_t gid) {
+    if (gid >= 0 && gid < C->ninit) return gid < C->nv ? (int32_t)gid : -1;
+    if ((gid >> 32) == (int64_t)C->rank + 1) {
+        int64_t n = gid & 0xffffffff;
+        return n < C->nown ? C->own[n] : -1;
+    }
     uint32_t mask = C->vhcap - 1, h = (uint32_t)mesh_hash64((uint64_t)gid) & mask;
     while (C->vh[h] >= 0) {
         if (C->vgid[C->vh[h]] == gid) return C->vh[h];
@@ -29,6 +41,7 @@ void pbw_vt_rehash(pbw_ctx *C, uint32_t cap) {
     for (uint32_t i = 0; i < cap; i++)
         C->vh[i] = -1;
     for (int32_t v = 0; v < C->nv; v++) {
+        if (direct(C, C->vgid[v])) continue;
         uint32_t h = (uint32_t)mesh_hash64((uint64_t)C->vgid[v]) & (cap - 1);
         while (C->vh[h] >= 0)
             h = (h + 1) & (cap - 1);
@@ -50,14 +63,25 @@ int32_t pbw_vt_add(pbw_ctx *C, int64_t gid, double x, double y, int32_t vseg) {
     C->xy[2 * v + 1] = y;
     C->vgid[v] = gid;
     C->vseg[v] = vseg;
-    if (2 * (uint32_t)C->nv >= C->vhcap) {
-        pbw_vt_rehash(C, C->vhcap ? 2 * C->vhcap : 2048);
-    } else {
-        uint32_t h = (uint32_t)mesh_hash64((uint64_t)gid) & (C->vhcap - 1);
-        while (C->vh[h] >= 0)
-            h = (h + 1) & (C->vhcap - 1);
-        C->vh[h] = v;
+    if (gid >= 0 && gid < C->ninit) {
+        if (v != gid) MESH_BUG("initial vertex %lld added as slot %d", (long long)gid, v);
+        return v;
     }
+    if ((gid >> 32) == (int64_t)C->rank + 1) {
+        int64_t n = gid & 0xffffffff;
+        while (C->nown <= n) {
+            MESH_GROW(C->own, C->nown, C->owncap);
+            C->own[C->nown++] = -1;
+        }
+        C->own[n] = v;
+        return v;
+    }
+    if (2 * (uint32_t)(C->nvh + 1) >= C->vhcap) pbw_vt_rehash(C, C->vhcap ? 2 * C->vhcap : 2048);
+    uint32_t h = (uint32_t)mesh_hash64((uint64_t)gid) & (C->vhcap - 1);
+    while (C->vh[h] >= 0)
+        h = (h + 1) & (C->vhcap - 1);
+    C->vh[h] = v;
+    C->nvh++;
     return v;
 }
 
