@@ -34,7 +34,7 @@ static int32_t tri(pbw_ctx *C, int32_t a, int32_t b, int32_t c) {
     int32_t v[3] = {a, b, c};
     for (int j = 0; j < 3; j++) {
         C->tv[3 * s + j] = v[j];
-        C->tn[3 * s + j] = NOREF;
+        pbw_tn_set(C, 3 * s + j, NOREF);
         pbw_con_set(C, 3 * (size_t)s + (size_t)j, -1, -1, 0);
     }
     C->nlive++;
@@ -416,7 +416,7 @@ static int32_t ghost_setup(pbw_ctx *C, int rank) {
     for (int i = 0; i < 4; i++)
         pbw_vt_add(C, i, xy[i][0], xy[i][1], -1);
     int32_t x = tri(C, 0, 1, 2);
-    C->tn[3 * x + 1] = mkref(1, 7);
+    pbw_tn_set(C, 3 * x + 1, mkref(1, 7));
     pbw_gx_set(C, 3 * (size_t)x + 1, 3);
     return x;
 }
@@ -497,11 +497,12 @@ START_TEST(test_tombstones) {
     pbw_vt_add(C, 4, 0.2, 0.2, -1);
     pbw_vt_add(C, 5, 0.1, 0.1, -1);
     int32_t t1 = tri(C, 1, 2, 4), t2 = tri(C, 1, 2, 5);
-    C->tn[3 * t1] = C->tn[3 * t2] = mkref(1, 7);
+    pbw_tn_set(C, 3 * (size_t)t1, mkref(1, 7));
+    pbw_tn_set(C, 3 * (size_t)t2, mkref(1, 7));
     ck_assert_int_eq(pbw_resolve_tomb(C, x, 2, 1), -1); /* not a tombstone */
-    C->tn[3 * x + 1] = mkref(0, t1);
+    pbw_tn_set(C, 3 * x + 1, mkref(0, t1));
     C->role[x] = ROLE_TOMB;
-    C->tn[3 * t1] = mkref(0, t2);
+    pbw_tn_set(C, 3 * t1, mkref(0, t2));
     C->role[t1] = ROLE_TOMB;
     C->nlive -= 2;
     ck_assert(!alive(C, x) && !alive(C, t1) && alive(C, t2));
@@ -543,20 +544,20 @@ START_TEST(test_link_update) {
     pbw_ctx *C = ctx_new(0, 0);
     ghost_setup(C, 2);
     int32_t n = tri(C, 2, 1, 3);
-    C->tn[3 * n] = mkref(1, 9);
+    pbw_tn_set(C, 3 * n, mkref(1, 9));
     pbw_link_msg l = {mkref(2, n), 1, 2, mkref(1, 11)};
     ck_assert_int_eq(pbw_apply_link(C, &l, 1), 1);
-    ck_assert(C->tn[3 * n] == mkref(1, 11));
+    ck_assert(TN(C, 3 * n) == mkref(1, 11));
     ck_assert_int_eq(GX(C, 3 * (size_t)n), -1);
     /* an older update arriving late still names a tombstone of rank 1 (forwarded there) */
     pbw_link_msg old = {mkref(2, n), 1, 2, mkref(1, 10)};
     ck_assert_int_eq(pbw_apply_link(C, &old, 1), 1);
     /* a newer state on this side wins: a local neighbour, a dead target, a missing edge */
-    C->tn[3 * n] = mkref(2, 0);
+    pbw_tn_set(C, 3 * n, mkref(2, 0));
     ck_assert_int_eq(pbw_apply_link(C, &l, 1), 0);
-    ck_assert(C->tn[3 * n] == mkref(2, 0));
+    ck_assert(TN(C, 3 * n) == mkref(2, 0));
     pbw_link_msg other = {mkref(2, n), 3, 2, mkref(1, 11)};
-    C->tn[3 * n] = mkref(1, 9);
+    pbw_tn_set(C, 3 * n, mkref(1, 9));
     ck_assert_int_eq(pbw_apply_link(C, &other, 1), 0);
     pbw_slot_free(C, n);
     ck_assert_int_eq(pbw_apply_link(C, &l, 1), 0);
@@ -590,7 +591,7 @@ START_TEST(test_ghost_commit) {
     ck_assert(alive(C, t));
     int j = pbw_find_edge(C, t, 1, 2);
     ck_assert_int_ge(j, 0);
-    ck_assert(C->tn[3 * t + j] == mkref(1, 7));
+    ck_assert(TN(C, 3 * t + j) == mkref(1, 7));
     ck_assert_int_eq(GX(C, 3 * (size_t)t + (size_t)j), 3);
     ck_assert_int_eq(C->nlbuf, 1);
     ck_assert(C->lbuf[0].target == mkref(1, 7) && C->lbuf[0].newref == mkref(0, t));
@@ -619,8 +620,8 @@ static int32_t fan_setup(pbw_ctx *C, int32_t outer[3]) {
         pbw_vt_add(C, 3 + j, mx + 1.5 * nx, my + 1.5 * ny, -1);
         int32_t o = tri(C, b, a, 3 + j);
         outer[j] = o;
-        C->tn[3 * t + j] = mkref(0, o);
-        C->tn[3 * o] = mkref(0, t);
+        pbw_tn_set(C, 3 * t + j, mkref(0, o));
+        pbw_tn_set(C, 3 * o, mkref(0, t));
         pbw_con_set(C, 3 * (size_t)o + 1, 10 + 2 * j, -1, 0);
         pbw_con_set(C, 3 * (size_t)o + 2, 11 + 2 * j, -1, 0);
     }
@@ -635,13 +636,13 @@ static void check_links(pbw_ctx *C) {
         const int32_t *v = C->tv + 3 * s;
         ck_assert(geom_orient2d(VX(C, v[0]), VX(C, v[1]), VX(C, v[2])) > 0);
         for (int j = 0; j < 3; j++) {
-            int64_t n = C->tn[3 * s + j];
+            int64_t n = TN(C, 3 * s + j);
             if (n == NOREF) continue;
             int32_t y = ref_idx(n);
             ck_assert(alive(C, y));
             int jy = pbw_find_edge(C, y, TG(C, s, (j + 1) % 3), TG(C, s, j));
             ck_assert_int_ge(jy, 0);
-            ck_assert(C->tn[3 * y + jy] == mkref(0, s));
+            ck_assert(TN(C, 3 * y + jy) == mkref(0, s));
         }
     }
 }
@@ -679,9 +680,9 @@ START_TEST(test_local_fast_path) {
         C = ctx_new(0, 0);
         t = fan_setup(C, outer);
         double q[2] = {1.0, 0.55};
-        if (k == 0) C->lk[t] = 0;                   /* a locked member */
-        if (k == 1) C->lk[outer[1]] = 0;            /* a locked halo */
-        if (k == 2) C->tn[3 * t + 2] = mkref(1, 9); /* a remote neighbour */
+        if (k == 0) C->lk[t] = 0;                          /* a locked member */
+        if (k == 1) C->lk[outer[1]] = 0;                   /* a locked halo */
+        if (k == 2) pbw_tn_set(C, 3 * t + 2, mkref(1, 9)); /* a remote neighbour */
         if (k == 3) { /* p encroaches a constrained edge of T (both sides) */
             pbw_con_set(C, 3 * (size_t)t, 0, -1, 0);
             pbw_con_set(C, 3 * (size_t)outer[0], 0, -1, 0);

@@ -154,7 +154,7 @@ static void expand_member(pbw_ctx *C, pbw_cav *c, int32_t hi, int32_t x, int64_t
     for (int j = 0; j < 3; j++) {
         size_t e = 3 * (size_t)x + (size_t)j;
         int32_t la = C->tv[e], lb = C->tv[3 * (size_t)x + (size_t)((j + 1) % 3)];
-        int64_t ga = C->vgid[la], gb = C->vgid[lb], n = C->tn[e];
+        int64_t ga = C->vgid[la], gb = C->vgid[lb], n = TN(C, e);
         if (n != NOREF && n == from) continue;
         int32_t g = ghost_side(C, n) ? GX(C, e) : -1; /* n = (lb, la, g), counter-clockwise */
         if (is_open_edge(c, ga, gb)) {
@@ -192,7 +192,7 @@ int pbw_process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial) {
             /* a stale link (its LINK is in flight): the triangle on that edge now */
             int32_t y = pbw_resolve_tomb(C, x, s.ga, s.gb);
             int jy = pbw_find_edge(C, y, s.gb, s.ga);
-            if (C->tn[3 * (size_t)y + (size_t)jy] != s.from)
+            if (TN(C, 3 * (size_t)y + (size_t)jy) != s.from)
                 MESH_BUG("triangle %d on a forwarded edge does not border its member", y);
             if (mkref(C->rank, y) == s.back) { /* the edge the expansion came in through */
                 c->nstk--;
@@ -304,7 +304,7 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
                      : -1;
         if (jm < 0 || (C->role[m] != ROLE_MEMBER && C->role[m] != ROLE_TOMB))
             MESH_BUG("ghost edge of the new triangle in slot %d has no member here", r->slot);
-        C->tn[3 * (size_t)m + (size_t)jm] = mkref(C->rank, r->slot);
+        pbw_tn_set(C, 3 * (size_t)m + (size_t)jm, mkref(C->rank, r->slot));
         C->role[m] = ROLE_TOMB;
     }
     for (int32_t i = 0; i < h->n; i++) {
@@ -334,7 +334,7 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
             if (v < 0) MESH_BUG("commit names unknown vertex %lld", (long long)r->g[j]);
             size_t e = 3 * (size_t)s + (size_t)j;
             C->tv[e] = v;
-            C->tn[e] = r->nb[j];
+            pbw_tn_set(C, e, r->nb[j]);
             pbw_gx_set(C, e,
                        r->nb[j] != NOREF && ref_rank(r->nb[j]) != C->rank && r->ap[j] >= 0
                            ? pbw_vt_find(C, r->ap[j])
@@ -357,7 +357,7 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
             int j = alive(C, x) ? pbw_find_edge(C, x, r->g[1], r->g[0]) : -1;
             if (j < 0 || C->lk[x] != hi || C->role[x] != ROLE_HALO)
                 MESH_BUG("halo %d of the new triangle is not the cavity's", x);
-            C->tn[3 * (size_t)x + (size_t)j] = mkref(C->rank, s);
+            pbw_tn_set(C, 3 * (size_t)x + (size_t)j, mkref(C->rank, s));
             pbw_gx_set(C, 3 * (size_t)x + (size_t)j, -1);
         }
     }
@@ -638,7 +638,7 @@ int32_t pbw_resolve_tomb(pbw_ctx *C, int32_t x, int64_t ga, int64_t gb) {
     if (x < 0 || x >= C->nt || C->role[x] != ROLE_TOMB) return -1;
     for (int32_t hops = 0; C->role[x] == ROLE_TOMB; hops++) {
         int j = pbw_find_edge(C, x, gb, ga);
-        int64_t f = j >= 0 ? C->tn[3 * (size_t)x + (size_t)j] : NOREF;
+        int64_t f = j >= 0 ? TN(C, 3 * (size_t)x + (size_t)j) : NOREF;
         if (f == NOREF || ref_rank(f) != C->rank || hops > C->nt)
             MESH_BUG("tombstone %d has no forward link across %lld->%lld", x, (long long)gb,
                      (long long)ga);
@@ -661,8 +661,8 @@ int pbw_apply_link(pbw_ctx *C, const pbw_link_msg *l, int src) {
     int j = pbw_find_edge(C, n, l->gb, l->ga);
     if (j < 0) return 0;
     size_t e = 3 * (size_t)n + (size_t)j;
-    if (C->tn[e] == NOREF || ref_rank(C->tn[e]) != src) return 0;
-    C->tn[e] = l->newref;
+    if (TN(C, e) == NOREF || ref_rank(TN(C, e)) != src) return 0;
+    pbw_tn_set(C, e, l->newref);
     pbw_gx_set(C, e, -1); /* src is the lower rank: this side never decides on a ghost of it */
     return 1;
 }

@@ -161,8 +161,9 @@ typedef struct pbw_ctx pbw_ctx;
 
 typedef struct pbw_lscratch pbw_lscratch; /* pbw_local.c's scratch arrays */
 
-typedef struct pbw_con { /* what few edges have: a constraint, a ghost */
-    int64_t k;           /* constraint: dyadic index (free record: the next free one) */
+typedef struct pbw_con { /* what few edges have: a remote neighbour, a constraint, a ghost */
+    int64_t nb;          /* the neighbour reference (any rank; free record: the next free one) */
+    int64_t k;           /* constraint: dyadic index */
     int32_t seg, lev; /* constraint: original segment (-1: none); dyadic level (-1: not dyadic) */
     int32_t gx, pad;  /* ghost: vertex slot of the remote neighbour's apex, or -1 */
 } pbw_con;
@@ -248,10 +249,11 @@ struct pbw_ctx {
     /* triangles */
     int32_t nt, tcap, nlive;
     int32_t *tv;  /* 3 per slot; tv[3s] < 0: dead */
-    int64_t *tn;  /* 3 per slot */
-    int32_t *ce;  /* 3 per slot: the edge's constraint record in con, or -1 (unconstrained) */
-    pbw_con *con; /* constraint records: few edges are constrained (a side table: 12 bytes per
-                   * triangle instead of 48 for seg, level and index on every edge) */
+    int32_t *tn;  /* 3 per slot, the edge's neighbour: >= 0 a slot of this rank, -1 none, <= -2
+                   * record -2 - tn in con (a remote neighbour, a constraint or a ghost; use TN,
+                   * CS, CL, CK, GX and pbw_tn_set, pbw_con_set, pbw_gx_set) */
+    pbw_con *con; /* edge records: few edges need one (a side table: 4 bytes per edge instead
+                   * of 8 for a (rank, slot) reference and 28 for segment, level, index, ghost) */
     int32_t ncon, concap, confree; /* records used; capacity; free list head (-1: none) */
     int32_t *lk;                   /* hold index or -1 */
     uint8_t *role;
@@ -311,22 +313,33 @@ static inline const double *VX(pbw_ctx *C, int32_t v) {
     return C->xy + 2 * (size_t)v;
 }
 
+/* Edge e's record in con, or -1. */
+static inline int32_t REC(const pbw_ctx *C, size_t e) {
+    return C->tn[e] <= -2 ? -2 - C->tn[e] : -1;
+}
+
+/* Edge e's neighbour: a (rank, slot) reference, or NOREF. */
+static inline int64_t TN(const pbw_ctx *C, size_t e) {
+    int32_t v = C->tn[e];
+    return v >= 0 ? mkref(C->rank, v) : v == -1 ? NOREF : C->con[-2 - v].nb;
+}
+
 /* Edge e's constraint: its segment (-1: none), dyadic level and index. */
 static inline int32_t CS(const pbw_ctx *C, size_t e) {
-    return C->ce[e] < 0 ? -1 : C->con[C->ce[e]].seg;
+    return C->tn[e] <= -2 ? C->con[-2 - C->tn[e]].seg : -1;
 }
 
 static inline int32_t CL(const pbw_ctx *C, size_t e) {
-    return C->ce[e] < 0 ? -1 : C->con[C->ce[e]].lev;
+    return C->tn[e] <= -2 ? C->con[-2 - C->tn[e]].lev : -1;
 }
 
 static inline int64_t CK(const pbw_ctx *C, size_t e) {
-    return C->ce[e] < 0 ? 0 : C->con[C->ce[e]].k;
+    return C->tn[e] <= -2 ? C->con[-2 - C->tn[e]].k : 0;
 }
 
 /* Edge e's ghost: the vertex slot of its remote neighbour's apex, or -1. */
 static inline int32_t GX(const pbw_ctx *C, size_t e) {
-    return C->ce[e] < 0 ? -1 : C->con[C->ce[e]].gx;
+    return C->tn[e] <= -2 ? C->con[-2 - C->tn[e]].gx : -1;
 }
 
 static inline int64_t TG(pbw_ctx *C, int32_t t, int j) { /* global id of vertex j of slot t */
@@ -377,8 +390,10 @@ int32_t pbw_vt_add(pbw_ctx *C, int64_t gid, double x, double y, int32_t vseg);
 /* A free triangle slot (dead, unlocked, role none; its arrays grown as needed). */
 int32_t pbw_slot_alloc(pbw_ctx *C);
 
-/* Sets edge e's constraint (seg < 0: none) / its ghost apex (gx < 0: none); a record is made
- * when needed and released when it holds neither. */
+/* Sets edge e's neighbour (a reference or NOREF) / its constraint (seg < 0: none) / its ghost
+ * apex (gx < 0: none); a record is made when needed (a remote neighbour, a constraint, a ghost)
+ * and released when it holds none of them. */
+void pbw_tn_set(pbw_ctx *C, size_t e, int64_t ref);
 void pbw_con_set(pbw_ctx *C, size_t e, int32_t seg, int32_t lev, int64_t k);
 void pbw_gx_set(pbw_ctx *C, size_t e, int32_t gx);
 
@@ -561,8 +576,10 @@ void pbw_count_unmet(pbw_ctx *C);
  * interface check) must then fail every rank; tests/t_pbw.sh shows it does. */
 void pbw_test_fault(pbw_ctx *C);
 
-/* This rank's triangles as a mesh_flat (local numbering of the vertices they use); *topen (topen
- * may be NULL): their open edges (pbw_result.topen). */
+/* The end: this rank's triangles as a mesh_flat (local numbering of the vertices they use); *topen
+ * (topen may be NULL): their open edges (pbw_result.topen).  It dismantles the store on the way
+ * (the links, constraints, locks and queue are freed before the copy is made): only pbw_mesh_bytes
+ * and pbw_ctx_free may follow. */
 int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen);
 
 /* Frees C and everything it owns. */

@@ -16,8 +16,8 @@
  * cavity encloses a vertex), a boundary that is not star-shaped, or p encroaching a
  * subsegment (then the subsegments are split).  Nothing is written before that decision, and
  * the search's member marks are cleared, so falling back costs only the search.
- * Invariant kept: a constraint edge's record (pbw_con) moves with the edge to the new
- * triangle on it; a member's other edges are interior and hold no record.
+ * Invariant kept: a boundary edge's link (with its record, pbw_con, if it is constrained) moves
+ * with the edge to the new triangle on it; a member's other edges are interior and hold none.
  */
 #include "pbw/pbw_impl.h"
 
@@ -67,7 +67,7 @@ static int collect(pbw_ctx *C, pbw_lscratch *S, const double p[2], int32_t t) {
         int32_t x = S->stk[--S->nstk];
         for (int j = 0; j < 3; j++) {
             size_t e = 3 * (size_t)x + (size_t)j;
-            int64_t n = C->tn[e];
+            int64_t n = TN(C, e);
             int constrained = CS(C, e) >= 0;
             int32_t y = -1;
             if (n != NOREF) {
@@ -146,13 +146,13 @@ int pbw_local_insert(pbw_ctx *C, const double p[2], int32_t t) {
         lbnd *bd = &S->bd[i];
         size_t e = 3 * (size_t)bd->x + (size_t)bd->j;
         bd->x = C->treg ? C->treg[bd->x] : -1; /* now: the region */
-        bd->j = C->ce[e];                      /* now: the record */
-        C->ce[e] = -1;
+        bd->j = C->tn[e]; /* now: the raw link (the outside slot, -1, or its record) */
+        C->tn[e] = -1;
     }
     for (int32_t i = 0; i < nm; i++)
         for (int j = 0; j < 3; j++) {
             size_t e = 3 * (size_t)S->mem[i] + (size_t)j;
-            if (C->ce[e] < 0) continue;
+            if (REC(C, e) < 0) continue;
             pbw_con_set(C, e, -1, -1, 0);
             pbw_gx_set(C, e, -1);
         }
@@ -167,25 +167,23 @@ int pbw_local_insert(pbw_ctx *C, const double p[2], int32_t t) {
         C->tv[e] = bd->a;
         C->tv[e + 1] = bd->b;
         C->tv[e + 2] = pv;
-        C->tn[e] = bd->out;
-        C->ce[e] = bd->j;
-        C->ce[e + 1] = C->ce[e + 2] = -1;
+        C->tn[e] = bd->j; /* the edge keeps its link and record (con[].nb is still out) */
         C->lk[slot[i]] = -1;
         C->role[slot[i]] = ROLE_NONE;
         if (C->treg) C->treg[slot[i]] = bd->x;
     }
     for (int32_t i = 0; i < nb; i++) {
         const lbnd *bd = &S->bd[i];
-        int32_t k = S->vfan[bd->b]; /* the new triangle (b, c, p): across b->p */
-        C->tn[3 * (size_t)slot[i] + 1] = mkref(C->rank, slot[k]);
-        C->tn[3 * (size_t)slot[k] + 2] = mkref(C->rank, slot[i]);
+        int32_t k = S->vfan[bd->b];               /* the new triangle (b, c, p): across b->p */
+        C->tn[3 * (size_t)slot[i] + 1] = slot[k]; /* interior edges: plain local links */
+        C->tn[3 * (size_t)slot[k] + 2] = slot[i];
         if (bd->out != NOREF) {
             int32_t y = ref_idx(bd->out);
             int32_t *ty = C->tv + 3 * (size_t)y;
             int jy = ty[0] == bd->b ? 0 : ty[1] == bd->b ? 1 : 2;
             if (ty[jy] != bd->b || ty[(jy + 1) % 3] != bd->a)
                 MESH_BUG("triangle %d across a cavity edge lacks the edge", y);
-            C->tn[3 * (size_t)y + (size_t)jy] = mkref(C->rank, slot[i]);
+            pbw_tn_set(C, 3 * (size_t)y + (size_t)jy, mkref(C->rank, slot[i]));
         }
     }
     for (int32_t i = 0; i < nb; i++)

@@ -177,7 +177,7 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
             size_t f = 3 * (size_t)s + (size_t)j;
             C->tv[f] = m0.tv[e];
             int32_t nb = m0.tn[e];
-            C->tn[f] = nb >= 0 ? mkref(own[nb / 3], lidx[nb / 3]) : NOREF;
+            pbw_tn_set(C, f, nb >= 0 ? mkref(own[nb / 3], lidx[nb / 3]) : NOREF);
             /* ghost: the remote neighbour's apex (input and initial vertices: id = slot) */
             if (nb >= 0 && own[nb / 3] != C->rank)
                 pbw_gx_set(C, f, m0.tv[3 * (nb / 3) + (nb % 3 + 2) % 3]);
@@ -206,7 +206,7 @@ void pbw_count_unmet(pbw_ctx *C) {
     for (int32_t t = 0; t < C->nt; t++) {
         if (!alive(C, t)) continue;
         for (int j = 0; j < 3; j++) { /* the rank boundary (a statistic: its length) */
-            int64_t n = C->tn[3 * (size_t)t + (size_t)j];
+            int64_t n = TN(C, 3 * (size_t)t + (size_t)j);
             if (n == NOREF || ref_rank(n) == C->rank) continue;
             C->res.iface_edges++;
             C->res.iface_len +=
@@ -237,7 +237,7 @@ void pbw_test_fault(pbw_ctx *C) {
     for (int32_t t = 0; t < C->nt; t++) {
         if (!alive(C, t) || C->lk[t] >= 0) continue;
         for (int j = 0; j < 3; j++) {
-            int64_t n = C->tn[3 * (size_t)t + (size_t)j];
+            int64_t n = TN(C, 3 * (size_t)t + (size_t)j);
             if (n != NOREF && ref_rank(n) != C->rank) {
                 pbw_slot_free(C, t);
                 C->nlive--;
@@ -258,16 +258,42 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
     int32_t *map = mesh_xrealloc(NULL, ((size_t)C->nv + 1) * sizeof(int32_t), 1);
     for (int32_t v = 0; v < C->nv; v++)
         map[v] = -1;
-    int32_t nv = 0, ntri = 0, nseg = 0;
+    /* pass 1, on the whole store: the vertices used, the open edges, the subsegments; a slot
+     * not written is marked dead (tv[3t] = -1) for pass 2 */
+    int32_t nv = 0, ntri = 0, nseg = 0, segcap = 0;
+    int32_t *sv = NULL; /* 3 per subsegment: vertex slots a, b and the segment */
+    uint8_t *open = topen ? mesh_xrealloc(NULL, (size_t)C->nlive + 1, 1) : NULL;
     for (int32_t t = 0; t < C->nt; t++) {
-        if (!written(C, t)) continue;
-        ntri++;
-        for (int j = 0; j < 3; j++) {
-            int32_t v = C->tv[3 * (size_t)t + (size_t)j];
-            if (map[v] < 0) map[v] = nv++;
-            if (CS(C, 3 * (size_t)t + (size_t)j) >= 0) nseg++;
+        if (!written(C, t)) {
+            C->tv[3 * (size_t)t] = -1;
+            continue;
         }
+        if (open) {
+            if (ntri > C->nlive) MESH_BUG("more triangles written than live");
+            open[ntri] = 0;
+        }
+        for (int j = 0; j < 3; j++) {
+            size_t e = 3 * (size_t)t + (size_t)j;
+            int32_t v = C->tv[e];
+            if (map[v] < 0) map[v] = nv++;
+            int64_t n = TN(C, e); /* open: no neighbour written here (boundary, another rank) */
+            if (open && !(n != NOREF && ref_rank(n) == C->rank && written(C, ref_idx(n))))
+                open[ntri] |= (uint8_t)(1u << j);
+            if (CS(C, e) >= 0) {
+                MESH_GROW(sv, 3 * (nseg + 1), segcap);
+                sv[3 * nseg] = v;
+                sv[3 * nseg + 1] = C->tv[3 * (size_t)t + (size_t)((j + 1) % 3)];
+                sv[3 * nseg + 2] = CS(C, e);
+                nseg++;
+            }
+        }
+        ntri++;
     }
+    /* what only refinement needed goes before the flat copy is made (a lower peak) */
+    free(C->tn), free(C->con), free(C->lk), free(C->role), free(C->pool);
+    free(C->fre);
+    C->tn = NULL, C->con = NULL, C->lk = NULL, C->role = NULL, C->pool = NULL;
+    C->fre = NULL;
     f->nverts = nv;
     f->xy = mesh_xrealloc(NULL, 2 * ((size_t)nv + 1) * sizeof(double), 1);
     f->vmarker = mesh_xrealloc(NULL, ((size_t)nv + 1) * sizeof(int32_t), 1);
@@ -281,33 +307,27 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
                         : C->vseg[v] >= 0         ? C->smarker[C->vseg[v]]
                                                   : 0;
     }
-    f->ntris = ntri;
-    f->tri = mesh_xrealloc(NULL, 3 * ((size_t)ntri + 1) * sizeof(int32_t), 1);
-    f->trank = mesh_xrealloc(NULL, ((size_t)ntri + 1) * sizeof(int32_t), 1);
-    if (C->treg) f->tattr = mesh_xrealloc(NULL, ((size_t)ntri + 1) * sizeof(double), 1);
     f->nsegs = nseg;
     f->seg = mesh_xrealloc(NULL, 2 * ((size_t)nseg + 1) * sizeof(int32_t), 1);
     f->smarker = mesh_xrealloc(NULL, ((size_t)nseg + 1) * sizeof(int32_t), 1);
     f->sinterface = mesh_xrealloc(NULL, ((size_t)nseg + 1) * sizeof(int32_t), 1);
-    uint8_t *open = topen ? mesh_xrealloc(NULL, (size_t)ntri + 1, 1) : NULL;
-    ntri = nseg = 0;
+    for (int32_t i = 0; i < nseg; i++) {
+        f->seg[2 * (size_t)i] = map[sv[3 * i]];
+        f->seg[2 * (size_t)i + 1] = map[sv[3 * i + 1]];
+        f->smarker[i] = C->smarker[sv[3 * i + 2]];
+        f->sinterface[i] = 0;
+    }
+    free(sv);
+    /* pass 2: the triangles, in the same (slot) order as the open mask */
+    f->ntris = ntri;
+    f->tri = mesh_xrealloc(NULL, 3 * ((size_t)ntri + 1) * sizeof(int32_t), 1);
+    f->trank = mesh_xrealloc(NULL, ((size_t)ntri + 1) * sizeof(int32_t), 1);
+    if (C->treg) f->tattr = mesh_xrealloc(NULL, ((size_t)ntri + 1) * sizeof(double), 1);
+    ntri = 0;
     for (int32_t t = 0; t < C->nt; t++) {
-        if (!written(C, t)) continue;
-        if (open) open[ntri] = 0;
-        for (int j = 0; j < 3; j++) {
-            size_t e = 3 * (size_t)t + (size_t)j;
-            f->tri[3 * (size_t)ntri + (size_t)j] = map[C->tv[e]];
-            int64_t n = C->tn[e]; /* open: no neighbour written here (boundary, another rank) */
-            if (open && !(n != NOREF && ref_rank(n) == C->rank && written(C, ref_idx(n))))
-                open[ntri] |= (uint8_t)(1u << j);
-            if (CS(C, e) >= 0) {
-                f->seg[2 * (size_t)nseg] = map[C->tv[e]];
-                f->seg[2 * (size_t)nseg + 1] = map[C->tv[3 * (size_t)t + (size_t)((j + 1) % 3)]];
-                f->smarker[nseg] = C->smarker[CS(C, e)];
-                f->sinterface[nseg] = 0;
-                nseg++;
-            }
-        }
+        if (C->tv[3 * (size_t)t] < 0) continue;
+        for (int j = 0; j < 3; j++)
+            f->tri[3 * (size_t)ntri + (size_t)j] = map[C->tv[3 * (size_t)t + (size_t)j]];
         f->trank[ntri] = C->rank;
         if (f->tattr) f->tattr[ntri] = C->treg[t] >= 0 ? C->reg_attr[C->treg[t]] : 0;
         ntri++;
@@ -319,7 +339,7 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
 
 void pbw_ctx_free(pbw_ctx *C) {
     free(C->xy), free(C->vgid), free(C->vseg), free(C->vh), free(C->own);
-    free(C->tv), free(C->tn), free(C->lbuf), free(C->ce), free(C->con), free(C->lk), free(C->role);
+    free(C->tv), free(C->tn), free(C->lbuf), free(C->con), free(C->lk), free(C->role);
     free(C->fre);
     free(C->treg), free(C->reg_attr), free(C->reg_area);
     free(C->seg), free(C->pieces), free(C->smarker), free(C->in_vmarker), free(C->inc_off),
@@ -343,7 +363,7 @@ void pbw_ctx_free(pbw_ctx *C) {
 
 size_t pbw_mesh_bytes(pbw_ctx *C) {
     size_t c = (size_t)C->tcap;
-    size_t b = c * (3 * (4 + 8 + 4) + 4 + 1 + (C->treg ? 4 : 0)); /* tv tn ce, lk role */
+    size_t b = c * (3 * (4 + 4) + 4 + 1 + (C->treg ? 4 : 0)); /* tv tn, lk role */
     b += (size_t)C->concap * sizeof(pbw_con);
     b += (size_t)C->vcap * (16 + 8 + 4) + (size_t)C->vhcap * 4 + (size_t)C->frecap * 4;
     b += (size_t)C->owncap * sizeof(int32_t);

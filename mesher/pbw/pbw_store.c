@@ -94,8 +94,7 @@ int32_t pbw_slot_alloc(pbw_ctx *C) {
             C->tcap = C->tcap ? 2 * C->tcap : 1024;
             size_t c = (size_t)C->tcap;
             C->tv = mesh_xrealloc(C->tv, 3 * c * sizeof(int32_t), 1);
-            C->tn = mesh_xrealloc(C->tn, 3 * c * sizeof(int64_t), 1);
-            C->ce = mesh_xrealloc(C->ce, 3 * c * sizeof(int32_t), 1);
+            C->tn = mesh_xrealloc(C->tn, 3 * c * sizeof(int32_t), 1);
             C->lk = mesh_xrealloc(C->lk, c * sizeof(int32_t), 1);
             C->role = mesh_xrealloc(C->role, c, 1);
             if (C->treg) C->treg = mesh_xrealloc(C->treg, c * sizeof(int32_t), 1);
@@ -104,41 +103,66 @@ int32_t pbw_slot_alloc(pbw_ctx *C) {
     }
     C->tv[3 * (size_t)s] = -1;
     for (int j = 0; j < 3; j++)
-        C->ce[3 * (size_t)s + (size_t)j] = -1;
+        C->tn[3 * (size_t)s + (size_t)j] = -1;
     C->lk[s] = -1;
     C->role[s] = ROLE_NONE;
     if (C->treg) C->treg[s] = -1;
     return s;
 }
 
-/* Edge e's record, made (no constraint, no ghost) if it has none. */
+/* Edge e's record, made (holding its neighbour; no constraint, no ghost) if it has none. */
 static int32_t rec_make(pbw_ctx *C, size_t e) {
-    int32_t i = C->ce[e];
+    int32_t i = REC(C, e);
     if (i >= 0) return i;
+    int64_t nb = TN(C, e);
     if (C->confree >= 0) {
         i = C->confree;
-        C->confree = (int32_t)C->con[i].k;
+        C->confree = (int32_t)C->con[i].nb;
     } else {
         MESH_GROW(C->con, C->ncon, C->concap);
         i = C->ncon++;
     }
-    C->con[i] = (pbw_con){0, -1, -1, -1, 0};
-    C->ce[e] = i;
+    C->con[i] = (pbw_con){nb, 0, -1, -1, -1, 0};
+    C->tn[e] = -2 - i;
     return i;
 }
 
-/* Releases edge e's record if it holds nothing any more. */
-static void rec_trim(pbw_ctx *C, size_t e) {
-    int32_t i = C->ce[e];
-    if (i < 0 || C->con[i].seg >= 0 || C->con[i].gx >= 0) return;
-    C->con[i].k = C->confree;
+/* Frees edge e's record (its neighbour goes back into tn if it is local or none). */
+static void rec_free(pbw_ctx *C, size_t e, int32_t i) {
+    int64_t nb = C->con[i].nb;
+    C->con[i].nb = C->confree;
     C->confree = i;
-    C->ce[e] = -1;
+    C->tn[e] = nb == NOREF ? -1 : ref_idx(nb);
+}
+
+/* Releases edge e's record if it holds nothing a plain tn cannot. */
+static void rec_trim(pbw_ctx *C, size_t e) {
+    int32_t i = REC(C, e);
+    if (i < 0 || C->con[i].seg >= 0 || C->con[i].gx >= 0) return;
+    int64_t nb = C->con[i].nb;
+    if (nb != NOREF && ref_rank(nb) != C->rank) return;
+    rec_free(C, e, i);
+}
+
+void pbw_tn_set(pbw_ctx *C, size_t e, int64_t ref) {
+    int32_t i = REC(C, e);
+    if (i >= 0) {
+        C->con[i].nb = ref;
+        rec_trim(C, e);
+    } else if (ref == NOREF) {
+        C->tn[e] = -1;
+    } else if (ref_rank(ref) == C->rank) {
+        C->tn[e] = ref_idx(ref);
+    } else {
+        C->tn[e] = -1;
+        int32_t k = rec_make(C, e); /* first: it may move C->con */
+        C->con[k].nb = ref;
+    }
 }
 
 void pbw_con_set(pbw_ctx *C, size_t e, int32_t seg, int32_t lev, int64_t k) {
     if (seg < 0) {
-        if (C->ce[e] >= 0) C->con[C->ce[e]].seg = -1;
+        if (REC(C, e) >= 0) C->con[REC(C, e)].seg = -1;
         rec_trim(C, e);
         return;
     }
@@ -151,7 +175,7 @@ void pbw_con_set(pbw_ctx *C, size_t e, int32_t seg, int32_t lev, int64_t k) {
 
 void pbw_gx_set(pbw_ctx *C, size_t e, int32_t gx) {
     if (gx < 0) {
-        if (C->ce[e] >= 0) C->con[C->ce[e]].gx = -1;
+        if (REC(C, e) >= 0) C->con[REC(C, e)].gx = -1;
         rec_trim(C, e);
         return;
     }
@@ -161,8 +185,9 @@ void pbw_gx_set(pbw_ctx *C, size_t e, int32_t gx) {
 
 void pbw_slot_free(pbw_ctx *C, int32_t s) {
     for (int j = 0; j < 3; j++) {
-        pbw_con_set(C, 3 * (size_t)s + (size_t)j, -1, -1, 0);
-        pbw_gx_set(C, 3 * (size_t)s + (size_t)j, -1);
+        size_t e = 3 * (size_t)s + (size_t)j;
+        if (REC(C, e) >= 0) rec_free(C, e, REC(C, e));
+        C->tn[e] = -1;
     }
     C->tv[3 * (size_t)s] = -1;
     C->lk[s] = -1;

@@ -163,7 +163,7 @@ static void process_item(pbw_ctx *C, pbw_item *it) {
         /* on the domain's boundary: the area the rounded split points may move (rules.h;
          * spent when the split starts: a retried split spends again, which only refuses
          * sooner) */
-        if (sp == 0 && C->tn[e] == NOREF &&
+        if (sp == 0 && TN(C, e) == NOREF &&
             mesh_rules_drift_spend(VX(C, la), VX(C, lb), p,
                                    VX(C, C->tv[3 * (size_t)t + (size_t)((j + 2) % 3)]),
                                    C->area_budget, &C->area_spent))
