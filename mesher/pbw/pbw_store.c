@@ -1,11 +1,14 @@
 /* pbw_store.c: PBW's distributed mesh store on one rank -- the vertex table (global id ->
- * slot, open addressing), the triangle slots (3 vertex slots, 3 (rank, slot) neighbour
- * references, the ghost apex of a remote neighbour and the constraint names of each edge, a
- * lock and a role; a tombstone slot is never reused), and the bad-triangle
- * queue with the quality questions asked of the shared rules (seq/rules.h: what is bad, the
- * Steiner point, the forced small angle, the length floor).  Invariants: a slot is dead iff
- * tv[3s] < 0; every vertex a live slot uses is in the table, with the same coordinates on
- * every rank; input vertex i is slot i.  Part of TR-97-17 section 2 (pbw.c). */
+ * slot: direct for the initial vertices and this rank's own, open addressing for the vertices
+ * of other ranks), the triangle slots (3 vertex slots and 3 int32 neighbour links each, a lock
+ * and a role; a tombstone slot is never reused), the edge records (a side table for the few
+ * edges that need more than a local link: a remote neighbour's (rank, slot) reference, the
+ * constraint names, the ghost apex of a remote neighbour), and the bad-triangle queue with the
+ * quality questions asked of the shared rules (seq/rules.h: what is bad, the Steiner point,
+ * the forced small angle, the length floor).  Invariants: a slot is dead iff tv[3s] < 0; every
+ * vertex a live slot uses is in the table, with the same coordinates on every rank; initial
+ * vertex i (input vertices first) is slot i; an edge has a record iff its neighbour is remote,
+ * it is constrained or it keeps a ghost.  Part of TR-97-17 section 2 (pbw.c). */
 #include "pbw/pbw_impl.h"
 
 #include <math.h>
