@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # ./pbw end to end (the Parallel Meshing Algorithm, parallel Bowyer-Watson with remote cavity
 # expansion, locks and undo): every domain in data/ at 1, 2, 3, 4 and 8 ranks and -q 20.7, every
-# domain at 8 ranks and -q 30, perturbed delivery (seeds 1 2 3) at 8 ranks on two domains,
-# --phases, bad input and usage.  Each run must exit 0, pass ./pbw --check and ./meshcheck with
+# domain at 8 ranks and -q 30, perturbed delivery (seeds 1 2 3) at 8 ranks on two domains and
+# at 2 and 4 ranks, --phases (which must postpone the cross-rank cavities), the general path
+# alone (PBW_NO_FAST_PATH=1), bad input and usage.  Each run must exit 0, pass ./pbw --check and ./meshcheck with
 # the same bounds and with every non-input edge locally Delaunay (--interfaces-delaunay: the
 # merged mesh of one distributed Delaunay mesh has no artificial constraints), end with the
 # stats line, and have within 3% of ./mesh's triangle count.  Then what issue 10 asks of every
@@ -103,6 +104,11 @@ for d in $PERT_DOMAINS; do
     for s in $SEEDS; do run 8 "$d" 20.7 --perturb "$s"; done
 done
 run 8 lshape 30 --perturb 7
+# and at 2 and 4 ranks
+for s in $SEEDS; do
+    run 2 lake 20.7 --perturb "$s"
+    run 4 wedge 20.7 --perturb "$s"
+done
 # ghosts (issue 13): a cavity whose remote neighbours are not in conflict is decided on their
 # ghosts at the lower rank and stays local; the one-way link updates come from several ranks
 out=$(timeout 120 $MPIRUN -np 8 "$BIN/pbw" -NEP -q 20.7 -a "${AREA[lake]}" --check --stats \
@@ -113,8 +119,12 @@ echo "ghosts: link updates sent by $nl of 8 ranks; $(grep -o 'ghosted=[0-9]*' <<
 [ "$nl" -ge 2 ] || fail "link updates sent by $nl ranks (want more than one)"
 grep -Eq '^rsr: .* link=[1-9][0-9]* ' <<<"$out" || fail "no link RSR in the breakdown"
 grep -Eq '^cavities: .* ghosted=[1-9][0-9]* ' <<<"$out" || fail "no cavity kept local by ghosts"
-# the data-parallel variant: local cavities first, then the rest
+# the data-parallel variant: local cavities first, then the rest (phase 1 postpones the
+# cavities that reach another rank)
 run 4 lake 20.7 --phases
+out=$(timeout 120 $MPIRUN -np 4 "$BIN/pbw" -NEP -q 20.7 -a "${AREA[lake]}" --phases --stats \
+    data/lake.poly 2>&1) || fail "./pbw --phases: $(tail -n 5 <<<"$out")"
+grep -Eq '^cavities: .* postponed=[1-9][0-9]* ' <<<"$out" || fail "--phases postponed nothing"
 run 8 channel 20.7 --phases --perturb 2
 # imbalanced decomposition
 run 4 holes 20.7 --imbalance 2
