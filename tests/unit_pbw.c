@@ -85,7 +85,7 @@ START_TEST(test_slots_reuse) {
     ck_assert(!alive(C, s[1]));
     ck_assert(!alive(C, -1) && !alive(C, 99));
     ck_assert_int_eq(pbw_slot_alloc(C), s[1]); /* the free list first */
-    ck_assert_int_eq(C->lk[s[1]], -1);
+    ck_assert_int_eq(LK(C, s[1]), -1);
     ck_assert_int_eq(C->role[s[1]], ROLE_NONE);
     ck_assert_int_eq(pbw_slot_alloc(C), 3);
     pbw_ctx_free(C);
@@ -217,7 +217,7 @@ START_TEST(test_holds) {
     int32_t r = pbw_slot_alloc(C);
     pbw_lock_slot(C, r, hi, ROLE_RES);
     ck_assert_int_eq(C->hd[hi].n, 3);
-    ck_assert_int_eq(C->lk[a], hi);
+    ck_assert_int_eq(LK(C, a), hi);
     /* an item deferred on the hold comes back when a distributed hold ends */
     pbw_item it;
     memset(&it, 0, sizeof it);
@@ -227,8 +227,8 @@ START_TEST(test_holds) {
     ck_assert(pbw_iv_empty(&C->retryq));
     pbw_release_local(C, hi, 0, 1);
     ck_assert_int_eq(pbw_hold_find(C, 5), -1);
-    ck_assert_int_eq(C->lk[a], -1);
-    ck_assert_int_eq(C->lk[b], -1);
+    ck_assert_int_eq(LK(C, a), -1);
+    ck_assert_int_eq(LK(C, b), -1);
     ck_assert(alive(C, a) && alive(C, b));
     ck_assert(!alive(C, r)); /* the reserved slot went back to the free list */
     ck_assert_int_eq(pbw_slot_alloc(C), r);
@@ -519,8 +519,8 @@ START_TEST(test_tombstones) {
     int32_t hi = pbw_hold_new(C, c->h.key, 1, 1);
     pbw_push_seed(C, c, mkref(0, x), mkref(1, 7), NOREF, 2, 1, SEED_HALO);
     ck_assert_int_eq(pbw_process(C, c, hi, 0), PR_DONE);
-    ck_assert_int_eq(C->lk[t2], hi);
-    ck_assert_int_eq(C->lk[x], -1);
+    ck_assert_int_eq(LK(C, t2), hi);
+    ck_assert_int_eq(LK(C, x), -1);
     ck_assert_int_eq(c->nb, 1);
     ck_assert(c->b[0].out == mkref(0, t2) && c->b[0].ga == 2 && c->b[0].gb == 1);
     pbw_release_local(C, hi, 0, 0);
@@ -532,7 +532,7 @@ START_TEST(test_tombstones) {
     pbw_push_seed(C, c, mkref(0, x), mkref(1, 7), mkref(0, t2), 2, 1, SEED_NORMAL);
     ck_assert_int_eq(pbw_process(C, c, hi, 0), PR_DONE);
     ck_assert_int_eq(c->nb, 0);
-    ck_assert_int_eq(C->lk[t2], -1);
+    ck_assert_int_eq(LK(C, t2), -1);
     pbw_release_local(C, hi, 0, 0);
     pbw_cav_free(c);
     pbw_ctx_free(C);
@@ -586,7 +586,7 @@ START_TEST(test_ghost_commit) {
     ck_assert_int_eq(C->res.cavities_local, 1);
     ck_assert_int_eq(C->res.ghosted, 1);
     ck_assert_int_eq(C->nlive, 3);
-    ck_assert(!alive(C, x) && C->role[x] == ROLE_TOMB && C->lk[x] == -1);
+    ck_assert(!alive(C, x) && C->role[x] == ROLE_TOMB && LK(C, x) == -1);
     int32_t t = pbw_resolve_tomb(C, x, 2, 1);
     ck_assert(alive(C, t));
     int j = pbw_find_edge(C, t, 1, 2);
@@ -672,7 +672,7 @@ START_TEST(test_local_fast_path) {
     ck_assert_int_eq(on_p, 3);
     ck_assert_int_eq(cons, 6); /* the outer triangles' boundary edges, untouched */
     for (int j = 0; j < 3; j++)
-        ck_assert(C->role[outer[j]] == ROLE_NONE && C->lk[outer[j]] == -1);
+        ck_assert(C->role[outer[j]] == ROLE_NONE && LK(C, outer[j]) == -1);
     pbw_ctx_free(C);
 
     /* what the general path must decide: nothing is written, no mark is left */
@@ -680,8 +680,14 @@ START_TEST(test_local_fast_path) {
         C = ctx_new(0, 0);
         t = fan_setup(C, outer);
         double q[2] = {1.0, 0.55};
-        if (k == 0) C->lk[t] = 0;                          /* a locked member */
-        if (k == 1) C->lk[outer[1]] = 0;                   /* a locked halo */
+        if (k == 0) { /* a locked member */
+            pbw_lk_set(C, t, 0);
+            C->role[t] = ROLE_MEMBER;
+        }
+        if (k == 1) { /* a locked halo */
+            pbw_lk_set(C, outer[1], 0);
+            C->role[outer[1]] = ROLE_HALO;
+        }
         if (k == 2) pbw_tn_set(C, 3 * t + 2, mkref(1, 9)); /* a remote neighbour */
         if (k == 3) { /* p encroaches a constrained edge of T (both sides) */
             pbw_con_set(C, 3 * (size_t)t, 0, -1, 0);
@@ -694,10 +700,42 @@ START_TEST(test_local_fast_path) {
         ck_assert_int_eq(C->nt, nt);
         ck_assert_int_eq(C->nlive, 4);
         for (int32_t s = 0; s < C->nt; s++)
-            ck_assert(C->role[s] == ROLE_NONE);
+            ck_assert(C->role[s] == (s == t && k == 0          ? ROLE_MEMBER
+                                     : s == outer[1] && k == 1 ? ROLE_HALO
+                                                               : ROLE_NONE));
         ck_assert_int_eq(C->res.inserted, 0);
         pbw_ctx_free(C);
     }
+}
+END_TEST
+
+/* The lock table (slot -> hold, open addressing with backward-shift deletion) agrees with a
+ * plain array through growth and interleaved deletions. */
+START_TEST(test_lock_table) {
+    pbw_ctx *C = ctx_new(0, 0);
+    enum { N = 5000 };
+    int32_t *ref = mesh_xcalloc(N, sizeof(int32_t));
+    for (int i = 0; i < N; i++)
+        ref[i] = -1;
+    uint64_t x = 12345;
+    for (int step = 0; step < 40000; step++) {
+        x = x * 6364136223846793005ULL + 1442695040888963407ULL;
+        int32_t s = (int32_t)((x >> 33) % N);
+        int32_t hi = (x >> 20) % 3 == 0 ? -1 : (int32_t)((x >> 40) % 97);
+        pbw_lk_set(C, s, hi);
+        ref[s] = hi;
+        if (step % 1000 == 0)
+            for (int k = 0; k < N; k++)
+                ck_assert_int_eq(pbw_lk_find(C, k), ref[k]);
+    }
+    uint32_t n = 0;
+    for (int k = 0; k < N; k++) {
+        ck_assert_int_eq(pbw_lk_find(C, k), ref[k]);
+        n += ref[k] >= 0;
+    }
+    ck_assert_uint_eq(C->lkn, n);
+    free(ref);
+    pbw_ctx_free(C);
 }
 END_TEST
 
@@ -717,6 +755,7 @@ int main(void) {
     tcase_add_test(tc, test_ghost_commit);
     tcase_add_test(tc, test_link_update);
     tcase_add_test(tc, test_local_fast_path);
+    tcase_add_test(tc, test_lock_table);
     tcase_add_test(tc, test_rules_edge_forced);
     tcase_add_test(tc, test_rules_priority_floor);
     tcase_add_test(tc, test_rules_unsuitable);

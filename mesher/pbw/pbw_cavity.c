@@ -203,7 +203,7 @@ int pbw_process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial) {
             x = y;
             C->res.forwarded++;
         }
-        int32_t h = C->lk[x];
+        int32_t h = LK(C, x);
         if (h >= 0 && h != hi) {
             c->h.holder = C->hd[h].key;
             if (initial) return PR_DIE;
@@ -299,7 +299,7 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
         const pbw_newtri *r = &nt[i];
         if (r->nb[0] == NOREF || ref_rank(r->nb[0]) == C->rank) continue;
         int32_t m = ref_idx(r->in);
-        int jm = ref_rank(r->in) == C->rank && m >= 0 && m < C->nt && C->lk[m] == hi
+        int jm = ref_rank(r->in) == C->rank && m >= 0 && m < C->nt && LK(C, m) == hi
                      ? pbw_find_edge(C, m, r->g[0], r->g[1])
                      : -1;
         if (jm < 0 || (C->role[m] != ROLE_MEMBER && C->role[m] != ROLE_TOMB))
@@ -309,19 +309,19 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
     }
     for (int32_t i = 0; i < h->n; i++) {
         int32_t s = h->slots[i];
-        if (C->lk[s] != hi) continue;
+        if (LK(C, s) != hi) continue;
         if (C->role[s] == ROLE_MEMBER) {
             pbw_slot_free(C, s);
             C->nlive--;
         } else if (C->role[s] == ROLE_TOMB) {
-            C->lk[s] = -1; /* dead, kept: never reused */
+            pbw_lk_set(C, s, -1); /* dead, kept: never reused */
             C->nlive--;
         }
     }
     for (int32_t i = 0; i < ch->n; i++) {
         const pbw_newtri *r = &nt[i];
         int32_t s = r->slot;
-        if (s < 0 || s >= C->nt || C->lk[s] != hi || C->role[s] != ROLE_RES)
+        if (s < 0 || s >= C->nt || LK(C, s) != hi || C->role[s] != ROLE_RES)
             MESH_BUG("commit writes slot %d not reserved by the cavity", s);
         for (int j = 0; j < 3; j++) {
             /* the fan's vertices: p itself, each boundary vertex in two new triangles (the
@@ -341,7 +341,7 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
                            : -1);
             pbw_con_set(C, e, r->cseg[j], r->clev[j], r->ck[j]);
         }
-        C->lk[s] = -1;
+        pbw_lk_set(C, s, -1);
         C->role[s] = ROLE_NONE;
         if (C->treg) C->treg[s] = r->reg; /* the member's on its edge: same side of segments */
         C->nlive++;
@@ -355,7 +355,7 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
         } else if (r->nb[0] != NOREF) {
             int32_t x = ref_idx(r->nb[0]);
             int j = alive(C, x) ? pbw_find_edge(C, x, r->g[1], r->g[0]) : -1;
-            if (j < 0 || C->lk[x] != hi || C->role[x] != ROLE_HALO)
+            if (j < 0 || LK(C, x) != hi || C->role[x] != ROLE_HALO)
                 MESH_BUG("halo %d of the new triangle is not the cavity's", x);
             pbw_tn_set(C, 3 * (size_t)x + (size_t)j, mkref(C->rank, s));
             pbw_gx_set(C, 3 * (size_t)x + (size_t)j, -1);
@@ -363,9 +363,9 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
     }
     for (int32_t i = 0; i < h->n; i++) {
         int32_t s = h->slots[i];
-        if (C->lk[s] != hi) continue;
+        if (LK(C, s) != hi) continue;
         if (C->role[s] == ROLE_RES) MESH_BUG("reserved slot %d left unused by the commit", s);
-        C->lk[s] = -1;
+        pbw_lk_set(C, s, -1);
         C->role[s] = ROLE_NONE;
     }
     pbw_hold_end(C, hi, bump);

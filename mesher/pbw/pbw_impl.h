@@ -255,7 +255,10 @@ struct pbw_ctx {
     pbw_con *con; /* edge records: few edges need one (a side table: 4 bytes per edge instead
                    * of 8 for a (rank, slot) reference and 28 for segment, level, index, ghost) */
     int32_t ncon, concap, confree; /* records used; capacity; free list head (-1: none) */
-    int32_t *lk;                   /* hold index or -1 */
+    int32_t *lkk, *lkv; /* the locks: slot -> hold index, open addressing (LK, pbw_lk_set); a
+                         * locked slot's role is never ROLE_NONE, so LK of an unlocked live slot
+                         * costs no lookup (4 bytes per triangle saved: few are locked at once) */
+    uint32_t lkcap, lkn;
     uint8_t *role;
     int32_t *treg; /* per slot: input region (-1: none); NULL: regions not asked (-A, areas) */
     int32_t nregion;
@@ -341,6 +344,17 @@ static inline int64_t CK(const pbw_ctx *C, size_t e) {
 static inline int32_t GX(const pbw_ctx *C, size_t e) {
     return C->tn[e] <= -2 ? C->con[-2 - C->tn[e]].gx : -1;
 }
+
+/* The hold index that locks slot s, or -1. */
+int32_t pbw_lk_find(const pbw_ctx *C, int32_t s);
+
+static inline int32_t LK(const pbw_ctx *C, int32_t s) {
+    return C->role[s] == ROLE_NONE ? -1 : pbw_lk_find(C, s);
+}
+
+/* Locks slot s for hold hi (hi < 0: unlocks it).  Set the role after locking, clear it after
+ * unlocking (a locked slot's role is never ROLE_NONE). */
+void pbw_lk_set(pbw_ctx *C, int32_t s, int32_t hi);
 
 static inline int64_t TG(pbw_ctx *C, int32_t t, int j) { /* global id of vertex j of slot t */
     return C->vgid[C->tv[3 * (size_t)t + j]];
@@ -578,8 +592,9 @@ void pbw_test_fault(pbw_ctx *C);
 
 /* The end: this rank's triangles as a mesh_flat (local numbering of the vertices they use); *topen
  * (topen may be NULL): their open edges (pbw_result.topen).  It dismantles the store on the way
- * (the links, constraints, locks and queue are freed before the copy is made): only pbw_mesh_bytes
- * and pbw_ctx_free may follow. */
+ * (the links, constraints, locks and queue are freed before the copy is made, the vertex table
+ * once copied, and the triangles are renumbered in place into the flat's array): only
+ * pbw_mesh_bytes, C->nlive and pbw_ctx_free may follow. */
 int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen);
 
 /* Frees C and everything it owns. */

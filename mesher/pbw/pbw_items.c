@@ -126,12 +126,75 @@ int32_t pbw_hold_new(pbw_ctx *C, int64_t key, uint64_t stamp, int32_t origin) {
     return i;
 }
 
+/* The locks: an open-addressing table slot -> hold index, linear probing, deletion by
+ * backward shift (no tombstones); at most half full. */
+static uint32_t lk_home(const pbw_ctx *C, int32_t s) {
+    return (uint32_t)mesh_hash64((uint64_t)(uint32_t)s) & (C->lkcap - 1);
+}
+
+int32_t pbw_lk_find(const pbw_ctx *C, int32_t s) {
+    if (C->lkn == 0) return -1;
+    for (uint32_t h = lk_home(C, s);; h = (h + 1) & (C->lkcap - 1)) {
+        if (C->lkk[h] < 0) return -1;
+        if (C->lkk[h] == s) return C->lkv[h];
+    }
+}
+
+static void lk_grow(pbw_ctx *C) {
+    int32_t *ok = C->lkk, *ov = C->lkv;
+    uint32_t ocap = C->lkcap;
+    C->lkcap = ocap ? 2 * ocap : 256;
+    C->lkk = mesh_xrealloc(NULL, C->lkcap, sizeof(int32_t));
+    C->lkv = mesh_xrealloc(NULL, C->lkcap, sizeof(int32_t));
+    for (uint32_t i = 0; i < C->lkcap; i++)
+        C->lkk[i] = -1;
+    for (uint32_t i = 0; i < ocap; i++)
+        if (ok[i] >= 0) {
+            uint32_t h = lk_home(C, ok[i]);
+            while (C->lkk[h] >= 0)
+                h = (h + 1) & (C->lkcap - 1);
+            C->lkk[h] = ok[i];
+            C->lkv[h] = ov[i];
+        }
+    free(ok);
+    free(ov);
+}
+
+void pbw_lk_set(pbw_ctx *C, int32_t s, int32_t hi) {
+    if (hi >= 0) {
+        if (2 * (C->lkn + 1) > C->lkcap) lk_grow(C);
+        uint32_t h = lk_home(C, s);
+        while (C->lkk[h] >= 0 && C->lkk[h] != s)
+            h = (h + 1) & (C->lkcap - 1);
+        if (C->lkk[h] < 0) C->lkn++;
+        C->lkk[h] = s;
+        C->lkv[h] = hi;
+        return;
+    }
+    if (C->lkn == 0) return;
+    uint32_t m = C->lkcap - 1, h = lk_home(C, s);
+    while (C->lkk[h] >= 0 && C->lkk[h] != s)
+        h = (h + 1) & m;
+    if (C->lkk[h] < 0) return; /* not locked */
+    C->lkn--;
+    /* backward shift: move later entries of the run into the hole if their home allows */
+    for (uint32_t j = (h + 1) & m; C->lkk[j] >= 0; j = (j + 1) & m) {
+        uint32_t k = lk_home(C, C->lkk[j]);
+        if (((j - k) & m) >= ((j - h) & m)) {
+            C->lkk[h] = C->lkk[j];
+            C->lkv[h] = C->lkv[j];
+            h = j;
+        }
+    }
+    C->lkk[h] = -1;
+}
+
 void pbw_lock_slot(pbw_ctx *C, int32_t s, int32_t hi, int role) {
-    if (C->lk[s] != hi) {
+    if (LK(C, s) != hi) {
         pbw_hold *h = &C->hd[hi];
         MESH_GROW(h->slots, h->n, h->cap);
         h->slots[h->n++] = s;
-        C->lk[s] = hi;
+        pbw_lk_set(C, s, hi);
     }
     C->role[s] = (uint8_t)role;
 }
@@ -170,11 +233,11 @@ void pbw_release_local(pbw_ctx *C, int32_t hi, int undo, int bump) {
     pbw_hold *h = &C->hd[hi];
     for (int32_t i = 0; i < h->n; i++) {
         int32_t s = h->slots[i];
-        if (C->lk[s] != hi) continue;
+        if (LK(C, s) != hi) continue;
         if (C->role[s] == ROLE_RES) {
             pbw_slot_free(C, s);
         } else {
-            C->lk[s] = -1;
+            pbw_lk_set(C, s, -1);
             C->role[s] = ROLE_NONE;
         }
     }

@@ -57,7 +57,7 @@ static void unmark(pbw_ctx *C, pbw_lscratch *S) {
 /* Collects the cavity of p from t.  1 if it is purely local and may be committed here. */
 static int collect(pbw_ctx *C, pbw_lscratch *S, const double p[2], int32_t t) {
     S->nstk = S->nmem = S->nbd = 0;
-    if (C->lk[t] >= 0 || C->role[t] != ROLE_NONE) return 0;
+    if (LK(C, t) >= 0 || C->role[t] != ROLE_NONE) return 0;
     C->role[t] = ROLE_MEMBER;
     MESH_GROW(S->mem, S->nmem, S->mcap);
     S->mem[S->nmem++] = t;
@@ -78,7 +78,7 @@ static int collect(pbw_ctx *C, pbw_lscratch *S, const double p[2], int32_t t) {
                      * interior either way; a cycle shows as an edge seen from one side only */
                     continue;
                 }
-                if (C->lk[y] >= 0 || C->role[y] != ROLE_NONE) return 0;
+                if (LK(C, y) >= 0 || C->role[y] != ROLE_NONE) return 0;
             } else if (!constrained) {
                 return 0; /* the domain boundary is always constrained in a CDT */
             }
@@ -168,7 +168,6 @@ int pbw_local_insert(pbw_ctx *C, const double p[2], int32_t t) {
         C->tv[e + 1] = bd->b;
         C->tv[e + 2] = pv;
         C->tn[e] = bd->j; /* the edge keeps its link and record (con[].nb is still out) */
-        C->lk[slot[i]] = -1;
         C->role[slot[i]] = ROLE_NONE;
         if (C->treg) C->treg[slot[i]] = bd->x;
     }

@@ -235,7 +235,7 @@ void pbw_test_fault(pbw_ctx *C) {
     const char *e = getenv("PBW_TEST_BREAK_IFACE");
     if (!e || !*e || atoi(e) != C->rank) return;
     for (int32_t t = 0; t < C->nt; t++) {
-        if (!alive(C, t) || C->lk[t] >= 0) continue;
+        if (!alive(C, t) || LK(C, t) >= 0) continue;
         for (int j = 0; j < 3; j++) {
             int64_t n = TN(C, 3 * (size_t)t + (size_t)j);
             if (n != NOREF && ref_rank(n) != C->rank) {
@@ -250,7 +250,7 @@ void pbw_test_fault(pbw_ctx *C) {
 /* This rank's triangles as a mesh_flat (local numbering of the vertices they use). */
 /* 1 iff slot t is written into the flat form (live and not locked). */
 static int written(pbw_ctx *C, int32_t t) {
-    return alive(C, t) && C->lk[t] < 0;
+    return alive(C, t) && LK(C, t) < 0;
 }
 
 int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
@@ -290,9 +290,9 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
         ntri++;
     }
     /* what only refinement needed goes before the flat copy is made (a lower peak) */
-    free(C->tn), free(C->con), free(C->lk), free(C->role), free(C->pool);
+    free(C->tn), free(C->con), free(C->lkk), free(C->lkv), free(C->role), free(C->pool);
     free(C->fre);
-    C->tn = NULL, C->con = NULL, C->lk = NULL, C->role = NULL, C->pool = NULL;
+    C->tn = NULL, C->con = NULL, C->lkk = NULL, C->lkv = NULL, C->role = NULL, C->pool = NULL;
     C->fre = NULL;
     f->nverts = nv;
     f->xy = mesh_xrealloc(NULL, 2 * ((size_t)nv + 1) * sizeof(double), 1);
@@ -318,19 +318,30 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
         f->sinterface[i] = 0;
     }
     free(sv);
-    /* pass 2: the triangles, in the same (slot) order as the open mask */
+    /* the vertex table has been copied out */
+    free(C->xy), free(C->vgid), free(C->vseg), free(C->own), free(C->vh);
+    C->xy = NULL, C->vgid = NULL, C->own = NULL, C->vh = NULL;
+    C->vseg = NULL;
+    /* pass 2: the triangles, in the same (slot) order as the open mask, renumbered in place:
+     * the store's vertex array becomes the flat's (live slots moved to the front) */
     f->ntris = ntri;
-    f->tri = mesh_xrealloc(NULL, 3 * ((size_t)ntri + 1) * sizeof(int32_t), 1);
-    f->trank = mesh_xrealloc(NULL, ((size_t)ntri + 1) * sizeof(int32_t), 1);
-    if (C->treg) f->tattr = mesh_xrealloc(NULL, ((size_t)ntri + 1) * sizeof(double), 1);
-    ntri = 0;
+    int32_t w = 0;
     for (int32_t t = 0; t < C->nt; t++) {
         if (C->tv[3 * (size_t)t] < 0) continue;
+        if (C->treg) C->treg[w] = C->treg[t];
         for (int j = 0; j < 3; j++)
-            f->tri[3 * (size_t)ntri + (size_t)j] = map[C->tv[3 * (size_t)t + (size_t)j]];
-        f->trank[ntri] = C->rank;
-        if (f->tattr) f->tattr[ntri] = C->treg[t] >= 0 ? C->reg_attr[C->treg[t]] : 0;
-        ntri++;
+            C->tv[3 * (size_t)w + (size_t)j] = map[C->tv[3 * (size_t)t + (size_t)j]];
+        w++;
+    }
+    if (w != ntri) MESH_BUG("%d triangles renumbered, %d written", w, ntri);
+    f->tri = mesh_xrealloc(C->tv, 3 * ((size_t)ntri + 1), sizeof(int32_t));
+    C->tv = NULL;
+    C->nt = 0;
+    f->trank = mesh_xrealloc(NULL, ((size_t)ntri + 1) * sizeof(int32_t), 1);
+    if (C->treg) f->tattr = mesh_xrealloc(NULL, ((size_t)ntri + 1) * sizeof(double), 1);
+    for (int32_t i = 0; i < ntri; i++) {
+        f->trank[i] = C->rank;
+        if (f->tattr) f->tattr[i] = C->treg[i] >= 0 ? C->reg_attr[C->treg[i]] : 0;
     }
     if (topen) *topen = open;
     free(map);
@@ -339,7 +350,8 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
 
 void pbw_ctx_free(pbw_ctx *C) {
     free(C->xy), free(C->vgid), free(C->vseg), free(C->vh), free(C->own);
-    free(C->tv), free(C->tn), free(C->lbuf), free(C->con), free(C->lk), free(C->role);
+    free(C->tv), free(C->tn), free(C->lbuf), free(C->con), free(C->lkk), free(C->lkv);
+    free(C->role);
     free(C->fre);
     free(C->treg), free(C->reg_attr), free(C->reg_area);
     free(C->seg), free(C->pieces), free(C->smarker), free(C->in_vmarker), free(C->inc_off),
@@ -363,7 +375,8 @@ void pbw_ctx_free(pbw_ctx *C) {
 
 size_t pbw_mesh_bytes(pbw_ctx *C) {
     size_t c = (size_t)C->tcap;
-    size_t b = c * (3 * (4 + 4) + 4 + 1 + (C->treg ? 4 : 0)); /* tv tn, lk role */
+    size_t b = c * (3 * (4 + 4) + 1 + (C->treg ? 4 : 0)); /* tv tn, role */
+    b += (size_t)C->lkcap * 8;                            /* the locks */
     b += (size_t)C->concap * sizeof(pbw_con);
     b += (size_t)C->vcap * (16 + 8 + 4) + (size_t)C->vhcap * 4 + (size_t)C->frecap * 4;
     b += (size_t)C->owncap * sizeof(int32_t);

@@ -98,7 +98,6 @@ int32_t pbw_slot_alloc(pbw_ctx *C) {
             size_t c = (size_t)C->tcap;
             C->tv = mesh_xrealloc(C->tv, 3 * c * sizeof(int32_t), 1);
             C->tn = mesh_xrealloc(C->tn, 3 * c * sizeof(int32_t), 1);
-            C->lk = mesh_xrealloc(C->lk, c * sizeof(int32_t), 1);
             C->role = mesh_xrealloc(C->role, c, 1);
             if (C->treg) C->treg = mesh_xrealloc(C->treg, c * sizeof(int32_t), 1);
         }
@@ -107,7 +106,6 @@ int32_t pbw_slot_alloc(pbw_ctx *C) {
     C->tv[3 * (size_t)s] = -1;
     for (int j = 0; j < 3; j++)
         C->tn[3 * (size_t)s + (size_t)j] = -1;
-    C->lk[s] = -1;
     C->role[s] = ROLE_NONE;
     if (C->treg) C->treg[s] = -1;
     return s;
@@ -193,7 +191,7 @@ void pbw_slot_free(pbw_ctx *C, int32_t s) {
         C->tn[e] = -1;
     }
     C->tv[3 * (size_t)s] = -1;
-    C->lk[s] = -1;
+    pbw_lk_set(C, s, -1);
     C->role[s] = ROLE_NONE;
     MESH_GROW(C->fre, C->nfree, C->frecap);
     C->fre[C->nfree++] = s;

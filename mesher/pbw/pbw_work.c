@@ -135,8 +135,8 @@ static void process_item(pbw_ctx *C, pbw_item *it) {
             pbw_notify(C, it->notify, it->ticket, 0);
             return;
         }
-        if (C->lk[t] >= 0) {
-            pbw_defer_item(C, it, W_HOLD, C->hd[C->lk[t]].key, 1);
+        if (LK(C, t) >= 0) {
+            pbw_defer_item(C, it, W_HOLD, C->hd[LK(C, t)].key, 1);
             return;
         }
         int32_t la = C->tv[e], lb = C->tv[3 * (size_t)t + (size_t)((j + 1) % 3)];
@@ -183,8 +183,8 @@ static void process_item(pbw_ctx *C, pbw_item *it) {
         return;
     }
     /* a bad triangle */
-    if (C->lk[t] >= 0) {
-        pbw_defer_item(C, it, W_HOLD, C->hd[C->lk[t]].key, 1);
+    if (LK(C, t) >= 0) {
+        pbw_defer_item(C, it, W_HOLD, C->hd[LK(C, t)].key, 1);
         return;
     }
     int sh = 0;
