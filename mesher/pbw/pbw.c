@@ -117,8 +117,9 @@
  * to DIR/pbw.RANK.log every 2 s.
  *
  * FILES.  pbw.c (this overview and pbw_mesh, the driver), pbw_setup.c (the initial distributed
- * mesh; the end: bounds, output, freeing), pbw_store.c (vertices, triangle slots, the
- * bad-triangle queue on the shared rules), pbw_items.c (work items, deferral, locks),
+ * mesh; the end: bounds, output, freeing), pbw_store.c (vertices, triangle slots, edge records,
+ * the bad-triangle queue on the shared rules), pbw_items.c (work items, deferral, locks),
+ * pbw_local.c (the local fast path: a cavity that stays on its rank, inserted in place),
  * pbw_cavity.c (expansion, commit, undo), pbw_proto.c (the RSR handlers, chains, parking, the
  * waiting task), pbw_work.c (rt_run's work step); pbw_impl.h holds what they share.  The
  * context of one call, pbw_ctx, is passed to every function (no file-level global); the
