@@ -29,6 +29,7 @@ static const cli_value v_nsub = {CLI_INT32, "K", 1, 1e6, 0};
 static const cli_value v_ratio = {CLI_REAL, "R", 0, 1e6, 1};
 static const cli_value v_seed = {CLI_UINT64, "SEED", 0, INFINITY, 0};
 static const cli_value v_poll = {CLI_INT32, "N", 1, 1e6, 0};
+static const cli_value v_inflight = {CLI_INT32, "N", 1, 1024, 0};
 
 /* Every program. */
 static const cli_opt common_rows[] = {
@@ -243,6 +244,13 @@ static const cli_opt pbw_rows[] = {
      .value = &v_flag,
      .at = CLI_AT(par.phases),
      .help = "refine in phases (the data-parallel variant of the paper's Figure 1)"},
+    {.name = "inflight",
+     .value = &v_inflight,
+     .at = CLI_AT(par.inflight),
+     .dflt = 0,
+     .dflt_text = "2",
+     .help = "cavities reaching other ranks that a rank keeps in flight at most (more hide "
+             "latency but conflict with each other: more RSRs and undone attempts)"},
     {.help = NULL}};
 
 static const cli_opt mesh_rows[] = {

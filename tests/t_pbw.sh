@@ -130,6 +130,9 @@ run 8 channel 20.7 --phases --perturb 2
 run 4 holes 20.7 --imbalance 2
 # the paper's choices: circumcenters only, requests serviced after every work item
 run 4 lake 30 --circumcenters --poll 1
+# one or many distributed cavities in flight per rank
+run 4 lake 20.7 --inflight 1
+run 8 holes 20.7 --inflight 16 --perturb 5
 # every cavity through the general protocol (no local fast path, pbw_local.c), 1 and 4 ranks
 PBW_NO_FAST_PATH=1 run 1 lake 30
 PBW_NO_FAST_PATH=1 run 4 holes 20.7 --perturb 3

@@ -150,17 +150,6 @@ START_TEST(test_deferred_wakes) {
     pbw_defer_item(C, &it, W_HOLD, 77, 1);
     ck_assert(pbw_iv_pop(&C->retryq, &got));
     ck_assert_int_eq(got.t, 9);
-    /* any event: back after the epoch moves */
-    it.t = 10;
-    pbw_defer_item(C, &it, W_EVENT, 0, 1);
-    ck_assert_int_eq(C->nevent, 1);
-    pbw_refresh_deferred(C);
-    ck_assert(pbw_iv_empty(&C->retryq));
-    C->ev_epoch++;
-    pbw_refresh_deferred(C);
-    ck_assert(pbw_iv_pop(&C->retryq, &got));
-    ck_assert_int_eq(got.t, 10);
-    ck_assert_int_eq(C->nevent, 0);
     pbw_ctx_free(C);
 }
 END_TEST
@@ -225,7 +214,7 @@ START_TEST(test_holds) {
     C->hd[hi].distributed = 1;
     pbw_defer_item(C, &it, W_HOLD, 5, 1);
     ck_assert(pbw_iv_empty(&C->retryq));
-    pbw_release_local(C, hi, 0, 1);
+    pbw_release_local(C, hi, 0);
     ck_assert_int_eq(pbw_hold_find(C, 5), -1);
     ck_assert_int_eq(LK(C, a), -1);
     ck_assert_int_eq(LK(C, b), -1);
@@ -431,7 +420,7 @@ static pbw_cav *ghost_cavity(pbw_ctx *C, int32_t x, double px, double py) {
     int32_t hi = pbw_hold_new(C, c->h.key, 1, C->rank);
     pbw_push_seed(C, c, mkref(C->rank, x), NOREF, NOREF, -1, -1, SEED_START);
     ck_assert_int_eq(pbw_process(C, c, hi, 1), PR_DONE);
-    pbw_release_local(C, hi, 0, 0); /* the state keeps what the expansion found */
+    pbw_release_local(C, hi, 0); /* the state keeps what the expansion found */
     return c;
 }
 
@@ -523,7 +512,7 @@ START_TEST(test_tombstones) {
     ck_assert_int_eq(LK(C, x), -1);
     ck_assert_int_eq(c->nb, 1);
     ck_assert(c->b[0].out == mkref(0, t2) && c->b[0].ga == 2 && c->b[0].gb == 1);
-    pbw_release_local(C, hi, 0, 0);
+    pbw_release_local(C, hi, 0);
     pbw_cav_free(c);
     /* ... unless t2 is the triangle n was reached from: that is the edge it came in through */
     c = pbw_cav_new(C);
@@ -533,7 +522,7 @@ START_TEST(test_tombstones) {
     ck_assert_int_eq(pbw_process(C, c, hi, 0), PR_DONE);
     ck_assert_int_eq(c->nb, 0);
     ck_assert_int_eq(LK(C, t2), -1);
-    pbw_release_local(C, hi, 0, 0);
+    pbw_release_local(C, hi, 0);
     pbw_cav_free(c);
     pbw_ctx_free(C);
 }

@@ -49,6 +49,8 @@ typedef struct par_opts {
     const char *cuts;       /* --cuts FILE */
     const char *write_cuts; /* --write-cuts FILE */
     int phases;             /* --phases (pbw only) */
+    int32_t inflight;       /* --inflight N (pbw only): distributed cavities in flight per rank
+                               at most (0: the default, MAX_INFLIGHT) */
     int circumcenters;      /* --circumcenters: circumcenters only, no off-centers */
     int32_t poll_every;     /* --poll N: local work units between two services of incoming
                                RSRs (0: the program's default; 1: after every insertion, as

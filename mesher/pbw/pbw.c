@@ -38,9 +38,10 @@
  * pending seeds = remote triangles to visit) as an EXPAND request to the owner of the first
  * seed; each rank locks and grows what it owns and FORWARDS the state to the next rank with
  * pending seeds (the chains A->B->C of the paper's Table 1).  The task sits in the blocking
- * queue meanwhile, while its rank goes on with other work.  At most MAX_INFLIGHT distributed
- * cavities per rank are in flight (more only raise the conflicts between them: at 16, half of
- * the remote attempts died; measured, issue 13); a further one waits for a slot.
+ * queue meanwhile, while its rank goes on with other work.  At most --inflight (default
+ * MAX_INFLIGHT, 2) distributed cavities per rank are in flight: more hide latency but conflict
+ * with each other (at 16, half of the remote attempts died and the RSRs doubled; measured,
+ * issue 13); a further one waits in the slot queue, taken again when a slot is free.
  * DECIDE.  The rank where the chain ends knows the whole cavity.  If it is not the starter and
  * the cavity commits (no conflict, star-shaped, no encroachment), it commits there and then:
  * its own part at once, and one COMMIT per other participant with the new triangles it owns
@@ -158,6 +159,7 @@ int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat 
     C->R.unsuitable = o->unsuitable;
     C->R.unsuitable_ctx = o->unsuitable_ctx;
     C->poll_every = o->poll_every > 0 ? o->poll_every : WORK_BATCH;
+    C->max_inflight = o->inflight > 0 ? o->inflight : MAX_INFLIGHT;
     C->steiner_limit = o->max_steiner >= 0 ? (o->max_steiner + C->size - 1) / C->size : -1;
     memset(local, 0, sizeof *local);
     char err[1024], msg[1200];
@@ -195,12 +197,16 @@ int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat 
     /* no work is left behind: a rank that stopped (Steiner limit, refusals past the budget)
      * dropped its items; any other item still queued or deferred waits for an event that
      * will never come (a lost WAKE, a hold never released) */
-    int32_t left[5] = {C->deferred.n - C->deferred.head, C->retryq.n - C->retryq.head,
-                       C->splitq.n - C->splitq.head, C->phase2.n - C->phase2.head, C->ndy};
-    if (left[0] || left[1] || left[2] || left[3] || left[4])
+    int32_t left[6] = {C->deferred.n - C->deferred.head,
+                       C->retryq.n - C->retryq.head,
+                       C->splitq.n - C->splitq.head,
+                       C->phase2.n - C->phase2.head,
+                       C->ndy,
+                       C->slotq.n - C->slotq.head};
+    if (left[0] || left[1] || left[2] || left[3] || left[4] || left[5])
         MESH_BUG("work left at the end: %d deferred, %d to retry, %d splits, %d postponed, "
-                 "%d dying tasks",
-                 left[0], left[1], left[2], left[3], left[4]);
+                 "%d dying tasks, %d waiting for a slot",
+                 left[0], left[1], left[2], left[3], left[4], left[5]);
     pbw_count_unmet(C);
     pbw_test_fault(C);
     pbw_to_flat(C, local, res ? &C->res.topen : NULL);

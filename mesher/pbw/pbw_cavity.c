@@ -289,7 +289,7 @@ void pbw_check_new_triangle(pbw_ctx *C, int32_t t) {
 /* How many earlier records of a commit pbw_apply_commit searches for a vertex's slot. */
 #define FAN_LOOKBACK 8
 
-void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt, int bump) {
+void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt) {
     int32_t hi = pbw_hold_find(C, ch->key);
     if (hi < 0) MESH_BUG("commit for unknown cavity %llx", (unsigned long long)ch->key);
     pbw_hold *h = &C->hd[hi];
@@ -368,7 +368,7 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
         pbw_lk_set(C, s, -1);
         C->role[s] = ROLE_NONE;
     }
-    pbw_hold_end(C, hi, bump);
+    pbw_hold_end(C, hi);
     for (int32_t i = 0; i < ch->n; i++)
         pbw_check_new_triangle(C, nt[i].slot);
 }
@@ -379,7 +379,7 @@ static void release_all(pbw_ctx *C, pbw_cav *c, int undo) {
         int32_t r = c->parts[i];
         if (r == C->rank) {
             int32_t hi = pbw_hold_find(C, c->h.key);
-            if (hi >= 0) pbw_release_local(C, hi, undo, C->hd[hi].distributed);
+            if (hi >= 0) pbw_release_local(C, hi, undo);
         } else {
             pbw_release_msg m = {c->h.key, undo, 0};
             rt_rsr(r, C->hid[PBW_RSR_RELEASE], &m, sizeof m);
@@ -511,8 +511,7 @@ int pbw_commit_all(pbw_ctx *C, pbw_cav *c, const rt_msg *to_origin) {
         ch.pvseg = split ? c->h.sseg : -1;
         ch.n = m;
         if (r == C->rank) {
-            int32_t hi = pbw_hold_find(C, c->h.key);
-            pbw_apply_commit(C, &ch, mine, hi >= 0 && C->hd[hi].distributed);
+            pbw_apply_commit(C, &ch, mine);
         } else {
             size_t len = sizeof ch + (size_t)m * sizeof(pbw_newtri);
             char *buf = mesh_xrealloc(NULL, len, 1);

@@ -65,7 +65,7 @@ enum { IT_BAD = 0, IT_SPLIT = 1 };
 
 #define NBUCKET MESH_RULES_NBUCKET
 
-#define MAX_INFLIGHT 2
+#define MAX_INFLIGHT 2 /* --inflight's default (see MESSAGES in pbw.c) */
 
 #define WORK_BATCH 64 /* work items per work step (between two services of RSRs): --poll */
 
@@ -181,10 +181,10 @@ typedef struct pbw_item { /* a unit of local work */
     int32_t refused;      /* deferred W_WAKE: a split it waits for was refused: drop it */
 } pbw_item;
 
-/* What a deferred item waits for: the release of a local lock holder (W_HOLD), a WAKE with
+/* What a deferred item waits for: the release of a local lock holder (W_HOLD), or a WAKE with
  * its key (W_WAKE: the holder released on the rank where the cavity died, or a split it asked
- * for is done), or any event (W_EVENT: a slot for another distributed cavity). */
-enum { W_EVENT = 0, W_HOLD = 1, W_WAKE = 2 };
+ * for is done).  (A cavity waiting for a slot to go remote waits in C->slotq.) */
+enum { W_HOLD = 1, W_WAKE = 2 };
 
 typedef struct ivec {
     pbw_item *a;
@@ -285,8 +285,7 @@ struct pbw_ctx {
     qent *pool;
     int32_t npool, poolcap, pool_free, cursor;
     ivec splitq, retryq, deferred, phase2;
-    uint32_t ev_epoch, seen_epoch;
-    int32_t nevent; /* deferred W_EVENT items */
+    ivec slotq; /* cavities that reach other ranks, waiting for a slot (max_inflight) */
     int phase1;
     /* cavities */
     pbw_hold *hd;
@@ -301,6 +300,7 @@ struct pbw_ctx {
     int32_t nlbuf, lbufcap;
     int draining;
     int inflight;
+    int max_inflight; /* distributed cavities in flight at most (--inflight; MAX_INFLIGHT) */
     uint64_t lclock;
     int64_t seq;
     pbw_result res;
@@ -457,9 +457,6 @@ void pbw_iv_free(ivec *q);
 /* Parks a failed item until what it waits for happens (see W_*). */
 void pbw_defer_item(pbw_ctx *C, const pbw_item *it, int kind, int64_t key, int32_t count);
 
-/* After an event (C->ev_epoch moved): the items deferred for any event go back to work. */
-void pbw_refresh_deferred(pbw_ctx *C);
-
 /* A WAKE for key arrived (refused: the split it announces was refused): deferred items
  * waiting for it go back to work (or are dropped), dying tasks waiting for it are marked. */
 void pbw_wake_key(pbw_ctx *C, int64_t key, int refused);
@@ -481,11 +478,11 @@ void pbw_lock_slot(pbw_ctx *C, int32_t s, int32_t hi, int role);
 void pbw_waiter_add(pbw_ctx *C, int64_t key, int32_t rank);
 
 /* Frees hold hi (its locks must be gone) and wakes whoever died on it. */
-void pbw_hold_end(pbw_ctx *C, int32_t hi, int bump);
+void pbw_hold_end(pbw_ctx *C, int32_t hi);
 
-/* Releases every lock of hold hi on this rank (undo: a lock conflict; bump: wake deferred
- * local work -- only needed if other work could have been waiting on these locks). */
-void pbw_release_local(pbw_ctx *C, int32_t hi, int undo, int bump);
+/* Releases every lock of hold hi on this rank (undo: a lock conflict: the expansion time
+ * goes to RT_TIME_UNDO). */
+void pbw_release_local(pbw_ctx *C, int32_t hi, int undo);
 
 /* ---- pbw_cavity.c: cavities ------------------------------------------------------------- */
 
@@ -515,7 +512,7 @@ void pbw_check_new_triangle(pbw_ctx *C, int32_t t);
 
 /* Applies this rank's part of a commit: members die, reserved slots become the new triangles,
  * halos get their link to the new triangle, everything is unlocked. */
-void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt, int bump);
+void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt);
 
 /* Builds the new triangles (one per boundary edge) and commits them on every participant:
  * here at once, elsewhere by a COMMIT; the origin's by rt_reply(to_origin) when to_origin is

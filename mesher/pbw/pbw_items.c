@@ -1,10 +1,10 @@
 /* pbw_items.c: PBW's local work items and locks.  A work item (a bad triangle, or a
  * subsegment to split) that cannot go on now is deferred until what it waits for happens: the
- * release of a local lock holder, a WAKE naming a key, or any event (a free slot for another
- * distributed cavity); a deferred item waiting for a refused split is dropped, not retried.
- * A hold is one cavity's locks on this rank; ending a hold wakes whoever died on it (the
- * waiters, possibly on other ranks).  Invariant: a deferred item comes back only after an
- * event, as the runtime's termination contract requires.  Part of TR-97-17 section 2. */
+ * release of a local lock holder, or a WAKE naming a key; a deferred item waiting for a refused
+ * split is dropped, not retried. A hold is one cavity's locks on this rank; ending a hold wakes
+ * whoever died on it (the waiters, possibly on other ranks).  Invariant: a deferred item comes back
+ * only after an event, as the runtime's termination contract requires.  Part of TR-97-17 section 2.
+ */
 #include "pbw/pbw_impl.h"
 
 #include <math.h>
@@ -49,38 +49,29 @@ void pbw_defer_item(pbw_ctx *C, const pbw_item *it, int kind, int64_t key, int32
     d.refused = 0;
     if ((kind == W_HOLD && pbw_hold_find(C, key) < 0) || (kind == W_WAKE && count <= 0))
         pbw_iv_push(&C->retryq, &d); /* already happened */
-    else {
-        if (kind == W_EVENT) C->nevent++;
+    else
         pbw_iv_push(&C->deferred, &d);
-    }
 }
 
-/* Moves the deferred items waiting for (kind, key) to the retry queue (W_EVENT: all
- * W_EVENT items).  refused (W_WAKE): the split that wakes them was refused; an item that
- * waited for a refused split is dropped, not retried (its Steiner point would ask for the same
- * split again), as refine.c drops a bad triangle whose splits all failed. */
+/* Moves the deferred items waiting for (kind, key) to the retry queue.  refused (W_WAKE): the split
+ * that wakes them was refused; an item that waited for a refused split is dropped, not retried (its
+ * Steiner point would ask for the same split again), as refine.c drops a bad triangle whose splits
+ * all failed. */
 static void deferred_release(pbw_ctx *C, int kind, int64_t key, int refused) {
     int32_t k = C->deferred.head;
     for (int32_t i = C->deferred.head; i < C->deferred.n; i++) {
         pbw_item *d = &C->deferred.a[i];
-        int hit = d->wait_kind == kind && (kind == W_EVENT || d->wait_key == key);
+        int hit = d->wait_kind == kind && d->wait_key == key;
         if (hit && kind == W_WAKE) {
             d->refused |= refused;
             if (--d->wait_count > 0) hit = 0;
         }
         if (hit) {
-            if (d->wait_kind == W_EVENT) C->nevent--;
             if (!d->refused) pbw_iv_push(&C->retryq, d);
         } else
             C->deferred.a[k++] = *d;
     }
     C->deferred.n = k;
-}
-
-void pbw_refresh_deferred(pbw_ctx *C) {
-    if (C->seen_epoch == C->ev_epoch) return;
-    C->seen_epoch = C->ev_epoch;
-    if (C->nevent > 0) deferred_release(C, W_EVENT, 0, 0);
 }
 
 void pbw_wake_key(pbw_ctx *C, int64_t key, int refused) {
@@ -209,7 +200,7 @@ void pbw_waiter_add(pbw_ctx *C, int64_t key, int32_t rank) {
 }
 
 /* Frees hold hi (its locks must be gone) and wakes whoever died on it. */
-void pbw_hold_end(pbw_ctx *C, int32_t hi, int bump) {
+void pbw_hold_end(pbw_ctx *C, int32_t hi) {
     int64_t key = C->hd[hi].key;
     C->hd[hi].active = 0;
     C->hd[hi].n = 0;
@@ -224,12 +215,11 @@ void pbw_hold_end(pbw_ctx *C, int32_t hi, int bump) {
     /* only a distributed cavity's locks outlive one step of local work, so only those can
      * have deferred items waiting for them */
     if (C->hd[hi].distributed) deferred_release(C, W_HOLD, key, 0);
-    if (bump) C->ev_epoch++;
 }
 
-/* Releases every lock of hold hi on this rank (undo: a lock conflict; bump: wake deferred
- * local work -- only needed if other work could have been waiting on these locks). */
-void pbw_release_local(pbw_ctx *C, int32_t hi, int undo, int bump) {
+/* Releases every lock of hold hi on this rank (undo: a lock conflict: the expansion time
+ * goes to RT_TIME_UNDO). */
+void pbw_release_local(pbw_ctx *C, int32_t hi, int undo) {
     pbw_hold *h = &C->hd[hi];
     for (int32_t i = 0; i < h->n; i++) {
         int32_t s = h->slots[i];
@@ -242,5 +232,5 @@ void pbw_release_local(pbw_ctx *C, int32_t hi, int undo, int bump) {
         }
     }
     if (undo) rt_stats_add_time(RT_TIME_UNDO, h->t_spent);
-    pbw_hold_end(C, hi, bump);
+    pbw_hold_end(C, hi);
 }

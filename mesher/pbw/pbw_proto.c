@@ -57,7 +57,7 @@ static void chain_continue(pbw_ctx *C, pbw_cav *c, int32_t hi) {
     void *buf;
     if (r == PR_DIE) {
         int64_t holder = c->h.holder;
-        pbw_release_local(C, hi, 1, 1);
+        pbw_release_local(C, hi, 1);
         pbw_part_remove(c, C->rank);
         if (c->h.origin != C->rank) pbw_waiter_add(C, holder, c->h.origin);
         c->h.status = ST_DIE;
@@ -155,7 +155,7 @@ static void h_release(const rt_msg *m, void *arg) {
     pbw_ctx *C = handler_ctx(arg);
     const pbw_release_msg *r = m->data;
     int32_t hi = pbw_hold_find(C, r->key);
-    if (hi >= 0) pbw_release_local(C, hi, r->undo, 1);
+    if (hi >= 0) pbw_release_local(C, hi, r->undo);
     drain_parked(C);
 }
 
@@ -173,7 +173,7 @@ static void h_commit(const rt_msg *m, void *arg) {
         c->decided = 1;
         return;
     }
-    pbw_apply_commit(C, ch, (const pbw_newtri *)(ch + 1), 1);
+    pbw_apply_commit(C, ch, (const pbw_newtri *)(ch + 1));
     drain_parked(C);
 }
 
@@ -230,14 +230,13 @@ rt_task_status pbw_cav_task(rt_task *t, void *state) {
         }
     if (c->decided) {
         const pbw_commit_hdr *ch = c->reply;
-        pbw_apply_commit(C, ch, (const pbw_newtri *)(ch + 1), 1);
+        pbw_apply_commit(C, ch, (const pbw_newtri *)(ch + 1));
         pbw_committed(C, c, 1);
     } else {
         pbw_cav_unpack_into(c, c->reply, c->replylen);
         pbw_finish(C, c);
     }
     C->inflight--;
-    C->ev_epoch++; /* a slot for another distributed cavity */
     pbw_cav_free(c);
     drain_parked(C);
     return RT_TASK_DONE;

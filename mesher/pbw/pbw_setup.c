@@ -360,7 +360,7 @@ void pbw_ctx_free(pbw_ctx *C) {
     free(C->pool);
     pbw_lscratch_free(C->ls);
     pbw_iv_free(&C->splitq), pbw_iv_free(&C->retryq), pbw_iv_free(&C->deferred),
-        pbw_iv_free(&C->phase2);
+        pbw_iv_free(&C->slotq), pbw_iv_free(&C->phase2);
     for (int32_t i = 0; i < C->nhd; i++)
         free(C->hd[i].slots);
     free(C->hd);

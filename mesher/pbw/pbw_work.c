@@ -57,7 +57,7 @@ static void start_cavity(pbw_ctx *C, pbw_item *it, const double p[2], int32_t t,
     C->hd[hi].t_spent += rt_wtime() - t0;
     if (r == PR_DIE) {
         int64_t holder = c->h.holder;
-        pbw_release_local(C, hi, 1, 0);
+        pbw_release_local(C, hi, 1);
         C->res.undone_local++;
         pbw_defer_item(C, &c->it, W_HOLD, holder, 1);
         pbw_cav_free(c);
@@ -69,15 +69,17 @@ static void start_cavity(pbw_ctx *C, pbw_item *it, const double p[2], int32_t t,
         return;
     }
     if (C->phase1) {
-        pbw_release_local(C, hi, 0, 0);
+        pbw_release_local(C, hi, 0);
         C->res.postponed++;
         pbw_iv_push(&C->phase2, &c->it);
         pbw_cav_free(c);
         return;
     }
-    if (C->inflight >= MAX_INFLIGHT) {
-        pbw_release_local(C, hi, 0, 0);
-        pbw_defer_item(C, &c->it, W_EVENT, 0, 1);
+    if (C->inflight >= C->max_inflight) {
+        /* it waits in the slot queue, taken again only when a slot is free (re-expanding
+         * every waiting cavity after each event cost as much as the refinement) */
+        pbw_release_local(C, hi, 0);
+        pbw_iv_push(&C->slotq, &c->it);
         pbw_cav_free(c);
         return;
     }
@@ -216,6 +218,7 @@ static void process_item(pbw_ctx *C, pbw_item *it) {
 static int next_item(pbw_ctx *C, pbw_item *it) {
     if (pbw_iv_pop(&C->splitq, it)) return 1;
     if (pbw_iv_pop(&C->retryq, it)) return 1;
+    if (C->inflight < C->max_inflight && pbw_iv_pop(&C->slotq, it)) return 1;
     int32_t t = pbw_pop_bad(C);
     if (t < 0) return 0;
     memset(it, 0, sizeof *it);
@@ -228,6 +231,7 @@ static int next_item(pbw_ctx *C, pbw_item *it) {
 
 static int has_items(pbw_ctx *C) {
     if (!pbw_iv_empty(&C->splitq) || !pbw_iv_empty(&C->retryq)) return 1;
+    if (C->inflight < C->max_inflight && !pbw_iv_empty(&C->slotq)) return 1;
     while (C->cursor <= NBUCKET && C->head[C->cursor] < 0)
         C->cursor++;
     return C->cursor <= NBUCKET;
@@ -238,9 +242,10 @@ static int has_items(pbw_ctx *C) {
 static void drop_all_items(pbw_ctx *C) {
     ivec d = C->deferred;
     memset(&C->deferred, 0, sizeof C->deferred);
-    C->nevent = 0;
     pbw_item it;
     while (next_item(C, &it))
+        if (it.kind == IT_SPLIT) pbw_notify(C, it.notify, it.ticket, 1);
+    while (pbw_iv_pop(&C->slotq, &it))
         if (it.kind == IT_SPLIT) pbw_notify(C, it.notify, it.ticket, 1);
     while (pbw_iv_pop(&d, &it))
         if (it.kind == IT_SPLIT) pbw_notify(C, it.notify, it.ticket, 1);
@@ -271,11 +276,11 @@ static void debug_report(pbw_ctx *C) {
         nh += C->hd[i].active;
     fprintf(f,
             "pbw[%d]: live=%d inflight=%d parked=%d holds=%d deferred=%d retry=%d split=%d "
-            "waiters=%d epoch=%u undone=%lld/%lld ins=%lld\n",
+            "waiters=%d slotq=%d undone=%lld/%lld ins=%lld\n",
             C->rank, C->nlive, C->inflight, C->npk, nh, C->deferred.n - C->deferred.head,
-            C->retryq.n - C->retryq.head, C->splitq.n - C->splitq.head, C->nwt, C->ev_epoch,
-            (long long)C->res.undone_local, (long long)C->res.undone_remote,
-            (long long)C->res.inserted);
+            C->retryq.n - C->retryq.head, C->splitq.n - C->splitq.head, C->nwt,
+            C->slotq.n - C->slotq.head, (long long)C->res.undone_local,
+            (long long)C->res.undone_remote, (long long)C->res.inserted);
     for (int32_t i = 0; i < C->npk; i++)
         fprintf(f, "pbw[%d]:   parked %llx stamp %llx waits for %llx\n", C->rank,
                 (unsigned long long)C->pk[i]->h.key, (unsigned long long)C->pk[i]->h.stamp,
@@ -293,7 +298,6 @@ int pbw_work(void *ctx) {
     int did = 0;
     debug_report(C);
     for (int32_t n = 0; n < C->poll_every && !C->stopped; n++) {
-        pbw_refresh_deferred(C);
         pbw_item it;
         if (!next_item(C, &it)) break;
         did = 1;
@@ -304,7 +308,6 @@ int pbw_work(void *ctx) {
         pbw_flush_links(C);
         return did ? RT_WORK_BUSY : RT_WORK_IDLE;
     }
-    pbw_refresh_deferred(C);
     int busy = did || has_items(C);
     /* link updates wait until the rank runs out of work (LINKS, pbw.c), or pile up */
     if (!busy || C->nlbuf >= LINK_BATCH) pbw_flush_links(C);
