@@ -64,10 +64,16 @@ typedef struct pcdm_part {
     uint64_t split_ignored;  /* of those, subsegment already split here (dropped) */
     uint64_t split_notfound; /* of those, segment not present here (a protocol error) */
     uint64_t work_steps;     /* calls of the local work function that refined */
-    int regions;             /* PCDM_REGIONS_* the deterministic build labels each mesh with */
-    int32_t fault_drop;      /* test-only: split requests still to drop (env PCDM_TEST_DROP_SPLIT=N
-                              * drops rank 1's first N split requests: breaks an interface so
-                              * the interface check must fail) */
+    /* dynamic load balancing (deterministic parts; set balance before pcdm_part_refine) */
+    int balance;          /* 1: idle ranks take unstarted subdomains from busy ones */
+    uint64_t migrations;  /* subdomains this rank received */
+    uint64_t moved_bytes; /* bytes of the subdomains this rank sent */
+    double move_s;        /* seconds packing and unpacking (rebuilding) subdomains */
+    uint64_t forwarded;   /* round lists sent on to where their subdomain moved */
+    int regions;          /* PCDM_REGIONS_* the deterministic build labels each mesh with */
+    int32_t fault_drop;   /* test-only: split requests still to drop (env PCDM_TEST_DROP_SPLIT=N
+                           * drops rank 1's first N split requests: breaks an interface so
+                           * the interface check must fail) */
 } pcdm_part;
 
 /* Local, SPMD: every rank calls it once, in the same position of its handler registration
