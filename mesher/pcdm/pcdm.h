@@ -51,7 +51,8 @@ typedef struct pcdm_part {
                              * every rank); 0 in asynchronous mode */
     const pcdm_decomp *d;   /* borrowed; must outlive the part */
     int rank;               /* owner of this part */
-    int32_t nsub_owned;     /* subdomains owned by this rank */
+    int32_t nsub_owned;     /* subdomains owned by this rank (after refinement with balancing:
+                             * the subdomains it ended with) */
     int32_t poll_every;     /* insertions between two returns to the scheduler */
     int dirty;              /* refinement work may be queued (set by the split handler) */
     int limit_hit;          /* the Steiner limit stopped refinement */

@@ -380,7 +380,8 @@ static void finish_round(pcdm_det *D, int32_t i) {
             }
             memcpy(D->buf, &h, sizeof h);
             if (l->n) memcpy(D->buf + sizeof h, l->v, (size_t)l->n * sizeof(pcdm_split_msg));
-            rt_rsr(D->owner[h.dst], dslot.round_handler, D->buf, (uint32_t)len);
+            int to = D->home_route ? D->p->d->sub_owner[h.dst] : D->owner[h.dst];
+            rt_rsr(to, dslot.round_handler, D->buf, (uint32_t)len);
             D->p->split_sent += (uint64_t)l->n; /* to another rank: the rsr= figure */
         }
         l->n = 0;
@@ -481,6 +482,7 @@ void pcdm_det_refine(pcdm_part *p, const mesh_quality *q) {
     if (D->stop < 0 || D->cur >= 0)
         MESH_BUG("rank %d: rounds ended without a final round", p->rank);
     p->rounds = D->stop + 1;
+    p->nsub_owned = D->n; /* after balancing: the subdomains this rank ends with */
     det_move_end(D);
 }
 

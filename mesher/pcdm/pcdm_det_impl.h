@@ -65,7 +65,8 @@ struct pcdm_det {
     /* dynamic load balancing (pcdm_move.c) */
     int balance;       /* 1: --balance dynamic */
     int steal_out;     /* a steal request is in flight */
-    int no_where;      /* test-only (PCDM_TEST_NO_WHERE): no "pcdm_where", every list forwarded */
+    int home_route;    /* test-only (PCDM_TEST_HOME_ROUTE=1): lists always go to a subdomain's
+                        * home rank (d->sub_owner), which forwards them; no owner notices */
     int32_t victim;    /* the next rank to ask */
     uint8_t *dry;      /* per rank: answered that it has nothing to give (final, see pcdm_move.c) */
     int64_t listed;    /* split entries put into lists for other subdomains (sent) */

@@ -25,7 +25,10 @@
  * first (sent before its sender heard) is forwarded (pcdm_det.c round_handler; MPI keeps the
  * victim's "pcdm_move" ahead of its forwarded lists).  After rt_run every split listed for a
  * subdomain must have been delivered and consumed exactly once: summed over the ranks and
- * checked (a loss aborts with a message).
+ * checked (a loss aborts with a message).  Test knob: PCDM_TEST_HOME_ROUTE=1 sends every list to
+ * its subdomain's home rank (the decomposition's owner: a subdomain moves once at most, so the
+ * home knows where it is), which forwards it, and no owner notices go out; t_balance.sh uses it
+ * to make lists arrive while and after their subdomain moves.
  *
  * Termination.  A request, a subdomain and an owner notice in flight are RSRs, counted by the
  * runtime's detector like any other, so rt_run cannot end while a subdomain moves.  The rounds
@@ -145,7 +148,7 @@ static void move_handler(const rt_msg *msg, void *arg) {
     det_hold(D, s);
     D->owner[h.sub] = D->p->rank;
     D->p->migrations++;
-    if (!D->no_where) {
+    if (!D->home_route) {
         move_where w = {h.sub, D->p->rank};
         for (int q = 0; q < rt_size(); q++)
             if (q != D->p->rank && q != msg->src) rt_rsr(q, mslot.where, &w, (uint32_t)sizeof w);
@@ -184,8 +187,8 @@ void det_move_begin(pcdm_det *D) {
     D->dry = mesh_xcalloc((size_t)rt_size() + 1, 1);
     D->victim = (D->p->rank + 1) % rt_size();
     D->steal_out = 0;
-    const char *nw = getenv("PCDM_TEST_NO_WHERE");
-    D->no_where = nw && atoi(nw) != 0;
+    const char *hr = getenv("PCDM_TEST_HOME_ROUTE");
+    D->home_route = hr && atoi(hr) != 0;
     mslot.active = D;
 }
 
