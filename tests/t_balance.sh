@@ -12,7 +12,8 @@
 #     round list for a subdomain goes to its home rank, which forwards it to where the subdomain
 #     went; the runs must forward some (forwarded= of --stats), lose none (pcdm_move.c checks
 #     after every run that every split listed was delivered and applied, else it aborts) and
-#     give the same hash and a passing --check.
+#     give the same hash and a passing --check;
+#  5. --size reaches every subdomain's mesh (the deterministic mode ignored it before).
 # Env: BIN (directory of the programs, default .), MPIRUN (default "mpirun --oversubscribe").
 # One line per case; exit status 1 if any case failed.
 set -u
@@ -136,6 +137,28 @@ for r in 2:0 4:13 8:0; do
 done
 if [ "$fwdsum" -gt 0 ]; then ok "$fwdsum round lists reached a moved subdomain by forwarding"; else
     bad "no list was forwarded: the forwarding path is not exercised"
+fi
+# 5. a size rule (--size) reaches every subdomain's mesh, also one that moved: more triangles than
+#    without it, the same mesh with and without balancing
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+printf '4 2 1 0\n1 0 0 0.02\n2 1 0 0.5\n3 1 1 0.5\n4 0 1 0.5\n' >"$T/bg.node"
+printf '2 3 0\n1 1 2 3\n2 1 3 4\n' >"$T/bg.ele"
+if run 2 --deterministic --subdomains 8 -q 20 data/square.poly; then
+    n0=$(printf '%s\n' "$out" | grep '^stats:' | field triangles)
+    if run 2 --deterministic --subdomains 8 -q 20 --size "$T/bg" data/square.poly; then
+        n1=$(printf '%s\n' "$out" | grep '^stats:' | field triangles) ref=$h
+        if run 4 --balance dynamic --subdomains 8 -q 20 --size "$T/bg" data/square.poly &&
+            [ "$h" = "$ref" ] && [ "$n1" -gt "$n0" ]; then
+            ok "--size: $n1 triangles (without: $n0), the same mesh with --balance dynamic"
+        else
+            bad "--size: $n1 triangles (without: $n0), hash $h with balancing, $ref without"
+        fi
+    else
+        bad "--deterministic --size: exit $st"
+    fi
+else
+    bad "--deterministic square: exit $st"
 fi
 echo "t_balance: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

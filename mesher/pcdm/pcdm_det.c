@@ -326,6 +326,8 @@ static void sub_setup(pcdm_det *D, det_sub *s) {
                 ? (int64_t)((double)D->q.max_steiner * d->sub_weight[s->id] / d->total_weight)
                 : D->q.max_steiner;
     mesh_set_quality(&s->m, &qs);
+    if (D->p->m.size_rule) /* the caller's size rule (--size, -r's .area), set on p->m */
+        mesh_set_size_rule(&s->m, D->p->m.size_rule, D->p->m.size_rule_ctx);
     mesh_hooks h;
     memset(&h, 0, sizeof h);
     h.on_split = det_on_split;
