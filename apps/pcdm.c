@@ -4,7 +4,9 @@
  *
  * SPMD main: every rank reads the input and computes the same decomposition (par_load), builds
  * the coarse CDT of the augmented PSLG, keeps its own subdomains and refines them; the only
- * remote service request is "split constraint edge" (mesher/pcdm/pcdm.c).  After the runtime's
+ * remote service request is "split constraint edge" (mesher/pcdm/pcdm.c); --deterministic and
+ * --balance dynamic refine each subdomain in its own mesh, in rounds (pcdm_det.c), and dynamic
+ * moves unstarted subdomains to idle ranks (pcdm_move.c).  After the runtime's
  * termination detector ends rt_run on every rank, each rank keeps its own part: the interfaces
  * are compared across ranks, the parts numbered by prefix sums, checked where they live
  * (--check) and written in parallel (par_output, mesher/par/pout.h); no rank gathers the mesh.

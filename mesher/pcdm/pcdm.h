@@ -12,7 +12,9 @@
  * That is the asynchronous mode (./pcdm's default): the mesh depends on message timing.  The
  * deterministic mode (pcdm_part_build_det, pcdm_det.c; ./pcdm --deterministic) refines each
  * subdomain in its own mesh, in rounds, so the mesh depends only on the input, the bounds and
- * the decomposition.
+ * the decomposition.  With p->balance (./pcdm --balance dynamic, pcdm_move.c) idle ranks take
+ * unstarted subdomains from busy ones during the deterministic refinement; the mesh stays the
+ * same.
  *
  * Usage (SPMD):
  *     rt_init(...); pcdm_register();            // before rt_start / the first rt_run

@@ -18,14 +18,17 @@
  * between subdomains of one rank the lists are handed over directly, between ranks as one RSR
  * ("pcdm_round": header + splits).  Still only "split this constraint edge" crosses ranks.
  *
- * Termination: when all its subdomains have completed round r a rank reports the number of
- * splits they sent in round r to every rank ("pcdm_rdone").  The first round R that every rank
- * reported with no split anywhere ends the run: round R+1's lists are all empty, so nothing can
- * change any more.  A subdomain may start round r only when rounds up to r - WINDOW are known
- * (so subdomains with nothing to do do not race ahead through empty rounds); since the slowest
- * subdomain is never held back by the window (the window never blocks a round <= known), some
- * rank is always busy or a message is in flight until R is known: rt_run's detector cannot end
- * the run early, and it ends once every rank knows R.  p->rounds = R + 1 on every rank.
+ * Termination: when all its subdomains have completed round r a rank reports to every rank
+ * ("pcdm_rdone") how many of its subdomains completed round r and the splits they sent in it; a
+ * subdomain that arrived later (--balance dynamic, pcdm_move.c) and completes r here is reported
+ * in another such message.  Round r is known once its completions add up to the number of
+ * subdomains.  The first known round R with no split anywhere ends the run: round R+1's lists
+ * are all empty, so nothing can change any more.  A subdomain may start round r only when rounds up
+ * to r - WINDOW are known (so subdomains with nothing to do do not race ahead through empty
+ * rounds); since the slowest subdomain is never held back by the window (the window never blocks a
+ * round <= known), some rank is always busy or a message is in flight until R is known: rt_run's
+ * detector cannot end the run early, and it ends once every rank knows R.  p->rounds = R + 1 on
+ * every rank.
  *
  * Invariants: a neighbour's round-r list arrives while its receiver has completed r or r + 1
  * rounds (it needs the receiver's round r-1 list; the receiver needs it for round r+1), so two
