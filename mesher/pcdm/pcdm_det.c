@@ -44,6 +44,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 /* "pcdm_rdone" payload: the sender's subdomains completed round `round` `count` times (each
  * subdomain once, reported by the rank that held it then) and sent `splits` splits in it. */
@@ -400,12 +401,24 @@ static void finish_round(pcdm_det *D, int32_t i) {
     det_report_rounds(D);
 }
 
+double det_cpu(void) {
+    struct timespec ts;
+    if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) != 0) return 0;
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 static void refine_step(pcdm_det *D) {
     det_sub *s = D->s[D->cur];
+    double c = det_cpu();
     mesh_refine_result r = mesh_refine(&s->m);
     D->p->work_steps++;
+    s->cpu += det_cpu() - c;
     if (r == MESH_REFINE_STOPPED) return;
     if (r == MESH_REFINE_STEINER_LIMIT) D->p->limit_hit = 1;
+    if (s->done == 0) { /* this rank's speed: expected work per CPU second of round 0 */
+        D->wdone += D->p->d->sub_weight[s->id];
+        D->cdone += s->cpu;
+    }
     finish_round(D, D->cur);
 }
 
@@ -481,6 +494,7 @@ void pcdm_det_refine(pcdm_part *p, const mesh_quality *q) {
         sub_setup(D, D->s[i]);
     D->balance = p->balance;
     det_move_begin(D);
+    D->cpu0 = det_cpu();
     dslot.active = D;
     rt_run(det_work, D);
     dslot.active = NULL;

@@ -40,6 +40,7 @@ typedef struct det_sub {
     int32_t done;   /* rounds completed */
     int64_t splits; /* splits sent in the current round */
     int moved;      /* 1: arrived by migration (never moves again) */
+    double cpu;     /* CPU seconds refining it on this rank */
     pcdm_det *D;    /* back pointer (hook context) */
 } det_sub;
 
@@ -69,6 +70,9 @@ struct pcdm_det {
                         * home rank (d->sub_owner), which forwards them; no owner notices */
     int32_t victim;    /* the next rank to ask */
     uint8_t *dry;      /* per rank: answered that it has nothing to give (final, see pcdm_move.c) */
+    double cpu0;       /* det_cpu() when the refinement began */
+    double wdone;      /* sub_weight of the subdomains whose round 0 ran here ... */
+    double cdone;      /* ... and its CPU seconds: this rank's speed (pcdm_move.c) */
     int64_t listed;    /* split entries put into lists for other subdomains (sent) */
     int64_t delivered; /* split entries that reached their subdomain's input lists */
     int64_t consumed;  /* split entries taken from input lists by start_round */
@@ -83,6 +87,8 @@ void det_sub_free(det_sub *s);
  * returns the held subdomain sub (never the current one). */
 void det_hold(pcdm_det *D, det_sub *s);
 det_sub *det_release(pcdm_det *D, int32_t sub);
+/* Local.  CPU seconds of the calling thread. */
+double det_cpu(void);
 /* Local.  Reports the rounds every held subdomain has completed (round bookkeeping). */
 void det_report_rounds(pcdm_det *D);
 /* Local.  A round list for a subdomain held here arrives; a copy is kept. */
