@@ -529,6 +529,7 @@ void pcdm_det_free(pcdm_part *p) {
     free(D->local);
     free(D->owner);
     free(D->dry);
+    free(D->order);
     free(D->rep_n);
     free(D->cnt);
     free(D->rep_splits);

@@ -64,11 +64,13 @@ struct pcdm_det {
     int32_t nbuf;  /* scratch for outgoing RSRs */
     unsigned char *buf;
     /* dynamic load balancing (pcdm_move.c) */
-    int balance;       /* 1: --balance dynamic */
-    int steal_out;     /* a steal request is in flight */
-    int home_route;    /* test-only (PCDM_TEST_HOME_ROUTE=1): lists always go to a subdomain's
-                        * home rank (d->sub_owner), which forwards them; no owner notices */
-    int32_t victim;    /* the next rank to ask */
+    int balance;    /* 1: --balance dynamic */
+    int steal_out;  /* a steal request is in flight */
+    int home_route; /* test-only (PCDM_TEST_HOME_ROUTE=1): lists always go to a subdomain's
+                     * home rank (d->sub_owner), which forwards them; no owner notices */
+    int32_t *order; /* the other ranks, in the order a thief asks them */
+    int32_t norder;
+    int32_t victim;    /* index into order of the next rank to ask */
     uint8_t *dry;      /* per rank: answered that it has nothing to give (final, see pcdm_move.c) */
     double cpu0;       /* det_cpu() when the refinement began */
     double wdone;      /* sub_weight of the subdomains whose round 0 ran here ... */

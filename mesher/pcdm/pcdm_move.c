@@ -3,21 +3,22 @@
  * the paper cites [CH97] and its successor PREMA (the paper's future work: "dynamic load
  * balancing").
  *
- * Work stealing.  A rank with nothing ready (det_work) asks one victim at a time ("pcdm_steal",
- * ranks in turn from rank + 1).  The victim gives the lightest (sub_weight: expected work)
- * subdomain it holds that has not begun (round 0 not started, not being refined, never moved
- * before), provided it keeps work for itself (it is refining one, or holds another unstarted
- * one) and the move shortens the pair's finish forecast in CPU seconds: the thief's CPU so far
- * plus the subdomain's weight at the thief's speed must be below the victim's CPU so far plus
- * its remaining round-0 weight at its own speed (speed: weight per CPU second of the round-0
- * work each rank has done).  CPU, not wall time: on an oversubscribed machine a rank the OS
- * does not run looks slow by the clock, and thieves that judged by the clock took two or three
- * subdomains from it (60% above the mean at 8 ranks on 2 shared cores).  Otherwise the victim
- * says no and the thief never asks it again ("dry").  That is final, near enough: a rank's set
- * of movable subdomains only shrinks (a subdomain that began or moved once never moves) and the
- * forecasts only move against the thief (its CPU grows, the victim's remaining work shrinks), so
- * each thief sends at most P - 1 refusals and the balancing traffic is bounded (idle ranks do
- * not spin).
+ * Work stealing.  A rank with nothing ready (det_work) asks one victim at a time ("pcdm_steal"),
+ * the ranks the decomposition gave the most expected work first (ties in turn from rank + 1:
+ * with --imbalance the thieves go to rank 0 at once instead of through a chain of refusals).  The
+ * victim gives the lightest (sub_weight: expected work) subdomain it holds that has not begun
+ * (round 0 not started, not being refined, never moved before), provided it keeps work for itself
+ * (it is refining one, or holds another unstarted one) and the move shortens the pair's finish
+ * forecast in CPU seconds: the thief's CPU so far plus the subdomain's weight at the thief's speed
+ * must be below the victim's CPU so far plus its remaining round-0 weight at its own speed (speed:
+ * weight per CPU second of the round-0 work each rank has done).  CPU, not wall time: on an
+ * oversubscribed machine a rank the OS does not run looks slow by the clock, and thieves that
+ * judged by the clock took two or three subdomains from it (60% above the mean at 8 ranks on 2
+ * shared cores).  Otherwise the victim says no and the thief never asks it again ("dry").  That is
+ * final, near enough: a rank's set of movable subdomains only shrinks (a subdomain that began or
+ * moved once never moves) and the forecasts only move against the thief (its CPU grows, the
+ * victim's remaining work shrinks), so each thief sends at most P - 1 refusals and the balancing
+ * traffic is bounded (idle ranks do not spin).
  *
  * What moves.  An unstarted subdomain is its coarse mesh plus the round-0 lists its neighbours
  * already sent it.  The coarse mesh is a pure function of the decomposition every rank holds
@@ -217,9 +218,26 @@ int det_move_register(void) {
 }
 
 void det_move_begin(pcdm_det *D) {
+    const pcdm_decomp *d = D->p->d;
+    int size = rt_size(), me = D->p->rank;
     free(D->dry);
-    D->dry = mesh_xcalloc((size_t)rt_size() + 1, 1);
-    D->victim = (D->p->rank + 1) % rt_size();
+    free(D->order);
+    D->dry = mesh_xcalloc((size_t)size + 1, 1);
+    /* whom to ask, most expected work first (the decomposition's owners: every rank computes the
+     * same loads), ties in ring order from rank + 1 */
+    double *load = mesh_xcalloc((size_t)size + 1, sizeof(double));
+    for (int32_t s = 0; s < d->nsub; s++)
+        load[d->sub_owner[s]] += d->sub_weight[s];
+    D->order = mesh_xmalloc((size_t)size + 1, sizeof(int32_t));
+    D->norder = 0;
+    for (int k = 1; k < size; k++) {
+        int32_t v = (me + k) % size, j = D->norder++;
+        for (; j > 0 && load[D->order[j - 1]] < load[v]; j--)
+            D->order[j] = D->order[j - 1];
+        D->order[j] = v;
+    }
+    free(load);
+    D->victim = 0;
     D->steal_out = 0;
     const char *hr = getenv("PCDM_TEST_HOME_ROUTE");
     D->home_route = hr && atoi(hr) != 0;
@@ -228,11 +246,9 @@ void det_move_begin(pcdm_det *D) {
 
 int det_move_steal(pcdm_det *D) {
     if (!D->balance || D->steal_out) return 0;
-    int size = rt_size();
-    for (int k = 0; k < size; k++) {
-        int v = (D->victim + k) % size;
-        if (v == D->p->rank || D->dry[v]) continue;
-        D->victim = v; /* ask it again next time, until it refuses */
+    for (; D->victim < D->norder; D->victim++) { /* the same one again until it refuses */
+        int v = D->order[D->victim];
+        if (D->dry[v]) continue;
         move_ask a = {D->p->rank, 0, det_cpu() - D->cpu0, D->cdone > 0 ? D->wdone / D->cdone : 0};
         rt_rsr(v, mslot.steal, &a, (uint32_t)sizeof a);
         D->steal_out = 1;
