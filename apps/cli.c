@@ -215,6 +215,17 @@ static void store_default(const cli_opt *r, cli_opts *o) {
     }
 }
 
+/* 1 iff val is one of the words of choices ("a|b|c"). */
+static int is_choice(const char *choices, const char *val) {
+    size_t n = strlen(val);
+    for (const char *c = choices; *c;) {
+        size_t w = strcspn(c, "|");
+        if (w == n && !strncmp(c, val, n)) return 1;
+        c += w + (c[w] == '|');
+    }
+    return 0;
+}
+
 /* Reads val (NULL for flags) into row r's field; a usage error if it does not fit. */
 static int store(const parse_ctx *c, const cli_opt *r, const char *val, cli_opts *o) {
     void *dst = (char *)o + r->at.offset;
@@ -232,7 +243,7 @@ static int store(const parse_ctx *c, const cli_opt *r, const char *val, cli_opts
     case CLI_VERSION:
         MESH_BUG("--help or --version reached store()");
     case CLI_STRING:
-        ok = val[0] != 0;
+        ok = val[0] != 0 && (!v->choices || is_choice(v->choices, val));
         if (ok) *(const char **)dst = val;
         break;
     case CLI_REAL:
@@ -253,7 +264,9 @@ static int store(const parse_ctx *c, const cli_opt *r, const char *val, cli_opts
     }
     if (ok) return 0;
     char name[64], what[128];
-    if (v->kind == CLI_STRING)
+    if (v->kind == CLI_STRING && v->choices)
+        snprintf(what, sizeof what, "one of %s", v->choices);
+    else if (v->kind == CLI_STRING)
         snprintf(what, sizeof what, "a %s", v->metavar);
     else
         describe(v, what, sizeof what);

@@ -79,6 +79,7 @@ typedef struct cli_value {
     const char *metavar; /* "DEG", "FILE": how --help and messages name the value */
     double min, max;     /* accepted range of a number (inclusive) */
     int min_open;        /* 1: min itself is refused ("a positive number") */
+    const char *choices; /* strings: the accepted words, "a|b|c" (NULL: any non-empty string) */
 } cli_value;
 
 typedef struct cli_field {

@@ -17,19 +17,20 @@
 
 /* ---- the tables ------------------------------------------------------------------------ */
 
-static const cli_value v_help = {CLI_HELP, NULL, 0, 0, 0};
-static const cli_value v_version = {CLI_VERSION, NULL, 0, 0, 0};
-static const cli_value v_flag = {CLI_FLAG, NULL, 0, 0, 0};
-static const cli_value v_file = {CLI_STRING, "FILE", 0, 0, 0};
-static const cli_value v_prefix = {CLI_STRING, "PREFIX", 0, 0, 0};
-static const cli_value v_angle = {CLI_REAL, "DEG", 0, 60, 0};
-static const cli_value v_area = {CLI_REAL, "AREA", 0, INFINITY, 0};
-static const cli_value v_count = {CLI_INT64, "N", 0, INFINITY, 0};
-static const cli_value v_nsub = {CLI_INT32, "K", 1, 1e6, 0};
-static const cli_value v_ratio = {CLI_REAL, "R", 0, 1e6, 1};
-static const cli_value v_seed = {CLI_UINT64, "SEED", 0, INFINITY, 0};
-static const cli_value v_poll = {CLI_INT32, "N", 1, 1e6, 0};
-static const cli_value v_inflight = {CLI_INT32, "N", 1, 1024, 0};
+static const cli_value v_help = {CLI_HELP, NULL, 0, 0, 0, NULL};
+static const cli_value v_version = {CLI_VERSION, NULL, 0, 0, 0, NULL};
+static const cli_value v_flag = {CLI_FLAG, NULL, 0, 0, 0, NULL};
+static const cli_value v_file = {CLI_STRING, "FILE", 0, 0, 0, NULL};
+static const cli_value v_prefix = {CLI_STRING, "PREFIX", 0, 0, 0, NULL};
+static const cli_value v_angle = {CLI_REAL, "DEG", 0, 60, 0, NULL};
+static const cli_value v_area = {CLI_REAL, "AREA", 0, INFINITY, 0, NULL};
+static const cli_value v_count = {CLI_INT64, "N", 0, INFINITY, 0, NULL};
+static const cli_value v_nsub = {CLI_INT32, "K", 1, 1e6, 0, NULL};
+static const cli_value v_ratio = {CLI_REAL, "R", 0, 1e6, 1, NULL};
+static const cli_value v_seed = {CLI_UINT64, "SEED", 0, INFINITY, 0, NULL};
+static const cli_value v_poll = {CLI_INT32, "N", 1, 1e6, 0, NULL};
+static const cli_value v_inflight = {CLI_INT32, "N", 1, 1024, 0, NULL};
+static const cli_value v_balance = {CLI_STRING, "MODE", 0, 0, 0, "static|dynamic"};
 
 /* Every program. */
 static const cli_opt common_rows[] = {
@@ -200,7 +201,7 @@ static const cli_opt parallel_rows[] = {
     {.name = "subdomains",
      .value = &v_nsub,
      .at = CLI_AT(par.nsub),
-     .dflt_text = "the number of ranks",
+     .dflt_text = "the number of ranks; with --balance dynamic 4 per rank",
      .help = "number of subdomains, at least the number of ranks"},
     {.name = "imbalance",
      .value = &v_ratio,
@@ -237,6 +238,14 @@ static const cli_opt pcdm_rows[] = {
      .help = "refine each subdomain in rounds, its neighbours' splits applied in canonical order: "
              "the same mesh, bit for bit, for any rank count and message timing, given the "
              "input, the bounds and the subdomains (--subdomains)"},
+    {.name = "balance",
+     .value = &v_balance,
+     .at = CLI_AT(par.balance),
+     .dflt_text = "static",
+     .help = "static: each rank refines the subdomains the decomposition gives it; dynamic: an "
+             "idle rank takes unstarted subdomains from busy ones (refined in --deterministic's "
+             "rounds, so the mesh is the deterministic one; --subdomains defaults to 4 per "
+             "rank)"},
     {.help = NULL}};
 
 static const cli_opt pbw_rows[] = {

@@ -4,7 +4,9 @@
  *
  * SPMD main: every rank reads the input and computes the same decomposition (par_load), builds
  * the coarse CDT of the augmented PSLG, keeps its own subdomains and refines them; the only
- * remote service request is "split constraint edge" (mesher/pcdm/pcdm.c).  After the runtime's
+ * remote service request is "split constraint edge" (mesher/pcdm/pcdm.c); --deterministic and
+ * --balance dynamic refine each subdomain in its own mesh, in rounds (pcdm_det.c), and dynamic
+ * moves unstarted subdomains to idle ranks (pcdm_move.c).  After the runtime's
  * termination detector ends rt_run on every rank, each rank keeps its own part: the interfaces
  * are compared across ranks, the parts numbered by prefix sums, checked where they live
  * (--check) and written in parallel (par_output, mesher/par/pout.h); no rank gathers the mesh.
@@ -67,6 +69,10 @@ enum {
     RS_NUMBER,
     RS_WRITE,
     RS_OUTCPU,
+    RS_MIGR,
+    RS_MOVED,
+    RS_MOVES,
+    RS_FWD,
     RS_N
 };
 
@@ -98,7 +104,8 @@ int main(int argc, char **argv) {
     int regions = o.region_area   ? PCDM_REGIONS_AREA
                   : o.region_attr ? PCDM_REGIONS_LABEL
                                   : PCDM_REGIONS_NONE;
-    int det = o.deterministic;
+    int dyn = par_balance_dynamic(&o);
+    int det = o.deterministic || dyn; /* subdomains move between ranks only as whole meshes */
     rc = det ? pcdm_part_build_det(&part, &d, rank, regions, err, sizeof err)
              : pcdm_part_build_regions(&part, &d, rank, regions, err, sizeof err);
     snprintf(msg, sizeof msg, "pcdm: %s", err);
@@ -129,6 +136,7 @@ int main(int argc, char **argv) {
     }
     rt_stats_reset();
     if (o.unsuitable) mesh_set_size_rule(&part.m, o.unsuitable, o.unsuitable_ctx);
+    part.balance = dyn;
     pcdm_part_refine(&part, &q, o.poll_every > 0 ? o.poll_every : 300);
     double t1 = rt_wtime();
 
@@ -157,6 +165,10 @@ int main(int argc, char **argv) {
     rs[RS_MPI] = (double)st.mpi_sent;
     rs[RS_WALL] = t1 - t0;
     rs[RS_CPU] = par_cpu_seconds() - c0;
+    rs[RS_MIGR] = (double)part.migrations;
+    rs[RS_MOVED] = (double)part.moved_bytes;
+    rs[RS_MOVES] = part.move_s;
+    rs[RS_FWD] = (double)part.forwarded;
     int limit_any = 0;
     MESH_MPI(MPI_Allreduce(&part.limit_hit, &limit_any, 1, MPI_INT, MPI_MAX, comm));
     /* never a silent success outside the bounds (as ./mesh): what is left must be forced by an
@@ -219,15 +231,17 @@ int main(int argc, char **argv) {
     if (all) {
         for (int r = 0; r < size; r++) {
             const double *x = all + (size_t)r * RS_N;
-            printf("rank %d: subdomains=%.0f triangles=%.0f vertices=%.0f inserted=%.0f "
-                   "split_sent=%.0f split_recv=%.0f split_ignored=%.0f busy_s=%.3f "
-                   "idle_s=%.3f handler_s=%.3f comm_s=%.3f cpu_s=%.3f mpi_msgs=%.0f "
-                   "output_s=%.3f number_s=%.3f write_s=%.3f output_cpu_s=%.3f peak_rss_mb=%.1f "
-                   "bytes_per_tri=%.1f\n",
-                   r, x[RS_NSUB], x[RS_NTRIS], x[RS_NVERTS], x[RS_INSERTED], x[RS_SENT], x[RS_RECV],
-                   x[RS_IGNORED], x[RS_BUSY], x[RS_IDLE], x[RS_HANDLER], x[RS_COMM], x[RS_CPU],
-                   x[RS_MPI], x[RS_OUT], x[RS_NUMBER], x[RS_WRITE], x[RS_OUTCPU],
-                   x[RS_RSS] / 1048576.0, x[RS_RSS] / (x[RS_NTRIS] > 0 ? x[RS_NTRIS] : 1));
+            printf(
+                "rank %d: subdomains=%.0f triangles=%.0f vertices=%.0f inserted=%.0f "
+                "split_sent=%.0f split_recv=%.0f split_ignored=%.0f busy_s=%.3f "
+                "idle_s=%.3f handler_s=%.3f comm_s=%.3f cpu_s=%.3f mpi_msgs=%.0f "
+                "output_s=%.3f number_s=%.3f write_s=%.3f output_cpu_s=%.3f peak_rss_mb=%.1f "
+                "bytes_per_tri=%.1f migrations=%.0f moved_bytes=%.0f move_s=%.4f forwarded=%.0f\n",
+                r, x[RS_NSUB], x[RS_NTRIS], x[RS_NVERTS], x[RS_INSERTED], x[RS_SENT], x[RS_RECV],
+                x[RS_IGNORED], x[RS_BUSY], x[RS_IDLE], x[RS_HANDLER], x[RS_COMM], x[RS_CPU],
+                x[RS_MPI], x[RS_OUT], x[RS_NUMBER], x[RS_WRITE], x[RS_OUTCPU],
+                x[RS_RSS] / 1048576.0, x[RS_RSS] / (x[RS_NTRIS] > 0 ? x[RS_NTRIS] : 1), x[RS_MIGR],
+                x[RS_MOVED], x[RS_MOVES], x[RS_FWD]);
         }
         if (tot[RS_NOTFOUND] > 0)
             fprintf(stderr, "pcdm: warning: %.0f split requests named no subsegment\n",
@@ -238,13 +252,15 @@ int main(int argc, char **argv) {
                "max_area=%.6g ignored=%.0f mpi_msgs=%.0f speedup_model=%.2f "
                "peak_rss_mb=%.1f bytes_per_tri=%.1f mesh_bytes_per_tri=%.1f output_s=%.3f "
                "cpu_max_s=%.3f cpu_sum_s=%.3f decomp_s=%.3f tri_max=%.0f tri_mean=%.1f "
-               "decomp_exact=%d rounds=%d hash=%016llx\n",
+               "decomp_exact=%d rounds=%d hash=%016llx balance=%s migrations=%.0f "
+               "moved_bytes=%.0f move_max_s=%.4f forwarded=%.0f\n",
                size, (long long)sum.ntris, (long long)sum.nverts, tot[RS_SENT], sum.min_angle,
                mx[RS_WALL], mx[RS_BUSY], tot[RS_BUSY], (int)d.nsub, mx[RS_IDLE], sum.max_area,
                tot[RS_IGNORED], tot[RS_MPI], mx[RS_BUSY] > 0 ? tot[RS_BUSY] / mx[RS_BUSY] : 0.0,
                mx[RS_RSS] / 1048576.0, tot[RS_RSS] / nt, tot[RS_MESHBYTES] / nt, mx[RS_OUT],
                mx[RS_CPU], tot[RS_CPU], d.build_s, mx[RS_NTRIS], tot[RS_NTRIS] / size, d.exact,
-               (int)rounds, (unsigned long long)hash);
+               (int)rounds, (unsigned long long)hash, dyn ? "dynamic" : "static", tot[RS_MIGR],
+               tot[RS_MOVED], mx[RS_MOVES], tot[RS_FWD]);
     }
     fflush(stdout);
     free(all);

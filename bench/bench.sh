@@ -332,6 +332,7 @@ for imb in $OVH_CONFS; do
     for rep in $(seq 1 "$REPS"); do
         run_one ovh "imb$imb" pbw 4 "$imb" "$A129" "$rep"
         run_one ovh "imb$imb" pcdm 4 "$imb" "$A129" "$rep"
+        run_one ovh "imb${imb}dyn" pcdm 4 "$imb" "$A129" "$rep" --balance dynamic # issue 16
     done
 done
 section_end

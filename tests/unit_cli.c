@@ -117,6 +117,28 @@ START_TEST(test_number_edges) {
 }
 END_TEST
 
+/* a word among choices (--balance static|dynamic): exact words only, a usage error naming them
+ * otherwise; ./pbw has no --balance */
+START_TEST(test_choices) {
+    cli_opts o;
+    char msg[512];
+    ck_assert_int_eq(parse(&cli_pcdm, &o, NULL, 0, "i", NULL), -1);
+    ck_assert_ptr_null(o.par.balance);
+    ck_assert_int_eq(parse(&cli_pcdm, &o, NULL, 0, "--balance", "dynamic", "i", NULL), -1);
+    ck_assert_str_eq(o.par.balance, "dynamic");
+    ck_assert(par_balance_dynamic(&o.par));
+    ck_assert_int_eq(parse(&cli_pcdm, &o, NULL, 0, "--balance=static", "i", NULL), -1);
+    ck_assert(!par_balance_dynamic(&o.par));
+    static const char *const bad[] = {"", "dyn", "dynamics", "Dynamic", "static|dynamic", "|"};
+    for (size_t k = 0; k < sizeof bad / sizeof *bad; k++) {
+        int st = parse(&cli_pcdm, &o, msg, sizeof msg, "--balance", bad[k], "i", NULL);
+        ck_assert_msg(st == 2, "--balance '%s' gave status %d", bad[k], st);
+        ck_assert_msg(bad[k][0] == 0 || strstr(msg, "one of static|dynamic"), "message: %s", msg);
+    }
+    ck_assert_int_eq(parse(&cli_pbw, &o, NULL, 0, "--balance", "dynamic", "i", NULL), 2);
+}
+END_TEST
+
 START_TEST(test_strict) {
     static const char *const bad_reals[] = {"nan", "NAN", "-nan", "inf",  "+Inf",  "infinity",
                                             " 30", "30 ", "30x",  "0x1e", "1e400", "-1",
@@ -394,6 +416,7 @@ int main(void) {
     tcase_add_test(tc, test_number_edges);
     tcase_add_test(tc, test_strict);
     tcase_add_test(tc, test_usage_errors);
+    tcase_add_test(tc, test_choices);
     tcase_add_test(tc, test_help);
     tcase_add_test(tc, test_switch_strings);
     tcase_add_test(tc, test_switch_errors);

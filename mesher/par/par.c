@@ -83,14 +83,17 @@ int par_load(const par_opts *o, pslg *in, pcdm_decomp *d) {
     if (rc == 0) {
         pcdm_decomp_opts dopt;
         pcdm_decomp_opts_default(&dopt);
-        dopt.nsub = o->nsub;
+        /* --balance dynamic moves whole subdomains: several per rank by default */
+        int32_t k = o->nsub > 0 ? o->nsub : rt_size() * (par_balance_dynamic(o) ? 4 : 1);
+        if (!o->nsub && k > PAR_MAX_SUBDOMAINS && rt_size() <= PAR_MAX_SUBDOMAINS)
+            k = PAR_MAX_SUBDOMAINS;
+        dopt.nsub = o->cuts ? o->nsub : k; /* cuts: 0 = as many as they make */
         dopt.nranks = rt_size();
         dopt.min_angle = o->min_angle;
         dopt.max_area = o->max_area;
         dopt.imbalance = o->imbalance;
         dopt.max_steiner = o->max_steiner;
         dopt.region_area = o->region_area;
-        int32_t k = o->nsub > 0 ? o->nsub : rt_size();
         if (!o->cuts && k > PAR_MAX_SUBDOMAINS) {
             snprintf(err, sizeof err,
                      "%d subdomains: the automatic decomposition supports at most %d (fewer "

@@ -58,6 +58,7 @@ typedef struct par_opts {
     uint64_t perturb;       /* --perturb SEED (0 = off; also env RT_PERTURB) */
     int deterministic;      /* --deterministic (pcdm only): refinement in rounds, the same mesh
                                for any rank count and timing (mesher/pcdm/pcdm_det.c) */
+    const char *balance;    /* --balance static|dynamic (pcdm only; NULL: static) */
     /* Triangle's switches (issue 15); the same for all three meshers. */
     int region_attr;        /* -A: regional attributes carried into .ele (and VTK/Gmsh) */
     int region_area;        /* -a without a number: the .poly's per-region area bounds (with -r:
@@ -104,6 +105,11 @@ static inline unsigned par_skip_linear(const par_opts *o) {
  * now with *status (0: --help printed; 2: usage error). */
 typedef int (*par_parse_fn)(int argc, char **argv, int rank, const void *ctx, par_opts *o,
                             int *status);
+
+/* Local.  1 iff o asks for --balance dynamic. */
+static inline int par_balance_dynamic(const par_opts *o) {
+    return o->balance && o->balance[0] == 'd';
+}
 
 /* Largest number of subdomains par_load lets the automatic decomposition attempt (every rank
  * computes it, on a coarse mesh of about 200 K triangles); more is refused with a clear

@@ -12,7 +12,9 @@
  * That is the asynchronous mode (./pcdm's default): the mesh depends on message timing.  The
  * deterministic mode (pcdm_part_build_det, pcdm_det.c; ./pcdm --deterministic) refines each
  * subdomain in its own mesh, in rounds, so the mesh depends only on the input, the bounds and
- * the decomposition.
+ * the decomposition.  With p->balance (./pcdm --balance dynamic, pcdm_move.c) idle ranks take
+ * unstarted subdomains from busy ones during the deterministic refinement; the mesh stays the
+ * same.
  *
  * Usage (SPMD):
  *     rt_init(...); pcdm_register();            // before rt_start / the first rt_run
@@ -51,7 +53,8 @@ typedef struct pcdm_part {
                              * every rank); 0 in asynchronous mode */
     const pcdm_decomp *d;   /* borrowed; must outlive the part */
     int rank;               /* owner of this part */
-    int32_t nsub_owned;     /* subdomains owned by this rank */
+    int32_t nsub_owned;     /* subdomains owned by this rank (after refinement with balancing:
+                             * the subdomains it ended with) */
     int32_t poll_every;     /* insertions between two returns to the scheduler */
     int dirty;              /* refinement work may be queued (set by the split handler) */
     int limit_hit;          /* the Steiner limit stopped refinement */
@@ -64,10 +67,16 @@ typedef struct pcdm_part {
     uint64_t split_ignored;  /* of those, subsegment already split here (dropped) */
     uint64_t split_notfound; /* of those, segment not present here (a protocol error) */
     uint64_t work_steps;     /* calls of the local work function that refined */
-    int regions;             /* PCDM_REGIONS_* the deterministic build labels each mesh with */
-    int32_t fault_drop;      /* test-only: split requests still to drop (env PCDM_TEST_DROP_SPLIT=N
-                              * drops rank 1's first N split requests: breaks an interface so
-                              * the interface check must fail) */
+    /* dynamic load balancing (deterministic parts; set balance before pcdm_part_refine) */
+    int balance;          /* 1: idle ranks take unstarted subdomains from busy ones */
+    uint64_t migrations;  /* subdomains this rank received */
+    uint64_t moved_bytes; /* bytes of the subdomains this rank sent */
+    double move_s;        /* seconds packing and unpacking (rebuilding) subdomains */
+    uint64_t forwarded;   /* round lists sent on to where their subdomain moved */
+    int regions;          /* PCDM_REGIONS_* the deterministic build labels each mesh with */
+    int32_t fault_drop;   /* test-only: split requests still to drop (env PCDM_TEST_DROP_SPLIT=N
+                           * drops rank 1's first N split requests: breaks an interface so
+                           * the interface check must fail) */
 } pcdm_part;
 
 /* Local, SPMD: every rank calls it once, in the same position of its handler registration

@@ -18,21 +18,24 @@
  * between subdomains of one rank the lists are handed over directly, between ranks as one RSR
  * ("pcdm_round": header + splits).  Still only "split this constraint edge" crosses ranks.
  *
- * Termination: when all its subdomains have completed round r a rank reports the number of
- * splits they sent in round r to every rank ("pcdm_rdone").  The first round R that every rank
- * reported with no split anywhere ends the run: round R+1's lists are all empty, so nothing can
- * change any more.  A subdomain may start round r only when rounds up to r - WINDOW are known
- * (so subdomains with nothing to do do not race ahead through empty rounds); since the slowest
- * subdomain is never held back by the window (the window never blocks a round <= known), some
- * rank is always busy or a message is in flight until R is known: rt_run's detector cannot end
- * the run early, and it ends once every rank knows R.  p->rounds = R + 1 on every rank.
+ * Termination: when all its subdomains have completed round r a rank reports to every rank
+ * ("pcdm_rdone") how many of its subdomains completed round r and the splits they sent in it; a
+ * subdomain that arrived later (--balance dynamic, pcdm_move.c) and completes r here is reported
+ * in another such message.  Round r is known once its completions add up to the number of
+ * subdomains.  The first known round R with no split anywhere ends the run: round R+1's lists
+ * are all empty, so nothing can change any more.  A subdomain may start round r only when rounds up
+ * to r - WINDOW are known (so subdomains with nothing to do do not race ahead through empty
+ * rounds); since the slowest subdomain is never held back by the window (the window never blocks a
+ * round <= known), some rank is always busy or a message is in flight until R is known: rt_run's
+ * detector cannot end the run early, and it ends once every rank knows R.  p->rounds = R + 1 on
+ * every rank.
  *
  * Invariants: a neighbour's round-r list arrives while its receiver has completed r or r + 1
  * rounds (it needs the receiver's round r-1 list; the receiver needs it for round r+1), so two
  * input slots by round parity suffice; each local interface split is sent exactly once, to the
  * subdomain on the other side; splits are never undone.
  */
-#include "pcdm/pcdm_impl.h"
+#include "pcdm/pcdm_det_impl.h"
 
 #include "base/base.h"
 
@@ -41,61 +44,16 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
-enum { DET_WINDOW = 3, DET_MAX_PAYLOAD = 1 << 28 };
-
-/* "pcdm_round" payload: this header, then n pcdm_split_msg. */
-typedef struct det_round_hdr {
-    int32_t dst;   /* receiving subdomain */
-    int32_t src;   /* sending subdomain */
-    int32_t round; /* the sender's round */
-    int32_t n;     /* splits that follow */
-} det_round_hdr;
-_Static_assert(sizeof(det_round_hdr) == 16, "det_round_hdr must be 16 bytes, no padding");
-
-/* "pcdm_rdone" payload: the sender's subdomains have all completed round `round` and sent
- * `splits` splits in it. */
+/* "pcdm_rdone" payload: the sender's subdomains completed round `round` `count` times (each
+ * subdomain once, reported by the rank that held it then) and sent `splits` splits in it. */
 typedef struct det_report {
     int32_t round;
-    int32_t pad;
+    int32_t count;
     int64_t splits;
 } det_report;
 _Static_assert(sizeof(det_report) == 16, "det_report must be 16 bytes, no padding");
-
-typedef struct det_list {
-    pcdm_split_msg *v;
-    int32_t n, cap;
-} det_list;
-
-typedef struct det_sub {
-    int32_t id; /* subdomain number in the decomposition */
-    mesh m;
-    int32_t nnb;
-    int32_t *nb;    /* neighbouring subdomains, ascending */
-    det_list *out;  /* per neighbour: this round's splits for it */
-    det_list in[2]; /* by round parity: splits received for the next round */
-    int32_t got[2]; /* by round parity: neighbours heard from */
-    int32_t done;   /* rounds completed */
-    int64_t splits; /* splits sent in the current round */
-    pcdm_det *D;    /* back pointer (hook context) */
-} det_sub;
-
-struct pcdm_det {
-    pcdm_part *p;
-    int32_t n; /* owned subdomains */
-    det_sub *s;
-    int32_t *local; /* per subdomain of the decomposition: index into s, or -1 */
-    int32_t cur;    /* index of the subdomain being refined, or -1 */
-    /* per round: ranks that reported it, the splits they reported, this rank's own splits */
-    int32_t *rep_n;
-    int64_t *rep_splits, *mine;
-    int32_t rep_cap;
-    int32_t known;    /* rounds 0..known-1 reported by every rank */
-    int32_t reported; /* rounds this rank has reported */
-    int32_t stop;     /* the first round with no split anywhere, or -1 */
-    int32_t nbuf;     /* scratch for outgoing RSRs */
-    unsigned char *buf;
-};
 
 typedef struct det_slot {
     int round_handler, report_handler;
@@ -112,20 +70,26 @@ static void rounds_grow(pcdm_det *D, int32_t r) {
     while (cap <= r)
         cap *= 2;
     D->rep_n = mesh_xrealloc(D->rep_n, (size_t)cap, sizeof *D->rep_n);
+    D->cnt = mesh_xrealloc(D->cnt, (size_t)cap, sizeof *D->cnt);
     D->rep_splits = mesh_xrealloc(D->rep_splits, (size_t)cap, sizeof *D->rep_splits);
     D->mine = mesh_xrealloc(D->mine, (size_t)cap, sizeof *D->mine);
     for (int32_t i = D->rep_cap; i < cap; i++) {
-        D->rep_n[i] = 0;
+        D->rep_n[i] = D->cnt[i] = 0;
         D->rep_splits[i] = D->mine[i] = 0;
     }
     D->rep_cap = cap;
 }
 
-static void tally(pcdm_det *D, int32_t round, int64_t splits) {
+/* count more completions of round `round`, with splits; a round is known once every subdomain
+ * of the decomposition completed it */
+static void tally(pcdm_det *D, int32_t round, int32_t count, int64_t splits) {
     rounds_grow(D, round);
-    D->rep_n[round]++;
+    D->rep_n[round] += count;
     D->rep_splits[round] += splits;
-    while (D->known < D->rep_cap && D->rep_n[D->known] == rt_size()) {
+    if (D->rep_n[round] > D->p->d->nsub)
+        MESH_BUG("round %d completed %d times by %d subdomains", round, D->rep_n[round],
+                 D->p->d->nsub);
+    while (D->known < D->rep_cap && D->rep_n[D->known] == D->p->d->nsub) {
         if (D->rep_splits[D->known] == 0 && D->stop < 0) D->stop = D->known;
         D->known++;
     }
@@ -136,24 +100,23 @@ static void report_handler(const rt_msg *msg, void *arg) {
     if (!sl->active) MESH_BUG("round report from rank %d outside refinement", msg->src);
     det_report r;
     memcpy(&r, msg->data, sizeof r);
-    tally(sl->active, r.round, r.splits);
+    tally(sl->active, r.round, r.count, r.splits);
 }
 
-/* Reports every round all of this rank's subdomains have completed. */
-static void report_rounds(pcdm_det *D) {
+/* Reports the completions of every round all of this rank's subdomains have completed (one
+ * report per round, and another for a subdomain that arrived later and completed it here). */
+void det_report_rounds(pcdm_det *D) {
     int32_t low = INT32_MAX;
     for (int32_t i = 0; i < D->n; i++)
-        if (D->s[i].done < low) low = D->s[i].done;
-    while (D->reported < low) {
-        det_report r;
-        memset(&r, 0, sizeof r);
-        r.round = D->reported;
-        rounds_grow(D, r.round);
-        r.splits = D->mine[r.round];
+        if (D->s[i]->done < low) low = D->s[i]->done;
+    for (int32_t r = 0; r < low && r < D->rep_cap; r++) {
+        if (D->cnt[r] == 0) continue;
+        det_report rep = {r, D->cnt[r], D->mine[r]};
         for (int q = 0; q < rt_size(); q++)
-            if (q != D->p->rank) rt_rsr(q, dslot.report_handler, &r, (uint32_t)sizeof r);
-        tally(D, r.round, r.splits);
-        D->reported++;
+            if (q != D->p->rank) rt_rsr(q, dslot.report_handler, &rep, (uint32_t)sizeof rep);
+        D->cnt[r] = 0;
+        D->mine[r] = 0;
+        tally(D, r, rep.count, rep.splits);
     }
 }
 
@@ -193,32 +156,41 @@ static int32_t nb_index(const det_sub *s, int32_t sub) {
     return -1;
 }
 
-/* Subdomain src's round-r list for subdomain dst (owned here) arrives. */
-static void deliver(pcdm_det *D, const det_round_hdr *h, const pcdm_split_msg *v) {
+void det_deliver(pcdm_det *D, const det_round_hdr *h, const pcdm_split_msg *v) {
     int32_t li = h->dst >= 0 && h->dst < D->p->d->nsub ? D->local[h->dst] : -1;
-    if (li < 0) MESH_BUG("round list for subdomain %d, not owned by rank %d", h->dst, D->p->rank);
-    det_sub *s = &D->s[li];
+    if (li < 0) MESH_BUG("round list for subdomain %d, not held by rank %d", h->dst, D->p->rank);
+    det_sub *s = D->s[li];
     if (s->done != h->round && s->done != h->round + 1)
         MESH_BUG("subdomain %d: round %d list from %d after %d rounds", s->id, h->round, h->src,
                  s->done);
     int par = h->round & 1;
     list_push(&s->in[par], v, h->n);
     s->got[par]++;
+    D->delivered += h->n;
 }
 
 static void round_handler(const rt_msg *msg, void *arg) {
     det_slot *sl = arg;
-    if (!sl->active) MESH_BUG("round list from rank %d outside refinement", msg->src);
+    pcdm_det *D = sl->active;
+    if (!D) MESH_BUG("round list from rank %d outside refinement", msg->src);
     det_round_hdr h;
     if (msg->len < sizeof h) MESH_BUG("short round list from rank %d", msg->src);
     memcpy(&h, msg->data, sizeof h);
-    if (h.n < 0 || msg->len != sizeof h + (size_t)h.n * sizeof(pcdm_split_msg))
+    if (h.n < 0 || msg->len != sizeof h + (size_t)h.n * sizeof(pcdm_split_msg) || h.dst < 0 ||
+        h.dst >= D->p->d->nsub)
         MESH_BUG("round list from rank %d: %d splits in %u bytes", msg->src, h.n,
                  (unsigned)msg->len);
+    if (D->local[h.dst] < 0) { /* it moved on (dynamic balancing): the list follows it */
+        if (D->owner[h.dst] == D->p->rank)
+            MESH_BUG("round list for subdomain %d: neither here nor gone", h.dst);
+        rt_rsr(D->owner[h.dst], dslot.round_handler, msg->data, msg->len);
+        D->p->forwarded++;
+        return;
+    }
     pcdm_split_msg *v = mesh_xmalloc((size_t)h.n + 1, sizeof *v);
     memcpy(v, (const unsigned char *)msg->data + sizeof h, (size_t)h.n * sizeof *v);
-    deliver(sl->active, &h, v);
-    sl->active->p->split_recv += (uint64_t)h.n; /* from another rank */
+    det_deliver(D, &h, v);
+    D->p->split_recv += (uint64_t)h.n; /* from another rank */
     free(v);
 }
 
@@ -231,7 +203,53 @@ int pcdm_det_register(void) {
     if (b < 0) return b;
     dslot.round_handler = a;
     dslot.report_handler = b;
-    return 0;
+    return det_move_register();
+}
+
+/* ---- the held set --------------------------------------------------------------------------- */
+
+void det_hold(pcdm_det *D, det_sub *s) {
+    if (D->local[s->id] >= 0) MESH_BUG("subdomain %d held twice", s->id);
+    if (D->n == D->cap) {
+        D->cap = D->cap ? 2 * D->cap : 8;
+        D->s = mesh_xrealloc(D->s, (size_t)D->cap, sizeof *D->s);
+    }
+    int32_t i = D->n;
+    while (i > 0 && D->s[i - 1]->id > s->id) {
+        D->s[i] = D->s[i - 1];
+        D->local[D->s[i]->id] = i;
+        i--;
+    }
+    D->s[i] = s;
+    D->local[s->id] = i;
+    D->n++;
+    if (D->cur >= i) D->cur++;
+}
+
+det_sub *det_release(pcdm_det *D, int32_t sub) {
+    int32_t i = D->local[sub];
+    if (i < 0 || i == D->cur) MESH_BUG("release of subdomain %d (index %d)", sub, i);
+    det_sub *s = D->s[i];
+    for (int32_t j = i; j + 1 < D->n; j++) {
+        D->s[j] = D->s[j + 1];
+        D->local[D->s[j]->id] = j;
+    }
+    D->n--;
+    D->local[sub] = -1;
+    if (D->cur > i) D->cur--;
+    return s;
+}
+
+void det_sub_free(det_sub *s) {
+    if (!s) return;
+    mesh_free(&s->m);
+    for (int32_t j = 0; j < s->nnb; j++)
+        free(s->out[j].v);
+    free(s->out);
+    free(s->nb);
+    free(s->in[0].v);
+    free(s->in[1].v);
+    free(s);
 }
 
 /* ---- build ---------------------------------------------------------------------------------- */
@@ -244,40 +262,20 @@ int pcdm_det_build(pcdm_part *p, char *err, size_t errlen) {
     D->cur = -1;
     D->stop = -1;
     D->local = mesh_xmalloc((size_t)d->nsub + 1, sizeof(int32_t));
-    for (int32_t s = 0; s < d->nsub; s++)
-        D->local[s] = d->sub_owner[s] == p->rank ? D->n++ : -1;
-    D->s = mesh_xcalloc((size_t)D->n + 1, sizeof(det_sub));
-    int32_t *mark = mesh_xmalloc((size_t)d->nsub + 1, sizeof(int32_t));
-    for (int32_t s = 0; s < d->nsub; s++)
-        mark[s] = -1;
-    for (int32_t sub = 0, i = 0; sub < d->nsub; sub++) {
-        if (D->local[sub] < 0) continue;
-        det_sub *s = &D->s[i++];
-        s->id = sub;
-        s->D = D;
-        for (int32_t g = 0; g < d->g.nsegs; g++) { /* neighbours across interface pieces */
-            if (!d->seg_iface[g]) continue;
-            int32_t a = d->seg_sub[2 * (size_t)g], b = d->seg_sub[2 * (size_t)g + 1];
-            int32_t o = a == sub ? b : b == sub ? a : -1;
-            if (o < 0 || o == sub || mark[o] == sub) continue;
-            mark[o] = sub;
-            s->nb = mesh_xrealloc(s->nb, (size_t)s->nnb + 1, sizeof(int32_t));
-            s->nb[s->nnb++] = o;
-        }
-        for (int32_t x = 1; x < s->nnb; x++) /* ascending (few neighbours) */
-            for (int32_t y = x; y > 0 && s->nb[y - 1] > s->nb[y]; y--) {
-                int32_t t = s->nb[y];
-                s->nb[y] = s->nb[y - 1];
-                s->nb[y - 1] = t;
-            }
-        s->out = mesh_xcalloc((size_t)s->nnb + 1, sizeof(det_list));
-        if (pcdm_build_mesh(&s->m, d, p->rank, sub, p->regions, err, errlen) != 0) {
-            free(mark);
+    D->owner = mesh_xmalloc((size_t)d->nsub + 1, sizeof(int32_t));
+    for (int32_t s = 0; s < d->nsub; s++) {
+        D->local[s] = -1;
+        D->owner[s] = d->sub_owner[s];
+    }
+    for (int32_t sub = 0; sub < d->nsub; sub++) {
+        if (d->sub_owner[sub] != p->rank) continue;
+        det_sub *s = det_sub_new(D, sub, err, errlen);
+        if (!s) {
             pcdm_det_free(p);
             return -1;
         }
+        det_hold(D, s);
     }
-    free(mark);
     return 0;
 }
 
@@ -294,7 +292,7 @@ static void det_on_split(void *ctx, int32_t seg, int32_t level, int64_t k, unsig
     int32_t i = nb_index(s, o);
     if (i < 0) MESH_BUG("subdomain %d: split of segment %d, not next to %d", s->id, seg, o);
     pcdm_part *p = s->D->p;
-    if (p->fault_drop > 0 && p->d->sub_owner[o] != p->rank) { /* test-only fault: lose it */
+    if (p->fault_drop > 0 && s->D->owner[o] != p->rank) { /* test-only fault: lose it */
         p->fault_drop--;
         return;
     }
@@ -321,15 +319,64 @@ static int det_poll(void *ctx) {
     return 1; /* back to the scheduler: service requests, flush ours */
 }
 
+/* The bounds and hooks of a subdomain (when it is built after pcdm_det_refine began: on
+ * arrival). */
+static void sub_setup(pcdm_det *D, det_sub *s) {
+    const pcdm_decomp *d = D->p->d;
+    mesh_quality qs = D->q;
+    if (D->q.max_steiner >= 0) /* the budget's share of this subdomain's expected work */
+        qs.max_steiner =
+            d->total_weight > 0
+                ? (int64_t)((double)D->q.max_steiner * d->sub_weight[s->id] / d->total_weight)
+                : D->q.max_steiner;
+    mesh_set_quality(&s->m, &qs);
+    if (D->p->m.size_rule) /* the caller's size rule (--size, -r's .area), set on p->m */
+        mesh_set_size_rule(&s->m, D->p->m.size_rule, D->p->m.size_rule_ctx);
+    mesh_hooks h;
+    memset(&h, 0, sizeof h);
+    h.on_split = det_on_split;
+    h.poll = det_poll;
+    h.poll_every = D->p->poll_every;
+    h.ctx = s;
+    mesh_set_hooks(&s->m, &h);
+}
+
+det_sub *det_sub_new(pcdm_det *D, int32_t sub, char *err, size_t errlen) {
+    const pcdm_decomp *d = D->p->d;
+    det_sub *s = mesh_xcalloc(1, sizeof *s);
+    s->id = sub;
+    s->D = D;
+    for (int32_t g = 0; g < d->g.nsegs; g++) { /* neighbours across interface pieces */
+        if (!d->seg_iface[g]) continue;
+        int32_t a = d->seg_sub[2 * (size_t)g], b = d->seg_sub[2 * (size_t)g + 1];
+        int32_t o = a == sub ? b : b == sub ? a : -1;
+        if (o < 0 || o == sub || nb_index(s, o) >= 0) continue;
+        s->nb = mesh_xrealloc(s->nb, (size_t)s->nnb + 1, sizeof(int32_t));
+        int32_t y = s->nnb++; /* insertion keeps them ascending (nb_index searches) */
+        for (; y > 0 && s->nb[y - 1] > o; y--)
+            s->nb[y] = s->nb[y - 1];
+        s->nb[y] = o;
+    }
+    s->out = mesh_xcalloc((size_t)s->nnb + 1, sizeof(det_list));
+    if (pcdm_build_mesh(&s->m, d, D->p->rank, sub, D->p->regions, err, errlen) != 0) {
+        mesh_init(&s->m); /* pcdm_build_mesh freed it */
+        det_sub_free(s);
+        return NULL;
+    }
+    if (D->q_set) sub_setup(D, s);
+    return s;
+}
+
 /* Ends subdomain i's current round: one list to each neighbour. */
 static void finish_round(pcdm_det *D, int32_t i) {
-    det_sub *s = &D->s[i];
+    det_sub *s = D->s[i];
     int32_t r = s->done;
     for (int32_t j = 0; j < s->nnb; j++) {
         det_list *l = &s->out[j];
         det_round_hdr h = {s->nb[j], s->id, r, l->n};
+        D->listed += l->n;
         if (D->local[h.dst] >= 0) {
-            deliver(D, &h, l->v);
+            det_deliver(D, &h, l->v);
         } else {
             size_t len = sizeof h + (size_t)l->n * sizeof(pcdm_split_msg);
             if (len > DET_MAX_PAYLOAD) MESH_BUG("round list of %d splits", l->n);
@@ -339,36 +386,51 @@ static void finish_round(pcdm_det *D, int32_t i) {
             }
             memcpy(D->buf, &h, sizeof h);
             if (l->n) memcpy(D->buf + sizeof h, l->v, (size_t)l->n * sizeof(pcdm_split_msg));
-            rt_rsr(D->p->d->sub_owner[h.dst], dslot.round_handler, D->buf, (uint32_t)len);
+            int to = D->home_route ? D->p->d->sub_owner[h.dst] : D->owner[h.dst];
+            rt_rsr(to, dslot.round_handler, D->buf, (uint32_t)len);
             D->p->split_sent += (uint64_t)l->n; /* to another rank: the rsr= figure */
         }
         l->n = 0;
     }
     rounds_grow(D, r);
     D->mine[r] += s->splits;
+    D->cnt[r]++;
     s->splits = 0;
     s->done = r + 1;
     D->cur = -1;
-    report_rounds(D);
+    det_report_rounds(D);
+}
+
+double det_cpu(void) {
+    struct timespec ts;
+    if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) != 0) return 0;
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 static void refine_step(pcdm_det *D) {
-    det_sub *s = &D->s[D->cur];
+    det_sub *s = D->s[D->cur];
+    double c = det_cpu();
     mesh_refine_result r = mesh_refine(&s->m);
     D->p->work_steps++;
+    s->cpu += det_cpu() - c;
     if (r == MESH_REFINE_STOPPED) return;
     if (r == MESH_REFINE_STEINER_LIMIT) D->p->limit_hit = 1;
+    if (s->done == 0) { /* this rank's speed: expected work per CPU second of round 0 */
+        D->wdone += D->p->d->sub_weight[s->id];
+        D->cdone += s->cpu;
+    }
     finish_round(D, D->cur);
 }
 
 /* Starts subdomain i's next round: its neighbours' previous lists, in canonical order. */
 static void start_round(pcdm_det *D, int32_t i) {
-    det_sub *s = &D->s[i];
+    det_sub *s = D->s[i];
     pcdm_part *p = D->p;
     int32_t r = s->done;
     int refine = r == 0;
     if (r > 0) {
         det_list *l = &s->in[(r - 1) & 1];
+        D->consumed += l->n;
         if (l->n > 1) qsort(l->v, (size_t)l->n, sizeof *l->v, split_cmp);
         for (int32_t k = 0; k < l->n; k++) {
             if (k > 0 && split_cmp(&l->v[k - 1], &l->v[k]) == 0) continue;
@@ -416,39 +478,31 @@ static int det_work(void *ctx) {
     if (D->stop >= 0) return RT_WORK_IDLE;
     int32_t best = -1;
     for (int32_t i = 0; i < D->n; i++) /* the least advanced ready subdomain */
-        if (ready(D, &D->s[i]) && (best < 0 || D->s[i].done < D->s[best].done)) best = i;
-    if (best < 0) return RT_WORK_IDLE; /* only a handler can make one ready */
+        if (ready(D, D->s[i]) && (best < 0 || D->s[i]->done < D->s[best]->done)) best = i;
+    if (best < 0) /* only a handler can make one ready; meanwhile take work from a busy rank */
+        return det_move_steal(D) ? RT_WORK_BUSY : RT_WORK_IDLE;
     start_round(D, best);
     return RT_WORK_BUSY;
 }
 
 void pcdm_det_refine(pcdm_part *p, const mesh_quality *q) {
     pcdm_det *D = p->det;
-    const pcdm_decomp *d = p->d;
     if (dslot.round_handler < 0) MESH_BUG("pcdm_register was not called");
-    for (int32_t i = 0; i < D->n; i++) {
-        det_sub *s = &D->s[i];
-        mesh_quality qs = *q;
-        if (q->max_steiner >= 0) /* the budget's share of this subdomain's expected work */
-            qs.max_steiner =
-                d->total_weight > 0
-                    ? (int64_t)((double)q->max_steiner * d->sub_weight[s->id] / d->total_weight)
-                    : q->max_steiner;
-        mesh_set_quality(&s->m, &qs);
-        mesh_hooks h;
-        memset(&h, 0, sizeof h);
-        h.on_split = det_on_split;
-        h.poll = det_poll;
-        h.poll_every = p->poll_every;
-        h.ctx = s;
-        mesh_set_hooks(&s->m, &h);
-    }
+    D->q = *q;
+    D->q_set = 1;
+    for (int32_t i = 0; i < D->n; i++)
+        sub_setup(D, D->s[i]);
+    D->balance = p->balance;
+    det_move_begin(D);
+    D->cpu0 = det_cpu();
     dslot.active = D;
     rt_run(det_work, D);
     dslot.active = NULL;
     if (D->stop < 0 || D->cur >= 0)
         MESH_BUG("rank %d: rounds ended without a final round", p->rank);
     p->rounds = D->stop + 1;
+    p->nsub_owned = D->n; /* after balancing: the subdomains this rank ends with */
+    det_move_end(D);
 }
 
 /* ---- figures and output --------------------------------------------------------------------- */
@@ -457,7 +511,7 @@ void pcdm_det_figures(pcdm_part *p, pcdm_figures *f) {
     pcdm_det *D = p->det;
     memset(f, 0, sizeof *f);
     for (int32_t i = 0; i < D->n; i++) {
-        mesh *m = &D->s[i].m;
+        mesh *m = &D->s[i]->m;
         f->ntris += m->nlive;
         f->nverts += m->nv;
         f->inserted += m->stats.inserted;
@@ -469,19 +523,15 @@ void pcdm_det_figures(pcdm_part *p, pcdm_figures *f) {
 void pcdm_det_free(pcdm_part *p) {
     pcdm_det *D = p->det;
     if (!D) return;
-    for (int32_t i = 0; i < D->n; i++) {
-        det_sub *s = &D->s[i];
-        mesh_free(&s->m);
-        for (int32_t j = 0; j < s->nnb; j++)
-            free(s->out[j].v);
-        free(s->out);
-        free(s->nb);
-        free(s->in[0].v);
-        free(s->in[1].v);
-    }
+    for (int32_t i = 0; i < D->n; i++)
+        det_sub_free(D->s[i]);
     free(D->s);
     free(D->local);
+    free(D->owner);
+    free(D->dry);
+    free(D->order);
     free(D->rep_n);
+    free(D->cnt);
     free(D->rep_splits);
     free(D->mine);
     free(D->buf);
@@ -494,6 +544,6 @@ int32_t pcdm_det_nmesh(const pcdm_part *p) {
 }
 
 mesh *pcdm_det_mesh(pcdm_part *p, int32_t i, int32_t *sub) {
-    *sub = p->det->s[i].id;
-    return &p->det->s[i].m;
+    *sub = p->det->s[i]->id;
+    return &p->det->s[i]->m;
 }
