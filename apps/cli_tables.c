@@ -29,6 +29,7 @@ static const cli_value v_nsub = {CLI_INT32, "K", 1, 1e6, 0};
 static const cli_value v_ratio = {CLI_REAL, "R", 0, 1e6, 1};
 static const cli_value v_seed = {CLI_UINT64, "SEED", 0, INFINITY, 0};
 static const cli_value v_poll = {CLI_INT32, "N", 1, 1e6, 0};
+static const cli_value v_net = {CLI_STRING, "SPEC", 0, 0, 0};
 
 /* Every program. */
 static const cli_opt common_rows[] = {
@@ -227,6 +228,13 @@ static const cli_opt parallel_rows[] = {
      .at = CLI_AT(par.perturb),
      .dflt_text = "off, or the environment's RT_PERTURB",
      .help = "delay and reorder message delivery, reproducibly from SEED; 0: off"},
+    {.name = "net",
+     .value = &v_net,
+     .at = CLI_AT(par.net),
+     .dflt_text = "off, or the environment's PCDM_NET",
+     .help = "model a slower network: every message between ranks is held at its receiver until "
+             "LAT_US microseconds plus its size at MBPS megabytes per second after it was sent "
+             "(\"LAT_US[,MBPS]\"; sp2 = 29,33.6, the paper's IBM SP2; off)"},
     {.help = NULL}};
 
 static const cli_opt pcdm_rows[] = {

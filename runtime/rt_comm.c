@@ -22,6 +22,11 @@
  * threaded one gets a copy queued to the worker pool, and with perturbation on every record
  * is copied into the holding pool first.  rt_complete does the bookkeeping when a handler
  * has finished (received count for termination, statistics, reply token).
+ * With the network model on (rt_net.c) a received message is copied into its source's
+ * holding queue instead and processed by the same code (rt_comm_process) when it is due.
+ * Communication time (rt_stats.comm_s) is the time of sends, flushes and of the polls that
+ * received an RSR (or a message the network model held), handler bodies excluded; an empty
+ * poll, and the termination detector's control records, read the clock but add nothing.
  * All of this is main-thread only; it is the only code that calls point-to-point MPI.
  */
 #include "rt_internal.h"
@@ -39,6 +44,18 @@ struct rt_sendbuf {
     int dest;
     bool pooled; /* standard size: back to the pool after the send completes */
 };
+
+/* Communication time (rt_stats.comm_s): stretches opened by comm_begin and closed by
+ * comm_end, nested (a flush inside a send, a send inside a poll) and counted once, at the
+ * outermost end, unless that end says the stretch was not communication (an empty poll).
+ * A non-threaded handler run inside one pauses it (run_inline): its body is handler time. */
+static inline void comm_begin(void) {
+    if (rt_g.comm_depth++ == 0) rt_g.comm_t0 = rt_now();
+}
+
+static inline void comm_end(bool count) {
+    if (--rt_g.comm_depth == 0 && count) rt_g.st.comm_s += rt_now() - rt_g.comm_t0;
+}
 
 int rt_comm_init(void) {
     int p = rt_g.size;
@@ -171,8 +188,10 @@ static void flush_dest(int dest) {
 
 void rt_comm_flush_all(void) {
     if (rt_g.ndirty == 0) return;
+    comm_begin();
     while (rt_g.ndirty > 0)
         flush_dest(rt_g.dirty[0]);
+    comm_end(true);
 }
 
 bool rt_comm_flushed(void) {
@@ -201,10 +220,12 @@ static void test_sends(void) {
 
 void rt_comm_wait_sends(void) {
     if (rt_g.nreq == 0) return;
+    comm_begin();
     RT_MPI(MPI_Waitall(rt_g.nreq, rt_g.reqs, MPI_STATUSES_IGNORE));
     for (int i = 0; i < rt_g.nreq; i++)
         sendbuf_done(rt_g.reqbuf[i]);
     rt_g.nreq = 0;
+    comm_end(true);
 }
 
 /* Appends one record (that fits in a standard buffer) to to's open aggregation buffer. */
@@ -233,8 +254,10 @@ void rt_send_hdr(int to, rt_hdr *h, const void *payload) {
     rt_g.sent++;
     rt_g.term.active = true;
     h->src = rt_g.rank;
+    comm_begin();
     if (to == rt_g.rank) {
         rt_queue_push(&rt_g.selfq, &rt_item_new(h, payload)->q);
+        comm_end(true);
         return;
     }
     size_t need = rt_wire_size(h->len);
@@ -247,17 +270,21 @@ void rt_send_hdr(int to, rt_hdr *h, const void *payload) {
         rt_sendbuf *big = sendbuf_get(to, need);
         RT_CHECK(rt_pack(big->buf, big->cap, &big->used, h, payload) == RT_OK);
         sendbuf_post(big, RT_TAG_BIG);
+        comm_end(true);
         return;
     }
     append_record(to, h, payload);
     if (!rt_g.cfg.aggregate || rt_g.agg[to]->used == rt_g.agg[to]->cap) flush_dest(to);
+    comm_end(true);
 }
 
 void rt_send_ctl(int to, uint16_t id, const void *payload, uint32_t len) {
     RT_CHECK(!rt_in_worker && to != rt_g.rank && rt_wire_size(len) <= rt_g.cfg.agg_bytes);
     rt_hdr c = {.handler = id, .src = rt_g.rank, .len = len, .tok_rank = -1};
+    comm_begin();
     append_record(to, &c, payload);
     flush_dest(to);
+    comm_end(false); /* the termination detector's, not the application's */
 }
 
 /* A control record from src (rt_send_ctl): the termination token, TERM or DEADLOCK. */
@@ -333,8 +360,16 @@ static void run_inline(const rt_hdr *h, const void *payload) {
     bool nested = rt_g.in_handler;
     rt_g.in_handler = true;
     double t0 = rt_now();
+    /* pause the open communication stretch: the body is handler time, except its own sends */
+    int depth = rt_g.comm_depth;
+    if (depth) rt_g.st.comm_s += t0 - rt_g.comm_t0;
+    rt_g.comm_depth = 0;
+    double c0 = rt_g.st.comm_s;
     e->fn(&m, e->arg);
-    double dt = rt_now() - t0;
+    double t1 = rt_now();
+    double dt = t1 - t0 - (rt_g.st.comm_s - c0);
+    rt_g.comm_depth = depth;
+    rt_g.comm_t0 = t1;
     rt_g.inline_time += dt;
     rt_g.in_handler = nested;
     rt_complete(h, dt);
@@ -369,6 +404,7 @@ static void deliver(const rt_hdr *h, const void *payload, rt_item *owned) {
 
 bool rt_local_deliver(void) {
     if (rt_queue_empty(&rt_g.selfq)) return false;
+    comm_begin();
     /* Only what is queued now: handlers may self-send more, which waits for the next round. */
     rt_queue q;
     rt_queue_init(&q);
@@ -378,6 +414,7 @@ bool rt_local_deliver(void) {
         rt_item *it = RT_CONTAINER(n, rt_item, q);
         deliver(&it->h, it->data, it);
     }
+    comm_end(true);
     return true;
 }
 
@@ -419,9 +456,46 @@ static void repost_pending(void) {
     rt_g.nrepost = 0;
 }
 
-bool rt_comm_progress(void) {
+/* The records of one MPI message: control records, large-message announcements, RSRs;
+ * *nrec gets the number of records. */
+static bool process(const unsigned char *buf, size_t n, int src, int *nrec) {
+    size_t off = 0;
+    rt_hdr h;
+    const unsigned char *payload;
+    int rc;
     bool any = false;
+    *nrec = 0;
+    while ((rc = rt_unpack(buf, n, &off, &h, &payload)) == 1) {
+        ++*nrec;
+        if (h.handler == RT_BIG_ID && h.len == sizeof(uint64_t) && h.src == src) {
+            receive_big(src, payload);
+            any = true;
+            continue;
+        }
+        if ((h.handler == RT_CTL_TOKEN || h.handler == RT_CTL_TERM ||
+             h.handler == RT_CTL_DEADLOCK) &&
+            h.src == src) {
+            control_record(&h, payload);
+            continue;
+        }
+        check_record(&h, src);
+        deliver(&h, payload, NULL);
+        any = true; /* an RSR: control records alone are not activity */
+    }
+    if (rc != 0) RT_FATAL("malformed message of %zu bytes from rank %d at offset %zu", n, src, off);
+    return any;
+}
+
+bool rt_comm_process(const unsigned char *buf, size_t n, int src) {
+    int nrec;
+    return process(buf, n, src, &nrec);
+}
+
+bool rt_comm_progress(void) {
+    bool any = false, held = false;
+    comm_begin();
     if (rt_g.nrepost) repost_pending();
+    if (rt_g.net.nheld) any = rt_net_release(&rt_g.net, rt_now()); /* the model's, now due */
     for (int k = 0; k < RT_RECV_BURST; k++) {
         int flag = 0, n = 0;
         if (rt_g.nrepost == RT_NPOST) repost_pending(); /* phead's own receive is consumed */
@@ -434,30 +508,13 @@ bool rt_comm_progress(void) {
         unsigned char *buf = rt_g.pbuf[rt_g.phead];
         rt_g.st.mpi_recv++;
         rt_g.st.mpi_bytes_recv += (uint64_t)n;
-        size_t off = 0;
-        rt_hdr h;
-        const unsigned char *payload;
-        int rc, nrec = 0;
-        while ((rc = rt_unpack(buf, (size_t)n, &off, &h, &payload)) == 1) {
-            nrec++;
-            if (h.handler == RT_BIG_ID && h.len == sizeof(uint64_t) && h.src == st.MPI_SOURCE) {
-                receive_big(st.MPI_SOURCE, payload);
-                any = true;
-                continue;
-            }
-            if ((h.handler == RT_CTL_TOKEN || h.handler == RT_CTL_TERM ||
-                 h.handler == RT_CTL_DEADLOCK) &&
-                h.src == st.MPI_SOURCE) {
-                control_record(&h, payload);
-                continue;
-            }
-            check_record(&h, st.MPI_SOURCE);
-            deliver(&h, payload, NULL);
-            any = true; /* an RSR: control records alone are not activity */
+        int nrec = 0;      /* 1: a message of one record (light traffic) */
+        if (rt_g.net.on) { /* held RSRs stay counted as in flight (sent, not received) */
+            rt_net_hold(&rt_g.net, buf, (size_t)n, st.MPI_SOURCE, rt_now());
+            held = true;
+        } else {
+            any |= process(buf, (size_t)n, st.MPI_SOURCE, &nrec);
         }
-        if (rc != 0)
-            RT_FATAL("malformed message of %d bytes from rank %d at offset %zu", n, st.MPI_SOURCE,
-                     off);
         /* Reposted later (repost_pending), off the path from this message to the reply. */
         rt_g.phead = (rt_g.phead + 1) % RT_NPOST;
         rt_g.nrepost++;
@@ -475,5 +532,8 @@ bool rt_comm_progress(void) {
      * empty poll, and while messages flow only when many are outstanding. */
     if (rt_g.ndirty) rt_comm_flush_all();
     if (rt_g.nreq && (!any || rt_g.nreq > 16)) test_sends();
+    /* a poll that found nothing, or only the termination detector's records, is not
+     * communication time */
+    comm_end(any || held);
     return any;
 }
