@@ -296,12 +296,13 @@ typedef struct rt_stats {
     double time[RT_TIME_NBUCKETS];
     double blocked_time_sum; /* seconds spent blocked, summed over the tasks that woke up */
     double blocked_time_max; /* longest single stretch a task spent blocked (a maximum) */
-    /* Communication seconds, measured the same way whatever the program: packing and sending
-     * RSRs (rt_rsr, rt_request, rt_reply, control records), flushing aggregation buffers,
-     * and the polls that received an RSR (receiving, unpacking, dispatching, completing
-     * sends), with the handlers' own run time taken out (it is RT_TIME_HANDLER); polls that
-     * found nothing and the termination detector's control records are left out.  Unlike
-     * RT_TIME_COMM it does not grow with idle polling. */
+    /* Communication seconds, measured the same way whatever the program: sending (each
+     * flush of an aggregation buffer to MPI, large messages, delivering self-sends; the copy
+     * of a record into a buffer stays in its caller's time, tens of nanoseconds) and the polls that
+     * received an RSR (receiving, unpacking, dispatching, completing sends), with the handlers' own
+     * run time taken out (it is RT_TIME_HANDLER); polls that found nothing and the termination
+     * detector's control records are left out.  Unlike RT_TIME_COMM it does not grow with idle
+     * polling. */
     double comm_s;
 } rt_stats;
 

@@ -177,6 +177,7 @@ static void sendbuf_post(rt_sendbuf *sb, int tag) {
 static void flush_dest(int dest) {
     rt_sendbuf *sb = rt_g.agg[dest];
     if (!sb) return;
+    comm_begin();
     rt_g.agg[dest] = NULL;
     for (int i = 0; i < rt_g.ndirty; i++)
         if (rt_g.dirty[i] == dest) {
@@ -184,6 +185,7 @@ static void flush_dest(int dest) {
             break;
         }
     sendbuf_post(sb, RT_TAG_MSG);
+    comm_end(true);
 }
 
 void rt_comm_flush_all(void) {
@@ -254,14 +256,15 @@ void rt_send_hdr(int to, rt_hdr *h, const void *payload) {
     rt_g.sent++;
     rt_g.term.active = true;
     h->src = rt_g.rank;
-    comm_begin();
     if (to == rt_g.rank) {
         rt_queue_push(&rt_g.selfq, &rt_item_new(h, payload)->q);
-        comm_end(true);
         return;
     }
+    /* Appending a record (a copy of header and payload) stays in the caller's time; the
+     * flushes (MPI_Isend) are communication time (flush_dest). */
     size_t need = rt_wire_size(h->len);
     if (need > rt_g.cfg.agg_bytes) {
+        comm_begin();
         /* Announce it in the ordinary stream (keeps the order), then send it alone. */
         uint64_t n = need;
         rt_hdr c = {.handler = RT_BIG_ID, .src = rt_g.rank, .len = sizeof n, .tok_rank = -1};
@@ -275,7 +278,6 @@ void rt_send_hdr(int to, rt_hdr *h, const void *payload) {
     }
     append_record(to, h, payload);
     if (!rt_g.cfg.aggregate || rt_g.agg[to]->used == rt_g.agg[to]->cap) flush_dest(to);
-    comm_end(true);
 }
 
 void rt_send_ctl(int to, uint16_t id, const void *payload, uint32_t len) {
@@ -492,10 +494,14 @@ bool rt_comm_process(const unsigned char *buf, size_t n, int src) {
 }
 
 bool rt_comm_progress(void) {
-    bool any = false, held = false;
-    comm_begin();
+    /* timed from the first message found: an empty poll reads no clock */
+    bool any = false, held = false, timing = false;
     if (rt_g.nrepost) repost_pending();
-    if (rt_g.net.nheld) any = rt_net_release(&rt_g.net, rt_now()); /* the model's, now due */
+    if (rt_g.net.nheld) { /* the network model's messages, now due */
+        comm_begin();
+        timing = true;
+        any = rt_net_release(&rt_g.net, rt_g.comm_t0);
+    }
     for (int k = 0; k < RT_RECV_BURST; k++) {
         int flag = 0, n = 0;
         if (rt_g.nrepost == RT_NPOST) repost_pending(); /* phead's own receive is consumed */
@@ -503,6 +509,10 @@ bool rt_comm_progress(void) {
         MPI_Request *req = &rt_g.preq[rt_g.phead];
         RT_MPI(MPI_Test(req, &flag, &st));
         if (!flag) break;
+        if (!timing) {
+            comm_begin();
+            timing = true;
+        }
         RT_MPI(MPI_Get_count(&st, MPI_BYTE, &n));
         /* Handlers run on this buffer; they may not poll, so it is not reposted meanwhile. */
         unsigned char *buf = rt_g.pbuf[rt_g.phead];
@@ -534,6 +544,6 @@ bool rt_comm_progress(void) {
     if (rt_g.nreq && (!any || rt_g.nreq > 16)) test_sends();
     /* a poll that found nothing, or only the termination detector's records, is not
      * communication time */
-    comm_end(any || held);
+    if (timing) comm_end(any || held);
     return any;
 }
