@@ -8,7 +8,12 @@
 # table and SVG figures, and prints the summary whose last line is
 #   bench: pcdm_rsr_8=N pbw_rsr_8=M ratio_8=R pcdm_wall_8=S pbw_wall_8=T pcdm_speedup_model_8=X pbw_speedup_model_8=Y
 #
-# Environment: QUICK=1 (1 repetition, no 10M run), REPS=N (override repetitions),
+# Tables 2/3 run at the paper's size (RSR counts; also ./pbw --phases and --net sp2), again at
+# 1M and 10M triangles (BIG_REPS, BIG10_REPS repetitions) and under the network model at 1M
+# (NET_LATS us, 33.6 MB/s, NET_REPS repetitions on NET_NPS ranks); bench/README.md says what
+# each figure is.
+# Environment: QUICK=1 (1 repetition, no 10M run), REPS=N (override repetitions), BIG_REPS,
+# BIG10_REPS, NET_REPS, NET_LATS, NET_NPS,
 # DOMAIN=data/lake.poly, QDEG=20.7, MESH/PCDM/PBW=program paths, B=build dir (default build),
 # RUN_TIMEOUT=seconds per run, NO_10M=1, NO_TRIANGLE=1; output section (issue 12): NO_OUTPUT=1,
 # OUT_AREA, OUT_REPS, BENCH_100M=1 (one 100M-triangle ./pcdm -o --check run), TIMEOUT_100M.
@@ -33,7 +38,7 @@ PCDM=${PCDM:-./pcdm}
 PBW=${PBW:-./pbw}
 # Per-run timeouts (seconds) for the paper-size runs, the 1M and the 10M runs; BUDGET is the
 # whole run's: past it, remaining runs are skipped (and reported as skipped), and no run may
-# outlast it, so a hanging program cannot blow the time limit (make bench: 15 min, quick: 2 min).
+# outlast it, so a hanging program cannot blow the time limit (make bench: 18 min, quick: 2.5 min).
 if [ -n "$QUICK" ]; then RUN_TIMEOUT=${RUN_TIMEOUT:-20}; else RUN_TIMEOUT=${RUN_TIMEOUT:-30}; fi
 TIMEOUT_1M=${TIMEOUT_1M:-150}
 TIMEOUT_10M=${TIMEOUT_10M:-300}
