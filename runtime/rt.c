@@ -521,25 +521,40 @@ int rt_run(rt_work_fn work, void *ctx) {
 #define RT_COMM_LAP()                                                                              \
     (RT_LAP(RT_TIME_COMM), rt_g.st.time[RT_TIME_COMM] -= rt_g.inline_time - inl,                   \
      inl = rt_g.inline_time)
+    /* the same, at a clock reading just taken by the transport (one rdtsc less per message) */
+#define RT_COMM_LAP_AT(t)                                                                          \
+    (now = (t), rt_g.st.time[RT_TIME_COMM] += now - lap - (rt_g.inline_time - inl), lap = now,     \
+     inl = rt_g.inline_time)
     for (;;) {
         bool did = rt_comm_progress();
-        if (rt_g.perturbing && rt_perturb_release(&rt_g.pert, rt_dispatch_item) > 0) did = true;
-        if (rt_g.selfq.head) did |= rt_local_deliver();
-        if (rt_g.nthreads > 0 && atomic_load_explicit(&rt_g.wposted, memory_order_acquire) != 0)
-            did |= rt_workers_drain();
-        bool local_busy = false;
+        bool fresh = did; /* rt_g.comm_t1 was read at the end of that poll */
+        if (rt_g.perturbing && rt_perturb_release(&rt_g.pert, rt_dispatch_item) > 0)
+            did = true, fresh = false;
+        if (rt_g.selfq.head && rt_local_deliver()) did = true, fresh = false;
+        if (rt_g.nthreads > 0 && atomic_load_explicit(&rt_g.wposted, memory_order_acquire) != 0 &&
+            rt_workers_drain())
+            did = true, fresh = false;
+        bool local_busy = false, lapped = false; /* lapped: lap is a reading of just now */
         if (!rt_queue_empty(&rt_g.tasks.ready) || work) {
             /* Clock reads are kept off the empty-poll path: a lap is closed only around
              * real work, and the time of an empty poll goes with the idle lap. */
-            if (did) RT_COMM_LAP();
+            if (fresh)
+                RT_COMM_LAP_AT(rt_g.comm_t1);
+            else if (did)
+                RT_COMM_LAP();
             bool ran = rt_g.tasks.ready.head && rt_tasks_run(&rt_g.tasks, rt_g.tasks.ready.n) > 0;
             if (work) local_busy = work(ctx) != RT_WORK_IDLE;
             if (ran || local_busy) {
                 RT_LAP(RT_TIME_BUSY);
-                did = true;
+                did = lapped = true;
             }
         }
-        if (rt_g.ndirty) rt_comm_flush_all();
+        if (rt_g.ndirty) {
+            if (lapped)
+                rt_comm_flush_all_at(lap); /* the clock was read right after the work */
+            else
+                rt_comm_flush_all();
+        }
         if (did) {
             rt_g.term.active = true;
             backoff = rt_g.cfg.idle_min_ns;

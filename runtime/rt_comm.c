@@ -54,7 +54,10 @@ static inline void comm_begin(void) {
 }
 
 static inline void comm_end(bool count) {
-    if (--rt_g.comm_depth == 0 && count) rt_g.st.comm_s += rt_now() - rt_g.comm_t0;
+    if (--rt_g.comm_depth == 0 && count) {
+        rt_g.comm_t1 = rt_now();
+        rt_g.st.comm_s += rt_g.comm_t1 - rt_g.comm_t0;
+    }
 }
 
 int rt_comm_init(void) {
@@ -196,6 +199,14 @@ void rt_comm_flush_all(void) {
     comm_end(true);
 }
 
+void rt_comm_flush_all_at(double now) {
+    if (rt_g.ndirty == 0) return;
+    if (rt_g.comm_depth++ == 0) rt_g.comm_t0 = now;
+    while (rt_g.ndirty > 0)
+        flush_dest(rt_g.dirty[0]);
+    comm_end(true);
+}
+
 bool rt_comm_flushed(void) {
     return rt_g.ndirty == 0 && rt_queue_empty(&rt_g.selfq);
 }
@@ -221,13 +232,11 @@ static void test_sends(void) {
 }
 
 void rt_comm_wait_sends(void) {
-    if (rt_g.nreq == 0) return;
-    comm_begin();
+    if (rt_g.nreq == 0) return; /* after termination: not communication time (done sends) */
     RT_MPI(MPI_Waitall(rt_g.nreq, rt_g.reqs, MPI_STATUSES_IGNORE));
     for (int i = 0; i < rt_g.nreq; i++)
         sendbuf_done(rt_g.reqbuf[i]);
     rt_g.nreq = 0;
-    comm_end(true);
 }
 
 /* Appends one record (that fits in a standard buffer) to to's open aggregation buffer. */

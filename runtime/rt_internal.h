@@ -300,6 +300,8 @@ void rt_send_hdr(int to, rt_hdr *h, const void *payload);
 void rt_send_ctl(int to, uint16_t id, const void *payload, uint32_t len);
 bool rt_comm_progress(void); /* receive, deliver, complete sends; true if an RSR came */
 void rt_comm_flush_all(void);
+/* rt_comm_flush_all with the clock read at now (rt_run: just read, not read again) */
+void rt_comm_flush_all_at(double now);
 bool rt_comm_flushed(void);
 void rt_comm_wait_sends(void);
 void rt_dispatch_item(rt_item *it); /* deliver an owned message now (inline or to a worker) */
@@ -330,6 +332,7 @@ typedef struct rt_global {
     double inline_time;   /* seconds in non-threaded handlers (not communication time) */
     int comm_depth;       /* rt_comm.c's comm_begin/comm_end nesting (rt_stats.comm_s) */
     double comm_t0;       /* when the outermost open communication stretch began */
+    double comm_t1;       /* when the last counted stretch ended (a clock reading rt_run reuses) */
     rt_net net;           /* the network model (rt_net.c) */
 
     /* transport (rt_comm.c) */

@@ -10,7 +10,10 @@
  * lower bound that holds however slow the machine is; a 1 ms allowance covers the clock of
  * the hold, rdtsc scaled against CLOCK_MONOTONIC).  Also: every message arrives exactly once
  * and rt_run ends (termination waits for held messages), the same run without the model, and
- * the parser's accepted and rejected forms.  Errors are reduced before asserting.
+ * the parser's accepted and rejected forms.  And rt_stats.comm_s, the communication time: a
+ * run that sends no RSR adds exactly nothing to it (its empty polls and the termination
+ * detector's records are not communication), while one that does adds to it on every rank
+ * that received one.  Errors are reduced before asserting.
  */
 #include "rt.h"
 
@@ -69,7 +72,7 @@ static int work(void *ctx) {
 }
 
 static void run_ring(int on) {
-    model_on = on;
+    model_on = on && np > 1; /* self-sends are never delayed */
     phase = 0;
     got = early = 0;
     worst = INFINITY;
@@ -82,7 +85,7 @@ static void run_ring(int on) {
     ck_assert_int_eq(all[0], np * (BURST + 1)); /* every message, exactly once */
     ck_assert_msg(all[1] == 0, "%d message(s) delivered before their due time (worst %.6f s)",
                   all[1], worst);
-    if (on) /* the whole run cannot be shorter than the burst's transfer */
+    if (model_on) /* the whole run cannot be shorter than the burst's transfer */
         ck_assert(dt >= LAT + BURST * PAYLOAD / BW - SLACK);
     ck_assert_int_eq(rt_net_set(0, 0), RT_OK);
 }
@@ -94,6 +97,29 @@ END_TEST
 
 START_TEST(test_off) {
     run_ring(0);
+}
+END_TEST
+
+static int idle_work(void *ctx) {
+    (void)ctx;
+    return RT_WORK_IDLE;
+}
+
+START_TEST(test_comm_s) {
+    rt_stats_reset();
+    for (int i = 0; i < 20; i++) /* many termination rounds, no RSR */
+        rt_run(idle_work, NULL);
+    rt_stats st;
+    rt_stats_local(&st);
+    double mine[2] = {st.comm_s, st.comm_s}, all[2];
+    MPI_Allreduce(mine, all, 2, MPI_DOUBLE, MPI_MAX, rt_comm());
+    ck_assert_msg(all[0] == 0.0, "comm_s = %g after runs without an RSR", all[0]);
+    rt_stats_reset();
+    run_ring(0);
+    rt_stats_local(&st);
+    int pos = np == 1 || st.comm_s > 0, allpos = 0;
+    MPI_Allreduce(&pos, &allpos, 1, MPI_INT, MPI_MIN, rt_comm());
+    ck_assert_msg(allpos, "comm_s = 0 on a rank that received RSRs");
 }
 END_TEST
 
@@ -131,6 +157,7 @@ int main(int argc, char **argv) {
     tcase_add_test(tc, test_parse);
     tcase_add_test(tc, test_not_early);
     tcase_add_test(tc, test_off);
+    tcase_add_test(tc, test_comm_s);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);
     srunner_set_fork_status(sr, CK_NOFORK);
