@@ -332,6 +332,7 @@ typedef struct rt_global {
     double inline_time;   /* seconds in non-threaded handlers (not communication time) */
     int comm_depth;       /* rt_comm.c's comm_begin/comm_end nesting (rt_stats.comm_s) */
     double comm_t0;       /* when the outermost open communication stretch began */
+    bool comm_lazy;       /* the open stretch's start is the next clock reading (rt_comm.c) */
     double comm_t1;       /* when the last counted stretch ended (a clock reading rt_run reuses) */
     rt_net net;           /* the network model (rt_net.c) */
 
