@@ -24,9 +24,10 @@
  * has finished (received count for termination, statistics, reply token).
  * With the network model on (rt_net.c) a received message is copied into its source's
  * holding queue instead and processed by the same code (rt_comm_process) when it is due.
- * Communication time (rt_stats.comm_s) is the time of sends, flushes and of the polls that
- * received an RSR (or a message the network model held), handler bodies excluded; an empty
- * poll, and the termination detector's control records, read the clock but add nothing.
+ * Communication time (rt_stats.comm_s) is the time of flushes to MPI and of the polls that
+ * received an RSR (or a message the network model held), from the first clock reading inside
+ * them, handler bodies excluded; an empty poll reads no clock and adds nothing, nor do the
+ * termination detector's control records.
  * All of this is main-thread only; it is the only code that calls point-to-point MPI.
  */
 #include "rt_internal.h"
