@@ -31,6 +31,7 @@ static const cli_value v_seed = {CLI_UINT64, "SEED", 0, INFINITY, 0, NULL};
 static const cli_value v_poll = {CLI_INT32, "N", 1, 1e6, 0, NULL};
 static const cli_value v_inflight = {CLI_INT32, "N", 1, 1024, 0, NULL};
 static const cli_value v_balance = {CLI_STRING, "MODE", 0, 0, 0, "static|dynamic"};
+static const cli_value v_net = {CLI_STRING, "SPEC", 0, 0, 0, NULL};
 
 /* Every program. */
 static const cli_opt common_rows[] = {
@@ -229,6 +230,13 @@ static const cli_opt parallel_rows[] = {
      .at = CLI_AT(par.perturb),
      .dflt_text = "off, or the environment's RT_PERTURB",
      .help = "delay and reorder message delivery, reproducibly from SEED; 0: off"},
+    {.name = "net",
+     .value = &v_net,
+     .at = CLI_AT(par.net),
+     .dflt_text = "off, or the environment's PCDM_NET",
+     .help = "model a slower network: every message between ranks is held at its receiver until "
+             "LAT_US microseconds plus its size at MBPS megabytes per second after it was sent "
+             "(\"LAT_US[,MBPS]\"; sp2 = 29,33.6, the paper's IBM SP2; off)"},
     {.help = NULL}};
 
 static const cli_opt pcdm_rows[] = {

@@ -13,14 +13,19 @@
  *   stats: ranks=P triangles=N vertices=N rsr=TOTAL_RSRS undone=CAVITIES_UNDONE min_angle=D
  *          wall_s=T busy_max_s=B busy_sum_s=S comm_pct=C undo_pct=U speedup_model=X
  *          peak_rss_mb=R bytes_per_tri=Y mesh_bytes_per_tri=Z phase1_s=F cpu_max_s=C
- *          cpu_sum_s=E output_s=W
+ *          cpu_sum_s=E output_s=W comm_s=C comm_max_s=M handler_s=H net_latency_us=L net_MBps=B
  * (one line).  Definitions (rt_stats time buckets, summed over ranks, inside rt_run):
  *   busy (per rank)  = RT_TIME_BUSY + RT_TIME_HANDLER (local work, tasks and handlers), as
  *                      ./pcdm; speedup_model = busy_sum / busy_max.
- *   non-idle         = RT_TIME_BUSY + RT_TIME_HANDLER + RT_TIME_COMM.
- *   comm_pct         = 100 * sum(RT_TIME_HANDLER + RT_TIME_COMM) / sum(non-idle): the paper's
+ *   comm (per rank)  = rt_stats.comm_s: packing and sending RSRs and the polls that received
+ *                      something (handler bodies and polls that found nothing excluded), the
+ *                      same measure as ./pcdm's; comm_s = its sum over ranks, comm_max_s the
+ *                      largest rank's, handler_s the handlers' seconds summed.
+ *   non-idle         = RT_TIME_BUSY + RT_TIME_HANDLER + comm.
+ *   comm_pct         = 100 * sum(RT_TIME_HANDLER + comm) / sum(non-idle): the paper's
  *                      "communication overhead" -- creating, sending, receiving and servicing
  *                      RSRs (remote expansions, commits, releases included).
+ *   net_latency_us, net_MBps: the network model in force (--net, PCDM_NET; 0 0: none).
  *   undo_pct         = 100 * sum(RT_TIME_UNDO) / sum(non-idle): the paper's "undo computation
  *                      overhead" -- expansion work (local and remote) of cavities released
  *                      after a lock conflict.
@@ -144,7 +149,7 @@ int main(int argc, char **argv) {
     rs[RS_BUSY] = st.time[RT_TIME_BUSY] + st.time[RT_TIME_HANDLER];
     rs[RS_IDLE] = st.time[RT_TIME_IDLE];
     rs[RS_HANDLER] = st.time[RT_TIME_HANDLER];
-    rs[RS_COMM] = st.time[RT_TIME_COMM];
+    rs[RS_COMM] = st.comm_s; /* the runtime's measure: sends and polls that found something */
     rs[RS_UNDO] = st.time[RT_TIME_UNDO];
     rs[RS_MESHBYTES] = (double)res.mesh_bytes;
     rs[RS_WALL] = t1 - t0;
@@ -239,19 +244,20 @@ int main(int argc, char **argv) {
                tot[RS_BLOCKED], mx[RS_BLKMAX], tot[RS_BLKSUM], mx[RS_BLKTMAX],
                ncav > 0 ? 100 * tot[RS_CREMOTE] / ncav : 0.0);
         double nonidle = tot[RS_BUSY] + tot[RS_COMM];
-        double nt = sum.ntris > 0 ? (double)sum.ntris : 1;
-        printf(
-            "stats: ranks=%d triangles=%ld vertices=%ld rsr=%.0f undone=%.0f "
-            "min_angle=%.4f wall_s=%.3f busy_max_s=%.3f busy_sum_s=%.3f comm_pct=%.2f "
-            "undo_pct=%.2f speedup_model=%.2f peak_rss_mb=%.1f bytes_per_tri=%.1f "
-            "mesh_bytes_per_tri=%.1f phase1_s=%.3f cpu_max_s=%.3f cpu_sum_s=%.3f output_s=%.3f\n",
-            size, (long)sum.ntris, (long)sum.nverts, tot[RS_RSR], tot[RS_ULOCAL] + tot[RS_UREMOTE],
-            sum.min_angle, mx[RS_WALL], mx[RS_BUSY], tot[RS_BUSY],
-            nonidle > 0 ? 100.0 * (tot[RS_HANDLER] + tot[RS_COMM]) / nonidle : 0.0,
-            nonidle > 0 ? 100.0 * tot[RS_UNDO] / nonidle : 0.0,
-            mx[RS_BUSY] > 0 ? tot[RS_BUSY] / mx[RS_BUSY] : 0.0, mx[RS_RSS] / 1048576.0,
-            tot[RS_RSS] / nt, tot[RS_MESHBYTES] / nt, mx[RS_PHASE1], mx[RS_CPU], tot[RS_CPU],
-            mx[RS_OUT]);
+        double nt = sum.ntris > 0 ? (double)sum.ntris : 1, lat, bw;
+        rt_net_get(&lat, &bw);
+        printf("stats: ranks=%d triangles=%ld vertices=%ld rsr=%.0f undone=%.0f "
+               "min_angle=%.4f wall_s=%.3f busy_max_s=%.3f busy_sum_s=%.3f comm_pct=%.2f "
+               "undo_pct=%.2f speedup_model=%.2f peak_rss_mb=%.1f bytes_per_tri=%.1f "
+               "mesh_bytes_per_tri=%.1f phase1_s=%.3f cpu_max_s=%.3f cpu_sum_s=%.3f output_s=%.3f "
+               "comm_s=%.4f comm_max_s=%.4f handler_s=%.4f net_latency_us=%.1f net_MBps=%.1f\n",
+               size, (long)sum.ntris, (long)sum.nverts, tot[RS_RSR],
+               tot[RS_ULOCAL] + tot[RS_UREMOTE], sum.min_angle, mx[RS_WALL], mx[RS_BUSY],
+               tot[RS_BUSY], nonidle > 0 ? 100.0 * (tot[RS_HANDLER] + tot[RS_COMM]) / nonidle : 0.0,
+               nonidle > 0 ? 100.0 * tot[RS_UNDO] / nonidle : 0.0,
+               mx[RS_BUSY] > 0 ? tot[RS_BUSY] / mx[RS_BUSY] : 0.0, mx[RS_RSS] / 1048576.0,
+               tot[RS_RSS] / nt, tot[RS_MESHBYTES] / nt, mx[RS_PHASE1], mx[RS_CPU], tot[RS_CPU],
+               mx[RS_OUT], tot[RS_COMM], mx[RS_COMM], tot[RS_HANDLER], lat * 1e6, bw / 1e6);
         fflush(stdout);
     }
     free(all);

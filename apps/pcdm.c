@@ -16,21 +16,27 @@
  *          subdomains=K idle_max_s=I max_area=A ignored=G mpi_msgs=M speedup_model=X
  *          peak_rss_mb=R bytes_per_tri=Y mesh_bytes_per_tri=Z output_s=W cpu_max_s=C
  *          cpu_sum_s=E decomp_s=D tri_max=N tri_mean=M decomp_exact=0|1 rounds=R hash=H
- * (one line).  rounds: --deterministic's rounds (0 without); hash: the mesh hash
- * (pcdm_flat_hash summed over the ranks' parts), the same for the same mesh whatever its
- * numbering and rank count.
- * wall_s runs from a barrier after input loading and decomposition to the moment
- * the last rank left rt_run (CDT build + region selection + refinement + termination; no
- * numbering, no file output) -- the same span as ./mesh's wall_s.  busy = time in local work and
- * handlers (rt_stats RT_TIME_BUSY + RT_TIME_HANDLER); speedup_model = busy_sum / busy_max.
- * cpu = CPU seconds (getrusage) over the wall_s span: unlike busy, it does not grow when the
- * machine is oversubscribed, so it measures work, not contention.
- * peak_rss_mb is the largest rank's peak RSS at the end (after the output), bytes_per_tri the
- * sum over ranks of that peak RSS divided by the number of triangles (per rank lines: its own
- * peak over its own triangles), mesh_bytes_per_tri the mesh arrays alone (mesh_memory_bytes
- * summed over ranks / triangles); output_s the slowest rank's seconds in par_output
- * (numbering, --check, writing); per rank also output_cpu_s, its CPU seconds in par_output.
- * Options, usage errors and exit statuses (the same on every rank): the front end, apps/cli.c
+ *          comm_s=C comm_max_s=M handler_s=H net_latency_us=L net_MBps=B
+ * (one line), after the line "rsr: split=S mpi_msgs=M" (the RSRs by kind, as ./pbw prints
+ * them: ./pcdm's only kind is the split request, each sent to the owner of each side of a
+ * constraint edge; ignored counts those that found the edge already split, duplicates).  rounds:
+ * --deterministic's rounds (0 without); hash: the mesh hash (pcdm_flat_hash summed over the ranks'
+ * parts), the same for the same mesh whatever its numbering and rank count. wall_s runs from a
+ * barrier after input loading and decomposition to the moment the last rank left rt_run (CDT build
+ * + region selection + refinement + termination; no numbering, no file output) -- the same span as
+ * ./mesh's wall_s.  busy = time in local work and handlers (rt_stats RT_TIME_BUSY +
+ * RT_TIME_HANDLER); speedup_model = busy_sum / busy_max. comm_s = the runtime's communication
+ * seconds (rt_stats.comm_s: packing, sending, and the polls that received something, handler bodies
+ * and empty polls excluded) summed over the ranks, comm_max_s its largest rank, handler_s the
+ * handlers' seconds summed; net_* the network model in force (--net, PCDM_NET; 0 0: none). cpu =
+ * CPU seconds (getrusage) over the wall_s span: unlike busy, it does not grow when the machine is
+ * oversubscribed, so it measures work, not contention. peak_rss_mb is the largest rank's peak RSS
+ * at the end (after the output), bytes_per_tri the sum over ranks of that peak RSS divided by the
+ * number of triangles (per rank lines: its own peak over its own triangles), mesh_bytes_per_tri the
+ * mesh arrays alone (mesh_memory_bytes summed over ranks / triangles); output_s the slowest rank's
+ * seconds in par_output (numbering, --check, writing); per rank also output_cpu_s, its CPU seconds
+ * in par_output. Options, usage errors and exit statuses (the same on every rank): the front end,
+ * apps/cli.c
  * (./pcdm --help).
  */
 #include "pcdm/pcdm.h"
@@ -159,7 +165,7 @@ int main(int argc, char **argv) {
     rs[RS_BUSY] = st.time[RT_TIME_BUSY] + st.time[RT_TIME_HANDLER];
     rs[RS_IDLE] = st.time[RT_TIME_IDLE];
     rs[RS_HANDLER] = st.time[RT_TIME_HANDLER];
-    rs[RS_COMM] = st.time[RT_TIME_COMM];
+    rs[RS_COMM] = st.comm_s; /* the runtime's measure: sends and polls that found something */
     rs[RS_MESHBYTES] = (double)fig.mesh_bytes;
     rs[RS_INSERTED] = (double)fig.inserted;
     rs[RS_MPI] = (double)st.mpi_sent;
@@ -246,21 +252,25 @@ int main(int argc, char **argv) {
         if (tot[RS_NOTFOUND] > 0)
             fprintf(stderr, "pcdm: warning: %.0f split requests named no subsegment\n",
                     tot[RS_NOTFOUND]);
-        double nt = sum.ntris > 0 ? (double)sum.ntris : 1;
+        double nt = sum.ntris > 0 ? (double)sum.ntris : 1, lat, bw;
+        rt_net_get(&lat, &bw);
+        printf("rsr: split=%.0f mpi_msgs=%.0f\n", tot[RS_SENT], tot[RS_MPI]);
         printf("stats: ranks=%d triangles=%lld vertices=%lld rsr=%.0f min_angle=%.4f "
                "wall_s=%.3f busy_max_s=%.3f busy_sum_s=%.3f subdomains=%d idle_max_s=%.3f "
                "max_area=%.6g ignored=%.0f mpi_msgs=%.0f speedup_model=%.2f "
                "peak_rss_mb=%.1f bytes_per_tri=%.1f mesh_bytes_per_tri=%.1f output_s=%.3f "
                "cpu_max_s=%.3f cpu_sum_s=%.3f decomp_s=%.3f tri_max=%.0f tri_mean=%.1f "
                "decomp_exact=%d rounds=%d hash=%016llx balance=%s migrations=%.0f "
-               "moved_bytes=%.0f move_max_s=%.4f forwarded=%.0f\n",
+               "moved_bytes=%.0f move_max_s=%.4f forwarded=%.0f comm_s=%.4f comm_max_s=%.4f "
+               "handler_s=%.4f net_latency_us=%.1f net_MBps=%.1f\n",
                size, (long long)sum.ntris, (long long)sum.nverts, tot[RS_SENT], sum.min_angle,
                mx[RS_WALL], mx[RS_BUSY], tot[RS_BUSY], (int)d.nsub, mx[RS_IDLE], sum.max_area,
                tot[RS_IGNORED], tot[RS_MPI], mx[RS_BUSY] > 0 ? tot[RS_BUSY] / mx[RS_BUSY] : 0.0,
                mx[RS_RSS] / 1048576.0, tot[RS_RSS] / nt, tot[RS_MESHBYTES] / nt, mx[RS_OUT],
                mx[RS_CPU], tot[RS_CPU], d.build_s, mx[RS_NTRIS], tot[RS_NTRIS] / size, d.exact,
                (int)rounds, (unsigned long long)hash, dyn ? "dynamic" : "static", tot[RS_MIGR],
-               tot[RS_MOVED], mx[RS_MOVES], tot[RS_FWD]);
+               tot[RS_MOVED], mx[RS_MOVES], tot[RS_FWD], tot[RS_COMM], mx[RS_COMM], tot[RS_HANDLER],
+               lat * 1e6, bw / 1e6);
     }
     fflush(stdout);
     free(all);

@@ -8,7 +8,12 @@
 # table and SVG figures, and prints the summary whose last line is
 #   bench: pcdm_rsr_8=N pbw_rsr_8=M ratio_8=R pcdm_wall_8=S pbw_wall_8=T pcdm_speedup_model_8=X pbw_speedup_model_8=Y
 #
-# Environment: QUICK=1 (1 repetition, no 10M run), REPS=N (override repetitions),
+# Tables 2/3 run at the paper's size (RSR counts; also ./pbw --phases and --net sp2), again at
+# 1M and 10M triangles (BIG_REPS, BIG10_REPS repetitions) and under the network model at 1M
+# (NET_LATS us, 33.6 MB/s, NET_REPS repetitions on NET_NPS ranks); bench/README.md says what
+# each figure is.
+# Environment: QUICK=1 (1 repetition, no 10M run), REPS=N (override repetitions), BIG_REPS,
+# BIG10_REPS, NET_REPS, NET_LATS, NET_NPS,
 # DOMAIN=data/lake.poly, QDEG=20.7, MESH/PCDM/PBW=program paths, B=build dir (default build),
 # RUN_TIMEOUT=seconds per run, NO_10M=1, NO_TRIANGLE=1; output section (issue 12): NO_OUTPUT=1,
 # OUT_AREA, OUT_REPS, BENCH_100M=1 (one 100M-triangle ./pcdm -o --check run), TIMEOUT_100M.
@@ -33,12 +38,21 @@ PCDM=${PCDM:-./pcdm}
 PBW=${PBW:-./pbw}
 # Per-run timeouts (seconds) for the paper-size runs, the 1M and the 10M runs; BUDGET is the
 # whole run's: past it, remaining runs are skipped (and reported as skipped), and no run may
-# outlast it, so a hanging program cannot blow the time limit (make bench: 15 min, quick: 2 min).
+# outlast it, so a hanging program cannot blow the time limit (make bench: 18 min, quick: 2.5 min).
 if [ -n "$QUICK" ]; then RUN_TIMEOUT=${RUN_TIMEOUT:-20}; else RUN_TIMEOUT=${RUN_TIMEOUT:-30}; fi
 TIMEOUT_1M=${TIMEOUT_1M:-150}
 TIMEOUT_10M=${TIMEOUT_10M:-300}
-if [ -n "$QUICK" ]; then BUDGET=${BUDGET:-105}; else BUDGET=${BUDGET:-840}; fi
+if [ -n "$QUICK" ]; then BUDGET=${BUDGET:-150}; else BUDGET=${BUDGET:-1080}; fi
 NPS="1 2 4 8"
+# Tables 2/3 again where time means something (imbalanced, 1M and 10M triangles): BIG_REPS
+# repetitions (10M: BIG10_REPS); the network model (--net LAT_US,33.6) at NET_LATS latencies
+# on NET_NPS ranks, NET_REPS repetitions, at 1M triangles (latency 0: the 1M tables).
+if [ -n "$QUICK" ]; then
+    BIG_REPS=${BIG_REPS:-2}; BIG10_REPS=${BIG10_REPS:-0}; NET_REPS=${NET_REPS:-1}; NET_LATS=${NET_LATS:-"29 2900"}
+else
+    BIG_REPS=${BIG_REPS:-5}; BIG10_REPS=${BIG10_REPS:-5}; NET_REPS=${NET_REPS:-3}; NET_LATS=${NET_LATS:-"29 290 2900"}
+fi
+NET_NPS=${NET_NPS:-"2 4 8"}
 R=bench/results
 VENV_PY=$ROOT/build/bench-venv/bin/python
 
@@ -55,7 +69,7 @@ TIMES=$R/sections.tsv
 NOTES=$R/notes.txt
 CALIB=$R/calibration.tsv
 : >"$CMDS"; : >"$NOTES"; : >"$TIMES"; : >"$CALIB"
-printf 'section\tlabel\tprog\tnp\timbalance\tarea\trep\trc\text_s\trss_sum_kb\trss_max_kb\tlog\tstats\n' >"$RUNS"
+printf 'section\tlabel\tprog\tnp\timbalance\tarea\trep\trc\text_s\trss_sum_kb\trss_max_kb\tlog\tstats\textra\n' >"$RUNS"
 
 T_START=$(date +%s.%N)
 now() { date +%s.%N; }
@@ -81,6 +95,10 @@ FAILED=0
     echo "domain=$DOMAIN"
     echo "loadavg_start=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null)"
     echo "qdeg=$QDEG"
+    echo "big_reps=$BIG_REPS"
+    echo "big10_reps=$BIG10_REPS"
+    echo "net_reps=$NET_REPS"
+    echo "net_lats=$NET_LATS"
     echo "invocation=$( [ -n "$QUICK" ] && echo 'make bench-quick (QUICK=1 bash bench/bench.sh)' || echo 'make bench (bash bench/bench.sh)')"
 } >"$META"
 echo "bench: $MODE mode, $REPS repetition(s) per cell; results in $R/"
@@ -141,7 +159,7 @@ run_timeout() { # min(SEC_TIMEOUT, seconds left in BUDGET), at least 5
 over_budget() { awk -v b="$BUDGET" -v s="$T_START" -v n="$(now)" -v m="${1:-0}" 'BEGIN{exit !(b-(n-s)<m)}'; }
 MIN_LEFT=5
 record_skip() { # record_skip SECTION LABEL PROG NP IMB AREA REP STATUS
-    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t\t\t\t\t\n' "$@" >>"$RUNS"
+    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t\t\t\t\t\t\n' "$@" >>"$RUNS"
 }
 run_one() {
     local section=$1 label=$2 prog=$3 np=$4 imb=$5 area=$6 rep=$7
@@ -201,6 +219,10 @@ run_one() {
     local ext stats rsum rmax
     ext=$(awk -v a="$t0" -v b="$t1" 'BEGIN{printf "%.3f", b-a}')
     stats=$(grep '^stats:' "$base.out" | tail -1 | sed 's/^stats: *//')
+    # the breakdown lines (rsr: by kind, cavities:, blocking:), each key prefixed with its line
+    local extra
+    extra=$(awk '/^(rsr|cavities|blocking): /{p=substr($1, 1, length($1) - 1)
+        for (i = 2; i <= NF; i++) printf "%s.%s ", p, $i}' "$base.out")
     rsum=$(awk '{s+=$1} END{if (NR) print s}' "$rssf")
     rmax=$(awk 'BEGIN{m=0} {if ($1>m) m=$1} END{if (NR) print m}' "$rssf")
     local status=$rc
@@ -212,8 +234,8 @@ run_one() {
         status=timeout-${tmo}s
         HUNG[$section:$label:$prog:$np]=$((${HUNG[$section:$label:$prog:$np]:-0} + 1))
     fi
-    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$section" "$label" "$prog" "$np" \
-        "$imb" "$area" "$rep" "$status" "$ext" "$rsum" "$rmax" "$base" "$stats" >>"$RUNS"
+    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$section" "$label" "$prog" "$np" \
+        "$imb" "$area" "$rep" "$status" "$ext" "$rsum" "$rmax" "$base" "$stats" "$extra" >>"$RUNS"
     if [ "$status" != 0 ]; then
         case $status in cut-budget*) ;; *) FAILED=1 ;; esac
         echo "bench:   FAILED ($status) $prog np=$np $section/$label rep $rep -- see $base.err:" >&2
@@ -285,11 +307,9 @@ calibrate() { # calibrate TARGET START_AREA MAXRUNS -> sets CAL_AREA
 section_begin calibration
 A43=0.000077; A129=0.000026; A1M=0.0000033; A10M=0.00000033; ASMALL=0.0011
 if [ "$HAVE_MESH" = 1 ]; then
-    # Start from the bounding box area / 5000 so any domain gets a sane first run.
-    A0=$(sed 's/#.*//' "$DOMAIN" | awk 'NF==0{next} !h{h=1; n=$1; next}
-        c<n{c++; if(c==1||$2<x0)x0=$2; if(c==1||$2>x1)x1=$2; if(c==1||$3<y0)y0=$3; if(c==1||$3>y1)y1=$3}
-        END{printf "%.6g", (x1-x0)*(y1-y0)/5000}')
-    A0=$(fixa "$A0")
+    # Start from the bounding box area / 5000 so any domain gets a sane first run (the box
+    # from bench/poly.py, the bench's one .poly reader).
+    A0=$(fixa "$(awk -v b="$("$PYEXE" bench/poly.py bbox-area "$DOMAIN")" 'BEGIN{printf "%.6g", b/5000}')")
     if calibrate 43000 "$A0" 5; then
         A43=$CAL_AREA
         calibrate 129400 "$(scaled 129400)" 3 && A129=$CAL_AREA
@@ -323,6 +343,61 @@ for imb in 2 1; do
     done
 done
 section_end
+
+# ---------------------------------------------------------------- Tables 2/3: --phases, SP2 network
+# At the paper's size (the RSR counts): ./pbw --phases (the paper's Figure 1, data-parallel
+# variant) imbalanced, and both meshers with the network model at the SP2's figures.
+section_begin "tables23_extra"
+for rep in $(seq 1 "$REPS"); do
+    for np in $NPS; do
+        run_one t23 imb2phases pbw "$np" 2 "$A43" "$rep" --phases
+    done
+    for np in $NET_NPS; do
+        for prog in pbw pcdm; do
+            run_one t23 imb2sp2 "$prog" "$np" 2 "$A43" "$rep" --net sp2
+        done
+    done
+done
+section_end
+
+# ---------------------------------------------------------------- Tables 2/3 at 1M and 10M
+# Imbalanced (--imbalance 2), BIG_REPS repetitions at 1M (with ./pbw --phases), BIG10_REPS at
+# 10M; then the network model at 1M: latency NET_LATS us at 33.6 MB/s.
+SEC_TIMEOUT=$TIMEOUT_1M
+section_begin "tables23_1m"
+for rep in $(seq 1 "$BIG_REPS"); do
+    for np in $NPS; do
+        for prog in pbw pcdm; do
+            run_one t23m 1m "$prog" "$np" 2 "$A1M" "$rep"
+        done
+        run_one t23m 1m_phases pbw "$np" 2 "$A1M" "$rep" --phases
+    done
+done
+section_end
+section_begin "net_1m"
+for rep in $(seq 1 "$NET_REPS"); do
+    for lat in $NET_LATS; do
+        for np in $NET_NPS; do
+            for prog in pbw pcdm; do
+                run_one net "lat$lat" "$prog" "$np" 2 "$A1M" "$rep" --net "$lat,33.6"
+            done
+        done
+    done
+done
+section_end
+if [ "$BIG10_REPS" -gt 0 ] && [ -z "${NO_10M:-}" ]; then
+    SEC_TIMEOUT=$TIMEOUT_10M
+    section_begin "tables23_10m"
+    for rep in $(seq 1 "$BIG10_REPS"); do
+        for np in $NPS; do
+            for prog in pbw pcdm; do
+                run_one t23m 10m "$prog" "$np" 2 "$A10M" "$rep"
+            done
+        done
+    done
+    section_end
+fi
+SEC_TIMEOUT=$RUN_TIMEOUT
 
 # ---------------------------------------------------------------- PBW overheads at 129.4K, 4 ranks
 section_begin "overhead"
@@ -408,24 +483,9 @@ section_end
 TRI_PY='import resource, sys, time
 import numpy as np, triangle
 path, q, a = sys.argv[1], sys.argv[2], sys.argv[3]
-lines = []
-for ln in open(path):
-    ln = ln.split("#", 1)[0].split()
-    if ln: lines.append(ln)
-i = 0
-nv = int(lines[i][0]); nattr = int(lines[i][2]); i += 1
-idx = {}; pts = []
-for k in range(nv):
-    idx[int(lines[i][0])] = k; pts.append((float(lines[i][1]), float(lines[i][2]))); i += 1
-ns = int(lines[i][0]); i += 1
-segs = []
-for k in range(ns):
-    segs.append((idx[int(lines[i][1])], idx[int(lines[i][2])])); i += 1
-holes = []
-if i < len(lines):
-    nh = int(lines[i][0]); i += 1
-    for k in range(nh):
-        holes.append((float(lines[i][1]), float(lines[i][2]))); i += 1
+sys.path.insert(0, sys.argv[4])
+from poly import read_poly
+pts, segs, holes = read_poly(path)
 d = {"vertices": np.array(pts), "segments": np.array(segs)}
 if holes: d["holes"] = np.array(holes)
 t0 = time.perf_counter()
@@ -462,14 +522,14 @@ run_triangle() { # run_triangle LABEL AREA
         return 0
     fi
     t0=$(now)
-    timeout "$(run_timeout)" "$VENV_PY" -c "$TRI_PY" "$DOMAIN" "$QDEG" "$2" >"$base.out" 2>"$base.err"
+    timeout "$(run_timeout)" "$VENV_PY" -c "$TRI_PY" "$DOMAIN" "$QDEG" "$2" "$ROOT/bench" >"$base.out" 2>"$base.err"
     rc=$?
     t1=$(now)
     stats=$(grep '^stats:' "$base.out" | tail -1 | sed 's/^stats: *//')
     [ "$rc" = 0 ] && [ -z "$stats" ] && rc=nostats
     [ "$rc" = 124 ] && rc=timeout
     [ "$rc" != 0 ] && { FAILED=1; echo "bench:   FAILED Triangle $1 ($rc), see $base.err" >&2; }
-    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t\t\t%s\t%s\n' scale "$1" triangle 1 1 "$2" 1 "$rc" \
+    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t\t\t%s\t%s\t\n' scale "$1" triangle 1 1 "$2" 1 "$rc" \
         "$(awk -v a="$t0" -v b="$t1" 'BEGIN{printf "%.3f", b-a}')" "$base" "$stats" >>"$RUNS"
     [ "$rc" = 0 ] && echo "bench:   triangle: $stats"
 }

@@ -20,6 +20,7 @@
  */
 #include "rt_internal.h"
 
+#include <math.h>
 #include <sched.h>
 #include <stdarg.h>
 #include <stdatomic.h>
@@ -181,6 +182,9 @@ static void apply_env(rt_config *c) {
     v = c->worker_spin_us;
     env_u64("RT_WORKER_SPIN_US", &v);
     c->worker_spin_us = (uint32_t)v;
+    const char *net = getenv("PCDM_NET");
+    if (net && *net && rt_net_parse(net, &c->net_latency_s, &c->net_bytes_per_s) != RT_OK)
+        fprintf(stderr, "rt_init: ignoring PCDM_NET='%s' (want off, sp2 or LAT_US[,MBPS])\n", net);
 }
 
 /* Open MPI 4.1 chooses its point-to-point layer at MPI_Init by opening every candidate: the cm
@@ -267,6 +271,10 @@ static int init_on(MPI_Comm world, const rt_config *cfg, int *argc, char ***argv
     rt_g.perturbing = c->perturb_seed != 0;
     if (rt_g.perturbing)
         rt_perturb_init(&rt_g.pert, c->perturb_seed * 1000003u + (uint64_t)rt_g.rank, rt_g.size);
+    if (!(c->net_latency_s >= 0 && c->net_bytes_per_s >= 0 && isfinite(c->net_latency_s) &&
+          isfinite(c->net_bytes_per_s)))
+        return RT_EINVAL;
+    rt_net_init(&rt_g.net, rt_g.size, c->net_latency_s, c->net_bytes_per_s);
     int rc = rt_comm_init();
     if (rc == RT_OK) rc = rt_workers_start(c->nworkers);
     if (rc != RT_OK) return rc;
@@ -281,6 +289,7 @@ void rt_finalize(void) {
     rt_comm_wait_sends();
     rt_workers_stop();
     rt_comm_destroy();
+    rt_net_destroy(&rt_g.net);
     if (rt_g.perturbing) rt_perturb_destroy(&rt_g.pert);
     rt_tasks_destroy(&rt_g.tasks);
     RT_MPI(MPI_Comm_free(&rt_g.comm));
@@ -449,6 +458,25 @@ int rt_perturb_set(uint64_t seed) {
     return RT_OK;
 }
 
+int rt_net_set(double latency_s, double bytes_per_s) {
+    need_init("rt_net_set");
+    if (rt_g.in_run || rt_in_worker) return RT_ESTATE;
+    if (!(latency_s >= 0 && bytes_per_s >= 0 && isfinite(latency_s) && isfinite(bytes_per_s)))
+        return RT_EINVAL;
+    RT_CHECK(rt_g.net.nheld == 0);
+    rt_net_destroy(&rt_g.net);
+    rt_g.cfg.net_latency_s = latency_s;
+    rt_g.cfg.net_bytes_per_s = bytes_per_s;
+    rt_net_init(&rt_g.net, rt_g.size, latency_s, bytes_per_s);
+    return RT_OK;
+}
+
+void rt_net_get(double *latency_s, double *bytes_per_s) {
+    need_init("rt_net_get");
+    *latency_s = rt_g.net.latency_s;
+    *bytes_per_s = rt_g.net.bytes_per_s;
+}
+
 /* ---- scheduler ------------------------------------------------------------------------- */
 
 #define RT_WAVE_DELAY 20e-6 /* seconds of quiet before rank 0 starts a termination round */
@@ -456,7 +484,7 @@ int rt_perturb_set(uint64_t seed) {
 /* Nothing to do until a message arrives (blocked tasks allowed; rt_term.c). */
 static bool quiescent(bool local_busy) {
     return !local_busy && rt_queue_empty(&rt_g.tasks.ready) && rt_g.wk_outstanding == 0 &&
-           rt_g.ndirty == 0 && rt_queue_empty(&rt_g.selfq) &&
+           rt_g.ndirty == 0 && rt_queue_empty(&rt_g.selfq) && rt_g.net.nheld == 0 &&
            (!rt_g.perturbing || rt_g.pert.nheld == 0);
 }
 
@@ -493,25 +521,40 @@ int rt_run(rt_work_fn work, void *ctx) {
 #define RT_COMM_LAP()                                                                              \
     (RT_LAP(RT_TIME_COMM), rt_g.st.time[RT_TIME_COMM] -= rt_g.inline_time - inl,                   \
      inl = rt_g.inline_time)
+    /* the same, at a clock reading just taken by the transport (one rdtsc less per message) */
+#define RT_COMM_LAP_AT(t)                                                                          \
+    (now = (t), rt_g.st.time[RT_TIME_COMM] += now - lap - (rt_g.inline_time - inl), lap = now,     \
+     inl = rt_g.inline_time)
     for (;;) {
         bool did = rt_comm_progress();
-        if (rt_g.perturbing && rt_perturb_release(&rt_g.pert, rt_dispatch_item) > 0) did = true;
-        if (rt_g.selfq.head) did |= rt_local_deliver();
-        if (rt_g.nthreads > 0 && atomic_load_explicit(&rt_g.wposted, memory_order_acquire) != 0)
-            did |= rt_workers_drain();
-        bool local_busy = false;
+        bool fresh = did; /* rt_g.comm_t1 was read at the end of that poll */
+        if (rt_g.perturbing && rt_perturb_release(&rt_g.pert, rt_dispatch_item) > 0)
+            did = true, fresh = false;
+        if (rt_g.selfq.head && rt_local_deliver()) did = true, fresh = false;
+        if (rt_g.nthreads > 0 && atomic_load_explicit(&rt_g.wposted, memory_order_acquire) != 0 &&
+            rt_workers_drain())
+            did = true, fresh = false;
+        bool local_busy = false, lapped = false; /* lapped: lap is a reading of just now */
         if (!rt_queue_empty(&rt_g.tasks.ready) || work) {
             /* Clock reads are kept off the empty-poll path: a lap is closed only around
              * real work, and the time of an empty poll goes with the idle lap. */
-            if (did) RT_COMM_LAP();
+            if (fresh)
+                RT_COMM_LAP_AT(rt_g.comm_t1);
+            else if (did)
+                RT_COMM_LAP();
             bool ran = rt_g.tasks.ready.head && rt_tasks_run(&rt_g.tasks, rt_g.tasks.ready.n) > 0;
             if (work) local_busy = work(ctx) != RT_WORK_IDLE;
             if (ran || local_busy) {
                 RT_LAP(RT_TIME_BUSY);
-                did = true;
+                did = lapped = true;
             }
         }
-        if (rt_g.ndirty) rt_comm_flush_all();
+        if (rt_g.ndirty) {
+            if (lapped)
+                rt_comm_flush_all_at(lap); /* the clock was read right after the work */
+            else
+                rt_comm_flush_all();
+        }
         if (did) {
             rt_g.term.active = true;
             backoff = rt_g.cfg.idle_min_ns;
@@ -551,7 +594,12 @@ int rt_run(rt_work_fn work, void *ctx) {
             sched_yield(); /* held messages are released by iterations, not by time */
         } else {
             RT_COMM_LAP();
-            rt_workers_idle_wait(backoff);
+            uint64_t ns = backoff;
+            if (rt_g.net.nheld) { /* not past the network model's next delivery */
+                double w = rt_net_wait(&rt_g.net, lap) * 1e9;
+                if (w < (double)ns) ns = (uint64_t)w;
+            }
+            if (ns > 0) rt_workers_idle_wait(ns);
             backoff = backoff * 2 > rt_g.cfg.idle_max_ns ? rt_g.cfg.idle_max_ns : backoff * 2;
         }
         RT_LAP(RT_TIME_IDLE);

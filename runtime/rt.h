@@ -65,6 +65,9 @@ typedef struct rt_config {
     uint32_t worker_spin_us; /* a worker that finished a job polls (with sched_yield) this long
                                 for the next before sleeping (default 0; env
                                 RT_WORKER_SPIN_US; latency benchmarks) */
+    double net_latency_s;    /* network model (rt_net_set): one-way latency added to every MPI
+                                message, seconds (default 0 = off; env PCDM_NET, rt_net_parse) */
+    double net_bytes_per_s;  /* network model: bandwidth, bytes per second (0 = unlimited) */
 } rt_config;
 
 /* Local.  Fills *cfg with the defaults above (environment not applied). */
@@ -243,6 +246,33 @@ int rt_run(rt_work_fn work, void *ctx);
  * Returns RT_OK or RT_ESTATE (inside rt_run). */
 int rt_perturb_set(uint64_t seed);
 
+/* ---- network model ------------------------------------------------------------------------ */
+
+/* A slower network than this machine's, for asking how a program degrades as messages get
+ * costly.  With latency L and bandwidth B on, every MPI message the runtime receives from
+ * another rank (an aggregate of RSRs, or a control record) is copied into a holding queue of
+ * its source when it arrives and delivered only when it is due: the link from that source is
+ * busy for size/B after the later of the arrival and the end of the previous message from it,
+ * and the message is due L after that.  So the order from each source is kept, bandwidth is
+ * shared by the messages of one link, and the sender never waits.  The delay adds to this
+ * machine's own transport time (about 1 us between ranks of one node).  Self-sends and large
+ * messages' bodies (RT_TAG_BIG, announced by a delayed record) are not delayed.  A rank
+ * holding a message is not passive, so termination stays correct.  "sp2" = 29 us, 33.6 MB/s:
+ * TR-97-17's DMCS figures for the IBM SP2. */
+
+/* Local, any thread.  Parses a model: "off" or "0" (no model), "sp2", or "LAT_US[,MBPS]"
+ * (microseconds, megabytes (1e6 bytes) per second; MBPS omitted or 0: unlimited).  Sets
+ * *latency_s and *bytes_per_s; returns RT_OK or RT_EINVAL (then they are left alone). */
+int rt_net_parse(const char *spec, double *latency_s, double *bytes_per_s);
+
+/* Local, main thread, outside rt_run (every rank should set the same model).  latency_s 0 and
+ * bytes_per_s 0 turn the model off.  Overrides rt_config and PCDM_NET.  Returns RT_OK,
+ * RT_EINVAL (negative or not finite) or RT_ESTATE (inside rt_run). */
+int rt_net_set(double latency_s, double bytes_per_s);
+
+/* Local.  The model in force (both 0: off). */
+void rt_net_get(double *latency_s, double *bytes_per_s);
+
 /* ---- statistics -------------------------------------------------------------------------- */
 
 typedef enum rt_time_bucket {
@@ -266,6 +296,14 @@ typedef struct rt_stats {
     double time[RT_TIME_NBUCKETS];
     double blocked_time_sum; /* seconds spent blocked, summed over the tasks that woke up */
     double blocked_time_max; /* longest single stretch a task spent blocked (a maximum) */
+    /* Communication seconds, measured the same way whatever the program: sending (each
+     * flush of an aggregation buffer to MPI, large messages, delivering self-sends; the copy
+     * of a record into a buffer stays in its caller's time, tens of nanoseconds) and the polls that
+     * received an RSR (receiving, unpacking, dispatching, completing sends), with the handlers' own
+     * run time taken out (it is RT_TIME_HANDLER); polls that found nothing and the termination
+     * detector's control records are left out.  Unlike RT_TIME_COMM it does not grow with idle
+     * polling. */
+    double comm_s;
 } rt_stats;
 
 typedef struct rt_handler_stats {

@@ -22,6 +22,12 @@
  * threaded one gets a copy queued to the worker pool, and with perturbation on every record
  * is copied into the holding pool first.  rt_complete does the bookkeeping when a handler
  * has finished (received count for termination, statistics, reply token).
+ * With the network model on (rt_net.c) a received message is copied into its source's
+ * holding queue instead and processed by the same code (rt_comm_process) when it is due.
+ * Communication time (rt_stats.comm_s) is the time of flushes to MPI and of the polls that
+ * received an RSR (or a message the network model held), from the first clock reading inside
+ * them, handler bodies excluded; an empty poll reads no clock and adds nothing, nor do the
+ * termination detector's control records.
  * All of this is main-thread only; it is the only code that calls point-to-point MPI.
  */
 #include "rt_internal.h"
@@ -39,6 +45,40 @@ struct rt_sendbuf {
     int dest;
     bool pooled; /* standard size: back to the pool after the send completes */
 };
+
+/* Communication time (rt_stats.comm_s): stretches opened by comm_begin and closed by
+ * comm_end, nested (a flush inside a send, a send inside a poll) and counted once, at the
+ * outermost end, unless that end says the stretch was not communication (an empty poll).
+ * A non-threaded handler run inside one pauses it (run_inline): its body is handler time. */
+static inline void comm_begin(void) {
+    if (rt_g.comm_depth++ == 0) rt_g.comm_t0 = rt_now();
+}
+
+/* A poll's stretch begins without a clock read: the first reading inside it (a handler's
+ * start, a threaded dispatch, a held message's arrival) becomes its start (comm_resolve), so
+ * the unpacking before the first handler is not counted but no rdtsc is added to the path
+ * from a message to its handler. */
+static inline void comm_begin_lazy(void) {
+    if (rt_g.comm_depth++ == 0) rt_g.comm_lazy = true;
+}
+
+static inline void comm_resolve(double now) {
+    if (rt_g.comm_lazy) {
+        rt_g.comm_t0 = now;
+        rt_g.comm_lazy = false;
+    }
+}
+
+static inline void comm_end(bool count) {
+    if (--rt_g.comm_depth == 0) {
+        if (count) {
+            rt_g.comm_t1 = rt_now();
+            comm_resolve(rt_g.comm_t1);
+            rt_g.st.comm_s += rt_g.comm_t1 - rt_g.comm_t0;
+        }
+        rt_g.comm_lazy = false;
+    }
+}
 
 int rt_comm_init(void) {
     int p = rt_g.size;
@@ -160,6 +200,7 @@ static void sendbuf_post(rt_sendbuf *sb, int tag) {
 static void flush_dest(int dest) {
     rt_sendbuf *sb = rt_g.agg[dest];
     if (!sb) return;
+    comm_begin();
     rt_g.agg[dest] = NULL;
     for (int i = 0; i < rt_g.ndirty; i++)
         if (rt_g.dirty[i] == dest) {
@@ -167,12 +208,23 @@ static void flush_dest(int dest) {
             break;
         }
     sendbuf_post(sb, RT_TAG_MSG);
+    comm_end(true);
 }
 
 void rt_comm_flush_all(void) {
     if (rt_g.ndirty == 0) return;
+    comm_begin();
     while (rt_g.ndirty > 0)
         flush_dest(rt_g.dirty[0]);
+    comm_end(true);
+}
+
+void rt_comm_flush_all_at(double now) {
+    if (rt_g.ndirty == 0) return;
+    if (rt_g.comm_depth++ == 0) rt_g.comm_t0 = now;
+    while (rt_g.ndirty > 0)
+        flush_dest(rt_g.dirty[0]);
+    comm_end(true);
 }
 
 bool rt_comm_flushed(void) {
@@ -200,7 +252,7 @@ static void test_sends(void) {
 }
 
 void rt_comm_wait_sends(void) {
-    if (rt_g.nreq == 0) return;
+    if (rt_g.nreq == 0) return; /* after termination: not communication time (done sends) */
     RT_MPI(MPI_Waitall(rt_g.nreq, rt_g.reqs, MPI_STATUSES_IGNORE));
     for (int i = 0; i < rt_g.nreq; i++)
         sendbuf_done(rt_g.reqbuf[i]);
@@ -238,8 +290,11 @@ void rt_send_hdr(int to, rt_hdr *h, const void *payload) {
         rt_queue_push(&rt_g.selfq, &rt_item_new(h, payload)->q);
         return;
     }
+    /* Appending a record (a copy of header and payload) stays in the caller's time; the
+     * flushes (MPI_Isend) are communication time (flush_dest). */
     size_t need = rt_wire_size(h->len);
     if (need > rt_g.cfg.agg_bytes) {
+        comm_begin();
         /* Announce it in the ordinary stream (keeps the order), then send it alone. */
         uint64_t n = need;
         rt_hdr c = {.handler = RT_BIG_ID, .src = rt_g.rank, .len = sizeof n, .tok_rank = -1};
@@ -248,6 +303,7 @@ void rt_send_hdr(int to, rt_hdr *h, const void *payload) {
         rt_sendbuf *big = sendbuf_get(to, need);
         RT_CHECK(rt_pack(big->buf, big->cap, &big->used, h, payload) == RT_OK);
         sendbuf_post(big, RT_TAG_BIG);
+        comm_end(true);
         return;
     }
     append_record(to, h, payload);
@@ -257,8 +313,10 @@ void rt_send_hdr(int to, rt_hdr *h, const void *payload) {
 void rt_send_ctl(int to, uint16_t id, const void *payload, uint32_t len) {
     RT_CHECK(!rt_in_worker && to != rt_g.rank && rt_wire_size(len) <= rt_g.cfg.agg_bytes);
     rt_hdr c = {.handler = id, .src = rt_g.rank, .len = len, .tok_rank = -1};
+    comm_begin();
     append_record(to, &c, payload);
     flush_dest(to);
+    comm_end(false); /* the termination detector's, not the application's */
 }
 
 /* A control record from src (rt_send_ctl): the termination token, TERM or DEADLOCK. */
@@ -334,8 +392,17 @@ static void run_inline(const rt_hdr *h, const void *payload) {
     bool nested = rt_g.in_handler;
     rt_g.in_handler = true;
     double t0 = rt_now();
+    /* pause the open communication stretch: the body is handler time, except its own sends */
+    int depth = rt_g.comm_depth;
+    comm_resolve(t0);
+    if (depth) rt_g.st.comm_s += t0 - rt_g.comm_t0;
+    rt_g.comm_depth = 0;
+    double c0 = rt_g.st.comm_s;
     e->fn(&m, e->arg);
-    double dt = rt_now() - t0;
+    double t1 = rt_now();
+    double dt = t1 - t0 - (rt_g.st.comm_s - c0);
+    rt_g.comm_depth = depth;
+    rt_g.comm_t0 = t1;
     rt_g.inline_time += dt;
     rt_g.in_handler = nested;
     rt_complete(h, dt);
@@ -362,6 +429,7 @@ static void deliver(const rt_hdr *h, const void *payload, rt_item *owned) {
     if (owned) {
         rt_dispatch_item(owned);
     } else if (rt_g.ht.e[h->handler].flags & RT_THREADED) {
+        if (rt_g.comm_lazy) comm_resolve(rt_now());
         rt_dispatch_item(rt_item_new(h, payload));
     } else {
         run_inline(h, payload);
@@ -370,6 +438,7 @@ static void deliver(const rt_hdr *h, const void *payload, rt_item *owned) {
 
 bool rt_local_deliver(void) {
     if (rt_queue_empty(&rt_g.selfq)) return false;
+    comm_begin();
     /* Only what is queued now: handlers may self-send more, which waits for the next round. */
     rt_queue q;
     rt_queue_init(&q);
@@ -379,6 +448,7 @@ bool rt_local_deliver(void) {
         rt_item *it = RT_CONTAINER(n, rt_item, q);
         deliver(&it->h, it->data, it);
     }
+    comm_end(true);
     return true;
 }
 
@@ -420,9 +490,51 @@ static void repost_pending(void) {
     rt_g.nrepost = 0;
 }
 
-bool rt_comm_progress(void) {
+/* The records of one MPI message: control records, large-message announcements, RSRs;
+ * *nrec gets the number of records. */
+static bool process(const unsigned char *buf, size_t n, int src, int *nrec) {
+    size_t off = 0;
+    rt_hdr h;
+    const unsigned char *payload;
+    int rc;
     bool any = false;
+    *nrec = 0;
+    while ((rc = rt_unpack(buf, n, &off, &h, &payload)) == 1) {
+        ++*nrec;
+        if (h.handler == RT_BIG_ID && h.len == sizeof(uint64_t) && h.src == src) {
+            if (rt_g.comm_lazy) comm_resolve(rt_now());
+            receive_big(src, payload);
+            any = true;
+            continue;
+        }
+        if ((h.handler == RT_CTL_TOKEN || h.handler == RT_CTL_TERM ||
+             h.handler == RT_CTL_DEADLOCK) &&
+            h.src == src) {
+            control_record(&h, payload);
+            continue;
+        }
+        check_record(&h, src);
+        deliver(&h, payload, NULL);
+        any = true; /* an RSR: control records alone are not activity */
+    }
+    if (rc != 0) RT_FATAL("malformed message of %zu bytes from rank %d at offset %zu", n, src, off);
+    return any;
+}
+
+bool rt_comm_process(const unsigned char *buf, size_t n, int src) {
+    int nrec;
+    return process(buf, n, src, &nrec);
+}
+
+bool rt_comm_progress(void) {
+    /* timed from the first message found: an empty poll reads no clock */
+    bool any = false, held = false, timing = false;
     if (rt_g.nrepost) repost_pending();
+    if (rt_g.net.nheld) { /* the network model's messages, now due */
+        comm_begin();
+        timing = true;
+        any = rt_net_release(&rt_g.net, rt_g.comm_t0);
+    }
     for (int k = 0; k < RT_RECV_BURST; k++) {
         int flag = 0, n = 0;
         if (rt_g.nrepost == RT_NPOST) repost_pending(); /* phead's own receive is consumed */
@@ -430,35 +542,24 @@ bool rt_comm_progress(void) {
         MPI_Request *req = &rt_g.preq[rt_g.phead];
         RT_MPI(MPI_Test(req, &flag, &st));
         if (!flag) break;
+        if (!timing) {
+            comm_begin_lazy();
+            timing = true;
+        }
         RT_MPI(MPI_Get_count(&st, MPI_BYTE, &n));
         /* Handlers run on this buffer; they may not poll, so it is not reposted meanwhile. */
         unsigned char *buf = rt_g.pbuf[rt_g.phead];
         rt_g.st.mpi_recv++;
         rt_g.st.mpi_bytes_recv += (uint64_t)n;
-        size_t off = 0;
-        rt_hdr h;
-        const unsigned char *payload;
-        int rc, nrec = 0;
-        while ((rc = rt_unpack(buf, (size_t)n, &off, &h, &payload)) == 1) {
-            nrec++;
-            if (h.handler == RT_BIG_ID && h.len == sizeof(uint64_t) && h.src == st.MPI_SOURCE) {
-                receive_big(st.MPI_SOURCE, payload);
-                any = true;
-                continue;
-            }
-            if ((h.handler == RT_CTL_TOKEN || h.handler == RT_CTL_TERM ||
-                 h.handler == RT_CTL_DEADLOCK) &&
-                h.src == st.MPI_SOURCE) {
-                control_record(&h, payload);
-                continue;
-            }
-            check_record(&h, st.MPI_SOURCE);
-            deliver(&h, payload, NULL);
-            any = true; /* an RSR: control records alone are not activity */
+        int nrec = 0;      /* 1: a message of one record (light traffic) */
+        if (rt_g.net.on) { /* held RSRs stay counted as in flight (sent, not received) */
+            double now = rt_now();
+            comm_resolve(now);
+            rt_net_hold(&rt_g.net, buf, (size_t)n, st.MPI_SOURCE, now);
+            held = true;
+        } else {
+            any |= process(buf, (size_t)n, st.MPI_SOURCE, &nrec);
         }
-        if (rc != 0)
-            RT_FATAL("malformed message of %d bytes from rank %d at offset %zu", n, st.MPI_SOURCE,
-                     off);
         /* Reposted later (repost_pending), off the path from this message to the reply. */
         rt_g.phead = (rt_g.phead + 1) % RT_NPOST;
         rt_g.nrepost++;
@@ -476,5 +577,8 @@ bool rt_comm_progress(void) {
      * empty poll, and while messages flow only when many are outstanding. */
     if (rt_g.ndirty) rt_comm_flush_all();
     if (rt_g.nreq && (!any || rt_g.nreq > 16)) test_sends();
+    /* a poll that found nothing, or only the termination detector's records, is not
+     * communication time */
+    if (timing) comm_end(any || held);
     return any;
 }

@@ -248,6 +248,38 @@ void rt_perturb_hold(rt_perturb *p, rt_item *it, int src);
 /* Advances one poll iteration and hands every due message to deliver(); returns how many. */
 size_t rt_perturb_release(rt_perturb *p, void (*deliver)(rt_item *it));
 
+/* ---- network model (rt_net.c) ------------------------------------------------------------ */
+
+/* One MPI message held until its delivery time (a copy of the receive buffer). */
+typedef struct rt_netmsg {
+    rt_qnode q;
+    double due; /* rt_now() at which it may be delivered */
+    size_t n;
+    int src;
+    _Alignas(8) unsigned char data[];
+} rt_netmsg;
+
+typedef struct rt_net {
+    double latency_s, bytes_per_s; /* both 0: off */
+    bool on;
+    rt_queue *held;   /* per source, FIFO; due times increase along each queue */
+    double *link_end; /* per source: when its link finishes the last message held */
+    int nsrc;
+    size_t nheld;
+    uint64_t delayed; /* messages held so far */
+} rt_net;
+
+void rt_net_init(rt_net *n, int nsrc, double latency_s, double bytes_per_s);
+void rt_net_destroy(rt_net *n);
+/* Main thread: copies the message (n bytes of buf from src, arrived now) into its source's
+ * queue with its delivery time. */
+void rt_net_hold(rt_net *n, const unsigned char *buf, size_t len, int src, double now);
+/* Main thread: hands every held message due by now to rt_comm_process, in order per source;
+ * true if one of them carried an RSR. */
+bool rt_net_release(rt_net *n, double now);
+/* Seconds from now to the earliest delivery time (0 if one is due; only with nheld > 0). */
+double rt_net_wait(const rt_net *n, double now);
+
 /* ---- worker pool (rt_worker.c) ----------------------------------------------------------- */
 
 int rt_workers_start(int n);
@@ -269,12 +301,17 @@ void rt_send_hdr(int to, rt_hdr *h, const void *payload);
 void rt_send_ctl(int to, uint16_t id, const void *payload, uint32_t len);
 bool rt_comm_progress(void); /* receive, deliver, complete sends; true if an RSR came */
 void rt_comm_flush_all(void);
+/* rt_comm_flush_all with the clock read at now (rt_run: just read, not read again) */
+void rt_comm_flush_all_at(double now);
 bool rt_comm_flushed(void);
 void rt_comm_wait_sends(void);
 void rt_dispatch_item(rt_item *it); /* deliver an owned message now (inline or to a worker) */
 /* Completion of a message's processing (main thread): counters, stats, reply token. */
 void rt_complete(const rt_hdr *h, double elapsed);
 bool rt_local_deliver(void); /* self-sends */
+/* Main thread: unpacks and delivers the records of one MPI message of n bytes from src (the
+ * buffer must stay valid until it returns); true if it carried an RSR. */
+bool rt_comm_process(const unsigned char *buf, size_t n, int src);
 
 /* ---- global state (rt.c) ------------------------------------------------------------------ */
 
@@ -294,6 +331,11 @@ typedef struct rt_global {
     rt_stats st;
     uint64_t sent, recvd; /* RSR counts for termination (main thread) */
     double inline_time;   /* seconds in non-threaded handlers (not communication time) */
+    int comm_depth;       /* rt_comm.c's comm_begin/comm_end nesting (rt_stats.comm_s) */
+    double comm_t0;       /* when the outermost open communication stretch began */
+    bool comm_lazy;       /* the open stretch's start is the next clock reading (rt_comm.c) */
+    double comm_t1;       /* when the last counted stretch ended (a clock reading rt_run reuses) */
+    rt_net net;           /* the network model (rt_net.c) */
 
     /* transport (rt_comm.c) */
     rt_sendbuf **agg; /* open aggregation buffer per destination */

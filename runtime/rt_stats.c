@@ -17,7 +17,14 @@
 #include <string.h>
 
 /* Integer and double fields, in array order; U_BMAX and D_BMAX are the maxima. */
-enum { NU64 = 13, U_BMAX = 12, ND = RT_TIME_NBUCKETS + 2, D_BSUM = RT_TIME_NBUCKETS, D_BMAX };
+enum {
+    NU64 = 13,
+    U_BMAX = 12,
+    ND = RT_TIME_NBUCKETS + 3,
+    D_BSUM = RT_TIME_NBUCKETS,
+    D_BMAX,
+    D_COMM
+};
 
 static void to_arrays(const rt_stats *s, uint64_t u[NU64], double d[ND]) {
     uint64_t v[NU64] = {s->rsr_sent,      s->rsr_recv,   s->rsr_bytes_sent, s->rsr_bytes_recv,
@@ -28,6 +35,7 @@ static void to_arrays(const rt_stats *s, uint64_t u[NU64], double d[ND]) {
     memcpy(d, s->time, sizeof s->time);
     d[D_BSUM] = s->blocked_time_sum;
     d[D_BMAX] = s->blocked_time_max;
+    d[D_COMM] = s->comm_s;
 }
 
 static void from_arrays(rt_stats *s, const uint64_t u[NU64], const double d[ND]) {
@@ -47,6 +55,7 @@ static void from_arrays(rt_stats *s, const uint64_t u[NU64], const double d[ND])
     memcpy(s->time, d, sizeof s->time);
     s->blocked_time_sum = d[D_BSUM];
     s->blocked_time_max = d[D_BMAX];
+    s->comm_s = d[D_COMM];
 }
 
 void rt_stats_local(rt_stats *out) {

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The RSR storm under the runtime's other configurations, set through the environment:
 # aggregation off; tiny aggregation buffers (every chain tail takes the large-message path) and
-# a single worker; no idle sleeping; and perturbation from the environment on top of the
-# program's own seeds.  Shrinking buffers and pools gives bugs a chance to show.
+# a single worker; no idle sleeping; perturbation from the environment on top of the program's
+# own seeds; and the network model (PCDM_NET: every message held at its receiver).  Shrinking buffers and pools gives bugs a chance to show.
 set -u
 cd "$(dirname "$0")/.."
 B=${B:-build}
@@ -20,4 +20,5 @@ run "aggregation off" RT_AGGREGATE=0
 run "256-byte buffers, 1 worker" RT_AGG_BYTES=256 RT_WORKERS=1
 run "spin when idle" RT_IDLE_SPIN=1
 run "perturbation from env" RT_PERTURB=99
+run "network model from env (50 us, 10 MB/s)" PCDM_NET=50,10
 echo "t_rt_env: ok"

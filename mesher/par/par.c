@@ -164,6 +164,20 @@ int par_startup(int *argc, char ***argv, const char *prog, par_parse_fn parse, c
         return 1;
     }
     if (o->perturb) rt_perturb_set(o->perturb);
+    if (o->net) { /* every rank parses the same text: all stop or none */
+        double lat = 0, bw = 0;
+        if (rt_net_parse(o->net, &lat, &bw) != RT_OK) {
+            if (rt_rank() == 0)
+                fprintf(stderr,
+                        "%s: --net '%s': want off, sp2 or LAT_US[,MBPS] (microseconds, "
+                        "megabytes per second)\n",
+                        prog, o->net);
+            rt_finalize();
+            *code = 2;
+            return 1;
+        }
+        rt_net_set(lat, bw);
+    }
     /* Triangle's output name (no -o): rank 0 decides, every rank writes to the same files */
     int named = o->out_prefix == o->out_name;
     MESH_MPI(MPI_Bcast(&named, 1, MPI_INT, 0, rt_app_comm()));

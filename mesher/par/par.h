@@ -56,6 +56,8 @@ typedef struct par_opts {
                                RSRs (0: the program's default; 1: after every insertion, as
                                the paper) */
     uint64_t perturb;       /* --perturb SEED (0 = off; also env RT_PERTURB) */
+    const char *net;        /* --net SPEC: the runtime's network model (rt_net_parse; NULL:
+                               the environment's PCDM_NET, else off) */
     int deterministic;      /* --deterministic (pcdm only): refinement in rounds, the same mesh
                                for any rank count and timing (mesher/pcdm/pcdm_det.c) */
     const char *balance;    /* --balance static|dynamic (pcdm only; NULL: static) */
