@@ -412,6 +412,30 @@ for imb in $OVH_CONFS; do
 done
 section_end
 
+# ---------------------------------------------------------------- issue 16: subdomains as units
+# ./pcdm at 1M triangles, 2 and 8 ranks: balanced (static), two-to-one imbalanced static, and
+# imbalanced with --balance dynamic (4 subdomains per rank, work stealing); then the cost of
+# --deterministic against the asynchronous mode, 2 ranks, at 10M triangles (1M when quick or
+# NO_10M).  BAL_REPS repetitions (3; quick: 1), interleaved.  Rows: $R/balance.csv.
+section_begin "balance"
+BAL_REPS=$([ -n "$QUICK" ] && echo 1 || echo 3)
+for rep in $(seq 1 "$BAL_REPS"); do
+    for np in 2 8; do
+        run_one bal static pcdm "$np" 1 "$A1M" "$rep"
+        run_one bal imb2static pcdm "$np" 2 "$A1M" "$rep"
+        run_one bal imb2dynamic pcdm "$np" 2 "$A1M" "$rep" --balance dynamic
+    done
+done
+DET_AREA=$A10M
+[ -n "$QUICK" ] || [ -n "${NO_10M:-}" ] && DET_AREA=$A1M
+SEC_TIMEOUT=$TIMEOUT_10M
+for rep in $(seq 1 "$BAL_REPS"); do
+    run_one det async pcdm 2 1 "$DET_AREA" "$rep"
+    run_one det deterministic pcdm 2 1 "$DET_AREA" "$rep" --deterministic
+done
+SEC_TIMEOUT=$RUN_TIMEOUT
+section_end
+
 # ---------------------------------------------------------------- primitives
 section_begin "primitives"
 PRIM_TIMEOUT=$([ -n "$QUICK" ] && echo 20 || echo 60)

@@ -927,6 +927,77 @@ def sec_overhead(c):
             c.out.append("Overhead pbw P=4 %s: comm_pct=%s undo_pct=%s   [paper 27 / 1]" % (r[0], f(r[10], 1), f(r[13], 1)))
 
 
+# ---------------------------------------------------------------------------- issue 16
+def sec_balance(c):
+    c.H("## Beyond the paper: dynamic load balancing and determinism (issue 16)")
+    c.H()
+    c.H("./pcdm at `-a %s` (~1M triangles), %s repetitions, medians.  *balanced*: no `--imbalance`; "
+        "*static*: `--imbalance 2`, one subdomain per rank (rank 0 gets twice the work); *dynamic*: "
+        "`--imbalance 2 --balance dynamic` (4 subdomains per rank; an idle rank takes unstarted ones "
+        "from a busy rank).  wall s = measured wall time of the meshing (`wall_s`); CPU-bound speedup "
+        "= cpu_sum / cpu_max (the busiest rank's CPU seconds: what a core per rank would bound); "
+        "vs balanced = the balanced run's figure over this one's (wall: goal <= 1.1x at 2 ranks; CPU "
+        "speedup: goal >= 90%% at 8); moves = migrations, move %% = move_max_s / wall_s (goal <= 2%%)."
+        % (c.areas["area_1m"], max([int(r["rep"]) for r in c.sel("bal", ok=False)] or [0])))
+    c.H()
+    rows, crows = [], []
+    for np_ in (2, 8):
+        base = c.sel("bal", "static", "pcdm", np_)
+        bw = med(vals(base, "wall_s"))
+        bsp = med([div(r["s"].get("cpu_sum_s"), r["s"].get(CPU)) for r in base])
+        for lab in ("static", "imb2static", "imb2dynamic"):
+            rs = c.sel("bal", lab, "pcdm", np_)
+            if not rs:
+                rows.append([np_, lab, "NA (%s)" % c.why_missing("bal", lab, "pcdm", np_)] + ["NA"] * 7)
+                continue
+            w = med(vals(rs, "wall_s"))
+            sp = med([div(r["s"].get("cpu_sum_s"), r["s"].get(CPU)) for r in rs])
+            mig = med(vals(rs, "migrations"))
+            mv = med([div(r["s"].get("move_max_s"), r["s"].get("wall_s")) for r in rs])
+            rows.append([np_, lab, fi(med(vals(rs, "triangles"))), frange(vals(rs, "wall_s"), 3),
+                         f(div(w, bw)), f(sp), f(div(sp, bsp)), fi(mig) if isnum(mig) else "-",
+                         f(100 * mv, 3) if isnum(mv) else "-", warn({"spread": spread(vals(rs, "wall_s"))}) or "-"])
+            crows.append([np_, lab, len(rs), med(vals(rs, "triangles")), w, div(w, bw), sp, div(sp, bsp),
+                          mig, mv])
+            if lab == "imb2dynamic":
+                c.out.append("Balance P=%d dynamic vs balanced: wall %s x (goal <= 1.1 at P=2), CPU-bound "
+                             "speedup %s of balanced (goal >= 0.90 at P=8), move %s%% of wall" %
+                             (np_, f(div(w, bw)), f(div(sp, bsp)), f(100 * mv, 3) if isnum(mv) else "NA"))
+                c.keys["dyn_wall_vs_balanced_%d" % np_] = f(div(w, bw))
+                c.keys["dyn_cpu_speedup_vs_balanced_%d" % np_] = f(div(sp, bsp))
+    c.H(md_table(["ranks", "config", "triangles", "wall s", "wall / balanced", "CPU-bound speedup",
+                  "speedup / balanced", "moves", "move %", "spread"], rows))
+    c.H()
+    c.csv("balance.csv", ["ranks", "config", "runs", "triangles", "wall_s", "wall_vs_balanced",
+                          "cpu_bound_speedup", "speedup_vs_balanced", "migrations", "move_fraction"], crows)
+    da, dd = c.sel("det", "async", "pcdm", 2), c.sel("det", "deterministic", "pcdm", 2)
+    area = (da or dd or [{"area": "NA"}])[0]["area"]
+    c.H("`--deterministic` against the asynchronous mode, 2 ranks, `-a %s`: wall s and the busiest "
+        "rank's CPU seconds, median (min-max); goal <= 1.15x; hashes must agree between the "
+        "deterministic runs." % area)
+    c.H()
+    if da and dd:
+        wa, wd = med(vals(da, "wall_s")), med(vals(dd, "wall_s"))
+        ca, cd = med(vals(da, CPU)), med(vals(dd, CPU))
+        hashes = sorted(set(str(r["s"].get("hash")) for r in dd))
+        c.H(md_table(["mode", "triangles", "wall s", "cpu_max s", "rounds", "hash"],
+                     [["async", fi(med(vals(da, "triangles"))), frange(vals(da, "wall_s"), 3),
+                       frange(vals(da, CPU), 3), "-", "differs run to run"],
+                      ["deterministic", fi(med(vals(dd, "triangles"))), frange(vals(dd, "wall_s"), 3),
+                       frange(vals(dd, CPU), 3), fi(med(vals(dd, "rounds"))),
+                       hashes[0] if len(hashes) == 1 else "DIFFER: " + " ".join(hashes)]]))
+        c.H()
+        c.H("Deterministic / asynchronous: wall %s x, cpu_max %s x." % (f(div(wd, wa)), f(div(cd, ca))))
+        c.out.append("Determinism cost (2 ranks, -a %s): wall %s x, cpu_max %s x (goal <= 1.15); %s" % (
+            area, f(div(wd, wa)), f(div(cd, ca)),
+            "one hash" if len(hashes) == 1 else "HASHES DIFFER"))
+        c.keys["det_cost_wall"] = f(div(wd, wa))
+    else:
+        c.H("_No determinism runs (%s / %s)._" % (c.why_missing("det", "async", "pcdm", 2),
+                                                  c.why_missing("det", "deterministic", "pcdm", 2)))
+    c.H()
+
+
 # ---------------------------------------------------------------------------- primitives
 def sec_primitives(c):
     R = c.R
@@ -1233,7 +1304,8 @@ def summary(c):
            ("pbw_wall_1m_8", f(g("pbw", "wall_m", "t23m", "1m"), 3)),
            ("pcdm_cpu_speedup_1m_8", f(g("pcdm", "cpu_sp", "t23m", "1m"))),
            ("pbw_cpu_speedup_1m_8", f(g("pbw", "cpu_sp", "t23m", "1m")))]
-    for k in ("comm_ratio_1m_8", "pbw_sp2_slowdown_8", "pcdm_sp2_slowdown_8", "null_rsr_ratio"):
+    for k in ("comm_ratio_1m_8", "pbw_sp2_slowdown_8", "pcdm_sp2_slowdown_8", "null_rsr_ratio",
+              "dyn_wall_vs_balanced_2", "dyn_cpu_speedup_vs_balanced_8", "det_cost_wall"):
         new.append((k, c.keys.get(k, "NA")))
     print("bench: pcdm_rsr_8=%s pbw_rsr_8=%s ratio_8=%s pcdm_wall_8=%s pbw_wall_8=%s "
           "pcdm_speedup_model_8=%s pbw_speedup_model_8=%s %s" % (
@@ -1258,6 +1330,7 @@ def main():
     sec_analysis(c)
     sec_plots(c)
     sec_overhead(c)
+    sec_balance(c)
     sec_primitives(c)
     sec_figures(c)
     sec_decomp(c)
