@@ -741,7 +741,7 @@ def sec_analysis(c):
     ie = med([r["x"].get("cavities.iface_edges") for r in pb["rs"]])
     il = med([r["x"].get("cavities.iface_len") for r in pb["rs"]])
     if isnum(ie) and ie > 0:
-        c.H("**Interface.** ./pbw reports %s edges (length %s) on rank boundaries of the initial mesh; "
+        c.H("**Interface.** ./pbw reports %s edges (length %s) on rank boundaries of its final mesh; "
             "both meshers cut the domain with the same decomposition (par_load), so the interface is "
             "taken to be the same for ./pcdm (which does not report its own).  Per interface edge: "
             "PBW %s requests, PCDM %s unique split requests: the interface is common to both, so the "
