@@ -7,9 +7,10 @@ Usage: python seq_triangle.py input.poly SWITCHES      (e.g. pq20.7a0.000002Q)
 
 Only the triangulate() call is timed.  peak_rss_mb is this process's peak resident size;
 base_rss_mb is its resident size just before the call (Python, numpy, the input), so the
-mesher's own memory is peak - base.  The .poly is parsed here (vertices, segments, holes; 0-
-or 1-based like Triangle).
+mesher's own memory is peak - base.  The .poly is read by bench/poly.py (vertices, segments,
+holes; 0- or 1-based like Triangle).
 """
+import os
 import resource
 import sys
 import time
@@ -17,33 +18,16 @@ import time
 import numpy as np
 import triangle
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from poly import read_poly  # noqa: E402  (the bench's one .poly reader)
 
-def read_poly(path):
-    rows = []
-    with open(path) as f:
-        for line in f:
-            line = line.split("#", 1)[0].split()
-            if line:
-                rows.append(line)
-    i = 0
-    nv, _, nattr, nmark = (int(x) for x in rows[i][:4])
-    i += 1
-    first = int(rows[i][0]) if nv > 0 else 0
-    xy = np.array([[float(r[1]), float(r[2])] for r in rows[i : i + nv]], dtype=np.float64)
-    i += nv
-    ns = int(rows[i][0])
-    i += 1
-    seg = np.array([[int(r[1]) - first, int(r[2]) - first] for r in rows[i : i + ns]],
-                   dtype=np.int32)
-    i += ns
-    holes = []
-    if i < len(rows):
-        nh = int(rows[i][0])
-        i += 1
-        holes = [[float(r[1]), float(r[2])] for r in rows[i : i + nh]]
-    d = {"vertices": xy}
-    if ns:
-        d["segments"] = seg
+
+def triangle_input(path):
+    """The .poly as the wrapper's dict (bench/poly.py reads it: 0- or 1-based like Triangle)."""
+    pts, segs, holes = read_poly(path)
+    d = {"vertices": np.array(pts, dtype=np.float64)}
+    if segs:
+        d["segments"] = np.array(segs, dtype=np.int32)
     if holes:
         d["holes"] = np.array(holes, dtype=np.float64)
     return d
@@ -59,7 +43,7 @@ def rss_now_mb():
 
 def main():
     path, switches = sys.argv[1], sys.argv[2]
-    d = read_poly(path)
+    d = triangle_input(path)
     base = rss_now_mb()
     t0 = time.perf_counter()
     out = triangle.triangulate(d, switches)
