@@ -204,6 +204,11 @@ int rt_prefer_local_pml(void) {
 }
 
 /* The common start of rt_init and rt_init_comm: MPI is initialised (by us or the caller). */
+/* A network model's figures (rt_config.net_*): finite and not negative. */
+static bool net_valid(double latency_s, double bytes_per_s) {
+    return latency_s >= 0 && bytes_per_s >= 0 && isfinite(latency_s) && isfinite(bytes_per_s);
+}
+
 static int init_on(MPI_Comm world, const rt_config *cfg, int *argc, char ***argv, int may_init);
 
 int rt_init(int *argc, char ***argv, const rt_config *cfg) {
@@ -271,9 +276,7 @@ static int init_on(MPI_Comm world, const rt_config *cfg, int *argc, char ***argv
     rt_g.perturbing = c->perturb_seed != 0;
     if (rt_g.perturbing)
         rt_perturb_init(&rt_g.pert, c->perturb_seed * 1000003u + (uint64_t)rt_g.rank, rt_g.size);
-    if (!(c->net_latency_s >= 0 && c->net_bytes_per_s >= 0 && isfinite(c->net_latency_s) &&
-          isfinite(c->net_bytes_per_s)))
-        return RT_EINVAL;
+    if (!net_valid(c->net_latency_s, c->net_bytes_per_s)) return RT_EINVAL;
     rt_net_init(&rt_g.net, rt_g.size, c->net_latency_s, c->net_bytes_per_s);
     int rc = rt_comm_init();
     if (rc == RT_OK) rc = rt_workers_start(c->nworkers);
@@ -461,8 +464,7 @@ int rt_perturb_set(uint64_t seed) {
 int rt_net_set(double latency_s, double bytes_per_s) {
     need_init("rt_net_set");
     if (rt_g.in_run || rt_in_worker) return RT_ESTATE;
-    if (!(latency_s >= 0 && bytes_per_s >= 0 && isfinite(latency_s) && isfinite(bytes_per_s)))
-        return RT_EINVAL;
+    if (!net_valid(latency_s, bytes_per_s)) return RT_EINVAL;
     RT_CHECK(rt_g.net.nheld == 0);
     rt_net_destroy(&rt_g.net);
     rt_g.cfg.net_latency_s = latency_s;

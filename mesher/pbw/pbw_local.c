@@ -25,10 +25,11 @@
 #include <string.h>
 
 /* A boundary edge a->b (vertex slots) of member x's edge j (the cavity on its left); out: the
- * triangle across it (NOREF: none). */
+ * triangle across it (NOREF: none); link: x's raw tn there (the outside slot, -1, or its record),
+ * reg: x's region -- both carried over to the new triangle on the edge. */
 typedef struct lbnd {
     int64_t out;
-    int32_t a, b, x, j;
+    int32_t a, b, link, reg;
 } lbnd;
 
 /* The fast path's scratch arrays, kept in the context between calls. */
@@ -57,7 +58,7 @@ static void unmark(pbw_ctx *C, pbw_lscratch *S) {
 /* Collects the cavity of p from t.  1 if it is purely local and may be committed here. */
 static int collect(pbw_ctx *C, pbw_lscratch *S, const double p[2], int32_t t) {
     S->nstk = S->nmem = S->nbd = 0;
-    if (LK(C, t) >= 0 || C->role[t] != ROLE_NONE) return 0;
+    if (C->role[t] != ROLE_NONE) return 0; /* locked (a locked slot has a role), or marked */
     C->role[t] = ROLE_MEMBER;
     MESH_GROW(S->mem, S->nmem, S->mcap);
     S->mem[S->nmem++] = t;
@@ -78,7 +79,7 @@ static int collect(pbw_ctx *C, pbw_lscratch *S, const double p[2], int32_t t) {
                      * interior either way; a cycle shows as an edge seen from one side only */
                     continue;
                 }
-                if (LK(C, y) >= 0 || C->role[y] != ROLE_NONE) return 0;
+                if (C->role[y] != ROLE_NONE) return 0; /* locked: a lock gives a role */
             } else if (!constrained) {
                 return 0; /* the domain boundary is always constrained in a CDT */
             }
@@ -97,7 +98,7 @@ static int collect(pbw_ctx *C, pbw_lscratch *S, const double p[2], int32_t t) {
             if (geom_orient2d(VX(C, a), VX(C, b), p) <= 0) return 0; /* not star-shaped */
             if (constrained && mesh_rules_encroaches(&C->R, VX(C, a), VX(C, b), p)) return 0;
             MESH_GROW(S->bd, S->nbd, S->bcap);
-            S->bd[S->nbd++] = (lbnd){n, a, b, x, j};
+            S->bd[S->nbd++] = (lbnd){n, a, b, C->tn[e], C->treg ? C->treg[x] : -1};
         }
     }
     /* a disk whose vertices all lie on its boundary: as many boundary edges as members + 2
@@ -140,23 +141,9 @@ int pbw_local_insert(pbw_ctx *C, const double p[2], int32_t t) {
     C->nvown++;
     C->res.steiner++;
     int32_t nb = S->nbd, nm = S->nmem;
-    /* detach each boundary edge's record (it moves to the new triangle on it), note its
-     * member's region; then drop what interior member edges might hold */
-    for (int32_t i = 0; i < nb; i++) {
-        lbnd *bd = &S->bd[i];
-        size_t e = 3 * (size_t)bd->x + (size_t)bd->j;
-        bd->x = C->treg ? C->treg[bd->x] : -1; /* now: the region */
-        bd->j = C->tn[e]; /* now: the raw link (the outside slot, -1, or its record) */
-        C->tn[e] = -1;
-    }
-    for (int32_t i = 0; i < nm; i++)
-        for (int j = 0; j < 3; j++) {
-            size_t e = 3 * (size_t)S->mem[i] + (size_t)j;
-            if (REC(C, e) < 0) continue;
-            pbw_con_set(C, e, -1, -1, 0);
-            pbw_gx_set(C, e, -1);
-        }
-    /* slots: the members', then two more (the stack array holds the list) */
+    /* slots: the members', then two more (the stack array holds the list); every edge of a
+     * reused slot is rewritten: a member edge is a boundary edge (its link moves) or interior
+     * (local, unconstrained: no record, see the invariant above) */
     MESH_GROW(S->stk, nb, S->scap);
     int32_t *slot = S->stk;
     for (int32_t i = 0; i < nb; i++)
@@ -167,9 +154,9 @@ int pbw_local_insert(pbw_ctx *C, const double p[2], int32_t t) {
         C->tv[e] = bd->a;
         C->tv[e + 1] = bd->b;
         C->tv[e + 2] = pv;
-        C->tn[e] = bd->j; /* the edge keeps its link and record (con[].nb is still out) */
+        C->tn[e] = bd->link; /* the edge keeps its link and record (con[].nb is still out) */
         C->role[slot[i]] = ROLE_NONE;
-        if (C->treg) C->treg[slot[i]] = bd->x;
+        if (C->treg) C->treg[slot[i]] = bd->reg;
     }
     for (int32_t i = 0; i < nb; i++) {
         const lbnd *bd = &S->bd[i];

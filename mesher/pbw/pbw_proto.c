@@ -131,14 +131,21 @@ static void h_expand(const rt_msg *m, void *arg) {
     drain_parked(C);
 }
 
-static void h_reply(const rt_msg *m, void *arg) {
-    pbw_ctx *C = handler_ctx(arg);
-    if (!m->task) MESH_BUG("cavity reply without a waiting task");
+/* The chain's answer m (a cavity state, or the starter's commit) kept for the waiting task. */
+static pbw_cav *keep_answer(const rt_msg *m, int decided) {
     pbw_cav *c = rt_task_data(m->task);
     free(c->reply);
     c->reply = mesh_xrealloc(NULL, m->len, 1);
     memcpy(c->reply, m->data, m->len);
     c->replylen = m->len;
+    c->decided = decided;
+    return c;
+}
+
+static void h_reply(const rt_msg *m, void *arg) {
+    pbw_ctx *C = handler_ctx(arg);
+    if (!m->task) MESH_BUG("cavity reply without a waiting task");
+    pbw_cav *c = keep_answer(m, 0);
     pbw_whdr h;
     if (m->len < sizeof h) MESH_BUG("short cavity reply");
     memcpy(&h, m->data, sizeof h);
@@ -165,12 +172,7 @@ static void h_commit(const rt_msg *m, void *arg) {
     if (m->len < sizeof *ch || m->len != sizeof *ch + (size_t)ch->n * sizeof(pbw_newtri))
         MESH_BUG("malformed commit (%u bytes)", (unsigned)m->len);
     if (m->task) { /* the starter's part, decided by the chain's last rank: its task applies it */
-        pbw_cav *c = rt_task_data(m->task);
-        free(c->reply);
-        c->reply = mesh_xrealloc(NULL, m->len, 1);
-        memcpy(c->reply, m->data, m->len);
-        c->replylen = m->len;
-        c->decided = 1;
+        keep_answer(m, 1);
         return;
     }
     pbw_apply_commit(C, ch, (const pbw_newtri *)(ch + 1));
