@@ -15,6 +15,9 @@
 static pbw_ctx *ctx_new(double min_angle, double max_area) {
     geom_init();
     pbw_ctx *C = mesh_xcalloc(1, sizeof *C);
+    mesh_init(&C->M);
+    for (int i = 0; i < 32; i++) /* segment ids for the constraints the tests name */
+        mesh_seg_add(&C->M, 0, 0, 0, 0);
     C->rank = 0;
     C->size = 1;
     C->pool_free = -1;
@@ -33,7 +36,7 @@ static int32_t tri(pbw_ctx *C, int32_t a, int32_t b, int32_t c) {
     int32_t s = pbw_slot_alloc(C);
     int32_t v[3] = {a, b, c};
     for (int j = 0; j < 3; j++) {
-        C->tv[3 * s + j] = v[j];
+        C->M.tv[3 * s + j] = v[j];
         pbw_tn_set(C, 3 * s + j, NOREF);
         pbw_con_set(C, 3 * (size_t)s + (size_t)j, -1, -1, 0);
     }
@@ -49,14 +52,14 @@ START_TEST(test_vertex_table) {
         int32_t v = pbw_vt_add(C, gid, i * 0.5, -i * 0.25, i % 3 - 1);
         ck_assert_int_eq(v, i);
     }
-    ck_assert_int_eq(C->nv, N);
+    ck_assert_int_eq(C->M.nv, N);
     ck_assert_uint_ge(C->vhcap, 2 * (uint32_t)N);
     for (int32_t i = 0; i < N; i++) {
         int64_t gid = i < 100 ? i : ((int64_t)(1 + i % 7) << 32) | i;
         int32_t v = pbw_vt_find(C, gid);
         ck_assert_int_eq(v, i);
         ck_assert(VX(C, v)[0] == i * 0.5 && VX(C, v)[1] == -i * 0.25);
-        ck_assert_int_eq(C->vseg[v], i % 3 - 1);
+        ck_assert_int_eq(C->M.vseg[v], i % 3 - 1);
         /* adding a known id again returns its slot and keeps its coordinates */
         ck_assert_int_eq(pbw_vt_add(C, gid, 1e9, 1e9, 5), i);
         ck_assert(VX(C, v)[0] == i * 0.5);
@@ -86,7 +89,7 @@ START_TEST(test_slots_reuse) {
     ck_assert(!alive(C, -1) && !alive(C, 99));
     ck_assert_int_eq(pbw_slot_alloc(C), s[1]); /* the free list first */
     ck_assert_int_eq(LK(C, s[1]), -1);
-    ck_assert_int_eq(C->role[s[1]], ROLE_NONE);
+    ck_assert_int_eq(ROLE(C, s[1]), ROLE_NONE);
     ck_assert_int_eq(pbw_slot_alloc(C), 3);
     pbw_ctx_free(C);
 }
@@ -110,7 +113,7 @@ START_TEST(test_bad_queue_order) {
     ck_assert_int_eq(pbw_quality(C, big, NULL, &sh), MESH_BAD_AREA);
     ck_assert_int_eq(pbw_quality(C, needle, NULL, &sh), MESH_BAD_ANGLE);
     ck_assert_int_eq(sh, 0); /* edge 9-10 */
-    for (int32_t t = 0; t < C->nt; t++)
+    for (int32_t t = 0; t < C->M.nt; t++)
         pbw_push_bad(C, t);
     ck_assert_int_eq(pbw_pop_bad(C), needle);
     ck_assert_int_eq(pbw_pop_bad(C), sliver);
@@ -489,10 +492,10 @@ START_TEST(test_tombstones) {
     pbw_tn_set(C, 3 * (size_t)t1, mkref(1, 7));
     pbw_tn_set(C, 3 * (size_t)t2, mkref(1, 7));
     ck_assert_int_eq(pbw_resolve_tomb(C, x, 2, 1), -1); /* not a tombstone */
-    pbw_tn_set(C, 3 * x + 1, mkref(0, t1));
-    C->role[x] = ROLE_TOMB;
-    pbw_tn_set(C, 3 * t1, mkref(0, t2));
-    C->role[t1] = ROLE_TOMB;
+    pbw_forward_set(C, 3 * (size_t)x + 1, t1);
+    pbw_role_set(C, x, ROLE_TOMB);
+    pbw_forward_set(C, 3 * (size_t)t1, t2);
+    pbw_role_set(C, t1, ROLE_TOMB);
     C->nlive -= 2;
     ck_assert(!alive(C, x) && !alive(C, t1) && alive(C, t2));
     ck_assert_int_eq(pbw_resolve_tomb(C, x, 2, 1), t2);
@@ -575,7 +578,7 @@ START_TEST(test_ghost_commit) {
     ck_assert_int_eq(C->res.cavities_local, 1);
     ck_assert_int_eq(C->res.ghosted, 1);
     ck_assert_int_eq(C->nlive, 3);
-    ck_assert(!alive(C, x) && C->role[x] == ROLE_TOMB && LK(C, x) == -1);
+    ck_assert(!alive(C, x) && ROLE(C, x) == ROLE_TOMB && LK(C, x) == -1);
     int32_t t = pbw_resolve_tomb(C, x, 2, 1);
     ck_assert(alive(C, t));
     int j = pbw_find_edge(C, t, 1, 2);
@@ -620,9 +623,9 @@ static int32_t fan_setup(pbw_ctx *C, int32_t outer[3]) {
 /* Every live triangle is counter-clockwise and each local link is mutual, across the same
  * edge reversed. */
 static void check_links(pbw_ctx *C) {
-    for (int32_t s = 0; s < C->nt; s++) {
+    for (int32_t s = 0; s < C->M.nt; s++) {
         if (!alive(C, s)) continue;
-        const int32_t *v = C->tv + 3 * s;
+        const int32_t *v = C->M.tv + 3 * s;
         ck_assert(geom_orient2d(VX(C, v[0]), VX(C, v[1]), VX(C, v[2])) > 0);
         for (int j = 0; j < 3; j++) {
             int64_t n = TN(C, 3 * s + j);
@@ -651,17 +654,17 @@ START_TEST(test_local_fast_path) {
     int32_t pv = pbw_vt_find(C, ((int64_t)1 << 32) | 0);
     ck_assert_int_ge(pv, 0);
     int on_p = 0, cons = 0;
-    for (int32_t s = 0; s < C->nt; s++) {
+    for (int32_t s = 0; s < C->M.nt; s++) {
         if (!alive(C, s)) continue;
         for (int j = 0; j < 3; j++) {
-            on_p += C->tv[3 * s + j] == pv;
+            on_p += C->M.tv[3 * s + j] == pv;
             cons += CS(C, 3 * (size_t)s + (size_t)j) >= 0;
         }
     }
     ck_assert_int_eq(on_p, 3);
     ck_assert_int_eq(cons, 6); /* the outer triangles' boundary edges, untouched */
     for (int j = 0; j < 3; j++)
-        ck_assert(C->role[outer[j]] == ROLE_NONE && LK(C, outer[j]) == -1);
+        ck_assert(ROLE(C, outer[j]) == ROLE_NONE && LK(C, outer[j]) == -1);
     pbw_ctx_free(C);
 
     /* what the general path must decide: nothing is written, no mark is left */
@@ -671,11 +674,11 @@ START_TEST(test_local_fast_path) {
         double q[2] = {1.0, 0.55};
         if (k == 0) { /* a locked member */
             pbw_lk_set(C, t, 0);
-            C->role[t] = ROLE_MEMBER;
+            pbw_role_set(C, t, ROLE_MEMBER);
         }
         if (k == 1) { /* a locked halo */
             pbw_lk_set(C, outer[1], 0);
-            C->role[outer[1]] = ROLE_HALO;
+            pbw_role_set(C, outer[1], ROLE_HALO);
         }
         if (k == 2) pbw_tn_set(C, 3 * t + 2, mkref(1, 9)); /* a remote neighbour */
         if (k == 3) { /* p encroaches a constrained edge of T (both sides) */
@@ -683,13 +686,13 @@ START_TEST(test_local_fast_path) {
             pbw_con_set(C, 3 * (size_t)outer[0], 0, -1, 0);
             q[1] = 0.3;
         }
-        int32_t nv = C->nv, nt = C->nt;
+        int32_t nv = C->M.nv, nt = C->M.nt;
         ck_assert_int_eq(pbw_local_insert(C, q, t), 0);
-        ck_assert_int_eq(C->nv, nv);
-        ck_assert_int_eq(C->nt, nt);
+        ck_assert_int_eq(C->M.nv, nv);
+        ck_assert_int_eq(C->M.nt, nt);
         ck_assert_int_eq(C->nlive, 4);
-        for (int32_t s = 0; s < C->nt; s++)
-            ck_assert(C->role[s] == (s == t && k == 0          ? ROLE_MEMBER
+        for (int32_t s = 0; s < C->M.nt; s++)
+            ck_assert(ROLE(C, s) == (s == t && k == 0          ? ROLE_MEMBER
                                      : s == outer[1] && k == 1 ? ROLE_HALO
                                                                : ROLE_NONE));
         ck_assert_int_eq(C->res.inserted, 0);

@@ -138,7 +138,8 @@ const char *const pbw_rsr_kind_name[PBW_RSR_NKINDS] = {"expansion", "reply", "re
 int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat *local,
              pbw_result *res) {
     pbw_ctx *C = mesh_xcalloc(1, sizeof *C);
-    pbw_attach(C); /* the handlers' way to the context */
+    mesh_init(&C->M); /* pbw_setup replaces it by the CDT */
+    pbw_attach(C);    /* the handlers' way to the context */
     C->rank = rt_rank();
     C->size = rt_size();
     C->pool_free = -1;

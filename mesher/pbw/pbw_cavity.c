@@ -51,7 +51,7 @@ void pbw_part_remove(pbw_cav *c, int32_t r) {
 void pbw_push_seed(pbw_ctx *C, pbw_cav *c, int64_t target, int64_t from, int64_t back, int64_t ga,
                    int64_t gb, int mode) {
     int32_t reg =
-        C->treg && from != NOREF && ref_rank(from) == C->rank ? C->treg[ref_idx(from)] : -1;
+        C->M.treg && from != NOREF && ref_rank(from) == C->rank ? C->M.treg[ref_idx(from)] : -1;
     pbw_seed s = {target, from, ga, gb, back, mode, reg};
     if (ref_rank(target) == C->rank) {
         MESH_GROW(c->stk, c->nstk, c->scap);
@@ -150,10 +150,10 @@ static int is_open_edge(const pbw_cav *c, int64_t ga, int64_t gb) {
  * conflict (exact incircle on the ghost): its edge is reported here, unlocked (GHOSTS, pbw.c). */
 static void expand_member(pbw_ctx *C, pbw_cav *c, int32_t hi, int32_t x, int64_t from) {
     int64_t self = mkref(C->rank, x);
-    int32_t reg = C->treg ? C->treg[x] : -1;
+    int32_t reg = C->M.treg ? C->M.treg[x] : -1;
     for (int j = 0; j < 3; j++) {
         size_t e = 3 * (size_t)x + (size_t)j;
-        int32_t la = C->tv[e], lb = C->tv[3 * (size_t)x + (size_t)((j + 1) % 3)];
+        int32_t la = C->M.tv[e], lb = C->M.tv[3 * (size_t)x + (size_t)((j + 1) % 3)];
         int64_t ga = C->vgid[la], gb = C->vgid[lb], n = TN(C, e);
         if (n != NOREF && n == from) continue;
         int32_t g = ghost_side(C, n) ? GX(C, e) : -1; /* n = (lb, la, g), counter-clockwise */
@@ -177,7 +177,7 @@ static void expand_member(pbw_ctx *C, pbw_cav *c, int32_t hi, int32_t x, int64_t
 }
 
 static int in_conflict(pbw_ctx *C, int32_t x, const double p[2]) {
-    const int32_t *tv = C->tv + 3 * (size_t)x;
+    const int32_t *tv = C->M.tv + 3 * (size_t)x;
     return geom_incircle(VX(C, tv[0]), VX(C, tv[1]), VX(C, tv[2]), p) > 0;
 }
 
@@ -186,9 +186,9 @@ int pbw_process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial) {
     while (c->nstk > 0) {
         pbw_seed s = c->stk[c->nstk - 1];
         int32_t x = ref_idx(s.target);
-        if (ref_rank(s.target) != C->rank || x < 0 || x >= C->nt)
+        if (ref_rank(s.target) != C->rank || x < 0 || x >= C->M.nt)
             MESH_BUG("seed names triangle (%d, %d)", ref_rank(s.target), x);
-        if (s.mode != SEED_START && C->role[x] == ROLE_TOMB) {
+        if (s.mode != SEED_START && ROLE(C, x) == ROLE_TOMB) {
             /* a stale link (its LINK is in flight): the triangle on that edge now */
             int32_t y = pbw_resolve_tomb(C, x, s.ga, s.gb);
             int jy = pbw_find_edge(C, y, s.gb, s.ga);
@@ -218,7 +218,7 @@ int pbw_process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial) {
                 MESH_BUG("triangle %d has no edge %lld->%lld (mode %d)", x, (long long)s.gb,
                          (long long)s.ga, s.mode);
         }
-        int role = h == hi ? C->role[x] : ROLE_NONE;
+        int role = h == hi ? ROLE(C, x) : ROLE_NONE;
         switch (s.mode) {
         case SEED_START:
             pbw_lock_slot(C, x, hi, ROLE_MEMBER);
@@ -236,7 +236,7 @@ int pbw_process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial) {
             if (role == ROLE_NONE) pbw_lock_slot(C, x, hi, ROLE_HALO);
             size_t e = 3 * (size_t)x + (size_t)j;
             /* x's edge is gb->ga: the cavity's edge ga->gb runs from x's vertex j+1 to j */
-            report(C, c, hi, C->tv[3 * (size_t)x + (size_t)((j + 1) % 3)], C->tv[e],
+            report(C, c, hi, C->M.tv[3 * (size_t)x + (size_t)((j + 1) % 3)], C->M.tv[e],
                    mkref(C->rank, x), s.from, CS(C, e), CL(C, e), CK(C, e), -1, s.reg);
             break;
         }
@@ -251,7 +251,7 @@ int pbw_process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial) {
             } else {
                 if (role == ROLE_NONE) pbw_lock_slot(C, x, hi, ROLE_HALO);
                 size_t e = 3 * (size_t)x + (size_t)j;
-                report(C, c, hi, C->tv[3 * (size_t)x + (size_t)((j + 1) % 3)], C->tv[e],
+                report(C, c, hi, C->M.tv[3 * (size_t)x + (size_t)((j + 1) % 3)], C->M.tv[e],
                        mkref(C->rank, x), s.from, -1, -1, 0, -1, s.reg);
             }
             break;
@@ -267,8 +267,8 @@ void pbw_check_new_triangle(pbw_ctx *C, int32_t t) {
     for (int j = 0; j < 3; j++) {
         size_t e = 3 * (size_t)t + (size_t)j;
         if (CS(C, e) < 0) continue;
-        int32_t a = C->tv[e], b = C->tv[3 * (size_t)t + (size_t)((j + 1) % 3)],
-                o = C->tv[3 * (size_t)t + (size_t)((j + 2) % 3)];
+        int32_t a = C->M.tv[e], b = C->M.tv[3 * (size_t)t + (size_t)((j + 1) % 3)],
+                o = C->M.tv[3 * (size_t)t + (size_t)((j + 2) % 3)];
         if (mesh_rules_encroaches(&C->R, VX(C, a), VX(C, b), VX(C, o))) {
             pbw_item it;
             memset(&it, 0, sizeof it);
@@ -294,34 +294,12 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
     if (hi < 0) MESH_BUG("commit for unknown cavity %llx", (unsigned long long)ch->key);
     pbw_hold *h = &C->hd[hi];
     int32_t pv = pbw_vt_add(C, ch->pgid, ch->p[0], ch->p[1], ch->pvseg);
-    /* ghost edges: the member there becomes a tombstone forwarding to the new triangle */
-    for (int32_t i = 0; i < ch->n; i++) {
-        const pbw_newtri *r = &nt[i];
-        if (r->nb[0] == NOREF || ref_rank(r->nb[0]) == C->rank) continue;
-        int32_t m = ref_idx(r->in);
-        int jm = ref_rank(r->in) == C->rank && m >= 0 && m < C->nt && LK(C, m) == hi
-                     ? pbw_find_edge(C, m, r->g[0], r->g[1])
-                     : -1;
-        if (jm < 0 || (C->role[m] != ROLE_MEMBER && C->role[m] != ROLE_TOMB))
-            MESH_BUG("ghost edge of the new triangle in slot %d has no member here", r->slot);
-        pbw_tn_set(C, 3 * (size_t)m + (size_t)jm, mkref(C->rank, r->slot));
-        C->role[m] = ROLE_TOMB;
-    }
-    for (int32_t i = 0; i < h->n; i++) {
-        int32_t s = h->slots[i];
-        if (LK(C, s) != hi) continue;
-        if (C->role[s] == ROLE_MEMBER) {
-            pbw_slot_free(C, s);
-            C->nlive--;
-        } else if (C->role[s] == ROLE_TOMB) {
-            pbw_lk_set(C, s, -1); /* dead, kept: never reused */
-            C->nlive--;
-        }
-    }
+    /* the new triangles' vertices first: a local link names the same edge in its neighbour,
+     * so both ends must hold their vertices before any link is written */
     for (int32_t i = 0; i < ch->n; i++) {
         const pbw_newtri *r = &nt[i];
         int32_t s = r->slot;
-        if (s < 0 || s >= C->nt || LK(C, s) != hi || C->role[s] != ROLE_RES)
+        if (s < 0 || s >= C->M.nt || LK(C, s) != hi || ROLE(C, s) != ROLE_RES)
             MESH_BUG("commit writes slot %d not reserved by the cavity", s);
         for (int j = 0; j < 3; j++) {
             /* the fan's vertices: p itself, each boundary vertex in two new triangles (the
@@ -329,11 +307,41 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
             int32_t v = j == 2 && r->g[2] == ch->pgid ? pv : -1;
             for (int32_t k = i - 1; v < 0 && k >= 0 && i - k <= FAN_LOOKBACK; k--)
                 for (int jj = 0; jj < 2 && v < 0; jj++)
-                    if (nt[k].g[jj] == r->g[j]) v = C->tv[3 * (size_t)nt[k].slot + (size_t)jj];
+                    if (nt[k].g[jj] == r->g[j]) v = C->M.tv[3 * (size_t)nt[k].slot + (size_t)jj];
             if (v < 0) v = pbw_vt_find(C, r->g[j]);
             if (v < 0) MESH_BUG("commit names unknown vertex %lld", (long long)r->g[j]);
+            C->M.tv[3 * (size_t)s + (size_t)j] = v;
+        }
+    }
+    /* ghost edges: the member there becomes a tombstone forwarding to the new triangle */
+    for (int32_t i = 0; i < ch->n; i++) {
+        const pbw_newtri *r = &nt[i];
+        if (r->nb[0] == NOREF || ref_rank(r->nb[0]) == C->rank) continue;
+        int32_t m = ref_idx(r->in);
+        int jm = ref_rank(r->in) == C->rank && m >= 0 && m < C->M.nt && LK(C, m) == hi
+                     ? pbw_find_edge(C, m, r->g[0], r->g[1])
+                     : -1;
+        if (jm < 0 || (ROLE(C, m) != ROLE_MEMBER && ROLE(C, m) != ROLE_TOMB))
+            MESH_BUG("ghost edge of the new triangle in slot %d has no member here", r->slot);
+        pbw_forward_set(C, 3 * (size_t)m + (size_t)jm, r->slot);
+        pbw_role_set(C, m, ROLE_TOMB);
+    }
+    for (int32_t i = 0; i < h->n; i++) {
+        int32_t s = h->slots[i];
+        if (LK(C, s) != hi) continue;
+        if (ROLE(C, s) == ROLE_MEMBER) {
+            pbw_slot_free(C, s);
+            C->nlive--;
+        } else if (ROLE(C, s) == ROLE_TOMB) {
+            pbw_lk_set(C, s, -1); /* dead, kept: never reused */
+            C->nlive--;
+        }
+    }
+    for (int32_t i = 0; i < ch->n; i++) {
+        const pbw_newtri *r = &nt[i];
+        int32_t s = r->slot;
+        for (int j = 0; j < 3; j++) {
             size_t e = 3 * (size_t)s + (size_t)j;
-            C->tv[e] = v;
             pbw_tn_set(C, e, r->nb[j]);
             pbw_gx_set(C, e,
                        r->nb[j] != NOREF && ref_rank(r->nb[j]) != C->rank && r->ap[j] >= 0
@@ -342,8 +350,8 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
             pbw_con_set(C, e, r->cseg[j], r->clev[j], r->ck[j]);
         }
         pbw_lk_set(C, s, -1);
-        C->role[s] = ROLE_NONE;
-        if (C->treg) C->treg[s] = r->reg; /* the member's on its edge: same side of segments */
+        pbw_role_set(C, s, ROLE_NONE);
+        if (C->M.treg) C->M.treg[s] = r->reg; /* the member's on its edge: same side of segments */
         C->nlive++;
         if (r->nb[0] != NOREF && ref_rank(r->nb[0]) != C->rank) {
             /* a ghost: its owner gets a one-way link update (GHOSTS, pbw.c) */
@@ -355,7 +363,7 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
         } else if (r->nb[0] != NOREF) {
             int32_t x = ref_idx(r->nb[0]);
             int j = alive(C, x) ? pbw_find_edge(C, x, r->g[1], r->g[0]) : -1;
-            if (j < 0 || LK(C, x) != hi || C->role[x] != ROLE_HALO)
+            if (j < 0 || LK(C, x) != hi || ROLE(C, x) != ROLE_HALO)
                 MESH_BUG("halo %d of the new triangle is not the cavity's", x);
             pbw_tn_set(C, 3 * (size_t)x + (size_t)j, mkref(C->rank, s));
             pbw_gx_set(C, 3 * (size_t)x + (size_t)j, -1);
@@ -364,9 +372,9 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
     for (int32_t i = 0; i < h->n; i++) {
         int32_t s = h->slots[i];
         if (LK(C, s) != hi) continue;
-        if (C->role[s] == ROLE_RES) MESH_BUG("reserved slot %d left unused by the commit", s);
+        if (ROLE(C, s) == ROLE_RES) MESH_BUG("reserved slot %d left unused by the commit", s);
         pbw_lk_set(C, s, -1);
-        C->role[s] = ROLE_NONE;
+        pbw_role_set(C, s, ROLE_NONE);
     }
     pbw_hold_end(C, hi);
     for (int32_t i = 0; i < ch->n; i++)
@@ -634,11 +642,11 @@ void pbw_finish(pbw_ctx *C, pbw_cav *c) {
 /* A stale link (a seed across ga->gb naming tombstone slot x): the live triangle now on that
  * edge, following the tombstones' forward links, or -1 if x is not a tombstone. */
 int32_t pbw_resolve_tomb(pbw_ctx *C, int32_t x, int64_t ga, int64_t gb) {
-    if (x < 0 || x >= C->nt || C->role[x] != ROLE_TOMB) return -1;
-    for (int32_t hops = 0; C->role[x] == ROLE_TOMB; hops++) {
+    if (x < 0 || x >= C->M.nt || ROLE(C, x) != ROLE_TOMB) return -1;
+    for (int32_t hops = 0; ROLE(C, x) == ROLE_TOMB; hops++) {
         int j = pbw_find_edge(C, x, gb, ga);
         int64_t f = j >= 0 ? TN(C, 3 * (size_t)x + (size_t)j) : NOREF;
-        if (f == NOREF || ref_rank(f) != C->rank || hops > C->nt)
+        if (f == NOREF || ref_rank(f) != C->rank || hops > C->M.nt)
             MESH_BUG("tombstone %d has no forward link across %lld->%lld", x, (long long)gb,
                      (long long)ga);
         x = ref_idx(f);

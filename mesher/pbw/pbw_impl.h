@@ -14,6 +14,7 @@
 #include "geom/geom.h"
 #include "rt.h"
 #include "seq/mesh.h"
+#include "seq/mesh_impl.h"
 #include "seq/rules.h"
 
 #include <float.h>
@@ -159,13 +160,9 @@ _Static_assert(sizeof(pbw_link_msg) == 32, "pbw_link_msg layout");
 
 typedef struct pbw_ctx pbw_ctx;
 
-typedef struct pbw_lscratch pbw_lscratch; /* pbw_local.c's scratch arrays */
-
-typedef struct pbw_con { /* what few edges have: a remote neighbour, a constraint, a ghost */
-    int64_t nb;          /* the neighbour reference (any rank; free record: the next free one) */
-    int64_t k;           /* constraint: dyadic index */
-    int32_t seg, lev; /* constraint: original segment (-1: none); dyadic level (-1: not dyadic) */
-    int32_t gx, pad;  /* ghost: vertex slot of the remote neighbour's apex, or -1 */
+typedef struct pbw_con { /* an edge whose neighbour is on another rank (tn = -2 - record) */
+    int64_t nb;          /* the neighbour reference (free record: the next free one) */
+    int32_t gx, pad;     /* ghost: vertex slot of the remote neighbour's apex, or -1 */
 } pbw_con;
 
 typedef struct pbw_item { /* a unit of local work */
@@ -234,11 +231,15 @@ typedef struct qent {
 struct pbw_ctx {
     int rank, size;
     int hid[PBW_RSR_NKINDS];
-    /* vertices */
-    int32_t nv, vcap;
-    double *xy;
-    int64_t *vgid;
-    int32_t *vseg;
+    /* the local mesh: the shared kernel's (seq/mesh.h) vertices xy, vseg, vtri (slot v), triangle
+     * slots tv, tn (edge codes), tf (constraint bits; bits 5..7, MESH_FENCE: the slot's role,
+     * ROLE and pbw_role_set), the free list, regions treg, the subsegment table (constraint
+     * names, by vertex pair) and the cavity scratch of the local fast path; tn below -1 is an
+     * edge whose neighbour is on another rank: record -2 - tn in con (use TN, GX, pbw_tn_set,
+     * pbw_gx_set).  Only the store's functions below write it. */
+    mesh M;
+    int64_t *vgid; /* per vertex slot: its global id */
+    int32_t vgcap;
     int32_t *vh; /* hash of the vertices other ranks made (pbw_vt_find) */
     uint32_t vhcap;
     int32_t nvh;   /* vertices in vh */
@@ -246,24 +247,15 @@ struct pbw_ctx {
     int32_t *own;  /* own[n]: slot of the n-th vertex this rank made (-1: none yet) */
     int64_t nown, owncap;
     int64_t nvown;
-    /* triangles */
-    int32_t nt, tcap, nlive;
-    int32_t *tv;  /* 3 per slot; tv[3s] < 0: dead */
-    int32_t *tn;  /* 3 per slot, the edge's neighbour: >= 0 a slot of this rank, -1 none, <= -2
-                   * record -2 - tn in con (a remote neighbour, a constraint or a ghost; use TN,
-                   * CS, CL, CK, GX and pbw_tn_set, pbw_con_set, pbw_gx_set) */
-    pbw_con *con; /* edge records: few edges need one (a side table: 4 bytes per edge instead
-                   * of 8 for a (rank, slot) reference and 28 for segment, level, index, ghost) */
+    int32_t nlive; /* live triangles (not reserved, not tombstones) */
+    pbw_con *con;  /* records of the edges whose neighbour is on another rank (few) */
     int32_t ncon, concap, confree; /* records used; capacity; free list head (-1: none) */
     int32_t *lkk, *lkv; /* the locks: slot -> hold index, open addressing (LK, pbw_lk_set); a
                          * locked slot's role is never ROLE_NONE, so LK of an unlocked live slot
                          * costs no lookup (4 bytes per triangle saved: few are locked at once) */
     uint32_t lkcap, lkn;
-    uint8_t *role;
-    int32_t *treg; /* per slot: input region (-1: none); NULL: regions not asked (-A, areas) */
     int32_t nregion;
     double *reg_attr, *reg_area; /* per region: attribute, area bound in working units (0) */
-    int32_t *fre, nfree, frecap;
     /* input */
     int32_t ninput, nseg;
     int32_t *seg, *smarker, *in_vmarker, *inc_off, *inc_seg;
@@ -304,52 +296,73 @@ struct pbw_ctx {
     uint64_t lclock;
     int64_t seq;
     pbw_result res;
-    pbw_lscratch *ls; /* the local fast path's scratch (pbw_local.c), NULL until used */
-    int no_fast;      /* env PBW_NO_FAST_PATH=1: every cavity takes the general path (tests) */
+    int no_fast; /* env PBW_NO_FAST_PATH=1: every cavity takes the general path (tests) */
     /* PBW_DEBUG */
     int dbg_on; /* 0: not looked yet, 1: on, 2: off */
     double dbg_last;
     FILE *dbg_f;
 };
 
-static inline const double *VX(pbw_ctx *C, int32_t v) {
-    return C->xy + 2 * (size_t)v;
+static inline const double *VX(const pbw_ctx *C, int32_t v) {
+    return C->M.xy + 2 * (size_t)v;
+}
+
+/* Slot s's role (ROLE_*: tf bits 5..7, the kernel's MESH_FENCE: a cavity of the local fast path
+ * never touches a slot with a role). */
+static inline int ROLE(const pbw_ctx *C, int32_t s) {
+    return C->M.tf[s] >> 5;
+}
+
+static inline void pbw_role_set(pbw_ctx *C, int32_t s, int role) {
+    C->M.tf[s] = (uint8_t)((C->M.tf[s] & ~MESH_FENCE) | ((unsigned)role << 5));
 }
 
 /* Edge e's record in con, or -1. */
 static inline int32_t REC(const pbw_ctx *C, size_t e) {
-    return C->tn[e] <= -2 ? -2 - C->tn[e] : -1;
+    return C->M.tn[e] <= -2 ? -2 - C->M.tn[e] : -1;
 }
 
 /* Edge e's neighbour: a (rank, slot) reference, or NOREF. */
 static inline int64_t TN(const pbw_ctx *C, size_t e) {
-    int32_t v = C->tn[e];
-    return v >= 0 ? mkref(C->rank, v) : v == -1 ? NOREF : C->con[-2 - v].nb;
+    int32_t v = C->M.tn[e];
+    return v >= 0 ? mkref(C->rank, v / 3) : v == -1 ? NOREF : C->con[-2 - v].nb;
+}
+
+/* Edge e's subsegment record (mesh_subseg: segment, dyadic level and index), NULL if e is not
+ * a constraint edge. */
+static inline const mesh_subseg *SSEG(const pbw_ctx *C, size_t e) {
+    if (!mesh_edge_constrained(&C->M, (int32_t)e)) return NULL;
+    const mesh_subseg *ss = mesh_subseg_of_edge(&C->M, (int32_t)e);
+    if (!ss) MESH_BUG("constraint edge %zu without its subsegment record", e);
+    return ss;
 }
 
 /* Edge e's constraint: its segment (-1: none), dyadic level and index. */
 static inline int32_t CS(const pbw_ctx *C, size_t e) {
-    return C->tn[e] <= -2 ? C->con[-2 - C->tn[e]].seg : -1;
+    const mesh_subseg *ss = SSEG(C, e);
+    return ss ? ss->seg : -1;
 }
 
 static inline int32_t CL(const pbw_ctx *C, size_t e) {
-    return C->tn[e] <= -2 ? C->con[-2 - C->tn[e]].lev : -1;
+    const mesh_subseg *ss = SSEG(C, e);
+    return ss ? ss->level : -1;
 }
 
 static inline int64_t CK(const pbw_ctx *C, size_t e) {
-    return C->tn[e] <= -2 ? C->con[-2 - C->tn[e]].k : 0;
+    const mesh_subseg *ss = SSEG(C, e);
+    return ss ? ss->k : 0;
 }
 
 /* Edge e's ghost: the vertex slot of its remote neighbour's apex, or -1. */
 static inline int32_t GX(const pbw_ctx *C, size_t e) {
-    return C->tn[e] <= -2 ? C->con[-2 - C->tn[e]].gx : -1;
+    return C->M.tn[e] <= -2 ? C->con[-2 - C->M.tn[e]].gx : -1;
 }
 
 /* The hold index that locks slot s, or -1. */
 int32_t pbw_lk_find(const pbw_ctx *C, int32_t s);
 
 static inline int32_t LK(const pbw_ctx *C, int32_t s) {
-    return C->role[s] == ROLE_NONE ? -1 : pbw_lk_find(C, s);
+    return ROLE(C, s) == ROLE_NONE ? -1 : pbw_lk_find(C, s);
 }
 
 /* Locks slot s for hold hi (hi < 0: unlocks it).  Set the role after locking, clear it after
@@ -357,11 +370,11 @@ static inline int32_t LK(const pbw_ctx *C, int32_t s) {
 void pbw_lk_set(pbw_ctx *C, int32_t s, int32_t hi);
 
 static inline int64_t TG(pbw_ctx *C, int32_t t, int j) { /* global id of vertex j of slot t */
-    return C->vgid[C->tv[3 * (size_t)t + j]];
+    return C->vgid[C->M.tv[3 * (size_t)t + j]];
 }
 
 static inline int alive(pbw_ctx *C, int32_t t) {
-    return t >= 0 && t < C->nt && C->tv[3 * (size_t)t] >= 0 && C->role[t] != ROLE_TOMB;
+    return t >= 0 && t < C->M.nt && C->M.tv[3 * (size_t)t] >= 0 && ROLE(C, t) != ROLE_TOMB;
 }
 
 /* 1 iff this rank may decide the conflict of remote neighbour n on its ghost and never lock
@@ -395,23 +408,29 @@ typedef struct pbw_setup_opts {
 /* The slot of the vertex with global id gid, or -1 if this rank does not know it. */
 int32_t pbw_vt_find(pbw_ctx *C, int64_t gid);
 
-/* Rebuilds the vertex hash table with cap (a power of two > 2 * C->nv) buckets. */
+/* Rebuilds the vertex hash table with cap (a power of two > 2 * C->M.nv) buckets. */
 void pbw_vt_rehash(pbw_ctx *C, uint32_t cap);
 
 /* The slot of vertex gid, added at (x, y) on segment vseg (-1: none) if it is new. */
 int32_t pbw_vt_add(pbw_ctx *C, int64_t gid, double x, double y, int32_t vseg);
 
-/* A free triangle slot (dead, unlocked, role none; its arrays grown as needed). */
+/* A free triangle slot (mesh_tri_new; dead: tv MESH_DEAD, no links, unlocked, role none). */
 int32_t pbw_slot_alloc(pbw_ctx *C);
 
-/* Sets edge e's neighbour (a reference or NOREF) / its constraint (seg < 0: none) / its ghost
- * apex (gx < 0: none); a record is made when needed (a remote neighbour, a constraint, a ghost)
- * and released when it holds none of them. */
+/* Sets edge e's neighbour (a reference or NOREF): a local one is the edge code of the same edge
+ * in that triangle, which must already hold its vertices; a remote one gets a record (con),
+ * released when the neighbour is local or none again.  Its constraint (seg < 0: none): e's tf
+ * bit and the subsegment record of its vertex pair (added if the pair has none; records of
+ * split subsegments stay: their pair never forms an edge again).  Its ghost apex (gx < 0:
+ * none; only on an edge with a remote neighbour, set after it). */
 void pbw_tn_set(pbw_ctx *C, size_t e, int64_t ref);
 void pbw_con_set(pbw_ctx *C, size_t e, int32_t seg, int32_t lev, int64_t k);
+/* A tombstone's forward link: edge e (of a member that dies as a tombstone) now names local
+ * slot y, the new triangle on the same side of the same edge (same direction, not reversed). */
+void pbw_forward_set(pbw_ctx *C, size_t e, int32_t y);
 void pbw_gx_set(pbw_ctx *C, size_t e, int32_t gx);
 
-/* Kills slot s and puts it on the free list. */
+/* Kills slot s (its records and lock go) and puts it on the kernel's free list. */
 void pbw_slot_free(pbw_ctx *C, int32_t s);
 
 /* Edge j of t going from vertex id ga to gb, or -1. */
@@ -554,9 +573,6 @@ void pbw_flush_links(pbw_ctx *C);
  * subsegment (the new vertex, the fan, the counts, the new work).  Returns 1 if it did, 0 if
  * the general path must decide (nothing was written). */
 int pbw_local_insert(pbw_ctx *C, const double p[2], int32_t t);
-
-/* Frees the fast path's scratch (NULL is fine). */
-void pbw_lscratch_free(pbw_lscratch *S);
 
 /* ---- pbw_proto.c: the protocol ---------------------------------------------------------- */
 

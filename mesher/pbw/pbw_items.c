@@ -187,7 +187,7 @@ void pbw_lock_slot(pbw_ctx *C, int32_t s, int32_t hi, int role) {
         h->slots[h->n++] = s;
         pbw_lk_set(C, s, hi);
     }
-    C->role[s] = (uint8_t)role;
+    pbw_role_set(C, s, role);
 }
 
 void pbw_waiter_add(pbw_ctx *C, int64_t key, int32_t rank) {
@@ -224,11 +224,11 @@ void pbw_release_local(pbw_ctx *C, int32_t hi, int undo) {
     for (int32_t i = 0; i < h->n; i++) {
         int32_t s = h->slots[i];
         if (LK(C, s) != hi) continue;
-        if (C->role[s] == ROLE_RES) {
+        if (ROLE(C, s) == ROLE_RES) {
             pbw_slot_free(C, s);
         } else {
             pbw_lk_set(C, s, -1);
-            C->role[s] = ROLE_NONE;
+            pbw_role_set(C, s, ROLE_NONE);
         }
     }
     if (undo) rt_stats_add_time(RT_TIME_UNDO, h->t_spent);

@@ -126,11 +126,6 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
         mesh_free(&m0);
         return -1;
     }
-    int32_t *lidx = mesh_xrealloc(NULL, ((size_t)m0.nt + 1) * sizeof(int32_t), 1);
-    int32_t *cnt = mesh_xrealloc(NULL, (size_t)C->size * sizeof(int32_t), 1);
-    memset(cnt, 0, (size_t)C->size * sizeof(int32_t));
-    for (int32_t t = 0; t < m0.nt; t++)
-        lidx[t] = own[t] >= 0 ? cnt[own[t]]++ : -1;
     /* input data */
     C->ninput = m0.ninput;
     C->nseg = m0.nseg;
@@ -149,15 +144,7 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
     C->I.inc_seg = C->inc_seg;
     C->I.corner = C->has_corners ? C->corner : NULL;
     C->I.siface = NULL; /* PBW has no artificial segments */
-    /* initial vertices keep their index as global id (input vertices first) */
-    pbw_vt_rehash(C, 2048);
-    C->ninit = m0.nv;
-    for (int32_t v = 0; v < m0.nv; v++) {
-        const double *p = mesh_vertex_xy(&m0, v);
-        pbw_vt_add(C, v, p[0], p[1], v < m0.ninput ? -1 : m0.vseg[v]);
-    }
     if (so->regions) {
-        C->treg = mesh_xrealloc(NULL, ((size_t)C->tcap + 1) * sizeof(int32_t), 1);
         C->nregion = in->nregions;
         C->reg_attr = mesh_xrealloc(NULL, ((size_t)in->nregions + 1) * sizeof(double), 1);
         C->reg_area = mesh_xrealloc(NULL, ((size_t)in->nregions + 1) * sizeof(double), 1);
@@ -167,34 +154,42 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
             C->reg_area[i] = so->region_area && a > 0 ? a : 0;
         }
     }
-    /* this rank's triangles, in CDT slot order */
-    for (int32_t t = 0; t < m0.nt; t++) {
+    /* the CDT becomes this rank's store: every rank numbers the triangles alike (the same CDT),
+     * so slot t is triangle t's name on its owner, and an initial vertex's id is its slot.
+     * Edges to another rank's triangles get their record (reference and ghost apex); then the
+     * other ranks' triangles go to the free list and their subsegment records are dropped. */
+    mesh_refine_free(&m0);
+    C->M = m0;
+    mesh *M = &C->M;
+    C->ninit = M->nv;
+    C->vgcap = M->vcap;
+    C->vgid = mesh_xrealloc(NULL, ((size_t)C->vgcap + 1) * sizeof(int64_t), 1);
+    for (int32_t v = 0; v < M->nv; v++)
+        C->vgid[v] = v;
+    pbw_vt_rehash(C, 2048);
+    for (int32_t t = 0; t < M->nt; t++) {
         if (own[t] != C->rank) continue;
-        int32_t s = pbw_slot_alloc(C);
-        if (s != lidx[t]) MESH_BUG("slot %d for triangle %d (expected %d)", s, t, lidx[t]);
+        M->tf[t] &= (uint8_t) ~(MESH_MARK | MESH_QUEUED | MESH_FENCE); /* role none */
         for (int j = 0; j < 3; j++) {
-            int32_t e = 3 * t + j;
-            size_t f = 3 * (size_t)s + (size_t)j;
-            C->tv[f] = m0.tv[e];
-            int32_t nb = m0.tn[e];
-            pbw_tn_set(C, f, nb >= 0 ? mkref(own[nb / 3], lidx[nb / 3]) : NOREF);
-            /* ghost: the remote neighbour's apex (input and initial vertices: id = slot) */
-            if (nb >= 0 && own[nb / 3] != C->rank)
-                pbw_gx_set(C, f, m0.tv[3 * (nb / 3) + (nb % 3 + 2) % 3]);
-            const mesh_subseg *ss = mesh_subseg_of_edge(&m0, e);
-            if (mesh_edge_constrained(&m0, e) && !ss) MESH_BUG("constraint edge without record");
-            pbw_con_set(C, f, ss ? ss->seg : -1, ss ? ss->level : -1, ss ? ss->k : 0);
+            size_t e = 3 * (size_t)t + (size_t)j;
+            int32_t nb = M->tn[e];
+            if (nb < 0 || own[nb / 3] == C->rank) continue;
+            /* ghost: the remote neighbour's apex (an initial vertex: id = slot) */
+            int32_t apex = M->tv[mesh_edge_prev(nb)];
+            M->tn[e] = -1;
+            pbw_tn_set(C, e, mkref(own[nb / 3], nb / 3));
+            pbw_gx_set(C, e, apex);
         }
-        if (C->treg) C->treg[s] = m0.treg[t];
         C->nlive++;
     }
-    free(cnt);
-    free(lidx);
+    for (int32_t t = 0; t < M->nt; t++)
+        if (own[t] != C->rank && mesh_tri_alive(M, t)) mesh_tri_kill(M, t);
+    mesh_rebuild_vtri(M);
+    mesh_ss_prune(M);
     free(own);
-    mesh_free(&m0);
     /* initial work: every bad triangle, every encroached subsegment */
-    for (int32_t t = 0; t < C->nt; t++)
-        pbw_check_new_triangle(C, t);
+    for (int32_t t = 0; t < C->M.nt; t++)
+        if (alive(C, t)) pbw_check_new_triangle(C, t);
     return 0;
 }
 
@@ -203,19 +198,19 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
  * forced-angle rule on its shortest edge).  Fills C->res.unmet and C->res.forced, and the
  * rank boundary's statistics C->res.iface_edges and iface_len. */
 void pbw_count_unmet(pbw_ctx *C) {
-    for (int32_t t = 0; t < C->nt; t++) {
+    for (int32_t t = 0; t < C->M.nt; t++) {
         if (!alive(C, t)) continue;
         for (int j = 0; j < 3; j++) { /* the rank boundary (a statistic: its length) */
             int64_t n = TN(C, 3 * (size_t)t + (size_t)j);
             if (n == NOREF || ref_rank(n) == C->rank) continue;
             C->res.iface_edges++;
             C->res.iface_len +=
-                sqrt(geom_dist2(VX(C, C->tv[3 * (size_t)t + (size_t)j]),
-                                VX(C, C->tv[3 * (size_t)t + (size_t)((j + 1) % 3)])));
+                sqrt(geom_dist2(VX(C, C->M.tv[3 * (size_t)t + (size_t)j]),
+                                VX(C, C->M.tv[3 * (size_t)t + (size_t)((j + 1) % 3)])));
         }
         int sh = 0, why = pbw_quality(C, t, NULL, &sh);
         if (!why) continue;
-        const int32_t *tv = C->tv + 3 * (size_t)t;
+        const int32_t *tv = C->M.tv + 3 * (size_t)t;
         if (why == MESH_BAD_ANGLE &&
             (pbw_is_corner_gid(C, C->vgid[tv[0]]) || pbw_is_corner_gid(C, C->vgid[tv[1]]) ||
              pbw_is_corner_gid(C, C->vgid[tv[2]]) ||
@@ -234,7 +229,7 @@ void pbw_count_unmet(pbw_ctx *C) {
 void pbw_test_fault(pbw_ctx *C) {
     const char *e = getenv("PBW_TEST_BREAK_IFACE");
     if (!e || !*e || atoi(e) != C->rank) return;
-    for (int32_t t = 0; t < C->nt; t++) {
+    for (int32_t t = 0; t < C->M.nt; t++) {
         if (!alive(C, t) || LK(C, t) >= 0) continue;
         for (int j = 0; j < 3; j++) {
             int64_t n = TN(C, 3 * (size_t)t + (size_t)j);
@@ -255,17 +250,17 @@ static int written(pbw_ctx *C, int32_t t) {
 
 int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
     memset(f, 0, sizeof *f);
-    int32_t *map = mesh_xrealloc(NULL, ((size_t)C->nv + 1) * sizeof(int32_t), 1);
-    for (int32_t v = 0; v < C->nv; v++)
+    int32_t *map = mesh_xrealloc(NULL, ((size_t)C->M.nv + 1) * sizeof(int32_t), 1);
+    for (int32_t v = 0; v < C->M.nv; v++)
         map[v] = -1;
     /* pass 1, on the whole store: the vertices used, the open edges, the subsegments; a slot
      * not written is marked dead (tv[3t] = -1) for pass 2 */
     int32_t nv = 0, ntri = 0, nseg = 0, segcap = 0;
     int32_t *sv = NULL; /* 3 per subsegment: vertex slots a, b and the segment */
     uint8_t *open = topen ? mesh_xrealloc(NULL, (size_t)C->nlive + 1, 1) : NULL;
-    for (int32_t t = 0; t < C->nt; t++) {
+    for (int32_t t = 0; t < C->M.nt; t++) {
         if (!written(C, t)) {
-            C->tv[3 * (size_t)t] = -1;
+            C->M.tv[3 * (size_t)t] = -1;
             continue;
         }
         if (open) {
@@ -274,7 +269,7 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
         }
         for (int j = 0; j < 3; j++) {
             size_t e = 3 * (size_t)t + (size_t)j;
-            int32_t v = C->tv[e];
+            int32_t v = C->M.tv[e];
             if (map[v] < 0) map[v] = nv++;
             int64_t n = TN(C, e); /* open: no neighbour written here (boundary, another rank) */
             if (open && !(n != NOREF && ref_rank(n) == C->rank && written(C, ref_idx(n))))
@@ -282,7 +277,7 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
             if (CS(C, e) >= 0) {
                 MESH_GROW(sv, 3 * (nseg + 1), segcap);
                 sv[3 * nseg] = v;
-                sv[3 * nseg + 1] = C->tv[3 * (size_t)t + (size_t)((j + 1) % 3)];
+                sv[3 * nseg + 1] = C->M.tv[3 * (size_t)t + (size_t)((j + 1) % 3)];
                 sv[3 * nseg + 2] = CS(C, e);
                 nseg++;
             }
@@ -290,21 +285,23 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
         ntri++;
     }
     /* what only refinement needed goes before the flat copy is made (a lower peak) */
-    free(C->tn), free(C->con), free(C->lkk), free(C->lkv), free(C->role), free(C->pool);
-    free(C->fre);
-    C->tn = NULL, C->con = NULL, C->lkk = NULL, C->lkv = NULL, C->role = NULL, C->pool = NULL;
-    C->fre = NULL;
+    free(C->M.tn), free(C->M.tf), free(C->con), free(C->lkk), free(C->lkv), free(C->pool);
+    C->M.tn = NULL, C->M.tf = NULL, C->con = NULL, C->lkk = NULL, C->lkv = NULL, C->pool = NULL;
+    free(C->M.ss), free(C->M.hpair), free(C->M.hname), free(C->M.cav), free(C->M.bnd);
+    free(C->M.stk), free(C->M.newt);
+    C->M.ss = NULL, C->M.hpair = C->M.hname = NULL, C->M.cav = NULL, C->M.bnd = NULL;
+    C->M.stk = NULL, C->M.newt = NULL;
     f->nverts = nv;
     f->xy = mesh_xrealloc(NULL, 2 * ((size_t)nv + 1) * sizeof(double), 1);
     f->vmarker = mesh_xrealloc(NULL, ((size_t)nv + 1) * sizeof(int32_t), 1);
-    for (int32_t v = 0; v < C->nv; v++) {
+    for (int32_t v = 0; v < C->M.nv; v++) {
         int32_t o = map[v];
         if (o < 0) continue;
-        f->xy[2 * o] = C->xy[2 * v];
-        f->xy[2 * o + 1] = C->xy[2 * v + 1];
+        f->xy[2 * o] = C->M.xy[2 * v];
+        f->xy[2 * o + 1] = C->M.xy[2 * v + 1];
         int64_t g = C->vgid[v];
         f->vmarker[o] = (g >= 0 && g < C->ninput) ? C->in_vmarker[g]
-                        : C->vseg[v] >= 0         ? C->smarker[C->vseg[v]]
+                        : C->M.vseg[v] >= 0       ? C->smarker[C->M.vseg[v]]
                                                   : 0;
     }
     f->nsegs = nseg;
@@ -319,29 +316,29 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
     }
     free(sv);
     /* the vertex table has been copied out */
-    free(C->xy), free(C->vgid), free(C->vseg), free(C->own), free(C->vh);
-    C->xy = NULL, C->vgid = NULL, C->own = NULL, C->vh = NULL;
-    C->vseg = NULL;
+    free(C->M.xy), free(C->vgid), free(C->M.vseg), free(C->M.vtri), free(C->own), free(C->vh);
+    C->M.xy = NULL, C->vgid = NULL, C->M.vseg = NULL, C->M.vtri = NULL, C->own = NULL;
+    C->vh = NULL;
     /* pass 2: the triangles, in the same (slot) order as the open mask, renumbered in place:
      * the store's vertex array becomes the flat's (live slots moved to the front) */
     f->ntris = ntri;
     int32_t w = 0;
-    for (int32_t t = 0; t < C->nt; t++) {
-        if (C->tv[3 * (size_t)t] < 0) continue;
-        if (C->treg) C->treg[w] = C->treg[t];
+    for (int32_t t = 0; t < C->M.nt; t++) {
+        if (C->M.tv[3 * (size_t)t] < 0) continue;
+        if (C->M.treg) C->M.treg[w] = C->M.treg[t];
         for (int j = 0; j < 3; j++)
-            C->tv[3 * (size_t)w + (size_t)j] = map[C->tv[3 * (size_t)t + (size_t)j]];
+            C->M.tv[3 * (size_t)w + (size_t)j] = map[C->M.tv[3 * (size_t)t + (size_t)j]];
         w++;
     }
     if (w != ntri) MESH_BUG("%d triangles renumbered, %d written", w, ntri);
-    f->tri = mesh_xrealloc(C->tv, 3 * ((size_t)ntri + 1), sizeof(int32_t));
-    C->tv = NULL;
-    C->nt = 0;
+    f->tri = mesh_xrealloc(C->M.tv, 3 * ((size_t)ntri + 1), sizeof(int32_t));
+    C->M.tv = NULL;
+    C->M.nt = 0;
     f->trank = mesh_xrealloc(NULL, ((size_t)ntri + 1) * sizeof(int32_t), 1);
-    if (C->treg) f->tattr = mesh_xrealloc(NULL, ((size_t)ntri + 1) * sizeof(double), 1);
+    if (C->M.treg) f->tattr = mesh_xrealloc(NULL, ((size_t)ntri + 1) * sizeof(double), 1);
     for (int32_t i = 0; i < ntri; i++) {
         f->trank[i] = C->rank;
-        if (f->tattr) f->tattr[i] = C->treg[i] >= 0 ? C->reg_attr[C->treg[i]] : 0;
+        if (f->tattr) f->tattr[i] = C->M.treg[i] >= 0 ? C->reg_attr[C->M.treg[i]] : 0;
     }
     if (topen) *topen = open;
     free(map);
@@ -349,16 +346,14 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
 }
 
 void pbw_ctx_free(pbw_ctx *C) {
-    free(C->xy), free(C->vgid), free(C->vseg), free(C->vh), free(C->own);
-    free(C->tv), free(C->tn), free(C->lbuf), free(C->con), free(C->lkk), free(C->lkv);
-    free(C->role);
-    free(C->fre);
-    free(C->treg), free(C->reg_attr), free(C->reg_area);
+    mesh_free(&C->M);
+    free(C->vgid), free(C->vh), free(C->own);
+    free(C->lbuf), free(C->con), free(C->lkk), free(C->lkv);
+    free(C->reg_attr), free(C->reg_area);
     free(C->seg), free(C->pieces), free(C->smarker), free(C->in_vmarker), free(C->inc_off),
         free(C->inc_seg);
     free(C->corner);
     free(C->pool);
-    pbw_lscratch_free(C->ls);
     pbw_iv_free(&C->splitq), pbw_iv_free(&C->retryq), pbw_iv_free(&C->deferred),
         pbw_iv_free(&C->slotq), pbw_iv_free(&C->phase2);
     for (int32_t i = 0; i < C->nhd; i++)
@@ -374,11 +369,10 @@ void pbw_ctx_free(pbw_ctx *C) {
 }
 
 size_t pbw_mesh_bytes(pbw_ctx *C) {
-    size_t c = (size_t)C->tcap;
-    size_t b = c * (3 * (4 + 4) + 1 + (C->treg ? 4 : 0)); /* tv tn, role */
-    b += (size_t)C->lkcap * 8;                            /* the locks */
+    size_t b = mesh_memory_bytes(&C->M); /* the kernel's arrays (and its cavity scratch) */
+    b += (size_t)C->lkcap * 8;           /* the locks */
     b += (size_t)C->concap * sizeof(pbw_con);
-    b += (size_t)C->vcap * (16 + 8 + 4) + (size_t)C->vhcap * 4 + (size_t)C->frecap * 4;
+    b += (size_t)C->vgcap * 8 + (size_t)C->vhcap * 4;
     b += (size_t)C->owncap * sizeof(int32_t);
     b += (size_t)C->poolcap * sizeof(qent);
     return b;

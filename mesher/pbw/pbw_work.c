@@ -141,10 +141,10 @@ static void process_item(pbw_ctx *C, pbw_item *it) {
             pbw_defer_item(C, it, W_HOLD, C->hd[LK(C, t)].key, 1);
             return;
         }
-        int32_t la = C->tv[e], lb = C->tv[3 * (size_t)t + (size_t)((j + 1) % 3)];
+        int32_t la = C->M.tv[e], lb = C->M.tv[3 * (size_t)t + (size_t)((j + 1) % 3)];
         if (!it->forced &&
             !mesh_rules_encroaches(&C->R, VX(C, la), VX(C, lb),
-                                   VX(C, C->tv[3 * (size_t)t + (size_t)((j + 2) % 3)]))) {
+                                   VX(C, C->M.tv[3 * (size_t)t + (size_t)((j + 2) % 3)]))) {
             pbw_notify(C, it->notify, it->ticket, 0);
             return;
         }
@@ -160,14 +160,14 @@ static void process_item(pbw_ctx *C, pbw_item *it) {
          * boundary or between two ranks' triangles; this side's apex decides here) */
         if (sp == 0 &&
             mesh_rules_off_line(VX(C, la), VX(C, lb), p,
-                                VX(C, C->tv[3 * (size_t)t + (size_t)((j + 2) % 3)]), NULL))
+                                VX(C, C->M.tv[3 * (size_t)t + (size_t)((j + 2) % 3)]), NULL))
             sp = -1;
         /* on the domain's boundary: the area the rounded split points may move (rules.h;
          * spent when the split starts: a retried split spends again, which only refuses
          * sooner) */
         if (sp == 0 && TN(C, e) == NOREF &&
             mesh_rules_drift_spend(VX(C, la), VX(C, lb), p,
-                                   VX(C, C->tv[3 * (size_t)t + (size_t)((j + 2) % 3)]),
+                                   VX(C, C->M.tv[3 * (size_t)t + (size_t)((j + 2) % 3)]),
                                    C->area_budget, &C->area_spent))
             sp = -2;
         if (sp != 0) {
@@ -192,7 +192,7 @@ static void process_item(pbw_ctx *C, pbw_item *it) {
     int sh = 0;
     int why = pbw_quality(C, t, NULL, &sh);
     if (!why) return;
-    const int32_t *tv = C->tv + 3 * (size_t)t;
+    const int32_t *tv = C->M.tv + 3 * (size_t)t;
     if (why == MESH_BAD_ANGLE && pbw_edge_forced(C, tv[sh], tv[(sh + 1) % 3])) {
         /* skinny but not too large, and the small angle is forced by the input */
         C->res.skipped_small++;

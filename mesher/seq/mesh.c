@@ -325,6 +325,7 @@ int mesh_cavity_collect(mesh *m, const double p[2], int32_t t0, int32_t split_e,
         int enter = 0;
         if (nb >= 0) {
             int32_t tt = nb / 3;
+            if (m->tf[tt] & MESH_FENCE) return CAV_FENCED; /* a caller's (PBW: locked) */
             if (e == split_e) {
                 enter = 1;
             } else if (!mesh_edge_constrained(m, e)) {
@@ -338,6 +339,8 @@ int mesh_cavity_collect(mesh *m, const double p[2], int32_t t0, int32_t split_e,
                 push_i32(&m->stk, &m->nstk, &m->stkcap, mesh_edge_next(nb));
                 continue;
             }
+        } else if (nb < -1) {
+            return CAV_FENCED; /* a caller's link (PBW: a neighbour on another rank) */
         }
         if (m->nbnd == m->bndcap) {
             m->bndcap = m->bndcap ? m->bndcap * 2 : 64;

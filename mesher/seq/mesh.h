@@ -14,7 +14,11 @@
  *    to the neighbour is one load and the neighbour's triangle is tn[e]/3.
  *  - tf[t]: bit j (j = 0, 1, 2) set iff edge 3t+j is a constraint edge (a subsegment); bit 3 is
  *    scratch (cavity / flood marks; always clear between calls); bit 4 means "in the refinement
- *    queue" (cleared whenever the slot is rewritten, so stale queue entries cost one byte).
+ *    queue" (cleared whenever the slot is rewritten, so stale queue entries cost one byte);
+ *    bits 5..7 (MESH_FENCE) belong to a caller that keeps more per triangle (PBW: the slot's
+ *    role, non-zero while it is locked by a distributed cavity or is a tombstone): a cavity
+ *    never enters or touches such a triangle, nor crosses an edge whose tn is below -1 (PBW:
+ *    a link to another rank, in its side table); ./mesh sets neither.
  *  - A dead triangle has tv[3t] == MESH_DEAD and sits on a free list threaded through tn[3t];
  *    slots are reused first, so triangle ids stay dense and a triangle can be named across
  *    ranks by (rank, int32 index).  Ghost triangles (one vertex == MESH_GHOST, the vertex at
@@ -60,8 +64,9 @@
 #include "io/meshio.h"
 #include "seq/rules.h"
 
-#define MESH_GHOST (-1) /* the vertex at infinity (only while building) */
-#define MESH_DEAD (-2)  /* tv[3t] of a dead triangle */
+#define MESH_GHOST (-1)  /* the vertex at infinity (only while building) */
+#define MESH_DEAD (-2)   /* tv[3t] of a dead triangle */
+#define MESH_FENCE 0xe0u /* tf bits a caller owns (see the data structure above) */
 
 /* One subsegment record.  u -> v follows the direction of the original segment (u is nearer
  * its first endpoint). */

@@ -1,5 +1,6 @@
-/* mesh_impl: declarations shared by mesh.c, cdt.c and refine.c only (not a public API).
- * See mesh.h for the data structure. */
+/* mesh_impl: declarations shared by mesh.c, cdt.c and refine.c, and by PBW's store (mesher/pbw:
+ * a mesh whose tf bits 5..7 and tn values below -1 are its own, see MESH_FENCE); not a public
+ * API.  See mesh.h for the data structure. */
 #ifndef MESH_IMPL_H
 #define MESH_IMPL_H
 
@@ -21,8 +22,9 @@ typedef struct mesh_bedge {
     int32_t reg;   /* region of the cavity triangle inside this edge (treg; -1: none) */
 } mesh_bedge;
 
-/* Cavity outcome. */
-enum { CAV_OK = 0, CAV_NOT_STAR = -1, CAV_CYCLE = -2 };
+/* Cavity outcome (CAV_FENCED: the cavity reached a triangle with a MESH_FENCE bit, or an edge
+ * whose tn is below -1: only a caller that sets them, PBW, sees it). */
+enum { CAV_OK = 0, CAV_NOT_STAR = -1, CAV_CYCLE = -2, CAV_FENCED = -3 };
 
 uint64_t mesh_rand(mesh *m);
 
