@@ -6,11 +6,14 @@
  * on every rank by the sequential refiner to about 32 triangles per rank, and at least 16 times
  * coarser than the bound, so that every rank owns a piece) and keeps the triangles whose
  * centroid lies in one of its subdomains (the decomposition only distributes the initial mesh;
- * no artificial constraint exists).  A triangle lives in a slot of its owner; a neighbour is named
- * by a packed (rank, slot) reference.  A vertex has a global id: input vertex i is i, the n-th
- * vertex created by rank r is ((r + 1) << 32) | n.  Each rank keeps the coordinates of every
- * vertex its triangles use, so every predicate sees identical doubles on every rank.
- * Constraint edges (subsegments of input segments) carry (segment, dyadic level, index) on
+ * no artificial constraint exists).  A triangle lives in a slot of its owner, and a rank's
+ * triangles are the sequential kernel's mesh (seq/mesh.h: the slot numbering of that CDT, so
+ * every rank names a triangle alike; links between local triangles are the kernel's edge
+ * codes); a neighbour on another rank is named by a packed (rank, slot) reference kept in a
+ * side table of edge records, with its ghost (GHOSTS below).  A vertex has a global id: input
+ * vertex i is i, the n-th vertex created by rank r is ((r + 1) << 32) | n.  Each rank keeps the
+ * coordinates of every vertex its triangles use, so every predicate sees identical doubles on every
+ * rank. Constraint edges (subsegments of input segments) carry (segment, dyadic level, index) on
  * both sides.
  *
  * CAVITY (one per Steiner point p).  The owner of a bad triangle t (or of a triangle on an
@@ -118,9 +121,10 @@
  * to DIR/pbw.RANK.log every 2 s.
  *
  * FILES.  pbw.c (this overview and pbw_mesh, the driver), pbw_setup.c (the initial distributed
- * mesh; the end: bounds, output, freeing), pbw_store.c (vertices, triangle slots, edge records,
- * the bad-triangle queue on the shared rules), pbw_items.c (work items, deferral, locks),
- * pbw_local.c (the local fast path: a cavity that stays on its rank, inserted in place),
+ * mesh; the end: bounds, output, freeing), pbw_store.c (global vertex ids, slots and links on
+ * the kernel's mesh, edge records, the bad-triangle queue on the shared rules), pbw_items.c
+ * (work items, deferral, locks), pbw_local.c (the local fast path: a cavity that stays on its
+ * rank, inserted by the kernel's mesh_cavity_collect/commit, the code ./mesh runs),
  * pbw_cavity.c (expansion, commit, undo), pbw_proto.c (the RSR handlers, chains, parking, the
  * waiting task), pbw_work.c (rt_run's work step); pbw_impl.h holds what they share.  The
  * context of one call, pbw_ctx, is passed to every function (no file-level global); the
