@@ -11,6 +11,7 @@
 #include "io/meshio.h"
 #include "io/validate.h"
 #include "seq/mesh.h"
+#include "seq/mesh_impl.h"
 #include "seq/rules.h"
 
 #include <check.h>
@@ -753,6 +754,48 @@ START_TEST(test_sliver_hull) {
 }
 END_TEST
 
+/* MESH_FENCE (PBW's roles in tf bits 5..7) and links below -1 (PBW's edges to another rank):
+ * a cavity that reaches either stops with CAV_FENCED and leaves nothing marked; without them
+ * the same cavity is collected. */
+START_TEST(test_cavity_fence) {
+    const double xy[] = {0, 0, 1, 0, 1, 1, 0, 1, 0.5, 0.5, 0.2, 0.8, 0.8, 0.2};
+    mesh m;
+    mesh_init(&m);
+    char err[256];
+    ck_assert_int_eq(mesh_build_delaunay(&m, 7, xy, err, sizeof err), 0);
+    const double p[2] = {0.52, 0.49}; /* near the centre vertex: its star is the cavity */
+    int32_t t0 = mesh_locate(&m, p, -1);
+    ck_assert_int_ge(t0, 0);
+    ck_assert_int_eq(mesh_cavity_collect(&m, p, t0, -1, NULL), CAV_OK);
+    int32_t ncav = m.ncav;
+    ck_assert_int_ge(ncav, 2);
+    int32_t other = m.cav[ncav - 1];
+    mesh_cavity_abort(&m);
+    for (int k = 0; k < 2; k++) {
+        int32_t e = -1;
+        if (k == 0) {
+            m.tf[other] |= 0x40; /* a role on a member */
+        } else {
+            for (int j = 0; j < 3 && e < 0; j++) /* a member's edge links to another rank */
+                if (m.tn[3 * other + j] >= 0) e = 3 * other + j;
+            ck_assert_int_ge(e, 0);
+        }
+        int32_t save = e >= 0 ? m.tn[e] : 0;
+        if (e >= 0) m.tn[e] = -7;
+        ck_assert_int_eq(mesh_cavity_collect(&m, p, t0, -1, NULL), CAV_FENCED);
+        mesh_cavity_abort(&m);
+        for (int32_t t = 0; t < m.nt; t++)
+            ck_assert_int_eq(m.tf[t] & MESH_MARK, 0);
+        if (e >= 0) m.tn[e] = save;
+        m.tf[other] &= (uint8_t)~MESH_FENCE;
+    }
+    ck_assert_int_eq(mesh_cavity_collect(&m, p, t0, -1, NULL), CAV_OK);
+    ck_assert_int_eq(m.ncav, ncav);
+    mesh_cavity_abort(&m);
+    mesh_free(&m);
+}
+END_TEST
+
 static Suite *suite(void) {
     Suite *s = suite_create("mesh");
     TCase *tc = tcase(s, "delaunay");
@@ -760,6 +803,7 @@ static Suite *suite(void) {
     tcase_add_test(tc, test_collinear);
     tcase_add_test(tc, test_lattice_cocircular);
     tcase_add_loop_test(tc, test_random_points, 0, 2);
+    tcase_add_test(tc, test_cavity_fence);
     tc = tcase(s, "cdt");
     tcase_add_test(tc, test_triangle_pslg);
     tcase_add_test(tc, test_square_pslg);

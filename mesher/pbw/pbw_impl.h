@@ -443,7 +443,9 @@ int pbw_quality(pbw_ctx *C, int32_t t, int *bucket, int *sh);
 /* Queues triangle t if it is bad (its bucket: pbw_quality). */
 void pbw_push_bad(pbw_ctx *C, int32_t t);
 
-/* The next queued triangle (worst bucket first; it may be stale: re-check it), or -1. */
+/* The next queued triangle (worst bucket first), or -1; entries whose slot was rewritten since
+ * they were queued (MESH_QUEUED cleared) are skipped.  The triangle may still have changed
+ * role or become good: re-check it. */
 int32_t pbw_pop_bad(pbw_ctx *C);
 
 /* 1 iff vertex id g is an input vertex at a corner below 60 degrees. */

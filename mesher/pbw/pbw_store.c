@@ -218,6 +218,7 @@ void pbw_push_bad(pbw_ctx *C, int32_t t) {
         MESH_GROW(C->pool, C->npool, C->poolcap);
         i = C->npool++;
     }
+    C->M.tf[t] |= MESH_QUEUED; /* cleared when the slot is rewritten: see pbw_pop_bad */
     C->pool[i].t = t;
     C->pool[i].next = C->head[k]; /* LIFO inside a bucket, as refine.c */
     C->head[k] = i;
@@ -225,15 +226,22 @@ void pbw_push_bad(pbw_ctx *C, int32_t t) {
 }
 
 int32_t pbw_pop_bad(pbw_ctx *C) {
-    while (C->cursor <= NBUCKET && C->head[C->cursor] < 0)
-        C->cursor++;
-    if (C->cursor > NBUCKET) return -1;
-    int k = C->cursor;
-    int32_t i = C->head[k];
-    C->head[k] = C->pool[i].next;
-    C->pool[i].next = C->pool_free;
-    C->pool_free = i;
-    return C->pool[i].t;
+    for (;;) {
+        while (C->cursor <= NBUCKET && C->head[C->cursor] < 0)
+            C->cursor++;
+        if (C->cursor > NBUCKET) return -1;
+        int k = C->cursor;
+        int32_t i = C->head[k], t = C->pool[i].t;
+        C->head[k] = C->pool[i].next;
+        C->pool[i].next = C->pool_free;
+        C->pool_free = i;
+        /* a slot rewritten since it was queued lost its bit (the kernel clears tf when it
+         * writes a slot): its new triangle was queued on its own, so skip it untouched, as
+         * refine.c does */
+        if (!(C->M.tf[t] & MESH_QUEUED)) continue;
+        C->M.tf[t] &= (uint8_t)~MESH_QUEUED;
+        return t;
+    }
 }
 
 int pbw_is_corner_gid(pbw_ctx *C, int64_t g) {
