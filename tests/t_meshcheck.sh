@@ -41,4 +41,14 @@ expect 1 'input vertex 5 (line 9) at (0.5, 0.5) is not a mesh vertex' \
     "$MC" tests/bad/self_intersecting.poly "$T/sq"
 rm "$T/sq.poly" # without the .poly the boundary edges still carry the input segments
 expect 0 'meshcheck: OK' "$MC" data/square.poly "$T/sq"
+# second order (-o2): six nodes per triangle, each midside node the midpoint of the edge
+# opposite its corner (nodes 5..9: midpoints of 2-3, 3-1, 1-2 of triangle 1, then 3-4, 4-1)
+printf '9 2 0 1\n1 0 0 1\n2 1 0 1\n3 1 1 1\n4 0 1 1\n5 1 0.5 1\n6 0.5 0.5 0\n7 0.5 0 1\n8 0.5 1 1\n9 0 0.5 1\n' >"$T/o2.node"
+printf '2 6 0\n1 1 2 3 5 6 7\n2 1 3 4 8 9 6\n' >"$T/o2.ele"
+expect 0 'meshcheck: OK triangles=2' "$MC" data/square.poly "$T/o2"
+printf '2 6 0\n1 1 2 3 6 5 7\n2 1 3 4 8 9 6\n' >"$T/o2.ele"
+expect 1 'o2.ele:2: triangle 1: node 6 is not the midpoint of the edge opposite corner 1' \
+    "$MC" data/square.poly "$T/o2"
+printf '2 5 0\n1 1 2 3 5 6\n2 1 3 4 8 9\n' >"$T/o2.ele"
+expect 1 'expected 3 nodes per triangle (6: second order' "$MC" data/square.poly "$T/o2"
 echo "t_meshcheck: all passed"

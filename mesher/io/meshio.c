@@ -345,8 +345,9 @@ static int read_ele(const char *path, mesh_flat *m, int first, char *err, size_t
         lfail(err, errlen, path, line, "malformed attribute count");
         goto out;
     }
-    if (npt != 3 || nattr < 0 || nattr > 1000) {
-        lfail(err, errlen, path, line, "expected 3 nodes per triangle and 0..1000 attributes");
+    if ((npt != 3 && npt != 6) || nattr < 0 || nattr > 1000) {
+        lfail(err, errlen, path, line,
+              "expected 3 nodes per triangle (6: second order, -o2) and 0..1000 attributes");
         goto out;
     }
     if ((size_t)nt > (size_t)(end - (pos ? pos : end)) / 7 + 1) {
@@ -384,6 +385,30 @@ static int read_ele(const char *path, mesh_flat *m, int first, char *err, size_t
                 goto out;
             }
             m->tri[3 * t + k] = (int32_t)(v - first);
+        }
+        for (int k = 3; k < npt; k++) {
+            /* -o2's midside nodes: each must be the midpoint of the edge opposite corner k - 3,
+             * (a + b) / 2 as the writer computes it (exact under its power-of-two scaling);
+             * checked, not kept */
+            if (ele_int(&s, &v, &miss)) {
+                lfail(err, errlen, path, line, "%s node %d of triangle %ld",
+                      miss ? "missing" : "malformed", k + 1, t + first);
+                goto out;
+            }
+            if (v < first || v >= (long)first + m->nverts) {
+                lfail(err, errlen, path, line, "triangle %ld: node %ld out of range [%d, %ld]",
+                      t + first, v, first, (long)first + m->nverts - 1);
+                goto out;
+            }
+            const double *a = m->xy + 2 * (size_t)m->tri[3 * t + (k - 2) % 3],
+                         *b = m->xy + 2 * (size_t)m->tri[3 * t + (k - 1) % 3],
+                         *c = m->xy + 2 * (size_t)(v - first);
+            if (c[0] != (a[0] + b[0]) / 2 || c[1] != (a[1] + b[1]) / 2) {
+                lfail(err, errlen, path, line,
+                      "triangle %ld: node %ld is not the midpoint of the edge opposite corner %d",
+                      t + first, v, k - 2);
+                goto out;
+            }
         }
         for (long k = 0; k < nattr; k++) {
             double a;
