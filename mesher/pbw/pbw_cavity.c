@@ -224,14 +224,19 @@ int pbw_process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial) {
             pbw_lock_slot(C, x, hi, ROLE_MEMBER);
             expand_member(C, c, hi, x, NOREF);
             break;
-        case SEED_OPEN:
+        case SEED_OPEN: {
             if (role == ROLE_MEMBER) {
-                c->h.cycle = 1;
+                c->h.cycle |= CYC_TWICE;
                 break;
             }
+            const int32_t *tx = C->M.tv + 3 * (size_t)x;
+            if (mesh_rules_off_line(VX(C, tx[j]), VX(C, tx[(j + 1) % 3]), c->h.p,
+                                    VX(C, tx[(j + 2) % 3]), NULL))
+                c->h.cycle |= CYC_OFF_LINE;
             pbw_lock_slot(C, x, hi, ROLE_MEMBER);
             expand_member(C, c, hi, x, s.from);
             break;
+        }
         case SEED_HALO: {
             if (role == ROLE_NONE) pbw_lock_slot(C, x, hi, ROLE_HALO);
             size_t e = 3 * (size_t)x + (size_t)j;
@@ -242,7 +247,7 @@ int pbw_process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial) {
         }
         case SEED_NORMAL:
             if (role == ROLE_MEMBER) { /* a second way in: see CAVITY above */
-                c->h.cycle = 1;
+                c->h.cycle |= CYC_TWICE;
                 break;
             }
             if (in_conflict(C, x, c->h.p)) {

@@ -62,6 +62,14 @@ enum { BF_BEYOND = 1, BF_ENC = 2 };
 
 enum { PR_DONE = 0, PR_DIE = 1, PR_PARK = 2 };
 
+/* pbw_whdr.cycle: CYC_TWICE, a member was reached twice (the cavity encloses a vertex);
+ * CYC_OFF_LINE, the split point lies too far off its subsegment for the triangle on the far
+ * side (mesh_rules_off_line with that triangle's apex, decided by its owner when the expansion
+ * crosses the subsegment; the starter decided its own side before starting), as refine.c
+ * refuses it with both apexes: a rounded midpoint off the line of a segment a few ulps from a
+ * sliver's apex breaks the Delaunay property of the new fan (a fuzz find, issue 13). */
+enum { CYC_TWICE = 1, CYC_OFF_LINE = 2 };
+
 enum { IT_BAD = 0, IT_SPLIT = 1 };
 
 #define NBUCKET MESH_RULES_NBUCKET
@@ -106,9 +114,10 @@ typedef struct pbw_whdr { /* head of EXPAND and REPLY payloads */
     int64_t holder;       /* DIE: key of the cavity holding the contested triangle */
     double p[2];          /* the new point */
     int32_t kind, status, origin, nparts, nbnd, nseed;
-    int32_t died_at;          /* DIE: the rank where the conflict was found */
-    int32_t cycle;            /* 1: a member was reached twice, the cavity encloses a vertex */
-    int64_t sk_u, sk_v;       /* split: dyadic index of the half at su / at sv */
+    int32_t died_at;    /* DIE: the rank where the conflict was found */
+    int32_t cycle;      /* CYC_* bits: the cavity fails (a member reached twice; a split point off
+                         * its line for the far side's triangle) */
+    int64_t sk_u, sk_v; /* split: dyadic index of the half at su / at sv */
     int32_t sseg, schild_lev; /* split: segment, level of the halves (-1: not dyadic) */
 } pbw_whdr;
 _Static_assert(sizeof(pbw_whdr) == 112, "pbw_whdr layout");

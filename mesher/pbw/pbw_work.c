@@ -156,8 +156,8 @@ static void process_item(pbw_ctx *C, pbw_item *it) {
         int32_t clev;
         int64_t ka, kb;
         int sp = split_point(C, la, lb, CS(C, e), CL(C, e), CK(C, e), p, &clev, &ka, &kb);
-        /* too far off the line for the triangle beside it (a segment is on the domain's
-         * boundary or between two ranks' triangles; this side's apex decides here) */
+        /* too far off the line for the triangle beside it (this side's apex decides here;
+         * the far side's owner decides with its apex when the expansion crosses: CYC_OFF_LINE) */
         if (sp == 0 &&
             mesh_rules_off_line(VX(C, la), VX(C, lb), p,
                                 VX(C, C->M.tv[3 * (size_t)t + (size_t)((j + 2) % 3)]), NULL))
