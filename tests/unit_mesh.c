@@ -776,8 +776,8 @@ START_TEST(test_cavity_fence) {
         if (k == 0) {
             m.tf[other] |= 0x40; /* a role on a member */
         } else {
-            for (int j = 0; j < 3 && e < 0; j++) /* a member's edge links to another rank */
-                if (m.tn[3 * other + j] >= 0) e = 3 * other + j;
+            for (int j = 0; j < 3 && e < 0; j++) /* the start's edge links to another rank */
+                if (m.tn[3 * t0 + j] >= 0) e = 3 * t0 + j;
             ck_assert_int_ge(e, 0);
         }
         int32_t save = e >= 0 ? m.tn[e] : 0;
