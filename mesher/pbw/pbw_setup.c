@@ -182,10 +182,21 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
         }
         C->nlive++;
     }
+    /* the subsegment records this rank's constraint edges use; the others go */
+    uint8_t *used = mesh_xcalloc((size_t)M->nss + 1, 1);
+    for (int32_t t = 0; t < M->nt; t++)
+        for (int j = 0; j < 3 && own[t] == C->rank; j++)
+            if (mesh_edge_constrained(M, 3 * t + j)) {
+                int32_t r = mesh_ss_find_pair(M, M->tv[3 * t + j], M->tv[3 * t + (j + 1) % 3]);
+                if (r < 0) MESH_BUG("constraint edge %d without its subsegment record", 3 * t + j);
+                used[r] = 1;
+            }
+    for (int32_t r = 0; r < M->nss; r++)
+        if (!used[r] && M->ss[r].level != -2) mesh_ss_del(M, r);
+    free(used);
     for (int32_t t = 0; t < M->nt; t++)
         if (own[t] != C->rank && mesh_tri_alive(M, t)) mesh_tri_kill(M, t);
     mesh_rebuild_vtri(M);
-    mesh_ss_prune(M);
     free(own);
     /* initial work: every bad triangle, every encroached subsegment */
     for (int32_t t = 0; t < C->M.nt; t++)
