@@ -34,6 +34,7 @@
 #include "pcdm/pcdm_impl.h"
 
 #include "base/base.h"
+#include "seq/mesh_impl.h"
 
 #include "rt.h"
 
@@ -366,6 +367,7 @@ void pcdm_part_figures(pcdm_part *p, pcdm_figures *f) {
     f->inserted = p->m.stats.inserted;
     f->mesh_bytes = mesh_memory_bytes(&p->m);
     f->unmet = mesh_count_unmet(&p->m, NULL);
+    f->iface_enc = mesh_count_encroached_iface(&p->m);
 }
 
 void pcdm_part_take(pcdm_part *p, mesh_flat *f, uint8_t **artificial, int32_t **tsub,

@@ -124,10 +124,14 @@ int pcdm_part_refine(pcdm_part *p, const mesh_quality *q, int32_t poll_every);
 /* Figures of a refined part (either mode; sums over its meshes). */
 typedef struct pcdm_figures {
     int64_t ntris, nverts, inserted, unmet;
+    int64_t iface_enc; /* interface subsegments still encroached from this rank's side: a split
+                        * refinement refused (precision, the interface piece cap); when the sum
+                        * over the ranks is 0, the merged mesh is Delaunay across interfaces */
     size_t mesh_bytes;
 } pcdm_figures;
 
-/* Local.  Fills *f (unmet: mesh_count_unmet summed). */
+/* Local.  Fills *f (unmet: mesh_count_unmet summed; iface_enc: mesh_count_encroached_iface
+ * summed). */
 void pcdm_part_figures(pcdm_part *p, pcdm_figures *f);
 
 /* Local.  Either mode: moves the part into f as pcdm_part_take_flat does; *artificial gets

@@ -38,6 +38,7 @@
 #include "pcdm/pcdm_det_impl.h"
 
 #include "base/base.h"
+#include "seq/mesh_impl.h"
 
 #include "rt.h"
 
@@ -517,6 +518,7 @@ void pcdm_det_figures(pcdm_part *p, pcdm_figures *f) {
         f->inserted += m->stats.inserted;
         f->mesh_bytes += mesh_memory_bytes(m);
         f->unmet += mesh_count_unmet(m, NULL);
+        f->iface_enc += mesh_count_encroached_iface(m);
     }
 }
 

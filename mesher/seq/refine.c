@@ -45,6 +45,7 @@
 
 #define NBUCKET 4096
 #define UNRESOLVED_BUDGET 256
+#define IFACE_MAX_PIECES ((int32_t)1 << 16) /* an interface segment's own splits (split_subseg) */
 
 typedef struct qent {
     int32_t t, next;
@@ -363,8 +364,14 @@ static int split_subseg(mesh *m, int32_t r, int notify) {
         m->stats.unresolved++;
         return -1;
     }
-    /* a region too thin for its length: at most MESH_RULES_MAX_PIECES pieces per segment */
-    if (!iface) {
+    /* a region too thin for its length: at most MESH_RULES_MAX_PIECES pieces per segment; an
+     * interface segment splits itself (notify: its own decision, not a neighbour's request) into
+     * at most IFACE_MAX_PIECES: two interfaces meeting at a tiny angle (a decomposition of an
+     * input refinement cannot resolve) split each other's pieces practically forever otherwise.
+     * The pieces on the two sides then differ only by what the other side split, which it sends:
+     * the merged mesh still conforms; an interface left encroached is reported afterwards
+     * (mesh_count_encroached_iface) */
+    {
         mesh_refine_state *rs = m->rf;
         if (rs->npieces < m->nseg) {
             rs->pieces = mesh_xrealloc(rs->pieces, (size_t)m->nseg, sizeof *rs->pieces);
@@ -372,7 +379,8 @@ static int split_subseg(mesh *m, int32_t r, int notify) {
                    (size_t)(m->nseg - rs->npieces) * sizeof *rs->pieces);
             rs->npieces = m->nseg;
         }
-        if (rs->pieces[s.seg] >= MESH_RULES_MAX_PIECES - 1) {
+        if (iface ? notify && rs->pieces[s.seg] >= IFACE_MAX_PIECES - 1
+                  : rs->pieces[s.seg] >= MESH_RULES_MAX_PIECES - 1) {
             m->stats.unresolved++;
             return -1;
         }
@@ -400,7 +408,7 @@ static int split_subseg(mesh *m, int32_t r, int notify) {
     mesh_ss_add(m, s.u, v, s.seg, nl, k0);
     mesh_ss_add(m, v, s.v, s.seg, nl, k1);
     m->stats.seg_splits++;
-    if (!iface) m->rf->pieces[s.seg]++;
+    m->rf->pieces[s.seg]++;
     m->rf->since_poll++;
     push_enc(m, s.u, v, 0);
     push_enc(m, v, s.v, 0);
@@ -422,13 +430,51 @@ static int steiner_limit(const mesh *m) {
     return m->q.max_steiner >= 0 && (int64_t)(m->nv - m->ninput) >= m->q.max_steiner;
 }
 
-/* Drains the encroached-subsegment queue.  Returns the number of subsegments split; stops
- * early (leaving the queue) when respect_limit and the Steiner limit is reached. */
+/* At the Steiner limit: splits the queued interface subsegments that are still encroached (a
+ * vertex inside the diametral circle) and keeps every other entry queued, in order.  An
+ * interface edge is no constraint of the input: the merged parallel mesh must be Delaunay across
+ * it, which an encroached one may not be (the validator would refuse the mesh), so the limit
+ * stops the refinement's own decisions but not these splits; their cascade stays on the
+ * interfaces (input subsegments are never split here) and each split still notifies the other
+ * side.  A mesh with no interface segment (./mesh) keeps its queue as it was. */
+static int64_t drain_iface_at_limit(mesh *m) {
+    mesh_refine_state *r = m->rf;
+    int64_t done = 0;
+    int32_t *kept = NULL, nkept = 0, cap = 0;
+    while (r->enchead < r->nenc) {
+        int32_t u = r->enc[r->enchead], v = r->enc[r->enchead + 1];
+        int forced = r->enc[r->enchead + 2];
+        r->enchead += 3;
+        int32_t rec = mesh_ss_find_pair(m, u, v);
+        if (rec >= 0 && m->siface[m->ss[rec].seg]) {
+            int32_t e = mesh_find_edge(m, u, v);
+            if (e < 0) MESH_BUG("subsegment %d-%d has a record but no edge", u, v);
+            if (encroached(m, e) && split_subseg(m, rec, 1) == 0) done++;
+            continue;
+        }
+        if (nkept + 3 > cap) {
+            cap = cap ? 2 * cap : 48;
+            kept = mesh_xrealloc(kept, (size_t)cap, sizeof *kept);
+        }
+        kept[nkept++] = u;
+        kept[nkept++] = v;
+        kept[nkept++] = forced;
+    }
+    r->nenc = r->enchead = 0;
+    for (int32_t i = 0; i < nkept; i += 3)
+        push_enc(m, kept[i], kept[i + 1], kept[i + 2]);
+    free(kept);
+    return done;
+}
+
+/* Drains the encroached-subsegment queue.  Returns the number of subsegments split.  With
+ * respect_limit, once the Steiner limit is reached only encroached interface subsegments are
+ * split (drain_iface_at_limit); the other entries stay queued. */
 static int64_t drain_enc(mesh *m, int respect_limit) {
     mesh_refine_state *r = m->rf;
     int64_t done = 0;
     while (r->enchead < r->nenc) {
-        if (respect_limit && steiner_limit(m)) return done;
+        if (respect_limit && steiner_limit(m)) return done + drain_iface_at_limit(m);
         int32_t u = r->enc[r->enchead], v = r->enc[r->enchead + 1];
         int forced = r->enc[r->enchead + 2];
         r->enchead += 3;
@@ -673,13 +719,13 @@ mesh_split_result mesh_split_subsegment_named(mesh *m, int32_t seg, int32_t leve
                 int32_t jl = m->ss[r].level;
                 if (split_subseg(m, r, 0) != 0) {
                     m->stats.named_already++;
-                    drain_enc(m, 0);
+                    drain_enc(m, 1);
                     return MESH_SPLIT_ALREADY;
                 }
                 r = mesh_ss_find_name(m, seg, jl + 1, k >> (level - jl - 1));
                 if (r < 0) { /* not dyadic below (a shell split): nothing named is left */
                     m->stats.named_already++;
-                    drain_enc(m, 0);
+                    drain_enc(m, 1);
                     return MESH_SPLIT_ALREADY;
                 }
             }
@@ -695,10 +741,22 @@ mesh_split_result mesh_split_subsegment_named(mesh *m, int32_t seg, int32_t leve
     }
     if (split_subseg(m, r, 0) != 0) {
         m->stats.named_already++;
-        drain_enc(m, 0);
+        drain_enc(m, 1);
         return MESH_SPLIT_ALREADY;
     }
     m->stats.named_done++;
-    drain_enc(m, 0);
+    drain_enc(m, 1);
     return MESH_SPLIT_DONE;
+}
+
+int64_t mesh_count_encroached_iface(mesh *m) {
+    rf_get(m);
+    int64_t n = 0;
+    for (int32_t i = 0; i < m->nss; i++) {
+        const mesh_subseg *s = &m->ss[i];
+        if (s->level == -2 || !m->siface[s->seg]) continue;
+        int32_t e = mesh_find_edge(m, s->u, s->v);
+        if (e >= 0 && encroached(m, e)) n++;
+    }
+    return n;
 }
