@@ -45,7 +45,6 @@
 
 #define NBUCKET 4096
 #define UNRESOLVED_BUDGET 256
-#define IFACE_MAX_PIECES ((int32_t)1 << 16) /* an interface segment's own splits (split_subseg) */
 
 typedef struct qent {
     int32_t t, next;
@@ -366,10 +365,10 @@ static int split_subseg(mesh *m, int32_t r, int notify) {
     }
     /* a region too thin for its length: at most MESH_RULES_MAX_PIECES pieces per segment; an
      * interface segment splits itself (notify: its own decision, not a neighbour's request) into
-     * at most IFACE_MAX_PIECES: two interfaces meeting at a tiny angle (a decomposition of an
-     * input refinement cannot resolve) split each other's pieces practically forever otherwise.
-     * The pieces on the two sides then differ only by what the other side split, which it sends:
-     * the merged mesh still conforms; an interface left encroached is reported afterwards
+     * at most MESH_RULES_IFACE_MAX_PIECES: two interfaces meeting at a tiny angle (a decomposition
+     * of an input refinement cannot resolve) split each other's pieces practically forever
+     * otherwise. The pieces on the two sides then differ only by what the other side split, which
+     * it sends: the merged mesh still conforms; an interface left encroached is reported afterwards
      * (mesh_count_encroached_iface) */
     {
         mesh_refine_state *rs = m->rf;
@@ -379,7 +378,7 @@ static int split_subseg(mesh *m, int32_t r, int notify) {
                    (size_t)(m->nseg - rs->npieces) * sizeof *rs->pieces);
             rs->npieces = m->nseg;
         }
-        if (iface ? notify && rs->pieces[s.seg] >= IFACE_MAX_PIECES - 1
+        if (iface ? notify && rs->pieces[s.seg] >= MESH_RULES_IFACE_MAX_PIECES - 1
                   : rs->pieces[s.seg] >= MESH_RULES_MAX_PIECES - 1) {
             m->stats.unresolved++;
             return -1;
@@ -679,6 +678,23 @@ mesh_refine_result mesh_refine(mesh *m) {
     }
 }
 
+/* 1 iff v is a small-angle corner of the input alone: two non-interface segments meet there
+ * below 60 degrees (is_corner counts the decomposition's interface segments too, which the
+ * validator does not: a skinny triangle at such a vertex is not forced by the input).  The same
+ * as is_corner in a mesh with no interface segment. */
+static int input_corner(const mesh *m, int32_t v) {
+    if (!is_corner(m, v)) return 0;
+    for (int32_t i = m->inc_off[v]; i < m->inc_off[v + 1]; i++)
+        for (int32_t j = i + 1; j < m->inc_off[v + 1]; j++) {
+            int32_t s1 = m->inc_seg[i], s2 = m->inc_seg[j];
+            if (m->siface[s1] || m->siface[s2]) continue;
+            int32_t o1 = m->seg[2 * s1] == v ? m->seg[2 * s1 + 1] : m->seg[2 * s1];
+            int32_t o2 = m->seg[2 * s2] == v ? m->seg[2 * s2 + 1] : m->seg[2 * s2];
+            if (geom_angle_deg(X(m, o1), X(m, v), X(m, o2)) < 60.0) return 1;
+        }
+    return 0;
+}
+
 int64_t mesh_count_unmet(mesh *m, int64_t *forced) {
     mesh_refine_state *r = rf_get(m);
     int64_t unmet = 0, nforced = 0;
@@ -690,7 +706,7 @@ int64_t mesh_count_unmet(mesh *m, int64_t *forced) {
         if (why == MESH_BAD_ANGLE) {
             const int32_t *tv = m->tv + 3 * (size_t)t;
             int32_t u = tv[sh], v = tv[(sh + 1) % 3];
-            if (is_corner(m, tv[0]) || is_corner(m, tv[1]) || is_corner(m, tv[2]) ||
+            if (input_corner(m, tv[0]) || input_corner(m, tv[1]) || input_corner(m, tv[2]) ||
                 on_corner_segments(m, u, v)) {
                 nforced++;
                 continue;
