@@ -182,18 +182,18 @@ int main(int argc, char **argv) {
      * user set stopped refinement (exit 3: the mesh written, checked without the bounds) */
     long long unmet = (long long)fig.unmet, unmet_all = 0;
     MESH_MPI(MPI_Allreduce(&unmet, &unmet_all, 1, MPI_LONG_LONG, MPI_SUM, comm));
-    /* an interface still encroached (a split refinement refused: two interfaces at a tiny
-     * angle, precision): the merged mesh need not be Delaunay across it, so it is no mesh of
-     * the input; an error on every rank, nothing written (not even with --write-partial) */
+    /* an interface piece split on one side only, or still encroached (a split refinement
+     * refused: interfaces at a tiny angle, precision): the parts would not form a Delaunay mesh
+     * of the input; an error on every rank, nothing written (not even with --write-partial) */
     long long enc = (long long)fig.iface_enc, enc_all = 0;
     MESH_MPI(MPI_Allreduce(&enc, &enc_all, 1, MPI_LONG_LONG, MPI_SUM, comm));
     if (enc_all > 0) {
         if (rank == 0)
             fprintf(stderr,
-                    "pcdm: %s: cannot meet the bounds: %lld subdomain interface pieces are still "
-                    "encroached (splits refused: interfaces meeting at a tiny angle, or features "
-                    "below the precision of the coordinates); the parts would not form a "
-                    "Delaunay mesh of the input, none written\n",
+                    "pcdm: %s: cannot meet the bounds: %lld subdomain interface pieces could "
+                    "not be split on both sides (splits refused: interfaces meeting at a tiny "
+                    "angle, or features below the precision of the coordinates); the parts "
+                    "would not form a Delaunay mesh of the input, none written\n",
                     o.input, enc_all);
         pcdm_part_free(&part);
         pcdm_decomp_free(&d);

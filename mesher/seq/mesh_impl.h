@@ -66,11 +66,14 @@ int32_t mesh_seg_add(mesh *m, int32_t a, int32_t b, int32_t marker, uint8_t ifac
 /* Sets vtri for every vertex from the live triangles. */
 void mesh_rebuild_vtri(mesh *m);
 
-/* refine.c, for the parallel meshers (Local).  Interface subsegments (siface) encroached from
- * this mesh's side (a vertex of a triangle beside them strictly inside the diametral circle):
- * refinement leaves none unless a split of one was refused (precision, the interface piece cap).
- * When every part reports none, the merged mesh is Delaunay across every interface. */
-int64_t mesh_count_encroached_iface(mesh *m);
+/* refine.c, for the parallel meshers (Local).  The interface subsegments (siface) that may not
+ * conform: those still encroached from this mesh's side (a vertex of a triangle beside them
+ * strictly inside the diametral circle), plus the named splits (a neighbour's, which it made)
+ * this mesh could not make (the split point off its line for the triangles on this side).
+ * Refinement leaves none unless a split was refused (precision, the interface piece cap).
+ * When every part reports 0, the parts' interfaces match and the merged mesh is Delaunay
+ * across them. */
+int64_t mesh_iface_defects(mesh *m);
 
 /* refine.c: called after every committed cavity when refinement is active. */
 void mesh_refine_free(mesh *m);

@@ -62,9 +62,10 @@ struct mesh_refine_state {
     double floor2;            /* squared length floor: no new edge shorter (0: not computed yet) */
     int32_t *pieces, npieces; /* per segment: its subsegments (0: one, never split) */
     int32_t since_poll;
-    double area_budget; /* boundary splits may move the domain's area by this much in all
-                           (MESH_RULES_AREA_DRIFT of the area; < 0: not computed yet) */
-    double area_spent;  /* ... and have moved it by this much (signed: + grown) */
+    double area_budget;    /* boundary splits may move the domain's area by this much in all
+                              (MESH_RULES_AREA_DRIFT of the area; < 0: not computed yet) */
+    double area_spent;     /* ... and have moved it by this much (signed: + grown) */
+    int64_t named_refused; /* named splits this mesh could not make (mesh_iface_defects) */
 };
 
 static const double *X(const mesh *m, int32_t v) {
@@ -369,7 +370,7 @@ static int split_subseg(mesh *m, int32_t r, int notify) {
      * of an input refinement cannot resolve) split each other's pieces practically forever
      * otherwise. The pieces on the two sides then differ only by what the other side split, which
      * it sends: the merged mesh still conforms; an interface left encroached is reported afterwards
-     * (mesh_count_encroached_iface) */
+     * (mesh_iface_defects) */
     {
         mesh_refine_state *rs = m->rf;
         if (rs->npieces < m->nseg) {
@@ -466,14 +467,14 @@ static int64_t drain_iface_at_limit(mesh *m) {
     return done;
 }
 
-/* Drains the encroached-subsegment queue.  Returns the number of subsegments split.  With
- * respect_limit, once the Steiner limit is reached only encroached interface subsegments are
- * split (drain_iface_at_limit); the other entries stay queued. */
-static int64_t drain_enc(mesh *m, int respect_limit) {
+/* Drains the encroached-subsegment queue.  Returns the number of subsegments split.  Once the
+ * Steiner limit is reached only encroached interface subsegments are split
+ * (drain_iface_at_limit); the other entries stay queued. */
+static int64_t drain_enc(mesh *m) {
     mesh_refine_state *r = m->rf;
     int64_t done = 0;
     while (r->enchead < r->nenc) {
-        if (respect_limit && steiner_limit(m)) return done + drain_iface_at_limit(m);
+        if (steiner_limit(m)) return done + drain_iface_at_limit(m);
         int32_t u = r->enc[r->enchead], v = r->enc[r->enchead + 1];
         int forced = r->enc[r->enchead + 2];
         r->enchead += 3;
@@ -491,7 +492,7 @@ static int64_t drain_enc(mesh *m, int respect_limit) {
 /* Splits the subsegments queued because of bad triangle t; t goes back to the queue only if
  * something was split, so an unsplittable subsegment (precision exhausted) cannot loop. */
 static void split_for(mesh *m, int32_t t) {
-    if (drain_enc(m, 1) > 0) push_bad(m, t);
+    if (drain_enc(m) > 0) push_bad(m, t);
 }
 
 /* ---- bad triangles --------------------------------------------------------------------------*/
@@ -654,7 +655,7 @@ mesh_refine_result mesh_refine(mesh *m) {
     mesh_refine_state *r = rf_get(m);
     if (r->need_scan) scan(m);
     for (;;) {
-        drain_enc(m, 1);
+        drain_enc(m);
         if (r->enchead < r->nenc) return MESH_REFINE_STEINER_LIMIT;
         if (r->since_poll >= m->hooks.poll_every && m->hooks.poll) {
             r->since_poll = 0;
@@ -735,13 +736,14 @@ mesh_split_result mesh_split_subsegment_named(mesh *m, int32_t seg, int32_t leve
                 int32_t jl = m->ss[r].level;
                 if (split_subseg(m, r, 0) != 0) {
                     m->stats.named_already++;
-                    drain_enc(m, 1);
+                    m->rf->named_refused++;
+                    drain_enc(m);
                     return MESH_SPLIT_ALREADY;
                 }
                 r = mesh_ss_find_name(m, seg, jl + 1, k >> (level - jl - 1));
                 if (r < 0) { /* not dyadic below (a shell split): nothing named is left */
                     m->stats.named_already++;
-                    drain_enc(m, 1);
+                    drain_enc(m);
                     return MESH_SPLIT_ALREADY;
                 }
             }
@@ -757,17 +759,17 @@ mesh_split_result mesh_split_subsegment_named(mesh *m, int32_t seg, int32_t leve
     }
     if (split_subseg(m, r, 0) != 0) {
         m->stats.named_already++;
-        drain_enc(m, 1);
+        m->rf->named_refused++;
+        drain_enc(m);
         return MESH_SPLIT_ALREADY;
     }
     m->stats.named_done++;
-    drain_enc(m, 1);
+    drain_enc(m);
     return MESH_SPLIT_DONE;
 }
 
-int64_t mesh_count_encroached_iface(mesh *m) {
-    rf_get(m);
-    int64_t n = 0;
+int64_t mesh_iface_defects(mesh *m) {
+    int64_t n = rf_get(m)->named_refused;
     for (int32_t i = 0; i < m->nss; i++) {
         const mesh_subseg *s = &m->ss[i];
         if (s->level == -2 || !m->siface[s->seg]) continue;
