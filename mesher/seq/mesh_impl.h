@@ -67,12 +67,12 @@ int32_t mesh_seg_add(mesh *m, int32_t a, int32_t b, int32_t marker, uint8_t ifac
 void mesh_rebuild_vtri(mesh *m);
 
 /* refine.c, for the parallel meshers (Local).  The interface subsegments (siface) that may not
- * conform: those still encroached from this mesh's side (a vertex of a triangle beside them
- * strictly inside the diametral circle), plus the named splits (a neighbour's, which it made)
- * this mesh could not make (the split point off its line for the triangles on this side).
- * Refinement leaves none unless a split was refused (precision, the interface piece cap).
- * When every part reports 0, the parts' interfaces match and the merged mesh is Delaunay
- * across them. */
+ * conform: the named splits (a neighbour's, which it made) this mesh could not make (the split
+ * point off its line for the triangles on this side), plus those still encroached (a vertex of
+ * a triangle beside them strictly inside the diametral circle) that are not locally Delaunay
+ * (exact incircle) when both sides are in this mesh, or whose other side is not.  Refinement
+ * leaves none unless a split was refused (precision, the interface piece cap).  When every
+ * part reports 0, the parts' interfaces match and the merged mesh is Delaunay across them. */
 int64_t mesh_iface_defects(mesh *m);
 
 /* refine.c: called after every committed cavity when refinement is active. */

@@ -774,7 +774,11 @@ int64_t mesh_iface_defects(mesh *m) {
         const mesh_subseg *s = &m->ss[i];
         if (s->level == -2 || !m->siface[s->seg]) continue;
         int32_t e = mesh_find_edge(m, s->u, s->v);
-        if (e >= 0 && encroached(m, e)) n++;
+        if (e < 0 || !encroached(m, e)) continue;
+        int32_t f = m->tn[e]; /* both sides here: what counts is the Delaunay test, exact */
+        if (f < 0 || geom_incircle(X(m, m->tv[e]), X(m, mesh_dest(m, e)), X(m, mesh_apex(m, e)),
+                                   X(m, mesh_apex(m, f))) > 0)
+            n++;
     }
     return n;
 }
