@@ -415,7 +415,7 @@ void pcdm_part_figures(pcdm_part *p, pcdm_figures *f) {
     f->inserted = p->m.stats.inserted;
     f->mesh_bytes = mesh_memory_bytes(&p->m);
     f->unmet = mesh_count_unmet(&p->m, NULL);
-    f->iface_enc = mesh_iface_defects(&p->m);
+    f->iface_enc = mesh_iface_defects(&p->m, &f->iface_remote);
 }
 
 void pcdm_part_take(pcdm_part *p, mesh_flat *f, uint8_t **artificial, int32_t **tsub,

@@ -768,17 +768,20 @@ mesh_split_result mesh_split_subsegment_named(mesh *m, int32_t seg, int32_t leve
     return MESH_SPLIT_DONE;
 }
 
-int64_t mesh_iface_defects(mesh *m) {
-    int64_t n = rf_get(m)->named_refused;
+int64_t mesh_iface_defects(mesh *m, int64_t *remote) {
+    int64_t n = rf_get(m)->named_refused, nr = 0;
     for (int32_t i = 0; i < m->nss; i++) {
         const mesh_subseg *s = &m->ss[i];
         if (s->level == -2 || !m->siface[s->seg]) continue;
         int32_t e = mesh_find_edge(m, s->u, s->v);
         if (e < 0 || !encroached(m, e)) continue;
         int32_t f = m->tn[e]; /* both sides here: what counts is the Delaunay test, exact */
-        if (f < 0 || geom_incircle(X(m, m->tv[e]), X(m, mesh_dest(m, e)), X(m, mesh_apex(m, e)),
-                                   X(m, mesh_apex(m, f))) > 0)
+        if (f < 0)
+            nr++;
+        else if (geom_incircle(X(m, m->tv[e]), X(m, mesh_dest(m, e)), X(m, mesh_apex(m, e)),
+                               X(m, mesh_apex(m, f))) > 0)
             n++;
     }
+    if (remote) *remote = nr;
     return n;
 }
