@@ -30,7 +30,11 @@
  * such a corner at the same distance from it is left alone: its small angle is forced by the
  * input.  Corners involving an interface segment get no such exemption (they are not corners
  * of the input).  Interface splits that would exhaust precision are refused identically on
- * every rank (decided from the name and the input coordinates).  Invariants:
+ * every rank (decided from the name and the input coordinates); an interface segment splits
+ * itself into at most MESH_RULES_IFACE_MAX_PIECES pieces.  Past the Steiner limit only
+ * encroached interface subsegments are still split (named splits and their cascades included):
+ * the merged parallel mesh must stay Delaunay across interfaces; what could not be split is
+ * counted for the caller (mesh_iface_defects).  Invariants:
  * the mesh stays a CDT; encroached subsegments never wait behind bad triangles; a split is never
  * undone; interface subsegments are only split at dyadic midpoints.
  */
