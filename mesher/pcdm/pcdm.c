@@ -28,8 +28,12 @@
  * Invariants: no locks, no blocking; splits are never undone; every interface subsegment split
  * on one side is eventually split on the other (each local split sends exactly one request),
  * so at termination both sides hold the same chain of subsegments and the merged mesh
- * conforms.  The work function returns IDLE only when mesh_refine returned DONE (or hit the
- * Steiner limit) and no request arrived since, honouring rt_run's termination contract.
+ * conforms -- unless the receiver could not make a split (its triangles put the point off the
+ * line, at the precision limit): pcdm_part_figures counts those (mesh_iface_defects) and
+ * ./pcdm then fails on every rank.  A decomposition whose interfaces meet another segment
+ * below 1/MESH_RULES_IFACE_MAX_PIECES radian is refused at build (check_angles).  The work function
+ * returns IDLE only when mesh_refine returned DONE (or hit the Steiner limit) and no request
+ * arrived since, honouring rt_run's termination contract.
  */
 #include "pcdm/pcdm_impl.h"
 
