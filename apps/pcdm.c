@@ -182,6 +182,26 @@ int main(int argc, char **argv) {
      * user set stopped refinement (exit 3: the mesh written, checked without the bounds) */
     long long unmet = (long long)fig.unmet, unmet_all = 0;
     MESH_MPI(MPI_Allreduce(&unmet, &unmet_all, 1, MPI_LONG_LONG, MPI_SUM, comm));
+    /* an interface piece split on one side only, or still encroached (a split refinement
+     * refused: interfaces at a tiny angle, precision): the parts would not form a Delaunay mesh
+     * of the input; an error on every rank, nothing written (not even with --write-partial) */
+    long long enc[2] = {(long long)fig.iface_enc, (long long)fig.iface_remote}, enc_all[2];
+    MESH_MPI(MPI_Allreduce(enc, enc_all, 2, MPI_LONG_LONG, MPI_SUM, comm));
+    if (enc_all[0] > 0) {
+        if (rank == 0)
+            fprintf(stderr,
+                    "pcdm: %s: cannot meet the bounds: %lld subdomain interface pieces could "
+                    "not be split on both sides (splits refused: interfaces meeting at a tiny "
+                    "angle, or features below the precision of the coordinates); the parts "
+                    "would not form a Delaunay mesh of the input, none written\n",
+                    o.input, enc_all[0]);
+        pcdm_part_free(&part);
+        pcdm_decomp_free(&d);
+        size_field_free(&sizes);
+        pslg_free(&in);
+        rt_finalize();
+        return 1;
+    }
     int limited = limit_any && unmet_all > 0;
     if (limited && rank == 0)
         fprintf(stderr,
@@ -212,6 +232,27 @@ int main(int argc, char **argv) {
     int32_t rounds = part.rounds;
     pcdm_part_take(&part, &local, &artificial, o.vtk ? &tsub : NULL, &topen);
     pcdm_part_free(&part);
+    if (enc_all[1] > 0) { /* interface pieces left encroached: Delaunay across the ranks? */
+        char imsg[512];
+        long bad = par_check_interface_delaunay(&local, topen, imsg, sizeof imsg), bad_all = 0;
+        MESH_MPI(MPI_Allreduce(&bad, &bad_all, 1, MPI_LONG, MPI_SUM, comm));
+        snprintf(msg, sizeof msg,
+                 "pcdm: %s: cannot meet the bounds: %ld subdomain interface edges are not "
+                 "Delaunay across the ranks (their splits were refused: features below the "
+                 "precision of the coordinates); none written",
+                 o.input, bad_all);
+        if (par_fail_any(bad_all > 0, msg)) {
+            free(artificial);
+            free(tsub);
+            free(topen);
+            mesh_flat_free(&local);
+            pcdm_decomp_free(&d);
+            size_field_free(&sizes);
+            pslg_free(&in);
+            rt_finalize();
+            return 1;
+        }
+    }
     /* the mesh hash: a sum over triangles, so one reduction of the parts' sums */
     uint64_t hash = 0, hash_part = o.stats ? pcdm_flat_hash(&local) : 0;
     if (o.stats) MESH_MPI(MPI_Reduce(&hash_part, &hash, 1, MPI_UINT64_T, MPI_SUM, 0, comm));

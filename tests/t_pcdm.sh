@@ -205,5 +205,18 @@ timeout 120 $MPIRUN -np 3 "$BIN/pcdm" -NEP -S 100000 -a 0.01 --check data/square
     >"$tmp/out.txt" 2>&1 || rc=$?
 [ "$rc" = 0 ] && ok "-S not reached: exit 0" || bad "-S not reached: exit $rc"
 
+# fuzz finds (tests/fuzz/pending_par/README.md): a decomposition whose interfaces meet another
+# segment at 5e-10 degrees (a point set over 22 orders of magnitude) is refused up front (their
+# splits cascaded for minutes); an interface split one side made and the other could not make
+# (a channel with a vertex on its wall, past the Steiner limit) fails on every rank, clearly,
+# instead of the interface check (--deterministic: the same refusals in every run)
+expect_error "interfaces at 5e-10 degrees" 1 3 -q 30 tests/fuzz/regress/cuts_tiny_angle_5e-10.node
+grep -q "cannot decompose: a subdomain interface meets another segment at 4.71e-10 degrees" \
+    "$tmp/err.txt" || bad "interfaces at 5e-10 degrees: $(head -c 300 "$tmp/err.txt")"
+expect_error "interface split refused on one side" 1 3 -q 30 -S 20000 --deterministic --check \
+    tests/fuzz/regress/iface_split_refused_channel.poly
+grep -q "cannot meet the bounds: [0-9]* subdomain interface pieces could not be split on both" \
+    "$tmp/err.txt" || bad "interface split refused on one side: $(head -c 300 "$tmp/err.txt")"
+
 echo "t_pcdm: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -7,8 +7,12 @@
 # clear message: "cannot decompose" (a domain too small or too degenerate to cut, issue 11) or
 # "cannot meet the bounds" (a decomposition cut through a region ./mesh resolves only through
 # the shells of one far input corner); rows ./mesh cannot meet may also be refused by the
-# decomposition.  The refusals are counted and printed.  Found this way:
-# a point set 8e29 long and 2 wide (point_sliver_8e29.node) ran until killed at 3 ranks.
+# decomposition, or met (another insertion order can reach a bound ./mesh does not; --check
+# must say OK).  Rows where ./mesh stops at the Steiner limit (exit 3) must exit 3 or 0 with
+# --check OK, or be refused as above.  The refusals are counted and printed.  Found this way:
+# a point set 8e29 long and 2 wide (point_sliver_8e29.node) ran until killed at 3 ranks; the
+# rows of tests/fuzz/pending_par's replay (iface_*, cuts_tiny_angle_*, sliver_one_triangle) ran
+# for minutes or failed the interface check.
 # Env: BIN, MPIRUN as the other tests; SANITIZE=1 (3 ranks only).
 set -u
 cd "$(dirname "$0")/.."
@@ -40,6 +44,8 @@ while IFS='|' read -r f opts want pat; do
         kind=meshed
     elif grep -q 'cannot meet the bounds' <<<"$pat"; then
         kind=unmet
+    elif [ "$want" = 3 ]; then
+        kind=limit
     else
         continue
     fi
@@ -60,7 +66,9 @@ while IFS='|' read -r f opts want pat; do
         fi
         if [ "$st" = "0 " ]; then
             grep -q '^meshcheck: OK' <<<"$out" || fail "$name: exit 0 without --check OK"
-            [ "$kind" = unmet ] && fail "$name: ./mesh cannot meet the bounds, ./pcdm exit 0"
+            [ "$kind" = meshed ] || echo "met: $name: ./mesh exit $want, ./pcdm met the bounds"
+        elif [ "$st" = "3 " ] && [ "$kind" = limit ]; then
+            grep -q '^meshcheck: OK' <<<"$out" || fail "$name: exit 3 without --check OK"
         elif [ "$st" = "1 " ] && grep -q 'cannot meet the bounds' <<<"$out"; then
             [ "$kind" = meshed ] && refused=$((refused + 1)) && echo "refused: $name: cannot meet the bounds"
         elif [ "$st" = "1 " ] && grep -q 'cannot decompose' <<<"$out"; then

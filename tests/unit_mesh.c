@@ -558,6 +558,48 @@ START_TEST(test_named_split) {
 }
 END_TEST
 
+/* Past the Steiner limit the interface pieces a vertex encroaches are still split (the merged
+ * mesh must stay Delaunay across the interface: it is no constraint of the input), each sent to
+ * the other side, and so is a named split (a neighbour's) with the pieces it leaves
+ * encroached, but no input subsegment is split any more; nothing on the interface is left
+ * encroached (mesh_iface_defects).  The square of test_named_split with two vertices near its
+ * interface. */
+START_TEST(test_named_split_at_limit) {
+    static const double xy[] = {0, 0, 1, 0, 1, 1, 0, 1, 0, 0.5, 1, 0.5, 0.3, 0.52, 0.7, 0.47};
+    pslg g = make_pslg(8, xy, 5, iface_seg, 0, NULL);
+    char err[256];
+    ck_assert_int_eq(pslg_check(&g, err, sizeof err), 0);
+    mesh m;
+    mesh_init(&m);
+    ck_assert_int_eq(mesh_build_cdt(&m, &g, iface_flag, err, sizeof err), 0);
+    int32_t nbound = 0, nb = 0; /* the square's sides' pieces */
+    for (int32_t i = 0; i < m.nss; i++)
+        if (m.ss[i].level != -2 && m.ss[i].seg < 4) nbound++;
+    /* (0.7, 0.47) lies inside the circumcircle of the interface's triangle with (0.3, 0.52) */
+    ck_assert_int_gt(mesh_iface_defects(&m, NULL), 0);
+    hookctx h = {0};
+    mesh_hooks hk = {on_split, poll_cb, 1000, &h};
+    mesh_set_hooks(&m, &hk);
+    mesh_quality q = {30, 0.0005, 0, 1, 0}; /* limit 0: reached at once */
+    mesh_set_quality(&m, &q);
+    ck_assert_int_eq(mesh_refine(&m), MESH_REFINE_STEINER_LIMIT);
+    ck_assert_int_gt(h.splits, 0); /* the interface's own splits, sent to the other side */
+    ck_assert_int_eq(h.splits, m.stats.seg_splits);
+    ck_assert_int_eq(m.stats.inserted, 0);
+    ck_assert_int_eq(mesh_iface_defects(&m, NULL), 0);
+    ck_assert_int_eq(mesh_split_subsegment_named(&m, 4, 12, 1365), MESH_SPLIT_DONE);
+    ck_assert_int_eq(h.splits, m.stats.iface_splits);
+    ck_assert_int_eq(mesh_iface_defects(&m, NULL), 0);
+    ck_assert_int_eq(mesh_refine(&m), MESH_REFINE_STEINER_LIMIT);
+    for (int32_t i = 0; i < m.nss; i++)
+        if (m.ss[i].level != -2 && m.ss[i].seg < 4) nb++;
+    ck_assert_int_eq(nb, nbound); /* input subsegments: never split past the limit */
+    validate(&m, &g, 0, 0);
+    mesh_free(&m);
+    pslg_free(&g);
+}
+END_TEST
+
 /* Two ranks' worth of subdomains in one process: mesh each half separately, exchanging the
  * on_split requests by hand, and check the interface subsegments agree bit for bit. */
 typedef struct side {
@@ -819,6 +861,7 @@ static Suite *suite(void) {
     tcase_add_loop_test(tc, test_random_pslg, 0, 6);
     tc = tcase(s, "hooks");
     tcase_add_test(tc, test_named_split);
+    tcase_add_test(tc, test_named_split_at_limit);
     tcase_add_test(tc, test_two_halves);
     tcase_add_test(tc, test_regions_keep);
     tc = tcase(s, "data");

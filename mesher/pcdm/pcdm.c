@@ -28,15 +28,23 @@
  * Invariants: no locks, no blocking; splits are never undone; every interface subsegment split
  * on one side is eventually split on the other (each local split sends exactly one request),
  * so at termination both sides hold the same chain of subsegments and the merged mesh
- * conforms.  The work function returns IDLE only when mesh_refine returned DONE (or hit the
- * Steiner limit) and no request arrived since, honouring rt_run's termination contract.
+ * conforms -- unless the receiver could not make a split (its triangles put the point off the
+ * line, at the precision limit): pcdm_part_figures counts those (mesh_iface_defects) and
+ * ./pcdm then fails on every rank.  A decomposition whose interfaces meet another segment
+ * below 1/MESH_RULES_IFACE_MAX_PIECES radian is refused at build (check_angles).  The work function
+ * returns IDLE only when mesh_refine returned DONE (or hit the Steiner limit) and no request
+ * arrived since, honouring rt_run's termination contract.
  */
 #include "pcdm/pcdm_impl.h"
 
 #include "base/base.h"
+#include "geom/geom.h"
+#include "seq/mesh_impl.h"
+#include "seq/rules.h"
 
 #include "rt.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -185,6 +193,49 @@ int pcdm_build_mesh(mesh *m, const pcdm_decomp *d, int rank, int32_t only_sub, i
     return 0;
 }
 
+/* The smallest angle (degrees) between an interface piece (d->seg_iface) and another segment
+ * of the augmented PSLG at a vertex they share; 180 if none.  A quality figure, not topology. */
+static double iface_min_angle(const pcdm_decomp *d) {
+    const pslg *g = &d->g;
+    int32_t *off = mesh_xcalloc((size_t)g->nverts + 2, sizeof(int32_t));
+    int32_t *inc = mesh_xmalloc(2 * (size_t)g->nsegs + 1, sizeof(int32_t));
+    for (int32_t s = 0; s < 2 * g->nsegs; s++)
+        off[g->seg[s] + 1]++;
+    for (int32_t v = 0; v < g->nverts; v++)
+        off[v + 1] += off[v];
+    for (int32_t s = 0; s < 2 * g->nsegs; s++)
+        inc[off[g->seg[s]]++] = s / 2; /* off[v] ends as the start of v + 1 */
+    double best = 180;
+    for (int32_t v = 0, lo = 0; v < g->nverts; lo = off[v], v++)
+        for (int32_t i = lo; i < off[v]; i++)
+            for (int32_t j = i + 1; j < off[v]; j++) {
+                int32_t a = inc[i], b = inc[j];
+                if (!d->seg_iface[a] && !d->seg_iface[b]) continue;
+                int32_t oa = g->seg[2 * a] == v ? g->seg[2 * a + 1] : g->seg[2 * a];
+                int32_t ob = g->seg[2 * b] == v ? g->seg[2 * b + 1] : g->seg[2 * b];
+                best = fmin(best, geom_angle_deg(g->xy + 2 * (size_t)oa, g->xy + 2 * (size_t)v,
+                                                 g->xy + 2 * (size_t)ob));
+            }
+    free(off);
+    free(inc);
+    return best;
+}
+
+/* Refuses a decomposition whose interfaces meet another segment at an angle so small that the
+ * splits along the two would cascade practically forever (MESH_RULES_IFACE_MAX_PIECES, rules.h:
+ * a degenerate input the coarse mesh could not resolve, e.g. a domain of one sliver triangle
+ * cut in three).  The same decision on every rank (same d). */
+static int check_angles(const pcdm_decomp *d, char *err, size_t errlen) {
+    double ang = iface_min_angle(d), lim = 57.29577951308232 / MESH_RULES_IFACE_MAX_PIECES;
+    if (ang >= lim) return 0;
+    snprintf(err, errlen,
+             "cannot decompose: a subdomain interface meets another segment at %.3g degrees "
+             "(below %.2g, the splits along the two would never end); the input is too "
+             "degenerate for %d subdomains",
+             ang, lim, (int)d->nsub);
+    return -1;
+}
+
 /* The part's fields before its mesh is built (both modes). */
 static void part_init(pcdm_part *p, const pcdm_decomp *d, int rank) {
     memset(p, 0, sizeof *p);
@@ -203,6 +254,7 @@ int pcdm_part_build(pcdm_part *p, const pcdm_decomp *d, int rank, char *err, siz
 int pcdm_part_build_regions(pcdm_part *p, const pcdm_decomp *d, int rank, int regions, char *err,
                             size_t errlen) {
     part_init(p, d, rank);
+    if (check_angles(d, err, errlen) != 0) return -1;
     return pcdm_build_mesh(&p->m, d, rank, -1, regions, err, errlen);
 }
 
@@ -211,6 +263,7 @@ int pcdm_part_build_det(pcdm_part *p, const pcdm_decomp *d, int rank, int region
     part_init(p, d, rank);
     p->regions = regions;
     mesh_init(&p->m); /* stays empty */
+    if (check_angles(d, err, errlen) != 0) return -1;
     return pcdm_det_build(p, err, errlen);
 }
 
@@ -366,6 +419,7 @@ void pcdm_part_figures(pcdm_part *p, pcdm_figures *f) {
     f->inserted = p->m.stats.inserted;
     f->mesh_bytes = mesh_memory_bytes(&p->m);
     f->unmet = mesh_count_unmet(&p->m, NULL);
+    f->iface_enc = mesh_iface_defects(&p->m, &f->iface_remote);
 }
 
 void pcdm_part_take(pcdm_part *p, mesh_flat *f, uint8_t **artificial, int32_t **tsub,

@@ -124,10 +124,16 @@ int pcdm_part_refine(pcdm_part *p, const mesh_quality *q, int32_t poll_every);
 /* Figures of a refined part (either mode; sums over its meshes). */
 typedef struct pcdm_figures {
     int64_t ntris, nverts, inserted, unmet;
+    int64_t iface_enc;    /* interface subsegments that do not conform (mesh_iface_defects:
+                           * split on one side only, or not Delaunay): a split refinement
+                           * refused (precision, the interface piece cap) */
+    int64_t iface_remote; /* ... and those left encroached whose other side is on another rank
+                           * (Delaunay or not: par_check_interface_delaunay decides) */
     size_t mesh_bytes;
 } pcdm_figures;
 
-/* Local.  Fills *f (unmet: mesh_count_unmet summed). */
+/* Local.  Fills *f (unmet: mesh_count_unmet summed; iface_enc, iface_remote:
+ * mesh_iface_defects summed). */
 void pcdm_part_figures(pcdm_part *p, pcdm_figures *f);
 
 /* Local.  Either mode: moves the part into f as pcdm_part_take_flat does; *artificial gets

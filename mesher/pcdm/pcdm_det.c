@@ -38,6 +38,7 @@
 #include "pcdm/pcdm_det_impl.h"
 
 #include "base/base.h"
+#include "seq/mesh_impl.h"
 
 #include "rt.h"
 
@@ -517,6 +518,16 @@ void pcdm_det_figures(pcdm_part *p, pcdm_figures *f) {
         f->inserted += m->stats.inserted;
         f->mesh_bytes += mesh_memory_bytes(m);
         f->unmet += mesh_count_unmet(m, NULL);
+        int64_t remote = 0;
+        f->iface_enc += mesh_iface_defects(m, &remote);
+        f->iface_remote += remote;
+    }
+    /* the merged part hides the interfaces between this rank's subdomains from the collective
+     * test (they are no open edges): an encroached piece counts as a defect when one of them
+     * might be such an interface (a split refused at the precision limit: rare) */
+    if (D->n > 1) {
+        f->iface_enc += f->iface_remote;
+        f->iface_remote = 0;
     }
 }
 

@@ -244,6 +244,53 @@ static int crosses(const mesh *m, int32_t a, int32_t b, int32_t w, int32_t z) {
     return (ow > 0 && oz < 0) || (ow < 0 && oz > 0);
 }
 
+/* The half-edge of x's fan whose origin is x, in vtri[x]'s triangle; -1 if vtri is stale. */
+static int32_t fan_start(const mesh *m, int32_t x) {
+    int32_t t = m->vtri[x];
+    if (t < 0 || !mesh_tri_alive(m, t)) return -1;
+    for (int j = 0; j < 3; j++)
+        if (m->tv[3 * t + j] == x) return 3 * t + j;
+    return -1;
+}
+
+/* One step of a rotation around the origin of *e (closed fan), looking for the edge to w:
+ * returns the half-edge found, -1 to go on, -2 when the fan came back to start (no such
+ * edge), -3 when the fan is open (a boundary: not while building). */
+static int32_t fan_step(const mesh *m, int32_t *e, int32_t start, int32_t w) {
+    if (mesh_dest(m, *e) == w) return *e;
+    int32_t pe = mesh_edge_prev(*e);
+    if (m->tv[pe] == w) return pe;
+    int32_t n = m->tn[pe];
+    if (n < 0) return -3;
+    *e = n;
+    return n == start ? -2 : -1;
+}
+
+/* Edge x-y while the CDT is built, exactly the half-edge mesh_find_edge(m, x, y) returns, in
+ * O(min(deg x, deg y)) steps: the fans of x and y are rotated in lockstep (every fan is closed:
+ * ghost triangles).  mesh_find_edge rotates around x alone, and Sloan's flips look up their
+ * crossing edges by vertex pair: around a vertex of huge degree (thousands of interface
+ * segments ending at one tiny feature of a fuzzed input) that made a CDT take 70 s.  Which half
+ * mesh_find_edge returns: its rotation runs counter-clockwise from vtri[x]'s triangle, and the
+ * triangle right of x->y comes just before the one left of it, so x->y only if vtri[x] is the
+ * triangle left of x->y, else y->x. */
+static int32_t find_edge_cdt(const mesh *m, int32_t x, int32_t y) {
+    if (x < 0 || x >= m->nv || y < 0 || y >= m->nv) return -1;
+    int32_t sx = fan_start(m, x), sy = fan_start(m, y), ex = sx, ey = sy, h = -1;
+    if (sx < 0 || sy < 0) return mesh_find_edge(m, x, y);
+    for (int64_t guard = 3 * (int64_t)m->nt + 8; guard > 0; guard--) {
+        h = fan_step(m, &ex, sx, y);
+        if (h == -1) h = fan_step(m, &ey, sy, x);
+        if (h == -2) return -1;
+        if (h == -3) return mesh_find_edge(m, x, y);
+        if (h >= 0) break;
+    }
+    if (h < 0) return mesh_find_edge(m, x, y);
+    int32_t h1 = m->tv[h] == x ? h : m->tn[h]; /* x -> y */
+    if (h1 < 0) return mesh_find_edge(m, x, y);
+    return h1 / 3 == m->vtri[x] ? h1 : m->tn[h1];
+}
+
 /* Flips away the crossing edges so that edge a-b exists, then restores the Delaunay property
  * of the new edges (Sloan 1993). */
 static void sloan(mesh *m, int32_t a, int32_t b, ivec *q) {
@@ -257,7 +304,7 @@ static void sloan(mesh *m, int32_t a, int32_t b, ivec *q) {
             q->n -= q->head;
             q->head = 0;
         }
-        int32_t e = mesh_find_edge(m, x, y);
+        int32_t e = find_edge_cdt(m, x, y);
         if (e < 0 || m->tn[e] < 0) MESH_BUG("crossing edge %d-%d lost", x, y);
         int32_t u = m->tv[e], v = mesh_dest(m, e), w = mesh_apex(m, e), z = mesh_apex(m, m->tn[e]);
         if (geom_orient2d(X(m, z), X(m, v), X(m, w)) > 0 &&
@@ -278,7 +325,7 @@ static void sloan(mesh *m, int32_t a, int32_t b, ivec *q) {
         for (int32_t i = 0; i < newe.n; i += 2) {
             int32_t w = newe.a[i], z = newe.a[i + 1];
             if ((w == a && z == b) || (w == b && z == a)) continue;
-            int32_t e = mesh_find_edge(m, w, z);
+            int32_t e = find_edge_cdt(m, w, z);
             if (e < 0 || m->tn[e] < 0 || mesh_edge_constrained(m, e)) continue;
             int32_t f = m->tn[e], p = mesh_apex(m, e), s = mesh_apex(m, f);
             if (p < 0 || s < 0) continue;

@@ -68,6 +68,16 @@ int32_t mesh_seg_add(mesh *m, int32_t a, int32_t b, int32_t marker, uint8_t ifac
 /* Sets vtri for every vertex from the live triangles. */
 void mesh_rebuild_vtri(mesh *m);
 
+/* refine.c, for the parallel meshers (Local).  The interface subsegments (siface) that do not
+ * conform: the named splits (a neighbour's, which it made) this mesh could not make (the split
+ * point off its line for the triangles on this side), plus those still encroached (a vertex of
+ * a triangle beside them strictly inside the diametral circle) and not locally Delaunay (exact
+ * incircle) with both sides in this mesh.  *remote (if not NULL) gets the encroached ones whose
+ * other side is not in this mesh: only the two apexes together decide those (the caller asks
+ * the other side: par_check_interface_delaunay).  Refinement leaves none unless a split was
+ * refused (precision, the interface piece cap). */
+int64_t mesh_iface_defects(mesh *m, int64_t *remote);
+
 /* refine.c: called after every committed cavity when refinement is active. */
 void mesh_refine_free(mesh *m);
 

@@ -30,7 +30,11 @@
  * such a corner at the same distance from it is left alone: its small angle is forced by the
  * input.  Corners involving an interface segment get no such exemption (they are not corners
  * of the input).  Interface splits that would exhaust precision are refused identically on
- * every rank (decided from the name and the input coordinates).  Invariants:
+ * every rank (decided from the name and the input coordinates); an interface segment splits
+ * itself into at most MESH_RULES_IFACE_MAX_PIECES pieces.  Past the Steiner limit only
+ * encroached interface subsegments are still split (named splits and their cascades included):
+ * the merged parallel mesh must stay Delaunay across interfaces; what could not be split is
+ * counted for the caller (mesh_iface_defects).  Invariants:
  * the mesh stays a CDT; encroached subsegments never wait behind bad triangles; a split is never
  * undone; interface subsegments are only split at dyadic midpoints.
  */
@@ -62,9 +66,10 @@ struct mesh_refine_state {
     double floor2;            /* squared length floor: no new edge shorter (0: not computed yet) */
     int32_t *pieces, npieces; /* per segment: its subsegments (0: one, never split) */
     int32_t since_poll;
-    double area_budget; /* boundary splits may move the domain's area by this much in all
-                           (MESH_RULES_AREA_DRIFT of the area; < 0: not computed yet) */
-    double area_spent;  /* ... and have moved it by this much (signed: + grown) */
+    double area_budget;    /* boundary splits may move the domain's area by this much in all
+                              (MESH_RULES_AREA_DRIFT of the area; < 0: not computed yet) */
+    double area_spent;     /* ... and have moved it by this much (signed: + grown) */
+    int64_t named_refused; /* named splits this mesh could not make (mesh_iface_defects) */
 };
 
 static const double *X(const mesh *m, int32_t v) {
@@ -363,8 +368,14 @@ static int split_subseg(mesh *m, int32_t r, int notify) {
         m->stats.unresolved++;
         return -1;
     }
-    /* a region too thin for its length: at most MESH_RULES_MAX_PIECES pieces per segment */
-    if (!iface) {
+    /* a region too thin for its length: at most MESH_RULES_MAX_PIECES pieces per segment; an
+     * interface segment splits itself (notify: its own decision, not a neighbour's request) into
+     * at most MESH_RULES_IFACE_MAX_PIECES: two interfaces meeting at a tiny angle (a decomposition
+     * of an input refinement cannot resolve) split each other's pieces practically forever
+     * otherwise. The pieces on the two sides then differ only by what the other side split, which
+     * it sends: the merged mesh still conforms; an interface left encroached is reported afterwards
+     * (mesh_iface_defects) */
+    {
         mesh_refine_state *rs = m->rf;
         if (rs->npieces < m->nseg) {
             rs->pieces = mesh_xrealloc(rs->pieces, (size_t)m->nseg, sizeof *rs->pieces);
@@ -372,7 +383,8 @@ static int split_subseg(mesh *m, int32_t r, int notify) {
                    (size_t)(m->nseg - rs->npieces) * sizeof *rs->pieces);
             rs->npieces = m->nseg;
         }
-        if (rs->pieces[s.seg] >= MESH_RULES_MAX_PIECES - 1) {
+        if (iface ? notify && rs->pieces[s.seg] >= MESH_RULES_IFACE_MAX_PIECES - 1
+                  : rs->pieces[s.seg] >= MESH_RULES_MAX_PIECES - 1) {
             m->stats.unresolved++;
             return -1;
         }
@@ -400,7 +412,7 @@ static int split_subseg(mesh *m, int32_t r, int notify) {
     mesh_ss_add(m, s.u, v, s.seg, nl, k0);
     mesh_ss_add(m, v, s.v, s.seg, nl, k1);
     m->stats.seg_splits++;
-    if (!iface) m->rf->pieces[s.seg]++;
+    m->rf->pieces[s.seg]++;
     m->rf->since_poll++;
     push_enc(m, s.u, v, 0);
     push_enc(m, v, s.v, 0);
@@ -422,13 +434,51 @@ static int steiner_limit(const mesh *m) {
     return m->q.max_steiner >= 0 && (int64_t)(m->nv - m->ninput) >= m->q.max_steiner;
 }
 
-/* Drains the encroached-subsegment queue.  Returns the number of subsegments split; stops
- * early (leaving the queue) when respect_limit and the Steiner limit is reached. */
-static int64_t drain_enc(mesh *m, int respect_limit) {
+/* At the Steiner limit: splits the queued interface subsegments that are still encroached (a
+ * vertex inside the diametral circle) and keeps every other entry queued, in order.  An
+ * interface edge is no constraint of the input: the merged parallel mesh must be Delaunay across
+ * it, which an encroached one may not be (the validator would refuse the mesh), so the limit
+ * stops the refinement's own decisions but not these splits; their cascade stays on the
+ * interfaces (input subsegments are never split here) and each split still notifies the other
+ * side.  A mesh with no interface segment (./mesh) keeps its queue as it was. */
+static int64_t drain_iface_at_limit(mesh *m) {
+    mesh_refine_state *r = m->rf;
+    int64_t done = 0;
+    int32_t *kept = NULL, nkept = 0, cap = 0;
+    while (r->enchead < r->nenc) {
+        int32_t u = r->enc[r->enchead], v = r->enc[r->enchead + 1];
+        int forced = r->enc[r->enchead + 2];
+        r->enchead += 3;
+        int32_t rec = mesh_ss_find_pair(m, u, v);
+        if (rec >= 0 && m->siface[m->ss[rec].seg]) {
+            int32_t e = mesh_find_edge(m, u, v);
+            if (e < 0) MESH_BUG("subsegment %d-%d has a record but no edge", u, v);
+            if (encroached(m, e) && split_subseg(m, rec, 1) == 0) done++;
+            continue;
+        }
+        if (nkept + 3 > cap) {
+            cap = cap ? 2 * cap : 48;
+            kept = mesh_xrealloc(kept, (size_t)cap, sizeof *kept);
+        }
+        kept[nkept++] = u;
+        kept[nkept++] = v;
+        kept[nkept++] = forced;
+    }
+    r->nenc = r->enchead = 0;
+    for (int32_t i = 0; i < nkept; i += 3)
+        push_enc(m, kept[i], kept[i + 1], kept[i + 2]);
+    free(kept);
+    return done;
+}
+
+/* Drains the encroached-subsegment queue.  Returns the number of subsegments split.  Once the
+ * Steiner limit is reached only encroached interface subsegments are split
+ * (drain_iface_at_limit); the other entries stay queued. */
+static int64_t drain_enc(mesh *m) {
     mesh_refine_state *r = m->rf;
     int64_t done = 0;
     while (r->enchead < r->nenc) {
-        if (respect_limit && steiner_limit(m)) return done;
+        if (steiner_limit(m)) return done + drain_iface_at_limit(m);
         int32_t u = r->enc[r->enchead], v = r->enc[r->enchead + 1];
         int forced = r->enc[r->enchead + 2];
         r->enchead += 3;
@@ -446,7 +496,7 @@ static int64_t drain_enc(mesh *m, int respect_limit) {
 /* Splits the subsegments queued because of bad triangle t; t goes back to the queue only if
  * something was split, so an unsplittable subsegment (precision exhausted) cannot loop. */
 static void split_for(mesh *m, int32_t t) {
-    if (drain_enc(m, 1) > 0) push_bad(m, t);
+    if (drain_enc(m) > 0) push_bad(m, t);
 }
 
 /* ---- bad triangles --------------------------------------------------------------------------*/
@@ -609,7 +659,7 @@ mesh_refine_result mesh_refine(mesh *m) {
     mesh_refine_state *r = rf_get(m);
     if (r->need_scan) scan(m);
     for (;;) {
-        drain_enc(m, 1);
+        drain_enc(m);
         if (r->enchead < r->nenc) return MESH_REFINE_STEINER_LIMIT;
         if (r->since_poll >= m->hooks.poll_every && m->hooks.poll) {
             r->since_poll = 0;
@@ -633,6 +683,23 @@ mesh_refine_result mesh_refine(mesh *m) {
     }
 }
 
+/* 1 iff v is a small-angle corner of the input alone: two non-interface segments meet there
+ * below 60 degrees (is_corner counts the decomposition's interface segments too, which the
+ * validator does not: a skinny triangle at such a vertex is not forced by the input).  The same
+ * as is_corner in a mesh with no interface segment. */
+static int input_corner(const mesh *m, int32_t v) {
+    if (!is_corner(m, v)) return 0;
+    for (int32_t i = m->inc_off[v]; i < m->inc_off[v + 1]; i++)
+        for (int32_t j = i + 1; j < m->inc_off[v + 1]; j++) {
+            int32_t s1 = m->inc_seg[i], s2 = m->inc_seg[j];
+            if (m->siface[s1] || m->siface[s2]) continue;
+            int32_t o1 = m->seg[2 * s1] == v ? m->seg[2 * s1 + 1] : m->seg[2 * s1];
+            int32_t o2 = m->seg[2 * s2] == v ? m->seg[2 * s2 + 1] : m->seg[2 * s2];
+            if (geom_angle_deg(X(m, o1), X(m, v), X(m, o2)) < 60.0) return 1;
+        }
+    return 0;
+}
+
 int64_t mesh_count_unmet(mesh *m, int64_t *forced) {
     mesh_refine_state *r = rf_get(m);
     int64_t unmet = 0, nforced = 0;
@@ -644,7 +711,7 @@ int64_t mesh_count_unmet(mesh *m, int64_t *forced) {
         if (why == MESH_BAD_ANGLE) {
             const int32_t *tv = m->tv + 3 * (size_t)t;
             int32_t u = tv[sh], v = tv[(sh + 1) % 3];
-            if (is_corner(m, tv[0]) || is_corner(m, tv[1]) || is_corner(m, tv[2]) ||
+            if (input_corner(m, tv[0]) || input_corner(m, tv[1]) || input_corner(m, tv[2]) ||
                 on_corner_segments(m, u, v)) {
                 nforced++;
                 continue;
@@ -673,13 +740,14 @@ mesh_split_result mesh_split_subsegment_named(mesh *m, int32_t seg, int32_t leve
                 int32_t jl = m->ss[r].level;
                 if (split_subseg(m, r, 0) != 0) {
                     m->stats.named_already++;
-                    drain_enc(m, 0);
+                    m->rf->named_refused++;
+                    drain_enc(m);
                     return MESH_SPLIT_ALREADY;
                 }
                 r = mesh_ss_find_name(m, seg, jl + 1, k >> (level - jl - 1));
                 if (r < 0) { /* not dyadic below (a shell split): nothing named is left */
                     m->stats.named_already++;
-                    drain_enc(m, 0);
+                    drain_enc(m);
                     return MESH_SPLIT_ALREADY;
                 }
             }
@@ -695,10 +763,29 @@ mesh_split_result mesh_split_subsegment_named(mesh *m, int32_t seg, int32_t leve
     }
     if (split_subseg(m, r, 0) != 0) {
         m->stats.named_already++;
-        drain_enc(m, 0);
+        m->rf->named_refused++;
+        drain_enc(m);
         return MESH_SPLIT_ALREADY;
     }
     m->stats.named_done++;
-    drain_enc(m, 0);
+    drain_enc(m);
     return MESH_SPLIT_DONE;
+}
+
+int64_t mesh_iface_defects(mesh *m, int64_t *remote) {
+    int64_t n = rf_get(m)->named_refused, nr = 0;
+    for (int32_t i = 0; i < m->nss; i++) {
+        const mesh_subseg *s = &m->ss[i];
+        if (s->level == -2 || !m->siface[s->seg]) continue;
+        int32_t e = mesh_find_edge(m, s->u, s->v);
+        if (e < 0 || !encroached(m, e)) continue;
+        int32_t f = m->tn[e]; /* both sides here: what counts is the Delaunay test, exact */
+        if (f < 0)
+            nr++;
+        else if (geom_incircle(X(m, m->tv[e]), X(m, mesh_dest(m, e)), X(m, mesh_apex(m, e)),
+                               X(m, mesh_apex(m, f))) > 0)
+            n++;
+    }
+    if (remote) *remote = nr;
+    return n;
 }

@@ -139,6 +139,15 @@ int mesh_rules_drift_spend(const double pu[2], const double pv[2], const double 
  * floor: the refusal budget then ends refinement with "cannot meet the bounds". */
 #define MESH_RULES_MAX_PIECES ((int32_t)1 << 20)
 
+/* At most this many pieces an interface segment of a parallel decomposition splits itself into
+ * (its own decisions; a neighbour's requests are always applied).  Two segments meeting at an
+ * angle t (radians) encroach each other's pieces until they are shorter than about t times
+ * their distance from the vertex: about 1 / t pieces per doubling of that distance, which a
+ * decomposition of a degenerate input (cuts 1e-10 degrees apart) makes practically endless.
+ * Room for a cut through 10^9 triangles; PCDM refuses decompositions with interfaces meeting
+ * below 1 / MESH_RULES_IFACE_MAX_PIECES radians (pcdm_part_build). */
+#define MESH_RULES_IFACE_MAX_PIECES ((int32_t)1 << 16)
+
 /* The input facts the forced-angle rule needs (pointers borrowed from the caller). */
 typedef struct mesh_rules_input {
     int32_t ninput;                   /* input vertices are 0 .. ninput-1 */
