@@ -305,7 +305,8 @@ typedef enum { MESH_SPLIT_DONE, MESH_SPLIT_ALREADY, MESH_SPLIT_NOT_FOUND } mesh_
  * split down to the named one.  A subsegment already split here gives MESH_SPLIT_ALREADY
  * (counted, not an error); a segment with no subsegment here gives MESH_SPLIT_NOT_FOUND.
  * Subsegments the new vertex encroaches are split too (locally, calling on_split for
- * interface ones; past the Steiner limit, interface ones only); new bad triangles are queued for the next mesh_refine.  Local. */
+ * interface ones; past the Steiner limit, interface ones only); new bad triangles are queued for
+ * the next mesh_refine.  Local. */
 mesh_split_result mesh_split_subsegment_named(mesh *m, int32_t seg, int32_t level, int64_t k);
 
 /* Dyadic split point of the subsegment (level, k) of segment a-b: a + (b-a)*((2k+1)/2^(j+1)),
