@@ -82,9 +82,8 @@ enum {
     RS_BLKMAX,  /* most tasks blocked at once */
     RS_BLKSUM,  /* seconds tasks spent blocked, summed */
     RS_BLKTMAX, /* longest single wait, seconds */
-    RS_GHOSTED, /* committed cavities kept local by ghosts (a link update instead of locks) */
+    RS_GHOSTED, /* committed cavities kept local by ghosts (a tombstone instead of locks) */
     RS_FORWARD, /* stale links forwarded through a tombstone */
-    RS_LINKS,   /* link updates (several per LINK RSR) */
     RS_IFEDGES, /* rank boundary edges (each counted by both sides) */
     RS_IFLEN,   /* their length */
     RS_SELF,    /* RSRs a rank sent to itself (not in rsr=, which counts communication) */
@@ -142,7 +141,6 @@ int main(int argc, char **argv) {
     rs[RS_POSTPONED] = (double)res.postponed;
     rs[RS_GHOSTED] = (double)res.ghosted;
     rs[RS_FORWARD] = (double)res.forwarded;
-    rs[RS_LINKS] = (double)res.links;
     rs[RS_IFEDGES] = (double)res.iface_edges;
     rs[RS_IFLEN] = res.iface_len;
     rs[RS_LIMIT] = res.limit_hit;
@@ -219,12 +217,11 @@ int main(int argc, char **argv) {
             printf("rank %d: triangles=%.0f inserted=%.0f splits=%.0f cav_local=%.0f "
                    "cav_remote=%.0f undone_local=%.0f undone_remote=%.0f parked=%.0f "
                    "rsr_sent=%.0f busy_s=%.3f idle_s=%.3f handler_s=%.3f comm_s=%.3f "
-                   "undo_s=%.4f output_s=%.3f peak_rss_mb=%.1f bytes_per_tri=%.1f "
-                   "link_sent=%.0f\n",
+                   "undo_s=%.4f output_s=%.3f peak_rss_mb=%.1f bytes_per_tri=%.1f\n",
                    r, x[RS_NTRIS], x[RS_INSERTED], x[RS_SPLITS], x[RS_CLOCAL], x[RS_CREMOTE],
                    x[RS_ULOCAL], x[RS_UREMOTE], x[RS_PARKED], x[RS_RSR], x[RS_BUSY], x[RS_IDLE],
                    x[RS_HANDLER], x[RS_COMM], x[RS_UNDO], x[RS_OUT], x[RS_RSS] / 1048576.0,
-                   x[RS_RSS] / (x[RS_NTRIS] > 0 ? x[RS_NTRIS] : 1), x[RS_KIND0 + PBW_RSR_LINK]);
+                   x[RS_RSS] / (x[RS_NTRIS] > 0 ? x[RS_NTRIS] : 1));
         }
         printf("rsr:");
         for (int k = 0; k < PBW_RSR_NKINDS; k++)
@@ -233,10 +230,10 @@ int main(int argc, char **argv) {
         printf("cavities: local=%.0f remote=%.0f undone_local=%.0f undone_remote=%.0f "
                "parked=%.0f rejected=%.0f failed=%.0f skipped_small=%.0f postponed=%.0f "
                "unresolved=%.0f forced=%.0f ghosted=%.0f forwarded=%.0f "
-               "link_updates=%.0f iface_edges=%.0f iface_len=%.4f\n",
+               "iface_edges=%.0f iface_len=%.4f\n",
                tot[RS_CLOCAL], tot[RS_CREMOTE], tot[RS_ULOCAL], tot[RS_UREMOTE], tot[RS_PARKED],
                tot[RS_REJECTED], tot[RS_FAILED], tot[RS_SKIPPED], tot[RS_POSTPONED],
-               tot[RS_UNRESOLVED], tot[RS_FORCED], tot[RS_GHOSTED], tot[RS_FORWARD], tot[RS_LINKS],
+               tot[RS_UNRESOLVED], tot[RS_FORCED], tot[RS_GHOSTED], tot[RS_FORWARD],
                tot[RS_IFEDGES] / 2, tot[RS_IFLEN] / 2);
         double ncav = tot[RS_CLOCAL] + tot[RS_CREMOTE];
         printf("blocking: tasks_blocked=%.0f most_at_once=%.0f wait_sum_s=%.4f wait_max_s=%.4f "

@@ -58,9 +58,6 @@
  * (and the wasted expansion time, which goes to RT_TIME_UNDO).  Locks are held until the
  * owner applies the commit, so nobody follows a link that is being rewritten; a link to a slot
  * reserved by a cavity whose commit has not arrived yet finds that slot locked.
- * LINKS (below) are one-way and only shorten forward chains, so they wait in a buffer until
- * the rank runs out of local work (or LINK_BATCH of them pile up): one LINK RSR per
- * destination then carries them all.
  *
  * GHOSTS (issue 13).  Of the two triangles on a rank boundary edge, the one on the LOWER rank
  * keeps a ghost of the other: its apex (gx, a vertex slot; the edge's vertices are its own),
@@ -70,20 +67,23 @@
  * as B would (incircle; across a constraint no test): n in conflict is visited (locked) as
  * before; otherwise n is NOT locked -- A reports the edge itself, with the new triangle T on A,
  * so a cavity whose remote neighbours are all unconflicted stays local.  Its commit writes T's
- * link to n, makes x a TOMBSTONE (dead, never reused, keeping across that edge a forward link
- * to T) and sends B a one-way LINK (n's link := T; buffered, one RSR per rank per work step).
+ * link to n and makes x a TOMBSTONE (dead, never reused, keeping across that edge a forward
+ * link to T); B is not told (n keeps its link to x), so a ghost commit sends nothing at all.
  * Why the ghost is exact: n only dies in a cavity that has n as a member, expanded on B; B is
  * the higher rank, so B never uses a ghost of A's side: it locks the triangle across (x, or T
  * through the tombstones), and that cavity's commit rewrites A's link (and ghost) before the
  * lock is released; so while A's triangle is unlocked and links n, n is alive and unchanged.
  * (Both sides deciding on ghosts at once could leave a non-Delaunay edge between the two new
- * fans: hence the rank order.)  Why a stale link is harmless: until LINK arrives (or for ever,
- * if n changed meanwhile: LINK applies only while n still links to a triangle of A, and an
- * older LINK arriving late points n at a tombstone, which is still correct), n links the
- * tombstone x; an expansion that follows it arrives at A, which follows the forward links to
- * the live triangle on that edge (pbw_resolve_tomb) and goes on from there; if that triangle
- * is the one the expansion came from (seed.back), the seed is the edge it came in through and
- * is dropped.  Nothing else reads a remote link.  So LINK only shortens forward chains.
+ * fans: hence the rank order.)  Why the stale link is harmless: n links the tombstone x until
+ * a cavity of B's rewrites it; an expansion that follows it arrives at A, as it would with a
+ * fresh link (x and T are both A's), and A follows the forward links to the live triangle on
+ * that edge (pbw_resolve_tomb) and goes on from there; if that triangle is the one the
+ * expansion came from (seed.back), the seed is the edge it came in through and is dropped.
+ * Nothing else reads a remote link but the end's statistics, which need only its rank.  A
+ * chain grows by one each time A replaces the triangle on that edge by a ghost commit, a few
+ * local hops at most.  (Measured, issue 13: a one-way LINK message that pointed n at T saved
+ * nothing but those hops and was 9-10% of PBW's RSRs at 8 ranks on the Tables 2/3 and 1M
+ * runs; without it the CPU time did not change.)
  *
  * CONFLICTS AND PROGRESS (wait-die).  Each cavity has a priority stamp (Lamport clock, rank),
  * kept across retries of the same work item; smaller = older.  When an expansion meets a
@@ -136,8 +136,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-const char *const pbw_rsr_kind_name[PBW_RSR_NKINDS] = {"expansion", "reply", "release", "commit",
-                                                       "split",     "wake",  "link"};
+const char *const pbw_rsr_kind_name[PBW_RSR_NKINDS] = {"expansion", "reply", "release",
+                                                       "commit",    "split", "wake"};
 
 int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat *local,
              pbw_result *res) {
@@ -193,9 +193,8 @@ int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat 
         C->res.phase1_s = rt_wtime() - t0;
     }
     rt_run(pbw_work, C);
-    if (C->npk != 0 || C->inflight != 0 || C->nlbuf != 0)
-        MESH_BUG("%d parked, %d in flight, %d link updates unsent at the end", C->npk, C->inflight,
-                 C->nlbuf);
+    if (C->npk != 0 || C->inflight != 0)
+        MESH_BUG("%d parked, %d in flight at the end", C->npk, C->inflight);
     for (int32_t i = 0; i < C->nhd; i++)
         if (C->hd[i].active)
             MESH_BUG("cavity %llx still holds locks", (unsigned long long)C->hd[i].key);

@@ -28,7 +28,6 @@ enum {
     PBW_RSR_COMMIT,  /* create the new triangles, fix links, unlock */
     PBW_RSR_SPLIT,   /* split an encroached boundary subsegment (sent to its owner) */
     PBW_RSR_WAKE,    /* a lock a died cavity ran into was released: retry */
-    PBW_RSR_LINK,    /* one-way: a ghost neighbour's link to the new triangle beside it */
     PBW_RSR_NKINDS
 };
 
@@ -50,17 +49,16 @@ typedef struct pbw_result {
     int64_t skipped_small;   /* bad triangles left alone: small angle forced by the input */
     int64_t failed;          /* insertions abandoned (degenerate / not star-shaped) */
     int64_t postponed;       /* --phases: nonlocal cavities put off to phase 2 */
-    int64_t ghosted;     /* committed local cavities with a ghost edge (a link update, no lock) */
-    int64_t forwarded;   /* seeds that followed a stale link through a tombstone */
-    int64_t links;       /* link updates sent (several go in one LINK RSR) */
-    int64_t iface_edges; /* edges of this rank's triangles whose neighbour is on another rank */
-    double iface_len;    /* their summed length (each rank boundary edge counted by both sides) */
-    int64_t unresolved;  /* refusals: a new edge would be below the length floor */
-    int64_t unmet;       /* this rank's triangles outside the bounds at the end, not forced */
-    int64_t forced;      /* this rank's triangles below the angle bound forced by the input */
-    int gave_up;         /* refusals passed the budget: this rank stopped refining */
-    int limit_hit;       /* the Steiner limit stopped this rank */
-    int32_t pre_tris;    /* triangles of the initial mesh (all ranks, before distribution) */
+    int64_t ghosted;         /* committed local cavities with a ghost edge (a tombstone, no lock) */
+    int64_t forwarded;       /* seeds that followed a stale link through a tombstone */
+    int64_t iface_edges;     /* edges of this rank's triangles whose neighbour is on another rank */
+    double iface_len;   /* their summed length (each rank boundary edge counted by both sides) */
+    int64_t unresolved; /* refusals: a new edge would be below the length floor */
+    int64_t unmet;      /* this rank's triangles outside the bounds at the end, not forced */
+    int64_t forced;     /* this rank's triangles below the angle bound forced by the input */
+    int gave_up;        /* refusals passed the budget: this rank stopped refining */
+    int limit_hit;      /* the Steiner limit stopped this rank */
+    int32_t pre_tris;   /* triangles of the initial mesh (all ranks, before distribution) */
     uint64_t rsr_sent[PBW_RSR_NKINDS]; /* RSRs this rank sent to other ranks, by kind */
     uint64_t rsr_self;                 /* RSRs it sent to itself (a reply to its own task) */
     double phase1_s;                   /* --phases: seconds of phase 1 (0 otherwise) */

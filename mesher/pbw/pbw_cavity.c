@@ -4,8 +4,8 @@
  * slots, stale links forwarded by tombstones, see GHOSTS in pbw.c), and its
  * outcome: the commit (one message per participant with its new triangles) or the release
  * everywhere (undo), the rejection of a point that encroaches subsegments (which are split
- * instead), and the failures (not star-shaped, a member reached twice); the link updates a
- * commit owes the owners of its ghosts.  The protocol and its progress argument are in pbw.c.
+ * instead), and the failures (not star-shaped, a member reached twice, a split point off its
+ * line).  The protocol and its progress argument are in pbw.c.
  * Invariant: nothing is written until every triangle the commit touches is locked or is a
  * ghost whose apex is exact, so an undo is only a release of locks. */
 #include "pbw/pbw_impl.h"
@@ -189,7 +189,7 @@ int pbw_process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial) {
         if (ref_rank(s.target) != C->rank || x < 0 || x >= C->M.nt)
             MESH_BUG("seed names triangle (%d, %d)", ref_rank(s.target), x);
         if (s.mode != SEED_START && ROLE(C, x) == ROLE_TOMB) {
-            /* a stale link (its LINK is in flight): the triangle on that edge now */
+            /* a stale link (a ghost commit replaced x): the triangle on that edge now */
             int32_t y = pbw_resolve_tomb(C, x, s.ga, s.gb);
             int jy = pbw_find_edge(C, y, s.gb, s.ga);
             if (TN(C, 3 * (size_t)y + (size_t)jy) != s.from)
@@ -359,12 +359,8 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
         if (C->M.treg) C->M.treg[s] = r->reg; /* the member's on its edge: same side of segments */
         C->nlive++;
         if (r->nb[0] != NOREF && ref_rank(r->nb[0]) != C->rank) {
-            /* a ghost: its owner gets a one-way link update (GHOSTS, pbw.c) */
+            /* a ghost: its owner keeps its link to the tombstone, which forwards (GHOSTS, pbw.c) */
             if (GX(C, 3 * (size_t)s) < 0) MESH_BUG("ghost edge of slot %d without its apex", s);
-            pbw_link_msg l = {r->nb[0], r->g[0], r->g[1], mkref(C->rank, s)};
-            MESH_GROW(C->lbuf, C->nlbuf, C->lbufcap);
-            C->lbuf[C->nlbuf++] = l;
-            C->res.links++;
         } else if (r->nb[0] != NOREF) {
             int32_t x = ref_idx(r->nb[0]);
             int j = alive(C, x) ? pbw_find_edge(C, x, r->g[1], r->g[0]) : -1;
@@ -660,45 +656,4 @@ int32_t pbw_resolve_tomb(pbw_ctx *C, int32_t x, int64_t ga, int64_t gb) {
         MESH_BUG("forward link ends at slot %d, which has no edge %lld->%lld", x, (long long)gb,
                  (long long)ga);
     return x;
-}
-
-/* Applies a link update (target's edge gb->ga now borders newref, sent by rank src): only if
- * target is alive, has that edge and still links it to a triangle of src (anything else is a
- * newer state; a link left on one of src's tombstones is forwarded there).  1 if applied. */
-int pbw_apply_link(pbw_ctx *C, const pbw_link_msg *l, int src) {
-    int32_t n = ref_idx(l->target);
-    if (ref_rank(l->target) != C->rank || ref_rank(l->newref) != src)
-        MESH_BUG("link update for (%d, %d) from rank %d", ref_rank(l->target), n, src);
-    if (!alive(C, n)) return 0;
-    int j = pbw_find_edge(C, n, l->gb, l->ga);
-    if (j < 0) return 0;
-    size_t e = 3 * (size_t)n + (size_t)j;
-    if (TN(C, e) == NOREF || ref_rank(TN(C, e)) != src) return 0;
-    pbw_tn_set(C, e, l->newref);
-    pbw_gx_set(C, e, -1); /* src is the lower rank: this side never decides on a ghost of it */
-    return 1;
-}
-
-static int link_cmp(const void *a, const void *b) {
-    int ra = ref_rank(((const pbw_link_msg *)a)->target);
-    int rb = ref_rank(((const pbw_link_msg *)b)->target);
-    return (ra > rb) - (ra < rb);
-}
-
-/* Sends the buffered link updates: one LINK RSR per destination rank with all of its updates
- * (they are one-way and may be late: a stale link is forwarded by the tombstones).  Called at
- * the end of each work step, commit handler and cavity task, so none is left when rt_run ends. */
-void pbw_flush_links(pbw_ctx *C) {
-    if (C->nlbuf == 0) return;
-    qsort(C->lbuf, (size_t)C->nlbuf, sizeof *C->lbuf, link_cmp);
-    for (int32_t i = 0; i < C->nlbuf;) {
-        int32_t k = i, r = ref_rank(C->lbuf[i].target);
-        while (k < C->nlbuf && ref_rank(C->lbuf[k].target) == r)
-            k++;
-        size_t len = (size_t)(k - i) * sizeof *C->lbuf;
-        if (len > MAXMSG) MESH_BUG("link message of %zu bytes", len);
-        rt_rsr(r, C->hid[PBW_RSR_LINK], &C->lbuf[i], (uint32_t)len);
-        i = k;
-    }
-    C->nlbuf = 0;
 }

@@ -80,8 +80,6 @@ enum { IT_BAD = 0, IT_SPLIT = 1 };
 
 #define MAXMSG (1u << 28)
 
-#define LINK_BATCH 4096 /* buffered link updates that force a flush before the rank is idle */
-
 /* ---- wire formats (every handler payload is a plain struct or a header + arrays) -------- */
 
 typedef struct pbw_seed { /* visit triangle target, reached from member `from` across ga->gb */
@@ -159,11 +157,6 @@ typedef struct pbw_newtri {
     int64_t in;        /* the member on edge a-b (its owner tombstones it if nb[0] is remote) */
 } pbw_newtri;
 _Static_assert(sizeof(pbw_newtri) == 136, "pbw_newtri layout");
-
-typedef struct pbw_link_msg { /* one-way: target's edge gb->ga now borders newref */
-    int64_t target, ga, gb, newref;
-} pbw_link_msg;
-_Static_assert(sizeof(pbw_link_msg) == 32, "pbw_link_msg layout");
 
 /* ---- local state and the context -------------------------------------------------------- */
 
@@ -297,8 +290,6 @@ struct pbw_ctx {
     int32_t npk, pkcap;
     pbw_cav **dy; /* tasks whose DIE reply arrived, not yet run */
     int32_t ndy, dycap;
-    pbw_link_msg *lbuf; /* link updates not sent yet (pbw_flush_links) */
-    int32_t nlbuf, lbufcap;
     int draining;
     int inflight;
     int max_inflight; /* distributed cavities in flight at most (--inflight; MAX_INFLIGHT) */
@@ -566,16 +557,6 @@ void pbw_committed(pbw_ctx *C, pbw_cav *c, int remote);
 /* A stale link (a seed across ga->gb naming tombstone slot x): the live triangle now on that
  * edge, following the tombstones' forward links, or -1 if x is not a tombstone. */
 int32_t pbw_resolve_tomb(pbw_ctx *C, int32_t x, int64_t ga, int64_t gb);
-
-/* Applies a link update (target's edge gb->ga now borders newref, sent by rank src): only if
- * target is alive, has that edge and still links it to a triangle of src (anything else is a
- * newer state; a link left on one of src's tombstones is forwarded there).  1 if applied. */
-int pbw_apply_link(pbw_ctx *C, const pbw_link_msg *l, int src);
-
-/* Sends the buffered link updates: one LINK RSR per destination rank with all of its updates
- * (they are one-way and may be late: a stale link is forwarded by the tombstones).  Called at
- * the end of each work step, commit handler and cavity task, so none is left when rt_run ends. */
-void pbw_flush_links(pbw_ctx *C);
 
 /* ---- pbw_local.c: the local fast path ------------------------------------------------- */
 

@@ -1,5 +1,5 @@
 /* pbw_proto.c: PBW's remote service requests (TR-97-17 section 2, Table 1): the handlers
- * (EXPAND, REPLY, RELEASE, COMMIT, SPLIT, WAKE, LINK), the chains of remote expansion (a cavity
+ * (EXPAND, REPLY, RELEASE, COMMIT, SPLIT, WAKE), the chains of remote expansion (a cavity
  * grows on a rank, then is forwarded to the next rank with pending seeds, the last one replies
  * to the waiting task), the parking of an older cavity behind a younger lock (wait-die), and
  * the task that waits for a distributed cavity's reply in the runtime's blocking queue.  The
@@ -195,15 +195,6 @@ static void h_split(const rt_msg *m, void *arg) {
     pbw_iv_push(&C->splitq, &it);
 }
 
-static void h_link(const rt_msg *m, void *arg) {
-    pbw_ctx *C = handler_ctx(arg);
-    if (m->len == 0 || m->len % sizeof(pbw_link_msg) != 0)
-        MESH_BUG("malformed link message (%u bytes)", (unsigned)m->len);
-    const pbw_link_msg *l = m->data;
-    for (uint32_t i = 0; i < m->len / sizeof(pbw_link_msg); i++)
-        pbw_apply_link(C, &l[i], m->src);
-}
-
 static void h_wake(const rt_msg *m, void *arg) {
     pbw_ctx *C = handler_ctx(arg);
     const pbw_wake_msg *w = m->data;
@@ -257,7 +248,6 @@ int pbw_register(void) {
         {"pbw_commit", h_commit, RT_NONTHREADED | RT_VARSIZE, MAXMSG},
         {"pbw_split", h_split, RT_NONTHREADED, sizeof(pbw_split_msg)},
         {"pbw_wake", h_wake, RT_NONTHREADED, sizeof(pbw_wake_msg)},
-        {"pbw_link", h_link, RT_NONTHREADED | RT_VARSIZE, MAXMSG},
     };
     for (int k = 0; k < PBW_RSR_NKINDS; k++) {
         int id =

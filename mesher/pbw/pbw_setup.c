@@ -359,7 +359,7 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
 void pbw_ctx_free(pbw_ctx *C) {
     mesh_free(&C->M);
     free(C->vgid), free(C->vh), free(C->own);
-    free(C->lbuf), free(C->con), free(C->lkk), free(C->lkv);
+    free(C->con), free(C->lkk), free(C->lkv);
     free(C->reg_attr), free(C->reg_area);
     free(C->seg), free(C->pieces), free(C->smarker), free(C->in_vmarker), free(C->inc_off),
         free(C->inc_seg);

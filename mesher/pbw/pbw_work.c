@@ -305,11 +305,7 @@ int pbw_work(void *ctx) {
     }
     if (C->stopped) {
         drop_all_items(C);
-        pbw_flush_links(C);
         return did ? RT_WORK_BUSY : RT_WORK_IDLE;
     }
-    int busy = did || has_items(C);
-    /* link updates wait until the rank runs out of work (LINKS, pbw.c), or pile up */
-    if (!busy || C->nlbuf >= LINK_BATCH) pbw_flush_links(C);
-    return busy ? RT_WORK_BUSY : RT_WORK_IDLE;
+    return did || has_items(C) ? RT_WORK_BUSY : RT_WORK_IDLE;
 }
