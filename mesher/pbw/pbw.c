@@ -3,7 +3,7 @@
  * task-parallel, with remote cavity expansion, locking and undo.
  *
  * MESH.  Every rank builds the same CDT of the input (with an area bound, refined identically
- * on every rank by the sequential refiner to about 32 triangles per rank, and at least 16 times
+ * on every rank by the sequential refiner to about 256 triangles per rank, and at least 16 times
  * coarser than the bound, so that every rank owns a piece) and keeps the triangles whose
  * centroid lies in one of its subdomains (the decomposition only distributes the initial mesh;
  * no artificial constraint exists).  A triangle lives in a slot of its owner, and a rank's

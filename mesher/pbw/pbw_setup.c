@@ -85,8 +85,14 @@ static int32_t *dup_i32(const int32_t *a, size_t n) {
  * (identically on every rank, by the sequential refiner) to about PRE_TRIS_PER_RANK triangles
  * per rank but at least PRE_COARSEN times coarser than the bound, so that every rank owns a
  * piece of it (the CDT of a square has two triangles) while nearly all the work is left to the
- * parallel phase. */
-#define PRE_TRIS_PER_RANK 32.0
+ * parallel phase.  The initial triangles are the grain of the distribution: a rank owns the
+ * ones whose centroid lies in its subdomains, so coarser ones follow the subdomains' borders
+ * less closely.  Measured (issue 13, lake, -q 20.7): at 32 per rank the 8 ranks of a 1M run
+ * ended with 73K-167K triangles; at 256, 103K-144K, the busiest rank's CPU 0.111-0.117 ->
+ * 0.092 s, and 8 ranks of the Tables 2/3 run sent 3.0-3.2K RSRs instead of 4.1-4.4K (at
+ * 1024 the balance is better still, but below 1M the PRE_COARSEN cap decides anyway, and the
+ * sequential part grows). */
+#define PRE_TRIS_PER_RANK 256.0
 
 #define PRE_COARSEN 16.0
 
