@@ -627,7 +627,7 @@ START_TEST(test_local_fast_path) {
         if (!alive(C, s)) continue;
         for (int j = 0; j < 3; j++) {
             on_p += C->M.tv[3 * s + j] == pv;
-            cons += CS(C, 3 * (size_t)s + (size_t)j) >= 0;
+            cons += SSEG(C, 3 * (size_t)s + (size_t)j) != NULL;
         }
     }
     ck_assert_int_eq(on_p, 3);

@@ -373,33 +373,25 @@ static int read_ele(const char *path, mesh_flat *m, int first, char *err, size_t
             lfail(err, errlen, path, line, "malformed triangle number");
             goto out;
         }
-        for (int k = 0; k < 3; k++) {
+        for (int k = 0; k < npt; k++) { /* three corners, then -o2's midside nodes */
+            const char *what = k < 3 ? "vertex" : "node";
             if (ele_int(&s, &v, &miss)) {
-                lfail(err, errlen, path, line, "%s vertex %d of triangle %ld",
-                      miss ? "missing" : "malformed", k + 1, t + first);
+                lfail(err, errlen, path, line, "%s %s %d of triangle %ld",
+                      miss ? "missing" : "malformed", what, k + 1, t + first);
                 goto out;
             }
             if (v < first || v >= (long)first + m->nverts) {
-                lfail(err, errlen, path, line, "triangle %ld: vertex %ld out of range [%d, %ld]",
-                      t + first, v, first, (long)first + m->nverts - 1);
+                lfail(err, errlen, path, line, "triangle %ld: %s %ld out of range [%d, %ld]",
+                      t + first, what, v, first, (long)first + m->nverts - 1);
                 goto out;
             }
-            m->tri[3 * t + k] = (int32_t)(v - first);
-        }
-        for (int k = 3; k < npt; k++) {
-            /* -o2's midside nodes: each must be the midpoint of the edge opposite corner k - 3,
-             * (a + b) / 2 as the writer computes it (exact under its power-of-two scaling);
-             * checked, not kept */
-            if (ele_int(&s, &v, &miss)) {
-                lfail(err, errlen, path, line, "%s node %d of triangle %ld",
-                      miss ? "missing" : "malformed", k + 1, t + first);
-                goto out;
+            if (k < 3) {
+                m->tri[3 * t + k] = (int32_t)(v - first);
+                continue;
             }
-            if (v < first || v >= (long)first + m->nverts) {
-                lfail(err, errlen, path, line, "triangle %ld: node %ld out of range [%d, %ld]",
-                      t + first, v, first, (long)first + m->nverts - 1);
-                goto out;
-            }
+            /* a midside node must be the midpoint of the edge opposite corner k - 3, (a + b) / 2
+             * as the writer computes it (exact under its power-of-two scaling); checked, not
+             * kept */
             const double *a = m->xy + 2 * (size_t)m->tri[3 * t + (k - 2) % 3],
                          *b = m->xy + 2 * (size_t)m->tri[3 * t + (k - 1) % 3],
                          *c = m->xy + 2 * (size_t)(v - first);

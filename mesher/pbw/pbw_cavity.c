@@ -116,10 +116,10 @@ void pbw_cav_unpack_into(pbw_cav *c, const void *data, uint32_t len) {
 }
 
 /* Reports boundary edge ga->gb (vertex slots la, lb here) and reserves the new triangle's
- * slot on this rank.  oapex: vertex id of out's apex if out is a ghost (not locked), else -1. */
+ * slot on this rank.  ss: its subsegment record (NULL: not a constraint edge).  oapex: vertex
+ * id of out's apex if out is a ghost (not locked), else -1. */
 static void report(pbw_ctx *C, pbw_cav *c, int32_t hi, int32_t la, int32_t lb, int64_t out,
-                   int64_t inref, int32_t cseg, int32_t clev, int64_t ck, int64_t oapex,
-                   int32_t reg) {
+                   int64_t inref, const mesh_subseg *ss, int64_t oapex, int32_t reg) {
     int32_t s = pbw_slot_alloc(C);
     pbw_lock_slot(C, s, hi, ROLE_RES);
     pbw_bnd r;
@@ -129,13 +129,13 @@ static void report(pbw_ctx *C, pbw_cav *c, int32_t hi, int32_t la, int32_t lb, i
     r.out = out;
     r.newref = mkref(C->rank, s);
     r.inref = inref;
-    r.cseg = cseg;
-    r.clev = clev;
-    r.ck = ck;
+    r.cseg = ss ? ss->seg : -1;
+    r.clev = ss ? ss->level : -1;
+    r.ck = ss ? ss->k : 0;
     r.oapex = oapex;
     r.reg = reg;
     if (geom_orient2d(VX(C, la), VX(C, lb), c->h.p) <= 0) r.flags |= BF_BEYOND;
-    if (cseg >= 0 && mesh_rules_encroaches(&C->R, VX(C, la), VX(C, lb), c->h.p)) r.flags |= BF_ENC;
+    if (ss && mesh_rules_encroaches(&C->R, VX(C, la), VX(C, lb), c->h.p)) r.flags |= BF_ENC;
     MESH_GROW(c->b, c->nb, c->bcap);
     c->b[c->nb++] = r;
 }
@@ -159,17 +159,17 @@ static void expand_member(pbw_ctx *C, pbw_cav *c, int32_t hi, int32_t x, int64_t
         int32_t g = ghost_side(C, n) ? GX(C, e) : -1; /* n = (lb, la, g), counter-clockwise */
         if (is_open_edge(c, ga, gb)) {
             if (n != NOREF) pbw_push_seed(C, c, n, self, from, ga, gb, SEED_OPEN);
-        } else if (CS(C, e) >= 0) {
+        } else if (mesh_edge_constrained(&C->M, (int32_t)e)) {
             if (n == NOREF)
-                report(C, c, hi, la, lb, NOREF, self, CS(C, e), CL(C, e), CK(C, e), -1, reg);
+                report(C, c, hi, la, lb, NOREF, self, SSEG(C, e), -1, reg);
             else if (g >= 0)
-                report(C, c, hi, la, lb, n, self, CS(C, e), CL(C, e), CK(C, e), C->vgid[g], reg);
+                report(C, c, hi, la, lb, n, self, SSEG(C, e), C->vgid[g], reg);
             else
                 pbw_push_seed(C, c, n, self, from, ga, gb, SEED_HALO);
         } else if (n == NOREF) {
-            report(C, c, hi, la, lb, NOREF, self, -1, -1, 0, -1, reg); /* cannot happen in a CDT */
+            report(C, c, hi, la, lb, NOREF, self, NULL, -1, reg); /* cannot happen in a CDT */
         } else if (g >= 0 && geom_incircle(VX(C, lb), VX(C, la), VX(C, g), c->h.p) <= 0) {
-            report(C, c, hi, la, lb, n, self, -1, -1, 0, C->vgid[g], reg);
+            report(C, c, hi, la, lb, n, self, NULL, C->vgid[g], reg);
         } else {
             pbw_push_seed(C, c, n, self, from, ga, gb, SEED_NORMAL);
         }
@@ -242,7 +242,7 @@ int pbw_process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial) {
             size_t e = 3 * (size_t)x + (size_t)j;
             /* x's edge is gb->ga: the cavity's edge ga->gb runs from x's vertex j+1 to j */
             report(C, c, hi, C->M.tv[3 * (size_t)x + (size_t)((j + 1) % 3)], C->M.tv[e],
-                   mkref(C->rank, x), s.from, CS(C, e), CL(C, e), CK(C, e), -1, s.reg);
+                   mkref(C->rank, x), s.from, SSEG(C, e), -1, s.reg);
             break;
         }
         case SEED_NORMAL:
@@ -257,7 +257,7 @@ int pbw_process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial) {
                 if (role == ROLE_NONE) pbw_lock_slot(C, x, hi, ROLE_HALO);
                 size_t e = 3 * (size_t)x + (size_t)j;
                 report(C, c, hi, C->M.tv[3 * (size_t)x + (size_t)((j + 1) % 3)], C->M.tv[e],
-                       mkref(C->rank, x), s.from, -1, -1, 0, -1, s.reg);
+                       mkref(C->rank, x), s.from, NULL, -1, s.reg);
             }
             break;
         default:
@@ -271,7 +271,7 @@ void pbw_check_new_triangle(pbw_ctx *C, int32_t t) {
     pbw_push_bad(C, t);
     for (int j = 0; j < 3; j++) {
         size_t e = 3 * (size_t)t + (size_t)j;
-        if (CS(C, e) < 0) continue;
+        if (!mesh_edge_constrained(&C->M, (int32_t)e)) continue;
         int32_t a = C->M.tv[e], b = C->M.tv[3 * (size_t)t + (size_t)((j + 1) % 3)],
                 o = C->M.tv[3 * (size_t)t + (size_t)((j + 2) % 3)];
         if (mesh_rules_encroaches(&C->R, VX(C, a), VX(C, b), VX(C, o))) {

@@ -258,9 +258,9 @@ struct pbw_ctx {
     uint32_t lkcap, lkn;
     int32_t nregion;
     double *reg_attr, *reg_area; /* per region: attribute, area bound in working units (0) */
-    /* input */
+    /* input (seg .. corner: the CDT's arrays, which M owns) */
     int32_t ninput, nseg;
-    int32_t *seg, *smarker, *in_vmarker, *inc_off, *inc_seg;
+    int32_t *seg, *smarker, *in_vmarker, *inc_off, *inc_seg; /* M's arrays (M owns them) */
     uint8_t *corner;
     int has_corners;
     /* quality: the shared rules (seq/rules.h) and the input facts they need */
@@ -335,22 +335,6 @@ static inline const mesh_subseg *SSEG(const pbw_ctx *C, size_t e) {
     const mesh_subseg *ss = mesh_subseg_of_edge(&C->M, (int32_t)e);
     if (!ss) MESH_BUG("constraint edge %zu without its subsegment record", e);
     return ss;
-}
-
-/* Edge e's constraint: its segment (-1: none), dyadic level and index. */
-static inline int32_t CS(const pbw_ctx *C, size_t e) {
-    const mesh_subseg *ss = SSEG(C, e);
-    return ss ? ss->seg : -1;
-}
-
-static inline int32_t CL(const pbw_ctx *C, size_t e) {
-    const mesh_subseg *ss = SSEG(C, e);
-    return ss ? ss->level : -1;
-}
-
-static inline int64_t CK(const pbw_ctx *C, size_t e) {
-    const mesh_subseg *ss = SSEG(C, e);
-    return ss ? ss->k : 0;
 }
 
 /* Edge e's ghost: the vertex slot of its remote neighbour's apex, or -1. */

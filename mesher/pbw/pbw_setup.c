@@ -75,12 +75,6 @@ static int owners(pbw_ctx *C, const mesh *m0, const pcdm_decomp *d, int32_t *own
     return 0;
 }
 
-static int32_t *dup_i32(const int32_t *a, size_t n) {
-    int32_t *b = mesh_xrealloc(NULL, (n + 1) * sizeof(int32_t), 1);
-    if (n) memcpy(b, a, n * sizeof(int32_t));
-    return b;
-}
-
 /* The initial boundary-conforming mesh: the CDT of the input; with an area bound, refined
  * (identically on every rank, by the sequential refiner) to about PRE_TRIS_PER_RANK triangles
  * per rank but at least PRE_COARSEN times coarser than the bound, so that every rank owns a
@@ -132,17 +126,16 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
         mesh_free(&m0);
         return -1;
     }
-    /* input data */
+    /* input data: the CDT's own arrays (it becomes C->M below, which owns and frees them) */
     C->ninput = m0.ninput;
     C->nseg = m0.nseg;
-    C->seg = dup_i32(m0.seg, 2 * (size_t)m0.nseg);
+    C->seg = m0.seg;
     C->pieces = mesh_xcalloc((size_t)m0.nseg + 1, sizeof *C->pieces);
-    C->smarker = dup_i32(m0.smarker, (size_t)m0.nseg);
-    C->in_vmarker = dup_i32(m0.in_vmarker, (size_t)m0.ninput);
-    C->inc_off = dup_i32(m0.inc_off, (size_t)m0.ninput + 1);
-    C->inc_seg = dup_i32(m0.inc_seg, (size_t)m0.inc_off[m0.ninput]);
-    C->corner = mesh_xrealloc(NULL, (size_t)m0.ninput + 1, 1);
-    memcpy(C->corner, m0.corner, (size_t)m0.ninput);
+    C->smarker = m0.smarker;
+    C->in_vmarker = m0.in_vmarker;
+    C->inc_off = m0.inc_off;
+    C->inc_seg = m0.inc_seg;
+    C->corner = m0.corner;
     C->has_corners = m0.has_corners;
     C->I.ninput = C->ninput;
     C->I.seg = C->seg;
@@ -291,11 +284,12 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
             int64_t n = TN(C, e); /* open: no neighbour written here (boundary, another rank) */
             if (open && !(n != NOREF && ref_rank(n) == C->rank && written(C, ref_idx(n))))
                 open[ntri] |= (uint8_t)(1u << j);
-            if (CS(C, e) >= 0) {
+            const mesh_subseg *ss = SSEG(C, e);
+            if (ss) {
                 MESH_GROW(sv, 3 * (nseg + 1), segcap);
                 sv[3 * nseg] = v;
                 sv[3 * nseg + 1] = C->M.tv[3 * (size_t)t + (size_t)((j + 1) % 3)];
-                sv[3 * nseg + 2] = CS(C, e);
+                sv[3 * nseg + 2] = ss->seg;
                 nseg++;
             }
         }
@@ -367,9 +361,7 @@ void pbw_ctx_free(pbw_ctx *C) {
     free(C->vgid), free(C->vh), free(C->own);
     free(C->con), free(C->lkk), free(C->lkv);
     free(C->reg_attr), free(C->reg_area);
-    free(C->seg), free(C->pieces), free(C->smarker), free(C->in_vmarker), free(C->inc_off),
-        free(C->inc_seg);
-    free(C->corner);
+    free(C->pieces);
     free(C->pool);
     pbw_iv_free(&C->splitq), pbw_iv_free(&C->retryq), pbw_iv_free(&C->deferred),
         pbw_iv_free(&C->slotq), pbw_iv_free(&C->phase2);

@@ -132,8 +132,9 @@ static void process_item(pbw_ctx *C, pbw_item *it) {
     if (it->kind == IT_SPLIT) {
         int j = pbw_find_edge(C, t, it->gu, it->gv);
         if (j < 0) j = pbw_find_edge(C, t, it->gv, it->gu);
-        size_t e = 3 * (size_t)t + (size_t)j;
-        if (j < 0 || CS(C, e) < 0) { /* already split, or the triangle changed */
+        size_t e = 3 * (size_t)t + (size_t)(j < 0 ? 0 : j);
+        const mesh_subseg *ss = j >= 0 ? SSEG(C, e) : NULL;
+        if (!ss) { /* already split, or the triangle changed */
             pbw_notify(C, it->notify, it->ticket, 0);
             return;
         }
@@ -155,7 +156,8 @@ static void process_item(pbw_ctx *C, pbw_item *it) {
         double p[2];
         int32_t clev;
         int64_t ka, kb;
-        int sp = split_point(C, la, lb, CS(C, e), CL(C, e), CK(C, e), p, &clev, &ka, &kb);
+        mesh_subseg sg = *ss; /* the record may move once the split is made */
+        int sp = split_point(C, la, lb, sg.seg, sg.level, sg.k, p, &clev, &ka, &kb);
         /* too far off the line for the triangle beside it (this side's apex decides here;
          * the far side's owner decides with its apex when the expansion crosses: CYC_OFF_LINE) */
         if (sp == 0 &&
@@ -180,7 +182,7 @@ static void process_item(pbw_ctx *C, pbw_item *it) {
         }
         it->gu = C->vgid[la];
         it->gv = C->vgid[lb];
-        split_desc sd = {CS(C, e), clev, ka, kb};
+        split_desc sd = {sg.seg, clev, ka, kb};
         start_cavity(C, it, p, t, &sd);
         return;
     }
