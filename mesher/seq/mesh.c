@@ -290,11 +290,15 @@ static int in_conflict(const mesh *m, int32_t t, const double p[2]) {
     return geom_incircle(m->xy + 2 * v[0], m->xy + 2 * v[1], m->xy + 2 * v[2], p) > 0;
 }
 
-static void push_i32(int32_t **a, int32_t *n, int32_t *cap, int32_t x) {
-    if (*n == *cap) {
-        *cap = *cap ? *cap * 2 : 64;
-        *a = mesh_xrealloc(*a, *cap, sizeof(int32_t));
-    }
+/* The growth of push_i32's array, out of line: the cavity pushes several ids per inserted
+ * vertex, and the call into this (rare) path kept push_i32 itself from being inlined. */
+static void grow_i32(int32_t **a, int32_t *cap) {
+    *cap = *cap ? *cap * 2 : 64;
+    *a = mesh_xrealloc(*a, *cap, sizeof(int32_t));
+}
+
+static inline void push_i32(int32_t **a, int32_t *n, int32_t *cap, int32_t x) {
+    if (*n == *cap) grow_i32(a, cap);
     (*a)[(*n)++] = x;
 }
 

@@ -49,6 +49,13 @@
 
 #define NBUCKET 4096
 #define UNRESOLVED_BUDGET 256
+#define UNMET_AHEAD 16 /* mesh_count_unmet's prefetch distance, in triangle slots */
+
+#if defined(__GNUC__)
+#define PREFETCH(p) __builtin_prefetch(p)
+#else
+#define PREFETCH(p) ((void)(p))
+#endif
 
 typedef struct qent {
     int32_t t, next;
@@ -134,21 +141,22 @@ void mesh_set_hooks(mesh *m, const mesh_hooks *h) {
 
 /* ---- quality ------------------------------------------------------------------------------ */
 
-/* MESH_BAD_ANGLE / MESH_BAD_AREA bits (mesh_rules_bad), 0: good.  *bucket: queue priority
- * (0 = worst; the binary exponent of the squared shortest edge, shortest first).  *sh: index j
- * of the shortest edge (edge 3t+j). */
-static int quality(const mesh *m, const mesh_rules *R, int32_t t, int *bucket, int *sh) {
+/* Queue priority of a bad triangle whose squared shortest edge is l2 (0 = worst): the binary
+ * exponent of l2, shortest first (mesh_rules_bucket, inline on the path of every new
+ * triangle). */
+static inline int bucket_of(double l2) {
+    uint64_t bits;
+    memcpy(&bits, &l2, sizeof bits);
+    int k = (int)((bits >> 52) & 0x7ff) - 1023 + NBUCKET / 2; /* binary exponent */
+    return k < 0 ? 0 : k >= NBUCKET ? NBUCKET - 1 : k;
+}
+
+/* MESH_BAD_ANGLE / MESH_BAD_AREA bits (mesh_rules_bad), 0: good.  *l2 (may be NULL): the
+ * squared shortest edge.  *sh: index j of the shortest edge (edge 3t+j). */
+MESH_RULES_INLINE int quality(const mesh *m, const mesh_rules *R, int32_t t, double *l2, int *sh) {
     const int32_t *tv = m->tv + 3 * (size_t)t;
     const double *p[3] = {X(m, tv[0]), X(m, tv[1]), X(m, tv[2])};
-    double l2;
-    int res = mesh_rules_bad_bound(R, mesh_tri_area_bound(m, t, R->max_area), p, sh, &l2);
-    if (res && bucket) {
-        uint64_t bits;
-        memcpy(&bits, &l2, sizeof bits);
-        int k = (int)((bits >> 52) & 0x7ff) - 1023 + NBUCKET / 2; /* binary exponent */
-        *bucket = k < 0 ? 0 : k >= NBUCKET ? NBUCKET - 1 : k;
-    }
-    return res;
+    return mesh_rules_bad_bound(R, mesh_tri_area_bound(m, t, R->max_area), p, sh, l2);
 }
 
 int mesh_tri_bad(const mesh *m, int32_t t) {
@@ -161,8 +169,9 @@ int mesh_tri_bad(const mesh *m, int32_t t) {
 
 static void push_bad(mesh *m, int32_t t) {
     mesh_refine_state *r = m->rf;
-    int k;
-    if (!quality(m, &r->R, t, &k, NULL)) return;
+    double l2;
+    if (!quality(m, &r->R, t, &l2, NULL)) return;
+    int k = bucket_of(l2);
     m->tf[t] |= MESH_QUEUED;
     int32_t i;
     if (r->pool_free >= 0) {
@@ -704,6 +713,13 @@ int64_t mesh_count_unmet(mesh *m, int64_t *forced) {
     mesh_refine_state *r = rf_get(m);
     int64_t unmet = 0, nforced = 0;
     for (int32_t t = 0; t < m->nt; t++) {
+        /* the vertices of a triangle a few slots ahead: a slot's vertices lie anywhere in the
+         * coordinate array, and on a large mesh this pass waits on memory, not arithmetic */
+        if (t + UNMET_AHEAD < m->nt) {
+            const int32_t *ta = m->tv + 3 * (size_t)(t + UNMET_AHEAD);
+            for (int j = 0; j < 3; j++)
+                if (ta[j] >= 0) PREFETCH(X(m, ta[j]));
+        }
         if (!mesh_tri_alive(m, t)) continue;
         int sh = 0;
         int why = quality(m, &r->R, t, NULL, &sh);

@@ -42,33 +42,6 @@ int mesh_rules_bad(const mesh_rules *R, const double *const p[3], int *sh, doubl
     return mesh_rules_bad_bound(R, R->max_area, p, sh, short2);
 }
 
-int mesh_rules_bad_bound(const mesh_rules *R, double max_area, const double *const p[3], int *sh,
-                         double *short2) {
-    double ex[3], ey[3], l[3];
-    for (int j = 0; j < 3; j++) { /* edge j: p[j] -> p[j+1] */
-        ex[j] = p[(j + 1) % 3][0] - p[j][0];
-        ey[j] = p[(j + 1) % 3][1] - p[j][1];
-        l[j] = ex[j] * ex[j] + ey[j] * ey[j];
-    }
-    int j = (l[0] <= l[1] && l[0] <= l[2]) ? 0 : (l[1] <= l[2]) ? 1 : 2;
-    if (sh) *sh = j;
-    if (short2) *short2 = l[j];
-    int res = 0;
-    if (R->cosb < 1.0) {
-        /* the smallest angle is at the apex of the shortest edge, between edges j+1 and j+2 */
-        int a = (j + 1) % 3, b = (j + 2) % 3;
-        double dot = -(ex[a] * ex[b] + ey[a] * ey[b]);
-        if (dot > 0 && dot * dot > R->cosb * R->cosb * l[a] * l[b]) res = MESH_BAD_ANGLE;
-    }
-    if (max_area > 0 || R->unsuitable) {
-        double area = 0.5 * (ex[0] * -ey[2] - ey[0] * -ex[2]);
-        if (max_area > 0 && area > max_area) res |= MESH_BAD_AREA;
-        if (R->unsuitable && !(res & MESH_BAD_AREA) && R->unsuitable(R->unsuitable_ctx, p, area))
-            res |= MESH_BAD_AREA;
-    }
-    return res;
-}
-
 int mesh_rules_steiner(const mesh_rules *R, const double *const p[3], int sh, double out[2]) {
     if (geom_circumcenter(p[0], p[1], p[2], out) != 0) return -1;
     if (!R->offcenter || R->offfac <= 0) return 0;

@@ -14,6 +14,13 @@
 
 #include <stdint.h>
 
+/* Inline on every mesher's hot path, whatever the compiler's estimate of its size. */
+#if defined(__GNUC__)
+#define MESH_RULES_INLINE static inline __attribute__((always_inline))
+#else
+#define MESH_RULES_INLINE static inline
+#endif
+
 /* The bounds and the derived constants (mesh_rules_init). */
 typedef struct mesh_rules {
     double min_angle; /* degrees, clamped to [0, 60] */
@@ -48,8 +55,8 @@ int mesh_rules_bad(const mesh_rules *R, const double *const p[3], int *sh, doubl
 /* mesh_rules_bad with the area bound max_area (<= 0: none) in place of R->max_area: a triangle
  * in a region with its own bound (the .poly's regional area constraints, Triangle's -a without
  * a number) is tested against mesh_rules_area_bound(R->max_area, region bound). */
-int mesh_rules_bad_bound(const mesh_rules *R, double max_area, const double *const p[3], int *sh,
-                         double *short2);
+MESH_RULES_INLINE int mesh_rules_bad_bound(const mesh_rules *R, double max_area,
+                                           const double *const p[3], int *sh, double *short2);
 
 /* The area bound of a triangle in a region with bound region (<= 0: none) when the global bound
  * is global (<= 0: none): the smaller of the positive ones, 0 if neither. */
@@ -166,5 +173,46 @@ typedef struct mesh_rules_input {
  * its position.  Interface segments never count: their corners are not the input's. */
 int mesh_rules_edge_forced(const mesh_rules_input *I, int32_t u, int32_t useg, const double pu[2],
                            int32_t v, int32_t vseg, const double pv[2]);
+
+/* mesh_rules_bad_bound, inline: it runs on every new triangle of every mesher (about 8 per
+ * inserted vertex).  The test as stated: edge j runs p[j] -> p[j+1]; the smallest angle is at
+ * the apex of the shortest edge j, between edges j+1 and j+2, and it is below the bound iff
+ * its cosine d / sqrt(l[j+1] l[j+2]) exceeds cos b, on squared lengths: d > 0 and
+ * d^2 > cos^2 b l[j+1] l[j+2] (no sqrt, no acos).  Which edge is shortest, and which side of
+ * the bound a triangle falls, are coin flips on a mesh, and the mispredicted branches cost more
+ * than the arithmetic; so the test is evaluated at all three apexes with the same operations
+ * in the same order, and the shortest edge's verdict is picked by its index: no branch on the
+ * data, and every decision bit for bit the one of the plain statement. */
+MESH_RULES_INLINE int mesh_rules_bad_bound(const mesh_rules *R, double max_area,
+                                           const double *const p[3], int *sh, double *short2) {
+    const double *p0 = p[0], *p1 = p[1], *p2 = p[2];
+    double l[3];
+    double x0 = p1[0] - p0[0], y0 = p1[1] - p0[1];
+    double x1 = p2[0] - p1[0], y1 = p2[1] - p1[1];
+    double x2 = p0[0] - p2[0], y2 = p0[1] - p2[1];
+    l[0] = x0 * x0 + y0 * y0;
+    l[1] = x1 * x1 + y1 * y1;
+    l[2] = x2 * x2 + y2 * y2;
+    /* j = (l0 <= l1 && l0 <= l2) ? 0 : (l1 <= l2) ? 1 : 2, from flags */
+    unsigned first = (l[0] <= l[1]) & (l[0] <= l[2]), second = l[1] <= l[2];
+    unsigned j = (1u - first) * (2u - second);
+    if (sh) *sh = (int)j;
+    if (short2) *short2 = l[j];
+    /* apex of edge 0 (edges 1, 2), of edge 1 (edges 2, 0), of edge 2 (edges 0, 1) */
+    double cb2 = R->cosb * R->cosb;
+    double d0 = -(x1 * x2 + y1 * y2), d1 = -(x2 * x0 + y2 * y0), d2 = -(x0 * x1 + y0 * y1);
+    unsigned b0 = (d0 > 0) & (d0 * d0 > cb2 * l[1] * l[2]);
+    unsigned b1 = (d1 > 0) & (d1 * d1 > cb2 * l[2] * l[0]);
+    unsigned b2 = (d2 > 0) & (d2 * d2 > cb2 * l[0] * l[1]);
+    unsigned verdict = b0 | b1 << 1 | b2 << 2;
+    int res = (int)((verdict >> j) & (R->cosb < 1.0)); /* MESH_BAD_ANGLE */
+    if (max_area > 0 || R->unsuitable) {
+        double area = 0.5 * (x0 * -y2 - y0 * -x2);
+        res |= (int)((max_area > 0) & (area > max_area)) << 1; /* MESH_BAD_AREA */
+        if (R->unsuitable && !(res & MESH_BAD_AREA) && R->unsuitable(R->unsuitable_ctx, p, area))
+            res |= MESH_BAD_AREA;
+    }
+    return res;
+}
 
 #endif
