@@ -14,7 +14,8 @@
  * triangles in 4096 buckets by the binary exponent of the squared shortest edge, shortest
  * first (as Triangle orders them), last-in first-out inside a bucket (the newest triangles are
  * hot in cache, and in practice this inserts fewer points than FIFO).  Queue entries are triangle
- * ids and are re-validated when popped, so stale entries (a dead or reused slot) cost one test. For
+ * ids (a stack of int32 per bucket) and are re-validated when popped, so stale entries (a dead
+ * or reused slot) cost one test; a large bucket drops its stale entries before it grows. For
  * a bad triangle the Steiner point is its circumcenter, or Ungor's off-center on the bisector of
  * the shortest edge when that is closer (the off-center makes the new triangle on the shortest edge
  * just meet the bound, with a 5% margin).  The point is located by a walk from the triangle that
@@ -49,7 +50,8 @@
 
 #define NBUCKET 4096
 #define UNRESOLVED_BUDGET 256
-#define UNMET_AHEAD 16 /* mesh_count_unmet's prefetch distance, in triangle slots */
+#define QUEUE_COMPACT 4096 /* a bucket this full drops its stale entries before growing */
+#define UNMET_AHEAD 16     /* mesh_count_unmet's prefetch distance, in triangle slots */
 
 #if defined(__GNUC__)
 #define PREFETCH(p) __builtin_prefetch(p)
@@ -57,16 +59,16 @@
 #define PREFETCH(p) ((void)(p))
 #endif
 
-typedef struct qent {
-    int32_t t, next;
-} qent;
+/* One bucket of bad triangles: a stack of triangle ids (last in, first out). */
+typedef struct qstack {
+    int32_t *t;
+    int32_t n, cap;
+} qstack;
 
 struct mesh_refine_state {
-    int32_t head[NBUCKET + 1]; /* per bucket: a stack of pool entries */
-    qent *pool;
-    int32_t npool, poolcap, pool_free;
-    int32_t cursor;
-    int32_t *enc; /* triples u, v, forced */
+    qstack q[NBUCKET]; /* per bucket: a stack of triangle ids */
+    int32_t cursor;    /* no bucket below it holds an entry (NBUCKET: none does) */
+    int32_t *enc;      /* triples u, v, forced */
     int32_t nenc, enccap, enchead;
     mesh_rules R; /* the bounds, as the shared refinement rules take them */
     int need_scan;
@@ -87,10 +89,7 @@ static mesh_refine_state *rf_get(mesh *m) {
     if (m->rf) return m->rf;
     mesh_refine_state *r = mesh_xrealloc(NULL, 1, sizeof *r);
     memset(r, 0, sizeof *r);
-    for (int i = 0; i <= NBUCKET; i++)
-        r->head[i] = -1;
-    r->pool_free = -1;
-    r->cursor = NBUCKET + 1;
+    r->cursor = NBUCKET;
     mesh_rules_init(&r->R, 0, 0, 0, 0);
     r->need_scan = 1;
     r->area_budget = -1;
@@ -100,7 +99,8 @@ static mesh_refine_state *rf_get(mesh *m) {
 
 void mesh_refine_free(mesh *m) {
     if (!m->rf) return;
-    free(m->rf->pool);
+    for (int i = 0; i < NBUCKET; i++)
+        free(m->rf->q[i].t);
     free(m->rf->enc);
     free(m->rf->pieces);
     free(m->rf);
@@ -167,40 +167,50 @@ int mesh_tri_bad(const mesh *m, int32_t t) {
     return quality(m, &R, t, NULL, NULL);
 }
 
+/* Makes room in a full bucket: doubles its stack, or once it holds QUEUE_COMPACT entries, first
+ * drops the entries whose slot is no longer queued (the triangle died, or its slot was
+ * rewritten since and not queued again: either is skipped when popped), keeping the order of
+ * the rest, and doubles only if that freed less than half.  Most entries go stale before they
+ * are popped (a queued triangle falls into the cavity of a neighbour's Steiner point): on lake
+ * at 10M triangles the queue held 8.3M entries (67 MB as a linked pool) for about 0.6M live
+ * ones; dropped, the queue stays near the size of its live part.  A dropped entry cannot
+ * bring back its slot if the slot is queued again later, so the order of a large refinement
+ * differs a little from one that keeps every entry (meshes as good; small ones, below the
+ * threshold, are unchanged). */
+static void make_room(mesh *m, qstack *q) {
+    if (q->cap >= QUEUE_COMPACT) {
+        int32_t n = 0;
+        for (int32_t i = 0; i < q->n; i++) {
+            int32_t t = q->t[i];
+            if (m->tf[t] & MESH_QUEUED) q->t[n++] = t;
+        }
+        q->n = n;
+    }
+    if (2 * q->n >= q->cap) {
+        q->cap = q->cap ? 2 * q->cap : 256;
+        q->t = mesh_xrealloc(q->t, (size_t)q->cap, sizeof(int32_t));
+    }
+}
+
 static void push_bad(mesh *m, int32_t t) {
     mesh_refine_state *r = m->rf;
     double l2;
     if (!quality(m, &r->R, t, &l2, NULL)) return;
     int k = bucket_of(l2);
     m->tf[t] |= MESH_QUEUED;
-    int32_t i;
-    if (r->pool_free >= 0) {
-        i = r->pool_free;
-        r->pool_free = r->pool[i].next;
-    } else {
-        if (r->npool == r->poolcap) {
-            r->poolcap = r->poolcap ? r->poolcap * 2 : 1024;
-            r->pool = mesh_xrealloc(r->pool, r->poolcap, sizeof(qent));
-        }
-        i = r->npool++;
-    }
-    r->pool[i].t = t;
-    r->pool[i].next = r->head[k]; /* LIFO inside a bucket: hot in cache, fewer points */
-    r->head[k] = i;
+    qstack *q = &r->q[k];
+    if (q->n == q->cap) make_room(m, q);
+    q->t[q->n++] = t; /* LIFO inside a bucket: hot in cache, fewer points */
     if (k < r->cursor) r->cursor = k;
 }
 
 static int32_t pop_bad(mesh *m) {
     mesh_refine_state *r = m->rf;
-    while (r->cursor <= NBUCKET && r->head[r->cursor] < 0)
+    while (r->cursor < NBUCKET && r->q[r->cursor].n == 0)
         r->cursor++;
-    if (r->cursor > NBUCKET) return -1;
-    int k = r->cursor;
-    int32_t i = r->head[k];
-    r->head[k] = r->pool[i].next;
-    r->pool[i].next = r->pool_free;
-    r->pool_free = i;
-    return r->pool[i].t;
+    if (r->cursor == NBUCKET) return -1;
+    qstack *q = &r->q[r->cursor];
+    return q->t[--q->n];
 }
 
 static void push_new(mesh *m) {
