@@ -2,7 +2,8 @@
  * sets (square, collinear, cocircular lattice, random), constrained Delaunay triangulation of
  * PSLGs (polygons with holes, random non-crossing segments, vertices lying exactly on
  * segments), refinement, the PCDM hooks (named splits, on_split, poll, resumable refinement,
- * regions) and the flat output.  Every mesh goes through a structural check of the mesh
+ * regions), the flat output, and the quality rule (mesh_rules_bad_bound against its plain
+ * statement, bit for bit).  Every mesh goes through a structural check of the mesh
  * itself (orientation, neighbour involution, constraint bits, boundary, local Delaunay with
  * exact incircle) and, when it comes from a PSLG, through mesh_validate (validate.h).
  */
@@ -838,6 +839,84 @@ START_TEST(test_cavity_fence) {
 }
 END_TEST
 
+/* The plain statement of the quality test (edge j: p[j] -> p[j+1]; the shortest edge's apex
+ * angle against the bound on squared lengths; the area), branches and all. */
+static int plain_bad(const mesh_rules *R, double max_area, const double *const p[3], int *sh,
+                     double *short2) {
+    double ex[3], ey[3], l[3];
+    for (int j = 0; j < 3; j++) {
+        ex[j] = p[(j + 1) % 3][0] - p[j][0];
+        ey[j] = p[(j + 1) % 3][1] - p[j][1];
+        l[j] = ex[j] * ex[j] + ey[j] * ey[j];
+    }
+    int j = (l[0] <= l[1] && l[0] <= l[2]) ? 0 : (l[1] <= l[2]) ? 1 : 2;
+    *sh = j;
+    *short2 = l[j];
+    int res = 0;
+    if (R->cosb < 1.0) {
+        int a = (j + 1) % 3, b = (j + 2) % 3;
+        double dot = -(ex[a] * ex[b] + ey[a] * ey[b]);
+        if (dot > 0 && dot * dot > R->cosb * R->cosb * l[a] * l[b]) res = MESH_BAD_ANGLE;
+    }
+    if (max_area > 0) {
+        double area = 0.5 * (ex[0] * -ey[2] - ey[0] * -ex[2]);
+        if (area > max_area) res |= MESH_BAD_AREA;
+    }
+    return res;
+}
+
+/* mesh_rules_bad_bound (branch-free, evaluated at all three apexes) decides as the plain
+ * statement, bit for bit, with the same shortest edge: random triangles, triangles whose
+ * smallest angle is the bound up to an ulp or two, isosceles and equilateral ones (ties
+ * between edges), and degenerate ones, at several bounds, with and without an area bound. */
+START_TEST(test_quality_rule) {
+    srand(12345);
+    const double bounds[] = {0, 20.7, 30, 33.8, 60};
+    int nbad = 0, ngood = 0;
+    for (int bi = 0; bi < 5; bi++) {
+        mesh_rules R;
+        mesh_rules_init(&R, bounds[bi], 0, 1, 0);
+        double b = bounds[bi] * M_PI / 180;
+        for (int i = 0; i < 20000; i++) {
+            double a[2], c[2], d[2];
+            int kind = i % 4;
+            a[0] = rand() / (double)RAND_MAX, a[1] = rand() / (double)RAND_MAX;
+            if (kind == 0) { /* anywhere */
+                c[0] = rand() / (double)RAND_MAX, c[1] = rand() / (double)RAND_MAX;
+                d[0] = rand() / (double)RAND_MAX, d[1] = rand() / (double)RAND_MAX;
+            } else { /* apex angle at a near the bound (or 60), two long sides of equal or
+                        near-equal length: the shortest edge and the verdict are near ties */
+                double th = 2 * M_PI * rand() / (double)RAND_MAX, L = 0.5;
+                double ang = (bi == 0 ? M_PI / 3 : b) * (1 + (rand() % 5 - 2) * 0x1p-52);
+                double L2 = kind == 1 ? L : L * (1 + (rand() % 3 - 1) * 0x1p-50);
+                c[0] = a[0] + L * cos(th), c[1] = a[1] + L * sin(th);
+                d[0] = a[0] + L2 * cos(th + ang), d[1] = a[1] + L2 * sin(th + ang);
+                if (kind == 3)
+                    d[0] = a[0], d[1] = a[1] + (i % 8 == 3 ? 0 : 1e-300); /* degenerate */
+            }
+            const double *p[3] = {a, c, d};
+            if (geom_orient2d(a, c, d) < 0) p[1] = d, p[2] = c;
+            for (int ar = 0; ar < 2; ar++) {
+                double max_area = ar ? 0.01 : 0;
+                int sh1 = -1, sh2 = -2;
+                double l1 = -1, l2 = -2;
+                int r1 = mesh_rules_bad_bound(&R, max_area, p, &sh1, &l1);
+                int r2 = plain_bad(&R, max_area, p, &sh2, &l2);
+                ck_assert_int_eq(r1, r2);
+                ck_assert_int_eq(sh1, sh2);
+                ck_assert(l1 == l2);
+                if (r1 & MESH_BAD_ANGLE)
+                    nbad++;
+                else
+                    ngood++;
+            }
+        }
+    }
+    ck_assert_int_gt(nbad, 1000); /* both verdicts were exercised */
+    ck_assert_int_gt(ngood, 1000);
+}
+END_TEST
+
 static Suite *suite(void) {
     Suite *s = suite_create("mesh");
     TCase *tc = tcase(s, "delaunay");
@@ -846,6 +925,7 @@ static Suite *suite(void) {
     tcase_add_test(tc, test_lattice_cocircular);
     tcase_add_loop_test(tc, test_random_points, 0, 2);
     tcase_add_test(tc, test_cavity_fence);
+    tcase_add_test(tc, test_quality_rule);
     tc = tcase(s, "cdt");
     tcase_add_test(tc, test_triangle_pslg);
     tcase_add_test(tc, test_square_pslg);
