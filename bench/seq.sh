@@ -17,8 +17,9 @@
 # lake (more on the coastline, whose small features add some).  Environment: Q (angle bound,
 # default 30), N1 (default 1000000), N2 (default 10000000, 0: none), DOMAINS (default:
 # "lake coast"; names of data/*.poly or coast), NO_TRIANGLE=1 to skip Triangle.
-# Last lines: the throughput ratios (./mesh triangles per second over Triangle's) and ./mesh's
-# bytes per triangle, against the goals (ratio >= 3 at 10M, <= 40 bytes per triangle at 10M).
+# Last lines: the throughput ratios (./mesh triangles per second over Triangle's, by wall time
+# and by CPU time) and ./mesh's bytes per triangle, against the goals (ratio >= 3 at 10M,
+# <= 40 bytes per triangle at 10M).
 set -u
 cd "$(dirname "$0")/.."
 Q=${Q:-30}
@@ -72,14 +73,20 @@ field() { # name line
     sed -n "s/.*[ :]$1=\([^ ]*\).*/\1/p" <<<"$2"
 }
 
-# best_of N command...: runs the command N times, prints the stats line of the fastest run
+# best_of N command...: runs the command N times, prints the stats line of the fastest run,
+# with cpu_s= (the whole process's user + system time) added when the line has none
 best_of() {
     local n=$1 best="" bw=""
     shift
     for ((i = 0; i < n; i++)); do
-        local line
-        line=$("$@" 2>/dev/null | grep '^stats:' | tail -n 1)
+        local out line cpu
+        out=$({ TIMEFORMAT='cpu %3U %3S'; time "$@" 2>/dev/null; } 2>&1)
+        line=$(grep '^stats:' <<<"$out" | tail -n 1)
         [ -n "$line" ] || { echo "FAILED"; return; }
+        if [ -z "$(field cpu_s "$line")" ]; then
+            cpu=$(grep '^cpu ' <<<"$out" | tail -n 1 | awk '{ printf "%.3f", $2 + $3 }')
+            line="$line cpu_s=$cpu"
+        fi
         local w
         w=$(field wall_s "$line")
         if [ -z "$bw" ] || awk -v a="$w" -v b="$bw" 'BEGIN { exit !(a < b) }'; then
@@ -109,8 +116,9 @@ run_case() { # name file n repeat
         summary+=("$label: ./mesh FAILED")
         return
     fi
-    local mt ms mw mr mbpt mtps
+    local mt ms mw mr mbpt mtps mc
     mt=$(field triangles "$ml"); ms=$(field steiner "$ml"); mw=$(field wall_s "$ml")
+    mc=$(field cpu_s "$ml")
     mr=$(field peak_rss_mb "$ml"); mbpt=$(field bytes_per_tri "$ml")
     mtps=$(awk -v t="$mt" -v w="$mw" 'BEGIN { printf "%.0f", (w > 0 ? t / w : 0) }')
     printf '%-16s %-8s %10s %10s %8s %10s %9s %7s\n' "$label" mesh "$mt" "$ms" "$mw" "$mtps" "$mr" "$mbpt"
@@ -124,8 +132,9 @@ run_case() { # name file n repeat
         summary+=("$label: Triangle FAILED; ./mesh $mbpt bytes/triangle")
         return
     fi
-    local tt ts tw tr tb tmem tbpt ttps
+    local tt ts tw tr tb tmem tbpt ttps tc
     tt=$(field triangles "$tl"); ts=$(field steiner "$tl"); tw=$(field wall_s "$tl")
+    tc=$(field cpu_s "$tl")
     tr=$(field peak_rss_mb "$tl"); tb=$(field base_rss_mb "$tl")
     tmem=$(awk -v p="$tr" -v b="$tb" 'BEGIN { printf "%.1f", p - b }')
     tbpt=$(awk -v m="$tmem" -v t="$tt" 'BEGIN { printf "%.1f", m * 1048576 / t }')
@@ -133,8 +142,9 @@ run_case() { # name file n repeat
     printf '%-16s %-8s %10s %10s %8s %10s %9s %7s\n' "$label" triangle "$tt" "$ts" "$tw" "$ttps" "$tmem" "$tbpt"
     local r
     r=$(awk -v ms="$ms" -v ts="$ts" -v mt="$mtps" -v tt="$ttps" -v mb="$mbpt" -v tb="$tbpt" \
-        'BEGIN { printf "throughput x%.2f  ./mesh %.1f bytes/triangle (Triangle %.1f)  steiner %+.2f%%", \
-                 mt / tt, mb, tb, (ms / ts - 1) * 100 }')
+        -v mc="$mc" -v tc="$tc" -v mn="$mt" -v tn="$tt" \
+        'BEGIN { printf "throughput x%.2f (CPU x%.2f)  ./mesh %.1f bytes/triangle (Triangle %.1f)  steiner %+.2f%%", \
+                 mt / tt, (mc > 0 && tc > 0 ? (mn / mc) / (tn / tc) : 0), mb, tb, (ms / ts - 1) * 100 }')
     printf '%-16s %-8s %s\n' "$label" ratio "$r"
     summary+=("$label: $r")
 }
@@ -168,6 +178,9 @@ fi
 
 echo
 echo "goals: throughput >= 3x Triangle's at 10M triangles, <= 40 bytes/triangle at 10M"
+echo "(throughput: triangles per second of meshing, the fastest run's wall time; CPU: per CPU"
+echo " second of the same stretch (./mesh's cpu_s, Triangle's triangulate() call), steadier on"
+echo " a loaded machine)"
 echo "(./mesh B/tri is the whole process's peak RSS per triangle; Triangle's is the wrapper's"
 echo " RSS growth during triangulate(), which includes the numpy copies of its output)"
 for s in "${summary[@]}"; do echo "  $s"; done
