@@ -76,11 +76,16 @@ static void areas(const pcdm_mesh *m, double *near, double *far) {
     }
 }
 
-/* 1 iff mesh_validate accepts m (a whole mesh) as a mesh of in within the bounds. */
-static int valid(const pcdm_input *in, const pcdm_mesh *m, double min_angle, double max_area) {
+/* 1 iff mesh_validate accepts m (a whole mesh) as a mesh of in within the bounds, in enclosed
+ * by its convex hull if convex_hull (pcdm_options.convex_hull). */
+static int valid_hull(const pcdm_input *in, const pcdm_mesh *m, double min_angle, double max_area,
+                      int convex_hull) {
     pcdm_status st;
     pslg g;
-    if (api_make_pslg(in, &g, &st) != PCDM_OK) return 0;
+    pcdm_options po;
+    pcdm_options_default(&po);
+    po.convex_hull = convex_hull;
+    if (api_make_pslg(in, &po, &g, &st) != PCDM_OK) return 0;
     mesh_flat f;
     memset(&f, 0, sizeof f);
     f.nverts = m->npoints;
@@ -100,6 +105,11 @@ static int valid(const pcdm_input *in, const pcdm_mesh *m, double min_angle, dou
     free(f.xy);
     pslg_free(&g);
     return ok;
+}
+
+/* valid_hull without the hull: the domain the segments enclose. */
+static int valid(const pcdm_input *in, const pcdm_mesh *m, double min_angle, double max_area) {
+    return valid_hull(in, m, min_angle, max_area, 0);
 }
 
 #endif

@@ -1039,7 +1039,10 @@ int pslg_check_ex(pslg *g, unsigned flags, char *err, size_t errlen) {
         int32_t *pairs;
         int64_t np;
         if (normalise(g, split, round > 0, &pairs, &np, err, errlen) != 0) return -1;
-        if (np == 0) return 0;
+        if (np == 0) {
+            if (flags & PSLG_HULL) pslg_enclose_hull(g); /* pslg_hull.c */
+            return 0;
+        }
         int rc = 0;
         if (round == PSLG_SPLIT_ROUNDS) {
             int32_t s = pairs[0], t = pairs[1];
