@@ -108,8 +108,10 @@ int32_t pslg_hull(const pslg *g, int32_t *cyc);
  * that borders the domain on exactly one side somewhere (the outer boundary, a hole's) gets 1;
  * a vertex with marker 0 lying on a segment (an endpoint, or inside it) takes the segment's
  * nonzero marker -- the file's markers first, then the boundary's 1.  Vertices on no such
- * segment keep 0.  The meshers give a new vertex on a segment that segment's marker, and other
- * new vertices 0.  Call after pslg_check.  Returns 0, or -1 (out of memory). */
+ * segment keep 0.  A point set (no segments) is meshed over its convex hull, whose edges
+ * become segments with marker 1: its vertices on the hull get 1 (as with -c).  The meshers give
+ * a new vertex on a segment that segment's marker, and other new vertices 0.  Call after
+ * pslg_check.  Returns 0, or -1 (out of memory). */
 int pslg_boundary_markers(pslg *g);
 
 /* Area of the domain the PSLG describes, computed from the PSLG alone (independently of any
