@@ -81,8 +81,8 @@ static int32_t hull_ok(const pslg *g, const int32_t *cyc, int32_t h) {
             ck_assert_msg(geom_orient2d(a, b, P(g, p)) >= 0, "point %d outside the hull", p);
             if (on_closed(a, b, P(g, p)))
                 ck_assert_msg(same(P(g, p), a) || same(P(g, p), b),
-                              "point %d (%g, %g) inside hull edge %d-%d", p, P(g, p)[0],
-                              P(g, p)[1], cyc[i], cyc[(i + 1) % h]);
+                              "point %d (%g, %g) inside hull edge %d-%d", p, P(g, p)[0], P(g, p)[1],
+                              cyc[i], cyc[(i + 1) % h]);
         }
     }
     ck_assert_int_ge(strict, 3);
@@ -142,7 +142,7 @@ START_TEST(test_random_hulls) {
 END_TEST
 
 /* tests/inputs/hull_regions.poly in memory: segments that enclose nothing but a hole. */
-static const double box_xy[] = {0, 0, 4, 0, 8, 0, 8, 2, 8, 4, 0, 4, 0, 1,
+static const double box_xy[] = {0, 0, 4, 0, 8, 0, 8, 2, 8, 4, 0, 4, 0,   1,
                                 8, 1, 2, 2, 3, 2, 3, 3, 2, 3, 5, 3, 6.5, 2.5};
 static const int32_t box_seg[] = {6, 7, 0, 2, 4, 5, 8, 9, 9, 10, 10, 11, 11, 8, 12, 13};
 static const int32_t box_mk[] = {0, 7, 3, 0, 0, 0, 0, 0};

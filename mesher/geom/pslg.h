@@ -84,8 +84,8 @@ enum {
 };
 #define PSLG_SPLIT_ROUNDS 8
 
-/* pslg_check, with flags (PSLG_SPLIT, PSLG_HULL, both or 0; pslg_check is pslg_check_ex(g, 0, ...)).  Returns 0,
- * or -1 with a message in err. */
+/* pslg_check, with flags (PSLG_SPLIT, PSLG_HULL, both or 0; pslg_check is pslg_check_ex(g, 0,
+ * ...)).  Returns 0, or -1 with a message in err. */
 int pslg_check_ex(pslg *g, unsigned flags, char *err, size_t errlen);
 
 /* Triangle's -c: encloses the convex hull of g's vertices with segments.  The hull's edges are
