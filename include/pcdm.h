@@ -61,11 +61,11 @@ typedef struct pcdm_status {
 /* The PSLG to mesh.  Points: npoints, points[2i], points[2i+1].  pointmarkers (npoints, may be
  * NULL: 0), pointattr (npointattr per point, may be NULL when npointattr is 0).  Segments:
  * segments[2s], segments[2s+1] are point indices; segmentmarkers (may be NULL: 0).  With no
- * segments (or with pcdm_options.convex_hull) the domain is the convex hull of the points.  Holes:
- * nholes points, each inside a region to remove (holes[2h], holes[2h+1]).  Regions: nregions
- * records of four doubles (x, y, attribute, maximum area), as in Triangle's .poly.  Duplicate
- * points are merged and repeated segments dropped (silently); a point inside a segment splits it.
- */
+ * segments, or with pcdm_options.convex_hull, the domain is the convex hull of the points (but
+ * the holes).  Holes: nholes points, each inside a region to remove (holes[2h], holes[2h+1]).
+ * Regions: nregions records of four doubles (x, y, attribute, maximum area), as in Triangle's
+ * .poly.  Duplicate points are merged and repeated segments dropped (silently); a point inside
+ * a segment splits it. */
 typedef struct pcdm_input {
     int32_t npoints;
     const double *points;
