@@ -3,9 +3,11 @@
 mesh made with -c (PREFIX.node, PREFIX.poly) against INPUT (.poly or .node) independently of the
 mesher, in exact rational arithmetic (tests/t_hull.sh):
  - the written segments are distinct and no mesh vertex lies inside one;
- - the convex hull of INPUT's vertices (computed here) is covered exactly by written segments;
- - a written segment on the hull carries the marker of the input segment it lies on when that
-   is nonzero, else 1 (Triangle's -c);
+ - the convex hull of INPUT's vertices (computed here) is covered exactly by written segments
+   (whose new vertices lie within 1e-9 of the edge's length from its line: rounded);
+ - a written segment on the hull carries the marker of the input segment it lies on (the first
+   in the file, as overlaps are split) when that is nonzero, else 1 (Triangle's -c);
+   the domain must reach the whole hull (no hole point between a hull edge and the segments);
  - --area A: A (the area ./meshcheck measured) is the hull's area minus the areas of the
    polygons given by --minus-cycle (INPUT's vertex numbers, e.g. a hole's boundary), to 1e-12;
  - --triangle SW: Triangle itself (the PyPI `triangle` package, if installed) meshes INPUT with
@@ -56,9 +58,18 @@ def orient(a, b, c):
     return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
 
 
-def on_closed(a, b, p):
-    return (orient(a, b, p) == 0 and min(a[0], b[0]) <= p[0] <= max(a[0], b[0]) and
+def on_closed(a, b, p, tol=0):
+    """p on the closed segment ab; tol > 0: within tol |ab| of its line (a point the mesher put
+    on a slanted segment is rounded to doubles, a few ulps off it)."""
+    if tol == 0 and orient(a, b, p) != 0:
+        return False
+    if tol and orient(a, b, p) ** 2 > tol * tol * ((b[0] - a[0]) ** 2 + (b[1] - a[1]) ** 2) ** 2:
+        return False
+    return (min(a[0], b[0]) <= p[0] <= max(a[0], b[0]) and
             min(a[1], b[1]) <= p[1] <= max(a[1], b[1]))
+
+
+TOL = F(1, 10 ** 9)
 
 
 def hull(points):
@@ -114,14 +125,16 @@ def main():
         a, b = h[i], h[(i + 1) % len(h)]
         cover = F(0)
         for p, q, mk in msegs:
-            if not (on_closed(a, b, p) and on_closed(a, b, q)):
+            if not (on_closed(a, b, p, TOL) and on_closed(a, b, q, TOL)):
                 continue
             nb += 1
             cover += abs(along(a, b, q) - along(a, b, p))
-            want = 1
+            want = 0  # the first input segment's marker (overlaps keep it), 0 on the hull: 1
             for u, v, imk in isegs:
-                if imk and on_closed(ipts[u], ipts[v], p) and on_closed(ipts[u], ipts[v], q):
+                if on_closed(ipts[u], ipts[v], p, TOL) and on_closed(ipts[u], ipts[v], q, TOL):
                     want = imk
+                    break
+            want = want or 1
             if mk != want:
                 fail("segment (%s, %s)-(%s, %s) on the hull has marker %d, expected %d" %
                      (float(p[0]), float(p[1]), float(q[0]), float(q[1]), mk, want))

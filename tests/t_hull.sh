@@ -17,6 +17,10 @@
 #     ./meshcheck -c and hullcheck.py on the written files.
 #  4. A point set (tests/inputs/hull_points.node, points on the hull's edges) is meshed over its
 #     convex hull with or without -c: the same .node and .ele, hull vertices marked 1.
+#  5. 60 random inputs (fixed seeds): points on coarse grids (many collinear, some duplicates),
+#     random segments (crossing, overlapping, dangling, some along the hull), random markers;
+#     ./mesh -c -q25 --check either meshes (then hullcheck.py passes) or refuses with "cannot
+#     meet the bounds" (small input angles) -- never exits 0 with a mesh that fails.
 # Env: BIN, MPIRUN as the other tests.
 set -u
 cd "$(dirname "$0")/.."
@@ -116,6 +120,43 @@ marks=$(awk 'NR > 1 && !/^#/ && NF { x = $2; y = $3; on = (x == 0 || x == 4 || y
              if ($NF != on) bad++ } END { print bad + 0 }' "$T/pts.node")
 [ "$marks" = 0 ] && ok "point set: hull vertices marked 1, others 0" ||
     fail "point set: $marks vertex markers wrong"
+
+# 5. random inputs
+nmeshed=0 nrefused=0
+for seed in $(seq 1 60); do
+    python3 - "$seed" >"$T/r.poly" <<'EOF'
+import random, sys
+random.seed(int(sys.argv[1]))
+n, side = random.randint(3, 25), random.choice([3, 5, 8, 20])
+pts = [(random.randint(0, side) * random.choice([1, 0.5, 0.1]), random.randint(0, side))
+       for _ in range(n)]
+segs = []
+for _ in range(random.randint(0, 12)):
+    a, b = random.sample(range(n), 2)
+    if pts[a] != pts[b]:
+        segs.append((a, b, random.choice([0, 0, 2, 5])))
+print(n, 2, 0, 0)
+for i, p in enumerate(pts):
+    print(i + 1, p[0], p[1])
+print(len(segs), 1)
+for i, (a, b, m) in enumerate(segs):
+    print(i + 1, a + 1, b + 1, m)
+print(0)
+EOF
+    timeout 60 "$BIN/mesh" -Q -c -q25 --check -o "$T/r" "$T/r.poly" >"$T/r.txt" 2>&1
+    rc=$?
+    if [ "$rc" = 1 ] && grep -q 'cannot meet the bounds\|collinear' "$T/r.txt"; then
+        nrefused=$((nrefused + 1))
+    elif [ "$rc" != 0 ]; then
+        fail "random input $seed: exit $rc: $(head -c 300 "$T/r.txt")"
+    elif ! out=$(python3 tests/hullcheck.py "$T/r.poly" "$T/r" 2>&1); then
+        fail "random input $seed: $out"
+    else
+        nmeshed=$((nmeshed + 1))
+    fi
+done
+[ "$nmeshed" -ge 40 ] && ok "random inputs: $nmeshed meshed and checked, $nrefused refused" ||
+    fail "random inputs: only $nmeshed of 60 meshed ($nrefused refused)"
 
 echo "t_hull: $pass passed, $nfail failed"
 [ "$nfail" -eq 0 ]
