@@ -27,7 +27,6 @@
 #include "geom/geom.h"
 
 #include <stdlib.h>
-#include <string.h>
 
 typedef struct hkey {
     double x, y;
@@ -89,8 +88,8 @@ int32_t pslg_hull(const pslg *g, int32_t *cyc) {
     for (int32_t i = 0; i < k; i++) {
         const double *p = P(g, cyc[i]), *q = P(g, cyc[(i + 1) % k]), *r = P(g, cyc[(i + 2) % k]);
         if (geom_orient2d(p, q, r) < 0 || (p[0] == q[0] && p[1] == q[1]))
-            MESH_BUG("convex hull: vertices %d, %d, %d turn clockwise", cyc[i], cyc[(i + 1) % k],
-                     cyc[(i + 2) % k]);
+            MESH_BUG("convex hull: vertices %d, %d, %d turn clockwise or repeat", cyc[i],
+                     cyc[(i + 1) % k], cyc[(i + 2) % k]);
     }
     return k;
 }
