@@ -30,7 +30,7 @@ static pcdm_input plate(void) {
                         .holes = plate_hole};
 }
 
-/* Segments that enclose nothing but a hole (tests/inputs/hull_regions.poly): the domain is
+/* Segments that enclose nothing but a hole (tests/inputs/hull/regions.poly): the domain is
  * there only with convex_hull (Triangle's -c): the 8 x 4 hull minus the 1 x 1 hole. */
 static const double dangle_pts[] = {0, 0, 4, 0, 8, 0, 8, 2, 8, 4, 0, 4, 0,   1,
                                     8, 1, 2, 2, 3, 2, 3, 3, 2, 3, 5, 3, 6.5, 2.5};

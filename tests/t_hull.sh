@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # t_hull: Triangle's -c (the convex hull enclosed by segments) end to end.
-#  1. tests/inputs/hull_regions.poly: segments that enclose nothing but a hole (one from the
+#  1. tests/inputs/hull/regions.poly: segments that enclose nothing but a hole (one from the
 #     hull's left edge to its right edge, one dangling inside), vertices on the hull's edges,
 #     one input segment covering two hull edges (marker 7), one equal to a hull edge (marker
 #     3), two regions.  Without -c the domain is empty (exit 1); with -c (--cdt-only, and the
@@ -15,7 +15,7 @@
 #     meshing that .poly again, without -c, gives a valid mesh of the same area.
 #  3. ./pcdm and ./pbw at 1, 2 and 4 ranks with -pcq30a0.05: exit 0, --check passes, then
 #     ./meshcheck -c and hullcheck.py on the written files.
-#  4. A point set (tests/inputs/hull_points.node, points on the hull's edges) is meshed over its
+#  4. A point set (tests/inputs/hull/points.node, points on the hull's edges) is meshed over its
 #     convex hull with or without -c: the same .node and .ele, hull vertices marked 1.
 #  5. 60 random inputs (fixed seeds): points on coarse grids (many collinear, some duplicates),
 #     random segments (crossing, overlapping, dangling, some along the hull), random markers;
@@ -33,7 +33,7 @@ trap 'rm -rf "$T"' EXIT
 pass=0 nfail=0
 ok() { pass=$((pass + 1)); printf 'ok   %s\n' "$*"; }
 fail() { nfail=$((nfail + 1)); printf 'FAIL %s\n' "$*"; }
-IN=tests/inputs/hull_regions.poly
+IN=tests/inputs/hull/regions.poly
 HOLE=9,10,11,12 # the square around the hole, by vertex number
 area_of() { sed -n 's/.* area=\([^ ]*\) .*/\1/p' "$1" | head -1; }
 
@@ -107,7 +107,7 @@ for prog in pcdm pbw; do
 done
 
 # 4. a point set: the hull with or without -c
-P=tests/inputs/hull_points.node
+P=tests/inputs/hull/points.node
 for c in "" -c; do
     # shellcheck disable=SC2086
     run "point set $c" "$T/pts$c.txt" timeout 60 "$BIN/mesh" $c -q30 --check -o "$T/pts$c" "$P"

@@ -141,7 +141,7 @@ START_TEST(test_random_hulls) {
 }
 END_TEST
 
-/* tests/inputs/hull_regions.poly in memory: segments that enclose nothing but a hole. */
+/* tests/inputs/hull/regions.poly in memory: segments that enclose nothing but a hole. */
 static const double box_xy[] = {0, 0, 4, 0, 8, 0, 8, 2, 8, 4, 0, 4, 0,   1,
                                 8, 1, 2, 2, 3, 2, 3, 3, 2, 3, 5, 3, 6.5, 2.5};
 static const int32_t box_seg[] = {6, 7, 0, 2, 4, 5, 8, 9, 9, 10, 10, 11, 11, 8, 12, 13};
