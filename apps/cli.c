@@ -277,8 +277,7 @@ static int store(const parse_ctx *c, const cli_opt *r, const char *val, cli_opts
 static const struct {
     char letter;
     const char *what;
-} triangle_only[] = {{'c', "enclose the convex hull"},
-                     {'D', "conforming Delaunay"},
+} triangle_only[] = {{'D', "conforming Delaunay"},
                      {'j', "jettison unused vertices"},
                      {'v', "Voronoi diagram"},
                      {'g', "OFF output"},

@@ -179,6 +179,15 @@ static const cli_opt mesher_rows[] = {
      .at = CLI_AT(par.write_partial),
      .help = "when refinement cannot meet the bounds, still write the mesh made so far (as "
              "asked: conforming, outside the bounds; exit status 1 all the same)"},
+    {.letter = 'c',
+     .name = "convex-hull",
+     .value = &v_flag,
+     .at = CLI_AT(par.convex_hull),
+     .help = "enclose the convex hull of the vertices with segments (Triangle's -c; boundary "
+             "marker 1 on the new ones, cut at every vertex on the hull): the domain is "
+             "everything inside the hull but the holes, dangling segments included; check the "
+             "mesh with ./meshcheck -c, or against the written .poly, which holds the hull's "
+             "segments"},
     {.name = "strict",
      .value = &v_flag,
      .at = CLI_AT(par.strict),
@@ -302,6 +311,13 @@ static const cli_opt meshcheck_rows[] = {
      .value = &v_flag,
      .at = CLI_AT(interfaces_delaunay),
      .help = "interface constraint edges must be locally Delaunay too"},
+    {.letter = 'c',
+     .name = "convex-hull",
+     .value = &v_flag,
+     .at = CLI_AT(par.convex_hull),
+     .help = "the mesh was made with -c: its domain is input.poly's segments plus its convex hull "
+             "enclosed by segments (needed unless input.poly is the mesh's own written .poly, "
+             "which holds the hull's segments)"},
     {.letter = 'A',
      .name = "region-attributes",
      .value = &v_flag,

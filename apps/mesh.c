@@ -114,7 +114,8 @@ int main(int argc, char **argv) {
         return 1;
     }
     g.quiet = quiet; /* -Q: no warnings (merged duplicates) */
-    if (pslg_check_ex(&g, o.par.strict ? 0 : PSLG_SPLIT, err, sizeof err) != 0) {
+    unsigned flags = (o.par.strict ? 0u : PSLG_SPLIT) | (o.par.convex_hull ? PSLG_HULL : 0u);
+    if (pslg_check_ex(&g, flags, err, sizeof err) != 0) {
         fprintf(stderr, "mesh: %s\n", err);
         pslg_free(&g);
         return 1;

@@ -1,8 +1,11 @@
 /* meshcheck: validates a mesh written in Triangle's format against its input PSLG.
  *
- *   ./meshcheck [-q DEG] [-a AREA] [-A] [--region-areas] [--interfaces-delaunay] input.poly PREFIX
+ *   ./meshcheck [-q DEG] [-a AREA] [-c] [-A] [--region-areas] [--interfaces-delaunay] input.poly
+ *               PREFIX
  *
- * Reads and checks the input (pslg_read, pslg_check), reads PREFIX.node/.ele (and .poly when
+ * Reads and checks the input (pslg_read, pslg_check_ex; with -c its convex hull enclosed by
+ * segments, as the meshers' -c does, so a mesh made with -c is checked against the domain it
+ * meant: the input's segments plus the hull), reads PREFIX.node/.ele (and .poly when
  * present) with meshio_read_triangle, runs mesh_validate and prints its one-line summary.
  * Options and exit statuses come from the front end (apps/cli.c; ./meshcheck --help): 0 the
  * mesh passes, 1 it fails or a file cannot be read or is invalid, 2 usage error.
@@ -29,7 +32,8 @@ int main(int argc, char **argv) {
     geom_init();
     char err[1024];
     pslg g;
-    if (pslg_read(input, &g, err, sizeof err) || pslg_check_ex(&g, PSLG_SPLIT, err, sizeof err)) {
+    unsigned flags = PSLG_SPLIT | (co.par.convex_hull ? PSLG_HULL : 0u); /* -c: as the mesher */
+    if (pslg_read(input, &g, err, sizeof err) || pslg_check_ex(&g, flags, err, sizeof err)) {
         fprintf(stderr, "meshcheck: %s\n", err);
         pslg_free(&g);
         return 1;

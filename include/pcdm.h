@@ -61,10 +61,11 @@ typedef struct pcdm_status {
 /* The PSLG to mesh.  Points: npoints, points[2i], points[2i+1].  pointmarkers (npoints, may be
  * NULL: 0), pointattr (npointattr per point, may be NULL when npointattr is 0).  Segments:
  * segments[2s], segments[2s+1] are point indices; segmentmarkers (may be NULL: 0).  With no
- * segments the domain is the convex hull of the points.  Holes: nholes points, each inside a
- * region to remove (holes[2h], holes[2h+1]).  Regions: nregions records of four doubles
- * (x, y, attribute, maximum area), as in Triangle's .poly.  Duplicate points are merged and
- * repeated segments dropped (silently); a point inside a segment splits it. */
+ * segments, or with pcdm_options.convex_hull, the domain is the convex hull of the points (but
+ * the holes).  Holes: nholes points, each inside a region to remove (holes[2h], holes[2h+1]).
+ * Regions: nregions records of four doubles (x, y, attribute, maximum area), as in Triangle's
+ * .poly.  Duplicate points are merged and repeated segments dropped (silently); a point inside
+ * a segment splits it. */
 typedef struct pcdm_input {
     int32_t npoints;
     const double *points;
@@ -113,6 +114,11 @@ typedef struct pcdm_options {
     int32_t subdomains; /* subdomains of the decomposition (0: one per rank; default 0) */
     int root;           /* < 0: every rank keeps its part (default -1); >= 0: the whole mesh
                          * is collected on this rank (others get an empty mesh) */
+    /* both calls */
+    int convex_hull; /* 1: enclose the convex hull of the points with segments (Triangle's -c):
+                      * new segments on the hull's edges not covered by input segments, cut at
+                      * every point on them, marker 1; the domain is everything inside the
+                      * hull but the holes (default 0: the domain the segments enclose) */
 } pcdm_options;
 
 /* Local.  Fills *o with the defaults above. */

@@ -30,6 +30,50 @@ static pcdm_input plate(void) {
                         .holes = plate_hole};
 }
 
+/* Segments that enclose nothing but a hole (tests/inputs/hull/regions.poly): the domain is
+ * there only with convex_hull (Triangle's -c): the 8 x 4 hull minus the 1 x 1 hole. */
+static const double dangle_pts[] = {0, 0, 4, 0, 8, 0, 8, 2, 8, 4, 0, 4, 0,   1,
+                                    8, 1, 2, 2, 3, 2, 3, 3, 2, 3, 5, 3, 6.5, 2.5};
+static const int32_t dangle_segs[] = {6, 7, 0, 2, 4, 5, 8, 9, 9, 10, 10, 11, 11, 8, 12, 13};
+static const int32_t dangle_smk[] = {0, 7, 3, 0, 0, 0, 0, 0};
+static const double dangle_hole[] = {2.5, 2.5};
+#define DANGLE_AREA (8.0 * 4.0 - 1.0)
+
+static pcdm_input dangle(void) {
+    return (pcdm_input){.npoints = 14,
+                        .points = dangle_pts,
+                        .nsegments = 8,
+                        .segments = dangle_segs,
+                        .segmentmarkers = dangle_smk,
+                        .nholes = 1,
+                        .holes = dangle_hole};
+}
+
+/* Returns the area of m's triangles (a mesh of dangle() with convex_hull); *ones counts its
+ * segments on the hull's left and right edges (new: marker 1), *kept those on the bottom and
+ * top (the input's segments there: markers 7 and 3); a wrong marker makes *ones negative. */
+static double dangle_area(const pcdm_mesh *m, int32_t *ones, int32_t *kept) {
+    double a = 0;
+    for (int32_t t = 0; t < m->ntriangles; t++) {
+        const int32_t *v = m->triangles + 3 * (size_t)t;
+        const double *p = m->points + 2 * v[0], *q = m->points + 2 * v[1],
+                     *r = m->points + 2 * v[2];
+        a += 0.5 * ((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]));
+    }
+    *ones = *kept = 0;
+    for (int32_t s = 0; s < m->nsegments; s++) {
+        const double *p = m->points + 2 * m->segments[2 * s],
+                     *q = m->points + 2 * m->segments[2 * s + 1];
+        int bottom = p[1] == 0 && q[1] == 0, top = p[1] == 4 && q[1] == 4;
+        int side = (p[0] == 0 && q[0] == 0) || (p[0] == 8 && q[0] == 8);
+        int mk = m->segmentmarkers[s];
+        if (side && mk == 1) (*ones)++;
+        if ((bottom && mk == 7) || (top && mk == 3)) (*kept)++;
+        if ((bottom && mk != 7) || (top && mk != 3) || (side && mk != 1)) *ones = -1000000;
+    }
+    return a;
+}
+
 #define NEAR_R 1.0
 #define NEAR_AREA 1e-3
 
@@ -76,11 +120,16 @@ static void areas(const pcdm_mesh *m, double *near, double *far) {
     }
 }
 
-/* 1 iff mesh_validate accepts m (a whole mesh) as a mesh of in within the bounds. */
-static int valid(const pcdm_input *in, const pcdm_mesh *m, double min_angle, double max_area) {
+/* 1 iff mesh_validate accepts m (a whole mesh) as a mesh of in within the bounds, in enclosed
+ * by its convex hull if convex_hull (pcdm_options.convex_hull). */
+static int valid_hull(const pcdm_input *in, const pcdm_mesh *m, double min_angle, double max_area,
+                      int convex_hull) {
     pcdm_status st;
     pslg g;
-    if (api_make_pslg(in, &g, &st) != PCDM_OK) return 0;
+    pcdm_options po;
+    pcdm_options_default(&po);
+    po.convex_hull = convex_hull;
+    if (api_make_pslg(in, &po, &g, &st) != PCDM_OK) return 0;
     mesh_flat f;
     memset(&f, 0, sizeof f);
     f.nverts = m->npoints;
@@ -100,6 +149,11 @@ static int valid(const pcdm_input *in, const pcdm_mesh *m, double min_angle, dou
     free(f.xy);
     pslg_free(&g);
     return ok;
+}
+
+/* valid_hull without the hull: the domain the segments enclose. */
+static int valid(const pcdm_input *in, const pcdm_mesh *m, double min_angle, double max_area) {
+    return valid_hull(in, m, min_angle, max_area, 0);
 }
 
 #endif

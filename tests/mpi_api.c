@@ -9,6 +9,8 @@
  *    each global point number is owned by exactly one rank, triangle numbers follow by prefix
  *    sums, and the counts agree with the same call collecting on a root;
  *  - PBW through the same call gives a valid mesh (and refuses the size callback);
+ *  - convex_hull (Triangle's -c), PCDM and PBW: segments that enclose nothing meshed over
+ *    their hull, valid against the input enclosed by it;
  *  - bad input fails on every rank with the same code and message, and the next call works.
  * Results are reduced over ranks before asserting, so no rank waits in a collective that
  * another rank skipped.  Runs with CK_NOFORK (MPI does not survive fork).
@@ -144,6 +146,36 @@ START_TEST(test_pbw) {
 }
 END_TEST
 
+/* convex_hull through the parallel call, PCDM and PBW: the whole mesh on rank 0 covers the hull
+ * minus the hole and passes the validator against the input enclosed by its hull. */
+START_TEST(test_convex_hull) {
+    int rank;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    pcdm_input in = dangle();
+    pcdm_options o;
+    pcdm_options_default(&o);
+    o.convex_hull = 1;
+    o.max_area = 0.05;
+    o.root = 0;
+    int ok = 1;
+    for (int method = PCDM_METHOD_PCDM; method <= PCDM_METHOD_PBW; method++) {
+        o.method = method;
+        pcdm_mesh m;
+        pcdm_status st;
+        int rc = pcdm_triangulate_par(MPI_COMM_WORLD, &in, &o, &m, &st);
+        ck_assert_msg(all_true(rc == PCDM_OK, MPI_COMM_WORLD), "code %d: %s", rc, st.message);
+        if (rank == 0) {
+            int32_t ones, kept;
+            double a = dangle_area(&m, &ones, &kept);
+            ok = ok && fabs(a - DANGLE_AREA) <= 1e-12 * DANGLE_AREA && ones > 4 && kept > 3 &&
+                 valid_hull(&in, &m, 20.7, 0.05, 1);
+        }
+        pcdm_mesh_free(&m);
+    }
+    ck_assert(all_true(ok, MPI_COMM_WORLD));
+}
+END_TEST
+
 START_TEST(test_errors_agree) {
     pcdm_input in = plate();
     int32_t bad[16];
@@ -180,6 +212,7 @@ int main(int argc, char **argv) {
     tcase_add_test(tc, test_world_root);
     tcase_add_test(tc, test_split_parts);
     tcase_add_test(tc, test_pbw);
+    tcase_add_test(tc, test_convex_hull);
     tcase_add_test(tc, test_errors_agree);
     suite_add_tcase(s, tc);
     SRunner *sr = srunner_create(s);

@@ -268,8 +268,8 @@ triangle_cases() {
     run "$prog" "$np" -NEPV data/square.poly
     [ "$rc" -eq 0 ] && grep -q "^$prog: data/square.poly: 4 vertices, 4 segments" <<<"$err" &&
         grep -q "^$prog: .*[0-9]* triangles" <<<"$err" && ok || fail "$prog (np $np) -V: exit $rc, '$err'"
-    expect_usage "$prog" "$np" "option -c in '-pqc' is not supported (in Triangle: enclose the convex hull)" \
-        -pqc data/square.poly
+    expect_usage "$prog" "$np" "option -D in '-pqcD' is not supported (in Triangle: conforming Delaunay)" \
+        -pqcD data/square.poly
 }
 triangle_cases mesh 0
 triangle_cases pcdm 2

@@ -7,6 +7,7 @@
  *    coarse;
  *  - bad arguments and bad input return a code and a message, never a mesh; the Steiner limit
  *    returns PCDM_ESTEINER with a valid mesh; pcdm_mesh_free is idempotent;
+ *  - convex_hull (Triangle's -c) meshes segments that enclose nothing over their hull;
  *  - nothing is printed (duplicates merged quietly); two threads meshing at once agree with one.
  */
 #include "api_check.h"
@@ -75,6 +76,32 @@ START_TEST(test_regions) {
     ck_assert_int_eq(pcdm_triangulate(&in, &o, &m, &st), PCDM_OK);
     ck_assert_ptr_null(m.triangleattr);
     ck_assert(!valid(&in, &m, 20.7, 0.05)); /* the bound was not asked for: not met */
+    pcdm_mesh_free(&m);
+}
+END_TEST
+
+/* convex_hull (Triangle's -c): segments that enclose nothing but a hole are no domain without
+ * it; with it the mesh covers the hull minus the hole, passes the validator against the input
+ * enclosed by its hull (and fails against the input alone), new hull segments carry 1. */
+START_TEST(test_convex_hull) {
+    pcdm_input in = dangle();
+    pcdm_options o;
+    pcdm_options_default(&o);
+    o.min_angle = 30;
+    o.max_area = 0.05;
+    pcdm_mesh m;
+    pcdm_status st;
+    ck_assert_int_eq(pcdm_triangulate(&in, &o, &m, &st), PCDM_EINPUT);
+    ck_assert_msg(strstr(st.message, "domain is empty") != NULL, "%s", st.message);
+    o.convex_hull = 1;
+    ck_assert_int_eq(pcdm_triangulate(&in, &o, &m, &st), PCDM_OK);
+    int32_t ones, kept;
+    double a = dangle_area(&m, &ones, &kept);
+    ck_assert_msg(fabs(a - DANGLE_AREA) <= 1e-12 * DANGLE_AREA, "area %.17g", a);
+    ck_assert_int_gt(ones, 4);
+    ck_assert_int_gt(kept, 3);
+    ck_assert(valid_hull(&in, &m, 30, 0.05, 1));
+    ck_assert(!valid(&in, &m, 30, 0.05));
     pcdm_mesh_free(&m);
 }
 END_TEST
@@ -216,6 +243,7 @@ int main(void) {
     tcase_set_timeout(tc, 120);
     tcase_add_test(tc, test_plate);
     tcase_add_test(tc, test_regions);
+    tcase_add_test(tc, test_convex_hull);
     tcase_add_test(tc, test_callback);
     tcase_add_test(tc, test_errors);
     tcase_add_test(tc, test_steiner_limit);

@@ -308,7 +308,18 @@ START_TEST(test_switch_strings) {
                          o.par.neighbors + o.par.no_node + o.par.no_ele + o.par.no_poly +
                          o.par.order2,
                      10);
-    ck_assert_int_eq(o.par.region_area + o.par.refine, 0);
+    ck_assert_int_eq(o.par.region_area + o.par.refine + o.par.convex_hull, 0);
+    /* -c (Triangle's convex hull) inside a switch string, in every mesher and ./meshcheck */
+    const cli_prog *progs[] = {&cli_mesh, &cli_pcdm, &cli_pbw};
+    for (size_t k = 0; k < sizeof progs / sizeof *progs; k++) {
+        ck_assert_int_eq(parse(progs[k], &o, NULL, 0, "-pcq30", "i", NULL), -1);
+        ck_assert_msg(o.par.convex_hull == 1 && o.par.min_angle == 30 && o.pslg == 1, "%s",
+                      progs[k]->name);
+        ck_assert_int_eq(parse(progs[k], &o, NULL, 0, "--convex-hull", "i", NULL), -1);
+        ck_assert_int_eq(o.par.convex_hull, 1);
+    }
+    ck_assert_int_eq(parse(&cli_meshcheck, &o, NULL, 0, "-cq30", "i", "p", NULL), -1);
+    ck_assert(o.par.convex_hull == 1 && o.par.min_angle == 30);
 }
 END_TEST
 
@@ -316,8 +327,8 @@ START_TEST(test_switch_errors) {
     static const struct {
         const char *arg, *want;
     } bad[] = {
-        {"-pqc", "mesh: option -c in '-pqc' is not supported (in Triangle: enclose the convex "
-                 "hull) (try --help)\n"},
+        {"-pqcD", "mesh: option -D in '-pqcD' is not supported (in Triangle: conforming "
+                  "Delaunay) (try --help)\n"},
         {"-C", "mesh: option -C is not supported (in Triangle: consistency check; here: --check) "
                "(try --help)\n"},
         {"-pZ", "mesh: unknown option '-Z' in '-pZ' (try --help)\n"},

@@ -3,7 +3,8 @@
  *
  * pcdm_triangulate is apps/mesh.c without files: the caller's PSLG is copied into a pslg and
  * normalised by pslg_check (duplicates merged, coordinates scaled by an exact power of two into
- * the predicates' working range, quietly: the library never prints), triangulated
+ * the predicates' working range, quietly: the library never prints; with convex_hull the hull
+ * enclosed by segments, as ./mesh -c), triangulated
  * (mesh_build_cdt) and refined (mesh_refine) to the bounds, then copied out with the scaling
  * undone.  The caller's size rule sees the caller's coordinates: a wrapper multiplies the
  * mesher's coordinates by 2^-scale_exp and the area by 2^-2scale_exp, both exact (powers of
@@ -91,7 +92,7 @@ static void *dup_array(const void *p, size_t n, size_t size) {
     return q;
 }
 
-int api_make_pslg(const pcdm_input *in, pslg *g, pcdm_status *st) {
+int api_make_pslg(const pcdm_input *in, const pcdm_options *o, pslg *g, pcdm_status *st) {
     memset(g, 0, sizeof *g);
     size_t nv = (size_t)in->npoints, ns = (size_t)in->nsegments;
     g->nverts = in->npoints;
@@ -115,7 +116,7 @@ int api_make_pslg(const pcdm_input *in, pslg *g, pcdm_status *st) {
     g->quiet = 1;
     snprintf(g->path, sizeof g->path, "input");
     char err[1024];
-    if (pslg_check(g, err, sizeof err) != 0) {
+    if (pslg_check_ex(g, o->convex_hull ? PSLG_HULL : 0u, err, sizeof err) != 0) {
         pslg_free(g);
         return api_fail(st, PCDM_EINPUT, "%s", err);
     }
@@ -198,7 +199,7 @@ int pcdm_triangulate(const pcdm_input *in, const pcdm_options *opt, pcdm_mesh *o
     if (api_check_args(in, &o, st)) return st->code;
     geom_init();
     pslg g;
-    if (api_make_pslg(in, &g, st)) return st->code;
+    if (api_make_pslg(in, &o, &g, st)) return st->code;
     mesh m;
     mesh_init(&m);
     char err[1024];

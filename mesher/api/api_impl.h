@@ -32,9 +32,10 @@ int api_fail(pcdm_status *st, int code, const char *fmt, ...)
  * (st set). */
 int api_check_args(const pcdm_input *in, const pcdm_options *o, pcdm_status *st);
 
-/* Copies in into *g and runs pslg_check quietly (no warnings printed).  Returns PCDM_OK (*g
- * owned by the caller: pslg_free) or PCDM_EINPUT (st set, *g holds nothing). */
-int api_make_pslg(const pcdm_input *in, pslg *g, pcdm_status *st);
+/* Copies in into *g and runs pslg_check quietly (no warnings printed); with o->convex_hull
+ * the convex hull is enclosed by segments (PSLG_HULL).  Returns PCDM_OK (*g owned by the
+ * caller: pslg_free) or PCDM_EINPUT (st set, *g holds nothing). */
+int api_make_pslg(const pcdm_input *in, const pcdm_options *o, pslg *g, pcdm_status *st);
 
 /* The mesher's bounds from o (the angle bound raised by a hair, as ./mesh). */
 void api_quality(const pcdm_options *o, mesh_quality *q);

@@ -472,7 +472,7 @@ int pcdm_triangulate_par(MPI_Comm comm, const pcdm_input *in, const pcdm_options
     geom_init();
     pslg g;
     memset(&g, 0, sizeof g);
-    if (rc == 0) rc = api_make_pslg(in, &g, st);
+    if (rc == 0) rc = api_make_pslg(in, &o, &g, st);
     if (agree(rc, st)) {
         pslg_free(&g);
         rt_finalize();

@@ -1039,7 +1039,10 @@ int pslg_check_ex(pslg *g, unsigned flags, char *err, size_t errlen) {
         int32_t *pairs;
         int64_t np;
         if (normalise(g, split, round > 0, &pairs, &np, err, errlen) != 0) return -1;
-        if (np == 0) return 0;
+        if (np == 0) {
+            if (flags & PSLG_HULL) pslg_enclose_hull(g); /* pslg_hull.c */
+            return 0;
+        }
         int rc = 0;
         if (round == PSLG_SPLIT_ROUNDS) {
             int32_t s = pairs[0], t = pairs[1];
@@ -1718,6 +1721,13 @@ static int on_boundary(const faces *F, int32_t h) {
 
 int pslg_boundary_markers(pslg *g) {
     geom_init();
+    if (g->nsegs == 0 && g->vmarker && g->nverts >= 3) { /* a point set: its hull's vertices */
+        int32_t *cyc = mesh_xmalloc(2 * (size_t)g->nverts + 2, sizeof *cyc);
+        int32_t h = pslg_hull(g, cyc);
+        for (int32_t i = 0; i < h; i++)
+            if (g->vmarker[cyc[i]] == 0) g->vmarker[cyc[i]] = 1;
+        free(cyc);
+    }
     if (g->nsegs == 0 || !g->smarker) return 0;
     faces F;
     if (faces_build(g, &F)) return -1;

@@ -77,21 +77,41 @@ enum {
      * checked again the same way; pieces that the rounded points make cross are split again,
      * up to PSLG_SPLIT_ROUNDS rounds, then the one clear error "FILE:LINE: ... too close to
      * resolve".  Crossing vertices are numbered after the file's vertices. */
-    PSLG_SPLIT = 1
+    PSLG_SPLIT = 1,
+    /* Then enclose the convex hull of the vertices with segments (Triangle's -c; see
+     * pslg_enclose_hull): the domain becomes everything inside the hull but the holes. */
+    PSLG_HULL = 2
 };
 #define PSLG_SPLIT_ROUNDS 8
 
-/* pslg_check, with flags (PSLG_SPLIT or 0; pslg_check is pslg_check_ex(g, 0, ...)).  Returns 0,
- * or -1 with a message in err. */
+/* pslg_check, with flags (PSLG_SPLIT, PSLG_HULL, both or 0; pslg_check is pslg_check_ex(g, 0,
+ * ...)).  Returns 0, or -1 with a message in err. */
 int pslg_check_ex(pslg *g, unsigned flags, char *err, size_t errlen);
+
+/* Triangle's -c: encloses the convex hull of g's vertices with segments.  The hull's edges are
+ * cut at every vertex lying on them (exact orient2d), so no new segment passes through a
+ * vertex; an edge an input segment already covers (the segment lying on the hull's boundary)
+ * is not added again; every other edge becomes a segment with boundary marker 1 and line 0,
+ * appended after g's segments.  Vertices all on one line have a hull without area: nothing is
+ * added.  Call after pslg_check (pslg_check_ex's PSLG_HULL does); keeps its invariant. */
+void pslg_enclose_hull(pslg *g);
+
+/* The convex hull of g's vertices (Andrew's monotone chain, exact orient2d): writes its
+ * vertices counter-clockwise into cyc (room for 2 * g->nverts + 2), every vertex lying on the
+ * hull's boundary included (collinear ones too), each point once, starting from the lowest of
+ * the leftmost.  Returns their number, or 0 when the vertices are fewer than 3 or all on one
+ * line. */
+int32_t pslg_hull(const pslg *g, int32_t *cyc);
 
 /* Boundary markers as Triangle assigns them (its documentation of .node and .poly), on the
  * PSLG before meshing so that every mesher's output inherits them: a segment with marker 0
  * that borders the domain on exactly one side somewhere (the outer boundary, a hole's) gets 1;
  * a vertex with marker 0 lying on a segment (an endpoint, or inside it) takes the segment's
  * nonzero marker -- the file's markers first, then the boundary's 1.  Vertices on no such
- * segment keep 0.  The meshers give a new vertex on a segment that segment's marker, and other
- * new vertices 0.  Call after pslg_check.  Returns 0, or -1 (out of memory). */
+ * segment keep 0.  A point set (no segments) is meshed over its convex hull, whose edges
+ * become segments with marker 1: its vertices on the hull get 1 (as with -c).  The meshers give
+ * a new vertex on a segment that segment's marker, and other new vertices 0.  Call after
+ * pslg_check.  Returns 0, or -1 (out of memory). */
 int pslg_boundary_markers(pslg *g);
 
 /* Area of the domain the PSLG describes, computed from the PSLG alone (independently of any

@@ -75,7 +75,8 @@ int par_load(const par_opts *o, pslg *in, pcdm_decomp *d) {
     geom_init();
     int rc = o->refine ? size_field_read_mesh_pslg(o->input, in, err, sizeof err)
                        : pslg_read(o->input, in, err, sizeof err);
-    if (rc == 0) rc = check_quietly(in, o->quiet, o->strict ? 0 : PSLG_SPLIT, err, sizeof err);
+    unsigned flags = (o->strict ? 0u : PSLG_SPLIT) | (o->convex_hull ? PSLG_HULL : 0u);
+    if (rc == 0) rc = check_quietly(in, o->quiet, flags, err, sizeof err);
     if (rc == 0 && pslg_boundary_markers(in) != 0) { /* Triangle's rules, as ./mesh */
         snprintf(err, sizeof err, "%s: out of memory", o->input);
         rc = -1;

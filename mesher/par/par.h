@@ -72,6 +72,7 @@ typedef struct par_opts {
     int quiet;              /* -Q: nothing on stdout or stderr but errors */
     int verbose;            /* -V: more detail on stderr */
     int strict;             /* --strict: refuse crossing or overlapping segments */
+    int convex_hull;        /* -c: enclose the convex hull with segments (pslg_enclose_hull) */
     const char *msh;        /* --msh FILE: Gmsh 4.1 output */
     const char *size_field; /* --size FILE: background mesh with a target edge length per
                                vertex */

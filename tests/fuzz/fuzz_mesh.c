@@ -2,16 +2,16 @@
  *
  * One input = one option byte followed by the text of a .poly (or, when bit 7 of the option
  * byte is set, a .node).  The option byte picks the angle bound (0, 20.7, 25, 30 or 33 degrees),
- * off-centers, lenses and an area bound.  The text goes through exactly what ./mesh does:
- * pslg_read, pslg_check_ex (crossing segments split, as without --strict), Triangle's boundary
- * markers, mesh_build_cdt, mesh_refine (with a Steiner limit, so an input that
- * would need millions of points stays quick), mesh_to_flat, mesh_validate.  The oracle, besides
- * the sanitizers and libFuzzer's timeout: whenever ./mesh would exit 0 (MESH_REFINE_DONE and
- * mesh_count_unmet() == 0) the validator must accept the mesh at the bounds asked for, or the
- * harness traps.  Bad input is
- * fine (the reader or the checks reject it); a mesh bug aborts through MESH_BUG, which libFuzzer
- * reports as a crash.  The input file lives in a private temporary directory made and removed
- * by each call (no state survives a call).
+ * off-centers, lenses, an area bound and (bit 6) -c, the convex hull enclosed by segments.  The
+ * text goes through exactly what ./mesh does: pslg_read, pslg_check_ex (crossing segments split, as
+ * without --strict; with -c the hull enclosed), Triangle's boundary markers, mesh_build_cdt,
+ * mesh_refine (with a Steiner limit, so an input that would need millions of points stays quick),
+ * mesh_to_flat, mesh_validate.  The oracle, besides the sanitizers and libFuzzer's timeout:
+ * whenever ./mesh would exit 0 (MESH_REFINE_DONE and mesh_count_unmet() == 0) the validator must
+ * accept the mesh at the bounds asked for, or the harness traps.  Bad input is fine (the reader or
+ * the checks reject it); a mesh bug aborts through MESH_BUG, which libFuzzer reports as a crash.
+ * The input file lives in a private temporary directory made and removed by each call (no state
+ * survives a call).
  */
 #include "geom/geom.h"
 #include "geom/pslg.h"
@@ -44,11 +44,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
 
     double q = qs[opt & 7];
     int offc = !(opt & 8), lens = !!(opt & 16), area_on = !!(opt & 32);
+    unsigned flags = PSLG_SPLIT | ((opt & 64) ? PSLG_HULL : 0u);
     char err[1024];
     pslg g;
     if (pslg_read(path, &g, err, sizeof err) != 0) goto out;
     g.quiet = 1; /* no warnings on every input */
-    if (pslg_check_ex(&g, PSLG_SPLIT, err, sizeof err) != 0 || pslg_boundary_markers(&g) != 0) {
+    if (pslg_check_ex(&g, flags, err, sizeof err) != 0 || pslg_boundary_markers(&g) != 0) {
         pslg_free(&g);
         goto out;
     }
