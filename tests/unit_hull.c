@@ -157,18 +157,20 @@ START_TEST(test_enclose) {
     ck_assert_msg(pslg_check(&g, err, sizeof err) == 0, "%s", err);
     ck_assert(pslg_domain_area(&g) == 0); /* without the hull: nothing enclosed but the hole */
     pslg_enclose_hull(&g);
-    /* hull: 0 1 2 7 3 4 5 6; 0-1-2 is segment 1, 4-5 segment 2: five new segments */
+    /* hull: 0 1 2 7 3 4 5 6; 0-1-2 is segment 1 (split at 1 by the check: pieces 1 and 2),
+     * 4-5 segment 3: five new segments */
     static const int32_t want[][2] = {{2, 7}, {7, 3}, {3, 4}, {5, 6}, {6, 0}};
-    ck_assert_int_eq(g.nsegs, 13);
+    static const int32_t mk_after[] = {0, 7, 7, 3, 0, 0, 0, 0, 0};
+    ck_assert_int_eq(g.nsegs, 14);
     for (int k = 0; k < 5; k++) {
-        int32_t s = 8 + k;
+        int32_t s = 9 + k;
         ck_assert_msg(g.seg[2 * s] == want[k][0] && g.seg[2 * s + 1] == want[k][1],
                       "new segment %d: %d-%d", k, g.seg[2 * s], g.seg[2 * s + 1]);
         ck_assert_int_eq(g.smarker[s], 1);
         ck_assert_int_eq(g.sline[s], 0);
     }
-    for (int32_t s = 0; s < 8; s++)
-        ck_assert_int_eq(g.smarker[s], box_mk[s]);
+    for (int32_t s = 0; s < 9; s++)
+        ck_assert_int_eq(g.smarker[s], mk_after[s]);
     pslg c;
     build(&c, g.nverts, g.xy, g.nsegs, g.seg, g.smarker);
     ck_assert_msg(pslg_check(&c, err, sizeof err) == 0, "strict check: %s", err);
@@ -207,9 +209,10 @@ START_TEST(test_check_ex_hull) {
     int32_t cyc[2 * 7 + 2];
     int32_t h = pslg_hull(&g, cyc); /* (0,0) (4,0) (6,2) (4,4) (2,4) (0,4) */
     ck_assert_int_eq(hull_ok(&g, cyc, h), 6);
-    /* the X's four pieces, the top segment (covering two hull edges), four new ones */
-    ck_assert_int_eq(g.nsegs, 9);
-    for (int32_t s = 5; s < 9; s++)
+    /* the X's four pieces, the top segment's two pieces (split at (2,4), each a hull edge),
+     * four new ones */
+    ck_assert_int_eq(g.nsegs, 10);
+    for (int32_t s = 6; s < 10; s++)
         ck_assert_int_eq(g.smarker[s], 1);
     ck_assert(pslg_domain_area(&g) == 20);
     pslg_free(&g);

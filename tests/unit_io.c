@@ -281,7 +281,9 @@ START_TEST(test_domain_area_nested) {
     g.nholes = 1;
     g.holes[0] = g.holes[1] = 1.2; /* the ring between middle and inner */
     ck_assert_double_eq(pslg_domain_area(&g), 13.0);
-    /* connect outer to middle at (2,0)-(2,1): T-junctions on both bottom sides */
+    /* connect outer to middle at (2,0)-(2,1): T-junctions on both bottom sides (the check
+     * split the bottom sides at (2,0) and (2,1) already: room for two more segments) */
+    g.seg = realloc(g.seg, (size_t)(g.nsegs + 2) * 2 * sizeof(int32_t));
     g.nverts = 20;
     int32_t c1[] = {16, 17, 18, 19};
     memcpy(g.seg + 2 * g.nsegs, c1, sizeof c1);

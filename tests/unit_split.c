@@ -97,16 +97,21 @@ START_TEST(test_cross) {
 }
 END_TEST
 
-START_TEST(test_t_junction_unchanged) {
+START_TEST(test_t_junction_split) {
+    /* a vertex inside a segment splits it into two pieces with its marker (no new vertex),
+     * also without PSLG_SPLIT: it is no crossing */
     const double xy[] = {0, 0, 4, 0, 2, 0, 2, 3};
     const int32_t seg[] = {0, 1, 2, 3};
+    const int32_t mk[] = {5, 7};
     pslg g;
-    build(&g, 4, xy, 2, seg, NULL);
+    build(&g, 4, xy, 2, seg, mk);
     char err[256];
     ck_assert_msg(pslg_check(&g, err, sizeof err) == 0, "%s", err);
-    split_ok(&g, 0);
     ck_assert_int_eq(g.nverts, 4);
-    ck_assert_int_eq(g.nsegs, 2);
+    ck_assert_int_eq(g.nsegs, 3);
+    ck_assert_int_eq(seg_marker(&g, 0, 0, 2, 0), 5);
+    ck_assert_int_eq(seg_marker(&g, 2, 0, 4, 0), 5);
+    ck_assert_int_eq(seg_marker(&g, 2, 0, 2, 3), 7);
     pslg_free(&g);
 }
 END_TEST
@@ -284,7 +289,7 @@ int main(void) {
     Suite *s = suite_create("split");
     TCase *tc = tcase_create("split");
     tcase_add_test(tc, test_cross);
-    tcase_add_test(tc, test_t_junction_unchanged);
+    tcase_add_test(tc, test_t_junction_split);
     tcase_add_test(tc, test_overlap);
     tcase_add_test(tc, test_contained_and_shared_end);
     tcase_add_test(tc, test_collinear_chain);

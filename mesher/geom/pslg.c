@@ -12,7 +12,8 @@
  * points onto the same faces (exact point-in-walk tests), so the validator finds each
  * triangle's region without the mesher's labels.  Invariant after pslg_check():
  * distinct vertex coordinates, distinct non-degenerate segments, no two segments meeting
- * except at shared endpoints or at a vertex lying inside a segment.
+ * except at shared endpoints, and no vertex inside a segment (a segment through a vertex is
+ * split there, so every corner it makes with another segment is at an endpoint of both).
  */
 #include "geom/pslg.h"
 
@@ -1017,6 +1018,8 @@ static int normalise(pslg *g, int split, int quiet, int32_t **pairs, int64_t *np
     return rc;
 }
 
+static void split_at_vertices(pslg *g); /* below, with the arrangement */
+
 int pslg_check_ex(pslg *g, unsigned flags, char *err, size_t errlen) {
     geom_init();
     if (errlen) err[0] = '\0';
@@ -1040,6 +1043,12 @@ int pslg_check_ex(pslg *g, unsigned flags, char *err, size_t errlen) {
         int64_t np;
         if (normalise(g, split, round > 0, &pairs, &np, err, errlen) != 0) return -1;
         if (np == 0) {
+            int32_t ns = g->nsegs;
+            split_at_vertices(g);
+            if (g->nsegs != ns) { /* drop pieces that repeat a segment; no new conflicts */
+                if (normalise(g, split, 1, &pairs, &np, err, errlen) != 0) return -1;
+                free(pairs);
+            }
             if (flags & PSLG_HULL) pslg_enclose_hull(g); /* pslg_hull.c */
             return 0;
         }
@@ -1155,6 +1164,103 @@ static void arr_free(arr *A) {
     free(A->pos);
 }
 
+/* The vertices of g lying strictly inside its segments (exact orient2d and bounds): sc->hits
+ * gets (segment, vertex) pairs grouped by segment in segment order.  vg is filled with a grid
+ * of the vertices (caller frees).  Returns 0 or -1 (out of memory). */
+static int vertex_hits(const pslg *g, grid *vg, split_ctx *sc) {
+    int32_t n = g->nverts, ns = g->nsegs;
+    double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+    for (int32_t i = 0; i < n; i++) {
+        x0 = fmin(x0, g->xy[2 * i]);
+        x1 = fmax(x1, g->xy[2 * i]);
+        y0 = fmin(y0, g->xy[2 * i + 1]);
+        y1 = fmax(y1, g->xy[2 * i + 1]);
+    }
+    if (n == 0) x0 = x1 = y0 = y1 = 0;
+    grid_setup(vg, x0, y0, x1, y1, n);
+    size_t ncell = (size_t)vg->nx * vg->ny;
+    vg->start = mesh_xcalloc(ncell + 1, sizeof(int32_t));
+    vg->item = mesh_xmalloc((size_t)(n ? n : 1) * sizeof(int32_t), 1);
+    for (int32_t i = 0; i < n; i++)
+        vg->start[grid_cy(vg, g->xy[2 * i + 1]) * vg->nx + grid_cx(vg, g->xy[2 * i]) + 1]++;
+    for (size_t c = 0; c < ncell; c++)
+        vg->start[c + 1] += vg->start[c];
+    for (int32_t i = 0; i < n; i++)
+        vg->item[vg->start[grid_cy(vg, g->xy[2 * i + 1]) * vg->nx + grid_cx(vg, g->xy[2 * i])]++] =
+            i;
+    for (size_t c = ncell; c > 0; c--)
+        vg->start[c] = vg->start[c - 1];
+    vg->start[0] = 0;
+    sc->g = g;
+    sc->vg = vg;
+    for (int32_t s = 0; s < ns; s++) {
+        sc->s = s;
+        grid_segment(vg, g->xy + 2 * g->seg[2 * s], g->xy + 2 * g->seg[2 * s + 1], split_visit, sc);
+        if (sc->oom) return -1;
+    }
+    return 0;
+}
+
+/* Sorts the hits of one segment (order[0..m), indices into sc->hits) from a to b. */
+static void hits_along(const pslg *g, const split_ctx *sc, int32_t s, int32_t *order, int32_t *tmp,
+                       int32_t m) {
+    along_ctx ac = {g->xy, sc->hits, g->xy + 2 * g->seg[2 * s], g->xy + 2 * g->seg[2 * s + 1]};
+    msort(order, tmp, m, cmp_along, &ac);
+}
+
+/* Splits every segment at the vertices lying strictly inside it, so that afterwards a segment
+ * meets other vertices only at its endpoints: the refinement rules then see every corner a
+ * segment makes with the others at a vertex (incidences, small input angles), and the pieces
+ * keep the segment's marker and line.  Exact; adds no vertex, so no crossing.  Repeated pieces
+ * (a piece that is also an input segment) are left to the next normalisation. */
+static void split_at_vertices(pslg *g) {
+    grid vg = {0};
+    split_ctx sc = {0};
+    vertex_hits(g, &vg, &sc); /* the funnel never fails: no out-of-memory return to handle */
+    grid_free(&vg);
+    if (sc.nhits == 0) {
+        free(sc.hits);
+        return;
+    }
+    int32_t ns = g->nsegs;
+    size_t cap = (size_t)ns + sc.nhits;
+    int32_t *seg = mesh_xmalloc(cap, 2 * sizeof(int32_t));
+    int32_t *smk = g->smarker ? mesh_xmalloc(cap, sizeof(int32_t)) : NULL;
+    int32_t *sln = g->sline ? mesh_xmalloc(cap, sizeof(int32_t)) : NULL;
+    int32_t *order = mesh_xmalloc(sc.nhits, sizeof *order);
+    int32_t *tmp = mesh_xmalloc(sc.nhits, sizeof *tmp);
+    size_t n = 0, h = 0;
+    for (int32_t s = 0; s < ns; s++) {
+        size_t h0 = h;
+        while (h < sc.nhits && sc.hits[2 * h] == s)
+            h++;
+        int32_t m = (int32_t)(h - h0);
+        for (int32_t i = 0; i < m; i++)
+            order[i] = (int32_t)(h0 + (size_t)i);
+        hits_along(g, &sc, s, order, tmp, m);
+        int32_t prev = g->seg[2 * s];
+        for (int32_t i = 0; i <= m; i++) {
+            int32_t v = i < m ? sc.hits[2 * order[i] + 1] : g->seg[2 * s + 1];
+            seg[2 * n] = prev;
+            seg[2 * n + 1] = v;
+            if (smk) smk[n] = g->smarker[s];
+            if (sln) sln[n] = g->sline[s];
+            n++;
+            prev = v;
+        }
+    }
+    free(order);
+    free(tmp);
+    free(sc.hits);
+    free(g->seg);
+    free(g->smarker);
+    free(g->sline);
+    g->seg = seg;
+    g->smarker = smk;
+    g->sline = sln;
+    g->nsegs = (int32_t)n;
+}
+
 /* Builds the arrangement of g's segments.  Returns 0 or -1 (out of memory). */
 static int arr_build(const pslg *g, arr *A) {
     memset(A, 0, sizeof *A);
@@ -1166,39 +1272,8 @@ static int arr_build(const pslg *g, arr *A) {
     grid vg = {0};
     skey *ek = NULL;
     int32_t *order = NULL, *tmp = NULL;
-    /* vertices into a grid */
-    double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
-    for (int32_t i = 0; i < n; i++) {
-        x0 = fmin(x0, g->xy[2 * i]);
-        x1 = fmax(x1, g->xy[2 * i]);
-        y0 = fmin(y0, g->xy[2 * i + 1]);
-        y1 = fmax(y1, g->xy[2 * i + 1]);
-    }
-    if (n == 0) x0 = x1 = y0 = y1 = 0;
-    grid_setup(&vg, x0, y0, x1, y1, n);
-    size_t ncell = (size_t)vg.nx * vg.ny;
-    vg.start = mesh_xcalloc(ncell + 1, sizeof(int32_t));
-    vg.item = mesh_xmalloc((size_t)(n ? n : 1) * sizeof(int32_t), 1);
-    if (!vg.start || !vg.item) goto out;
-    for (int32_t i = 0; i < n; i++)
-        vg.start[grid_cy(&vg, g->xy[2 * i + 1]) * vg.nx + grid_cx(&vg, g->xy[2 * i]) + 1]++;
-    for (size_t c = 0; c < ncell; c++)
-        vg.start[c + 1] += vg.start[c];
-    for (int32_t i = 0; i < n; i++)
-        vg.item[vg.start[grid_cy(&vg, g->xy[2 * i + 1]) * vg.nx + grid_cx(&vg, g->xy[2 * i])]++] =
-            i;
-    for (size_t c = ncell; c > 0; c--)
-        vg.start[c] = vg.start[c - 1];
-    vg.start[0] = 0;
     /* vertices lying inside segments */
-    sc.g = g;
-    sc.vg = &vg;
-    for (int32_t s = 0; s < ns; s++) {
-        sc.s = s;
-        grid_segment(&vg, g->xy + 2 * g->seg[2 * s], g->xy + 2 * g->seg[2 * s + 1], split_visit,
-                     &sc);
-        if (sc.oom) goto out;
-    }
+    if (vertex_hits(g, &vg, &sc)) goto out;
     /* sub-edges: hits are grouped by segment already (segments visited in order) */
     size_t nsub = (size_t)(ns > 0 ? ns : 0) + sc.nhits;
     ek = mesh_xmalloc((nsub ? nsub : 1) * sizeof *ek, 1);
@@ -1214,8 +1289,7 @@ static int arr_build(const pslg *g, arr *A) {
         int32_t m = (int32_t)(h - h0);
         for (int32_t i = 0; i < m; i++)
             order[i] = (int32_t)(h0 + (size_t)i);
-        along_ctx ac = {g->xy, sc.hits, g->xy + 2 * a, g->xy + 2 * b};
-        msort(order, tmp, m, cmp_along, &ac);
+        hits_along(g, &sc, s, order, tmp, m);
         int32_t prev = a;
         for (int32_t i = 0; i <= m; i++) {
             int32_t v = i < m ? sc.hits[2 * order[i] + 1] : b;
