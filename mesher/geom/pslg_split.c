@@ -18,8 +18,8 @@
  *    crossings between them); so a crossing point within a few ulps of a crossing vertex
  *    already on either segment reuses that vertex -- again a choice of position, checked
  *    exactly afterwards.
- * A vertex of the input lying inside a segment is not a conflict: the triangulator splits the
- * segment there.  Invariant on return: every segment of g is a piece of an input segment
+ * A vertex of the input lying inside a segment is not a conflict: pslg_check_ex splits the
+ * segment there once the crossings are resolved (no new vertex).  Invariant on return: every segment of g is a piece of an input segment
  * (endpoints in order along it), with the input segment's marker and line.
  */
 #include "geom/pslg_impl.h"
