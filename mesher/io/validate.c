@@ -10,9 +10,10 @@
  * segments at rounded midpoints), and every boundary edge must lie on such a chain.  Input
  * vertices are found by hashing their exact coordinates.  Areas use compensated summation;
  * total triangle area, area enclosed by the boundary edges and pslg_domain_area() must agree
- * to a relative 1e-9.  Quality checks exempt triangles at small input angles (rule in
- * validate.h).  Regions (-A, --region-areas) are found from the input alone: the face of the
- * segment arrangement (pslg_regions) holding a point exactly inside each triangle.
+ * to a relative 1e-9 plus what the chains' rounding can move (validate_area_slack).  Quality checks
+ * exempt triangles at small input angles (rule in validate.h).  Regions (-A, --region-areas) are
+ * found from the input alone: the face of the segment arrangement (pslg_regions) holding a point
+ * exactly inside each triangle.
  */
 #include "io/validate.h"
 
@@ -908,9 +909,18 @@ static int check_regions(vctx *c) {
 static int check_domain_area(vctx *c) {
     validate_report *r = c->r;
     r->domain_area = c->g ? pslg_domain_area(c->g) : 0;
+    if (c->g) {
+        const pslg *g = c->g;
+        double mag = 0, len = 0;
+        for (int32_t i = 0; i < 2 * g->nverts; i++)
+            mag = fmax(mag, fabs(g->xy[i]));
+        for (int32_t s = 0; s < g->nsegs; s++)
+            len += sqrt(geom_dist2(g->xy + 2 * (size_t)g->seg[2 * s],
+                                   g->xy + 2 * (size_t)g->seg[2 * s + 1]));
+        r->area_slack_w = validate_area_slack(r->domain_area, mag, len);
+    }
     if (c->o->part) return 0; /* the caller compares the sum over the parts */
-    if (c->g && !(fabs(r->mesh_area - r->domain_area) <=
-                  1e-9 * fmax(fabs(r->mesh_area), fabs(r->domain_area)))) {
+    if (c->g && !validate_area_ok(r->mesh_area, r->domain_area, r->area_slack_w)) {
         r->area_mismatch = 1;
         problem(r, "mesh area %.17g differs from the domain area %.17g", r->mesh_area,
                 r->domain_area);

@@ -11,7 +11,7 @@
  *
  * Check: the exact validator runs on every part in part mode (validate.h); what a part alone
  * cannot show is decided over all parts: the sum of the parts' areas against the input's
- * domain area (relative 1e-9, as the validator), and every endpoint of an input segment that
+ * domain area (validate_area_ok, as the validator), and every endpoint of an input segment that
  * piece that borders the domain (every vertex of a point set) used by some part (an MPI_MAX
  * reduction of one byte per input vertex), and every edge between two ranks' triangles that is
  * not an input constraint must be locally Delaunay (par_check_interface_delaunay: the two
@@ -139,7 +139,7 @@ int par_check_parts(const par_opts *o, const pslg *in, mesh_flat *local, const p
     r->max_area = mx;
     /* compared in the working scale; reported in input units */
     double dom = lr.domain_area_w; /* the input's, the same on every rank */
-    if (!(fabs(area - dom) <= 1e-9 * fmax(fabs(area), fabs(dom)))) r->area_mismatch = 1;
+    if (!validate_area_ok(area, dom, lr.area_slack_w)) r->area_mismatch = 1;
     r->mesh_area = ldexp(area, -2 * in->scale_exp);
     r->domain_area = lr.domain_area;
 

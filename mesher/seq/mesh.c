@@ -926,6 +926,25 @@ double mesh_area(const mesh *m) {
     return a;
 }
 
+double mesh_boundary_length(const mesh *m, double *mag) {
+    double len = 0, mg = 0;
+    for (int32_t v = 0; v < m->nv; v++)
+        mg = fmax(mg, fmax(fabs(m->xy[2 * (size_t)v]), fabs(m->xy[2 * (size_t)v + 1])));
+    for (int32_t t = 0; t < m->nt; t++) {
+        if (!mesh_tri_alive(m, t)) continue;
+        for (int j = 0; j < 3; j++) {
+            int32_t e = 3 * t + j;
+            if (m->tn[e] >= 0) continue;
+            const mesh_subseg *s = mesh_subseg_of_edge(m, e);
+            if (s && m->siface[s->seg]) continue;
+            len +=
+                sqrt(geom_dist2(mesh_vertex_xy(m, m->tv[e]), mesh_vertex_xy(m, mesh_dest(m, e))));
+        }
+    }
+    if (mag) *mag = mg;
+    return len;
+}
+
 size_t mesh_memory_bytes(const mesh *m) {
     size_t b = (size_t)m->vcap * (2 * sizeof(double) + 2 * sizeof(int32_t));
     b += (size_t)m->tcap * (6 * sizeof(int32_t) + 1);

@@ -67,7 +67,7 @@ struct mesh_refine_state {
     int32_t *pieces, npieces; /* per segment: its subsegments (0: one, never split) */
     int32_t since_poll;
     double area_budget;    /* boundary splits may move the domain's area by this much in all
-                              (MESH_RULES_AREA_DRIFT of the area; < 0: not computed yet) */
+                              (mesh_rules_area_drift; < 0: not computed yet) */
     double area_spent;     /* ... and have moved it by this much (signed: + grown) */
     int64_t named_refused; /* named splits this mesh could not make (mesh_iface_defects) */
 };
@@ -320,7 +320,10 @@ static int off_line(const mesh *m, int32_t e, const double *pu, const double *pv
  * --check refused the mesh). */
 static int area_drift(mesh *m, int32_t e, const double *pu, const double *pv, const double *p) {
     mesh_refine_state *rs = m->rf;
-    if (rs->area_budget < 0) rs->area_budget = mesh_rules_area_drift(mesh_area(m));
+    if (rs->area_budget < 0) {
+        double mag, len = mesh_boundary_length(m, &mag);
+        rs->area_budget = mesh_rules_area_drift(mesh_area(m), mag, len);
+    }
     return mesh_rules_drift_spend(pu, pv, p, X(m, mesh_apex(m, e)), rs->area_budget,
                                   &rs->area_spent);
 }
@@ -337,13 +340,13 @@ static int split_subseg(mesh *m, int32_t r, int notify) {
     if (iface) {
         /* Interface pieces must stay dyadic and nameable by both ranks: refuse, on the name and
          * the input coordinates alone (so every rank refuses alike), a split whose halves would
-         * be shorter than 2^-36 of the coordinates' magnitude.  Refinement cannot need it (the
-         * shells at corners match the interface, see shell_unit); a split one rank made and the
-         * other could not would leave the merged mesh non-conforming. */
+         * be shorter than 2^-44 (the length floor) of the coordinates' magnitude.  Refinement
+         * cannot need it (the shells at corners match the interface, see shell_unit); a split one
+         * rank made and the other could not would leave the merged mesh non-conforming. */
         const double *a = X(m, m->seg[2 * s.seg]), *b = X(m, m->seg[2 * s.seg + 1]);
         double mag = fmax(fmax(fabs(a[0]), fabs(a[1])), fmax(fabs(b[0]), fabs(b[1])));
         double L = sqrt(geom_dist2(a, b));
-        if (s.level < 0 || s.level >= 48 || ldexp(L, -(s.level + 1)) < 0x1p-36 * fmax(mag, L)) {
+        if (s.level < 0 || s.level >= 48 || ldexp(L, -(s.level + 1)) < 0x1p-44 * fmax(mag, L)) {
             m->stats.failed++;
             return -1;
         }
