@@ -688,6 +688,9 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
  * ./pcdm at one rank) tells.  Used on the exact preview only, where it is as small as the
  * preview: its interfaces may make narrow sectors that a split could cascade through. */
 static int trial_ok(const pcdm_decomp *d, const pcdm_decomp_opts *o) {
+    /* interfaces at a tiny angle to a segment split each other practically forever (a sliver
+     * of 1e-10 radians along its length): not ok, and PCDM would refuse it anyway */
+    if (pcdm_decomp_iface_min_angle(d) < 57.29577951308232 / MESH_RULES_IFACE_MAX_PIECES) return 0;
     mesh m;
     mesh_init(&m);
     char e[256];

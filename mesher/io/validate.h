@@ -98,6 +98,13 @@ static inline int validate_area_ok(double mesh_area, double dom, double slack) {
     return (d < 0 ? -d : d) <= 1e-9 * (a > b ? a : b) + slack;
 }
 
+/* The cheap net the meshers run before they report success, without --check: 1 iff mesh_area,
+ * the sum of the mesh's triangle areas in g's working scale (pslg_check), matches the area of
+ * g's domain (*dom, working scale; validate_area_ok with validate_area_slack).  A point set
+ * (no segments) passes: its domain is the hull the mesher made.  O(input) plus the input's
+ * arrangement (pslg_domain_area).  Local. */
+int validate_area_net(const pslg *g, double mesh_area, double *dom);
+
 /* Validates m against input g.  Returns 1 if the mesh passes, else 0; r filled either way. */
 int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, validate_report *r);
 

@@ -918,12 +918,17 @@ void mesh_take_flat(mesh *m, mesh_flat *f, uint8_t **topen) {
 }
 
 double mesh_area(const mesh *m) {
-    double a = 0;
+    double a = 0, c = 0; /* Neumaier's compensated sum */
     for (int32_t t = 0; t < m->nt; t++)
-        if (mesh_tri_alive(m, t))
-            a += geom_area(mesh_vertex_xy(m, m->tv[3 * t]), mesh_vertex_xy(m, m->tv[3 * t + 1]),
-                           mesh_vertex_xy(m, m->tv[3 * t + 2]));
-    return a;
+        if (mesh_tri_alive(m, t)) {
+            double x = geom_area(mesh_vertex_xy(m, m->tv[3 * t]),
+                                 mesh_vertex_xy(m, m->tv[3 * t + 1]),
+                                 mesh_vertex_xy(m, m->tv[3 * t + 2])),
+                   s = a + x;
+            c += fabs(a) >= fabs(x) ? (a - s) + x : (x - s) + a;
+            a = s;
+        }
+    return a + c;
 }
 
 double mesh_boundary_length(const mesh *m, double *mag) {

@@ -333,8 +333,8 @@ void mesh_take_flat(mesh *m, mesh_flat *f, uint8_t **topen);
 /* Bytes held by the mesh's arrays (capacities). */
 size_t mesh_memory_bytes(const mesh *m);
 
-/* The sum of the live triangles' areas, in the mesh's (working) units; rounded (a magnitude,
- * never a topological decision). */
+/* The sum of the live triangles' areas, in the mesh's (working) units; each rounded, summed
+ * with compensation (a magnitude, never a topological decision). */
 double mesh_area(const mesh *m);
 
 /* The length of the mesh's boundary (edges with no triangle on one side) that lies on input

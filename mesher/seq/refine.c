@@ -474,6 +474,27 @@ static int64_t drain_iface_at_limit(mesh *m) {
     return done;
 }
 
+static int on_corner_segments(const mesh *m, int32_t u, int32_t v);
+
+/* Constraint edge e encroached by the apex of a triangle on either side, where the split can
+ * change something: an apex on the other segment of a small input corner at the same distance
+ * from it as an endpoint of e (on_corner_segments: the triangle's small angle is forced, the
+ * validator exempts it) does not count.  Splitting for it only moves the mismatch: two
+ * segments at 1e-10 radians whose far ends differ by more than their distance apart there
+ * split each other into 2^20 pieces (MESH_RULES_MAX_PIECES), all forced, in seconds. */
+static int encroached_unforced(const mesh *m, int32_t e) {
+    int32_t u = m->tv[e], v = mesh_dest(m, e);
+    for (int k = 0; k < 2; k++) {
+        int32_t f = k ? m->tn[e] : e;
+        if (f < 0) continue;
+        int32_t p = mesh_apex(m, f);
+        if (!enc_test(m, X(m, u), X(m, v), X(m, p))) continue;
+        if (!m->has_corners || !(on_corner_segments(m, p, u) || on_corner_segments(m, p, v)))
+            return 1;
+    }
+    return 0;
+}
+
 /* Drains the encroached-subsegment queue.  Returns the number of subsegments split.  Once the
  * Steiner limit is reached only encroached interface subsegments are split
  * (drain_iface_at_limit); the other entries stay queued. */
@@ -489,7 +510,7 @@ static int64_t drain_enc(mesh *m) {
         if (rec < 0) continue;
         int32_t e = mesh_find_edge(m, u, v);
         if (e < 0) MESH_BUG("subsegment %d-%d has a record but no edge", u, v);
-        if (!forced && !encroached(m, e)) continue;
+        if (!forced && !encroached_unforced(m, e)) continue;
         if (split_subseg(m, rec, 1) == 0) done++;
     }
     r->nenc = r->enchead = 0;
