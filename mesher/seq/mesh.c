@@ -918,17 +918,25 @@ void mesh_take_flat(mesh *m, mesh_flat *f, uint8_t **topen) {
 }
 
 double mesh_area(const mesh *m) {
-    double a = 0, c = 0; /* Neumaier's compensated sum */
-    for (int32_t t = 0; t < m->nt; t++)
-        if (mesh_tri_alive(m, t)) {
-            double x = geom_area(mesh_vertex_xy(m, m->tv[3 * t]),
-                                 mesh_vertex_xy(m, m->tv[3 * t + 1]),
-                                 mesh_vertex_xy(m, m->tv[3 * t + 2])),
-                   s = a + x;
-            c += fabs(a) >= fabs(x) ? (a - s) + x : (x - s) + a;
-            a = s;
+    /* doubled areas summed plainly in blocks of 256 slots, the blocks with Neumaier's
+     * compensation: accurate for millions of triangles at a fraction of compensating each */
+    double a = 0, c = 0;
+    const double *xy = m->xy;
+    for (int32_t t0 = 0; t0 < m->nt; t0 += 256) {
+        int32_t t1 = m->nt - t0 < 256 ? m->nt : t0 + 256;
+        double x = 0;
+        for (int32_t t = t0; t < t1; t++) {
+            if (!mesh_tri_alive(m, t)) continue;
+            const int32_t *v = m->tv + 3 * (size_t)t;
+            const double *p = xy + 2 * (size_t)v[0], *q = xy + 2 * (size_t)v[1],
+                         *r = xy + 2 * (size_t)v[2];
+            x += (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
         }
-    return a + c;
+        double s = a + x;
+        c += fabs(a) >= fabs(x) ? (a - s) + x : (x - s) + a;
+        a = s;
+    }
+    return 0.5 * (a + c);
 }
 
 double mesh_boundary_length(const mesh *m, double *mag) {

@@ -433,6 +433,11 @@ static int split_subseg(mesh *m, int32_t r, int notify) {
     return 0;
 }
 
+/* Past the budget of refusals (UNRESOLVED_BUDGET + ninput / 4): the refinement diverges. */
+static int over_budget(const mesh *m) {
+    return m->stats.unresolved > UNRESOLVED_BUDGET + m->ninput / 4;
+}
+
 static int steiner_limit(const mesh *m) {
     return m->q.max_steiner >= 0 && (int64_t)(m->nv - m->ninput) >= m->q.max_steiner;
 }
@@ -448,7 +453,7 @@ static int64_t drain_iface_at_limit(mesh *m) {
     mesh_refine_state *r = m->rf;
     int64_t done = 0;
     int32_t *kept = NULL, nkept = 0, cap = 0;
-    while (r->enchead < r->nenc) {
+    while (r->enchead < r->nenc && !over_budget(m)) {
         int32_t u = r->enc[r->enchead], v = r->enc[r->enchead + 1];
         int forced = r->enc[r->enchead + 2];
         r->enchead += 3;
@@ -502,6 +507,7 @@ static int64_t drain_enc(mesh *m) {
     mesh_refine_state *r = m->rf;
     int64_t done = 0;
     while (r->enchead < r->nenc) {
+        if (over_budget(m)) return done; /* diverging (mesh_refine stops) */
         if (steiner_limit(m)) return done + drain_iface_at_limit(m);
         int32_t u = r->enc[r->enchead], v = r->enc[r->enchead + 1];
         int forced = r->enc[r->enchead + 2];
@@ -684,6 +690,7 @@ mesh_refine_result mesh_refine(mesh *m) {
     if (r->need_scan) scan(m);
     for (;;) {
         drain_enc(m);
+        if (over_budget(m)) return MESH_REFINE_UNRESOLVED;
         if (r->enchead < r->nenc) return MESH_REFINE_STEINER_LIMIT;
         if (r->since_poll >= m->hooks.poll_every && m->hooks.poll) {
             r->since_poll = 0;
@@ -694,7 +701,7 @@ mesh_refine_result mesh_refine(mesh *m) {
         if (steiner_limit(m)) return MESH_REFINE_STEINER_LIMIT;
         /* every refusal leaves a triangle bad; past a budget the refinement is diverging (it
          * fills the region at the floor's resolution): stop instead of running forever */
-        if (m->stats.unresolved > UNRESOLVED_BUDGET + m->ninput / 4) return MESH_REFINE_UNRESOLVED;
+        if (over_budget(m)) return MESH_REFINE_UNRESOLVED;
         int32_t t = pop_bad(m);
         if (t < 0) {
             if (r->enchead < r->nenc) continue;
