@@ -117,7 +117,8 @@ int mesh_rules_off_line(const double pu[2], const double pv[2], const double p[2
 
 /* A rounded split point lies within 2^-MESH_RULES_ULP_EXP times the coordinates' magnitude
  * of its segment's line (each coordinate of a + (b - a) f is off by at most about an ulp of the
- * larger of |a|, |b|: 2^-52 of it); the validator accepts twice that (validate.h). */
+ * larger of |a|, |b|: 2^-52 of it).  The validator's chain test accepts as much (8 ulps), its
+ * area test twice the area that explains (validate_area_slack). */
 #define MESH_RULES_ULP_EXP 49
 
 /* The domain's area may drift by at most this much in all through split points of boundary
