@@ -185,6 +185,18 @@ int main(int argc, char **argv) {
             return 1;
         }
     }
+    /* the cheap net (the full check is --check): the triangles' areas sum to the domain's */
+    double dom_w = 0, area_w = mesh_area(&m);
+    if (!partial && !validate_area_net(&g, area_w, &dom_w)) {
+        fprintf(stderr,
+                "mesh: %s: the mesh's area %.17g differs from the domain's %.17g by more than "
+                "rounding explains (features below the precision of the coordinates); no mesh "
+                "written\n",
+                input, ldexp(area_w, -2 * g.scale_exp), ldexp(dom_w, -2 * g.scale_exp));
+        mesh_free(&m);
+        pslg_free(&g);
+        return 1;
+    }
     if (verbose)
         fprintf(stderr,
                 "mesh: triangulation %.4f s, refinement %.4f s: %ld triangles, %ld vertices (%ld "

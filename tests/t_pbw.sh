@@ -259,9 +259,11 @@ echo "np=3 -S 100 -> [$(tr '\n' ' ' <"$T/rc")]"
 grep -q "Steiner point limit (-S 100) reached" <<<"$out" && grep -q '^meshcheck: OK' <<<"$out" &&
     [ -s "$T/s100.ele" ] || fail "-S 100: no message, no --check OK or no mesh: $out"
 # a fuzz find (tests/fuzz/pending_par, 9a6bcc4c...): with the ghosts, once rank 0 reached its
-# share of the limit the other rank's cavities into it died and retried for ever
-out=$(ranks_exit 2 "$T/rc" -NEP -q 30 -S 20000 --check tests/fuzz/regress/pbw_ghost_steiner_limit.poly 2>&1)
-echo "np=2 fuzz -S 20000 -> [$(tr '\n' ' ' <"$T/rc")]"
+# share of the limit the other rank's cavities into it died and retried for ever (it needed
+# 20000 Steiner points then; since encroachment splits the forced-angle rule makes pointless are
+# skipped it meshes with about 150, so -S 100 keeps it at the limit)
+out=$(ranks_exit 2 "$T/rc" -NEP -q 30 -S 100 --check tests/fuzz/regress/pbw_ghost_steiner_limit.poly 2>&1)
+echo "np=2 fuzz -S 100 -> [$(tr '\n' ' ' <"$T/rc")]"
 [ "$(awk '$2 == 3' "$T/rc" | wc -l)" -eq 2 ] && grep -q '^meshcheck: OK' <<<"$out" ||
     fail "pbw_ghost_steiner_limit: want exit 3 on both ranks and --check OK: $(cat "$T/rc") $out"
 out=$(ranks_exit 3 "$T/rc" -NEP -S 100000 -a 0.01 --check data/square.poly 2>&1)

@@ -751,7 +751,11 @@ START_TEST(test_area_drift) {
     geom_init();
     const double u[2] = {0, 0}, v[2] = {8, 0}, w[2] = {4, 4}; /* inside is above */
     const double in[2] = {4, 0.25}, out[2] = {4, -0.25}, on[2] = {2, 0};
-    ck_assert_double_eq(mesh_rules_area_drift(-16), ldexp(16, -30));
+    ck_assert_double_eq(mesh_rules_area_drift(-16, 0, 0), ldexp(16, -30));
+    /* rounding's share: 2^-49 of the magnitude per unit of boundary, while at most 2^-8 area */
+    ck_assert_double_eq(mesh_rules_area_drift(16, 0x1p40, 2), ldexp(16, -30) + 0x1p-8);
+    ck_assert_double_eq(mesh_rules_area_drift(16, 0x1p44, 2), ldexp(16, -30) + 0x1p-4);
+    ck_assert_double_eq(mesh_rules_area_drift(16, 0x1p45, 2), ldexp(16, -30));
     double drift = 0, budget = 1.5; /* each off-line point moves the area by 8 * 0.25 / 2 = 1 */
     ck_assert_int_eq(mesh_rules_drift_spend(u, v, on, w, budget, &drift), 0);
     ck_assert_double_eq(drift, 0);

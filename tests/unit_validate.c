@@ -249,6 +249,43 @@ START_TEST(test_split_segment_chain) {
 }
 END_TEST
 
+/* The precision model (README, Robustness): far from the origin a split point of a slanted
+ * boundary segment rounds off its line by an ulp of the coordinates, which moves the domain's
+ * area by far more than a relative 1e-9 of a small domain; the validator accepts what rounding
+ * explains (validate_area_slack: 2^-48 of the magnitude per unit of segment length, at most
+ * 2^-7 of the area), and the cheap net (validate_area_net) applies the same tolerance. */
+START_TEST(test_area_rounding_far) {
+    const double X = 0x1p30; /* ulp 2^-22 */
+    double a[2] = {X + 0.1, X + 0.7}, b[2] = {X + 0.9, X + 0.3}, mid[2];
+    geom_midpoint(a, b, mid);
+    mid[1] += 0x1p-22; /* one ulp off the line, outwards or inwards */
+    double xy[] = {a[0], a[1], b[0], b[1], X + 0.3, X + 1.9, mid[0], mid[1]};
+    int32_t pseg[] = {0, 1, 1, 2, 2, 0};
+    pslg g;
+    make_pslg(&g, 3, xy, 3, pseg);
+    int32_t tri[] = {0, 3, 2, 3, 1, 2};
+    int32_t mseg[] = {0, 3, 3, 1, 1, 2, 2, 0};
+    mesh_flat m = flat(4, xy, 2, tri, 4, mseg);
+    validate_report r;
+    ck_assert_msg(run(&g, &m, 0, 0, &r), "%s", r.first_problem);
+    double moved = fabs(r.mesh_area - r.domain_area);
+    printf("far triangle: area moved by %.3g (relative %.3g), slack %.3g\n", moved,
+           moved / r.domain_area, r.area_slack_w);
+    ck_assert(moved > 1e-9 * r.domain_area); /* the old relative test would refuse it */
+    ck_assert(moved <= r.area_slack_w);
+    double dom = 0;
+    ck_assert_int_eq(validate_area_net(&g, r.mesh_area, &dom), 1);
+    ck_assert_double_eq(dom, r.domain_area);
+    ck_assert_int_eq(validate_area_net(&g, r.domain_area * (1 + 1e-4), &dom), 0);
+    pslg_free(&g);
+    /* the slack: 2^-48 mag seglen, capped at 2^-7 of the area */
+    ck_assert_double_eq(validate_area_slack(1, 1, 4), 0x1p-46);
+    ck_assert_double_eq(validate_area_slack(1, 0x1p50, 4), 0x1p-7);
+    ck_assert_int_eq(validate_area_ok(1 + 2e-9, 1, 0), 0);
+    ck_assert_int_eq(validate_area_ok(1 + 2e-9, 1, 1.5e-9), 1);
+}
+END_TEST
+
 /* Two boundary segments 1e-50 radians apart at a far vertex (a fuzz finding): the midpoint of
  * one lies within the distance test of the other, and the chain of the other must not detour
  * through it when its own edge reaches its end. */
@@ -372,6 +409,7 @@ int main(void) {
     tcase_add_test(tc, test_overlap);
     tcase_add_test(tc, test_missing_segment_and_vertex);
     tcase_add_test(tc, test_split_segment_chain);
+    tcase_add_test(tc, test_area_rounding_far);
     tcase_add_test(tc, test_near_parallel_segments);
     tcase_add_test(tc, test_quality_bounds);
     tcase_add_test(tc, test_wedge_exemption);

@@ -17,6 +17,7 @@
 
 #include "base/base.h"
 #include "geom/geom.h"
+#include "io/validate.h"
 #include "seq/mesh.h"
 
 #include <math.h>
@@ -223,6 +224,16 @@ int pcdm_triangulate(const pcdm_input *in, const pcdm_options *opt, pcdm_mesh *o
                  "splits (features below the precision of the coordinates, a region too thin "
                  "for its length, or min_angle %g beyond what refinement reaches)",
                  (long long)unmet, (long long)m.stats.unresolved, o.min_angle);
+        mesh_free(&m);
+        pslg_free(&g);
+        return st->code;
+    }
+    double dom_w = 0, area_w = mesh_area(&m);
+    if (!validate_area_net(&g, area_w, &dom_w)) { /* the cheap net, as ./mesh */
+        api_fail(st, PCDM_EUNMET,
+                 "the mesh's area %.17g differs from the domain's %.17g by more than rounding "
+                 "explains (features below the precision of the coordinates)",
+                 ldexp(area_w, -2 * g.scale_exp), ldexp(dom_w, -2 * g.scale_exp));
         mesh_free(&m);
         pslg_free(&g);
         return st->code;

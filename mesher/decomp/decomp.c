@@ -546,3 +546,29 @@ int pcdm_decomp_write_cuts(const pcdm_decomp *d, const char *path, char *err, si
     }
     return 0;
 }
+
+double pcdm_decomp_iface_min_angle(const pcdm_decomp *d) {
+    const pslg *g = &d->g;
+    int32_t *off = mesh_xcalloc((size_t)g->nverts + 2, sizeof(int32_t));
+    int32_t *inc = mesh_xmalloc(2 * (size_t)g->nsegs + 1, sizeof(int32_t));
+    for (int32_t s = 0; s < 2 * g->nsegs; s++)
+        off[g->seg[s] + 1]++;
+    for (int32_t v = 0; v < g->nverts; v++)
+        off[v + 1] += off[v];
+    for (int32_t s = 0; s < 2 * g->nsegs; s++)
+        inc[off[g->seg[s]]++] = s / 2; /* off[v] ends as the start of v + 1 */
+    double best = 180;
+    for (int32_t v = 0, lo = 0; v < g->nverts; lo = off[v], v++)
+        for (int32_t i = lo; i < off[v]; i++)
+            for (int32_t j = i + 1; j < off[v]; j++) {
+                int32_t a = inc[i], b = inc[j];
+                if (!d->seg_iface[a] && !d->seg_iface[b]) continue;
+                int32_t oa = g->seg[2 * a] == v ? g->seg[2 * a + 1] : g->seg[2 * a];
+                int32_t ob = g->seg[2 * b] == v ? g->seg[2 * b + 1] : g->seg[2 * b];
+                best = fmin(best, geom_angle_deg(g->xy + 2 * (size_t)oa, g->xy + 2 * (size_t)v,
+                                                 g->xy + 2 * (size_t)ob));
+            }
+    free(off);
+    free(inc);
+    return best;
+}

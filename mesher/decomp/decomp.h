@@ -129,4 +129,10 @@ int pcdm_decomp_write_cuts(const pcdm_decomp *d, const char *path, char *err, si
 /* Frees everything d owns and zeroes it.  Safe on a zeroed struct. */
 void pcdm_decomp_free(pcdm_decomp *d);
 
+/* The smallest angle (degrees) between an interface piece (d->seg_iface) and another segment
+ * of the augmented PSLG at a vertex they share; 180 if none.  A quality figure, not topology:
+ * below 180 / pi / MESH_RULES_IFACE_MAX_PIECES the splits along the two never end (PCDM
+ * refuses such a decomposition; the preview's trial refinement skips it).  Local. */
+double pcdm_decomp_iface_min_angle(const pcdm_decomp *d);
+
 #endif

@@ -688,6 +688,9 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
  * ./pcdm at one rank) tells.  Used on the exact preview only, where it is as small as the
  * preview: its interfaces may make narrow sectors that a split could cascade through. */
 static int trial_ok(const pcdm_decomp *d, const pcdm_decomp_opts *o) {
+    /* interfaces at a tiny angle to a segment split each other practically forever (a sliver
+     * of 1e-10 radians along its length): not ok, and PCDM would refuse it anyway */
+    if (pcdm_decomp_iface_min_angle(d) < 57.29577951308232 / MESH_RULES_IFACE_MAX_PIECES) return 0;
     mesh m;
     mesh_init(&m);
     char e[256];
@@ -697,7 +700,12 @@ static int trial_ok(const pcdm_decomp *d, const pcdm_decomp_opts *o) {
         memset(&q, 0, sizeof q);
         q.min_angle = o->min_angle > 0 ? o->min_angle * (1 + 1e-9) + 1e-12 : 0;
         q.max_area = o->max_area;
-        q.max_steiner = -1;
+        /* the preview's final mesh has at most K * exact_per_sub triangles (exact_preview):
+         * a trial that needs 8 times as many cascades along an interface (a sliver of 1e-10
+         * radians cut along its length split for minutes), so it is not ok */
+        int32_t K = o->nsub > 0 ? o->nsub : o->nranks;
+        int32_t eps = o->exact_per_sub == 0 ? EXACT_PER_SUB_DEFAULT : o->exact_per_sub;
+        q.max_steiner = 4 * (int64_t)K * (eps > 0 ? eps : EXACT_PER_SUB_DEFAULT);
         q.offcenter = 1;
         if (o->region_area) mesh_set_regions(&m, &d->g, 1, d->nboundary);
         mesh_set_quality(&m, &q);

@@ -69,13 +69,41 @@ typedef struct validate_report {
     /* the same two in the working scale of pslg_check (times 2^(2 scale_exp)): sums of parts'
      * areas are taken there, where tiny or huge inputs keep their precision */
     double mesh_area_w, domain_area_w;
+    /* what rounded split points may move the area by, in the working scale (part of
+     * validate_area_ok's tolerance; from the input alone, the same in every part) */
+    double area_slack_w;
     long bad_orient, bad_conform, missing_verts, missing_segs, stray_boundary, non_delaunay,
         bad_angle, bad_area;
     long bad_region;         /* triangles whose attribute is not their region's (region_attr) */
-    long area_mismatch;      /* 1 if the mesh area differs from the domain area (relative 1e-9) */
+    long area_mismatch;      /* 1 if the mesh area differs from the domain's (validate_area_ok) */
     long nexempt;            /* triangles exempted from the angle bound (not a failure) */
     char first_problem[256]; /* description of the first failure found */
 } validate_report;
+
+/* The part of the area tolerance that rounding alone explains, for an input whose largest
+ * coordinate magnitude is mag and whose segments are seglen long in all (domain area dom): the
+ * meshers keep the area's drift through rounded split points within 2^-49 mag times the
+ * boundary's length, and use that allowance only while it is at most 2^-8 dom
+ * (mesh_rules_area_drift); this is twice both, 2^-48 mag seglen capped at 2^-7 dom. */
+static inline double validate_area_slack(double dom, double mag, double seglen) {
+    double r = 0x1p-48 * mag * seglen, cap = 0x1p-7 * (dom < 0 ? -dom : dom);
+    return r < cap ? r : cap;
+}
+
+/* 1 iff the mesh's area matches the domain's: within a relative 1e-9 plus slack
+ * (validate_area_slack). */
+static inline int validate_area_ok(double mesh_area, double dom, double slack) {
+    double d = mesh_area - dom, a = mesh_area < 0 ? -mesh_area : mesh_area,
+           b = dom < 0 ? -dom : dom;
+    return (d < 0 ? -d : d) <= 1e-9 * (a > b ? a : b) + slack;
+}
+
+/* The cheap net the meshers run before they report success, without --check: 1 iff mesh_area,
+ * the sum of the mesh's triangle areas in g's working scale (pslg_check), matches the area of
+ * g's domain (*dom, working scale; validate_area_ok with validate_area_slack).  A point set
+ * (no segments) passes: its domain is the hull the mesher made.  O(input) plus the input's
+ * arrangement (pslg_domain_area).  Local. */
+int validate_area_net(const pslg *g, double mesh_area, double *dom);
 
 /* Validates m against input g.  Returns 1 if the mesh passes, else 0; r filled either way. */
 int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, validate_report *r);

@@ -11,7 +11,7 @@
  *
  * Check: the exact validator runs on every part in part mode (validate.h); what a part alone
  * cannot show is decided over all parts: the sum of the parts' areas against the input's
- * domain area (relative 1e-9, as the validator), and every endpoint of an input segment that
+ * domain area (validate_area_ok, as the validator), and every endpoint of an input segment that
  * piece that borders the domain (every vertex of a point set) used by some part (an MPI_MAX
  * reduction of one byte per input vertex), and every edge between two ranks' triangles that is
  * not an input constraint must be locally Delaunay (par_check_interface_delaunay: the two
@@ -139,7 +139,7 @@ int par_check_parts(const par_opts *o, const pslg *in, mesh_flat *local, const p
     r->max_area = mx;
     /* compared in the working scale; reported in input units */
     double dom = lr.domain_area_w; /* the input's, the same on every rank */
-    if (!(fabs(area - dom) <= 1e-9 * fmax(fabs(area), fabs(dom)))) r->area_mismatch = 1;
+    if (!validate_area_ok(area, dom, lr.area_slack_w)) r->area_mismatch = 1;
     r->mesh_area = ldexp(area, -2 * in->scale_exp);
     r->domain_area = lr.domain_area;
 
@@ -394,6 +394,26 @@ int par_output(const par_opts *o, const pslg *in, mesh_flat *local, const uint8_
     return par_output_sub(o, in, local, artificial, NULL, NULL, sum);
 }
 
+/* The sum of a part's triangle areas (working scale): doubled areas summed plainly in blocks
+ * of 256, the blocks with Neumaier's compensation (as mesh_area). */
+static double flat_area(const mesh_flat *f) {
+    double a = 0, c = 0;
+    for (int64_t t0 = 0; t0 < f->ntris; t0 += 256) {
+        int64_t t1 = f->ntris - t0 < 256 ? f->ntris : t0 + 256;
+        double x = 0;
+        for (int64_t t = t0; t < t1; t++) {
+            const int32_t *v = f->tri + 3 * (size_t)t;
+            const double *p = f->xy + 2 * (size_t)v[0], *q = f->xy + 2 * (size_t)v[1],
+                         *r = f->xy + 2 * (size_t)v[2];
+            x += (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+        }
+        double s = a + x;
+        c += fabs(a) >= fabs(x) ? (a - s) + x : (x - s) + a;
+        a = s;
+    }
+    return 0.5 * (a + c);
+}
+
 int par_output_sub(const par_opts *o, const pslg *in, mesh_flat *local, const uint8_t *artificial,
                    const int32_t *tsub, const uint8_t *topen, par_summary *sum) {
     memset(sum, 0, sizeof *sum);
@@ -409,6 +429,16 @@ int par_output_sub(const par_opts *o, const pslg *in, mesh_flat *local, const ui
     snprintf(msg, sizeof msg, "%s: %s: rank %d: %s", o->prog, in->path[0] ? in->path : "mesh",
              rt_rank(), imsg);
     if (par_fail_any(ibad, msg)) return 1;
+    /* ... and the parts' areas sum to the domain's (the cheap net ./mesh runs too) */
+    double area = flat_area(local), dom = 0;
+    MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, &area, 1, MPI_DOUBLE, MPI_SUM, rt_app_comm()));
+    int abad = !validate_area_net(in, area, &dom);
+    snprintf(msg, sizeof msg,
+             "%s: %s: the parts' areas sum to %.17g, the domain's area is %.17g: more apart than "
+             "rounding explains (features below the precision of the coordinates); none written",
+             o->prog, in->path[0] ? in->path : "mesh", ldexp(area, -2 * in->scale_exp),
+             ldexp(dom, -2 * in->scale_exp));
+    if (par_fail_any(abad, msg)) return 1;
     double t0 = rt_wtime();
     par_numbering num;
     char err[512];

@@ -129,7 +129,8 @@ typedef struct par_summary {
 } par_summary;
 
 /* Collective.  The common end of ./pcdm and ./pbw once every rank holds its part (local):
- * par_check_interfaces (always; a disagreement fails every rank), par_number, the distributed
+ * par_check_interfaces and the parts' area sum against the domain's (validate_area_net; both
+ * always, a failure fails every rank), par_number, the distributed
  * check when o->check (its summary line printed by rank 0), then par_write_parts (nothing is
  * written when the check failed).  Returns 0, or 1 on every rank (messages printed by rank 0).
  * local may be changed by the test-only fault of par_check_parts. */

@@ -274,7 +274,10 @@ void pbw_check_new_triangle(pbw_ctx *C, int32_t t) {
         if (!mesh_edge_constrained(&C->M, (int32_t)e)) continue;
         int32_t a = C->M.tv[e], b = C->M.tv[3 * (size_t)t + (size_t)((j + 1) % 3)],
                 o = C->M.tv[3 * (size_t)t + (size_t)((j + 2) % 3)];
-        if (mesh_rules_encroaches(&C->R, VX(C, a), VX(C, b), VX(C, o))) {
+        /* an apex on the other segment of a small input corner, as far from it as a or b,
+         * does not count (the forced-angle rule; refine.c's encroached_unforced) */
+        if (mesh_rules_encroaches(&C->R, VX(C, a), VX(C, b), VX(C, o)) &&
+            !pbw_edge_forced(C, o, a) && !pbw_edge_forced(C, o, b)) {
             pbw_item it;
             memset(&it, 0, sizeof it);
             it.kind = IT_SPLIT;

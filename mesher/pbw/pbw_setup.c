@@ -106,7 +106,8 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
     /* the length floor of the initial CDT, as ./mesh computes it from the same CDT */
     C->floor2 = mesh_rules_length_floor2(m0.xy, m0.nv, m0.tv, m0.nt);
     double dom_area = mesh_area(&m0);
-    C->area_budget = mesh_rules_area_drift(dom_area) / C->size;
+    double mag, blen = mesh_boundary_length(&m0, &mag);
+    C->area_budget = mesh_rules_area_drift(dom_area, mag, blen) / C->size;
     C->unresolved_budget = mesh_rules_unresolved_budget(m0.ninput);
     if (so->max_area > 0 && C->size > 1) {
         double a0 = fmax(dom_area / (PRE_TRIS_PER_RANK * C->size), PRE_COARSEN * so->max_area);

@@ -142,10 +142,10 @@ static void process_item(pbw_ctx *C, pbw_item *it) {
             pbw_defer_item(C, it, W_HOLD, C->hd[LK(C, t)].key, 1);
             return;
         }
-        int32_t la = C->M.tv[e], lb = C->M.tv[3 * (size_t)t + (size_t)((j + 1) % 3)];
-        if (!it->forced &&
-            !mesh_rules_encroaches(&C->R, VX(C, la), VX(C, lb),
-                                   VX(C, C->M.tv[3 * (size_t)t + (size_t)((j + 2) % 3)]))) {
+        int32_t la = C->M.tv[e], lb = C->M.tv[3 * (size_t)t + (size_t)((j + 1) % 3)],
+                lo = C->M.tv[3 * (size_t)t + (size_t)((j + 2) % 3)];
+        if (!it->forced && (!mesh_rules_encroaches(&C->R, VX(C, la), VX(C, lb), VX(C, lo)) ||
+                            pbw_edge_forced(C, lo, la) || pbw_edge_forced(C, lo, lb))) {
             pbw_notify(C, it->notify, it->ticket, 0);
             return;
         }

@@ -193,40 +193,13 @@ int pcdm_build_mesh(mesh *m, const pcdm_decomp *d, int rank, int32_t only_sub, i
     return 0;
 }
 
-/* The smallest angle (degrees) between an interface piece (d->seg_iface) and another segment
- * of the augmented PSLG at a vertex they share; 180 if none.  A quality figure, not topology. */
-static double iface_min_angle(const pcdm_decomp *d) {
-    const pslg *g = &d->g;
-    int32_t *off = mesh_xcalloc((size_t)g->nverts + 2, sizeof(int32_t));
-    int32_t *inc = mesh_xmalloc(2 * (size_t)g->nsegs + 1, sizeof(int32_t));
-    for (int32_t s = 0; s < 2 * g->nsegs; s++)
-        off[g->seg[s] + 1]++;
-    for (int32_t v = 0; v < g->nverts; v++)
-        off[v + 1] += off[v];
-    for (int32_t s = 0; s < 2 * g->nsegs; s++)
-        inc[off[g->seg[s]]++] = s / 2; /* off[v] ends as the start of v + 1 */
-    double best = 180;
-    for (int32_t v = 0, lo = 0; v < g->nverts; lo = off[v], v++)
-        for (int32_t i = lo; i < off[v]; i++)
-            for (int32_t j = i + 1; j < off[v]; j++) {
-                int32_t a = inc[i], b = inc[j];
-                if (!d->seg_iface[a] && !d->seg_iface[b]) continue;
-                int32_t oa = g->seg[2 * a] == v ? g->seg[2 * a + 1] : g->seg[2 * a];
-                int32_t ob = g->seg[2 * b] == v ? g->seg[2 * b + 1] : g->seg[2 * b];
-                best = fmin(best, geom_angle_deg(g->xy + 2 * (size_t)oa, g->xy + 2 * (size_t)v,
-                                                 g->xy + 2 * (size_t)ob));
-            }
-    free(off);
-    free(inc);
-    return best;
-}
-
 /* Refuses a decomposition whose interfaces meet another segment at an angle so small that the
  * splits along the two would cascade practically forever (MESH_RULES_IFACE_MAX_PIECES, rules.h:
  * a degenerate input the coarse mesh could not resolve, e.g. a domain of one sliver triangle
  * cut in three).  The same decision on every rank (same d). */
 static int check_angles(const pcdm_decomp *d, char *err, size_t errlen) {
-    double ang = iface_min_angle(d), lim = 57.29577951308232 / MESH_RULES_IFACE_MAX_PIECES;
+    double ang = pcdm_decomp_iface_min_angle(d),
+           lim = 57.29577951308232 / MESH_RULES_IFACE_MAX_PIECES;
     if (ang >= lim) return 0;
     snprintf(err, errlen,
              "cannot decompose: a subdomain interface meets another segment at %.3g degrees "

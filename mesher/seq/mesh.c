@@ -922,12 +922,44 @@ void mesh_take_flat(mesh *m, mesh_flat *f, uint8_t **topen) {
 }
 
 double mesh_area(const mesh *m) {
-    double a = 0;
-    for (int32_t t = 0; t < m->nt; t++)
-        if (mesh_tri_alive(m, t))
-            a += geom_area(mesh_vertex_xy(m, m->tv[3 * t]), mesh_vertex_xy(m, m->tv[3 * t + 1]),
-                           mesh_vertex_xy(m, m->tv[3 * t + 2]));
-    return a;
+    /* doubled areas summed plainly in blocks of 256 slots, the blocks with Neumaier's
+     * compensation: accurate for millions of triangles at a fraction of compensating each */
+    double a = 0, c = 0;
+    const double *xy = m->xy;
+    for (int32_t t0 = 0; t0 < m->nt; t0 += 256) {
+        int32_t t1 = m->nt - t0 < 256 ? m->nt : t0 + 256;
+        double x = 0;
+        for (int32_t t = t0; t < t1; t++) {
+            if (!mesh_tri_alive(m, t)) continue;
+            const int32_t *v = m->tv + 3 * (size_t)t;
+            const double *p = xy + 2 * (size_t)v[0], *q = xy + 2 * (size_t)v[1],
+                         *r = xy + 2 * (size_t)v[2];
+            x += (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+        }
+        double s = a + x;
+        c += fabs(a) >= fabs(x) ? (a - s) + x : (x - s) + a;
+        a = s;
+    }
+    return 0.5 * (a + c);
+}
+
+double mesh_boundary_length(const mesh *m, double *mag) {
+    double len = 0, mg = 0;
+    for (int32_t v = 0; v < m->nv; v++)
+        mg = fmax(mg, fmax(fabs(m->xy[2 * (size_t)v]), fabs(m->xy[2 * (size_t)v + 1])));
+    for (int32_t t = 0; t < m->nt; t++) {
+        if (!mesh_tri_alive(m, t)) continue;
+        for (int j = 0; j < 3; j++) {
+            int32_t e = 3 * t + j;
+            if (m->tn[e] >= 0) continue;
+            const mesh_subseg *s = mesh_subseg_of_edge(m, e);
+            if (s && m->siface[s->seg]) continue;
+            len +=
+                sqrt(geom_dist2(mesh_vertex_xy(m, m->tv[e]), mesh_vertex_xy(m, mesh_dest(m, e))));
+        }
+    }
+    if (mag) *mag = mg;
+    return len;
 }
 
 size_t mesh_memory_bytes(const mesh *m) {

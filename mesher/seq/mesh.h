@@ -291,7 +291,7 @@ typedef enum {
  * two neighbouring non-interface segments that meet at such a corner, at the same distance
  * from it (within 1%), is left alone unless it is also too large (its small angle is forced by
  * the input; the validator exempts it); corners with an interface segment are not exempt.  An
- * interface subsegment whose halves would be below 2^-36 of the coordinates' magnitude is not
+ * interface subsegment whose halves would be below 2^-44 of the coordinates' magnitude is not
  * split (counted in stats.failed; the same decision on every rank).  With q.lens,
  * diametral lenses (Shewchuk 2002) replace the circles in every encroachment test.
  * Resumable: returns when the queues are empty; new work (named splits) is queued and picked up
@@ -333,9 +333,14 @@ void mesh_take_flat(mesh *m, mesh_flat *f, uint8_t **topen);
 /* Bytes held by the mesh's arrays (capacities). */
 size_t mesh_memory_bytes(const mesh *m);
 
-/* The sum of the live triangles' areas, in the mesh's (working) units; rounded (a magnitude,
- * never a topological decision). */
+/* The sum of the live triangles' areas, in the mesh's (working) units; each rounded, summed
+ * with compensation (a magnitude, never a topological decision). */
 double mesh_area(const mesh *m);
+
+/* The length of the mesh's boundary (edges with no triangle on one side) that lies on input
+ * segments, interface segments left out, in working units; *mag (may be NULL) gets the largest
+ * coordinate magnitude of the vertices.  Rounded: for mesh_rules_area_drift. */
+double mesh_boundary_length(const mesh *m, double *mag);
 
 /* Edge code of the edge {u, v} in some live triangle (either direction), or -1. */
 int32_t mesh_find_edge(const mesh *m, int32_t u, int32_t v);

@@ -76,7 +76,7 @@ struct mesh_refine_state {
     int32_t *pieces, npieces; /* per segment: its subsegments (0: one, never split) */
     int32_t since_poll;
     double area_budget;    /* boundary splits may move the domain's area by this much in all
-                              (MESH_RULES_AREA_DRIFT of the area; < 0: not computed yet) */
+                              (mesh_rules_area_drift; < 0: not computed yet) */
     double area_spent;     /* ... and have moved it by this much (signed: + grown) */
     int64_t named_refused; /* named splits this mesh could not make (mesh_iface_defects) */
 };
@@ -339,7 +339,10 @@ static int off_line(const mesh *m, int32_t e, const double *pu, const double *pv
  * --check refused the mesh). */
 static int area_drift(mesh *m, int32_t e, const double *pu, const double *pv, const double *p) {
     mesh_refine_state *rs = m->rf;
-    if (rs->area_budget < 0) rs->area_budget = mesh_rules_area_drift(mesh_area(m));
+    if (rs->area_budget < 0) {
+        double mag, len = mesh_boundary_length(m, &mag);
+        rs->area_budget = mesh_rules_area_drift(mesh_area(m), mag, len);
+    }
     return mesh_rules_drift_spend(pu, pv, p, X(m, mesh_apex(m, e)), rs->area_budget,
                                   &rs->area_spent);
 }
@@ -356,13 +359,13 @@ static int split_subseg(mesh *m, int32_t r, int notify) {
     if (iface) {
         /* Interface pieces must stay dyadic and nameable by both ranks: refuse, on the name and
          * the input coordinates alone (so every rank refuses alike), a split whose halves would
-         * be shorter than 2^-36 of the coordinates' magnitude.  Refinement cannot need it (the
-         * shells at corners match the interface, see shell_unit); a split one rank made and the
-         * other could not would leave the merged mesh non-conforming. */
+         * be shorter than 2^-44 (the length floor) of the coordinates' magnitude.  Refinement
+         * cannot need it (the shells at corners match the interface, see shell_unit); a split one
+         * rank made and the other could not would leave the merged mesh non-conforming. */
         const double *a = X(m, m->seg[2 * s.seg]), *b = X(m, m->seg[2 * s.seg + 1]);
         double mag = fmax(fmax(fabs(a[0]), fabs(a[1])), fmax(fabs(b[0]), fabs(b[1])));
         double L = sqrt(geom_dist2(a, b));
-        if (s.level < 0 || s.level >= 48 || ldexp(L, -(s.level + 1)) < 0x1p-36 * fmax(mag, L)) {
+        if (s.level < 0 || s.level >= 48 || ldexp(L, -(s.level + 1)) < 0x1p-44 * fmax(mag, L)) {
             m->stats.failed++;
             return -1;
         }
@@ -449,6 +452,11 @@ static int split_subseg(mesh *m, int32_t r, int notify) {
     return 0;
 }
 
+/* Past the budget of refusals (UNRESOLVED_BUDGET + ninput / 4): the refinement diverges. */
+static int over_budget(const mesh *m) {
+    return m->stats.unresolved > UNRESOLVED_BUDGET + m->ninput / 4;
+}
+
 static int steiner_limit(const mesh *m) {
     return m->q.max_steiner >= 0 && (int64_t)(m->nv - m->ninput) >= m->q.max_steiner;
 }
@@ -464,7 +472,7 @@ static int64_t drain_iface_at_limit(mesh *m) {
     mesh_refine_state *r = m->rf;
     int64_t done = 0;
     int32_t *kept = NULL, nkept = 0, cap = 0;
-    while (r->enchead < r->nenc) {
+    while (r->enchead < r->nenc && !over_budget(m)) {
         int32_t u = r->enc[r->enchead], v = r->enc[r->enchead + 1];
         int forced = r->enc[r->enchead + 2];
         r->enchead += 3;
@@ -490,6 +498,27 @@ static int64_t drain_iface_at_limit(mesh *m) {
     return done;
 }
 
+static int on_corner_segments(const mesh *m, int32_t u, int32_t v);
+
+/* Constraint edge e encroached by the apex of a triangle on either side, where the split can
+ * change something: an apex on the other segment of a small input corner at the same distance
+ * from it as an endpoint of e (on_corner_segments: the triangle's small angle is forced, the
+ * validator exempts it) does not count.  Splitting for it only moves the mismatch: two
+ * segments at 1e-10 radians whose far ends differ by more than their distance apart there
+ * split each other into 2^20 pieces (MESH_RULES_MAX_PIECES), all forced, in seconds. */
+static int encroached_unforced(const mesh *m, int32_t e) {
+    int32_t u = m->tv[e], v = mesh_dest(m, e);
+    for (int k = 0; k < 2; k++) {
+        int32_t f = k ? m->tn[e] : e;
+        if (f < 0) continue;
+        int32_t p = mesh_apex(m, f);
+        if (!enc_test(m, X(m, u), X(m, v), X(m, p))) continue;
+        if (!m->has_corners || !(on_corner_segments(m, p, u) || on_corner_segments(m, p, v)))
+            return 1;
+    }
+    return 0;
+}
+
 /* Drains the encroached-subsegment queue.  Returns the number of subsegments split.  Once the
  * Steiner limit is reached only encroached interface subsegments are split
  * (drain_iface_at_limit); the other entries stay queued. */
@@ -497,6 +526,7 @@ static int64_t drain_enc(mesh *m) {
     mesh_refine_state *r = m->rf;
     int64_t done = 0;
     while (r->enchead < r->nenc) {
+        if (over_budget(m)) return done; /* diverging (mesh_refine stops) */
         if (steiner_limit(m)) return done + drain_iface_at_limit(m);
         int32_t u = r->enc[r->enchead], v = r->enc[r->enchead + 1];
         int forced = r->enc[r->enchead + 2];
@@ -505,7 +535,7 @@ static int64_t drain_enc(mesh *m) {
         if (rec < 0) continue;
         int32_t e = mesh_find_edge(m, u, v);
         if (e < 0) MESH_BUG("subsegment %d-%d has a record but no edge", u, v);
-        if (!forced && !encroached(m, e)) continue;
+        if (!forced && !encroached_unforced(m, e)) continue;
         if (split_subseg(m, rec, 1) == 0) done++;
     }
     r->nenc = r->enchead = 0;
@@ -679,6 +709,7 @@ mesh_refine_result mesh_refine(mesh *m) {
     if (r->need_scan) scan(m);
     for (;;) {
         drain_enc(m);
+        if (over_budget(m)) return MESH_REFINE_UNRESOLVED;
         if (r->enchead < r->nenc) return MESH_REFINE_STEINER_LIMIT;
         if (r->since_poll >= m->hooks.poll_every && m->hooks.poll) {
             r->since_poll = 0;
@@ -689,7 +720,7 @@ mesh_refine_result mesh_refine(mesh *m) {
         if (steiner_limit(m)) return MESH_REFINE_STEINER_LIMIT;
         /* every refusal leaves a triangle bad; past a budget the refinement is diverging (it
          * fills the region at the floor's resolution): stop instead of running forever */
-        if (m->stats.unresolved > UNRESOLVED_BUDGET + m->ninput / 4) return MESH_REFINE_UNRESOLVED;
+        if (over_budget(m)) return MESH_REFINE_UNRESOLVED;
         int32_t t = pop_bad(m);
         if (t < 0) {
             if (r->enchead < r->nenc) continue;

@@ -97,8 +97,9 @@ int mesh_rules_off_line(const double pu[2], const double pv[2], const double p[2
            (w2 && 16 * off > fabs(geom_orient2d(pu, pv, w2)));
 }
 
-double mesh_rules_area_drift(double area) {
-    return ldexp(fabs(area), -30);
+double mesh_rules_area_drift(double area, double mag, double bperim) {
+    double a = fabs(area), r = ldexp(mag, -MESH_RULES_ULP_EXP) * bperim;
+    return ldexp(a, -30) + (r <= ldexp(a, -8) ? r : 0);
 }
 
 int mesh_rules_drift_spend(const double pu[2], const double pv[2], const double p[2],

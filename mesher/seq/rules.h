@@ -122,10 +122,24 @@ int64_t mesh_rules_unresolved_budget(int32_t ninput);
 int mesh_rules_off_line(const double pu[2], const double pv[2], const double p[2], const double *w1,
                         const double *w2);
 
-/* The domain's area may drift by at most this much in all (2^-30 of area, just under the
- * validator's relative tolerance of 1e-9) through split points of boundary subsegments (a side
- * outside the domain) that rounding put off their line. */
-double mesh_rules_area_drift(double area);
+/* A rounded split point lies within 2^-MESH_RULES_ULP_EXP times the coordinates' magnitude
+ * of its segment's line (each coordinate of a + (b - a) f is off by at most about an ulp of the
+ * larger of |a|, |b|: 2^-52 of it).  The validator's chain test accepts as much (8 ulps), its
+ * area test twice the area that explains (validate_area_slack). */
+#define MESH_RULES_ULP_EXP 49
+
+/* The domain's area may drift by at most this much in all through split points of boundary
+ * subsegments (a side outside the domain) that rounding put off their line: 2^-30 of the area
+ * (just under the validator's relative tolerance of 1e-9), plus what rounding alone explains:
+ * every vertex of a boundary segment's chain within 2^-MESH_RULES_ULP_EXP mag of its line
+ * (mag: the largest coordinate magnitude) moves the area by at most that times the segment's
+ * length, so that times bperim, the length of the domain's boundary.  That second term counts
+ * only when it is at most 2^-8 of the area, i.e. the domain is on average wider than about
+ * 2^-40 mag (the precision model, README, Robustness); a thinner domain, a sliver along which
+ * rounded split points move by more than its width, keeps the relative budget alone, which
+ * stops its refinement early (a fuzzed point set 6.7e21 long and a few units wide).  The
+ * validator's tolerance is at least twice each term (validate_area_slack). */
+double mesh_rules_area_drift(double area, double mag, double bperim);
 
 /* Split point p of the boundary subsegment (pu, pv), whose inside triangle has apex w, moves
  * the domain's area by |orient2d(pu, pv, p)| / 2: down if p is on w's side, up otherwise.
