@@ -20,6 +20,8 @@
 # Last lines: the throughput ratios (./mesh triangles per second over Triangle's, by wall time
 # and by CPU time) and ./mesh's bytes per triangle, against the goals (ratio >= 3 at 10M,
 # <= 40 bytes per triangle at 10M).
+# Then ./mesh against a build of an earlier commit (BASELINE, see below): lake at 1M and 10M,
+# alternating runs, medians, the ratios current/baseline last (goal: <= 1.00).
 set -u
 cd "$(dirname "$0")/.."
 Q=${Q:-30}
@@ -176,6 +178,104 @@ if [ "$N2" -gt 0 ]; then
     done
 fi
 
+# ./mesh against a build of an earlier commit of this project (BASELINE, default 18e38cb, the
+# version of 2026-11-22), built from git into build/baseline-<commit>/ once and kept there.
+# On lake at -q 30, -a 3.5e-6 (about 1M triangles) and -a 3.5e-7 (about 10M), the two
+# programs run alternately, BASE_PAIRS pairs at 1M (default 7) and BASE_PAIRS_BIG at 10M
+# (default 3, 0: none); each run is timed from outside as a whole process (wall, and user +
+# system CPU), and the medians' ratios current/baseline are printed.
+BASELINE=${BASELINE-18e38cb}
+BASE_PAIRS=${BASE_PAIRS:-7}
+BASE_PAIRS_BIG=${BASE_PAIRS_BIG:-3}
+base_summary=()
+
+# baseline_build: prints the path of the baseline's ./mesh, building it when missing; on any
+# problem says so on stderr and returns 1
+baseline_build() {
+    local full dir
+    if ! git rev-parse --is-inside-work-tree >/dev/null 2>&1; then
+        echo "bench-seq: not a git checkout, so no baseline build of $BASELINE; skipping it." >&2
+        return 1
+    fi
+    if ! full=$(git rev-parse --verify -q "$BASELINE^{commit}"); then
+        echo "bench-seq: unknown revision '$BASELINE' for the baseline; skipping it." >&2
+        return 1
+    fi
+    dir=build/baseline-${full:0:12}
+    if [ ! -x "$dir/mesh" ]; then
+        echo "bench-seq: building the baseline ./mesh of ${full:0:12} in $dir ..." >&2
+        rm -rf "$dir" && mkdir -p "$dir" || return 1
+        if ! git archive --format=tar "$full" | tar -x -C "$dir"; then
+            echo "bench-seq: cannot extract $BASELINE into $dir; skipping the baseline." >&2
+            return 1
+        fi
+        # a make of its own: none of this make's flags or jobserver
+        if ! env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL make -C "$dir" -j"$(nproc)" mesh \
+            >"$dir/build.log" 2>&1 || [ ! -x "$dir/mesh" ]; then
+            echo "bench-seq: the baseline $BASELINE does not build (log: $dir/build.log):" >&2
+            tail -n 3 "$dir/build.log" | sed 's/^/    /' >&2
+            return 1
+        fi
+    fi
+    echo "$dir/mesh"
+}
+
+# timed_run out_file command...: runs the command, prints "wall cpu triangles" of the whole
+# process (bash's time; triangles from the --stats line), or FAILED
+timed_run() {
+    local out=$1 tm line
+    shift
+    tm=$({ TIMEFORMAT='%3R %3U %3S'; time "$@" >"$out" 2>/dev/null; } 2>&1) || { echo FAILED; return; }
+    line=$(grep '^stats:' "$out" | tail -n 1)
+    [ -n "$line" ] || { echo FAILED; return; }
+    awk -v t="$tm" -v n="$(field triangles "$line")" \
+        'BEGIN { split(t, a, " "); printf "%.3f %.3f %s\n", a[1], a[2] + a[3], n }'
+}
+
+median() { # numbers on stdin, one a line
+    sort -g | awk '{ v[NR] = $1 } END { if (NR == 0) print "NA"; else if (NR % 2) print v[(NR + 1) / 2]; else printf "%.3f\n", (v[NR / 2] + v[NR / 2 + 1]) / 2 }'
+}
+
+base_case() { # label area pairs
+    local label=$1 a=$2 pairs=$3 i c b
+    : >"$T/cur.txt"
+    : >"$T/base.txt"
+    for ((i = 0; i < pairs; i++)); do
+        b=$(timed_run "$T/b.out" "$BASE" "${BASE_NEP[@]}" --stats -q 30 -a "$a" data/lake.poly)
+        c=$(timed_run "$T/c.out" "$MESH" -NEP --stats -q 30 -a "$a" data/lake.poly)
+        if [ "$b" = FAILED ] || [ "$c" = FAILED ]; then
+            printf '%-16s FAILED (%s)\n' "$label" "$([ "$b" = FAILED ] && echo baseline || echo ./mesh)"
+            base_summary+=("$label: FAILED")
+            return
+        fi
+        echo "$b" >>"$T/base.txt"
+        echo "$c" >>"$T/cur.txt"
+    done
+    local cw cc ct bw bc bt r
+    cw=$(cut -d' ' -f1 "$T/cur.txt" | median); cc=$(cut -d' ' -f2 "$T/cur.txt" | median)
+    bw=$(cut -d' ' -f1 "$T/base.txt" | median); bc=$(cut -d' ' -f2 "$T/base.txt" | median)
+    ct=$(cut -d' ' -f3 "$T/cur.txt" | sort -u | paste -sd/)
+    bt=$(cut -d' ' -f3 "$T/base.txt" | sort -u | paste -sd/)
+    printf '%-16s %-9s %12s %8s %8s\n' "$label" baseline "$bt" "$bw" "$bc"
+    printf '%-16s %-9s %12s %8s %8s\n' "$label" ./mesh "$ct" "$cw" "$cc"
+    r=$(awk -v cw="$cw" -v bw="$bw" -v cc="$cc" -v bc="$bc" \
+        'BEGIN { printf "wall x%.2f  CPU x%.2f", (bw > 0 ? cw / bw : 0), (bc > 0 ? cc / bc : 0) }')
+    printf '%-16s %-9s %s\n' "$label" ratio "$r"
+    base_summary+=("$label: ./mesh/baseline $r  (triangles $ct vs $bt)")
+}
+
+if [ -n "$BASELINE" ] && [ -f data/lake.poly ] && BASE=$(baseline_build); then
+    BASE_NEP=()
+    # older versions write no files without -o and do not know -NEP
+    "$BASE" --help 2>&1 | grep -q -- '-NEP' && BASE_NEP=(-NEP)
+    echo
+    printf '%s\n' "./mesh against the baseline $BASELINE ($(git show -s --format=%cd --date=short "$BASELINE" 2>/dev/null)), lake -q 30, alternating runs, medians"
+    printf '%s\n' "host load $(cut -d' ' -f1-3 /proc/loadavg); $BASE_PAIRS pairs at 1M, $BASE_PAIRS_BIG at 10M"
+    printf '%-16s %-9s %12s %8s %8s\n' case mesher triangles wall_s cpu_s
+    [ "$BASE_PAIRS" -gt 0 ] && base_case lake@1M 3.5e-6 "$BASE_PAIRS"
+    [ "$BASE_PAIRS_BIG" -gt 0 ] && base_case lake@10M 3.5e-7 "$BASE_PAIRS_BIG"
+fi
+
 echo
 echo "goals: throughput >= 3x Triangle's at 10M triangles, <= 40 bytes/triangle at 10M"
 echo "(throughput: triangles per second of meshing, the fastest run's wall time; CPU: per CPU"
@@ -184,3 +284,8 @@ echo " a loaded machine)"
 echo "(./mesh B/tri is the whole process's peak RSS per triangle; Triangle's is the wrapper's"
 echo " RSS growth during triangulate(), which includes the numpy copies of its output)"
 for s in "${summary[@]}"; do echo "  $s"; done
+if [ ${#base_summary[@]} -gt 0 ]; then
+    echo "against the baseline $BASELINE (whole process, medians of alternating runs; goal: <= 1.00:"
+    echo " at least the baseline's speed)"
+    for s in "${base_summary[@]}"; do echo "  $s"; done
+fi
