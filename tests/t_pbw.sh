@@ -14,7 +14,8 @@
 # perturbed delivery and several --inflight); the Steiner limit gives exit 3 on every rank; and the
 # test-only fault PBW_TEST_BREAK_IFACE=R (rank R
 # loses a triangle at a rank boundary) makes every rank exit 1 through the always-on interface
-# check, writing nothing.  Env: BIN (programs; "." or build/san/bin), MPIRUN ("mpirun
+# check, writing nothing; PBW_TEST_BREAK_DELAUNAY=R (rank R flips an edge the general path
+# committed) the same through the always-on end check of the Delaunay property.  Env: BIN (programs; "." or build/san/bin), MPIRUN ("mpirun
 # --oversubscribe"), SANITIZE=1 (fewer runs).
 set -u
 cd "$(dirname "$0")/.."
@@ -300,6 +301,27 @@ for np in 2 3 4 8; do
     ! ls "$T"/broken.* >/dev/null 2>&1 || fail "fault np=$np: a broken mesh was written"
     n=$((n + 1))
 done
-# the same run without the fault is whole (so the fault, not the input, broke it)
+# the other test-only fault: rank R flips an edge between two triangles the general path
+# committed (a wrong commit); the always-on end check of the Delaunay property must fail every
+# rank with its message and write nothing (rank 0 at np=1: the check runs on one rank too)
+for np in 1 2 3 4 8; do
+    [ "${SANITIZE:-}" = 1 ] && [ "$np" != 3 ] && continue
+    r=$((np > 1 ? 1 : 0))
+    rm -f "$T"/broken.*
+    out=$(PBW_TEST_BREAK_DELAUNAY=$r MPI_X="-x PBW_TEST_BREAK_DELAUNAY" ranks_exit "$np" "$T/rc" \
+        -q 30 -a 0.001 -o "$T/broken" data/lake.poly 2>&1)
+    echo "np=$np PBW_TEST_BREAK_DELAUNAY=$r -> [$(tr '\n' ' ' <"$T/rc")]: $(grep -m1 -o 'the mesh is not Delaunay.*' <<<"$out" | cut -c1-90)"
+    all_exit_1 "$np" "$T/rc" || fail "Delaunay fault np=$np: not every rank exited 1: $(cat "$T/rc") $out"
+    grep -q "^pbw: data/lake.poly: rank $r: the mesh is not Delaunay: edge (" <<<"$out" ||
+        fail "Delaunay fault np=$np: no end-check message: $out"
+    ! ls "$T"/broken.* >/dev/null 2>&1 || fail "Delaunay fault np=$np: a mesh was written"
+    n=$((n + 1))
+done
+# the same run without the faults is whole (so the fault, not the input, broke it), and the
+# stats line ends with the end check's cost
 run 3 lake 30
+out=$(timeout 120 $MPIRUN -np 3 "$BIN/pbw" -NEP -q 30 -a 0.001 --stats data/lake.poly 2>&1)
+grep -Eq '^stats: .* endcheck_max_s=[0-9.]+ endcheck_sum_s=[0-9.]+$' <<<"$out" ||
+    fail "the stats line does not end with the end check's seconds: $(tail -n 1 <<<"$out")"
+n=$((n + 1))
 echo "t_pbw: all $n runs passed"

@@ -362,6 +362,7 @@ void pbw_ctx_free(pbw_ctx *C) {
     free(C->con), free(C->lkk), free(C->lkv);
     free(C->reg_attr), free(C->reg_area);
     free(C->pieces);
+    free(C->gen);
     free(C->pool);
     pbw_iv_free(&C->splitq), pbw_iv_free(&C->retryq), pbw_iv_free(&C->deferred),
         pbw_iv_free(&C->slotq), pbw_iv_free(&C->phase2);
