@@ -13,7 +13,8 @@
 #     "cannot meet the bounds", or 3;
 #   - ./mesh refuses the input: every rank exits 1.
 # Always a failure: a timeout (a hang), a crash or any other status, ranks that disagree, exit 0
-# without --check OK.  ./pcdm --deterministic --subdomains 8 must moreover give one mesh hash
+# without --check OK.  A run whose launcher failed before any rank started (Open MPI's
+# orte_init, racing another mpirun on the machine) is run again, up to three times.  ./pcdm --deterministic --subdomains 8 must moreover give one mesh hash
 # (--stats: hash=) per input and options, whatever the rank count and the schedule (these runs
 # share 12 of the cases, so that each is compared across many schedules).
 # Each failure is kept in OUT/fail-JOB/: the input, `cmd` (the command that reproduces it, from
@@ -48,6 +49,7 @@ mkdir -p "$OUT/in"
 : >"$OUT/results.txt"
 : >"$OUT/failures.txt"
 : >"$OUT/hashes.txt"
+: >"$OUT/retries.txt"
 t_start=$(date +%s)
 export DEADLINE=$((t_start + STRESS_TIME))
 
@@ -123,10 +125,19 @@ one() { # a line of jobs.txt
     local sched="--perturb $seed $extra" rcf out rc st why="" t0 t1
     rcf=$(mktemp "${TMPDIR:-/tmp}/stress_rc.XXXXXX")
     t0=$(date +%s.%N)
-    out=$(timeout "$RUN_TIMEOUT" $MPIRUN -np "$np" sh -c \
-        '"$0" "$@"; echo "$OMPI_COMM_WORLD_RANK $?" >>"'"$rcf"'"' "$BIN/$prog" -NEP $opts \
-        $sched --check --stats "$path" 2>&1 </dev/null)
-    rc=$?
+    local try
+    for try in 1 2 3; do
+        : >"$rcf"
+        out=$(timeout "$RUN_TIMEOUT" $MPIRUN -np "$np" sh -c \
+            '"$0" "$@"; echo "$OMPI_COMM_WORLD_RANK $?" >>"'"$rcf"'"' "$BIN/$prog" -NEP $opts \
+            $sched --check --stats "$path" 2>&1 </dev/null)
+        rc=$?
+        # the launcher failed before any rank ran (Open MPI's session directory, shared by
+        # every mpirun on the machine, removed under it by another one): run it again
+        [ ! -s "$rcf" ] && grep -q 'orte_init failed' <<<"$out" || break
+        echo "$job launch-retry" >>"$OUT/retries.txt"
+        sleep 1
+    done
     t1=$(date +%s.%N)
     st=$(awk '{print $2}' "$rcf" | sort -u | tr '\n' ' ')
     if [ "$rc" = 124 ]; then
@@ -185,5 +196,5 @@ done
 ran=$(grep -vc ' skip$' "$OUT/results.txt")
 skipped=$(grep -c ' skip$' "$OUT/results.txt")
 nfail=$(wc -l <"$OUT/failures.txt")
-echo "stress: $ran runs ($(grep -c ' pbw ' "$OUT/results.txt") ./pbw, $(grep -c ' pcdm ' "$OUT/results.txt") ./pcdm; $(wc -l <"$OUT/hashes.txt") deterministic hashes compared), $skipped not started by the deadline, $nfail failure(s), $(($(date +%s) - t_start)) s; details in $OUT"
+echo "stress: $ran runs ($(grep -c ' pbw ' "$OUT/results.txt") ./pbw, $(grep -c ' pcdm ' "$OUT/results.txt") ./pcdm; $(wc -l <"$OUT/hashes.txt") deterministic hashes compared), $skipped not started by the deadline, $(wc -l <"$OUT/retries.txt") launcher retries, $nfail failure(s), $(($(date +%s) - t_start)) s; details in $OUT"
 [ "$nfail" -eq 0 ]
