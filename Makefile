@@ -56,7 +56,7 @@ APPS := $(patsubst apps/%.c,%,$(APP_SRC))
 TESTS := $(patsubst tests/%.c,$(B)/tests/%,$(TEST_SRC))
 BENCHES := $(patsubst bench/%.c,$(B)/bench/%,$(BENCH_SRC))
 
-.PHONY: all libs install uninstall examples deps fuzz fuzz-deps fuzz-replay test check-deps demo bench bench-quick bench-seq bench-primitives format clean
+.PHONY: all libs install uninstall examples deps fuzz fuzz-deps fuzz-replay stress test check-deps demo bench bench-quick bench-seq bench-primitives format clean
 .DEFAULT_GOAL := all
 # Keep the objects of programs and tests (they are intermediate files to make otherwise).
 .SECONDARY: $(patsubst %.c,$(B)/obj/%.o,$(APP_SRC) $(TEST_SRC) $(BENCH_SRC))
@@ -225,6 +225,13 @@ fuzz: fuzz-deps
 fuzz-replay: deps
 	@$(MAKE) --no-print-directory all
 	@bash tests/fuzz/replay_par.sh tests/fuzz/corpus $(wildcard build/fuzz/corpus)
+
+# the schedule explorer: ./pbw and ./pcdm at 2-8 ranks under many message schedules, every mesh
+# checked; a fixed sample of 400 runs in at most 5 minutes unless STRESS_RUNS, STRESS_TIME,
+# STRESS_SEED say otherwise (tests/stress.sh); failures are kept in build/stress
+stress: deps
+	@$(MAKE) --no-print-directory all
+	@bash tests/stress.sh
 
 clean:
 	rm -rf build $(APPS)

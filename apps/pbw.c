@@ -14,6 +14,7 @@
  *          wall_s=T busy_max_s=B busy_sum_s=S comm_pct=C undo_pct=U speedup_model=X
  *          peak_rss_mb=R bytes_per_tri=Y mesh_bytes_per_tri=Z phase1_s=F cpu_max_s=C
  *          cpu_sum_s=E output_s=W comm_s=C comm_max_s=M handler_s=H net_latency_us=L net_MBps=B
+ *          endcheck_max_s=K endcheck_sum_s=L
  * (one line).  Definitions (rt_stats time buckets, summed over ranks, inside rt_run):
  *   busy (per rank)  = RT_TIME_BUSY + RT_TIME_HANDLER (local work, tasks and handlers), as
  *                      ./pcdm; speedup_model = busy_sum / busy_max.
@@ -26,6 +27,9 @@
  *                      "communication overhead" -- creating, sending, receiving and servicing
  *                      RSRs (remote expansions, commits, releases included).
  *   net_latency_us, net_MBps: the network model in force (--net, PCDM_NET; 0 0: none).
+ *   endcheck_max_s, endcheck_sum_s = the largest rank's and the summed seconds of the
+ *                      always-on end check of the Delaunay property (the edges the general
+ *                      path committed and the rank boundary's; in cpu_max_s and cpu_sum_s).
  *   undo_pct         = 100 * sum(RT_TIME_UNDO) / sum(non-idle): the paper's "undo computation
  *                      overhead" -- expansion work (local and remote) of cavities released
  *                      after a lock conflict.
@@ -78,15 +82,16 @@ enum {
     RS_OUT,
     RS_UNRESOLVED,
     RS_FORCED,
-    RS_BLOCKED, /* times a cavity task blocked (the runtime's blocking queue) */
-    RS_BLKMAX,  /* most tasks blocked at once */
-    RS_BLKSUM,  /* seconds tasks spent blocked, summed */
-    RS_BLKTMAX, /* longest single wait, seconds */
-    RS_GHOSTED, /* committed cavities kept local by ghosts (a tombstone instead of locks) */
-    RS_FORWARD, /* stale links forwarded through a tombstone */
-    RS_IFEDGES, /* rank boundary edges (each counted by both sides) */
-    RS_IFLEN,   /* their length */
-    RS_SELF,    /* RSRs a rank sent to itself (not in rsr=, which counts communication) */
+    RS_BLOCKED,  /* times a cavity task blocked (the runtime's blocking queue) */
+    RS_BLKMAX,   /* most tasks blocked at once */
+    RS_BLKSUM,   /* seconds tasks spent blocked, summed */
+    RS_BLKTMAX,  /* longest single wait, seconds */
+    RS_GHOSTED,  /* committed cavities kept local by ghosts (a tombstone instead of locks) */
+    RS_FORWARD,  /* stale links forwarded through a tombstone */
+    RS_IFEDGES,  /* rank boundary edges (each counted by both sides) */
+    RS_IFLEN,    /* their length */
+    RS_SELF,     /* RSRs a rank sent to itself (not in rsr=, which counts communication) */
+    RS_ENDCHECK, /* seconds of the end check of the Delaunay property */
     RS_KIND0,
     RS_N = RS_KIND0 + PBW_RSR_NKINDS
 };
@@ -156,6 +161,7 @@ int main(int argc, char **argv) {
     rs[RS_MPI] = (double)st.mpi_sent;
     rs[RS_RSR] = (double)(st.rsr_sent - res.rsr_self);
     rs[RS_SELF] = (double)res.rsr_self;
+    rs[RS_ENDCHECK] = res.endcheck_s;
     rs[RS_UNRESOLVED] = (double)res.unresolved;
     rs[RS_FORCED] = (double)res.forced;
     rs[RS_BLOCKED] = (double)st.blocked_count;
@@ -247,14 +253,16 @@ int main(int argc, char **argv) {
                "min_angle=%.4f wall_s=%.3f busy_max_s=%.3f busy_sum_s=%.3f comm_pct=%.2f "
                "undo_pct=%.2f speedup_model=%.2f peak_rss_mb=%.1f bytes_per_tri=%.1f "
                "mesh_bytes_per_tri=%.1f phase1_s=%.3f cpu_max_s=%.3f cpu_sum_s=%.3f output_s=%.3f "
-               "comm_s=%.4f comm_max_s=%.4f handler_s=%.4f net_latency_us=%.1f net_MBps=%.1f\n",
+               "comm_s=%.4f comm_max_s=%.4f handler_s=%.4f net_latency_us=%.1f net_MBps=%.1f "
+               "endcheck_max_s=%.4f endcheck_sum_s=%.4f\n",
                size, (long)sum.ntris, (long)sum.nverts, tot[RS_RSR],
                tot[RS_ULOCAL] + tot[RS_UREMOTE], sum.min_angle, mx[RS_WALL], mx[RS_BUSY],
                tot[RS_BUSY], nonidle > 0 ? 100.0 * (tot[RS_HANDLER] + tot[RS_COMM]) / nonidle : 0.0,
                nonidle > 0 ? 100.0 * tot[RS_UNDO] / nonidle : 0.0,
                mx[RS_BUSY] > 0 ? tot[RS_BUSY] / mx[RS_BUSY] : 0.0, mx[RS_RSS] / 1048576.0,
                tot[RS_RSS] / nt, tot[RS_MESHBYTES] / nt, mx[RS_PHASE1], mx[RS_CPU], tot[RS_CPU],
-               mx[RS_OUT], tot[RS_COMM], mx[RS_COMM], tot[RS_HANDLER], lat * 1e6, bw / 1e6);
+               mx[RS_OUT], tot[RS_COMM], mx[RS_COMM], tot[RS_HANDLER], lat * 1e6, bw / 1e6,
+               mx[RS_ENDCHECK], tot[RS_ENDCHECK]);
         fflush(stdout);
     }
     free(all);

@@ -773,6 +773,36 @@ START_TEST(test_area_drift) {
 }
 END_TEST
 
+/* The split of a subsegment (u, v) of a nearly vertical segment at a rounded dyadic point q off
+ * its line by 2.8e-17 (away from the apex w, whose triangle is obtuse at u: w lies 0.125 beyond
+ * u along the line and 1.6e-4 beside it).  The heights test passes (q is 1e-13 of w's height
+ * off the line), yet the new edge w-q is not locally Delaunay: v lies inside the circle through
+ * u, q and w, so the split must be refused.  Coordinates of ./pbw -np 3 -q 0 -S 20000 on
+ * tests/fuzz/regress/pbw_split_off_line.poly, where such a split left a non-Delaunay edge in
+ * the mesh in about 1 run in 5; the same point on the line, or the triangle on the other side
+ * of it, is fine. */
+START_TEST(test_off_line_fan) {
+    geom_init();
+    const double u[2] = {0.40340741764246874, 2.9801129667020491e-08},
+                 v[2] = {0.40340741737109354, 4.2854608750531042e-14},
+                 q[2] = {0.40340741750678116, 1.4900586260814627e-08},
+                 w[2] = {0.40438381260153444, 0.12499618655128918};
+    ck_assert(geom_orient2d(u, v, q) * geom_orient2d(u, v, w) < 0);    /* q away from w */
+    ck_assert(geom_incircle(u, q, w, v) * geom_orient2d(u, q, w) > 0); /* v in circle(u, q, w) */
+    ck_assert_int_eq(mesh_rules_off_line(u, v, q, w, NULL), 1);
+    ck_assert_int_eq(mesh_rules_off_line(v, u, q, NULL, w), 1); /* either direction, either slot */
+    /* the same shape in round numbers: w 100 beyond u along the line, 1 beside it */
+    const double U[2] = {0, 0}, V[2] = {8, 0}, W[2] = {-100, 1};
+    const double away2[2] = {4, -0.002}, away1[2] = {4, -0.001}, toward[2] = {4, 0.002},
+                 on[2] = {4, 0};
+    ck_assert_int_eq(mesh_rules_off_line(U, V, away2, W, NULL), 1);  /* V inside: refused */
+    ck_assert_int_eq(mesh_rules_off_line(U, V, away1, W, NULL), 0);  /* V outside */
+    ck_assert_int_eq(mesh_rules_off_line(U, V, toward, W, NULL), 0); /* reflex at q: Delaunay */
+    ck_assert_int_eq(mesh_rules_off_line(U, V, on, W, NULL), 0);
+    ck_assert_int_eq(mesh_rules_off_line(U, V, away2, NULL, NULL), 0); /* no apex, no test */
+}
+END_TEST
+
 /* The fuzz finding behind the rule: a point set 8.9e17 long and 70 high.  Refinement must not
  * put a vertex outside the hull: the mesh's area is the hull's, and the validator accepts it. */
 START_TEST(test_sliver_hull) {
@@ -943,6 +973,7 @@ static Suite *suite(void) {
     tcase_add_test(tc, test_iface_corner);
     tcase_add_test(tc, test_area_drift);
     tcase_add_test(tc, test_sliver_hull);
+    tcase_add_test(tc, test_off_line_fan);
     tc = tcase(s, "random");
     tcase_add_loop_test(tc, test_random_pslg, 0, 6);
     tc = tcase(s, "hooks");

@@ -126,7 +126,9 @@
  * (work items, deferral, locks), pbw_local.c (the local fast path: a cavity that stays on its
  * rank, inserted by the kernel's mesh_cavity_collect/commit, the code ./mesh runs),
  * pbw_cavity.c (expansion, commit, undo), pbw_proto.c (the RSR handlers, chains, parking, the
- * waiting task), pbw_work.c (rt_run's work step); pbw_impl.h holds what they share.  The
+ * waiting task), pbw_work.c (rt_run's work step), pbw_check.c (the end check of the Delaunay
+ * property where the protocol decided it: a defect fails every rank, nothing is written);
+ * pbw_impl.h holds what they share.  The
  * context of one call, pbw_ctx, is passed to every function (no file-level global); the
  * handlers reach it through pbw_attach.  Unit tests without MPI: tests/unit_pbw.c.
  */
@@ -212,6 +214,18 @@ int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat 
                  "%d dying tasks, %d waiting for a slot",
                  left[0], left[1], left[2], left[3], left[4], left[5]);
     pbw_count_unmet(C);
+    /* the end check of the Delaunay property where the protocol decided it (pbw_check.c): a
+     * defect ends every rank with an error, nothing written */
+    pbw_test_break_delaunay(C);
+    char dmsg[800];
+    int64_t dbad = pbw_check_delaunay(C, dmsg, sizeof dmsg, &C->res.endcheck_s);
+    snprintf(msg, sizeof msg, "%s: %s: %s", o->prog ? o->prog : "pbw", o->input ? o->input : "",
+             dmsg);
+    if (par_fail_any(dbad != 0, msg)) {
+        pbw_detach();
+        pbw_ctx_free(C);
+        return -1;
+    }
     pbw_test_fault(C);
     pbw_to_flat(C, local, res ? &C->res.topen : NULL);
     C->res.ntris = C->nlive;

@@ -62,11 +62,13 @@ typedef struct pbw_result {
     uint64_t rsr_sent[PBW_RSR_NKINDS]; /* RSRs this rank sent to other ranks, by kind */
     uint64_t rsr_self;                 /* RSRs it sent to itself (a reply to its own task) */
     double phase1_s;                   /* --phases: seconds of phase 1 (0 otherwise) */
-    size_t mesh_bytes;                 /* bytes of this rank's mesh arrays (capacities) */
-    uint8_t *topen; /* *local's open edges, one byte per triangle: bit j set when edge j (tri[j]
-                     * -> tri[j+1]) has no neighbour in *local (domain boundary, another rank):
-                     * what par_output_sub takes instead of finding them by vertex rows; the
-                     * caller's (free()) */
+    double endcheck_s; /* seconds of the end check of the Delaunay property: CPU seconds
+                          (pbw_check.c) */
+    size_t mesh_bytes; /* bytes of this rank's mesh arrays (capacities) */
+    uint8_t *topen;    /* *local's open edges, one byte per triangle: bit j set when edge j (tri[j]
+                        * -> tri[j+1]) has no neighbour in *local (domain boundary, another rank):
+                        * what par_output_sub takes instead of finding them by vertex rows; the
+                        * caller's (free()) */
 } pbw_result;
 
 /* Registers PBW's RSR handlers.  Local but SPMD: every rank, same order, before any rt_run.

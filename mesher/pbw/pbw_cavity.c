@@ -381,8 +381,10 @@ void pbw_apply_commit(pbw_ctx *C, const pbw_commit_hdr *ch, const pbw_newtri *nt
         pbw_role_set(C, s, ROLE_NONE);
     }
     pbw_hold_end(C, hi);
-    for (int32_t i = 0; i < ch->n; i++)
+    for (int32_t i = 0; i < ch->n; i++) {
         pbw_check_new_triangle(C, nt[i].slot);
+        pbw_gen_note(C, nt[i].slot);
+    }
 }
 
 /* Sends RELEASE to every participant (and releases here). */

@@ -296,7 +296,9 @@ struct pbw_ctx {
     uint64_t lclock;
     int64_t seq;
     pbw_result res;
-    int no_fast; /* env PBW_NO_FAST_PATH=1: every cavity takes the general path (tests) */
+    int no_fast;  /* env PBW_NO_FAST_PATH=1: every cavity takes the general path (tests) */
+    int32_t *gen; /* slots of the triangles general commits created (pbw_check.c) */
+    int64_t ngen, gencap;
     /* PBW_DEBUG */
     int dbg_on; /* 0: not looked yet, 1: on, 2: off */
     double dbg_last;
@@ -591,6 +593,23 @@ void pbw_ctx_free(pbw_ctx *C);
 
 /* Bytes of this rank's mesh arrays (capacities). */
 size_t pbw_mesh_bytes(pbw_ctx *C);
+
+/* ---- pbw_check.c: the end check ------------------------------------------------------- */
+
+/* Records that a general commit made slot (pbw_apply_commit). */
+void pbw_gen_note(pbw_ctx *C, int32_t slot);
+
+/* Collective.  The end check of the Delaunay property where the protocol decided it: every
+ * unconstrained edge of a triangle a general commit made, and every unconstrained rank
+ * boundary edge (the apexes exchanged), exact incircle.  Returns this rank's defects (0: none);
+ * msg (len bytes) describes the first; *secs: the seconds it worked (outside the collectives). */
+int64_t pbw_check_delaunay(pbw_ctx *C, char *msg, size_t len, double *secs);
+
+/* Test-only fault (env PBW_TEST_BREAK_DELAUNAY=R): rank R flips an edge between two triangles
+ * general commits made (both unlocked, every other edge of theirs local, the quadrilateral
+ * strictly convex and not cocircular), as if a cavity had been committed wrong; the end check
+ * must fail every rank (tests/t_pbw.sh). */
+void pbw_test_break_delaunay(pbw_ctx *C);
 
 /* ---- pbw_proto.c: the bridge to the handlers ------------------------------------------ */
 

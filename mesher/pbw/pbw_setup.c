@@ -54,21 +54,34 @@ static int owners(pbw_ctx *C, const mesh *m0, const pcdm_decomp *d, int32_t *own
             }
         }
     }
-    int32_t hint = -1;
-    for (int32_t t = 0; t < m0->nt; t++) {
-        own[t] = -1;
-        if (!mesh_tri_alive(m0, t)) continue;
-        double c[2];
-        centroid(m0, t, c);
-        int32_t tt = mesh_locate(&md, c, hint);
-        int32_t sub = -1;
-        if (tt >= 0) {
-            hint = tt;
-            sub = rsub[lab[tt]];
+    /* breadth first over m0, each centroid located from where its neighbour's was: a walk of a
+     * few steps that a rough boundary (a coastline) seldom blocks, where m0's slot order sent
+     * most walks across the domain and out of it */
+    int32_t *qt = mesh_xrealloc(NULL, ((size_t)m0->nt + 1) * sizeof(int32_t), 1);
+    int32_t *qh = mesh_xrealloc(NULL, ((size_t)m0->nt + 1) * sizeof(int32_t), 1);
+    for (int32_t t = 0; t < m0->nt; t++)
+        own[t] = mesh_tri_alive(m0, t) ? -2 : -1; /* -2: not reached yet */
+    for (int32_t t0 = 0; t0 < m0->nt; t0++) {
+        if (own[t0] != -2) continue;
+        int32_t head = 0, tail = 0;
+        qt[tail] = t0, qh[tail++] = -1, own[t0] = -3; /* -3: queued */
+        while (head < tail) {
+            int32_t t = qt[head], hint = qh[head++];
+            double c[2];
+            centroid(m0, t, c);
+            int32_t tt = mesh_locate(&md, c, hint);
+            int32_t sub = tt >= 0 ? rsub[lab[tt]] : -1;
+            own[t] = sub >= 0 ? d->sub_owner[sub] : 0;
+            if (own[t] < 0 || own[t] >= C->size) own[t] = 0;
+            for (int j = 0; j < 3; j++) {
+                int32_t f = m0->tn[3 * t + j];
+                if (f < 0 || own[f / 3] != -2) continue;
+                qt[tail] = f / 3, qh[tail++] = tt, own[f / 3] = -3;
+            }
         }
-        own[t] = sub >= 0 ? d->sub_owner[sub] : 0;
-        if (own[t] < 0 || own[t] >= C->size) own[t] = 0;
     }
+    free(qt);
+    free(qh);
     free(rsub);
     free(lab);
     mesh_free(&md);
@@ -363,6 +376,7 @@ void pbw_ctx_free(pbw_ctx *C) {
     free(C->con), free(C->lkk), free(C->lkv);
     free(C->reg_attr), free(C->reg_area);
     free(C->pieces);
+    free(C->gen);
     free(C->pool);
     pbw_iv_free(&C->splitq), pbw_iv_free(&C->retryq), pbw_iv_free(&C->deferred),
         pbw_iv_free(&C->slotq), pbw_iv_free(&C->phase2);

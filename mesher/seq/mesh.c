@@ -272,6 +272,11 @@ int32_t mesh_walk(mesh *m, const double p[2], int32_t t, int avoid, int32_t *blo
 int32_t mesh_locate(mesh *m, const double p[2], int32_t hint) {
     int32_t blocked = -1;
     int32_t t = mesh_walk(m, p, hint, 1, &blocked);
+    /* every way forward is a constraint edge or the domain's boundary: walk on from there
+     * across constraints (a coastline's segments would otherwise send most walks to the
+     * exhaustive search); only a walk the boundary itself stops (p behind a hole or a
+     * concavity, or outside) is left to the search */
+    if (t < 0 && blocked >= 0) t = mesh_walk(m, p, blocked / 3, 0, NULL);
     if (t >= 0 && ghost_index(m, t) >= 0) t = -1;
     if (t < 0) t = locate_brute(m, p);
     return t;

@@ -89,12 +89,24 @@ int mesh_rules_corner_forced(const double a[2], const double o1[2], const double
     return fabs(du - dv) <= 0.01 * fmax(du, dv);
 }
 
+/* 1 iff the new edge w-p of a split of (pu, pv) at p is not locally Delaunay: pv lies strictly
+ * inside the circle through pu, p and w (exact; the pair of new triangles beside w-p is
+ * (pu, p, w), (p, pv, w)).  Degenerate (pu, p, w collinear): 1. */
+static int fan_not_delaunay(const double pu[2], const double pv[2], const double p[2],
+                            const double w[2]) {
+    double o = geom_orient2d(pu, p, w);
+    if (o == 0) return 1;
+    double ic = geom_incircle(pu, p, w, pv);
+    return o > 0 ? ic > 0 : ic < 0;
+}
+
 int mesh_rules_off_line(const double pu[2], const double pv[2], const double p[2], const double *w1,
                         const double *w2) {
     double off = fabs(geom_orient2d(pu, pv, p));
     if (off == 0) return 0;
-    return (w1 && 16 * off > fabs(geom_orient2d(pu, pv, w1))) ||
-           (w2 && 16 * off > fabs(geom_orient2d(pu, pv, w2)));
+    return (w1 &&
+            (16 * off > fabs(geom_orient2d(pu, pv, w1)) || fan_not_delaunay(pu, pv, p, w1))) ||
+           (w2 && (16 * off > fabs(geom_orient2d(pu, pv, w2)) || fan_not_delaunay(pu, pv, p, w2)));
 }
 
 double mesh_rules_area_drift(double area, double mag, double bperim) {

@@ -118,7 +118,12 @@ int64_t mesh_rules_unresolved_budget(int32_t ninput);
  * outside the domain and another segment's chain ran through the new vertex).  Rounding moves a
  * split point by about an ulp, so this refuses only splits beside triangles a few ulps high; a
  * refused split counts as failed (precision exhausted).  Deciding whether to refine, not
- * topology (the cavity's orientation tests stay exact), so rounded magnitudes do. */
+ * topology (the cavity's orientation tests stay exact), so rounded magnitudes do.  Also 1 iff
+ * a point off the line makes the new edge from w1 or w2 to p not locally Delaunay (exact
+ * incircle: the other end of the subsegment inside the circle through p, w and this end),
+ * which the heights alone miss beside a triangle obtuse at an end of the subsegment (its apex
+ * far along the line): Bowyer-Watson would then commit a non-Delaunay fan, where the
+ * constrained Delaunay mesh of the bent halves keeps the old triangle and adds a sliver. */
 int mesh_rules_off_line(const double pu[2], const double pv[2], const double p[2], const double *w1,
                         const double *w2);
 
