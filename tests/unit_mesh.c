@@ -789,17 +789,19 @@ START_TEST(test_off_line_fan) {
                  w[2] = {0.40438381260153444, 0.12499618655128918};
     ck_assert(geom_orient2d(u, v, q) * geom_orient2d(u, v, w) < 0);    /* q away from w */
     ck_assert(geom_incircle(u, q, w, v) * geom_orient2d(u, q, w) > 0); /* v in circle(u, q, w) */
-    ck_assert_int_eq(mesh_rules_off_line(u, v, q, w, NULL), 1);
-    ck_assert_int_eq(mesh_rules_off_line(v, u, q, NULL, w), 1); /* either direction, either slot */
+    ck_assert_int_eq(mesh_rules_off_line(u, v, q, w, NULL), 0); /* the heights alone pass it */
+    ck_assert_int_eq(mesh_rules_off_line_fan(u, v, q, w, NULL), 1);
+    ck_assert_int_eq(mesh_rules_off_line_fan(v, u, q, NULL, w),
+                     1); /* either direction, either slot */
     /* the same shape in round numbers: w 100 beyond u along the line, 1 beside it */
     const double U[2] = {0, 0}, V[2] = {8, 0}, W[2] = {-100, 1};
     const double away2[2] = {4, -0.002}, away1[2] = {4, -0.001}, toward[2] = {4, 0.002},
                  on[2] = {4, 0};
-    ck_assert_int_eq(mesh_rules_off_line(U, V, away2, W, NULL), 1);  /* V inside: refused */
-    ck_assert_int_eq(mesh_rules_off_line(U, V, away1, W, NULL), 0);  /* V outside */
-    ck_assert_int_eq(mesh_rules_off_line(U, V, toward, W, NULL), 0); /* reflex at q: Delaunay */
-    ck_assert_int_eq(mesh_rules_off_line(U, V, on, W, NULL), 0);
-    ck_assert_int_eq(mesh_rules_off_line(U, V, away2, NULL, NULL), 0); /* no apex, no test */
+    ck_assert_int_eq(mesh_rules_off_line_fan(U, V, away2, W, NULL), 1);  /* V inside: refused */
+    ck_assert_int_eq(mesh_rules_off_line_fan(U, V, away1, W, NULL), 0);  /* V outside */
+    ck_assert_int_eq(mesh_rules_off_line_fan(U, V, toward, W, NULL), 0); /* reflex at q: Delaunay */
+    ck_assert_int_eq(mesh_rules_off_line_fan(U, V, on, W, NULL), 0);
+    ck_assert_int_eq(mesh_rules_off_line_fan(U, V, away2, NULL, NULL), 0); /* no apex, no test */
 }
 END_TEST
 

@@ -230,8 +230,8 @@ int pbw_process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial) {
                 break;
             }
             const int32_t *tx = C->M.tv + 3 * (size_t)x;
-            if (mesh_rules_off_line(VX(C, tx[j]), VX(C, tx[(j + 1) % 3]), c->h.p,
-                                    VX(C, tx[(j + 2) % 3]), NULL))
+            if (mesh_rules_off_line_fan(VX(C, tx[j]), VX(C, tx[(j + 1) % 3]), c->h.p,
+                                        VX(C, tx[(j + 2) % 3]), NULL))
                 c->h.cycle |= CYC_OFF_LINE;
             pbw_lock_slot(C, x, hi, ROLE_MEMBER);
             expand_member(C, c, hi, x, s.from);

@@ -64,10 +64,10 @@ enum { PR_DONE = 0, PR_DIE = 1, PR_PARK = 2 };
 
 /* pbw_whdr.cycle: CYC_TWICE, a member was reached twice (the cavity encloses a vertex);
  * CYC_OFF_LINE, the split point lies too far off its subsegment for the triangle on the far
- * side (mesh_rules_off_line with that triangle's apex, decided by its owner when the expansion
- * crosses the subsegment; the starter decided its own side before starting), as refine.c
- * refuses it with both apexes: a rounded midpoint off the line of a segment a few ulps from a
- * sliver's apex breaks the Delaunay property of the new fan (a fuzz find, issue 13). */
+ * side (mesh_rules_off_line_fan with that triangle's apex, decided by its owner when the expansion
+ * crosses the subsegment; the starter decided its own side before starting): a rounded
+ * midpoint off the line of a segment a few ulps from a sliver's apex, or beside a triangle
+ * obtuse at an end of the subsegment, breaks the Delaunay property of the new fan. */
 enum { CYC_TWICE = 1, CYC_OFF_LINE = 2 };
 
 enum { IT_BAD = 0, IT_SPLIT = 1 };

@@ -161,8 +161,8 @@ static void process_item(pbw_ctx *C, pbw_item *it) {
         /* too far off the line for the triangle beside it (this side's apex decides here;
          * the far side's owner decides with its apex when the expansion crosses: CYC_OFF_LINE) */
         if (sp == 0 &&
-            mesh_rules_off_line(VX(C, la), VX(C, lb), p,
-                                VX(C, C->M.tv[3 * (size_t)t + (size_t)((j + 2) % 3)]), NULL))
+            mesh_rules_off_line_fan(VX(C, la), VX(C, lb), p,
+                                    VX(C, C->M.tv[3 * (size_t)t + (size_t)((j + 2) % 3)]), NULL))
             sp = -1;
         /* on the domain's boundary: the area the rounded split points may move (rules.h;
          * spent when the split starts: a retried split spends again, which only refuses

@@ -104,9 +104,15 @@ int mesh_rules_off_line(const double pu[2], const double pv[2], const double p[2
                         const double *w2) {
     double off = fabs(geom_orient2d(pu, pv, p));
     if (off == 0) return 0;
-    return (w1 &&
-            (16 * off > fabs(geom_orient2d(pu, pv, w1)) || fan_not_delaunay(pu, pv, p, w1))) ||
-           (w2 && (16 * off > fabs(geom_orient2d(pu, pv, w2)) || fan_not_delaunay(pu, pv, p, w2)));
+    return (w1 && 16 * off > fabs(geom_orient2d(pu, pv, w1))) ||
+           (w2 && 16 * off > fabs(geom_orient2d(pu, pv, w2)));
+}
+
+int mesh_rules_off_line_fan(const double pu[2], const double pv[2], const double p[2],
+                            const double *w1, const double *w2) {
+    if (mesh_rules_off_line(pu, pv, p, w1, w2)) return 1;
+    if (geom_orient2d(pu, pv, p) == 0) return 0;
+    return (w1 && fan_not_delaunay(pu, pv, p, w1)) || (w2 && fan_not_delaunay(pu, pv, p, w2));
 }
 
 double mesh_rules_area_drift(double area, double mag, double bperim) {

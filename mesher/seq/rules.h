@@ -118,14 +118,22 @@ int64_t mesh_rules_unresolved_budget(int32_t ninput);
  * outside the domain and another segment's chain ran through the new vertex).  Rounding moves a
  * split point by about an ulp, so this refuses only splits beside triangles a few ulps high; a
  * refused split counts as failed (precision exhausted).  Deciding whether to refine, not
- * topology (the cavity's orientation tests stay exact), so rounded magnitudes do.  Also 1 iff
- * a point off the line makes the new edge from w1 or w2 to p not locally Delaunay (exact
- * incircle: the other end of the subsegment inside the circle through p, w and this end),
- * which the heights alone miss beside a triangle obtuse at an end of the subsegment (its apex
- * far along the line): Bowyer-Watson would then commit a non-Delaunay fan, where the
- * constrained Delaunay mesh of the bent halves keeps the old triangle and adds a sliver. */
+ * topology (the cavity's orientation tests stay exact), so rounded magnitudes do. */
 int mesh_rules_off_line(const double pu[2], const double pv[2], const double p[2], const double *w1,
                         const double *w2);
+
+/* mesh_rules_off_line, or a point off the line that makes the new edge from w1 or w2 to p not
+ * locally Delaunay in the two-triangle fan (pu, p, w), (p, pv, w) (exact incircle: the other
+ * end of the subsegment inside the circle through p, w and this end), which the heights alone
+ * miss beside a triangle obtuse at an end of the subsegment (its apex far along the line).
+ * For ./pbw, where each side's owner decides a split with its own apex and a cavity across
+ * ranks commits that fan (a 2.8e-17 offset made a non-Delaunay edge there).  refine.c keeps
+ * mesh_rules_off_line: its Bowyer-Watson cavity takes every triangle whose circumcircle holds
+ * p, often more than the one triangle, so this fan is not what it commits, and the test refused
+ * good splits (on a 49,152-vertex coastline ./pcdm at 3-8 ranks refused interface pieces on
+ * one side and could not finish). */
+int mesh_rules_off_line_fan(const double pu[2], const double pv[2], const double p[2],
+                            const double *w1, const double *w2);
 
 /* A rounded split point lies within 2^-MESH_RULES_ULP_EXP times the coordinates' magnitude
  * of its segment's line (each coordinate of a + (b - a) f is off by at most about an ulp of the
