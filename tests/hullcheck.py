@@ -18,20 +18,8 @@ import os
 import sys
 from fractions import Fraction as F
 
-
-def fail(msg):
-    print("FAIL " + msg)
-    sys.exit(1)
-
-
-def rows(path):
-    out = []
-    with open(path) as f:
-        for line in f:
-            line = line.split("#")[0].split()
-            if line:
-                out.append(line)
-    return out
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from xcheck import fail, rows  # noqa: E402  (the .node/.ele readers tests/xcheck.py uses)
 
 
 def read_node(r, at):

@@ -190,4 +190,5 @@ def main():
             f.write("\n".join(sorted(out_keys)) + "\n")
 
 
-main()
+if __name__ == "__main__":
+    main()

@@ -1252,13 +1252,7 @@ static void split_at_vertices(pslg *g) {
     free(order);
     free(tmp);
     free(sc.hits);
-    free(g->seg);
-    free(g->smarker);
-    free(g->sline);
-    g->seg = seg;
-    g->smarker = smk;
-    g->sline = sln;
-    g->nsegs = (int32_t)n;
+    pslg_set_segments(g, seg, smk, sln, (int32_t)n);
 }
 
 /* Builds the arrangement of g's segments.  Returns 0 or -1 (out of memory). */

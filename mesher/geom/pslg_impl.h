@@ -18,4 +18,8 @@
  * or -1 with a message (out of memory). */
 int pslg_split_pairs(pslg *g, const int32_t *pairs, int64_t npairs, char *err, size_t errlen);
 
+/* Replaces g's segments by n pieces: seg (2 per piece), their markers smk and lines sln (each
+ * may be NULL); g takes ownership of the three arrays and frees its old ones. */
+void pslg_set_segments(pslg *g, int32_t *seg, int32_t *smk, int32_t *sln, int32_t n);
+
 #endif

@@ -19,8 +19,9 @@
  *    already on either segment reuses that vertex -- again a choice of position, checked
  *    exactly afterwards.
  * A vertex of the input lying inside a segment is not a conflict: pslg_check_ex splits the
- * segment there once the crossings are resolved (no new vertex).  Invariant on return: every segment of g is a piece of an input segment
- * (endpoints in order along it), with the input segment's marker and line.
+ * segment there once the crossings are resolved (no new vertex).  Invariant on return: every
+ * segment of g is a piece of an input segment (endpoints in order along it), with the input
+ * segment's marker and line.
  */
 #include "geom/pslg_impl.h"
 
@@ -211,12 +212,16 @@ int pslg_split_pairs(pslg *g, const int32_t *pairs, int64_t npairs, char *err, s
         }
     }
     free(S.pt);
+    pslg_set_segments(g, seg, smk, sln, (int32_t)n);
+    return 0;
+}
+
+void pslg_set_segments(pslg *g, int32_t *seg, int32_t *smk, int32_t *sln, int32_t n) {
     free(g->seg);
     free(g->smarker);
     free(g->sline);
     g->seg = seg;
     g->smarker = smk;
     g->sline = sln;
-    g->nsegs = (int32_t)n;
-    return 0;
+    g->nsegs = n;
 }
