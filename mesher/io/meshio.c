@@ -10,7 +10,7 @@
  * a million triangles stays a few tens of megabytes.  The .poly lists the input's segments (not
  * interface ones) and ends with the input's holes and regions (meshio_fmt_domain, which the
  * parallel writer shares), so it meshes the same domain again.  The reader takes .node (and .poly
- * segments) through pslg.c and parses .ele itself with the same full-token checks.
+ * segments) through pslg_read.c and parses .ele itself with the same full-token checks.
  */
 #include "io/meshio.h"
 
