@@ -11,8 +11,8 @@
 #include "geom/geom.h"
 #include "geom/pslg.h"
 #include "io/meshio.h"
+#include "seq/kernel.h"
 #include "seq/mesh.h"
-#include "seq/mesh_impl.h"
 #include "seq/rules.h"
 
 #include <check.h>
