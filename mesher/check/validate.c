@@ -70,10 +70,9 @@ static int32_t etab_find(const etab *T, int32_t u, int32_t v) {
     }
 }
 
-static int etab_grow(etab *T) {
+static void etab_grow(etab *T) {
     size_t ns = T->nslot ? T->nslot * 2 : 1024;
-    int32_t *sl = mesh_xmalloc(ns * sizeof *sl, 1);
-    if (!sl) return -1;
+    int32_t *sl = mesh_xmalloc(ns, sizeof *sl);
     memset(sl, 0xff, ns * sizeof *sl);
     for (int32_t k = 0; k < T->n; k++) {
         size_t i = mesh_hash64(ekey(T->rec[k].u, T->rec[k].v)) & (ns - 1);
@@ -84,17 +83,16 @@ static int etab_grow(etab *T) {
     free(T->slot);
     T->slot = sl;
     T->nslot = ns;
-    return 0;
 }
 
-/* Finds or adds the record of edge uv; returns its index or -1 (out of memory). */
+/* Finds or adds the record of edge uv; returns its index. */
 static int32_t etab_get(etab *T, int32_t u, int32_t v) {
     if (u > v) {
         int32_t x = u;
         u = v;
         v = x;
     }
-    if ((size_t)(T->n + 1) * 2 > T->nslot && etab_grow(T)) return -1;
+    if ((size_t)(T->n + 1) * 2 > T->nslot) etab_grow(T);
     size_t mask = T->nslot - 1, i = mesh_hash64(ekey(u, v)) & mask;
     for (;; i = (i + 1) & mask) {
         int32_t k = T->slot[i];
@@ -102,11 +100,8 @@ static int32_t etab_get(etab *T, int32_t u, int32_t v) {
         if (T->rec[k].u == u && T->rec[k].v == v) return k;
     }
     if (T->n == T->cap) {
-        int32_t nc = T->cap ? 2 * T->cap : 1024;
-        erec *nr = mesh_xrealloc(T->rec, (size_t)nc * sizeof *nr, 1);
-        if (!nr) return -1;
-        T->rec = nr;
-        T->cap = nc;
+        T->cap = T->cap ? 2 * T->cap : 1024;
+        T->rec = mesh_xrealloc(T->rec, (size_t)T->cap, sizeof *T->rec);
     }
     T->rec[T->n] = (erec){u, v, 0, -1, -1};
     T->slot[i] = T->n;
@@ -146,12 +141,7 @@ static int cmp_pair(const void *pa, const void *pb) {
     return (a->he > b->he) - (a->he < b->he);
 }
 
-void validate_oom(validate_report *r) {
-    r->bad_conform++;
-    validate_problem(r, "validator out of memory");
-}
-
-/* 1. indices and coordinates */
+/* 1. indices and coordinates; 0 when every one is usable, else -1 (the other checks skipped) */
 static int check_indices(vctx *c) {
     validate_report *r = c->r;
     const mesh_flat *m = c->m;
@@ -180,14 +170,10 @@ static int check_indices(vctx *c) {
 }
 
 /* 2. orientation and areas */
-static int check_orientation(vctx *c) {
+static void check_orientation(vctx *c) {
     validate_report *r = c->r;
     const int32_t *tri = c->tri;
     c->tbad = mesh_xcalloc((size_t)c->nt + 1, 1);
-    if (!c->tbad) {
-        validate_oom(r);
-        return -1;
-    }
     ksum area = {0, 0};
     for (int32_t t = 0; t < c->nt; t++) {
         const double *a = c->xy + 2 * tri[3 * t], *b = c->xy + 2 * tri[3 * t + 1],
@@ -202,19 +188,14 @@ static int check_orientation(vctx *c) {
         ksum_add(&area, 0.5 * geom_area2_accurate(a, b, p));
     }
     r->mesh_area = ksum_get(&area);
-    return 0;
 }
 
 /* 3. directed edges bucketed by their smaller vertex, each bucket sorted by the larger */
-static int build_edge_buckets(vctx *c) {
+static void build_edge_buckets(vctx *c) {
     const int32_t *tri = c->tri;
     int32_t nv = c->nv;
     c->bstart = mesh_xcalloc((size_t)nv + 2, sizeof *c->bstart);
-    c->bhe = mesh_xmalloc((3 * (size_t)c->nt + 1) * sizeof *c->bhe, 1);
-    if (!c->bstart || !c->bhe) {
-        validate_oom(c->r);
-        return -1;
-    }
+    c->bhe = mesh_xmalloc(3 * (size_t)c->nt + 1, sizeof *c->bhe);
     int32_t *bstart = c->bstart;
     uint32_t *bhe = c->bhe;
     for (uint32_t he = 0; he < 3 * (uint32_t)c->nt; he++) {
@@ -233,11 +214,7 @@ static int build_edge_buckets(vctx *c) {
     for (int32_t v = nv; v > 0; v--)
         bstart[v] = bstart[v - 1];
     bstart[0] = 0;
-    pair64 *scratch = mesh_xmalloc(((size_t)maxdeg + 1) * sizeof *scratch, 1);
-    if (!scratch) {
-        validate_oom(c->r);
-        return -1;
-    }
+    pair64 *scratch = mesh_xmalloc((size_t)maxdeg + 1, sizeof *scratch);
     for (int32_t v = 0; v < nv; v++) {
         uint32_t *e = bhe + bstart[v];
         int32_t d = bstart[v + 1] - bstart[v];
@@ -261,11 +238,10 @@ static int build_edge_buckets(vctx *c) {
     }
     free(scratch);
     c->maxdeg = maxdeg;
-    return 0;
 }
 
 /* 4. segment edges into the table */
-static int add_segment_edges(vctx *c) {
+static void add_segment_edges(vctx *c) {
     const mesh_flat *m = c->m;
     for (int32_t s = 0; s < m->nsegs; s++) {
         int32_t a = m->seg[2 * s], b = m->seg[2 * s + 1];
@@ -275,18 +251,13 @@ static int add_segment_edges(vctx *c) {
             continue;
         }
         int32_t k = etab_get(&c->T, a, b);
-        if (k < 0) {
-            validate_oom(c->r);
-            return -1;
-        }
         c->T.rec[k].flags |= E_MSEG;
         if (c->T.rec[k].mseg < 0) c->T.rec[k].mseg = s;
     }
-    return 0;
 }
 
 /* 5. conformity; boundary edges */
-static int check_conformity(vctx *c) {
+static void check_conformity(vctx *c) {
     validate_report *r = c->r;
     const int32_t *tri = c->tri;
     int32_t nv = c->nv;
@@ -306,10 +277,6 @@ static int check_conformity(vctx *c) {
             if (cnt == 1) {
                 uint32_t he = c->bhe[i];
                 int32_t k = etab_get(T, v, w);
-                if (k < 0) {
-                    validate_oom(r);
-                    return -1;
-                }
                 T->rec[k].flags |= E_BND | E_INMESH;
                 T->rec[k].from = he_org(tri, he);
             } else {
@@ -336,11 +303,10 @@ static int check_conformity(vctx *c) {
             validate_problem(r, "segment %d (%d, %d) is not an edge of the mesh", T->rec[k].mseg,
                              T->rec[k].u, T->rec[k].v);
         }
-    return 0;
 }
 
 /* 9. local Delaunay property of unconstrained interior edges */
-static int check_delaunay(vctx *c) {
+static void check_delaunay(vctx *c) {
     const mesh_flat *m = c->m;
     const double *xy = c->xy;
     const int32_t *tri = c->tri;
@@ -378,7 +344,6 @@ static int check_delaunay(vctx *c) {
             i = j;
         }
     }
-    return 0;
 }
 
 /* validate_area_slack of input g (working scale) whose domain area is dom. */
@@ -400,17 +365,16 @@ int validate_area_net(const pslg *g, double mesh_area, double *dom) {
 }
 
 /* 11. area of the domain */
-static int check_domain_area(vctx *c) {
+static void check_domain_area(vctx *c) {
     validate_report *r = c->r;
     r->domain_area = c->g ? pslg_domain_area(c->g) : 0;
     if (c->g) r->area_slack_w = input_area_slack(c->g, r->domain_area);
-    if (c->o->part) return 0; /* the caller compares the sum over the parts */
+    if (c->o->part) return; /* the caller compares the sum over the parts */
     if (c->g && !validate_area_ok(r->mesh_area, r->domain_area, r->area_slack_w)) {
         r->area_mismatch = 1;
         validate_problem(r, "mesh area %.17g differs from the domain area %.17g", r->mesh_area,
                          r->domain_area);
     }
-    return 0;
 }
 
 typedef struct hsort {
@@ -430,24 +394,17 @@ static int cmp_hsort(const void *pa, const void *pb) {
  * mesh against the same PSLG with the hull edges as segments: *h shares g's arrays except seg,
  * which the caller frees.  Andrew's monotone chain with exact orientation; collinear points
  * are not hull vertices (a hull segment passing through them is split there, as in the mesh).
- * Returns 0, or -1 (out of memory). */
-static int hull_pslg(const pslg *g, pslg *h) {
+ */
+static void hull_pslg(const pslg *g, pslg *h) {
     *h = *g;
     h->seg = NULL;
     h->smarker = NULL;
     h->sline = NULL;
     h->nsegs = 0;
     int32_t n = g->nverts;
-    hsort *v = mesh_xmalloc(((size_t)n + 1) * sizeof *v, 1);
-    int32_t *st = mesh_xmalloc((2 * (size_t)n + 2) * sizeof *st, 1);
-    h->seg = mesh_xmalloc((4 * (size_t)n + 4) * sizeof *h->seg, 1);
-    if (!v || !st || !h->seg) {
-        free(v);
-        free(st);
-        free(h->seg);
-        h->seg = NULL;
-        return -1;
-    }
+    hsort *v = mesh_xmalloc((size_t)n + 1, sizeof *v);
+    int32_t *st = mesh_xmalloc(2 * (size_t)n + 2, sizeof *st);
+    h->seg = mesh_xmalloc(4 * (size_t)n + 4, sizeof *h->seg);
     for (int32_t i = 0; i < n; i++)
         v[i] = (hsort){g->xy[2 * i], g->xy[2 * i + 1], i};
     qsort(v, (size_t)n, sizeof *v, cmp_hsort);
@@ -479,7 +436,6 @@ static int hull_pslg(const pslg *g, pslg *h) {
     }
     free(v);
     free(st);
-    return 0;
 }
 
 int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, validate_report *r) {
@@ -497,11 +453,7 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
         if (so.max_area == 0) so.max_area = DBL_MIN;
     }
     if (e != m->scale_exp) {
-        sxy = mesh_xmalloc(2 * (size_t)m->nverts * sizeof *sxy + 1, 1);
-        if (!sxy) {
-            validate_oom(r);
-            return 0;
-        }
+        sxy = mesh_xmalloc(2 * (size_t)m->nverts, sizeof *sxy);
         for (int64_t i = 0; i < 2 * (int64_t)m->nverts; i++)
             sxy[i] = ldexp(m->xy[i], e - m->scale_exp);
     }
@@ -520,18 +472,22 @@ int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, val
     pslg hull;
     int use_hull = g && g->nsegs == 0 && g->nverts >= 3;
     if (use_hull) {
-        if (hull_pslg(g, &hull) != 0) {
-            validate_oom(r);
-            r->ok = 0;
-            return 0;
-        }
+        hull_pslg(g, &hull);
         c.g = &hull;
     }
-    if (!check_indices(&c) && !check_orientation(&c) && !build_edge_buckets(&c) &&
-        !add_segment_edges(&c) && !check_conformity(&c) && !validate_input_vertices(&c) &&
-        !validate_small_corners(&c) && !validate_input_segments(&c) && !check_delaunay(&c) &&
-        !validate_quality(&c) && !validate_regions(&c))
+    if (check_indices(&c) == 0) { /* the rest only with every index in range */
+        check_orientation(&c);
+        build_edge_buckets(&c);
+        add_segment_edges(&c);
+        check_conformity(&c);
+        validate_input_vertices(&c);
+        validate_small_corners(&c);
+        validate_input_segments(&c);
+        check_delaunay(&c);
+        validate_quality(&c);
+        validate_regions(&c);
         check_domain_area(&c);
+    }
     r->ok = !(r->bad_orient || r->bad_conform || r->missing_verts || r->missing_segs ||
               r->stray_boundary || r->non_delaunay || r->bad_angle || r->bad_area ||
               r->area_mismatch || r->bad_region || r->first_problem[0]);

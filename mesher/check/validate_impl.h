@@ -37,15 +37,14 @@ typedef struct gap {
 typedef struct gaplist {
     gap *g;
     int32_t n, cap;
-    int oom;
 } gaplist;
 
 typedef struct vtag { /* mesh vertex on side `side` of small corner k */
     int32_t v, k, side;
 } vtag;
 
-/* Everything one validation run builds, handed from check to check.  Each check below returns
- * 0 to go on, or -1 when a later check could not run (out of memory, or indices out of range). */
+/* Everything one validation run builds, handed from check to check.  The first check (indices
+ * in range) decides whether the others can run at all. */
 typedef struct vctx {
     const pslg *g;
     const mesh_flat *m;
@@ -73,15 +72,11 @@ typedef struct vctx {
 __attribute__((format(printf, 2, 3))) void validate_problem(validate_report *r, const char *fmt,
                                                             ...);
 
-/* The validator ran out of memory: counted as a conformity failure, with a message. */
-void validate_oom(validate_report *r);
-
-/* The checks of validate_input.c, in the order mesh_validate runs them (numbered as there).
- * Each returns 0 to go on, or -1 when a later check could not run. */
-int validate_input_vertices(vctx *c); /* 6. input vertices: exact coordinates, by hash */
-int validate_small_corners(vctx *c);  /* 7. small input corners and the segments forming them */
-int validate_input_segments(vctx *c); /* 8. input segments as chains of segment/boundary edges */
-int validate_quality(vctx *c);        /* 10. angle and area bounds, with the exemptions */
-int validate_regions(vctx *c);        /* 10b. regional attributes and area bounds */
+/* The checks of validate_input.c, in the order mesh_validate runs them (numbered as there). */
+void validate_input_vertices(vctx *c); /* 6. input vertices: exact coordinates, by hash */
+void validate_small_corners(vctx *c);  /* 7. small input corners and the segments forming them */
+void validate_input_segments(vctx *c); /* 8. input segments as chains of segment/boundary edges */
+void validate_quality(vctx *c);        /* 10. angle and area bounds, with the exemptions */
+void validate_regions(vctx *c);        /* 10b. regional attributes and area bounds */
 
 #endif

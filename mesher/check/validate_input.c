@@ -29,14 +29,8 @@
 static void gap_cb(void *ctx, int32_t v, int32_t s1, int32_t s2, double deg) {
     gaplist *L = ctx;
     if (L->n == L->cap) {
-        int32_t nc = L->cap ? 2 * L->cap : 16;
-        gap *ng = mesh_xrealloc(L->g, (size_t)nc * sizeof *ng, 1);
-        if (!ng) {
-            L->oom = 1;
-            return;
-        }
-        L->g = ng;
-        L->cap = nc;
+        L->cap = L->cap ? 2 * L->cap : 16;
+        L->g = mesh_xrealloc(L->g, (size_t)L->cap, sizeof *L->g);
     }
     L->g[L->n++] = (gap){v, s1, s2};
 }
@@ -49,20 +43,15 @@ static int cmp_vtag(const void *pa, const void *pb) {
 }
 
 /* 6. input vertices: exact coordinates, by hash */
-int validate_input_vertices(vctx *c) {
+void validate_input_vertices(vctx *c) {
     const pslg *g = c->g;
     const double *xy = c->xy;
     int32_t gn = g ? g->nverts : 0;
-    c->gmap = mesh_xmalloc(((size_t)gn + 1) * sizeof *c->gmap, 1);
+    c->gmap = mesh_xmalloc((size_t)gn + 1, sizeof *c->gmap);
     size_t gns = 16;
     while (gns < 2 * (size_t)gn + 2)
         gns *= 2;
-    int32_t *gslot = mesh_xmalloc(gns * sizeof *gslot, 1), *gmap = c->gmap;
-    if (!gmap || !gslot) {
-        free(gslot);
-        validate_oom(c->r);
-        return -1;
-    }
+    int32_t *gslot = mesh_xmalloc(gns, sizeof *gslot), *gmap = c->gmap;
     memset(gslot, 0xff, gns * sizeof *gslot);
     for (int32_t i = 0; i < gn; i++) {
         double x = g->xy[2 * i] + 0.0, y = g->xy[2 * i + 1] + 0.0;
@@ -103,30 +92,17 @@ int validate_input_vertices(vctx *c) {
                 i + g->first_index, g->vline ? g->vline[i] : 0, g->xy[2 * i], g->xy[2 * i + 1]);
         }
     }
-    return 0;
 }
 
 /* 7. small input corners and the segments that form them */
-int validate_small_corners(vctx *c) {
+void validate_small_corners(vctx *c) {
     const pslg *g = c->g;
     c->vflag = mesh_xcalloc((size_t)c->nv + 1, 1);
-    if (!c->vflag) {
-        validate_oom(c->r);
-        return -1;
-    }
     gaplist *gl = &c->gl;
     if (g && g->nsegs > 0) pslg_input_angles(g, 60.0, gap_cb, gl);
-    if (gl->oom) {
-        validate_oom(c->r);
-        return -1;
-    }
     int32_t gsn = g ? g->nsegs : 0;
     c->tstart = mesh_xcalloc((size_t)gsn + 2, sizeof *c->tstart);
-    c->tags = mesh_xmalloc(((size_t)gl->n * 2 + 1) * sizeof *c->tags, 1);
-    if (!c->tstart || !c->tags) {
-        validate_oom(c->r);
-        return -1;
-    }
+    c->tags = mesh_xmalloc((size_t)gl->n * 2 + 1, sizeof *c->tags);
     int32_t *tstart = c->tstart;
     for (int32_t k = 0; k < gl->n; k++) {
         tstart[gl->g[k].s1 + 1]++;
@@ -145,24 +121,16 @@ int validate_small_corners(vctx *c) {
     for (int32_t s = gsn; s > 0; s--)
         tstart[s] = tstart[s - 1];
     tstart[0] = 0;
-    return 0;
 }
 
 /* Records that mesh vertex v lies on side `side` of small corner k. */
-static int tag_vertex(vctx *c, int32_t v, int32_t k, int32_t side) {
+static void tag_vertex(vctx *c, int32_t v, int32_t k, int32_t side) {
     if (c->nvt == c->capvt) {
-        size_t nc = c->capvt ? 2 * c->capvt : 256;
-        vtag *nvtag = mesh_xrealloc(c->vt, nc * sizeof *c->vt, 1);
-        if (!nvtag) {
-            validate_oom(c->r);
-            return -1;
-        }
-        c->vt = nvtag;
-        c->capvt = nc;
+        c->capvt = c->capvt ? 2 * c->capvt : 256;
+        c->vt = mesh_xrealloc(c->vt, c->capvt, sizeof *c->vt);
     }
     c->vt[c->nvt++] = (vtag){v, k, side};
     c->vflag[v] |= 2;
-    return 0;
 }
 
 /* The chain of mesh edges (indices into T) along input segment s: from the mesh vertex of its
@@ -222,9 +190,9 @@ static int32_t trace_chain(const vctx *c, int32_t S0, int32_t S1, int32_t A, int
 
 /* Part mode (validate.h): the chain of input segment s is not whole in this part, so its
  * corner tags go to every vertex of a segment or boundary edge that lies on s, by the chain's
- * own distance test.  Returns 0, or -1 (out of memory). */
-static int tag_partial_chain(vctx *c, int32_t s, const int32_t *astart) {
-    if (c->tstart[s] == c->tstart[s + 1]) return 0; /* s forms no small corner */
+ * own distance test. */
+static void tag_partial_chain(vctx *c, int32_t s, const int32_t *astart) {
+    if (c->tstart[s] == c->tstart[s + 1]) return; /* s forms no small corner */
     const double *pa = c->g->xy + 2 * c->g->seg[2 * s], *pb = c->g->xy + 2 * c->g->seg[2 * s + 1];
     double dx = pb[0] - pa[0], dy = pb[1] - pa[1], L2 = dx * dx + dy * dy, L = sqrt(L2);
     double mag = fmax(fmax(fabs(pa[0]), fabs(pa[1])), fmax(fabs(pb[0]), fabs(pb[1])));
@@ -235,28 +203,21 @@ static int tag_partial_chain(vctx *c, int32_t s, const int32_t *astart) {
         double t = (qx * dx + qy * dy) / L2;
         if (fabs(dx * qy - dy * qx) > tol || t < 0 || t > 1) continue;
         for (int32_t q = c->tstart[s]; q < c->tstart[s + 1]; q++)
-            if (tag_vertex(c, v, c->tags[q][0], c->tags[q][1])) return -1;
+            tag_vertex(c, v, c->tags[q][0], c->tags[q][1]);
     }
-    return 0;
 }
 
 /* 8. input segments as chains over segment and boundary edges */
-int validate_input_segments(vctx *c) {
+void validate_input_segments(vctx *c) {
     const pslg *g = c->g;
     validate_report *r = c->r;
     const double *xy = c->xy;
     etab *T = &c->T;
     int32_t nv = c->nv, gsn = g ? g->nsegs : 0;
     int32_t *astart = mesh_xcalloc((size_t)nv + 2, sizeof *astart);
-    int32_t(*adj)[2] = mesh_xmalloc(((size_t)T->n * 2 + 1) * sizeof *adj, 1);
-    int32_t *chain = mesh_xmalloc(((size_t)T->n + 1) * sizeof *chain, 1);
-    int32_t *chainv = mesh_xmalloc(((size_t)T->n + 2) * sizeof *chainv, 1);
-    int res = 0;
-    if (!astart || !adj || !chain || !chainv) {
-        validate_oom(r);
-        res = -1;
-        goto out;
-    }
+    int32_t(*adj)[2] = mesh_xmalloc((size_t)T->n * 2 + 1, sizeof *adj);
+    int32_t *chain = mesh_xmalloc((size_t)T->n + 1, sizeof *chain);
+    int32_t *chainv = mesh_xmalloc((size_t)T->n + 2, sizeof *chainv);
     for (int32_t k = 0; k < T->n; k++) { /* chains use real mesh edges only */
         if (!(T->rec[k].flags & E_INMESH)) continue;
         astart[T->rec[k].u + 1]++;
@@ -276,18 +237,11 @@ int validate_input_segments(vctx *c) {
     for (int32_t v = nv; v > 0; v--)
         astart[v] = astart[v - 1];
     astart[0] = 0;
-    if (g && pslg_segment_pieces(g, &c->pc) != 0) {
-        validate_oom(r);
-        res = -1;
-        goto out;
-    }
+    if (g) pslg_segment_pieces(g, &c->pc);
     for (int32_t s = 0; s < gsn; s++) {
         int32_t A = c->gmap[g->seg[2 * s]], B = c->gmap[g->seg[2 * s + 1]];
         if (c->o->part && (A < 0 || B < 0)) { /* an endpoint in another part */
-            if (tag_partial_chain(c, s, astart)) {
-                res = -1;
-                goto out;
-            }
+            tag_partial_chain(c, s, astart);
             continue;
         }
         if (A < 0 || B < 0 || A == B) {
@@ -314,16 +268,10 @@ int validate_input_segments(vctx *c) {
                 T->rec[chain[j]].flags |= E_INPUT;
             for (int32_t q = c->tstart[s]; q < c->tstart[s + 1]; q++)
                 for (int32_t j = 0; j <= nch; j++)
-                    if (tag_vertex(c, chainv[j], c->tags[q][0], c->tags[q][1])) {
-                        res = -1;
-                        goto out;
-                    }
+                    tag_vertex(c, chainv[j], c->tags[q][0], c->tags[q][1]);
         }
         if (!ok && c->o->part) { /* the chain leaves this part */
-            if (tag_partial_chain(c, s, astart)) {
-                res = -1;
-                goto out;
-            }
+            tag_partial_chain(c, s, astart);
             continue;
         }
         if (!ok) {
@@ -353,12 +301,10 @@ int validate_input_segments(vctx *c) {
             if (cmp_vtag(&c->vt[i], &c->vt[w - 1]) != 0) c->vt[w++] = c->vt[i];
         c->nvt = w;
     }
-out:
     free(astart);
     free(adj);
     free(chain);
     free(chainv);
-    return res;
 }
 /* Smallest angle of abc in degrees: the angle opposite the shortest edge, by atan2. */
 static double tri_min_angle(const double *a, const double *b, const double *c) {
@@ -406,7 +352,7 @@ static int angle_exempt(const vctx *c, const int32_t *tv) {
 }
 
 /* 10. quality */
-int validate_quality(vctx *c) {
+void validate_quality(vctx *c) {
     validate_report *r = c->r;
     const validate_opts *o = c->o;
     double abound = o->max_area > 0 ? o->max_area * (1 + 1e-12) : INFINITY;
@@ -435,7 +381,6 @@ int validate_quality(vctx *c) {
                              o->min_angle);
         }
     }
-    return 0;
 }
 
 /* A point strictly inside triangle (a, b, p), decided by exact orient2d: the centroid, or when
@@ -454,20 +399,16 @@ static int interior_point(const double *a, const double *b, const double *p, dou
 }
 
 /* 10b. regions: attributes and per-region area bounds (rule in validate.h) */
-int validate_regions(vctx *c) {
+void validate_regions(vctx *c) {
     const validate_opts *o = c->o;
     validate_report *r = c->r;
-    if (!(o->region_attr || o->region_area) || !c->g) return 0;
+    if (!(o->region_attr || o->region_area) || !c->g) return;
     if (o->region_attr && !c->m->tattr) {
         r->bad_region++;
         validate_problem(r, "the mesh has no regional attributes (expected one per triangle)");
-        return 0;
+        return;
     }
     pslg_regions *R = pslg_regions_build(c->g);
-    if (!R && c->g->nsegs > 0 && c->g->nregions > 0) {
-        validate_oom(r);
-        return -1;
-    }
     const double *reg = c->g->regions;
     for (int32_t t = 0; t < c->nt; t++) {
         if (c->tbad[t]) continue;
@@ -495,5 +436,4 @@ int validate_regions(vctx *c) {
         }
     }
     pslg_regions_free(R);
-    return 0;
 }

@@ -129,7 +129,8 @@ static void grid_visit(void *vctx, int32_t cell) {
 }
 
 /* Buckets the segments listed in ids[0..n) (endpoint pairs in seg, coordinates in xy) into a
- * grid over the bounding box of their endpoints.  Returns 0 or -1 (out of memory). */
+ * grid over the bounding box of their endpoints.  Returns 0, or -1 when the cells visited
+ * would overflow the grid's int32 counts (absurd inputs). */
 static int grid_build_segments(pslg_grid *gr, const double *xy, const int32_t *seg,
                                const int32_t *ids, int32_t n) {
     double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
@@ -145,7 +146,6 @@ static int grid_build_segments(pslg_grid *gr, const double *xy, const int32_t *s
     grid_setup(gr, x0, y0, x1, y1, n);
     size_t ncell = (size_t)gr->nx * gr->ny;
     gr->start = mesh_xcalloc(ncell + 1, sizeof(int32_t));
-    if (!gr->start) return -1;
     fill_ctx c = {gr, 0, 1};
     for (int32_t i = 0; i < n; i++) {
         const int32_t *s = seg + 2 * ids[i];
@@ -155,8 +155,7 @@ static int grid_build_segments(pslg_grid *gr, const double *xy, const int32_t *s
     }
     for (size_t i = 0; i < ncell; i++)
         gr->start[i + 1] += gr->start[i];
-    gr->item = mesh_xmalloc(((size_t)gr->start[ncell] + 1) * sizeof(int32_t), 1);
-    if (!gr->item) return -1;
+    gr->item = mesh_xmalloc((size_t)gr->start[ncell] + 1, sizeof(int32_t));
     c.counting = 0;
     for (int32_t i = 0; i < n; i++) {
         const int32_t *s = seg + 2 * ids[i];
@@ -235,12 +234,7 @@ static void split_visit(void *vctx, int32_t cell) {
         /* each vertex lives in one cell and a segment visits a cell once: no repeats */
         if (c->nhits == c->cap) {
             size_t nc = c->cap ? 2 * c->cap : 64;
-            int32_t *nh = mesh_xrealloc(c->hits, nc * 2 * sizeof(int32_t), 1);
-            if (!nh) {
-                c->oom = 1;
-                return;
-            }
-            c->hits = nh;
+            c->hits = mesh_xrealloc(c->hits, nc * 2, sizeof(int32_t));
             c->cap = nc;
         }
         c->hits[2 * c->nhits] = c->s;
@@ -265,8 +259,8 @@ static int cmp_along(const void *vctx, int32_t i, int32_t j) {
 }
 /* The vertices of g lying strictly inside its segments (exact orient2d and bounds): sc->hits
  * gets (segment, vertex) pairs grouped by segment in segment order.  vg is filled with a grid
- * of the vertices (caller frees).  Returns 0 or -1 (out of memory). */
-int pslg_vertex_hits(const pslg *g, pslg_grid *vg, pslg_split_ctx *sc) {
+ * of the vertices (caller frees). */
+void pslg_vertex_hits(const pslg *g, pslg_grid *vg, pslg_split_ctx *sc) {
     int32_t n = g->nverts, ns = g->nsegs;
     double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
     for (int32_t i = 0; i < n; i++) {
@@ -279,7 +273,7 @@ int pslg_vertex_hits(const pslg *g, pslg_grid *vg, pslg_split_ctx *sc) {
     grid_setup(vg, x0, y0, x1, y1, n);
     size_t ncell = (size_t)vg->nx * vg->ny;
     vg->start = mesh_xcalloc(ncell + 1, sizeof(int32_t));
-    vg->item = mesh_xmalloc((size_t)(n ? n : 1) * sizeof(int32_t), 1);
+    vg->item = mesh_xmalloc((size_t)n, sizeof(int32_t));
     for (int32_t i = 0; i < n; i++)
         vg->start[grid_cy(vg, g->xy[2 * i + 1]) * vg->nx + grid_cx(vg, g->xy[2 * i]) + 1]++;
     for (size_t c = 0; c < ncell; c++)
@@ -295,9 +289,7 @@ int pslg_vertex_hits(const pslg *g, pslg_grid *vg, pslg_split_ctx *sc) {
     for (int32_t s = 0; s < ns; s++) {
         sc->s = s;
         grid_segment(vg, g->xy + 2 * g->seg[2 * s], g->xy + 2 * g->seg[2 * s + 1], split_visit, sc);
-        if (sc->oom) return -1;
     }
-    return 0;
 }
 
 /* Sorts the hits of one segment (order[0..m), indices into sc->hits) from a to b. */
@@ -315,7 +307,7 @@ void pslg_hits_along(const pslg *g, const pslg_split_ctx *sc, int32_t s, int32_t
 void pslg_split_at_vertices(pslg *g) {
     pslg_grid vg = {0};
     pslg_split_ctx sc = {0};
-    pslg_vertex_hits(g, &vg, &sc); /* the funnel never fails: no out-of-memory return to handle */
+    pslg_vertex_hits(g, &vg, &sc);
     pslg_grid_free(&vg);
     if (sc.nhits == 0) {
         free(sc.hits);
@@ -353,8 +345,6 @@ void pslg_split_at_vertices(pslg *g) {
     free(sc.hits);
     pslg_set_segments(g, seg, smk, sln, (int32_t)n);
 }
-
-/* Builds the arrangement of g's segments.  Returns 0 or -1 (out of memory). */
 
 /* ---------------------------------------------------------------- pslg_check ------------ */
 
@@ -480,13 +470,8 @@ static int normalise(pslg *g, int split, int quiet, int32_t **pairs, int64_t *np
     *pairs = NULL;
     *npairs = 0;
     /* 1. merge duplicate vertices */
-    vkey *vk = mesh_xmalloc((size_t)(n ? n : 1) * sizeof *vk, 1);
-    int32_t *map = mesh_xmalloc((size_t)(n ? n : 1) * sizeof *map, 1);
-    if (!vk || !map) {
-        free(vk);
-        free(map);
-        return gfail(err, errlen, "%s: out of memory checking %d vertices", vf, n);
-    }
+    vkey *vk = mesh_xmalloc((size_t)n, sizeof *vk);
+    int32_t *map = mesh_xmalloc((size_t)n, sizeof *map);
     for (int32_t i = 0; i < n; i++)
         vk[i] = (vkey){g->xy[2 * i], g->xy[2 * i + 1], i};
     qsort(vk, (size_t)n, sizeof *vk, cmp_vkey);
@@ -510,11 +495,7 @@ static int normalise(pslg *g, int split, int quiet, int32_t **pairs, int64_t *np
     free(vk);
     if (ndup) {
         int32_t m = 0;
-        int32_t *newidx = mesh_xmalloc((size_t)n * sizeof *newidx, 1);
-        if (!newidx) {
-            free(map);
-            return gfail(err, errlen, "%s: out of memory", vf);
-        }
+        int32_t *newidx = mesh_xmalloc((size_t)n, sizeof *newidx);
         for (int32_t i = 0; i < n; i++) {
             if (map[i] != i) continue;
             newidx[i] = m;
@@ -542,15 +523,9 @@ static int normalise(pslg *g, int split, int quiet, int32_t **pairs, int64_t *np
             return gfail(err, errlen, "%s:%d: segment %d has zero length (both endpoints are %s)",
                          sf, g->sline ? g->sline[s] : 0, s + g->first_index,
                          ndup ? "the same point" : "the same vertex");
-    pslg_skey *sk = mesh_xmalloc((size_t)(ns ? ns : 1) * sizeof *sk, 1);
-    int32_t *ids = mesh_xmalloc((size_t)(ns ? ns : 1) * sizeof *ids, 1);
-    char *keep = mesh_xmalloc((size_t)(ns ? ns : 1), 1);
-    if (!sk || !ids || !keep) {
-        free(sk);
-        free(ids);
-        free(keep);
-        return gfail(err, errlen, "%s: out of memory checking %d segments", sf, ns);
-    }
+    pslg_skey *sk = mesh_xmalloc((size_t)ns, sizeof *sk);
+    int32_t *ids = mesh_xmalloc((size_t)ns, sizeof *ids);
+    char *keep = mesh_xmalloc((size_t)ns, 1);
     for (int32_t s = 0; s < ns; s++) {
         int32_t a = g->seg[2 * s], b = g->seg[2 * s + 1];
         sk[s] = (pslg_skey){a < b ? a : b, a < b ? b : a, s};
@@ -583,7 +558,7 @@ static int normalise(pslg *g, int split, int quiet, int32_t **pairs, int64_t *np
     int32_t *pr = NULL;
     int64_t np = 0, pcap = 0;
     if (grid_build_segments(&gr, g->xy, g->seg, ids, nk)) {
-        rc = gfail(err, errlen, "%s: out of memory checking segment crossings", sf);
+        rc = gfail(err, errlen, "%s: too many segments to check for crossings (%d)", sf, nk);
     } else {
         int32_t bs = -1, bt = -1;
         size_t ncell = (size_t)gr.nx * gr.ny;
@@ -686,7 +661,7 @@ int pslg_check_ex(pslg *g, unsigned flags, char *err, size_t errlen) {
                        "resolve): move them apart, or use --strict to see the first crossing",
                        sf, g->sline ? g->sline[t] : 0, g->sline ? g->sline[s] : 0);
         } else {
-            rc = pslg_split_pairs(g, pairs, np, err, errlen);
+            pslg_split_pairs(g, pairs, np);
         }
         free(pairs);
         if (rc != 0) return -1;

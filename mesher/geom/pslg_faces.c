@@ -63,24 +63,21 @@ static void arr_free(arr *A) {
     free(A->pos);
 }
 
-static int arr_build(const pslg *g, arr *A) {
+/* Builds the arrangement of g's segments (free with arr_free). */
+static void arr_build(const pslg *g, arr *A) {
     memset(A, 0, sizeof *A);
     A->xy = g->xy;
     A->nv = g->nverts;
     int32_t n = g->nverts, ns = g->nsegs;
-    int rc = -1;
     pslg_split_ctx sc = {0};
     pslg_grid vg = {0};
-    pslg_skey *ek = NULL;
-    int32_t *order = NULL, *tmp = NULL;
     /* vertices lying inside segments */
-    if (pslg_vertex_hits(g, &vg, &sc)) goto out;
+    pslg_vertex_hits(g, &vg, &sc);
     /* sub-edges: hits are grouped by segment already (segments visited in order) */
     size_t nsub = (size_t)(ns > 0 ? ns : 0) + sc.nhits;
-    ek = mesh_xmalloc((nsub ? nsub : 1) * sizeof *ek, 1);
-    order = mesh_xmalloc((sc.nhits ? sc.nhits : 1) * sizeof *order, 1);
-    tmp = mesh_xmalloc((sc.nhits ? sc.nhits : 1) * sizeof *tmp, 1);
-    if (!ek || !order || !tmp) goto out;
+    pslg_skey *ek = mesh_xmalloc(nsub, sizeof *ek);
+    int32_t *order = mesh_xmalloc(sc.nhits, sizeof *order);
+    int32_t *tmp = mesh_xmalloc(sc.nhits, sizeof *tmp);
     size_t ne = 0, h = 0;
     for (int32_t s = 0; s < ns; s++) {
         int32_t a = g->seg[2 * s], b = g->seg[2 * s + 1];
@@ -104,13 +101,12 @@ static int arr_build(const pslg *g, arr *A) {
         if (m == 0 || ek[i].lo != ek[m - 1].lo || ek[i].hi != ek[m - 1].hi) ek[m++] = ek[i];
     ne = m;
     A->ne = (int32_t)ne;
-    A->org = mesh_xmalloc((2 * ne + 1) * sizeof(int32_t), 1);
-    A->out = mesh_xmalloc((2 * ne + 1) * sizeof(int32_t), 1);
-    A->pos = mesh_xmalloc((2 * ne + 1) * sizeof(int32_t), 1);
+    A->org = mesh_xmalloc(2 * ne + 1, sizeof(int32_t));
+    A->out = mesh_xmalloc(2 * ne + 1, sizeof(int32_t));
+    A->pos = mesh_xmalloc(2 * ne + 1, sizeof(int32_t));
     A->vstart = mesh_xcalloc((size_t)n + 2, sizeof(int32_t));
     free(tmp);
-    tmp = mesh_xmalloc((2 * ne + 1) * sizeof(int32_t), 1);
-    if (!A->org || !A->out || !A->pos || !A->vstart || !tmp) goto out;
+    tmp = mesh_xmalloc(2 * ne + 1, sizeof(int32_t));
     for (size_t e = 0; e < ne; e++) {
         A->org[2 * e] = ek[e].lo;
         A->org[2 * e + 1] = ek[e].hi;
@@ -131,15 +127,11 @@ static int arr_build(const pslg *g, arr *A) {
         for (int32_t i = 0; i < d; i++)
             A->pos[o[i]] = A->vstart[v] + i;
     }
-    rc = 0;
-out:
-    if (rc) arr_free(A);
     free(sc.hits);
     pslg_grid_free(&vg);
     free(ek);
     free(order);
     free(tmp);
-    return rc;
 }
 
 /* The half-edge after h on the face to the left of h. */
@@ -161,19 +153,19 @@ double pslg_input_angles(const pslg *g, double bound_deg,
      * paired with a slot for the far end of s (which does not list it: at s's endpoints the
      * segment is counted once). */
     pslg_pieces P;
-    int have = ns > 0 && pslg_segment_pieces(g, &P) == 0;
+    int have = ns > 0;
+    if (have) pslg_segment_pieces(g, &P);
     int32_t ne = ns;
     for (int32_t s = 0; have && s < ns; s++)
         if (P.start[s + 1] - P.start[s] > 2) ne += 2 * (P.start[s + 1] - P.start[s] - 2);
     arr A = {0};
     A.xy = g->xy;
-    A.org = mesh_xmalloc((2 * (size_t)ne + 1) * sizeof(int32_t), 1);
-    A.out = mesh_xmalloc((2 * (size_t)ne + 1) * sizeof(int32_t), 1);
+    A.org = mesh_xmalloc(2 * (size_t)ne + 1, sizeof(int32_t));
+    A.out = mesh_xmalloc(2 * (size_t)ne + 1, sizeof(int32_t));
     A.vstart = mesh_xcalloc((size_t)n + 2, sizeof(int32_t));
-    int32_t *tmp = mesh_xmalloc((2 * (size_t)ne + 1) * sizeof(int32_t), 1);
-    int32_t *sid = mesh_xmalloc(((size_t)ne + 1) * sizeof(int32_t), 1);
+    int32_t *tmp = mesh_xmalloc(2 * (size_t)ne + 1, sizeof(int32_t));
+    int32_t *sid = mesh_xmalloc((size_t)ne + 1, sizeof(int32_t));
     uint8_t *listed = mesh_xmalloc(2 * (size_t)ne + 1, 1); /* h is in v's list */
-    if (!A.org || !A.out || !A.vstart || !tmp || !sid || !listed) goto out;
     int32_t e = 0;
     for (int32_t s = 0; s < ns; s++, e++) {
         A.org[2 * e] = g->seg[2 * s];
@@ -218,7 +210,6 @@ double pslg_input_angles(const pslg *g, double bound_deg,
             if (deg < bound_deg && fn) fn(ctx, v, sid[h1 >> 1], sid[h2 >> 1], deg);
         }
     }
-out:
     if (have) pslg_pieces_free(&P);
     free(A.org);
     free(A.out);
@@ -372,17 +363,13 @@ static void faces_hole(faces *F, const pslg *g, const double *p) {
 
 static int faces_build(const pslg *g, faces *F) {
     memset(F, 0, sizeof *F);
-    if (g->nsegs == 0 || arr_build(g, &F->A)) return -1;
+    if (g->nsegs == 0) return -1;
+    arr_build(g, &F->A);
     arr *A = &F->A;
     int32_t nh = 2 * A->ne, n = g->nverts;
-    F->cid = mesh_xmalloc((size_t)nh * sizeof(int32_t) + 1, 1);
-    int32_t *uf = mesh_xmalloc((size_t)(n ? n : 1) * sizeof(int32_t), 1);
-    F->cy = mesh_xmalloc((size_t)nh * sizeof(cycle) + 1, 1);
-    if (!F->cid || !uf || !F->cy) {
-        free(uf);
-        faces_free(F);
-        return -1;
-    }
+    F->cid = mesh_xmalloc((size_t)nh, sizeof(int32_t));
+    int32_t *uf = mesh_xmalloc((size_t)n, sizeof(int32_t));
+    F->cy = mesh_xmalloc((size_t)nh, sizeof(cycle));
     int32_t *cid = F->cid;
     cycle *cy = F->cy;
     for (int32_t v = 0; v < n; v++)
@@ -475,18 +462,10 @@ static int on_arrangement(const faces *F, const pslg *g, const double *p) {
 
 pslg_regions *pslg_regions_build(const pslg *g) {
     geom_init();
+    if (g->nsegs == 0) return NULL;
     pslg_regions *R = mesh_xcalloc(1, sizeof *R);
-    if (!R) return NULL;
-    if (g->nsegs == 0 || faces_build(g, &R->F)) {
-        free(R);
-        return NULL;
-    }
-    R->freg = mesh_xmalloc((size_t)R->F.nc * sizeof(int32_t) + 1, 1);
-    if (!R->freg) {
-        faces_free(&R->F);
-        free(R);
-        return NULL;
-    }
+    faces_build(g, &R->F);
+    R->freg = mesh_xmalloc((size_t)R->F.nc, sizeof(int32_t));
     for (int32_t i = 0; i < R->F.nc; i++)
         R->freg[i] = -1;
     for (int32_t i = 0; i < g->nregions; i++) { /* in file order: the later one wins */
@@ -525,29 +504,22 @@ void pslg_pieces_free(pslg_pieces *P) {
 }
 
 /* Appends vertex v (and, after the first, the border flag of the piece ending there). */
-static int piece_push(pslg_pieces *P, int32_t *cap, int32_t v, uint8_t border, int first) {
+static void piece_push(pslg_pieces *P, int32_t *cap, int32_t v, uint8_t border, int first) {
     if (P->nvert == *cap) {
-        int32_t nc = *cap ? 2 * *cap : 64;
-        int32_t *nv = mesh_xrealloc(P->vert, (size_t)nc * sizeof *nv, 1);
-        if (!nv) return -1;
-        P->vert = nv;
-        uint8_t *nb = mesh_xrealloc(P->border, (size_t)nc, 1);
-        if (!nb) return -1;
-        P->border = nb;
-        *cap = nc;
+        *cap = *cap ? 2 * *cap : 64;
+        P->vert = mesh_xrealloc(P->vert, (size_t)*cap, sizeof *P->vert);
+        P->border = mesh_xrealloc(P->border, (size_t)*cap, 1);
     }
     if (!first) P->border[P->nvert - 1] = border;
     P->border[P->nvert] = 0;
     P->vert[P->nvert++] = v;
-    return 0;
 }
 
 int pslg_segment_pieces(const pslg *g, pslg_pieces *P) {
     geom_init();
     memset(P, 0, sizeof *P);
     int32_t cap = 0;
-    P->start = mesh_xmalloc(((size_t)g->nsegs + 1) * sizeof *P->start, 1);
-    if (!P->start) return -1;
+    P->start = mesh_xmalloc((size_t)g->nsegs + 1, sizeof *P->start);
     P->start[0] = 0;
     faces F;
     int have = g->nsegs > 0 && faces_build(g, &F) == 0;
@@ -555,7 +527,7 @@ int pslg_segment_pieces(const pslg *g, pslg_pieces *P) {
         int32_t a = g->seg[2 * s], b = g->seg[2 * s + 1], cur = a;
         const double *pb = g->xy + 2 * b;
         int32_t first = P->nvert;
-        if (piece_push(P, &cap, a, 0, 1)) goto oom;
+        piece_push(P, &cap, a, 0, 1);
         /* walk the pieces of s from a to b: at each vertex the outgoing half-edge pointing at
          * b (collinear, same direction) */
         for (int32_t steps = 0; have && cur != b && steps <= F.A.ne; steps++) {
@@ -566,7 +538,7 @@ int pslg_segment_pieces(const pslg *g, pslg_pieces *P) {
                 if (w != b &&
                     !(geom_orient2d(pc, pb, pw) == 0 && pslg_strictly_between(pc, pb, pw)))
                     continue;
-                if (piece_push(P, &cap, w, (uint8_t)borders_domain(&F, h), 0)) goto oom;
+                piece_push(P, &cap, w, (uint8_t)borders_domain(&F, h), 0);
                 next = w;
                 break;
             }
@@ -575,16 +547,13 @@ int pslg_segment_pieces(const pslg *g, pslg_pieces *P) {
         }
         if (cur != b) { /* no arrangement (should not happen): the whole segment, required */
             P->nvert = first;
-            if (piece_push(P, &cap, a, 0, 1) || piece_push(P, &cap, b, 1, 0)) goto oom;
+            piece_push(P, &cap, a, 0, 1);
+            piece_push(P, &cap, b, 1, 0);
         }
         P->start[s + 1] = P->nvert;
     }
     if (have) faces_free(&F);
     return 0;
-oom:
-    if (have) faces_free(&F);
-    pslg_pieces_free(P);
-    return -1;
 }
 
 /* ---------------------------------------------------------------- markers --------------- */
@@ -606,7 +575,7 @@ int pslg_boundary_markers(pslg *g) {
     }
     if (g->nsegs == 0 || !g->smarker) return 0;
     faces F;
-    if (faces_build(g, &F)) return -1;
+    faces_build(g, &F); /* g has segments: it has faces */
     uint8_t *onb = mesh_xcalloc((size_t)g->nsegs + 1, 1);
     /* the vertices along each segment, in order (as pslg_segment_pieces walks them) */
     int32_t *start = mesh_xmalloc((size_t)g->nsegs + 1, sizeof(int32_t)), nv = 0, cap = 64;

@@ -18,9 +18,8 @@
  * segment within a few ulps of it, so that segments through one point share it).  The pieces
  * replace the segments, keeping their markers and lines; new vertices get marker 0, the line
  * of the first segment and attributes interpolated linearly along it.  The caller normalises
- * again (new pieces may repeat each other; rounded points may make new crossings).  Returns 0,
- * or -1 with a message (out of memory). */
-int pslg_split_pairs(pslg *g, const int32_t *pairs, int64_t npairs, char *err, size_t errlen);
+ * again (new pieces may repeat each other; rounded points may make new crossings). */
+void pslg_split_pairs(pslg *g, const int32_t *pairs, int64_t npairs);
 
 /* Replaces g's segments by n pieces: seg (2 per piece), their markers smk and lines sln (each
  * may be NULL); g takes ownership of the three arrays and frees its old ones. */
@@ -64,13 +63,12 @@ typedef struct pslg_split_ctx {
     int32_t s;
     int32_t *hits; /* growable list of (segment, vertex) pairs */
     size_t nhits, cap;
-    int oom;
 } pslg_split_ctx;
 
 /* The vertices of g lying strictly inside its segments (exact orient2d and bounds): sc->hits
  * gets (segment, vertex) pairs grouped by segment in segment order.  vg is filled with a grid
- * of the vertices (caller frees).  Returns 0 or -1 (out of memory). */
-int pslg_vertex_hits(const pslg *g, pslg_grid *vg, pslg_split_ctx *sc);
+ * of the vertices (caller frees). */
+void pslg_vertex_hits(const pslg *g, pslg_grid *vg, pslg_split_ctx *sc);
 
 /* Sorts the hits of segment s (order[0..m), indices into sc->hits) from its first endpoint to
  * its second; tmp has room for m items. */

@@ -58,16 +58,9 @@ static int reader_open(reader *r, const char *path, char *err, size_t errlen) {
     size_t cap = 1 << 16, n = 0;
     char *buf = mesh_xmalloc(cap, 1);
     for (;;) {
-        if (!buf) {
-            fclose(f);
-            snprintf(err, errlen, "%s: out of memory reading the file", path);
-            return -1;
-        }
         n += fread(buf + n, 1, cap - n - 1, f);
         if (n < cap - 1) break;
-        char *nb = cap > SIZE_MAX / 2 ? NULL : mesh_xrealloc(buf, cap * 2, 1);
-        if (!nb) free(buf);
-        buf = nb;
+        buf = mesh_xrealloc(buf, cap, 2);
         cap *= 2;
     }
     int bad = ferror(f);
@@ -267,8 +260,6 @@ static int read_vertices(reader *r, pslg *g) {
     g->vmarker = mesh_xcalloc((size_t)n, sizeof(int32_t));
     g->vline = mesh_xcalloc((size_t)n, sizeof(int32_t));
     g->vattr = nattr ? mesh_xcalloc((size_t)n * (size_t)nattr, sizeof(double)) : NULL;
-    if (!g->xy || !g->vmarker || !g->vline || (nattr && !g->vattr))
-        return rfail(r, "out of memory for %ld vertices", n);
     for (long i = 0; i < n; i++) {
         if (!next_line(r)) return eof_fail(r, "vertices", i, n);
         long id;
@@ -388,10 +379,6 @@ static int read_poly(const char *path, pslg *g, int skip_node, int32_t nv, int f
     g->seg = mesh_xcalloc((size_t)ns * 2, sizeof(int32_t));
     g->smarker = mesh_xcalloc((size_t)ns, sizeof(int32_t));
     g->sline = mesh_xcalloc((size_t)ns, sizeof(int32_t));
-    if (!g->seg || !g->smarker || !g->sline) {
-        rfail(&r, "out of memory for %ld segments", ns);
-        goto out;
-    }
     for (long i = 0; i < ns; i++) {
         if (!next_line(&r)) {
             eof_fail(&r, "segments", i, ns);
@@ -424,10 +411,6 @@ static int read_poly(const char *path, pslg *g, int skip_node, int32_t nv, int f
         goto out;
     g->nholes = (int32_t)nh;
     g->holes = mesh_xcalloc((size_t)nh * 2, sizeof(double));
-    if (!g->holes) {
-        rfail(&r, "out of memory for %ld holes", nh);
-        goto out;
-    }
     for (long i = 0; i < nh; i++) {
         long id;
         if (!next_line(&r)) {
@@ -450,10 +433,6 @@ static int read_poly(const char *path, pslg *g, int skip_node, int32_t nv, int f
         goto out;
     g->nregions = (int32_t)nr;
     g->regions = mesh_xcalloc((size_t)nr * 4, sizeof(double));
-    if (!g->regions) {
-        rfail(&r, "out of memory for %ld regions", nr);
-        goto out;
-    }
     for (long i = 0; i < nr; i++) {
         long id;
         double *q = g->regions + 4 * i;

@@ -17,26 +17,20 @@
 int mesh_to_flat(const mesh *m, mesh_flat *f) {
     memset(f, 0, sizeof *f);
     f->nverts = m->nv;
-    f->xy = mesh_xmalloc(2 * (size_t)m->nv * sizeof(double) + 1, 1);
-    f->vmarker = mesh_xmalloc((size_t)m->nv * sizeof(int32_t) + 1, 1);
+    f->xy = mesh_xmalloc(2 * (size_t)m->nv, sizeof(double));
+    f->vmarker = mesh_xmalloc((size_t)m->nv, sizeof(int32_t));
     int32_t nt = 0;
     for (int32_t t = 0; t < m->nt; t++)
         if (mesh_tri_alive(m, t) && mesh_ghost_index(m, t) < 0) nt++;
     f->ntris = nt;
-    f->tri = mesh_xmalloc(3 * (size_t)nt * sizeof(int32_t) + 1, 1);
+    f->tri = mesh_xmalloc(3 * (size_t)nt, sizeof(int32_t));
     f->nsegs = m->ss_live;
-    f->seg = mesh_xmalloc(2 * (size_t)m->ss_live * sizeof(int32_t) + 1, 1);
-    f->smarker = mesh_xmalloc((size_t)m->ss_live * sizeof(int32_t) + 1, 1);
-    f->sinterface = mesh_xmalloc((size_t)m->ss_live * sizeof(int32_t) + 1, 1);
-    if (!f->xy || !f->vmarker || !f->tri || !f->seg || !f->smarker || !f->sinterface) {
-        free(f->xy), free(f->vmarker), free(f->tri), free(f->seg), free(f->smarker);
-        free(f->sinterface);
-        memset(f, 0, sizeof *f);
-        return -1;
-    }
+    f->seg = mesh_xmalloc(2 * (size_t)m->ss_live, sizeof(int32_t));
+    f->smarker = mesh_xmalloc((size_t)m->ss_live, sizeof(int32_t));
+    f->sinterface = mesh_xmalloc((size_t)m->ss_live, sizeof(int32_t));
     memcpy(f->xy, m->xy, 2 * (size_t)m->nv * sizeof(double));
     f->scale_exp = m->scale_exp;
-    if (m->treg) f->tattr = mesh_xmalloc((size_t)nt * sizeof(double) + 1, 1);
+    if (m->treg) f->tattr = mesh_xmalloc((size_t)nt, sizeof(double));
     for (int32_t v = 0; v < m->nv; v++)
         f->vmarker[v] = v < m->ninput     ? (m->in_vmarker ? m->in_vmarker[v] : 0)
                         : m->vseg[v] >= 0 ? m->smarker[m->vseg[v]]
@@ -91,7 +85,7 @@ void mesh_take_flat(mesh *m, mesh_flat *f, uint8_t **topen) {
     f->tri = mesh_xrealloc(m->tv, 3 * (size_t)nt + 1, sizeof(int32_t));
     m->tv = NULL;
     if (m->treg) { /* attributes in place of the labels (a double each) */
-        f->tattr = mesh_xmalloc((size_t)nt * sizeof(double) + 1, 1);
+        f->tattr = mesh_xmalloc((size_t)nt, sizeof(double));
         for (int32_t t = 0; t < nt; t++)
             f->tattr[t] = m->treg[t] >= 0 ? m->reg_attr[m->treg[t]] : 0;
     }

@@ -94,16 +94,16 @@ static int32_t region_seed(mesh *m, const double p[2], int32_t nreal) {
 void mesh_set_regions(mesh *m, const pslg *g, int use_area, int32_t nreal) {
     free(m->treg), free(m->reg_attr), free(m->reg_area);
     m->nregion = g->nregions;
-    m->treg = mesh_xmalloc((size_t)m->tcap * sizeof(int32_t) + 1, 1);
-    m->reg_attr = mesh_xmalloc((size_t)g->nregions * sizeof(double) + 1, 1);
-    m->reg_area = mesh_xmalloc((size_t)g->nregions * sizeof(double) + 1, 1);
+    m->treg = mesh_xmalloc((size_t)m->tcap, sizeof(int32_t));
+    m->reg_attr = mesh_xmalloc((size_t)g->nregions, sizeof(double));
+    m->reg_area = mesh_xmalloc((size_t)g->nregions, sizeof(double));
     for (int32_t i = 0; i < g->nregions; i++) {
         m->reg_attr[i] = g->regions[4 * i + 2];
         double a = g->regions[4 * i + 3];
         m->reg_area[i] = use_area && a > 0 ? a : 0;
     }
     /* components across every edge but the input segments' (interface edges are crossed) */
-    int32_t *comp = m->treg, *stk = mesh_xmalloc((size_t)m->nt * sizeof(int32_t) + 1, 1);
+    int32_t *comp = m->treg, *stk = mesh_xmalloc((size_t)m->nt, sizeof(int32_t));
     for (int32_t t = 0; t < m->nt; t++)
         comp[t] = -1;
     int32_t ncomp = 0;
@@ -124,7 +124,7 @@ void mesh_set_regions(mesh *m, const pslg *g, int use_area, int32_t nreal) {
         ncomp++;
     }
     free(stk);
-    int32_t *creg = mesh_xmalloc((size_t)ncomp * sizeof(int32_t) + 1, 1);
+    int32_t *creg = mesh_xmalloc((size_t)ncomp, sizeof(int32_t));
     for (int32_t c = 0; c < ncomp; c++)
         creg[c] = -1;
     for (int32_t i = 0; i < g->nregions; i++) { /* in file order: the later one wins */
