@@ -363,7 +363,21 @@ int mesh_cavity_collect(mesh *m, const double p[2], int32_t t0, int32_t split_e,
     return CAV_OK;
 }
 
+/* 1 iff the collected cavity is star-shaped from p: p strictly left of every boundary edge
+ * with two real endpoints but the split one (the debug tier's repeat of the collect's test, for
+ * every caller that commits). */
+static inline int cavity_star(const mesh *m, const double *p) {
+    for (int32_t i = 0; i < m->nbnd; i++) {
+        const mesh_bedge *b = &m->bnd[i];
+        if (!b->split && b->org >= 0 && b->dest >= 0 &&
+            geom_orient2d(m->xy + 2 * b->org, m->xy + 2 * b->dest, p) <= 0)
+            return 0;
+    }
+    return 1;
+}
+
 void mesh_cavity_commit(mesh *m, int32_t v, int32_t su, int32_t sv) {
+    MESH_ASSERT(cavity_star(m, m->xy + 2 * v));
     int32_t nb = m->nbnd, s = -1;
     for (int32_t i = 0; i < nb; i++)
         if (m->bnd[i].split) s = i;
@@ -414,6 +428,8 @@ void mesh_cavity_commit(mesh *m, int32_t v, int32_t su, int32_t sv) {
         }
     }
     if (s >= 0) m->tn[3 * m->newt[0] + 2] = -1;
+    for (int32_t i = 0; i < n; i++)
+        MESH_ASSERT(mesh_tri_consistent(m, m->newt[i]));
     m->vtri[v] = m->newt[0];
     m->last = m->newt[0];
     m->ncav = 0;
@@ -489,6 +505,13 @@ void mesh_flip(mesh *m, int32_t e) {
     if (u >= 0) m->vtri[u] = t1;
     if (z >= 0) m->vtri[z] = t2;
     if (v >= 0) m->vtri[v] = t2;
+    MESH_ASSERT(mesh_tri_consistent(m, t1) && mesh_tri_consistent(m, t2));
+}
+
+int mesh_consistent(const mesh *m) {
+    for (int32_t t = 0; t < m->nt; t++)
+        if (mesh_tri_alive(m, t) && !mesh_tri_consistent(m, t)) return 0;
+    return 1;
 }
 
 /* ---- edges ------------------------------------------------------------------------------ */

@@ -4,6 +4,7 @@
 #define MESH_IMPL_H
 
 #include "base/base.h"
+#include "geom/geom.h"
 #include "seq/kernel.h"
 #include "seq/mesh.h"
 
@@ -15,6 +16,27 @@ static inline int mesh_ghost_index(const mesh *m, int32_t t) {
     const int32_t *v = m->tv + 3 * (size_t)t;
     return v[0] == MESH_GHOST ? 0 : v[1] == MESH_GHOST ? 1 : v[2] == MESH_GHOST ? 2 : -1;
 }
+
+/* The debug tier's test of live triangle t (MESH_ASSERT; mesh.h's invariants): every
+ * neighbour link is an involution (tn[tn[e]] == e) onto a live triangle's edge with the same
+ * endpoints reversed and the same constraint bit, and t is counter-clockwise (exact orient2d)
+ * unless it is a ghost.  Links below 0 (the boundary, a caller's fence) are not followed. */
+static inline int mesh_tri_consistent(const mesh *m, int32_t t) {
+    for (int j = 0; j < 3; j++) {
+        int32_t e = 3 * t + j, f = m->tn[e];
+        if (f < 0) continue;
+        if (m->tn[f] != e || !mesh_tri_alive(m, f / 3)) return 0;
+        if (m->tv[f] != mesh_dest(m, e) || mesh_dest(m, f) != m->tv[e]) return 0;
+        if (mesh_edge_constrained(m, e) != mesh_edge_constrained(m, f)) return 0;
+    }
+    const int32_t *v = m->tv + 3 * (size_t)t;
+    return mesh_ghost_index(m, t) >= 0 ||
+           geom_orient2d(m->xy + 2 * v[0], m->xy + 2 * v[1], m->xy + 2 * v[2]) > 0;
+}
+
+/* 1 iff every live triangle of m is mesh_tri_consistent (the debug tier, after a whole build;
+ * O(triangles)). */
+int mesh_consistent(const mesh *m);
 
 uint64_t mesh_rand(mesh *m);
 
