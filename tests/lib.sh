@@ -65,8 +65,9 @@ field() { sed -n "s/.* $1=\([^ ]*\).*/\1/p" | tail -1; }
 # when one fails).  Output goes where the caller sends it.  Returns the status every rank
 # exited with; 124 when the run was killed by the timeout (a hang); 255 when the ranks
 # disagree, a rank left no status (killed, or aborted with the others) or mpirun itself failed.
-# Sets rcs (and writes it to $T/rcs, for callers in a subshell): every rank's status in rank
-# order, "none" for a rank that left none, e.g. "1 1 1".
+# Sets rcs (and writes it to ${RCS_FILE:-$T/rcs}, for callers in a subshell; runs at once
+# each need their own RCS_FILE): every rank's status in rank order, "none" for a rank that left
+# none, e.g. "1 1 1".
 mpi_run() {
     local np=$1 d r s first="" agree=1 launcher
     shift
@@ -83,7 +84,7 @@ mpi_run() {
         [ "$s" = "$first" ] && [ "$s" != none ] || agree=0
     done
     rcs=${rcs# }
-    echo "$rcs" >"$T/rcs"
+    echo "$rcs" >"${RCS_FILE:-$T/rcs}"
     rm -rf "$d"
     [ "$launcher" -ne 124 ] || return 124
     [ "$agree" = 1 ] && [ "$launcher" -eq 0 ] || return 255
@@ -94,5 +95,5 @@ mpi_run() {
 all_ranks() {
     local want="" r
     for ((r = 0; r < $1; r++)); do want="$want $2"; done
-    [ "$(cat "$T/rcs" 2>/dev/null)" = "${want# }" ]
+    [ "$(cat "${RCS_FILE:-$T/rcs}" 2>/dev/null)" = "${want# }" ]
 }
