@@ -15,6 +15,8 @@
 #
 # MPI runs: `mpi_run NP PROG ARGS...` runs PROG at NP ranks under timeout and $MPIRUN, each
 # rank recording its own exit status (see mpi_run); field KEY reads a value of a stats line.
+#
+# Shell under tests/ is formatted with `shfmt -i 4 -w tests/*.sh tests/fuzz/*.sh`.
 set -u
 cd "$(dirname "${BASH_SOURCE[0]}")/.." || exit 1
 BIN=${BIN:-.}

@@ -40,7 +40,10 @@ export OUT=${STRESS_OUT:-build/stress}
 export RUN_TIMEOUT=${RUN_TIMEOUT:-120}
 LIMIT=20000
 for p in pbw pcdm mesh; do
-    [ -x "$BIN/$p" ] || { echo "stress: $BIN/$p is missing (make first)"; exit 2; }
+    [ -x "$BIN/$p" ] || {
+        echo "stress: $BIN/$p is missing (make first)"
+        exit 2
+    }
 done
 rm -rf "$OUT"
 mkdir -p "$OUT/in"
@@ -142,11 +145,14 @@ one() { # a line of jobs.txt
         why="not every rank ended"
     else
         case "$kind/$st" in
-        */"0 ") grep -q '^meshcheck: OK' <<<"$out" || why="exit 0 without --check OK"
-            [ "$kind" != refused ] || why="./mesh refuses the input, exit 0" ;;
+        */"0 ")
+            grep -q '^meshcheck: OK' <<<"$out" || why="exit 0 without --check OK"
+            [ "$kind" != refused ] || why="./mesh refuses the input, exit 0"
+            ;;
         refused/"1 ") ;;
         meshed/"1 " | unmet/"1 ")
-            grep -Eq 'cannot (meet the bounds|decompose)' <<<"$out" || why="exit 1 ($kind by ./mesh)" ;;
+            grep -Eq 'cannot (meet the bounds|decompose)' <<<"$out" || why="exit 1 ($kind by ./mesh)"
+            ;;
         meshed/"3 " | unmet/"3 ") ;;
         *) why="exit [$st] ($kind by ./mesh)" ;;
         esac

@@ -207,12 +207,21 @@ cmp -s "$T/help.mesh" "$T/help.pbw" || fail "shared help differs: mesh vs pbw: $
 # we do not implement is refused by name.
 same_mesh() { # PROG WHAT PREFIX1 PREFIX2 INPUT Q A
     local prog=$1 what=$2 p1=$3 p2=$4 in=$5 q=$6 a=$7 e
-    for e in node ele poly; do [ -s "$p1.$e" ] && [ -s "$p2.$e" ] || { fail "$what: no $e files"; return; }; done
+    for e in node ele poly; do [ -s "$p1.$e" ] && [ -s "$p2.$e" ] || {
+        fail "$what: no $e files"
+        return
+    }; done
     if [ "$prog" = mesh ]; then
-        for e in node ele poly; do cmp -s "$p1.$e" "$p2.$e" || { fail "$what: .$e files differ"; return; }; done
+        for e in node ele poly; do cmp -s "$p1.$e" "$p2.$e" || {
+            fail "$what: .$e files differ"
+            return
+        }; done
     else
         for p in "$p1" "$p2"; do
-            "$BIN/meshcheck" -q "$q" -a "$a" "$in" "$p" >/dev/null 2>&1 || { fail "$what: $p fails ./meshcheck"; return; }
+            "$BIN/meshcheck" -q "$q" -a "$a" "$in" "$p" >/dev/null 2>&1 || {
+                fail "$what: $p fails ./meshcheck"
+                return
+            }
         done
     fi
     ok "$what"

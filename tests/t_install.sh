@@ -20,7 +20,10 @@ M=$(ver MAJOR) V=$(ver MAJOR).$(ver MINOR).$(ver PATCH)
 
 p=$T/usr
 make -s --no-print-directory install PREFIX="$p" >"$T/install.log" 2>&1 ||
-    { cat "$T/install.log"; fatal "make install"; }
+    {
+        cat "$T/install.log"
+        fatal "make install"
+    }
 for f in bin/mesh bin/pcdm bin/pbw bin/meshcheck include/pcdm.h lib/libpcdm.a \
     lib/libpcdm.so.$V lib/libpcdm.so.$M lib/libpcdm.so lib/pkgconfig/pcdm.pc; do
     [ -e "$p/$f" ] || fail "make install did not install $f"

@@ -11,7 +11,10 @@ for f in data/*.poly; do
     name=$(basename "$f" .poly)
     # the domain's area, as the validator computes it from the PSLG alone
     area=$("$M" -NEP --cdt-only --check "$f" | sed -n 's/.* domain_area=\([^ ]*\).*/\1/p')
-    [ -n "$area" ] || { fail "$f: no domain area from ./mesh --cdt-only --check"; continue; }
+    [ -n "$area" ] || {
+        fail "$f: no domain area from ./mesh --cdt-only --check"
+        continue
+    }
     for q in 20.7 30; do
         for div in 200 2000; do
             a=$(awk -v A="$area" -v d="$div" 'BEGIN { printf "%.6g", A / d }')
@@ -84,7 +87,7 @@ expect_fail "$T/nosuch.poly" "$M" "$T/nosuch.poly"
 expect_fail "nosuch.poly: cannot open" "$M" -q 30 "$T/nosuch.poly"
 for f in tests/bad/*; do
     case $(basename "$f") in duplicate_points.poly) continue ;; esac # merged with a warning
-    expect_fail "$f:[0-9]*:" "$M" -NEP --strict "$f" # --strict: crossings refused, not split
+    expect_fail "$f:[0-9]*:" "$M" -NEP --strict "$f"                 # --strict: crossings refused, not split
 done
 expect_fail "unknown option" "$M" --bogus data/square.poly
 expect_fail "at most 60" "$M" -q 70 data/square.poly

@@ -17,7 +17,7 @@ TOL=${TOL:-3}
 # area bound per domain: ~10-27K triangles (SANITIZE=1: ~3-7K); the thin wedge needs the most
 # for its interfaces to stay within the count tolerance
 declare -A AREA=([square]=0.00006 [lshape]=0.0003 [wedge]=0.000005 [lake]=0.0002 [holes]=0.00007
-                 [channel]=0.0003)
+    [channel]=0.0003)
 scale=1
 if [ "${SANITIZE:-}" = 1 ]; then
     # 4x fewer triangles; the interfaces' share of the vertices (~ h * length / area) doubles,
@@ -29,7 +29,8 @@ area() { awk -v a="${AREA[$1]}" -v s="$scale" 'BEGIN { printf "%.6g", a * s }'; 
 
 # ---- 1 + 2: validity and triangle counts ------------------------------------------------------
 run_case() { # name, np, q, a, extra args..., then the input last
-    local name=$1 np=$2 q=$3 a=$4; shift 4
+    local name=$1 np=$2 q=$3 a=$4
+    shift 4
     local out="$T/out.txt" err="$T/err.txt"
     mpi_run "$np" "$BIN/pcdm" -NEP -q "$q" -a "$a" --check --stats "$@" >"$out" 2>"$err"
     local rc=$?
@@ -51,7 +52,7 @@ for d in square lshape wedge lake holes channel; do
     a=$(area $d)
     for q in 20.7 30; do
         ref=$(timeout 120 "$BIN/mesh" -NEP -q "$q" -a "$a" --stats "data/$d.poly" 2>/dev/null |
-              grep '^stats:' | field triangles)
+            grep '^stats:' | field triangles)
         if [ -z "$ref" ]; then
             fail "$d -q $q -a $a: ./mesh gave no stats line"
             continue
@@ -138,7 +139,8 @@ fi
 
 # ---- 4: bad input -------------------------------------------------------------------------------
 expect_error() { # name, want (an exit status, or "nonzero"), np, args...
-    local name=$1 want=$2 np=$3; shift 3
+    local name=$1 want=$2 np=$3
+    shift 3
     TIMEOUT=60 mpi_run "$np" "$BIN/pcdm" -NEP "$@" >"$T/out.txt" 2>"$T/err.txt"
     local rc=$?
     local msg

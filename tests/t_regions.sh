@@ -58,7 +58,8 @@ else
     fail "mesh -A --region-areas: $(cat "$T/out")"
 fi
 if grep -q "SCALARS region_attr double" "$T/m.vtk"; then ok "mesh: VTK region_attr"; else
-    fail "mesh: no region_attr in the VTK file"; fi
+    fail "mesh: no region_attr in the VTK file"
+fi
 if "$BIN/mesh" -q 20 -a 0.03 -A --region-areas -o "$T/ma" "$IN" >"$T/out" 2>&1; then
     check "mesh -a 0.03 -A --region-areas" "$T/ma" -a 0.03
 else
@@ -74,9 +75,9 @@ for prog in pcdm pbw; do
             fail "$prog np=$np: $(tail -3 "$T/out")"
             continue
         fi
-        if grep -q 'Name="region_attr"' "$p.pvtu" && grep -q 'Name="region_attr"' "${p}_0.vtu"
-        then ok "$prog np=$np: .pvtu/.vtu region_attr"; else
-            fail "$prog np=$np: no region_attr in the .vtu pieces"; fi
+        if grep -q 'Name="region_attr"' "$p.pvtu" && grep -q 'Name="region_attr"' "${p}_0.vtu"; then ok "$prog np=$np: .pvtu/.vtu region_attr"; else
+            fail "$prog np=$np: no region_attr in the .vtu pieces"
+        fi
     done
     if mpi_run 2 "$BIN/$prog" -q 20 -a 0.03 -A --region-areas -o "$T/${prog}a" \
         "$IN" >"$T/out" 2>&1; then

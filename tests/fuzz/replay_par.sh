@@ -36,19 +36,25 @@ par() { # program np kind file...: runs it, each rank appending "RANK STATUS"; j
     out=$(TIMEOUT=$PAR_TIMEOUT mpi_run "$np" "$BIN/$prog" -NEP -q "$q" -S "$LIMIT" --check "$in" \
         2>&1 </dev/null)
     rc=$?
-    if [ "$rc" = 124 ]; then fail "$src" "$prog" "$np" "timeout (${PAR_TIMEOUT} s)"; return; fi
+    if [ "$rc" = 124 ]; then
+        fail "$src" "$prog" "$np" "timeout (${PAR_TIMEOUT} s)"
+        return
+    fi
     if grep -qw none "$T/rcs"; then
         fail "$src" "$prog" "$np" "not every rank ended: $(grep -m2 -v '^ ' <<<"$out")"
         return
     fi
     st=$(tr ' ' '\n' <"$T/rcs" | sort -u | tr '\n' ' ')
     case "$kind/$st" in
-    */"0 ") grep -q '^meshcheck: OK' <<<"$out" || fail "$src" "$prog" "$np" "exit 0 without --check OK"
-        [ "$kind" != refused ] || fail "$src" "$prog" "$np" "./mesh refuses the input, exit 0" ;;
+    */"0 ")
+        grep -q '^meshcheck: OK' <<<"$out" || fail "$src" "$prog" "$np" "exit 0 without --check OK"
+        [ "$kind" != refused ] || fail "$src" "$prog" "$np" "./mesh refuses the input, exit 0"
+        ;;
     refused/"1 ") ;;
     meshed/"1 " | unmet/"1 ")
         grep -Eq 'cannot (meet the bounds|decompose)' <<<"$out" ||
-            fail "$src" "$prog" "$np" "exit 1 ($kind by ./mesh): $(grep -m2 -v '^ ' <<<"$out")" ;;
+            fail "$src" "$prog" "$np" "exit 1 ($kind by ./mesh): $(grep -m2 -v '^ ' <<<"$out")"
+        ;;
     meshed/"3 " | unmet/"3 ") ;;
     *) fail "$src" "$prog" "$np" "exit [$st] ($kind by ./mesh): $(grep -m3 -v '^ ' <<<"$out" | cut -c1-200)" ;;
     esac
@@ -72,7 +78,10 @@ for dir in "$@"; do
         0) kind=meshed ;;
         3) kind=unmet ;;
         1) if grep -q 'cannot meet the bounds' <<<"$out"; then kind=unmet; else kind=refused; fi ;;
-        *) skipped=$((skipped + 1)); continue ;; # a timeout (or a ./mesh failure: the fuzzer's job)
+        *)
+            skipped=$((skipped + 1))
+            continue
+            ;; # a timeout (or a ./mesh failure: the fuzzer's job)
         esac
         n=$((n + 1))
         par pcdm "$PCDM_NP" "$kind" "$f"
