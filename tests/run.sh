@@ -2,8 +2,8 @@
 # Runs every test: Check unit programs (tests/unit_*.c), MPI programs (tests/mpi_*.c) at the
 # rank counts named on their "// ranks:" line, and shell tests (tests/t_*.sh).
 # The shell tests share their set-up, pass/fail counting and MPI runs (every rank's exit status)
-# through tests/lib.sh.  Each MPI run is wrapped in timeout and oversubscribed.  Prints "N passed, N failed" last and
-# exits non-zero on any failure.
+# through tests/lib.sh.  Each MPI run is wrapped in timeout and oversubscribed.  Prints
+# "N passed, N failed" last and exits non-zero on any failure.
 set -u
 cd "$(dirname "$0")/.."
 B=${BUILD:-build}
