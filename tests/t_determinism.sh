@@ -14,8 +14,8 @@
 . "$(dirname "$0")/lib.sh"
 
 # domain -> "-q DEG -a AREA": 10-40K triangles, above the exact preview's 8 x 1000
-declare -A BOUNDS=([data / lake.poly]="-q 30 -a 1e-4" [tests / inputs / letter_a.poly]="-q 30 -a 3e-4"
-    [tests / inputs / map.poly]="-q 28 -a 2e-4" [data / wedge.poly]="-q 25 -a 1e-5")
+declare -A BOUNDS=(["data/lake.poly"]="-q 30 -a 1e-4" ["tests/inputs/letter_a.poly"]="-q 30 -a 3e-4"
+    ["tests/inputs/map.poly"]="-q 28 -a 2e-4" ["data/wedge.poly"]="-q 25 -a 1e-5")
 # ranks:perturb seed (0: off); the asynchronous mode's measurement on fewer runs
 RUNS="1:0 2:0 3:0 4:0 8:0 3:11 8:23"
 ARUNS="2:0 2:5 4:0 4:7"

@@ -87,7 +87,8 @@ expect_fail "$T/nosuch.poly" "$M" "$T/nosuch.poly"
 expect_fail "nosuch.poly: cannot open" "$M" -q 30 "$T/nosuch.poly"
 for f in tests/bad/*; do
     case $(basename "$f") in duplicate_points.poly) continue ;; esac # merged with a warning
-    expect_fail "$f:[0-9]*:" "$M" -NEP --strict "$f"                 # --strict: crossings refused, not split
+    # --strict: crossings refused, not split
+    expect_fail "$f:[0-9]*:" "$M" -NEP --strict "$f"
 done
 expect_fail "unknown option" "$M" --bogus data/square.poly
 expect_fail "at most 60" "$M" -q 70 data/square.poly
