@@ -293,6 +293,7 @@ struct pbw_ctx {
     int draining;
     int inflight;
     int max_inflight; /* distributed cavities in flight at most (--inflight; MAX_INFLIGHT) */
+    int fast_fenced;  /* pbw_local_insert declined at another rank's triangle or a role */
     uint64_t lclock;
     int64_t seq;
     pbw_result res;
@@ -549,7 +550,8 @@ int32_t pbw_resolve_tomb(pbw_ctx *C, int32_t x, int64_t ga, int64_t gb);
 /* Inserts Steiner point p of bad triangle t at once if its cavity lies on this rank, touches
  * no lock, ghost or tombstone, is star-shaped, has no vertex inside and p encroaches no
  * subsegment (the new vertex, the fan, the counts, the new work).  Returns 1 if it did, 0 if
- * the general path must decide (nothing was written). */
+ * the general path must decide (nothing was written); then C->fast_fenced is 1 iff the cavity
+ * reached another rank's triangle or a triangle with a role (lock, reservation, tombstone). */
 int pbw_local_insert(pbw_ctx *C, const double p[2], int32_t t);
 
 /* ---- pbw_proto.c: the protocol ---------------------------------------------------------- */

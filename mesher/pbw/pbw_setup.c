@@ -21,14 +21,69 @@ static void centroid(const mesh *m, int32_t t, double c[2]) {
     c[1] = (a[1] + b[1] + d[1]) / 3.0;
 }
 
+/* The one side of a box strictly beyond lo (dir -1) or hi (dir +1) by about span. */
+static double box_side(double lo, double hi, double span, int dir) {
+    double m = span > 0 ? span : 1.0;
+    double v = dir < 0 ? lo - m : hi + m;
+    while (!(dir < 0 ? v < lo : v > hi)) { /* a margin lost to rounding: widen it */
+        m *= 2;
+        v = dir < 0 ? lo - m : hi + m;
+    }
+    return v;
+}
+
+/* The CDT of g (d's augmented PSLG) inside a box: g's vertices and segments plus the four
+ * corners and sides of a box strictly around them, no hole points, so that nothing inside the
+ * box is carved: the sea around a coastline, its bays and the holes stay triangulated (as
+ * regions whose segments' sides face no subdomain), and a walk toward a point of the domain
+ * never stops at the domain's boundary, only at the box, which no such point lies beyond.
+ * (Without the box, most walks on a coastline ended at its boundary and fell back on the
+ * exhaustive search: 43% of a rank's time on Great Britain's GSHHG coastline at 2 ranks.)
+ * The box's segments come last (ids g->nsegs .. + 3). */
+static int boxed_cdt(mesh *md, const pslg *g, const uint8_t *iface, char *err, size_t errlen) {
+    int32_t n = g->nverts, ns = g->nsegs;
+    double x0 = g->xy[0], x1 = x0, y0 = g->xy[1], y1 = y0;
+    for (int32_t v = 1; v < n; v++) {
+        x0 = fmin(x0, g->xy[2 * v]), x1 = fmax(x1, g->xy[2 * v]);
+        y0 = fmin(y0, g->xy[2 * v + 1]), y1 = fmax(y1, g->xy[2 * v + 1]);
+    }
+    double span = fmax(x1 - x0, y1 - y0);
+    double bx0 = box_side(x0, x1, span, -1), bx1 = box_side(x0, x1, span, 1);
+    double by0 = box_side(y0, y1, span, -1), by1 = box_side(y0, y1, span, 1);
+    pslg b;
+    memset(&b, 0, sizeof b);
+    b.nverts = n + 4;
+    b.xy = mesh_xrealloc(NULL, 2 * ((size_t)n + 4), sizeof(double));
+    memcpy(b.xy, g->xy, 2 * (size_t)n * sizeof(double));
+    double corner[8] = {bx0, by0, bx1, by0, bx1, by1, bx0, by1};
+    memcpy(b.xy + 2 * (size_t)n, corner, sizeof corner);
+    b.vmarker = mesh_xcalloc((size_t)n + 4, sizeof(int32_t));
+    b.nsegs = ns + 4;
+    b.seg = mesh_xrealloc(NULL, 2 * ((size_t)ns + 4), sizeof(int32_t));
+    memcpy(b.seg, g->seg, 2 * (size_t)ns * sizeof(int32_t));
+    for (int k = 0; k < 4; k++) {
+        b.seg[2 * (ns + k)] = n + k;
+        b.seg[2 * (ns + k) + 1] = n + (k + 1) % 4;
+    }
+    b.smarker = mesh_xcalloc((size_t)ns + 4, sizeof(int32_t));
+    uint8_t *bif = mesh_xcalloc((size_t)ns + 4, 1);
+    if (iface) memcpy(bif, iface, (size_t)ns);
+    b.scale_exp = g->scale_exp;
+    snprintf(b.path, sizeof b.path, "%s", g->path);
+    int rc = mesh_build_cdt(md, &b, bif, err, errlen);
+    free(bif);
+    free(b.xy), free(b.vmarker), free(b.seg), free(b.smarker);
+    return rc;
+}
+
 /* Owner rank of every triangle slot of m0: the owner of the subdomain of d containing its
- * centroid (exact point location in the CDT of d's augmented PSLG, whose regions are the
- * subdomains).  Every rank computes the same answer. */
+ * centroid (exact point location in the boxed CDT of d's augmented PSLG, whose regions inside
+ * the domain are the subdomains).  Every rank computes the same answer. */
 static int owners(pbw_ctx *C, const mesh *m0, const pcdm_decomp *d, int32_t *own, char *err,
                   size_t errlen) {
     mesh md;
     mesh_init(&md);
-    if (mesh_build_cdt(&md, &d->g, d->seg_iface, err, errlen) != 0) {
+    if (boxed_cdt(&md, &d->g, d->seg_iface, err, errlen) != 0) {
         mesh_free(&md);
         return -1;
     }
