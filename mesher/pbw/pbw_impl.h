@@ -278,6 +278,7 @@ struct pbw_ctx {
     int32_t head[NBUCKET + 1]; /* per bucket: a stack of pool entries */
     qent *pool;
     int32_t npool, poolcap, pool_free, cursor;
+    int32_t qhi; /* no bucket above it holds an entry (the scans for the next entry stop there) */
     ivec splitq, retryq, deferred, phase2;
     ivec slotq; /* cavities that reach other ranks, waiting for a slot (max_inflight) */
     int phase1;
@@ -429,6 +430,20 @@ int pbw_quality(pbw_ctx *C, int32_t t, int *bucket, int *sh);
 
 /* Queues triangle t if it is bad (its bucket: pbw_quality). */
 void pbw_push_bad(pbw_ctx *C, int32_t t);
+
+/* 1 iff a bucket may hold an entry; moves the cursor to the first such bucket.  The scan
+ * stops at qhi, and an empty queue resets both, so a rank whose queue empties again and again
+ * (waiting for remote cavities, each commit queueing a few triangles) does not walk the 4096
+ * empty buckets every time (measured: 8 ranks, lake 1M: 146M instructions in pbw_pop_bad
+ * summed over the ranks, 12M on 1 rank). */
+static inline int pbw_bad_left(pbw_ctx *C) {
+    while (C->cursor <= C->qhi && C->head[C->cursor] < 0)
+        C->cursor++;
+    if (C->cursor <= C->qhi) return 1;
+    C->cursor = NBUCKET + 1;
+    C->qhi = -1;
+    return 0;
+}
 
 /* The next queued triangle (worst bucket first), or -1; entries whose slot was rewritten since
  * they were queued (MESH_QUEUED cleared) are skipped.  The triangle may still have changed

@@ -144,19 +144,21 @@ static int owners(pbw_ctx *C, const mesh *m0, const pcdm_decomp *d, int32_t *own
 }
 
 /* The initial boundary-conforming mesh: the CDT of the input; with an area bound, refined
- * (identically on every rank, by the sequential refiner) to about PRE_TRIS_PER_RANK triangles
- * per rank but at least PRE_COARSEN times coarser than the bound, so that every rank owns a
- * piece of it (the CDT of a square has two triangles) while nearly all the work is left to the
- * parallel phase.  The initial triangles are the grain of the distribution: a rank owns the
- * ones whose centroid lies in its subdomains, so coarser ones follow the subdomains' borders
- * less closely.  Measured (issue 13, lake, -q 20.7): at 32 per rank the 8 ranks of a 1M run
- * ended with 73K-167K triangles; at 256, 103K-144K, the busiest rank's CPU 0.111-0.117 ->
- * 0.092 s, and 8 ranks of the Tables 2/3 run sent 3.0-3.2K RSRs instead of 4.1-4.4K (at
- * 1024 the balance is better still, but below 1M the PRE_COARSEN cap decides anyway, and the
- * sequential part grows). */
-#define PRE_TRIS_PER_RANK 256.0
+ * (identically on every rank, by the sequential refiner, by the area alone) to about
+ * PRE_TRIS_PER_RANK triangles per rank but at least PRE_COARSEN times coarser than the bound,
+ * so that every rank owns a piece of it (the CDT of a square has two triangles) while nearly
+ * all the work is left to the parallel phase.  The initial triangles are the grain of the
+ * distribution: a rank owns the ones whose centroid lies in its subdomains, so coarser ones
+ * follow the subdomains' borders less closely.  No angle bound: near a detailed boundary the
+ * quality refinement is most of the mesh, and every rank would repeat it (Great Britain's
+ * GSHHG coastline at -q 30 -a 1055000: 243K of the 521K triangles at 8 ranks, the largest part
+ * of each rank's time).  Measured (lake, -q 30 -a 3.5e-6, 8 ranks): at 256 per rank the ranks
+ * ended within 1.11 of the mean triangle count, at 1024 1.05, at 4096 1.03 with a third fewer
+ * RSRs; the cap at 64 keeps the repeated part at 1.5% of the mesh where it decides (below
+ * about 2M triangles at 8 ranks). */
+#define PRE_TRIS_PER_RANK 4096.0
 
-#define PRE_COARSEN 16.0
+#define PRE_COARSEN 64.0
 
 int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_decomp *d, char *err,
               size_t errlen) {
@@ -181,7 +183,7 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
         double a0 = fmax(dom_area / (PRE_TRIS_PER_RANK * C->size), PRE_COARSEN * so->max_area);
         mesh_quality q;
         memset(&q, 0, sizeof q);
-        q.min_angle = so->min_angle;
+        q.min_angle = 0; /* the area alone: see above */
         q.max_area = a0;
         q.max_steiner = so->max_steiner;
         q.offcenter = so->offcenter;

@@ -244,9 +244,7 @@ static int next_item(pbw_ctx *C, pbw_item *it) {
 static int has_items(pbw_ctx *C) {
     if (!pbw_iv_empty(&C->splitq) || !pbw_iv_empty(&C->retryq)) return 1;
     if (C->inflight < C->max_inflight && !pbw_iv_empty(&C->slotq)) return 1;
-    while (C->cursor <= NBUCKET && C->head[C->cursor] < 0)
-        C->cursor++;
-    return C->cursor <= NBUCKET;
+    return pbw_bad_left(C);
 }
 
 /* A stopped rank drops its work; whoever waits for one of its splits is told the split was
