@@ -3,11 +3,11 @@
  * task-parallel, with remote cavity expansion, locking and undo.
  *
  * MESH.  Every rank builds the same CDT of the input (with an area bound, refined identically
- * on every rank by the sequential refiner to about 256 triangles per rank, and at least 16 times
- * coarser than the bound, so that every rank owns a piece) and keeps the triangles whose
- * centroid lies in one of its subdomains (the decomposition only distributes the initial mesh;
- * no artificial constraint exists).  A triangle lives in a slot of its owner, and a rank's
- * triangles are the sequential kernel's mesh (seq/mesh.h: the slot numbering of that CDT, so
+ * on every rank by the sequential refiner, by area only, to about 4096 triangles per rank, and
+ * at least 64 times coarser than the bound, so that every rank owns a piece) and keeps the
+ * triangles whose centroid lies in one of its subdomains (the decomposition only distributes the
+ * initial mesh; no artificial constraint exists).  A triangle lives in a slot of its owner, and a
+ * rank's triangles are the sequential kernel's mesh (seq/mesh.h: the slot numbering of that CDT, so
  * every rank names a triangle alike; links between local triangles are the kernel's edge
  * codes); a neighbour on another rank is named by a packed (rank, slot) reference kept in a
  * side table of edge records, with its ghost (GHOSTS below).  A vertex has a global id: input
@@ -151,6 +151,7 @@ int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat 
     C->pool_free = -1;
     C->confree = -1;
     C->cursor = NBUCKET + 1;
+    C->qhi = -1;
     for (int i = 0; i <= NBUCKET; i++)
         C->head[i] = -1;
     /* a hair above the requested bound, as ./mesh and ./pcdm do; the area bound in the

@@ -278,6 +278,7 @@ struct pbw_ctx {
     int32_t head[NBUCKET + 1]; /* per bucket: a stack of pool entries */
     qent *pool;
     int32_t npool, poolcap, pool_free, cursor;
+    int32_t qhi; /* no bucket above it holds an entry (the scans for the next entry stop there) */
     ivec splitq, retryq, deferred, phase2;
     ivec slotq; /* cavities that reach other ranks, waiting for a slot (max_inflight) */
     int phase1;
@@ -293,6 +294,7 @@ struct pbw_ctx {
     int draining;
     int inflight;
     int max_inflight; /* distributed cavities in flight at most (--inflight; MAX_INFLIGHT) */
+    int fast_fenced;  /* pbw_local_insert declined at another rank's triangle or a role */
     uint64_t lclock;
     int64_t seq;
     pbw_result res;
@@ -429,6 +431,20 @@ int pbw_quality(pbw_ctx *C, int32_t t, int *bucket, int *sh);
 /* Queues triangle t if it is bad (its bucket: pbw_quality). */
 void pbw_push_bad(pbw_ctx *C, int32_t t);
 
+/* 1 iff a bucket may hold an entry; moves the cursor to the first such bucket.  The scan
+ * stops at qhi, and an empty queue resets both, so a rank whose queue empties again and again
+ * (waiting for remote cavities, each commit queueing a few triangles) does not walk the 4096
+ * empty buckets every time (measured: 8 ranks, lake 1M: 146M instructions in pbw_pop_bad
+ * summed over the ranks, 12M on 1 rank). */
+static inline int pbw_bad_left(pbw_ctx *C) {
+    while (C->cursor <= C->qhi && C->head[C->cursor] < 0)
+        C->cursor++;
+    if (C->cursor <= C->qhi) return 1;
+    C->cursor = NBUCKET + 1;
+    C->qhi = -1;
+    return 0;
+}
+
 /* The next queued triangle (worst bucket first), or -1; entries whose slot was rewritten since
  * they were queued (MESH_QUEUED cleared) are skipped.  The triangle may still have changed
  * role or become good: re-check it. */
@@ -549,7 +565,8 @@ int32_t pbw_resolve_tomb(pbw_ctx *C, int32_t x, int64_t ga, int64_t gb);
 /* Inserts Steiner point p of bad triangle t at once if its cavity lies on this rank, touches
  * no lock, ghost or tombstone, is star-shaped, has no vertex inside and p encroaches no
  * subsegment (the new vertex, the fan, the counts, the new work).  Returns 1 if it did, 0 if
- * the general path must decide (nothing was written). */
+ * the general path must decide (nothing was written); then C->fast_fenced is 1 iff the cavity
+ * reached another rank's triangle or a triangle with a role (lock, reservation, tombstone). */
 int pbw_local_insert(pbw_ctx *C, const double p[2], int32_t t);
 
 /* ---- pbw_proto.c: the protocol ---------------------------------------------------------- */

@@ -23,8 +23,10 @@
 
 int pbw_local_insert(pbw_ctx *C, const double p[2], int32_t t) {
     mesh *m = &C->M;
+    C->fast_fenced = 1;
     if (m->tf[t] & MESH_FENCE) return 0; /* locked (a locked slot has a role) */
     int st = mesh_cavity_collect(m, p, t, -1, NULL);
+    C->fast_fenced = st == CAV_FENCED;
     for (int32_t i = 0; st == CAV_OK && i < m->nbnd; i++) {
         const mesh_bedge *b = &m->bnd[i];
         if (b->cons && mesh_rules_encroaches(&C->R, VX(C, b->org), VX(C, b->dest), p))

@@ -21,14 +21,69 @@ static void centroid(const mesh *m, int32_t t, double c[2]) {
     c[1] = (a[1] + b[1] + d[1]) / 3.0;
 }
 
+/* The one side of a box strictly beyond lo (dir -1) or hi (dir +1) by about span. */
+static double box_side(double lo, double hi, double span, int dir) {
+    double m = span > 0 ? span : 1.0;
+    double v = dir < 0 ? lo - m : hi + m;
+    while (!(dir < 0 ? v < lo : v > hi)) { /* a margin lost to rounding: widen it */
+        m *= 2;
+        v = dir < 0 ? lo - m : hi + m;
+    }
+    return v;
+}
+
+/* The CDT of g (d's augmented PSLG) inside a box: g's vertices and segments plus the four
+ * corners and sides of a box strictly around them, no hole points, so that nothing inside the
+ * box is carved: the sea around a coastline, its bays and the holes stay triangulated (as
+ * regions whose segments' sides face no subdomain), and a walk toward a point of the domain
+ * never stops at the domain's boundary, only at the box, which no such point lies beyond.
+ * (Without the box, most walks on a coastline ended at its boundary and fell back on the
+ * exhaustive search: 43% of a rank's time on Great Britain's GSHHG coastline at 2 ranks.)
+ * The box's segments come last (ids g->nsegs .. + 3). */
+static int boxed_cdt(mesh *md, const pslg *g, const uint8_t *iface, char *err, size_t errlen) {
+    int32_t n = g->nverts, ns = g->nsegs;
+    double x0 = g->xy[0], x1 = x0, y0 = g->xy[1], y1 = y0;
+    for (int32_t v = 1; v < n; v++) {
+        x0 = fmin(x0, g->xy[2 * v]), x1 = fmax(x1, g->xy[2 * v]);
+        y0 = fmin(y0, g->xy[2 * v + 1]), y1 = fmax(y1, g->xy[2 * v + 1]);
+    }
+    double span = fmax(x1 - x0, y1 - y0);
+    double bx0 = box_side(x0, x1, span, -1), bx1 = box_side(x0, x1, span, 1);
+    double by0 = box_side(y0, y1, span, -1), by1 = box_side(y0, y1, span, 1);
+    pslg b;
+    memset(&b, 0, sizeof b);
+    b.nverts = n + 4;
+    b.xy = mesh_xrealloc(NULL, 2 * ((size_t)n + 4), sizeof(double));
+    memcpy(b.xy, g->xy, 2 * (size_t)n * sizeof(double));
+    double corner[8] = {bx0, by0, bx1, by0, bx1, by1, bx0, by1};
+    memcpy(b.xy + 2 * (size_t)n, corner, sizeof corner);
+    b.vmarker = mesh_xcalloc((size_t)n + 4, sizeof(int32_t));
+    b.nsegs = ns + 4;
+    b.seg = mesh_xrealloc(NULL, 2 * ((size_t)ns + 4), sizeof(int32_t));
+    memcpy(b.seg, g->seg, 2 * (size_t)ns * sizeof(int32_t));
+    for (int k = 0; k < 4; k++) {
+        b.seg[2 * (ns + k)] = n + k;
+        b.seg[2 * (ns + k) + 1] = n + (k + 1) % 4;
+    }
+    b.smarker = mesh_xcalloc((size_t)ns + 4, sizeof(int32_t));
+    uint8_t *bif = mesh_xcalloc((size_t)ns + 4, 1);
+    if (iface) memcpy(bif, iface, (size_t)ns);
+    b.scale_exp = g->scale_exp;
+    snprintf(b.path, sizeof b.path, "%s", g->path);
+    int rc = mesh_build_cdt(md, &b, bif, err, errlen);
+    free(bif);
+    free(b.xy), free(b.vmarker), free(b.seg), free(b.smarker);
+    return rc;
+}
+
 /* Owner rank of every triangle slot of m0: the owner of the subdomain of d containing its
- * centroid (exact point location in the CDT of d's augmented PSLG, whose regions are the
- * subdomains).  Every rank computes the same answer. */
+ * centroid (exact point location in the boxed CDT of d's augmented PSLG, whose regions inside
+ * the domain are the subdomains).  Every rank computes the same answer. */
 static int owners(pbw_ctx *C, const mesh *m0, const pcdm_decomp *d, int32_t *own, char *err,
                   size_t errlen) {
     mesh md;
     mesh_init(&md);
-    if (mesh_build_cdt(&md, &d->g, d->seg_iface, err, errlen) != 0) {
+    if (boxed_cdt(&md, &d->g, d->seg_iface, err, errlen) != 0) {
         mesh_free(&md);
         return -1;
     }
@@ -89,19 +144,21 @@ static int owners(pbw_ctx *C, const mesh *m0, const pcdm_decomp *d, int32_t *own
 }
 
 /* The initial boundary-conforming mesh: the CDT of the input; with an area bound, refined
- * (identically on every rank, by the sequential refiner) to about PRE_TRIS_PER_RANK triangles
- * per rank but at least PRE_COARSEN times coarser than the bound, so that every rank owns a
- * piece of it (the CDT of a square has two triangles) while nearly all the work is left to the
- * parallel phase.  The initial triangles are the grain of the distribution: a rank owns the
- * ones whose centroid lies in its subdomains, so coarser ones follow the subdomains' borders
- * less closely.  Measured (issue 13, lake, -q 20.7): at 32 per rank the 8 ranks of a 1M run
- * ended with 73K-167K triangles; at 256, 103K-144K, the busiest rank's CPU 0.111-0.117 ->
- * 0.092 s, and 8 ranks of the Tables 2/3 run sent 3.0-3.2K RSRs instead of 4.1-4.4K (at
- * 1024 the balance is better still, but below 1M the PRE_COARSEN cap decides anyway, and the
- * sequential part grows). */
-#define PRE_TRIS_PER_RANK 256.0
+ * (identically on every rank, by the sequential refiner, by the area alone) to about
+ * PRE_TRIS_PER_RANK triangles per rank but at least PRE_COARSEN times coarser than the bound,
+ * so that every rank owns a piece of it (the CDT of a square has two triangles) while nearly
+ * all the work is left to the parallel phase.  The initial triangles are the grain of the
+ * distribution: a rank owns the ones whose centroid lies in its subdomains, so coarser ones
+ * follow the subdomains' borders less closely.  No angle bound: near a detailed boundary the
+ * quality refinement is most of the mesh, and every rank would repeat it (Great Britain's
+ * GSHHG coastline at -q 30 -a 1055000: 243K of the 521K triangles at 8 ranks, the largest part
+ * of each rank's time).  Measured (lake, -q 30 -a 3.5e-6, 8 ranks): at 256 per rank the ranks
+ * ended within 1.11 of the mean triangle count, at 1024 1.05, at 4096 1.03 with a third fewer
+ * RSRs; the cap at 64 keeps the repeated part at 1.5% of the mesh where it decides (below
+ * about 2M triangles at 8 ranks). */
+#define PRE_TRIS_PER_RANK 4096.0
 
-#define PRE_COARSEN 16.0
+#define PRE_COARSEN 64.0
 
 int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_decomp *d, char *err,
               size_t errlen) {
@@ -126,7 +183,7 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
         double a0 = fmax(dom_area / (PRE_TRIS_PER_RANK * C->size), PRE_COARSEN * so->max_area);
         mesh_quality q;
         memset(&q, 0, sizeof q);
-        q.min_angle = so->min_angle;
+        q.min_angle = 0; /* the area alone: see above */
         q.max_area = a0;
         q.max_steiner = so->max_steiner;
         q.offcenter = so->offcenter;

@@ -223,13 +223,12 @@ void pbw_push_bad(pbw_ctx *C, int32_t t) {
     C->pool[i].next = C->head[k]; /* LIFO inside a bucket, as refine.c */
     C->head[k] = i;
     if (k < C->cursor) C->cursor = k;
+    if (k > C->qhi) C->qhi = k;
 }
 
 int32_t pbw_pop_bad(pbw_ctx *C) {
     for (;;) {
-        while (C->cursor <= NBUCKET && C->head[C->cursor] < 0)
-            C->cursor++;
-        if (C->cursor > NBUCKET) return -1;
+        if (!pbw_bad_left(C)) return -1;
         int k = C->cursor;
         int32_t i = C->head[k], t = C->pool[i].t;
         C->head[k] = C->pool[i].next;
