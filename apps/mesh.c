@@ -13,11 +13,11 @@
  * and bytes_per_tri is the process's peak resident memory divided by the number of triangles.
  */
 #include "seq/mesh.h"
+#include "check/validate.h"
 #include "geom/geom.h"
 #include "geom/pslg.h"
 #include "io/meshio.h"
 #include "io/sizefield.h"
-#include "io/validate.h"
 #include "io/xwrite.h"
 #include "seq/vattr.h"
 

@@ -16,8 +16,8 @@
 #include "api/api_impl.h"
 
 #include "base/base.h"
+#include "check/validate.h"
 #include "geom/geom.h"
-#include "io/validate.h"
 #include "seq/mesh.h"
 
 #include <math.h>

@@ -15,11 +15,11 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "check/validate.h"
 #include "decomp/decomp.h"
 #include "geom/pslg.h"
 #include "io/meshio.h"
 #include "io/sizefield.h"
-#include "io/validate.h"
 
 /* Longest output prefix a mesher accepts (bytes, the terminating zero included). */
 #define PAR_NAME_MAX 1000
