@@ -11,8 +11,8 @@
  *  - nothing is printed (duplicates merged quietly); two threads meshing at once agree with one.
  */
 #include "api_check.h"
+#include "check_run.h"
 
-#include <check.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -238,21 +238,7 @@ START_TEST(test_threads) {
 END_TEST
 
 int main(void) {
-    Suite *s = suite_create("api");
-    TCase *tc = tcase_create("api");
-    tcase_set_timeout(tc, 120);
-    tcase_add_test(tc, test_plate);
-    tcase_add_test(tc, test_regions);
-    tcase_add_test(tc, test_convex_hull);
-    tcase_add_test(tc, test_callback);
-    tcase_add_test(tc, test_errors);
-    tcase_add_test(tc, test_steiner_limit);
-    tcase_add_test(tc, test_quiet);
-    tcase_add_test(tc, test_threads);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int nf = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return nf ? EXIT_FAILURE : EXIT_SUCCESS;
+    return ck_run(ck_suite("api", 120,
+                           CK_TESTS(test_plate, test_regions, test_convex_hull, test_callback,
+                                    test_errors, test_steiner_limit, test_quiet, test_threads)));
 }
