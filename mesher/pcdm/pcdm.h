@@ -56,6 +56,9 @@ typedef struct pcdm_part {
     int32_t nsub_owned;     /* subdomains owned by this rank (after refinement with balancing:
                              * the subdomains it ended with) */
     int32_t poll_every;     /* insertions between two returns to the scheduler */
+    int threads;            /* deterministic mode: subdomain rounds run on this many of the
+                             * runtime's worker threads at once (threaded handlers; <= 1: on
+                             * the main thread, between polls) */
     int dirty;              /* refinement work may be queued (set by the split handler) */
     int limit_hit;          /* the Steiner limit stopped refinement */
     int progress;           /* progress lines on stderr (rank 0) */
