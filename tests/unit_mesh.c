@@ -425,11 +425,43 @@ START_TEST(test_small_angles) {
 }
 END_TEST
 
+/* The split tree of an interface segment (mesh_rules_iface_point) on a cut of length 0.708
+ * (about sqrt(2) times a power of two): the root is split on the power-of-two shell around the
+ * start, its right piece on the shell around the end, every other piece at its midpoint; so
+ * the pieces touching either end are powers of two long at every level, and every point lies
+ * strictly inside its piece. */
+START_TEST(test_iface_point) {
+    const double a[2] = {0.42, 0}, b[2] = {0.42 + 0.708, 0};
+    double p[2];
+    mesh_rules_iface_point(a, b, 0, 0, p);
+    ck_assert_double_eq_tol(p[0] - a[0], 0.25, 1e-15); /* largest 2^j <= 2/3 * 0.708 */
+    mesh_rules_iface_point(a, b, 1, 1, p);
+    ck_assert_double_eq_tol(b[0] - p[0], 0.25, 1e-15); /* the rest, 0.458: 2^-2 from the end */
+    mesh_rules_iface_point(a, b, 1, 0, p);
+    ck_assert_double_eq_tol(p[0] - a[0], 0.125, 1e-15); /* a power-of-two piece: its midpoint */
+    for (int32_t lev = 1; lev <= 12; lev++) {
+        double lo = a[0], hi = b[0];
+        mesh_rules_iface_point(a, b, lev, 0, p); /* the first piece at the start */
+        double first = p[0] - a[0];
+        mesh_rules_iface_point(a, b, lev, ((int64_t)1 << lev) - 1, p); /* the last one */
+        double last = b[0] - p[0];
+        ck_assert_msg(fabs(log2(first) - round(log2(first))) < 1e-12, "level %d: first piece %.17g",
+                      lev, first);
+        ck_assert_msg(fabs(log2(last) - round(log2(last))) < 1e-12, "level %d: last piece %.17g",
+                      lev, last);
+        for (int64_t k = 0; k < ((int64_t)1 << lev) && k < 64; k++) {
+            mesh_rules_iface_point(a, b, lev, k, p);
+            ck_assert(p[0] > lo && p[0] < hi && p[1] == 0);
+        }
+    }
+}
+END_TEST
+
 /* An interface segment (PCDM cut) meeting boundary segments at 35 and 55 degrees: the unit
  * square with a cut from (0.42, 0) to the right side (length 0.708: about sqrt(2) times a
- * power of two, the worst case for mismatched shells).  The interface is split only at dyadic
- * midpoints, the boundary pieces at the two corners on concentric shells; the shells must
- * match the interface's dyadic lengths (else the two sides encroach each other at every scale
+ * power of two, the worst case for mismatched shells).  The interface's end pieces and the
+ * boundary pieces at the two corners are cut on the same power-of-two shells; they must
+ * match (else the two sides encroach each other at every scale
  * down to the corner until precision runs out: failed splits, degenerate chains), and the
  * angle bound must be met at the corners (they are not corners of the input, so the validator,
  * run against the square without the cut, exempts nothing there). */
@@ -528,9 +560,10 @@ START_TEST(test_named_split) {
     ck_assert_int_eq(h.splits, 0); /* requested splits are not echoed */
     ck_assert_int_eq(m.stats.named_done, 3);
     ck_assert_int_eq(m.stats.named_already, 2);
-    /* the midpoint of (4, 5) is a vertex, bit for bit */
+    /* the split point of (4, 5) is a vertex, bit for bit (a cut of length 1: its end pieces'
+     * shells are its midpoints) */
     double p[2];
-    mesh_dyadic_point(iface_xy + 8, iface_xy + 10, 4, 5, p);
+    mesh_rules_iface_point(iface_xy + 8, iface_xy + 10, 4, 5, p);
     int found = 0;
     for (int32_t v = 0; v < m.nv; v++)
         if (P(&m, v)[0] == p[0] && P(&m, v)[1] == p[1]) found = 1;
@@ -973,6 +1006,7 @@ static Suite *suite(void) {
     tcase_add_test(tc, test_bad_input);
     tcase_add_test(tc, test_small_angles);
     tcase_add_test(tc, test_iface_corner);
+    tcase_add_test(tc, test_iface_point);
     tcase_add_test(tc, test_area_drift);
     tcase_add_test(tc, test_sliver_hull);
     tcase_add_test(tc, test_off_line_fan);

@@ -21,7 +21,7 @@
  * (encroachment by a rejected circumcenter, or by a split point): the request goes to the owner
  * of the subdomain on the other side, unless that is this rank (then the two subdomains share
  * this mesh and the one edge already is split for both).  The handler calls
- * mesh_split_subsegment_named: both sides compute the dyadic midpoint from the original
+ * mesh_split_subsegment_named: both sides compute the split point from the name and the original
  * segment's endpoints, so the vertex is bit-identical; ALREADY (split here before) is counted
  * and dropped.  A split may encroach further subsegments; the kernel splits them and on_split
  * fires again, so cascades cross ranks as RSRs.

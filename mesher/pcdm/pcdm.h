@@ -6,8 +6,8 @@
  * When the kernel splits an interface subsegment it names it (segment id, dyadic level, index)
  * and this module sends the rank on the other side the only remote service request there is,
  * "split constraint edge (seg, level, k)"; the receiver splits the same subsegment at the same
- * dyadic midpoint (bit for bit: mesh_dyadic_point from the original endpoints).  A request for
- * a subsegment already split is counted and dropped.  Termination: the runtime's detector.
+ * point (bit for bit: mesh_rules_iface_point from the name and the original endpoints).  A request
+ * for a subsegment already split is counted and dropped.  Termination: the runtime's detector.
  *
  * That is the asynchronous mode (./pcdm's default): the mesh depends on message timing.  The
  * deterministic mode (pcdm_part_build_det, pcdm_det.c; ./pcdm --deterministic) refines each
@@ -56,6 +56,9 @@ typedef struct pcdm_part {
     int32_t nsub_owned;     /* subdomains owned by this rank (after refinement with balancing:
                              * the subdomains it ended with) */
     int32_t poll_every;     /* insertions between two returns to the scheduler */
+    int threads;            /* deterministic mode: subdomain rounds run on this many of the
+                             * runtime's worker threads at once (threaded handlers; <= 1: on
+                             * the main thread, between polls) */
     int dirty;              /* refinement work may be queued (set by the split handler) */
     int limit_hit;          /* the Steiner limit stopped refinement */
     int progress;           /* progress lines on stderr (rank 0) */

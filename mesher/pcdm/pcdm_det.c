@@ -57,11 +57,14 @@ typedef struct det_report {
 _Static_assert(sizeof(det_report) == 16, "det_report must be 16 bytes, no padding");
 
 typedef struct det_slot {
-    int round_handler, report_handler;
+    int round_handler, report_handler, refine_handler, refined_handler;
     pcdm_det *active;
 } det_slot;
 
-static det_slot dslot = {-1, -1, NULL};
+static det_slot dslot = {-1, -1, -1, -1, NULL};
+
+static void refine_handler(const rt_msg *msg, void *arg);
+static void refined_handler(const rt_msg *msg, void *arg);
 
 /* ---- round bookkeeping ---------------------------------------------------------------------- */
 
@@ -202,8 +205,16 @@ int pcdm_det_register(void) {
     int b = rt_handler_register("pcdm_rdone", report_handler, &dslot, RT_NONTHREADED,
                                 (uint32_t)sizeof(det_report));
     if (b < 0) return b;
+    int c = rt_handler_register("pcdm_refine", refine_handler, &dslot, RT_THREADED,
+                                (uint32_t)sizeof(int32_t));
+    if (c < 0) return c;
+    int e = rt_handler_register("pcdm_refined", refined_handler, &dslot, RT_NONTHREADED,
+                                (uint32_t)sizeof(int32_t));
+    if (e < 0) return e;
     dslot.round_handler = a;
     dslot.report_handler = b;
+    dslot.refine_handler = c;
+    dslot.refined_handler = e;
     return det_move_register();
 }
 
@@ -308,6 +319,7 @@ static void det_on_split(void *ctx, int32_t seg, int32_t level, int64_t k, unsig
 
 static int det_poll(void *ctx) {
     det_sub *s = ctx;
+    if (s->running) return 0; /* on a worker: refine on, the main thread serves requests */
     pcdm_part *p = s->D->p;
     if (p->progress) {
         double t = rt_wtime();
@@ -398,7 +410,6 @@ static void finish_round(pcdm_det *D, int32_t i) {
     D->cnt[r]++;
     s->splits = 0;
     s->done = r + 1;
-    D->cur = -1;
     det_report_rounds(D);
 }
 
@@ -420,42 +431,60 @@ static void refine_step(pcdm_det *D) {
         D->wdone += D->p->d->sub_weight[s->id];
         D->cdone += s->cpu;
     }
-    finish_round(D, D->cur);
+    int32_t i = D->cur;
+    D->cur = -1;
+    finish_round(D, i);
 }
 
-/* Starts subdomain i's next round: its neighbours' previous lists, in canonical order. */
+/* Applies subdomain s's inputs for its next round: its neighbours' previous lists, in
+ * canonical order.  Returns 1 if the round must refine (round 0, or a list arrived).  Touches s
+ * alone (its counts go to s->consumed, s->sdone, ...), so a worker thread may run it. */
+static int apply_lists(det_sub *s) {
+    int32_t r = s->done;
+    if (r == 0) return 1;
+    int refine = 0;
+    det_list *l = &s->in[(r - 1) & 1];
+    s->consumed += l->n;
+    if (l->n > 1) qsort(l->v, (size_t)l->n, sizeof *l->v, split_cmp);
+    for (int32_t k = 0; k < l->n; k++) {
+        if (k > 0 && split_cmp(&l->v[k - 1], &l->v[k]) == 0) continue;
+        switch (mesh_split_subsegment_named(&s->m, l->v[k].seg, l->v[k].level, l->v[k].k)) {
+        case MESH_SPLIT_DONE:
+            s->sdone++;
+            break;
+        case MESH_SPLIT_ALREADY:
+            s->signored++;
+            break;
+        case MESH_SPLIT_NOT_FOUND:
+            s->snotfound++;
+            fprintf(stderr,
+                    "pcdm: rank %d: subdomain %d: split request for segment %d (%d, %lld): "
+                    "not in its mesh\n",
+                    s->D->p->rank, (int)s->id, (int)l->v[k].seg, (int)l->v[k].level,
+                    (long long)l->v[k].k);
+            break;
+        }
+        refine = 1; /* cheap when nothing changed: the queues are empty */
+    }
+    l->n = 0;
+    s->got[(r - 1) & 1] = 0;
+    return refine;
+}
+
+/* Adds subdomain s's counts from apply_lists to the rank's (main thread). */
+static void fold_counts(pcdm_det *D, det_sub *s) {
+    D->consumed += s->consumed;
+    D->p->split_done += (uint64_t)s->sdone;
+    D->p->split_ignored += (uint64_t)s->signored;
+    D->p->split_notfound += (uint64_t)s->snotfound;
+    s->consumed = s->sdone = s->signored = s->snotfound = 0;
+}
+
+/* Starts subdomain i's next round on the main thread. */
 static void start_round(pcdm_det *D, int32_t i) {
     det_sub *s = D->s[i];
-    pcdm_part *p = D->p;
-    int32_t r = s->done;
-    int refine = r == 0;
-    if (r > 0) {
-        det_list *l = &s->in[(r - 1) & 1];
-        D->consumed += l->n;
-        if (l->n > 1) qsort(l->v, (size_t)l->n, sizeof *l->v, split_cmp);
-        for (int32_t k = 0; k < l->n; k++) {
-            if (k > 0 && split_cmp(&l->v[k - 1], &l->v[k]) == 0) continue;
-            switch (mesh_split_subsegment_named(&s->m, l->v[k].seg, l->v[k].level, l->v[k].k)) {
-            case MESH_SPLIT_DONE:
-                p->split_done++;
-                break;
-            case MESH_SPLIT_ALREADY:
-                p->split_ignored++;
-                break;
-            case MESH_SPLIT_NOT_FOUND:
-                p->split_notfound++;
-                fprintf(stderr,
-                        "pcdm: rank %d: subdomain %d: split request for segment %d (%d, %lld): "
-                        "not in its mesh\n",
-                        p->rank, (int)s->id, (int)l->v[k].seg, (int)l->v[k].level,
-                        (long long)l->v[k].k);
-                break;
-            }
-            refine = 1; /* cheap when nothing changed: the queues are empty */
-        }
-        l->n = 0;
-        s->got[(r - 1) & 1] = 0;
-    }
+    int refine = apply_lists(s);
+    fold_counts(D, s);
     if (refine) {
         D->cur = i;
         refine_step(D);
@@ -464,14 +493,97 @@ static void start_round(pcdm_det *D, int32_t i) {
     }
 }
 
+/* ---- threads: a round on a worker ------------------------------------------------------------
+ * With D->threads > 1 the main thread only schedules: a ready subdomain's round goes to the
+ * runtime's threaded handler "pcdm_refine" (a worker applies the lists and refines to
+ * completion, without polls), whose end comes back as "pcdm_refined" on the main thread, which
+ * sends the round's lists.  A round is a pure function of the subdomain's mesh and lists, so
+ * which thread runs it changes nothing in the mesh.  Payloads: the subdomain number. */
+
+static void refine_handler(const rt_msg *msg, void *arg) {
+    det_slot *sl = arg;
+    pcdm_det *D = sl->active;
+    int32_t sub;
+    memcpy(&sub, msg->data, sizeof sub);
+    det_sub *s = D->job[sub];
+    double c = det_cpu();
+    mesh_refine_result r = MESH_REFINE_DONE;
+    if (apply_lists(s)) {
+        do
+            r = mesh_refine(&s->m);
+        while (r == MESH_REFINE_STOPPED);
+        s->result = 1 + (int32_t)r; /* 0: nothing refined */
+    } else {
+        s->result = 0;
+    }
+    s->cpu += det_cpu() - c;
+    rt_rsr(D->p->rank, sl->refined_handler, &sub, (uint32_t)sizeof sub);
+}
+
+static void refined_handler(const rt_msg *msg, void *arg) {
+    det_slot *sl = arg;
+    pcdm_det *D = sl->active;
+    int32_t sub;
+    memcpy(&sub, msg->data, sizeof sub);
+    int32_t i = sub >= 0 && sub < D->p->d->nsub ? D->local[sub] : -1;
+    if (i < 0 || !D->s[i]->running) MESH_BUG("subdomain %d: a round ended that did not run", sub);
+    det_sub *s = D->s[i];
+    s->running = 0;
+    D->nrunning--;
+    fold_counts(D, s);
+    if (s->result > 0) {
+        D->p->work_steps++;
+        if (s->result - 1 == MESH_REFINE_STEINER_LIMIT) D->p->limit_hit = 1;
+        if (s->done == 0) {
+            D->wdone += D->p->d->sub_weight[s->id];
+            D->cdone += s->cpu;
+        }
+    }
+    finish_round(D, i);
+}
+
+/* Hands ready subdomain i to a worker. */
+static void dispatch(pcdm_det *D, int32_t i) {
+    det_sub *s = D->s[i];
+    s->running = 1;
+    D->nrunning++;
+    D->job[s->id] = s;
+    int32_t sub = s->id;
+    rt_rsr(D->p->rank, dslot.refine_handler, &sub, (uint32_t)sizeof sub);
+}
+
 static int ready(const pcdm_det *D, const det_sub *s) {
     int32_t r = s->done;
+    if (s->running) return 0;
     if (r >= D->known + DET_WINDOW) return 0;
     return r == 0 || s->got[(r - 1) & 1] == s->nnb;
 }
 
 static int det_work(void *ctx) {
     pcdm_det *D = ctx;
+    if (D->threads > 1) {
+        if (D->stop >= 0) return RT_WORK_IDLE;
+        int started = 0;
+        while (D->nrunning < D->threads && D->stop < 0) {
+            int32_t best = -1;
+            for (int32_t i = 0; i < D->n; i++)
+                if (ready(D, D->s[i]) && (best < 0 || D->s[i]->done < D->s[best]->done)) best = i;
+            if (best < 0) break;
+            det_sub *s = D->s[best];
+            if (s->done > 0 && s->in[(s->done - 1) & 1].n == 0) {
+                apply_lists(s); /* nothing arrived: the round is complete as it stands */
+                fold_counts(D, s);
+                finish_round(D, best);
+            } else {
+                dispatch(D, best);
+            }
+            started = 1;
+        }
+        if (started) return RT_WORK_BUSY;
+        /* a running round ends in a handler; with none, take work from a busy rank */
+        if (D->nrunning > 0) return RT_WORK_IDLE;
+        return det_move_steal(D) ? RT_WORK_BUSY : RT_WORK_IDLE;
+    }
     if (D->cur >= 0) {
         refine_step(D);
         return RT_WORK_BUSY;
@@ -494,12 +606,14 @@ void pcdm_det_refine(pcdm_part *p, const mesh_quality *q) {
     for (int32_t i = 0; i < D->n; i++)
         sub_setup(D, D->s[i]);
     D->balance = p->balance;
+    D->threads = p->threads > 1 ? p->threads : 1;
+    if (D->threads > 1) D->job = mesh_xcalloc((size_t)p->d->nsub, sizeof *D->job);
     det_move_begin(D);
     D->cpu0 = det_cpu();
     dslot.active = D;
     rt_run(det_work, D);
     dslot.active = NULL;
-    if (D->stop < 0 || D->cur >= 0)
+    if (D->stop < 0 || D->cur >= 0 || D->nrunning != 0)
         MESH_BUG("rank %d: rounds ended without a final round", p->rank);
     p->rounds = D->stop + 1;
     p->nsub_owned = D->n; /* after balancing: the subdomains this rank ends with */
@@ -546,6 +660,7 @@ void pcdm_det_free(pcdm_part *p) {
     free(D->rep_splits);
     free(D->mine);
     free(D->buf);
+    free(D->job);
     free(D);
     p->det = NULL;
 }

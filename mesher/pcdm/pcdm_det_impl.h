@@ -42,6 +42,11 @@ typedef struct det_sub {
     int moved;      /* 1: arrived by migration (never moves again) */
     double cpu;     /* CPU seconds refining it on this rank */
     pcdm_det *D;    /* back pointer (hook context) */
+    /* with threads: 1 while a worker runs its round (the worker alone touches the mesh, the
+     * output lists and the input slot of the round; the main thread leaves it alone) */
+    int running;
+    int32_t result;                               /* the worker's mesh_refine result */
+    int64_t consumed, sdone, signored, snotfound; /* the worker's counts, added up on return */
 } det_sub;
 
 struct pcdm_det {
@@ -78,6 +83,11 @@ struct pcdm_det {
     int64_t listed;    /* split entries put into lists for other subdomains (sent) */
     int64_t delivered; /* split entries that reached their subdomain's input lists */
     int64_t consumed;  /* split entries taken from input lists by start_round */
+    /* threads (p->threads > 1): rounds run as the runtime's threaded handler "pcdm_refine";
+     * job[sub] is the record a worker takes (written before the request, never moved) */
+    int threads;
+    int32_t nrunning;
+    det_sub **job;
 };
 
 /* pcdm_det.c, for pcdm_move.c. */

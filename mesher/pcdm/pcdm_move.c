@@ -121,11 +121,12 @@ static void steal_handler(const rt_msg *msg, void *arg) {
     if (D->balance && D->stop < 0)
         for (int32_t i = D->n - 1; i >= 0; i--) {
             const det_sub *s = D->s[i];
-            if (i == D->cur || s->done > 0) continue;
+            if (i == D->cur || s->running || s->done > 0) continue;
             unstarted++;
             if (!s->moved && (give < 0 || w[s->id] < w[D->s[give]->id])) give = i;
         }
-    if (give >= 0 && D->cur < 0 && unstarted < 2) give = -1; /* keep work for this rank */
+    if (give >= 0 && D->cur < 0 && D->nrunning == 0 && unstarted < 2)
+        give = -1; /* keep work for this rank */
     if (give >= 0 && !worth_moving(D, give, &a)) give = -1;
     if (give < 0) {
         move_hdr h = {-1, 0, 0, 0};

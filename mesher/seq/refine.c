@@ -22,11 +22,13 @@
  * refuses to cross constraint edges; a walk stopped by a constraint edge splits that subsegment
  * instead (the point lies beyond it).  Its cavity is collected; if the point encroaches a
  * subsegment on the cavity boundary (geom_encroaches, exact), it is discarded and those subsegments
- * are split. Subsegments are split at the exact dyadic midpoint of their original segment, except a
- * non-interface subsegment with one endpoint at a small-angle input corner, which is split on
- * a concentric shell around it (power-of-two distance, Ruppert 1995 / Shewchuk 2002 sec. 5;
- * at a corner shared with an interface segment s the shells have radii |s| * 2^j, the lengths
- * of the dyadic pieces of s at that corner, so the pieces on both sides can become equal).
+ * are split. Subsegments are split at the dyadic midpoint of their original segment, except a
+ * non-interface subsegment with one endpoint at a small-angle input corner or at an end of an
+ * interface segment, which is split on a concentric shell around it (power-of-two distance,
+ * Ruppert 1995 / Shewchuk 2002 sec. 5), and an interface subsegment, split where its name puts
+ * it (mesh_rules_iface_point: the pieces at both ends of an interface segment on the same
+ * power-of-two shells, so at every corner of the decomposition the pieces on both sides can
+ * become equal).
  * A skinny triangle whose shortest edge joins vertices on two input (non-interface) segments of
  * such a corner at the same distance from it is left alone: its small angle is forced by the
  * input.  Corners involving an interface segment get no such exemption (they are not corners
@@ -37,7 +39,8 @@
  * the merged parallel mesh must stay Delaunay across interfaces; what could not be split is
  * counted for the caller (mesh_iface_defects).  Invariants:
  * the mesh stays a CDT; encroached subsegments never wait behind bad triangles; a split is never
- * undone; interface subsegments are only split at dyadic midpoints.
+ * undone; an interface subsegment's split point is a function of its name and its segment's
+ * endpoints alone.
  */
 #include "mesh_impl.h"
 
@@ -257,34 +260,14 @@ static int is_corner(const mesh *m, int32_t v) {
     return v < m->ninput && m->corner && m->corner[v];
 }
 
-/* The unit of the concentric shells around corner a: shells have radius unit * 2^j.  With no
- * interface segment at a the unit is 1 (Ruppert's powers of two).  An interface segment is
- * only ever split at dyadic midpoints (both ranks must name its pieces alike), so the pieces
- * of an interface segment s at a have lengths |s| * 2^-j; the boundary segments at a then use
- * unit |s| (for the interface segment meeting a boundary segment at a at the smallest angle;
- * ties: the lowest id), so the subsegments on both sides of the corner come in the same
- * lengths and can become equal.  With mismatched units (ratio r in (1, 2) between the two
- * families) the shorter piece's end encroaches the longer piece at every scale, and the two
- * split each other down to the corner until precision runs out.  Deterministic and local:
- * computed from the input coordinates only. */
-static double shell_unit(const mesh *m, int32_t a) {
-    double unit = 1.0, best = 180.0;
-    for (int32_t i = m->inc_off[a]; i < m->inc_off[a + 1]; i++) {
-        int32_t si = m->inc_seg[i];
-        if (!m->siface[si]) continue;
-        int32_t oi = m->seg[2 * si] == a ? m->seg[2 * si + 1] : m->seg[2 * si];
-        for (int32_t j = m->inc_off[a]; j < m->inc_off[a + 1]; j++) {
-            int32_t sb = m->inc_seg[j];
-            if (m->siface[sb]) continue;
-            int32_t ob = m->seg[2 * sb] == a ? m->seg[2 * sb + 1] : m->seg[2 * sb];
-            double ang = geom_angle_deg(X(m, oi), X(m, a), X(m, ob));
-            if (ang < best) {
-                best = ang;
-                unit = sqrt(geom_dist2(X(m, a), X(m, oi)));
-            }
-        }
-    }
-    return unit > 0 ? unit : 1.0;
+/* 1 iff v is an end of an interface segment: a corner of the decomposition, where the pieces
+ * of a boundary segment are split on the power-of-two shells the interface's pieces use
+ * (mesh_rules_iface_point), so the pieces on both sides can become equal. */
+static int iface_end(const mesh *m, int32_t v) {
+    if (v >= m->ninput || !m->inc_off) return 0;
+    for (int32_t i = m->inc_off[v]; i < m->inc_off[v + 1]; i++)
+        if (m->siface[m->inc_seg[i]]) return 1;
+    return 0;
 }
 
 /* The length floor (squared) below which refinement refuses to go, computed once from the
@@ -360,7 +343,7 @@ static int split_subseg(mesh *m, int32_t r, int notify) {
         /* Interface pieces must stay dyadic and nameable by both ranks: refuse, on the name and
          * the input coordinates alone (so every rank refuses alike), a split whose halves would
          * be shorter than 2^-44 (the length floor) of the coordinates' magnitude.  Refinement
-         * cannot need it (the shells at corners match the interface, see shell_unit); a split one
+         * cannot need it (the shells at corners match, see mesh_rules_iface_point); a split one
          * rank made and the other could not would leave the merged mesh non-conforming. */
         const double *a = X(m, m->seg[2 * s.seg]), *b = X(m, m->seg[2 * s.seg + 1]);
         double mag = fmax(fmax(fabs(a[0]), fabs(a[1])), fmax(fabs(b[0]), fabs(b[1])));
@@ -370,11 +353,17 @@ static int split_subseg(mesh *m, int32_t r, int notify) {
             return -1;
         }
     }
-    int cu = !iface && is_corner(m, s.u), cv = !iface && is_corner(m, s.v);
+    int cu = !iface && (is_corner(m, s.u) || iface_end(m, s.u));
+    int cv = !iface && (is_corner(m, s.v) || iface_end(m, s.v));
     if (cu != cv) {
-        mesh_rules_shell_point(cu ? pu : pv, cu ? pv : pu, shell_unit(m, cu ? s.u : s.v), p);
+        mesh_rules_shell_point(cu ? pu : pv, cu ? pv : pu, 1.0, p);
     } else if (s.level >= 0 && s.level < 52) {
-        mesh_dyadic_point(X(m, m->seg[2 * s.seg]), X(m, m->seg[2 * s.seg + 1]), s.level, s.k, p);
+        if (iface)
+            mesh_rules_iface_point(X(m, m->seg[2 * s.seg]), X(m, m->seg[2 * s.seg + 1]), s.level,
+                                   s.k, p);
+        else
+            mesh_dyadic_point(X(m, m->seg[2 * s.seg]), X(m, m->seg[2 * s.seg + 1]), s.level, s.k,
+                              p);
         nl = s.level + 1;
         k0 = 2 * s.k;
         k1 = 2 * s.k + 1;
@@ -570,7 +559,7 @@ static int consecutive(const mesh *m, int32_t a, int32_t o1, int32_t o2) {
  * between an interface segment and another segment is a corner of the augmented PSLG, not of
  * the input, so the validator does not exempt it and the angle bound must be met there
  * (possible: cuts meet other segments at >= the angle bound, and the shells on both sides
- * match, see shell_unit). */
+ * match, see mesh_rules_iface_point). */
 static int on_corner_segments(const mesh *m, int32_t u, int32_t v) {
     if (!m->has_corners) return 0;
     int32_t su1 = 0, su2 = 0, sv1 = 0, sv2 = 0;

@@ -74,6 +74,41 @@ void mesh_rules_shell_point(const double a[2], const double w[2], double unit, d
     out[1] = a[1] + (w[1] - a[1]) * f;
 }
 
+/* Fraction of ab (length L) at which a piece [t0, t1] touching the end at t0 = 0 (from_a) or
+ * t1 = 1 (from b) is split on the power-of-two shells around that end. */
+static double shell_fraction(double L, double t0, double t1, int from_a) {
+    double len = (t1 - t0) * L;
+    double d = exp2(floor(log2(len * (2.0 / 3.0))));
+    double f = d / len;
+    if (!(f > 0.3 && f < 0.7)) f = 0.5;
+    return from_a ? t0 + f * (t1 - t0) : t1 - f * (t1 - t0);
+}
+
+void mesh_rules_iface_point(const double a[2], const double b[2], int32_t level, int64_t k,
+                            double out[2]) {
+    double L = sqrt(geom_dist2(a, b));
+    double t0 = 0, t1 = 1;
+    for (int32_t d = 0; d <= level; d++) {
+        /* the split point of the current piece (depth d, [t0, t1]) */
+        double s;
+        if (d == 0)
+            s = shell_fraction(L, t0, t1, 1);
+        else if (t1 == 1 && t0 > 0 && d == 1)
+            s = shell_fraction(L, t0, t1, 0);
+        else
+            s = 0.5 * (t0 + t1);
+        if (d == level) {
+            out[0] = a[0] + (b[0] - a[0]) * s;
+            out[1] = a[1] + (b[1] - a[1]) * s;
+            return;
+        }
+        if ((k >> (level - 1 - d)) & 1)
+            t0 = s;
+        else
+            t1 = s;
+    }
+}
+
 int mesh_rules_in_wedge(const double a[2], const double o1[2], const double o2[2],
                         const double o3[2]) {
     double s = geom_orient2d(a, o1, o2);

@@ -80,6 +80,20 @@ int mesh_rules_encroaches(const mesh_rules *R, const double a[2], const double b
  * at most 2/3 |aw|, or the midpoint when that falls outside (0.3, 0.7) of the length. */
 void mesh_rules_shell_point(const double a[2], const double w[2], double unit, double out[2]);
 
+/* Split point of the interface subsegment named (level, k) of interface segment ab (the k-th of
+ * the 2^level pieces of its binary split tree).  The tree: the whole segment is split on the
+ * power-of-two shell around a (the largest 2^j at most 2/3 |ab|), the piece left beside b on
+ * the power-of-two shell around b, every other piece at its midpoint.  So every piece touching
+ * an end of an interface segment is a power of two long, and at a vertex where interface
+ * segments (or an interface and a boundary segment split on the same shells) bend, the pieces
+ * on both sides can become equal: a corner triangle between two pieces in a length ratio that
+ * is not a power of two keeps its smallest angle at every scale, and refinement runs into the
+ * length floor there (Ruppert 1995's concentric shells, applied to the artificial corners of a
+ * decomposition).  A function of its arguments only, so both sides of an interface compute the
+ * same bits. */
+void mesh_rules_iface_point(const double a[2], const double b[2], int32_t level, int64_t k,
+                            double out[2]);
+
 /* 1 iff the ray from a through o3 lies strictly inside the wedge o1-a-o2 (< 180 degrees), by
  * exact orientation tests: segment a-o3 separates a-o1 from a-o2, so those two are not angular
  * neighbours at a. */
