@@ -1,5 +1,5 @@
 /* unit_sizefield: exact point location (geom/tloc.h), the mesh to refine read as a PSLG and the
- * size rules of -r's .area and --size (io/sizefield.h).
+ * size rules of -r's .area and --size (bounds/sizefield.h).
  *
  * tloc: points inside, on a shared edge and vertex (the lowest triangle), outside (-1, and the
  * nearest triangle for tloc_find_near), clockwise input triangles, barycentric weights.  -r
@@ -12,7 +12,7 @@
 #include "geom/geom.h"
 #include "geom/pslg.h"
 #include "geom/tloc.h"
-#include "io/sizefield.h"
+#include "bounds/sizefield.h"
 
 #include <check.h>
 #include <math.h>

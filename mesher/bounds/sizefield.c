@@ -16,7 +16,7 @@
  * loaded, exactly (a power of two), so the rule compares internal coordinates with internal
  * coordinates.
  */
-#include "io/sizefield.h"
+#include "bounds/sizefield.h"
 
 #include "base/base.h"
 #include "geom/geom.h"
