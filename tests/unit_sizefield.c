@@ -9,10 +9,11 @@
  * old triangle only; the background size bounds areas by sqrt(3)/4 h^2, h interpolated, and
  * the rules see coordinates scaled by 2^scale_exp.  Files are written to a temporary folder.
  */
+#include "bounds/sizefield.h"
 #include "geom/geom.h"
 #include "geom/pslg.h"
 #include "geom/tloc.h"
-#include "bounds/sizefield.h"
+#include "io/meshio.h"
 
 #include <check.h>
 #include <math.h>
@@ -74,7 +75,7 @@ START_TEST(test_refine_pslg_boundary) {
     write_ring("ring");
     pslg g;
     char err[1024];
-    ck_assert_msg(size_field_read_mesh_pslg(at("ring.ele"), &g, err, sizeof err) == 0, "%s", err);
+    ck_assert_msg(meshio_read_mesh_pslg(at("ring.ele"), &g, err, sizeof err) == 0, "%s", err);
     ck_assert_int_eq(g.nverts, 8);
     ck_assert_int_eq(g.nsegs, 8);
     ck_assert_int_ge(g.nholes, 1);
@@ -87,7 +88,7 @@ START_TEST(test_refine_pslg_boundary) {
     /* with a .poly: its segments (only the outer square) and no holes */
     write_ring("ringp");
     put("ringp.poly", "0 2 0 1\n4 1\n1 1 2 5\n2 2 3 5\n3 3 4 5\n4 4 1 5\n0\n");
-    ck_assert_msg(size_field_read_mesh_pslg(at("ringp"), &g, err, sizeof err) == 0, "%s", err);
+    ck_assert_msg(meshio_read_mesh_pslg(at("ringp"), &g, err, sizeof err) == 0, "%s", err);
     ck_assert_int_eq(g.nsegs, 4);
     ck_assert_int_eq(g.nholes, 0);
     ck_assert_int_eq(g.smarker[0], 5);

@@ -1,17 +1,15 @@
 /* api.c: the sequential half of libpcdm's public interface (include/pcdm.h) -- Triangle's
  * triangulate() in one call, and what both halves share (input, options, output, status).
  *
- * pcdm_triangulate is apps/mesh.c without files: the caller's PSLG is copied into a pslg and
- * normalised by pslg_check (duplicates merged, coordinates scaled by an exact power of two into
- * the predicates' working range, quietly: the library never prints; with convex_hull the hull
- * enclosed by segments, as ./mesh -c), triangulated
- * (mesh_build_cdt) and refined (mesh_refine) to the bounds, then copied out with the scaling
- * undone.  The caller's size rule sees the caller's coordinates: a wrapper multiplies the
- * mesher's coordinates by 2^-scale_exp and the area by 2^-2scale_exp, both exact (powers of
- * two).  As ./mesh, the angle bound is raised by a hair so that rounding in the quality test can
- * never leave a triangle a few ulps below it, and a mesh outside the bounds is never a silent
- * success: the Steiner limit returns PCDM_ESTEINER with the (valid, coarser) mesh, anything
- * else left unmet returns PCDM_EUNMET and no mesh.  The parallel call is api_par.c.
+ * pcdm_triangulate is ./mesh without files: the caller's arrays are copied into a pslg and
+ * handed to the driver (run/run.h) as a job, which goes through ./mesh's stages -- the input
+ * checked and normalised (duplicates merged, coordinates scaled by an exact power of two,
+ * crossing segments split, Triangle's boundary markers, the hull with convex_hull; quietly: the
+ * library never prints), the bounds as one value, the CDT refined, the verdict -- and the mesh
+ * is copied out with the scaling undone.  The caller's size rule sees the caller's coordinates
+ * (the driver's wrapper).  A mesh outside the bounds is never a silent success: the Steiner
+ * limit returns PCDM_ESTEINER with the (valid, coarser) mesh, anything else left unmet
+ * PCDM_EUNMET and no mesh.  The parallel call is api_par.c.
  */
 #include "api/api_impl.h"
 

@@ -1,13 +1,14 @@
-/* api_par.c: pcdm_triangulate_par (include/pcdm.h) -- PCDM (TR-97-17 section 3) in one call,
- * Collective over a communicator the caller gives.
+/* api_par.c: pcdm_triangulate_par (include/pcdm.h) -- PCDM (TR-97-17 section 3) or PBW
+ * (section 2) in one call, Collective over a communicator the caller gives.
  *
- * It is apps/pcdm.c without files or printing: the runtime is started on duplicates of the
+ * It is ./pcdm and ./pbw without files or printing: the runtime is started on duplicates of the
  * caller's communicator (rt_init_comm: MPI stays the caller's, any communicator works, e.g. a
- * split), the pcdm handler registered, every rank builds the same decomposition of the same
- * input (pcdm_decomp_auto; a hash of it is compared across the ranks), keeps and refines its
- * subdomains (pcdm_part_refine), and the parts are checked along their interfaces and numbered
- * by prefix sums (par_check_interfaces_open, par_number_open).  The runtime is finalised before
- * the call returns, on every path.
+ * split), the method's handlers registered, and the caller's arrays handed to the driver
+ * (run/run_par.c) as a job: every rank loads the same input and builds the same decomposition
+ * (a hash of it compared across the ranks), refines its part, and the verdict is reduced.  The
+ * library's own end is here: the parts checked along their interfaces and numbered by prefix
+ * sums (par_check_interfaces_open, par_number_open) and copied into the caller's arrays.  The
+ * runtime is finalised before the call returns, on every path.
  *
  * Output.  A rank's part lists its triangles' vertices; rank 0's part starts with every input
  * point (global numbers 0..nin-1, as the file writers do), so "pointowned" (the input points on
@@ -16,9 +17,9 @@
  * opt->root >= 0 exactly those rows, the triangles and the segments (in global numbers) are
  * gathered on the root (MPI_Gatherv on the library's communicator); that is the only gather.
  *
- * Errors.  Every failure is agreed collectively (agree(): the lowest failing rank's message is
- * broadcast) so every rank returns the same code and message and none waits in a collective
- * another rank skipped.  Nothing is printed.
+ * Errors.  Every failure is agreed collectively (par_agree: the lowest failing rank's code and
+ * message are broadcast) so every rank returns the same code and message and none waits in a
+ * collective another rank skipped.  Nothing is printed.
  */
 #include "api/api_impl.h"
 

@@ -2,7 +2,7 @@
  * them, as Triangle's triangulate() lists its own:
  *
  *   1. load: the input is read (pslg_read; -r: the mesh to refine as a PSLG,
- *      size_field_read_mesh_pslg) or taken from the library's arrays, then checked and
+ *      meshio_read_mesh_pslg) or taken from the library's arrays, then checked and
  *      normalised (pslg_check_ex: duplicates merged, coordinates scaled by an exact power of
  *      two, crossing and overlapping segments split -- refused under --strict --, -c's convex
  *      hull enclosed), and Triangle's boundary-marker rules applied (pslg_boundary_markers);
@@ -53,7 +53,7 @@ int run_load(run_job *j, pslg *g, int quiet, int sizes, char *err, size_t errlen
         memset(j->given, 0, sizeof *j->given);
         rc = 0;
     } else {
-        rc = o->refine ? size_field_read_mesh_pslg(o->input, g, err, errlen)
+        rc = o->refine ? meshio_read_mesh_pslg(o->input, g, err, errlen)
                        : pslg_read(o->input, g, err, errlen);
     }
     if (rc != 0) return -1;
@@ -96,6 +96,7 @@ mesh_bounds run_bounds(run_job *j, const pslg *g) {
         j->user_scale_exp = g->scale_exp;
         bounds_set_size(&b, unscaled_rule, j);
     }
+    j->bounds = b;
     return b;
 }
 
@@ -129,7 +130,7 @@ int run_exit_status(run_verdict v, int rc) {
 
 void run_check_bounds(const run_job *j, double *min_angle, double *max_area, int *region_area) {
     int none = j->cdt_only || j->verdict != RUN_MET; /* the bounds were given up */
-    *min_angle = none ? 0 : j->o.min_angle;
-    *max_area = none ? 0 : j->o.max_area;
-    *region_area = !none && j->o.region_area;
+    *min_angle = none ? 0 : j->bounds.min_angle;
+    *max_area = none ? 0 : j->bounds.max_area;
+    *region_area = !none && j->bounds.region_area;
 }

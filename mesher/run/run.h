@@ -59,6 +59,7 @@ typedef struct run_job {
     bounds_size_fn user_size;
     void *user_size_ctx;
     int user_scale_exp; /* set by the driver: the scale its wrapper undoes */
+    mesh_bounds bounds; /* the bounds stage's value (run_bounds) */
     /* out */
     run_verdict verdict;
     int64_t unmet;   /* triangles outside the bounds, not forced (all ranks) */
@@ -84,7 +85,7 @@ int run_load(run_job *j, pslg *g, int quiet, int sizes, char *err, size_t errlen
 
 /* Local.  The bounds stage: the job's bounds as one value (bounds_make), with the region
  * bounds and the size rule (j->sizes, or the library's callback through a wrapper that shows
- * it the caller's coordinates; g's scale). */
+ * it the caller's coordinates; g's scale); kept in j->bounds too. */
 mesh_bounds run_bounds(run_job *j, const pslg *g);
 
 /* Local.  The verdict: limit_hit: the Steiner limit stopped refinement (on some rank); unmet:
@@ -100,8 +101,9 @@ void run_verdict_message(const run_job *j, const char *prefix, char *buf, size_t
  * was written with --write-partial), else rc when not 0, else 3 for the Steiner limit, else 0. */
 int run_exit_status(run_verdict v, int rc);
 
-/* Local.  What --check holds the mesh to: the bounds, or none when they were not met (the
- * Steiner limit, --write-partial, --cdt-only). */
+/* Local.  What --check holds the mesh to, derived from the bounds (j->bounds, run_bounds): the
+ * angle as asked (no margin), the area and the region bounds, or none when they were not met
+ * (the Steiner limit, --write-partial, --cdt-only). */
 void run_check_bounds(const run_job *j, double *min_angle, double *max_area, int *region_area);
 
 /* ---- the sequential driver (run_seq.c) -------------------------------------------------- */
