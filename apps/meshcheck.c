@@ -10,10 +10,10 @@
  * Options and exit statuses come from the front end (apps/cli.c; ./meshcheck --help): 0 the
  * mesh passes, 1 it fails or a file cannot be read or is invalid, 2 usage error.
  */
+#include "check/validate.h"
 #include "geom/geom.h"
 #include "geom/pslg.h"
 #include "io/meshio.h"
-#include "io/validate.h"
 
 #include "cli.h"
 

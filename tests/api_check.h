@@ -6,7 +6,7 @@
 #define API_CHECK_H
 
 #include "api/api_impl.h"
-#include "io/validate.h"
+#include "check/validate.h"
 
 #include <math.h>
 #include <stdlib.h>

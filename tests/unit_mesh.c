@@ -7,12 +7,12 @@
  * itself (orientation, neighbour involution, constraint bits, boundary, local Delaunay with
  * exact incircle) and, when it comes from a PSLG, through mesh_validate (validate.h).
  */
+#include "check/validate.h"
 #include "geom/geom.h"
 #include "geom/pslg.h"
 #include "io/meshio.h"
-#include "io/validate.h"
+#include "seq/kernel.h"
 #include "seq/mesh.h"
-#include "seq/mesh_impl.h"
 #include "seq/rules.h"
 
 #include <check.h>

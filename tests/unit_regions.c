@@ -10,10 +10,10 @@
  * forms carry the attributes; the writers put them into .ele and the holes and regions into the
  * .poly; the validator rejects a wrong attribute.  Run from the repository root.
  */
+#include "check/validate.h"
 #include "geom/geom.h"
 #include "geom/pslg.h"
 #include "io/meshio.h"
-#include "io/validate.h"
 #include "seq/mesh.h"
 #include "seq/rules.h"
 

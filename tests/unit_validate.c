@@ -6,10 +6,10 @@
  * exempt from the angle bound while the square's corners are not; a structured grid mesh of
  * half a million triangles validates quickly.  Run from the repository root.
  */
+#include "check/validate.h"
 #include "geom/geom.h"
 #include "geom/pslg.h"
 #include "io/meshio.h"
-#include "io/validate.h"
 
 #include <check.h>
 #include <math.h>

@@ -111,7 +111,7 @@ int32_t pslg_hull(const pslg *g, int32_t *cyc);
  * segment keep 0.  A point set (no segments) is meshed over its convex hull, whose edges
  * become segments with marker 1: its vertices on the hull get 1 (as with -c).  The meshers give
  * a new vertex on a segment that segment's marker, and other new vertices 0.  Call after
- * pslg_check.  Returns 0, or -1 (out of memory). */
+ * pslg_check.  Returns 0 (it cannot fail: the int is kept for callers that test it). */
 int pslg_boundary_markers(pslg *g);
 
 /* Area of the domain the PSLG describes, computed from the PSLG alone (independently of any
@@ -128,8 +128,8 @@ double pslg_domain_area(const pslg *g);
  * the lookup. */
 typedef struct pslg_regions pslg_regions;
 
-/* Returns the lookup (free with pslg_regions_free), or NULL (out of memory, or no segments:
- * then no point is in a region). */
+/* Returns the lookup (free with pslg_regions_free), or NULL when g has no segments (then no
+ * point is in a region). */
 pslg_regions *pslg_regions_build(const pslg *g);
 
 /* The region (index into g->regions) of the face strictly containing p, or -1 (no region, or p
@@ -150,7 +150,8 @@ typedef struct pslg_pieces {
     int32_t nvert;
 } pslg_pieces;
 
-/* Fills P (caller frees with pslg_pieces_free).  Returns 0, or -1 (out of memory). */
+/* Fills P (caller frees with pslg_pieces_free).  Returns 0 (it cannot fail: the int is kept for
+ * callers that test it). */
 int pslg_segment_pieces(const pslg *g, pslg_pieces *P);
 void pslg_pieces_free(pslg_pieces *P);
 

@@ -15,7 +15,7 @@
  * so no segment repeats or overlaps another.  Every other hull edge becomes a new segment with
  * boundary marker 1 (line 0: it is in no file), appended after the input's segments.
  *
- * Invariant kept (pslg.c's, after pslg_check): distinct non-degenerate segments meeting only at
+ * Invariant kept (pslg_check.c's): distinct non-degenerate segments meeting only at
  * shared endpoints or at a vertex inside a segment -- a hull edge holds no vertex inside it and
  * no segment crosses it, since every segment lies in the closed hull.  The hull is taken of the
  * normalised vertices (duplicates merged, crossing vertices added), so it is exact for the PSLG

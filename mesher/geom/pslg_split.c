@@ -174,9 +174,7 @@ static int cmp_pt(const void *x, const void *y) {
     return (p->v > q->v) - (p->v < q->v);
 }
 
-int pslg_split_pairs(pslg *g, const int32_t *pairs, int64_t npairs, char *err, size_t errlen) {
-    (void)err;
-    (void)errlen;
+void pslg_split_pairs(pslg *g, const int32_t *pairs, int64_t npairs) {
     splitter S = {g, NULL, 0, 0, g->nverts, g->nverts, NULL};
     S.head = mesh_xmalloc((size_t)g->nsegs + 1, sizeof *S.head);
     for (int32_t s = 0; s < g->nsegs; s++)
@@ -213,7 +211,6 @@ int pslg_split_pairs(pslg *g, const int32_t *pairs, int64_t npairs, char *err, s
     }
     free(S.pt);
     pslg_set_segments(g, seg, smk, sln, (int32_t)n);
-    return 0;
 }
 
 void pslg_set_segments(pslg *g, int32_t *seg, int32_t *smk, int32_t *sln, int32_t n) {

@@ -10,7 +10,7 @@
  * a million triangles stays a few tens of megabytes.  The .poly lists the input's segments (not
  * interface ones) and ends with the input's holes and regions (meshio_fmt_domain, which the
  * parallel writer shares), so it meshes the same domain again.  The reader takes .node (and .poly
- * segments) through pslg.c and parses .ele itself with the same full-token checks.
+ * segments) through pslg_read.c and parses .ele itself with the same full-token checks.
  */
 #include "io/meshio.h"
 
@@ -122,10 +122,6 @@ static int write_node(const mesh_flat *m, const char *path, char *err, size_t er
     int nattr = m->vattr ? m->nattr : 0;
     fprintf(w.f, "%d 2 %d 1\n", (int)m->nverts, nattr);
     char *line = mesh_xmalloc(64 + 32 * (size_t)nattr, 1);
-    if (!line) {
-        efail(err, errlen, "%s: out of memory", path);
-        return meshio_wclose(&w, 1);
-    }
     for (int32_t i = 0; i < m->nverts; i++) {
         char *p = fmt_int(line, (long long)i + 1);
         *p++ = ' ';
@@ -221,9 +217,8 @@ char *meshio_fmt_domain(char *q, int32_t nholes, const double *holes, int32_t nr
 }
 
 int meshio_flat_domain(mesh_flat *m, const struct pslg *g) {
-    m->holes = mesh_xmalloc(2 * (size_t)g->nholes * sizeof(double) + 1, 1);
-    m->regions = mesh_xmalloc(4 * (size_t)g->nregions * sizeof(double) + 1, 1);
-    if (!m->holes || !m->regions) return -1;
+    m->holes = mesh_xmalloc(2 * (size_t)g->nholes, sizeof(double));
+    m->regions = mesh_xmalloc(4 * (size_t)g->nregions, sizeof(double));
     m->nholes = g->nholes;
     m->nregions = g->nregions;
     if (g->nholes) memcpy(m->holes, g->holes, 2 * (size_t)g->nholes * sizeof(double));
@@ -313,15 +308,9 @@ static int read_ele(const char *path, mesh_flat *m, int first, char *err, size_t
     size_t cap = 1 << 16, n = 0;
     char *buf = mesh_xmalloc(cap, 1);
     for (;;) {
-        if (!buf) {
-            fclose(f);
-            return efail(err, errlen, "%s: out of memory reading the file", path);
-        }
         n += fread(buf + n, 1, cap - n - 1, f);
         if (n < cap - 1) break;
-        char *nb = mesh_xrealloc(buf, cap * 2, 1);
-        if (!nb) free(buf);
-        buf = nb;
+        buf = mesh_xrealloc(buf, cap, 2);
         cap *= 2;
     }
     fclose(f);
@@ -355,13 +344,9 @@ static int read_ele(const char *path, mesh_flat *m, int first, char *err, size_t
         goto out;
     }
     m->ntris = (int32_t)nt;
-    m->tri = mesh_xmalloc(((size_t)nt * 3 + 1) * sizeof(int32_t), 1);
-    m->trank = nattr ? mesh_xmalloc(((size_t)nt + 1) * sizeof(int32_t), 1) : NULL;
-    m->tattr = nattr ? mesh_xmalloc(((size_t)nt + 1) * sizeof(double), 1) : NULL;
-    if (!m->tri || (nattr && (!m->trank || !m->tattr))) {
-        lfail(err, errlen, path, line, "out of memory for %ld triangles", nt);
-        goto out;
-    }
+    m->tri = mesh_xmalloc((size_t)nt * 3 + 1, sizeof(int32_t));
+    m->trank = nattr ? mesh_xmalloc((size_t)nt + 1, sizeof(int32_t)) : NULL;
+    m->tattr = nattr ? mesh_xmalloc((size_t)nt + 1, sizeof(double)) : NULL;
     int rank_ok = nattr > 0;
     for (long t = 0; t < nt; t++) {
         if (!(s = ele_line(&pos, end, &line))) {
@@ -636,12 +621,7 @@ int meshio_write_svg(const mesh_flat *m, const char *path, char *err, size_t err
     for (int32_t t = 0; m->trank && t < m->ntris; t++)
         if (m->trank[t] > maxr) maxr = m->trank[t];
     int32_t *start = mesh_xcalloc((size_t)maxr + 2, sizeof(int32_t));
-    int32_t *order = mesh_xmalloc(((size_t)m->ntris + 1) * sizeof(int32_t), 1);
-    if (!start || !order) {
-        free(start);
-        free(order);
-        return efail(err, errlen, "%s: out of memory", path);
-    }
+    int32_t *order = mesh_xmalloc((size_t)m->ntris + 1, sizeof(int32_t));
     for (int32_t t = 0; t < m->ntris; t++)
         start[(m->trank && m->trank[t] > 0 ? m->trank[t] : 0) + 1]++;
     for (int32_t r = 0; r <= maxr; r++)

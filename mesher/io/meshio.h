@@ -41,8 +41,8 @@ typedef struct mesh_flat {
 
 struct pslg;
 
-/* Copies g's holes and regions (pslg_check's scaled values) into m.  Returns 0 or -1 (out of
- * memory). */
+/* Copies g's holes and regions (pslg_check's scaled values) into m.  Returns 0 (it cannot
+ * fail: the int is kept for callers that test it). */
 int meshio_flat_domain(mesh_flat *m, const struct pslg *g);
 
 /* The end of a .poly: the holes section and, when there are regions, the regions section

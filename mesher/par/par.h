@@ -17,10 +17,10 @@
 #include <stdio.h>
 
 #include "bounds/bounds.h"
+#include "check/validate.h"
 #include "decomp/decomp.h"
 #include "geom/pslg.h"
 #include "io/meshio.h"
-#include "io/validate.h"
 
 /* Longest output prefix a mesher accepts (bytes, the terminating zero included). */
 #define PAR_NAME_MAX 1000

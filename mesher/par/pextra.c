@@ -18,8 +18,8 @@
 #include "par/pextra.h"
 
 #include "base/base.h"
+#include "check/ptopo.h"
 #include "io/xwrite.h"
-#include "par/ptopo.h"
 #include "rt.h"
 
 #include <math.h>

@@ -17,8 +17,8 @@
  * vertices (input ones on rank 0 first) carry consecutive numbers after rank r-1's; data moved
  * is O(part boundary), never the mesh.  All messages on rt_app_comm().
  */
+#include "check/ptopo.h"
 #include "par/pout.h"
-#include "par/ptopo.h"
 
 #include "base/base.h"
 #include "rt.h"

@@ -17,9 +17,10 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "check/par_check.h"
+#include "check/validate.h"
 #include "geom/pslg.h"
 #include "io/meshio.h"
-#include "io/validate.h"
 #include "par/par.h"
 
 /* Largest mesh --svg collects on rank 0 (triangles, all ranks); above it --svg is an error. */
@@ -62,32 +63,15 @@ typedef struct par_numbering {
 int par_number(const mesh_flat *local, const pslg *in, const uint8_t *artificial,
                par_numbering *num, char *err, size_t errlen);
 
-/* Collective (par_check.c).  The interface local-Delaunay test of the distributed --check:
- * every open edge of local that is not an input constraint is sent with the apex of its local
- * triangle to a rendezvous rank (hash of the edge's coordinates); where the two sides of an
- * interface edge meet (two ranks), the edge must be locally Delaunay (geom_incircle, exact,
- * strictly inside = bad), as the sequential validator asks of every non-constraint edge.
- * topen: as par_check_interfaces_open.  Returns the number of bad edges found on this rank (sum
- * over ranks for the total), the first described in msg. */
-long par_check_interface_delaunay(const mesh_flat *local, const uint8_t *topen, char *msg,
-                                  size_t msglen);
-
-/* Collective over rt_app_comm() (par_check.c).  The interface check, the cheap one that always
- * runs before any output: every open edge of a rank's piece (an edge of exactly one local
- * triangle) that is not a non-interface constraint (a domain-boundary subsegment) must be the
- * open edge of exactly one other rank's piece, with the same vertex coordinates bit for bit; so
- * both sides of every interface agree on its subsegments and vertices.  Each open edge travels
- * once, to the rank its coordinates hash to (O(interface) data, two all-to-all calls).  The
- * open edges come from the mesher's mask (topen: mesh_take_flat's, one byte per triangle; NULL:
- * found through vertex rows).  Returns 0, or -1 on the ranks that found a disagreement, with a
- * message in msg (callers agree through par_fail_any). */
-int par_check_interfaces_open(const mesh_flat *local, const uint8_t *topen, char *msg,
-                              size_t msglen);
-
 /* Collective.  par_number with the part's open edges from the mesher's mask (topen,
  * mesh_take_flat's; NULL: found through vertex rows), kept in num->topen for the check. */
 int par_number_open(const mesh_flat *local, const pslg *in, const uint8_t *artificial,
                     const uint8_t *topen, par_numbering *num, char *err, size_t errlen);
+
+/* Collective (pnum.c).  Sends record i of recs (n records of sz bytes) to rank dest[i] over
+ * rt_app_comm(); returns the records this rank received (grouped by source rank, in rank order;
+ * free with free()) and their number in *nout. */
+void *par_exchange(const void *recs, size_t sz, const int *dest, int64_t n, int64_t *nout);
 
 /* Local.  Frees what num owns and zeroes it. */
 void par_numbering_free(par_numbering *num);

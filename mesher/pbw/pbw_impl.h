@@ -13,8 +13,8 @@
 #include "base/base.h"
 #include "geom/geom.h"
 #include "rt.h"
+#include "seq/kernel.h"
 #include "seq/mesh.h"
-#include "seq/mesh_impl.h"
 #include "seq/rules.h"
 
 #include <float.h>

@@ -39,7 +39,7 @@
 
 #include "base/base.h"
 #include "geom/geom.h"
-#include "seq/mesh_impl.h"
+#include "seq/kernel.h"
 #include "seq/rules.h"
 
 #include "rt.h"

@@ -38,7 +38,7 @@
 #include "pcdm/pcdm_det_impl.h"
 
 #include "base/base.h"
-#include "seq/mesh_impl.h"
+#include "seq/kernel.h"
 
 #include "rt.h"
 

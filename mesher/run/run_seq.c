@@ -15,7 +15,7 @@
 #include "base/base.h"
 #include "geom/geom.h"
 #include "io/meshio.h"
-#include "io/validate.h"
+#include "check/validate.h"
 #include "io/xwrite.h"
 #include "seq/vattr.h"
 

@@ -551,6 +551,7 @@ int mesh_build_cdt(mesh *m, const pslg *g, const uint8_t *iface, char *err, size
         snprintf(tmp, sizeof tmp, "%.512s: %.600s", g->path[0] ? g->path : "(pslg)", err);
         snprintf(err, errlen, "%s", tmp);
     }
+    MESH_ASSERT(r != 0 || mesh_consistent(m));
     return r;
 }
 

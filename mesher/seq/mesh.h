@@ -319,7 +319,8 @@ void mesh_dyadic_point(const double a[2], const double b[2], int32_t level, int6
 /* Fills f (which it allocates; free with mesh_flat_free): every vertex (input numbering
  * first), live triangles compacted in slot order, the subsegments with their segment's marker
  * and interface flag; f->tattr (each triangle's regional attribute, 0 outside every region)
- * when mesh_set_regions was called, else NULL.  Returns 0, or -1 if out of memory. */
+ * when mesh_set_regions was called, else NULL.  Returns 0 (it cannot fail: the int is kept for
+ * callers that test it). */
 int mesh_to_flat(const mesh *m, mesh_flat *f);
 
 /* Moves m into f: the same f as mesh_to_flat (tattr included), built from m's own arrays (live

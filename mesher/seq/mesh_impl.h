@@ -1,36 +1,45 @@
-/* mesh_impl: declarations shared by mesh.c, cdt.c and refine.c, and by PBW's store (mesher/pbw:
- * a mesh whose tf bits 5..7 and tn values below -1 are its own, see MESH_FENCE); not a public
- * API.  See mesh.h for the data structure. */
+/* mesh_impl: declarations internal to mesher/seq/ (mesh*.c, cdt.c, refine.c), beyond the
+ * kernel interface (kernel.h) the layers above use.  See mesh.h for the data structure. */
 #ifndef MESH_IMPL_H
 #define MESH_IMPL_H
 
 #include "base/base.h"
+#include "geom/geom.h"
+#include "seq/kernel.h"
 #include "seq/mesh.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 
-#define MESH_MARK 8u    /* tf scratch bit */
-#define MESH_QUEUED 16u /* tf: queued as a bad triangle since the slot was last written */
+/* Index (0..2) of the ghost vertex of t, or -1. */
+static inline int mesh_ghost_index(const mesh *m, int32_t t) {
+    const int32_t *v = m->tv + 3 * (size_t)t;
+    return v[0] == MESH_GHOST ? 0 : v[1] == MESH_GHOST ? 1 : v[2] == MESH_GHOST ? 2 : -1;
+}
 
-/* One boundary edge of a cavity, in counter-clockwise order around it. */
-typedef struct mesh_bedge {
-    int32_t org, dest;
-    int32_t twin;  /* edge code outside the cavity, or -1 */
-    uint8_t cons;  /* 1 if a constraint edge */
-    uint8_t split; /* 1 if this is the edge being split (one-sided split) */
-    int32_t reg;   /* region of the cavity triangle inside this edge (treg; -1: none) */
-} mesh_bedge;
+/* The debug tier's test of live triangle t (MESH_ASSERT; mesh.h's invariants): every
+ * neighbour link is an involution (tn[tn[e]] == e) onto a live triangle's edge with the same
+ * endpoints reversed and the same constraint bit, and t is counter-clockwise (exact orient2d)
+ * unless it is a ghost.  Links below 0 (the boundary, a caller's fence) are not followed. */
+static inline int mesh_tri_consistent(const mesh *m, int32_t t) {
+    for (int j = 0; j < 3; j++) {
+        int32_t e = 3 * t + j, f = m->tn[e];
+        if (f < 0) continue;
+        if (m->tn[f] != e || !mesh_tri_alive(m, f / 3)) return 0;
+        if (m->tv[f] != mesh_dest(m, e) || mesh_dest(m, f) != m->tv[e]) return 0;
+        if (mesh_edge_constrained(m, e) != mesh_edge_constrained(m, f)) return 0;
+    }
+    const int32_t *v = m->tv + 3 * (size_t)t;
+    return mesh_ghost_index(m, t) >= 0 ||
+           geom_orient2d(m->xy + 2 * v[0], m->xy + 2 * v[1], m->xy + 2 * v[2]) > 0;
+}
 
-/* Cavity outcome (CAV_FENCED: the cavity reached a triangle with a MESH_FENCE bit, or an edge
- * whose tn is below -1: only a caller that sets them, PBW, sees it). */
-enum { CAV_OK = 0, CAV_NOT_STAR = -1, CAV_CYCLE = -2, CAV_FENCED = -3 };
+/* 1 iff every live triangle of m is mesh_tri_consistent (the debug tier, after a whole build;
+ * O(triangles)). */
+int mesh_consistent(const mesh *m);
 
 uint64_t mesh_rand(mesh *m);
 
-int32_t mesh_vert_add(mesh *m, double x, double y, int32_t vseg);
-int32_t mesh_tri_new(mesh *m);
-void mesh_tri_kill(mesh *m, int32_t t);
 int mesh_tri_is_ghost(const mesh *m, int32_t t);
 
 /* Walk toward p from triangle t.  avoid_constraints: 0 = plain walk (ghost triangles allowed:
@@ -39,46 +48,10 @@ int mesh_tri_is_ghost(const mesh *m, int32_t t);
  * triangle with p strictly beyond it when every way forward is a constraint. */
 int32_t mesh_walk(mesh *m, const double p[2], int32_t t, int avoid_constraints, int32_t *blocked);
 
-/* Collects the cavity of p (not yet a vertex).  t0 contains p (or is a ghost in conflict);
- * split_e >= 0 is a constraint edge code of t0 that p splits (both its triangles join the
- * cavity).  On CAV_NOT_STAR *bad is the offending boundary edge code (constraint or not).
- * The cavity stays marked until mesh_cavity_commit or mesh_cavity_abort. */
-int mesh_cavity_collect(mesh *m, const double p[2], int32_t t0, int32_t split_e, int32_t *bad);
-void mesh_cavity_abort(mesh *m);
-/* Joins vertex v to the collected cavity's boundary.  New triangle ids in m->newt.  When
- * split_u/split_v are >= 0 (the endpoints of the split subsegment), the spokes v-split_u and
- * v-split_v become constraint edges. */
-void mesh_cavity_commit(mesh *m, int32_t v, int32_t split_u, int32_t split_v);
-
-/* Flips edge e (both triangles live, quadrilateral strictly convex: caller checks). */
-void mesh_flip(mesh *m, int32_t e);
-
 void mesh_set_constrained(mesh *m, int32_t e);
 
-/* subsegment side table */
-int32_t mesh_ss_add(mesh *m, int32_t u, int32_t v, int32_t seg, int32_t level, int64_t k);
-void mesh_ss_del(mesh *m, int32_t r);
-int32_t mesh_ss_find_pair(const mesh *m, int32_t u, int32_t v);
+/* subsegment side table (mesh_subseg.c; mesh_ss_add, _del, _find_pair: kernel.h) */
 int32_t mesh_ss_find_name(const mesh *m, int32_t seg, int32_t level, int64_t k);
 void mesh_ss_prune(mesh *m); /* drops records whose edge is no longer in the mesh */
-
-/* Adds an original segment; returns its id. */
-int32_t mesh_seg_add(mesh *m, int32_t a, int32_t b, int32_t marker, uint8_t iface);
-
-/* Sets vtri for every vertex from the live triangles. */
-void mesh_rebuild_vtri(mesh *m);
-
-/* refine.c, for the parallel meshers (Local).  The interface subsegments (siface) that do not
- * conform: the named splits (a neighbour's, which it made) this mesh could not make (the split
- * point off its line for the triangles on this side), plus those still encroached (a vertex of
- * a triangle beside them strictly inside the diametral circle) and not locally Delaunay (exact
- * incircle) with both sides in this mesh.  *remote (if not NULL) gets the encroached ones whose
- * other side is not in this mesh: only the two apexes together decide those (the caller asks
- * the other side: par_check_interface_delaunay).  Refinement leaves none unless a split was
- * refused (precision, the interface piece cap). */
-int64_t mesh_iface_defects(mesh *m, int64_t *remote);
-
-/* refine.c: called after every committed cavity when refinement is active. */
-void mesh_refine_free(mesh *m);
 
 #endif

@@ -38,12 +38,8 @@ int mesh_interpolate_attributes(const pslg *g, mesh_flat *f, char *err, size_t e
         return -1;
     }
     mesh_flat c;
-    int rc = mesh_to_flat(&m, &c);
+    mesh_to_flat(&m, &c);
     mesh_free(&m);
-    if (rc != 0) {
-        snprintf(err, errlen, "out of memory interpolating vertex attributes");
-        return -1;
-    }
     tloc L;
     if (tloc_build(&L, c.xy, c.tri, c.ntris) != 0) {
         mesh_flat_free(&c);

@@ -13,10 +13,10 @@
  * The input file lives in a private temporary directory made and removed by each call (no state
  * survives a call).
  */
+#include "check/validate.h"
 #include "geom/geom.h"
 #include "geom/pslg.h"
 #include "io/meshio.h"
-#include "io/validate.h"
 #include "seq/mesh.h"
 
 #include <stdint.h>

@@ -1,11 +1,12 @@
-/* ptopo: the local topology the par layer needs of a rank's part (internal to mesher/par/):
- * which triangles meet at a vertex, hence how many triangles use an edge, in O(n) time and
- * memory (one int32 per triangle corner) -- no sort of all edges.  Used to find a part's open
- * edges (edges of one local triangle) for the interface check and the numbering.
+/* ptopo: the local topology of a rank's part of a distributed mesh: which triangles meet at a
+ * vertex, hence how many triangles use an edge, in O(n) time and memory (one int32 per
+ * triangle corner) -- no sort of all edges.  Used to find a part's open edges (edges of one
+ * local triangle) for the interface checks (par_check.c) and, above, for the numbering and the
+ * derived outputs (mesher/par/).
  * All functions are Local.
  */
-#ifndef PAR_PTOPO_H
-#define PAR_PTOPO_H
+#ifndef CHECK_PTOPO_H
+#define CHECK_PTOPO_H
 
 #include <stddef.h>
 #include <stdint.h>
@@ -39,10 +40,5 @@ int64_t par_open_edges(const mesh_flat *f, const par_vtris *x,
 
 /* Number of f's triangles that have the (undirected) edge {a, b}.  Needs the rows. */
 int par_edge_uses(const mesh_flat *f, const par_vtris *x, int32_t a, int32_t b);
-
-/* Collective (pnum.c).  Sends record i of recs (n records of sz bytes) to rank dest[i] over
- * rt_app_comm(); returns the records this rank received (grouped by source rank, in rank order;
- * free with free()) and their number in *nout. */
-void *par_exchange(const void *recs, size_t sz, const int *dest, int64_t n, int64_t *nout);
 
 #endif

@@ -4,7 +4,7 @@
  * ranks on either side of an interface split it identically (same subsegments, same vertex
  * bits); PBW only if the triangles of neighbouring ranks meet edge to edge.  A T-junction or a
  * missing split on one side is exactly what the full validator (--check) would find, but that
- * runs only on request (par_check_parts, pout.h).
+ * runs only on request (par_check_parts, mesher/par/pout.h).
  *
  * Algorithm: each rank lists the open edges of its piece (edges of exactly one local triangle;
  * found through vertex-to-triangle rows, ptopo.h), with endpoints in lexicographic order
@@ -25,12 +25,11 @@
  * Invariants: exact comparison of coordinate bits (-0.0 folded onto +0.0), no tolerance; every
  * rank takes part in every collective whatever its piece holds.
  */
-#include "par/par.h"
-#include "par/ptopo.h"
+#include "check/par_check.h"
 
 #include "base/base.h"
+#include "check/ptopo.h"
 #include "geom/geom.h"
-#include "par/pout.h"
 #include "rt.h"
 
 #include <stdio.h>

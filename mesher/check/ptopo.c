@@ -8,7 +8,7 @@
  * built: the open edges are one sequential pass over the triangles (the rows' random accesses
  * were most of the par layer's time at 10M triangles).
  */
-#include "par/ptopo.h"
+#include "check/ptopo.h"
 
 #include "base/base.h"
 
