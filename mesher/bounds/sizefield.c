@@ -16,18 +16,9 @@
 #include <errno.h>
 #include <float.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-MESH_PRINTF(3, 4) static int sfail(char *err, size_t errlen, const char *fmt, ...) {
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, errlen, fmt, ap);
-    va_end(ap);
-    return -1;
-}
 
 /* ---------------------------------------------------------------- .area ------------------ */
 
@@ -47,45 +38,48 @@ static char *data_line(FILE *f, char **buf, size_t *cap, long *line) {
 static int read_area(const char *path, int32_t nt, int first, double *area, char *err,
                      size_t errlen) {
     FILE *f = fopen(path, "r");
-    if (!f) return sfail(err, errlen, "%s: cannot open: %s", path, strerror(errno));
+    if (!f) return meshio_fail(err, errlen, "%s: cannot open: %s", path, strerror(errno));
     char *buf = NULL, *s, *end;
     size_t cap = 0;
     long line = 0, rc = -1;
     if (!(s = data_line(f, &buf, &cap, &line))) {
-        sfail(err, errlen, "%s:%ld: empty file: expected a triangle count", path, line);
+        meshio_fail(err, errlen, "%s:%ld: empty file: expected a triangle count", path, line);
         goto out;
     }
     long n = strtol(s, &end, 10);
     if (end == s) {
-        sfail(err, errlen, "%s:%ld: malformed triangle count", path, line);
+        meshio_fail(err, errlen, "%s:%ld: malformed triangle count", path, line);
         goto out;
     }
     if (n != nt) {
-        sfail(err, errlen, "%s:%ld: triangle count %ld does not match the mesh's %d triangles",
-              path, line, n, (int)nt);
+        meshio_fail(err, errlen,
+                    "%s:%ld: triangle count %ld does not match the mesh's %d triangles", path, line,
+                    n, (int)nt);
         goto out;
     }
     for (int32_t t = 0; t < nt; t++) {
         if (!(s = data_line(f, &buf, &cap, &line))) {
-            sfail(err, errlen, "%s:%ld: unexpected end of file: expected %d triangles, found %d",
-                  path, line, (int)nt, (int)t);
+            meshio_fail(err, errlen,
+                        "%s:%ld: unexpected end of file: expected %d triangles, found %d", path,
+                        line, (int)nt, (int)t);
             goto out;
         }
         long id = strtol(s, &end, 10);
         if (end == s || id != (long)first + t) {
-            sfail(err, errlen, "%s:%ld: triangle number out of sequence (expected %ld)", path, line,
-                  (long)first + t);
+            meshio_fail(err, errlen, "%s:%ld: triangle number out of sequence (expected %ld)", path,
+                        line, (long)first + t);
             goto out;
         }
         s = end;
         double a = strtod(s, &end);
         if (end == s || !isfinite(a)) {
-            sfail(err, errlen, "%s:%ld: malformed maximum area of triangle %ld", path, line, id);
+            meshio_fail(err, errlen, "%s:%ld: malformed maximum area of triangle %ld", path, line,
+                        id);
             goto out;
         }
         end += strspn(end, " \t\r\n\v\f");
         if (*end) {
-            sfail(err, errlen, "%s:%ld: unexpected text '%.40s'", path, line, end);
+            meshio_fail(err, errlen, "%s:%ld: unexpected text '%.40s'", path, line, end);
             goto out;
         }
         area[t] = a;
@@ -139,7 +133,7 @@ static int load_old(size_field *S, const char *name, int e, char *err, size_t er
     }
     mesh_flat_free(&m);
     if (tloc_build(&S->old, S->oxy, S->otri, S->ont))
-        return sfail(err, errlen, "%s.ele: too many triangles to index", prefix);
+        return meshio_fail(err, errlen, "%s.ele: too many triangles to index", prefix);
     return 0;
 }
 
@@ -150,10 +144,10 @@ static int load_background(size_field *S, const char *name, int e, char *err, si
     if (meshio_read_triangle(prefix, &m, err, errlen)) return -1;
     if (m.nattr < 1 || !m.vattr) {
         mesh_flat_free(&m);
-        return sfail(err, errlen,
-                     "%s.node: a background mesh needs one attribute per vertex (the target "
-                     "edge length there)",
-                     prefix);
+        return meshio_fail(err, errlen,
+                           "%s.node: a background mesh needs one attribute per vertex (the target "
+                           "edge length there)",
+                           prefix);
     }
     S->bnv = m.nverts;
     S->bnt = m.ntris;
@@ -169,7 +163,7 @@ static int load_background(size_field *S, const char *name, int e, char *err, si
     m.tri = NULL;
     mesh_flat_free(&m);
     if (tloc_build(&S->bg, S->bxy, S->btri, S->bnt))
-        return sfail(err, errlen, "%s.ele: too many triangles to index", prefix);
+        return meshio_fail(err, errlen, "%s.ele: too many triangles to index", prefix);
     return 0;
 }
 

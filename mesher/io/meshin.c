@@ -18,22 +18,13 @@
 #include "geom/tloc.h"
 
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
-MESH_PRINTF(3, 4) static int sfail(char *err, size_t errlen, const char *fmt, ...) {
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, errlen, fmt, ap);
-    va_end(ap);
-    return -1;
-}
-
 int meshio_mesh_prefix(const char *name, char *out, size_t n, char *err, size_t errlen) {
-    if (strlen(name) + 8 > n) return sfail(err, errlen, "%s: path too long", name);
+    if (strlen(name) + 8 > n) return meshio_fail(err, errlen, "%s: path too long", name);
     snprintf(out, n, "%s", name);
     static const char *const ext[] = {".node", ".ele", ".poly", ".area"};
     size_t l = strlen(out);
@@ -203,7 +194,7 @@ int meshio_read_mesh_pslg(const char *name, pslg *g, char *err, size_t errlen) {
     } else {
         snprintf(g->segpath, sizeof g->segpath, "%s.ele", prefix);
         if (boundary_segments(&m, g) != 0)
-            rc = sfail(err, errlen, "%s.ele: too many triangles to index", prefix);
+            rc = meshio_fail(err, errlen, "%s.ele: too many triangles to index", prefix);
     }
     mesh_flat_free(&m);
     if (rc) pslg_free(g);

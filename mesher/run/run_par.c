@@ -142,6 +142,15 @@ fail:
 
 /* ---- mesh and verdict ------------------------------------------------------------------- */
 
+/* Local.  The runtime's time buckets (rt_stats) both meshers report, in their rank lines'
+ * order: busy (local work, tasks and handlers), idle, handlers, communication. */
+static void set_runtime_times(run_stats *st, const rt_stats *rs) {
+    run_stats_set(st, "busy_s", 3, 1, rs->time[RT_TIME_BUSY] + rs->time[RT_TIME_HANDLER]);
+    run_stats_set(st, "idle_s", 3, 1, rs->time[RT_TIME_IDLE]);
+    run_stats_set(st, "handler_s", 3, 1, rs->time[RT_TIME_HANDLER]);
+    run_stats_set(st, "comm_s", 3, 1, rs->comm_s);
+}
+
 /* Collective.  PCDM: this rank's subdomains refined to b; figures into st.  Returns 0, or a
  * RUN_F* code on every rank (message agreed). */
 static int mesh_pcdm(run_job *j, const pcdm_decomp *d, const mesh_bounds *b, const par_config *c,
@@ -167,10 +176,7 @@ static int mesh_pcdm(run_job *j, const pcdm_decomp *d, const mesh_bounds *b, con
     run_stats_set(st, "split_sent", 0, 1, (double)part.split_sent);
     run_stats_set(st, "split_recv", 0, 1, (double)part.split_recv);
     run_stats_set(st, "split_ignored", 0, 1, (double)part.split_ignored);
-    run_stats_set(st, "busy_s", 3, 1, rs.time[RT_TIME_BUSY] + rs.time[RT_TIME_HANDLER]);
-    run_stats_set(st, "idle_s", 3, 1, rs.time[RT_TIME_IDLE]);
-    run_stats_set(st, "handler_s", 3, 1, rs.time[RT_TIME_HANDLER]);
-    run_stats_set(st, "comm_s", 3, 1, rs.comm_s);
+    set_runtime_times(st, &rs);
     run_stats_set(st, "cpu_s", 3, 1, par_cpu_seconds() - p->c0);
     run_stats_set(st, "mpi_msgs", 0, 1, (double)rs.mpi_sent);
     run_stats_set(st, "output_s", 3, 1, 0);
@@ -228,7 +234,6 @@ static int mesh_pbw(run_job *j, const pslg *in, const pcdm_decomp *d, const mesh
     p->topen = res.topen;
     rt_stats rs;
     rt_stats_local(&rs);
-    double busy = rs.time[RT_TIME_BUSY] + rs.time[RT_TIME_HANDLER];
     run_stats_set(st, "triangles", 0, 1, (double)res.ntris);
     run_stats_set(st, "inserted", 0, 1, (double)res.inserted);
     run_stats_set(st, "splits", 0, 1, (double)res.splits);
@@ -238,10 +243,7 @@ static int mesh_pbw(run_job *j, const pslg *in, const pcdm_decomp *d, const mesh
     run_stats_set(st, "undone_remote", 0, 1, (double)res.undone_remote);
     run_stats_set(st, "parked", 0, 1, (double)res.parked);
     run_stats_set(st, "rsr_sent", 0, 1, (double)(rs.rsr_sent - res.rsr_self));
-    run_stats_set(st, "busy_s", 3, 1, busy);
-    run_stats_set(st, "idle_s", 3, 1, rs.time[RT_TIME_IDLE]);
-    run_stats_set(st, "handler_s", 3, 1, rs.time[RT_TIME_HANDLER]);
-    run_stats_set(st, "comm_s", 3, 1, rs.comm_s);
+    set_runtime_times(st, &rs);
     run_stats_set(st, "undo_s", 4, 1, rs.time[RT_TIME_UNDO]);
     run_stats_set(st, "output_s", 3, 1, 0);
     run_stats_set(st, "peak_rss_mb", 1, 1, 0);
