@@ -62,10 +62,12 @@ typedef struct run_job {
     mesh_bounds bounds; /* the bounds stage's value (run_bounds) */
     /* out */
     run_verdict verdict;
-    int64_t unmet;   /* triangles outside the bounds, not forced (all ranks) */
-    int64_t refused; /* refused splits (all ranks) */
-    int64_t forced;  /* ./mesh: triangles below the angle bound forced by the input */
-    char msg[1200];  /* the library: the failure's or the Steiner limit's message */
+    int64_t unmet;          /* triangles outside the bounds, not forced (all ranks) */
+    int64_t refused;        /* refused splits (all ranks) */
+    int64_t forced;         /* ./mesh: triangles below the angle bound forced by the input */
+    char msg[1200];         /* the library: the failure's or the Steiner limit's message */
+    int check_ok;           /* o.check: 1 iff the validator passed the mesh (run_mesh_flat) */
+    validate_report report; /* o.check: the validator's report */
 } run_job;
 
 /* Local.  A job for method with the options o (copied); nothing else set. */
@@ -114,8 +116,9 @@ int run_mesh(run_job *j);
 
 /* Local.  The library's sequential call: the stages up to the verdict, then the mesh in flat
  * form into *f (the caller's: mesh_flat_free; region labels kept only with -A) and g's scale
- * in *scale_exp.  Returns 0 (met or the Steiner limit: j->verdict), 1 for bad input, 2 when
- * the bounds cannot be met (no mesh); j->msg says why. */
+ * in *scale_exp; with o.check, the check stage too (j->check_ok, j->report).  Returns 0 (met or
+ * the Steiner limit: j->verdict), 1 for bad input, 2 when the bounds cannot be met (no mesh);
+ * j->msg says why. */
 int run_mesh_flat(run_job *j, mesh_flat *f, int *scale_exp);
 
 /* ---- the parallel driver (run_par.c) ---------------------------------------------------- */
