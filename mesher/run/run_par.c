@@ -66,6 +66,18 @@ int run_agree(run_job *j, int code, const char *msg) {
     return rc;
 }
 
+/* Local.  The prefix of a message: "PROG: " (with_input: "PROG: INPUT: ") for the programs,
+ * "" for the library, which prints nothing and names no program. */
+static const char *msg_prefix(const run_job *j, int with_input, char *buf, size_t len) {
+    buf[0] = '\0';
+    if (j->lib) return buf;
+    if (with_input)
+        snprintf(buf, len, "%s: %s: ", j->o.prog, j->o.input);
+    else
+        snprintf(buf, len, "%s: ", j->o.prog);
+    return buf;
+}
+
 /* ---- load and decomposition ------------------------------------------------------------- */
 
 /* Local.  The decomposition of in for the ranks (auto, or --cuts).  Returns 0, or a RUN_F* code
@@ -117,13 +129,14 @@ int run_par_load(run_job *j, pslg *in, pcdm_decomp *d) {
     int quiet = j->lib || o->quiet || rt_rank() != 0; /* warnings: rank 0 only */
     int rc = run_load(j, in, quiet, !j->lib, err, sizeof err) == 0 ? 0 : RUN_FINPUT;
     if (rc == 0) rc = decompose(j, in, d, err, sizeof err);
-    snprintf(msg, sizeof msg, "%s%s%s", j->lib ? "" : o->prog, j->lib ? "" : ": ", err);
+    char pre[600];
+    snprintf(msg, sizeof msg, "%s%s", msg_prefix(j, 0, pre, sizeof pre), err);
     if ((rc = run_agree(j, rc, msg)) != 0) goto fail;
     if (!par_decomp_agrees(d)) {
         snprintf(msg, sizeof msg,
-                 "%s%sthe ranks computed different decompositions of %.200s (was the same input "
+                 "%sthe ranks computed different decompositions of %.200s (was the same input "
                  "and options passed on every rank?)",
-                 j->lib ? "" : o->prog, j->lib ? "" : ": ", o->input);
+                 pre, o->input);
         rc = run_agree(j, RUN_FINVAL, msg);
         goto fail;
     }
@@ -158,7 +171,8 @@ static int mesh_pcdm(run_job *j, const pcdm_decomp *d, const mesh_bounds *b, con
     char err[1024], msg[sizeof j->msg];
     pcdm_part part;
     int rc = pcdm_part_start(&part, d, b, c, err, sizeof err) == 0 ? 0 : RUN_FINPUT;
-    snprintf(msg, sizeof msg, "%s%s%s", j->lib ? "" : j->o.prog, j->lib ? "" : ": ", err);
+    char pre[600];
+    snprintf(msg, sizeof msg, "%s%s", msg_prefix(j, 0, pre, sizeof pre), err);
     if (run_agree(j, rc, msg)) {
         if (rc == 0) pcdm_part_free(&part);
         return RUN_FINPUT;
@@ -205,12 +219,11 @@ static int mesh_pcdm(run_job *j, const pcdm_decomp *d, const mesh_bounds *b, con
     MESH_MPI(MPI_Allreduce(enc, enc_all, 2, MPI_LONG_LONG, MPI_SUM, comm));
     if (enc_all[0] > 0) {
         snprintf(msg, sizeof msg,
-                 "%s%s%s%scannot meet the bounds: %lld subdomain interface pieces could not be "
+                 "%scannot meet the bounds: %lld subdomain interface pieces could not be "
                  "split on both sides (splits refused: interfaces meeting at a tiny angle, or "
                  "features below the precision of the coordinates); the parts would not form a "
                  "Delaunay mesh of the input, none written",
-                 j->lib ? "" : j->o.prog, j->lib ? "" : ": ", j->lib ? "" : j->o.input,
-                 j->lib ? "" : ": ", enc_all[0]);
+                 msg_prefix(j, 1, pre, sizeof pre), enc_all[0]);
         run_agree(j, rt_rank() == 0 ? RUN_FUNMET : 0, msg);
         pcdm_part_free(&part);
         return RUN_FUNMET;
@@ -303,8 +316,8 @@ int run_par_mesh(run_job *j, const pslg *in, const pcdm_decomp *d, run_part *p, 
     j->refused = all[1];
     j->verdict = run_verdict_of((int)un[2], j->unmet);
     char prefix[600], msg[sizeof j->msg];
-    snprintf(prefix, sizeof prefix, "%s: %s: ", j->o.prog, j->o.input);
-    run_verdict_message(j, j->lib ? "" : prefix, msg, sizeof msg);
+    msg_prefix(j, 1, prefix, sizeof prefix);
+    run_verdict_message(j, prefix, msg, sizeof msg);
     if (j->verdict != RUN_MET) {
         snprintf(j->msg, sizeof j->msg, "%s", msg);
         if (!j->lib && rt_rank() == 0) fprintf(stderr, "%s\n", msg);
@@ -315,10 +328,10 @@ int run_par_mesh(run_job *j, const pslg *in, const pcdm_decomp *d, run_part *p, 
         long bad = par_check_interface_delaunay(&p->local, p->topen, imsg, sizeof imsg), bad_all;
         MESH_MPI(MPI_Allreduce(&bad, &bad_all, 1, MPI_LONG, MPI_SUM, comm));
         snprintf(msg, sizeof msg,
-                 "%s%scannot meet the bounds: %ld subdomain interface edges are not Delaunay "
+                 "%scannot meet the bounds: %ld subdomain interface edges are not Delaunay "
                  "across the ranks (their splits were refused: features below the precision of "
                  "the coordinates); none written",
-                 j->lib ? "" : prefix, "", bad_all);
+                 prefix, bad_all);
         if (run_agree(j, bad_all > 0 ? RUN_FUNMET : 0, msg)) return RUN_FUNMET;
     }
     return 0;
