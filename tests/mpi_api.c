@@ -16,8 +16,8 @@
  * another rank skipped.  Runs with CK_NOFORK (MPI does not survive fork).
  */
 #include "api_check.h"
+#include "check_run.h"
 
-#include <check.h>
 #include <mpi.h>
 #include <stdlib.h>
 
@@ -207,20 +207,10 @@ END_TEST
 int main(int argc, char **argv) {
     int provided;
     MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
-    Suite *s = suite_create("mpi_api");
-    TCase *tc = tcase_create("mpi_api");
-    tcase_add_test(tc, test_world_root);
-    tcase_add_test(tc, test_split_parts);
-    tcase_add_test(tc, test_pbw);
-    tcase_add_test(tc, test_convex_hull);
-    tcase_add_test(tc, test_errors_agree);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_set_fork_status(sr, CK_NOFORK);
-    srunner_run_all(sr, CK_NORMAL);
-    int nf = srunner_ntests_failed(sr), any = 0;
-    srunner_free(sr);
-    MPI_Allreduce(&nf, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    int rc = ck_run_mpi(ck_suite("mpi_api", 0,
+                                 CK_TESTS(test_world_root, test_split_parts, test_pbw,
+                                          test_convex_hull, test_errors_agree)),
+                        MPI_COMM_WORLD);
     MPI_Finalize();
-    return any ? EXIT_FAILURE : EXIT_SUCCESS;
+    return rc;
 }

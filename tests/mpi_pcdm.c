@@ -12,6 +12,7 @@
  * another rank skipped.  Runs with CK_NOFORK (MPI does not survive fork); run from the
  * repository root (tests/run.sh does).
  */
+#include "check_run.h"
 #include "geom/geom.h"
 #include "par/par.h"
 #include "par/pout.h"
@@ -19,7 +20,6 @@
 #include "rt.h"
 #include "run/run.h"
 
-#include <check.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -169,19 +169,9 @@ int main(int argc, char **argv) {
     if (rt_init(&argc, &argv, NULL) != RT_OK) return 1;
     if (pcdm_register() != 0) return 1;
     geom_init();
-    Suite *s = suite_create("mpi_pcdm");
-    TCase *tc = tcase_create("core");
-    tcase_add_test(tc, test_fail_any);
-    tcase_add_test(tc, test_number);
-    tcase_add_test(tc, test_pipeline_lake);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_set_fork_status(sr, CK_NOFORK);
-    srunner_run_all(sr, rt_rank() == 0 ? CK_NORMAL : CK_SILENT);
-    int nf = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    int any = 0;
-    MPI_Allreduce(&nf, &any, 1, MPI_INT, MPI_MAX, rt_comm());
+    int rc = ck_run_mpi(
+        ck_suite("mpi_pcdm", 0, CK_TESTS(test_fail_any, test_number, test_pipeline_lake)),
+        rt_app_comm());
     rt_finalize();
-    return any ? 1 : 0;
+    return rc;
 }

@@ -16,6 +16,7 @@
  * CK_NOFORK (MPI does not survive fork); run from the repository root.
  */
 #include "base/base.h"
+#include "check_run.h"
 #include "geom/geom.h"
 #include "io/xwrite.h"
 #include "par/par.h"
@@ -24,7 +25,6 @@
 #include "rt.h"
 #include "seq/mesh.h"
 
-#include <check.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -361,19 +361,8 @@ END_TEST
 
 int main(int argc, char **argv) {
     if (rt_init(&argc, &argv, NULL) != RT_OK) return 1;
-    Suite *s = suite_create("mpi_pextra");
-    TCase *tc = tcase_create("core");
-    tcase_set_timeout(tc, 120);
-    tcase_add_test(tc, test_slabs);
-    tcase_add_test(tc, test_scattered);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_set_fork_status(sr, CK_NOFORK);
-    srunner_run_all(sr, rt_rank() == 0 ? CK_NORMAL : CK_SILENT);
-    int nf = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    int any = 0;
-    MPI_Allreduce(&nf, &any, 1, MPI_INT, MPI_MAX, rt_app_comm());
+    int rc = ck_run_mpi(ck_suite("mpi_pextra", 120, CK_TESTS(test_slabs, test_scattered)),
+                        rt_app_comm());
     rt_finalize();
-    return any ? 1 : 0;
+    return rc;
 }

@@ -19,13 +19,13 @@
  * before asserting.  CK_NOFORK (MPI does not survive fork); run from the repository root.
  */
 #include "base/base.h"
+#include "check_run.h"
 #include "geom/geom.h"
 #include "par/par.h"
 #include "par/pout.h"
 #include "rt.h"
 #include "seq/mesh.h"
 
-#include <check.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -327,19 +327,10 @@ END_TEST
 
 int main(int argc, char **argv) {
     if (rt_init(&argc, &argv, NULL) != RT_OK) return 1;
-    Suite *s = suite_create("mpi_pout");
-    TCase *tc = tcase_create("core");
-    tcase_add_test(tc, test_roundtrip_slabs);
-    tcase_add_test(tc, test_roundtrip_scattered);
-    tcase_add_test(tc, test_interface_delaunay);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_set_fork_status(sr, CK_NOFORK);
-    srunner_run_all(sr, rt_rank() == 0 ? CK_NORMAL : CK_SILENT);
-    int nf = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    int any = 0;
-    MPI_Allreduce(&nf, &any, 1, MPI_INT, MPI_MAX, rt_app_comm());
+    int rc = ck_run_mpi(
+        ck_suite("mpi_pout", 0,
+                 CK_TESTS(test_roundtrip_slabs, test_roundtrip_scattered, test_interface_delaunay)),
+        rt_app_comm());
     rt_finalize();
-    return any ? 1 : 0;
+    return rc;
 }

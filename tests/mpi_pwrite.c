@@ -10,10 +10,10 @@
  * Results are reduced over ranks before asserting, so no rank waits in a collective another
  * rank skipped.  Plain MPI (no runtime); CK_NOFORK, since MPI does not survive fork.
  */
+#include "check_run.h"
 #include "io/meshio.h"
 #include "io/pwrite.h"
 
-#include <check.h>
 #include <mpi.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -355,26 +355,16 @@ int main(int argc, char **argv) {
         MPI_Finalize();
         return 1;
     }
-    Suite *s = suite_create("mpi_pwrite");
-    TCase *tc = tcase_create("core");
-    tcase_add_test(tc, test_triangle_files);
-    tcase_add_test(tc, test_triangle_chunks);
-    tcase_add_test(tc, test_missing_folder);
-    tcase_add_test(tc, test_pvtu);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_set_fork_status(sr, CK_NOFORK);
-    srunner_run_all(sr, rank == 0 ? CK_NORMAL : CK_SILENT);
-    int nf = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    int any = 0;
-    MPI_Allreduce(&nf, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    int rc = ck_run_mpi(ck_suite("mpi_pwrite", 0,
+                                 CK_TESTS(test_triangle_files, test_triangle_chunks,
+                                          test_missing_folder, test_pvtu)),
+                        MPI_COMM_WORLD);
     MPI_Barrier(MPI_COMM_WORLD);
-    if (rank == 0 && !any) {
+    if (rank == 0 && rc == EXIT_SUCCESS) {
         char cmd[300];
         snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
         if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", dir);
     }
     MPI_Finalize();
-    return any ? 1 : 0;
+    return rc;
 }

@@ -15,9 +15,9 @@
  * detector's records are not communication), while one that does adds to it on every rank
  * that received one.  Errors are reduced before asserting.
  */
+#include "check_run.h"
 #include "rt.h"
 
-#include <check.h>
 #include <math.h>
 #include <string.h>
 
@@ -151,19 +151,9 @@ int main(int argc, char **argv) {
     h_ping = rt_handler_register("net_ping", on_ping, NULL, RT_NONTHREADED, sizeof(ping));
     if (h_ping < 0) return 2;
     rt_start();
-    Suite *s = suite_create("rt_net");
-    TCase *tc = tcase_create("net");
-    tcase_set_timeout(tc, 60);
-    tcase_add_test(tc, test_parse);
-    tcase_add_test(tc, test_not_early);
-    tcase_add_test(tc, test_off);
-    tcase_add_test(tc, test_comm_s);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_set_fork_status(sr, CK_NOFORK);
-    srunner_run_all(sr, me == 0 ? CK_NORMAL : CK_SILENT);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
+    int rc = ck_run_mpi(
+        ck_suite("rt_net", 60, CK_TESTS(test_parse, test_not_early, test_off, test_comm_s)),
+        rt_app_comm());
     rt_finalize();
-    return failed ? 1 : 0;
+    return rc;
 }

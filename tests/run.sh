@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Runs every test: Check unit programs (tests/unit_*.c), MPI programs (tests/mpi_*.c) at the
 # rank counts named on their "// ranks:" line, and shell tests (tests/t_*.sh).
-# Each MPI run is wrapped in timeout and oversubscribed.  Prints "N passed, N failed" last and
-# exits non-zero on any failure.
+# The shell tests share their set-up, pass/fail counting and MPI runs (every rank's exit status)
+# through tests/lib.sh.  Each MPI run is wrapped in timeout and oversubscribed.  Prints
+# "N passed, N failed" last and exits non-zero on any failure.
 set -u
 cd "$(dirname "$0")/.."
 B=${BUILD:-build}
@@ -24,12 +25,15 @@ inputs_before=$(ls data tests/inputs 2>/dev/null)
 log=$B/test-logs
 mkdir -p "$log"
 run() { # name, command...
-    local name=$1; shift
+    local name=$1
+    shift
     local t0=$SECONDS
     if "$@" >"$log/$name.log" 2>&1; then
-        pass=$((pass + 1)); printf 'PASS %-40s %3ds\n' "$name" $((SECONDS - t0))
+        pass=$((pass + 1))
+        printf 'PASS %-40s %3ds\n' "$name" $((SECONDS - t0))
     else
-        fail=$((fail + 1)); failed+=("$name")
+        fail=$((fail + 1))
+        failed+=("$name")
         printf 'FAIL %-40s %3ds (log: %s)\n' "$name" $((SECONDS - t0)) "$log/$name.log"
         tail -n 30 "$log/$name.log" | sed 's/^/    /'
     fi
@@ -53,7 +57,8 @@ for sh in tests/t_*.sh; do
 done
 inputs_after=$(ls data tests/inputs 2>/dev/null)
 if [ "$inputs_before" != "$inputs_after" ]; then
-    fail=$((fail + 1)); failed+=("inputs-untouched")
+    fail=$((fail + 1))
+    failed+=("inputs-untouched")
     echo "FAIL inputs-untouched: tests wrote into data/ or tests/inputs/:"
     diff <(echo "$inputs_before") <(echo "$inputs_after") | sed -n 's/^> /    /p'
 fi

@@ -27,11 +27,9 @@
 # STRESS_JOBS (runs at once, default 2), STRESS_CORPUS (corpus units sampled, default 40),
 # STRESS_NPS (default "2 3 4 8"), STRESS_OUT (default build/stress), RUN_TIMEOUT (seconds per
 # run, default 120), BIN (programs, default .), MPIRUN (default "mpirun --oversubscribe").
-set -u
-cd "$(dirname "$0")/.."
-export BIN=${BIN:-.}
-export MPIRUN=${MPIRUN:-mpirun --oversubscribe}
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+. "$(dirname "$0")/lib.sh"
+export T
+export -f mpi_run # for the runs xargs starts
 STRESS_TIME=${STRESS_TIME:-300}
 STRESS_RUNS=${STRESS_RUNS:-400}
 STRESS_SEED=${STRESS_SEED:-1}
@@ -42,7 +40,10 @@ export OUT=${STRESS_OUT:-build/stress}
 export RUN_TIMEOUT=${RUN_TIMEOUT:-120}
 LIMIT=20000
 for p in pbw pcdm mesh; do
-    [ -x "$BIN/$p" ] || { echo "stress: $BIN/$p is missing (make first)"; exit 2; }
+    [ -x "$BIN/$p" ] || {
+        echo "stress: $BIN/$p is missing (make first)"
+        exit 2
+    }
 done
 rm -rf "$OUT"
 mkdir -p "$OUT/in"
@@ -123,34 +124,35 @@ one() { # a line of jobs.txt
     line=$(grep -m1 "^$c|" "$OUT/cases.txt")
     IFS='|' read -r _ path opts kind <<<"$line"
     local sched="--perturb $seed $extra" rcf out rc st why="" t0 t1
-    rcf=$(mktemp "${TMPDIR:-/tmp}/stress_rc.XXXXXX")
+    rcf=$(mktemp "$T/stress_rc.XXXXXX")
     t0=$(date +%s.%N)
     local try
     for try in 1 2 3; do
-        : >"$rcf"
-        out=$(timeout "$RUN_TIMEOUT" $MPIRUN -np "$np" sh -c \
-            '"$0" "$@"; echo "$OMPI_COMM_WORLD_RANK $?" >>"'"$rcf"'"' "$BIN/$prog" -NEP $opts \
-            $sched --check --stats "$path" 2>&1 </dev/null)
+        out=$(TIMEOUT=$RUN_TIMEOUT RCS_FILE=$rcf mpi_run "$np" "$BIN/$prog" -NEP $opts $sched \
+            --check --stats "$path" 2>&1 </dev/null)
         rc=$?
         # the launcher failed before any rank ran (Open MPI's session directory, shared by
         # every mpirun on the machine, removed under it by another one): run it again
-        [ ! -s "$rcf" ] && grep -q 'orte_init failed' <<<"$out" || break
+        [ -z "$(tr -d 'noe \n' <"$rcf")" ] && grep -q 'orte_init failed' <<<"$out" || break
         echo "$job launch-retry" >>"$OUT/retries.txt"
         sleep 1
     done
     t1=$(date +%s.%N)
-    st=$(awk '{print $2}' "$rcf" | sort -u | tr '\n' ' ')
+    st=$(tr ' ' '\n' <"$rcf" | sort -u | tr '\n' ' ')
     if [ "$rc" = 124 ]; then
         why="timeout (${RUN_TIMEOUT} s)"
-    elif [ "$(wc -l <"$rcf")" != "$np" ]; then
+    elif grep -qw none "$rcf"; then
         why="not every rank ended"
     else
         case "$kind/$st" in
-        */"0 ") grep -q '^meshcheck: OK' <<<"$out" || why="exit 0 without --check OK"
-            [ "$kind" != refused ] || why="./mesh refuses the input, exit 0" ;;
+        */"0 ")
+            grep -q '^meshcheck: OK' <<<"$out" || why="exit 0 without --check OK"
+            [ "$kind" != refused ] || why="./mesh refuses the input, exit 0"
+            ;;
         refused/"1 ") ;;
         meshed/"1 " | unmet/"1 ")
-            grep -Eq 'cannot (meet the bounds|decompose)' <<<"$out" || why="exit 1 ($kind by ./mesh)" ;;
+            grep -Eq 'cannot (meet the bounds|decompose)' <<<"$out" || why="exit 1 ($kind by ./mesh)"
+            ;;
         meshed/"3 " | unmet/"3 ") ;;
         *) why="exit [$st] ($kind by ./mesh)" ;;
         esac

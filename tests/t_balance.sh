@@ -16,25 +16,16 @@
 #  5. --size reaches every subdomain's mesh (the deterministic mode ignored it before).
 # Env: BIN (directory of the programs, default .), MPIRUN (default "mpirun --oversubscribe").
 # One line per case; exit status 1 if any case failed.
-set -u
-cd "$(dirname "$0")/.."
-BIN=${BIN:-.}
-MPIRUN=${MPIRUN:-mpirun --oversubscribe}
-if [ "$(id -u)" -eq 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
-export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0}
-pass=0 fail=0
-ok() { pass=$((pass + 1)); printf 'ok   %s\n' "$*"; }
-bad() { fail=$((fail + 1)); printf 'FAIL %s\n' "$*"; }
-field() { sed -n "s/.* $1=\([^ ]*\).*/\1/p" | tail -1; } # value of key in a stats line
+. "$(dirname "$0")/lib.sh"
 DOM=data/lake.poly
-B="-q 30 -a 1e-4" # about 35K triangles, several rounds
+BOUNDS="-q 30 -a 1e-4" # about 35K triangles, several rounds
 
 # run NP FLAGS...: sets out, st, h (hash), mig (migrations), fwd (forwarded); 1 if the run
 # failed or its check did not pass
 run() {
     local np=$1
     shift
-    out=$(timeout 120 $MPIRUN -np "$np" "$BIN/pcdm" -NEP --stats --check "$@" 2>&1)
+    out=$(mpi_run "$np" "$BIN/pcdm" -NEP --stats --check "$@" 2>&1)
     st=$?
     local s
     s=$(printf '%s\n' "$out" | grep '^stats:')
@@ -49,21 +40,21 @@ run() {
 }
 
 # 1. usage
-out=$(timeout 60 $MPIRUN -np 1 "$BIN/pcdm" --balance sometimes $DOM 2>&1)
+out=$(TIMEOUT=60 mpi_run 1 "$BIN/pcdm" --balance sometimes $DOM 2>&1)
 st=$?
 if [ $st -eq 2 ] && printf '%s\n' "$out" | grep -q "static|dynamic"; then
     ok "--balance sometimes: exit 2, names static|dynamic"
 else
-    bad "--balance sometimes: exit $st: $out"
+    fail "--balance sometimes: exit $st: $out"
 fi
 # shellcheck disable=SC2086
-if run 2 --balance dynamic $B $DOM; then
+if run 2 --balance dynamic $BOUNDS $DOM; then
     k=$(printf '%s\n' "$out" | grep '^stats:' | field subdomains)
     if [ "$k" = 8 ]; then ok "--balance dynamic at 2 ranks: 8 subdomains by default"; else
-        bad "--balance dynamic at 2 ranks: $k subdomains (want 8)"
+        fail "--balance dynamic at 2 ranks: $k subdomains (want 8)"
     fi
 else
-    bad "--balance dynamic at 2 ranks: exit $st"
+    fail "--balance dynamic at 2 ranks: exit $st"
 fi
 
 # 2. imbalanced: migrations happen and change nothing
@@ -71,45 +62,45 @@ moved=0
 for r in 2:0 2:7 4:3 8:0 8:11; do
     np=${r%%:*} seed=${r##*:}
     # shellcheck disable=SC2086
-    if ! run "$np" --deterministic --subdomains 16 --imbalance 6 $B $DOM; then
-        bad "static np=$np --imbalance 6: exit $st, no passing check or hash"
+    if ! run "$np" --deterministic --subdomains 16 --imbalance 6 $BOUNDS $DOM; then
+        fail "static np=$np --imbalance 6: exit $st, no passing check or hash"
         continue
     fi
     ref=$h
     # shellcheck disable=SC2086
-    if ! run "$np" --balance dynamic --subdomains 16 --imbalance 6 --perturb "$seed" $B $DOM; then
-        bad "dynamic np=$np --imbalance 6 --perturb $seed: exit $st, no passing check or hash"
+    if ! run "$np" --balance dynamic --subdomains 16 --imbalance 6 --perturb "$seed" $BOUNDS $DOM; then
+        fail "dynamic np=$np --imbalance 6 --perturb $seed: exit $st, no passing check or hash"
         continue
     fi
     moved=$((moved + ${mig:-0}))
     if [ "$h" = "$ref" ]; then
         ok "np=$np --imbalance 6 --perturb $seed: $mig migrations, hash $h as static, check OK"
     else
-        bad "np=$np --imbalance 6 --perturb $seed: hash $h, static $ref ($mig migrations)"
+        fail "np=$np --imbalance 6 --perturb $seed: hash $h, static $ref ($mig migrations)"
     fi
 done
 if [ "$moved" -gt 0 ]; then ok "$moved subdomains moved in the imbalanced runs"; else
-    bad "no subdomain moved in the imbalanced runs: balancing not exercised"
+    fail "no subdomain moved in the imbalanced runs: balancing not exercised"
 fi
 
 # 3. balanced: one mesh for any rank count, with or without balancing
 # shellcheck disable=SC2086
-if run 1 --deterministic --subdomains 16 $B $DOM; then
+if run 1 --deterministic --subdomains 16 $BOUNDS $DOM; then
     ref=$h
     hs=""
     for r in 1:0 3:5 8:9; do
         np=${r%%:*} seed=${r##*:}
         # shellcheck disable=SC2086
-        if run "$np" --balance dynamic --subdomains 16 --perturb "$seed" $B $DOM; then
+        if run "$np" --balance dynamic --subdomains 16 --perturb "$seed" $BOUNDS $DOM; then
             hs="$hs $np:$h"
-            [ "$h" = "$ref" ] || bad "balanced dynamic np=$np perturb=$seed: hash $h, want $ref"
+            [ "$h" = "$ref" ] || fail "balanced dynamic np=$np perturb=$seed: hash $h, want $ref"
         else
-            bad "balanced dynamic np=$np perturb=$seed: exit $st, no passing check or hash"
+            fail "balanced dynamic np=$np perturb=$seed: exit $st, no passing check or hash"
         fi
     done
     ok "balanced --subdomains 16: dynamic at ranks:hash$hs (reference $ref at 1 rank static)"
 else
-    bad "static deterministic at 1 rank: exit $st"
+    fail "static deterministic at 1 rank: exit $st"
 fi
 
 # 4. lists follow their subdomain (forwarded by its home rank) and none is lost
@@ -117,31 +108,29 @@ fwdsum=0
 for r in 2:0 4:13 8:0; do
     np=${r%%:*} seed=${r##*:}
     # shellcheck disable=SC2086
-    run "$np" --deterministic --subdomains 16 --imbalance 6 $B $DOM || {
-        bad "static np=$np: exit $st"
+    run "$np" --deterministic --subdomains 16 --imbalance 6 $BOUNDS $DOM || {
+        fail "static np=$np: exit $st"
         continue
     }
     ref=$h
     # shellcheck disable=SC2086
     if ! PCDM_TEST_HOME_ROUTE=1 run "$np" --balance dynamic --subdomains 16 --imbalance 6 \
-        --perturb "$seed" $B $DOM; then
-        bad "home-routed np=$np perturb=$seed: exit $st, no passing check or hash"
+        --perturb "$seed" $BOUNDS $DOM; then
+        fail "home-routed np=$np perturb=$seed: exit $st, no passing check or hash"
         continue
     fi
     fwdsum=$((fwdsum + ${fwd:-0}))
     if [ "$h" = "$ref" ]; then
         ok "home-routed np=$np perturb=$seed: $mig migrations, $fwd lists forwarded, same hash"
     else
-        bad "home-routed np=$np perturb=$seed: hash $h, static $ref"
+        fail "home-routed np=$np perturb=$seed: hash $h, static $ref"
     fi
 done
 if [ "$fwdsum" -gt 0 ]; then ok "$fwdsum round lists reached a moved subdomain by forwarding"; else
-    bad "no list was forwarded: the forwarding path is not exercised"
+    fail "no list was forwarded: the forwarding path is not exercised"
 fi
 # 5. a size rule (--size) reaches every subdomain's mesh, also one that moved: more triangles than
 #    without it, the same mesh with and without balancing
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
 printf '4 2 1 0\n1 0 0 0.02\n2 1 0 0.5\n3 1 1 0.5\n4 0 1 0.5\n' >"$T/bg.node"
 printf '2 3 0\n1 1 2 3\n2 1 3 4\n' >"$T/bg.ele"
 if run 2 --deterministic --subdomains 8 -q 20 data/square.poly; then
@@ -152,13 +141,12 @@ if run 2 --deterministic --subdomains 8 -q 20 data/square.poly; then
             [ "$h" = "$ref" ] && [ "$n1" -gt "$n0" ]; then
             ok "--size: $n1 triangles (without: $n0), the same mesh with --balance dynamic"
         else
-            bad "--size: $n1 triangles (without: $n0), hash $h with balancing, $ref without"
+            fail "--size: $n1 triangles (without: $n0), hash $h with balancing, $ref without"
         fi
     else
-        bad "--deterministic --size: exit $st"
+        fail "--deterministic --size: exit $st"
     fi
 else
-    bad "--deterministic square: exit $st"
+    fail "--deterministic square: exit $st"
 fi
-echo "t_balance: $pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+finish

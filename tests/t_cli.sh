@@ -7,46 +7,24 @@
 # hangs (timeout); the shared options' help lines are the same in every mesher.  Triangle's
 # syntax end to end (issue 15): switch strings, NAME.1 output next to the input, -NEP, -N, -Q,
 # -V, --version, letters not supported (triangle_cases below).
-set -u
-cd "$(dirname "$0")/.."
-BIN=${BIN:-.}
-MPIRUN=${MPIRUN:-mpirun --oversubscribe}
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-T=$(mktemp -d "${TMPDIR:-/tmp}/t_cli.XXXXXX")
-trap 'rm -rf "$T"' EXIT
-nfail=0 nok=0
-fail() { echo "FAIL: $*"; nfail=$((nfail + 1)); }
-ok() { nok=$((nok + 1)); }
+. "$(dirname "$0")/lib.sh"
 
-# run PROG NP ARGS...: runs the program (NP = 0: directly; else under mpirun with NP ranks, each
-# rank writing its own exit status to $T/rc.RANK and leaving 0 to mpirun, so mpirun lets every
-# rank finish instead of killing the others when one fails); sets rc (the status every rank
-# agreed on), out (stdout) and err (stderr).
+# run PROG NP ARGS...: runs the program (NP = 0: directly; else at NP ranks by mpi_run, which
+# records every rank's exit status); sets rc (the status every rank agreed on; a hang, ranks
+# that disagree or a rank without a status fail here), out (stdout) and err (stderr).
 run() {
     local prog=$1 np=$2
     shift 2
-    rm -f "$T"/rc.*
     if [ "$np" = 0 ]; then
         timeout 60 "$BIN/$prog" "$@" >"$T/out" 2>"$T/err"
         rc=$?
     else
-        timeout 60 $MPIRUN -np "$np" sh -c \
-            '"$0" "$@"; echo $? >"'"$T"'/rc.${OMPI_COMM_WORLD_RANK:-${PMIX_RANK:-x}}"' \
-            "$BIN/$prog" "$@" >"$T/out" 2>"$T/err"
+        TIMEOUT=60 mpi_run "$np" "$BIN/$prog" "$@" >"$T/out" 2>"$T/err"
         rc=$?
-        [ "$rc" -eq 0 ] || fail "$prog -np $np $*: mpirun exit $rc $([ "$rc" -eq 124 ] && echo '(hang: killed by timeout)')"
-        local r n=0
-        for ((r = 0; r < np; r++)); do
-            if [ ! -e "$T/rc.$r" ]; then
-                fail "$prog -np $np $*: rank $r left no exit status"
-            else
-                n=$((n + 1))
-                rc=$(cat "$T/rc.$r") # every rank must agree; checked against rank 0's below
-                [ "$rc" = "$(cat "$T/rc.0" 2>/dev/null)" ] ||
-                    fail "$prog -np $np $*: rank $r exits $rc, rank 0 $(cat "$T/rc.0")"
-            fi
-        done
-        [ "$n" -eq "$np" ] || rc=255
+        case $rc in
+        124) fail "$prog -np $np $*: hang (killed by timeout)" ;;
+        255) fail "$prog -np $np $*: the ranks exit [$rcs], not all alike (or mpirun failed)" ;;
+        esac
     fi
     out=$(cat "$T/out")
     err=$(cat "$T/err")
@@ -66,7 +44,7 @@ expect_usage() {
     elif ! grep "^$prog: " <<<"$err" | grep -q -- "$pat.*(try --help)$"; then
         fail "$prog (np $np) $*: message lacks '$pat ... (try --help)': $err"
     else
-        ok
+        ok "$prog (np $np) $*: exit 2, '$pat'"
     fi
 }
 
@@ -80,7 +58,7 @@ expect_missing_file() {
     elif [ "$(grep -c "^$prog: .*$T/nosuch" <<<"$err")" -ne 1 ]; then
         fail "$prog (np $np) $*: no single '$prog:' line naming $T/nosuch: $err"
     else
-        ok
+        ok "$prog (np $np) $*: exit 1, the file named"
     fi
 }
 
@@ -97,7 +75,7 @@ expect_help() {
     elif [ "$np" -gt 1 ] && [ "$(grep -c '^usage:' <<<"$out")" -ne 1 ]; then
         fail "$prog (np $np) --help: printed by more than one rank"
     else
-        ok
+        ok "$prog (np $np) --help"
     fi
     run "$prog" "$np" -h
     [ "$rc" -eq 0 ] && grep -q "^usage: " <<<"$out" || fail "$prog (np $np) -h: exit $rc"
@@ -153,11 +131,11 @@ mesher_cases() {
     else
         [ -s "$T/v.pvtu" ] && [ -s "$T/v_0.vtu" ] && vok=1
     fi
-    [ "$rc" -eq 0 ] && [ "$vok" = 1 ] && ok || fail "$prog (np $np) -q30 -a0.05 --vtk=F: exit $rc: $err"
+    [ "$rc" -eq 0 ] && [ "$vok" = 1 ] && ok "$prog (np $np) -q30 -a0.05 --vtk=F" || fail "$prog (np $np) -q30 -a0.05 --vtk=F: exit $rc: $err"
     rm -f "$T"/v.vtk "$T"/v.pvtu "$T"/v_*.vtu
     # -q above what refinement can promise warns (once) and runs
     run "$prog" "$np" -NEP -q 35 -a 0.05 data/square.poly
-    [ "$rc" -eq 0 ] && [ "$(grep -c "^$prog: warning: -q 35 above about 34" <<<"$err")" -eq 1 ] && ok ||
+    [ "$rc" -eq 0 ] && [ "$(grep -c "^$prog: warning: -q 35 above about 34" <<<"$err")" -eq 1 ] && ok "$prog (np $np) -q 35: one warning" ||
         fail "$prog (np $np) -q 35: exit $rc, expected one warning: $err"
 }
 
@@ -229,15 +207,24 @@ cmp -s "$T/help.mesh" "$T/help.pbw" || fail "shared help differs: mesh vs pbw: $
 # we do not implement is refused by name.
 same_mesh() { # PROG WHAT PREFIX1 PREFIX2 INPUT Q A
     local prog=$1 what=$2 p1=$3 p2=$4 in=$5 q=$6 a=$7 e
-    for e in node ele poly; do [ -s "$p1.$e" ] && [ -s "$p2.$e" ] || { fail "$what: no $e files"; return; }; done
+    for e in node ele poly; do [ -s "$p1.$e" ] && [ -s "$p2.$e" ] || {
+        fail "$what: no $e files"
+        return
+    }; done
     if [ "$prog" = mesh ]; then
-        for e in node ele poly; do cmp -s "$p1.$e" "$p2.$e" || { fail "$what: .$e files differ"; return; }; done
+        for e in node ele poly; do cmp -s "$p1.$e" "$p2.$e" || {
+            fail "$what: .$e files differ"
+            return
+        }; done
     else
         for p in "$p1" "$p2"; do
-            "$BIN/meshcheck" -q "$q" -a "$a" "$in" "$p" >/dev/null 2>&1 || { fail "$what: $p fails ./meshcheck"; return; }
+            "$BIN/meshcheck" -q "$q" -a "$a" "$in" "$p" >/dev/null 2>&1 || {
+                fail "$what: $p fails ./meshcheck"
+                return
+            }
         done
     fi
-    ok
+    ok "$what"
 }
 triangle_cases() {
     local prog=$1 np=$2 d="$T/tri.$1"
@@ -258,16 +245,16 @@ triangle_cases() {
     run "$prog" "$np" -pqNEP "$d/lake.poly"
     [ "$rc" -eq 0 ] && ! ls "$d"/lake.1.* >/dev/null 2>&1 || fail "$prog (np $np) -pqNEP: exit $rc, or files: $(ls "$d")"
     run "$prog" "$np" -pqN "$d/lake.poly"
-    [ "$rc" -eq 0 ] && [ ! -e "$d/lake.1.node" ] && [ -s "$d/lake.1.ele" ] && [ -s "$d/lake.1.poly" ] && ok ||
+    [ "$rc" -eq 0 ] && [ ! -e "$d/lake.1.node" ] && [ -s "$d/lake.1.ele" ] && [ -s "$d/lake.1.poly" ] && ok "$prog (np $np) -pqN" ||
         fail "$prog (np $np) -pqN: exit $rc, files: $(ls "$d")"
     # -Q: nothing but errors; -V: a summary on stderr
     run "$prog" "$np" -NEPQ -q 35 -a 0.05 --check data/square.poly
-    [ "$rc" -eq 0 ] && [ -z "$out$err" ] && ok || fail "$prog (np $np) -Q: exit $rc, printed '$out$err'"
+    [ "$rc" -eq 0 ] && [ -z "$out$err" ] && ok "$prog (np $np) -Q: silent" || fail "$prog (np $np) -Q: exit $rc, printed '$out$err'"
     run "$prog" "$np" -NEPQ tests/bad/duplicate_points.poly # the reader's "merged" warning too
-    [ "$rc" -eq 0 ] && [ -z "$out$err" ] && ok || fail "$prog (np $np) -Q duplicates: exit $rc, '$out$err'"
+    [ "$rc" -eq 0 ] && [ -z "$out$err" ] && ok "$prog (np $np) -Q duplicates: silent" || fail "$prog (np $np) -Q duplicates: exit $rc, '$out$err'"
     run "$prog" "$np" -NEPV data/square.poly
     [ "$rc" -eq 0 ] && grep -q "^$prog: data/square.poly: 4 vertices, 4 segments" <<<"$err" &&
-        grep -q "^$prog: .*[0-9]* triangles" <<<"$err" && ok || fail "$prog (np $np) -V: exit $rc, '$err'"
+        grep -q "^$prog: .*[0-9]* triangles" <<<"$err" && ok "$prog (np $np) -V" || fail "$prog (np $np) -V: exit $rc, '$err'"
     expect_usage "$prog" "$np" "option -D in '-pqcD' is not supported (in Triangle: conforming Delaunay)" \
         -pqcD data/square.poly
 }
@@ -278,9 +265,8 @@ for prog in mesh meshcheck pcdm pbw; do
     np=0
     [ "$prog" = pcdm ] || [ "$prog" = pbw ] && np=2
     run "$prog" "$np" --version
-    [ "$rc" -eq 0 ] && [[ "$out" =~ ^$prog\ \(pcdm\)\ [0-9]+\.[0-9]+\.[0-9]+$ ]] && ok ||
+    [ "$rc" -eq 0 ] && [[ "$out" =~ ^$prog\ \(pcdm\)\ [0-9]+\.[0-9]+\.[0-9]+$ ]] && ok "$prog (np $np) --version" ||
         fail "$prog (np $np) --version: exit $rc, '$out'"
 done
 
-echo "t_cli: $nok passed, $nfail failed"
-[ "$nfail" -eq 0 ]
+finish

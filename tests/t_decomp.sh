@@ -10,17 +10,7 @@
 # fail on every rank.
 # Env: BIN (programs, default .), MPIRUN (default "mpirun --oversubscribe"), SANITIZE=1 (fewer
 # rank counts).  One line per case; exit status 1 if any case failed.
-set -u
-cd "$(dirname "$0")/.."
-BIN=${BIN:-.}
-MPIRUN=${MPIRUN:-mpirun --oversubscribe}
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0}
-tmp=$(mktemp -d "${TMPDIR:-/tmp}/t_decomp.XXXXXX")
-trap 'rm -rf "$tmp"' EXIT
-pass=0 fail=0
-ok() { pass=$((pass + 1)); printf 'ok   %s\n' "$*"; }
-bad() { fail=$((fail + 1)); printf 'FAIL %s\n' "$*"; }
+. "$(dirname "$0")/lib.sh"
 
 # area bounds: about 1-3K triangles each
 declare -A AREA=([letter_a.poly]=0.005 [inclusion.poly]=0.001 [map.poly]=0.003
@@ -35,15 +25,14 @@ run() { # prog np input extra-args...
     shift 3
     local a=${AREA[$(basename "$f")]}
     local name="$prog np=$np $(basename "$f") -q 30 -a $a $*"
-    timeout 120 $MPIRUN -np "$np" "$BIN/$prog" -NEP -q 30 -a "$a" --check --stats "$@" "$f" \
-        >"$tmp/out" 2>"$tmp/err"
+    mpi_run "$np" "$BIN/$prog" -NEP -q 30 -a "$a" --check --stats "$@" "$f" >"$T/out" 2>"$T/err"
     local rc=$?
     if [ $rc -ne 0 ]; then
-        bad "$name: exit $rc: $(grep -v '^-\|^ \|^$\|mpirun\|Process\|Exit code\|Primary' "$tmp/err" "$tmp/out" | head -2 | tr '\n' ' ')"
-    elif ! grep -q '^meshcheck: OK' "$tmp/out"; then
-        bad "$name: validator did not report OK: $(grep meshcheck "$tmp/out" | head -c 300)"
+        fail "$name: exit $rc (ranks: $rcs): $(grep -v '^-\|^ \|^$\|mpirun\|Process\|Exit code\|Primary' "$T/err" "$T/out" | head -2 | tr '\n' ' ')"
+    elif ! grep -q '^meshcheck: OK' "$T/out"; then
+        fail "$name: validator did not report OK: $(grep meshcheck "$T/out" | head -c 300)"
     else
-        ok "$name: $(grep '^stats:' "$tmp/out" | tail -1 | cut -d' ' -f2-6)"
+        ok "$name: $(grep '^stats:' "$T/out" | tail -1 | cut -d' ' -f2-6)"
     fi
 }
 
@@ -66,13 +55,13 @@ run pcdm 3 tests/inputs/letter_a.poly --imbalance 2
 for f in letter_a inclusion map segments; do
     a=$(awk -v a="${AREA[$f.poly]}" 'BEGIN { printf "%.6g", a / 10 }')
     name="pcdm np=3 $f.poly -q 30 -a $a (coarse route)"
-    timeout 120 $MPIRUN -np 3 "$BIN/pcdm" -NEP -q 30 -a "$a" --check --stats "tests/inputs/$f.poly" \
-        >"$tmp/out" 2>"$tmp/err"
+    mpi_run 3 "$BIN/pcdm" -NEP -q 30 -a "$a" --check --stats "tests/inputs/$f.poly" \
+        >"$T/out" 2>"$T/err"
     rc=$?
-    if [ $rc -ne 0 ] || ! grep -q '^meshcheck: OK' "$tmp/out"; then
-        bad "$name: exit $rc: $(grep -v '^-\|^ \|^$' "$tmp/err" "$tmp/out" | head -2 | tr '\n' ' ')"
+    if [ $rc -ne 0 ] || ! grep -q '^meshcheck: OK' "$T/out"; then
+        fail "$name: exit $rc: $(grep -v '^-\|^ \|^$' "$T/err" "$T/out" | head -2 | tr '\n' ' ')"
     else
-        ok "$name: $(grep '^stats:' "$tmp/out" | tail -1 | cut -d' ' -f2-3)"
+        ok "$name: $(grep '^stats:' "$T/out" | tail -1 | cut -d' ' -f2-3)"
     fi
 done
 
@@ -80,21 +69,19 @@ done
 # (the exact preview) must give ./mesh's triangle count within 3% and the busiest rank at most
 # 10% above the mean; many subdomains on a small mesh must still meet the bounds, and within
 # 10% of ./mesh's count where the mesh has 25+ triangles per subdomain.  Counts, not times.
-field() { sed -n "s/.* $1=\([^ ]*\).*/\1/p" | tail -1; }
 count_case() { # name np maxdev maxbal input q a [pcdm-only args...]
     local name=$1 np=$2 maxdev=$3 maxbal=$4 f=$5 q=$6 a=$7
     shift 7
     local ref
     ref=$("$BIN/mesh" -NEP --stats -q "$q" -a "$a" "$f" 2>/dev/null | grep '^stats:' | field triangles)
-    timeout 120 $MPIRUN -np "$np" "$BIN/pcdm" -NEP --check --stats -q "$q" -a "$a" "$@" "$f" \
-        >"$tmp/out" 2>"$tmp/err"
+    mpi_run "$np" "$BIN/pcdm" -NEP --check --stats -q "$q" -a "$a" "$@" "$f" >"$T/out" 2>"$T/err"
     local rc=$?
-    if [ $rc -ne 0 ] || ! grep -q '^meshcheck: OK' "$tmp/out" || [ -z "$ref" ]; then
-        bad "$name: exit $rc: $(grep -v '^-\|^ \|^$' "$tmp/err" "$tmp/out" | head -2 | tr '\n' ' ')"
+    if [ $rc -ne 0 ] || ! grep -q '^meshcheck: OK' "$T/out" || [ -z "$ref" ]; then
+        fail "$name: exit $rc: $(grep -v '^-\|^ \|^$' "$T/err" "$T/out" | head -2 | tr '\n' ' ')"
         return
     fi
     local sl nt tmax tmean
-    sl=$(grep '^stats:' "$tmp/out" | tail -1)
+    sl=$(grep '^stats:' "$T/out" | tail -1)
     nt=$(echo "$sl" | field triangles)
     tmax=$(echo "$sl" | field tri_max)
     tmean=$(echo "$sl" | field tri_mean)
@@ -102,7 +89,7 @@ count_case() { # name np maxdev maxbal input q a [pcdm-only args...]
         'BEGIN { exit !((n - r) <= d / 100 * r && (r - n) <= d / 100 * r && a <= mb * b) }'; then
         ok "$name: triangles=$nt (./mesh $ref) balance $tmax/$tmean"
     else
-        bad "$name: triangles=$nt vs ./mesh $ref (tolerance $maxdev%), balance $tmax/$tmean (at most $maxbal)"
+        fail "$name: triangles=$nt vs ./mesh $ref (tolerance $maxdev%), balance $tmax/$tmean (at most $maxbal)"
     fi
 }
 for d in lake holes channel; do
@@ -117,23 +104,23 @@ count_case "pcdm np=2 channel -q 30 --subdomains 128" 2 1000 1.10 data/channel.p
 
 # --write-cuts, then the same decomposition read back with --cuts
 f=tests/inputs/inclusion.poly
-if timeout 60 $MPIRUN -np 3 "$BIN/pcdm" -NEP -q 30 -a 0.001 --write-cuts "$tmp/cuts" "$f" \
-    >/dev/null 2>&1 && [ -s "$tmp/cuts" ]; then
-    run pcdm 3 "$f" --cuts "$tmp/cuts"
-    run pbw 2 "$f" --cuts "$tmp/cuts"
+if TIMEOUT=60 mpi_run 3 "$BIN/pcdm" -NEP -q 30 -a 0.001 --write-cuts "$T/cuts" "$f" \
+    >/dev/null 2>&1 && [ -s "$T/cuts" ]; then
+    run pcdm 3 "$f" --cuts "$T/cuts"
+    run pbw 2 "$f" --cuts "$T/cuts"
 else
-    bad "--write-cuts wrote nothing"
+    fail "--write-cuts wrote nothing"
 fi
-printf '# one cut\n0.15 0 0.15 1\n' >"$tmp/square.cuts"
-run pcdm 2 tests/inputs/segments.poly --cuts "$tmp/square.cuts"
-printf '0.1 0.1 0.2 0.8\n' >"$tmp/dangling.cuts"
-if timeout 60 $MPIRUN -np 2 "$BIN/pcdm" -NEP --cuts "$tmp/dangling.cuts" tests/inputs/segments.poly \
-    >"$tmp/out" 2>&1; then
-    bad "a dangling cut was accepted"
-elif grep -q "dangling.cuts:1: the cut does not separate" "$tmp/out"; then
-    ok "a dangling cut is refused: $(grep -m1 'dangling.cuts:1' "$tmp/out")"
+printf '# one cut\n0.15 0 0.15 1\n' >"$T/square.cuts"
+run pcdm 2 tests/inputs/segments.poly --cuts "$T/square.cuts"
+printf '0.1 0.1 0.2 0.8\n' >"$T/dangling.cuts"
+if TIMEOUT=60 mpi_run 2 "$BIN/pcdm" -NEP --cuts "$T/dangling.cuts" tests/inputs/segments.poly \
+    >"$T/out" 2>&1; then
+    fail "a dangling cut was accepted"
+elif grep -q "dangling.cuts:1: the cut does not separate" "$T/out"; then
+    ok "a dangling cut is refused: $(grep -m1 'dangling.cuts:1' "$T/out")"
 else
-    bad "dangling cut: no FILE:LINE message: $(head -c 300 "$tmp/out")"
+    fail "dangling cut: no FILE:LINE message: $(head -c 300 "$T/out")"
 fi
 
 # the fault switch: rank 1 drops its split requests (a mesh of ~16K triangles: on the exact
@@ -144,30 +131,31 @@ fi
 # write nothing, and at least one of the runs must have tripped the check.
 tripped=0
 for prog_np in 2 4 3; do
-    rm -f "$tmp"/broken.*
-    PCDM_TEST_DROP_SPLIT=1000000 timeout 60 $MPIRUN -x PCDM_TEST_DROP_SPLIT -np "$prog_np" \
-        "$BIN/pcdm" -q 30 -a 0.0001 -o "$tmp/broken" tests/inputs/inclusion.poly >"$tmp/out" 2>&1
+    rm -f "$T"/broken.*
+    PCDM_TEST_DROP_SPLIT=1000000 MPI_X="-x PCDM_TEST_DROP_SPLIT" TIMEOUT=60 mpi_run "$prog_np" \
+        "$BIN/pcdm" -q 30 -a 0.0001 -o "$T/broken" tests/inputs/inclusion.poly >"$T/out" 2>&1
     rc=$?
     if [ $rc -eq 124 ]; then
-        bad "fault switch np=$prog_np: timeout"
+        fail "fault switch np=$prog_np: timeout"
     elif [ $rc -eq 0 ]; then
-        if "$BIN/meshcheck" tests/inputs/inclusion.poly "$tmp/broken" >"$tmp/mc" 2>&1; then
+        if "$BIN/meshcheck" tests/inputs/inclusion.poly "$T/broken" >"$T/mc" 2>&1; then
             ok "fault switch np=$prog_np: exit 0, nothing was broken (the written mesh passes ./meshcheck)"
         else
-            bad "fault switch np=$prog_np: exit 0 with a broken mesh: $(head -c 200 "$tmp/mc")"
+            fail "fault switch np=$prog_np: exit 0 with a broken mesh: $(head -c 200 "$T/mc")"
         fi
-    elif ! grep -q 'interface check failed' "$tmp/out"; then
-        bad "fault switch np=$prog_np: exit $rc without the interface-check message"
-    elif [ -e "$tmp/broken.ele" ]; then
-        bad "fault switch np=$prog_np: the broken mesh was written"
+    elif ! grep -q 'interface check failed' "$T/out"; then
+        fail "fault switch np=$prog_np: exit $rc without the interface-check message"
+    elif [ -e "$T/broken.ele" ]; then
+        fail "fault switch np=$prog_np: the broken mesh was written"
+    elif ! all_ranks "$prog_np" 1; then
+        fail "fault switch np=$prog_np: the interface check failed, but not every rank exited 1: $rcs"
     else
         tripped=$((tripped + 1))
-        ok "fault switch np=$prog_np: exit $rc: $(grep -m1 -o 'interface check failed.*' "$tmp/out" | cut -c1-120)"
+        ok "fault switch np=$prog_np: exit $rc: $(grep -m1 -o 'interface check failed.*' "$T/out" | cut -c1-120)"
     fi
 done
 if [ "$tripped" -eq 0 ]; then
-    bad "fault switch: no run tripped the interface check"
+    fail "fault switch: no run tripped the interface check"
 fi
 
-echo "t_decomp: $pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+finish

@@ -11,20 +11,11 @@
 #     distinct meshes it made), printed as "note" lines.
 # Env: BIN (directory of the programs, default .), MPIRUN (default "mpirun --oversubscribe").
 # One line per case; exit status 1 if any case failed.
-set -u
-cd "$(dirname "$0")/.."
-BIN=${BIN:-.}
-MPIRUN=${MPIRUN:-mpirun --oversubscribe}
-if [ "$(id -u)" -eq 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
-export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0}
-pass=0 fail=0
-ok() { pass=$((pass + 1)); printf 'ok   %s\n' "$*"; }
-bad() { fail=$((fail + 1)); printf 'FAIL %s\n' "$*"; }
-field() { sed -n "s/.* $1=\([^ ]*\).*/\1/p" | tail -1; } # value of key in a stats line
+. "$(dirname "$0")/lib.sh"
 
 # domain -> "-q DEG -a AREA": 10-40K triangles, above the exact preview's 8 x 1000
-declare -A BOUNDS=([data/lake.poly]="-q 30 -a 1e-4" [tests/inputs/letter_a.poly]="-q 30 -a 3e-4"
-                   [tests/inputs/map.poly]="-q 28 -a 2e-4" [data/wedge.poly]="-q 25 -a 1e-5")
+declare -A BOUNDS=(["data/lake.poly"]="-q 30 -a 1e-4" ["tests/inputs/letter_a.poly"]="-q 30 -a 3e-4"
+    ["tests/inputs/map.poly"]="-q 28 -a 2e-4" ["data/wedge.poly"]="-q 25 -a 1e-5")
 # ranks:perturb seed (0: off); the asynchronous mode's measurement on fewer runs
 RUNS="1:0 2:0 3:0 4:0 8:0 3:11 8:23"
 ARUNS="2:0 2:5 4:0 4:7"
@@ -40,13 +31,12 @@ for dom in data/lake.poly tests/inputs/letter_a.poly tests/inputs/map.poly data/
             flags="--subdomains 8 --perturb $seed --stats"
             if [ $mode = det ]; then flags="$flags --deterministic --check"; fi
             # shellcheck disable=SC2086
-            out=$(timeout 120 $MPIRUN -np "$np" "$BIN/pcdm" -NEP $flags $b "$dom" 2>&1)
+            out=$(mpi_run "$np" "$BIN/pcdm" -NEP $flags $b "$dom" 2>&1)
             st=$?
             h=$(printf '%s\n' "$out" | grep '^stats:' | field hash)
             if [ $mode = det ]; then
-                if [ $st -ne 0 ] || ! printf '%s\n' "$out" | grep -q 'check: OK' || [ -z "$h" ]
-                then
-                    bad "$dom $b np=$np perturb=$seed: exit $st, no passing check or hash"
+                if [ $st -ne 0 ] || ! printf '%s\n' "$out" | grep -q 'check: OK' || [ -z "$h" ]; then
+                    fail "$dom $b np=$np perturb=$seed: exit $st, no passing check or hash"
                     printf '%s\n' "$out" | tail -5 | sed 's/^/    /'
                     allok=0
                     continue
@@ -62,7 +52,7 @@ for dom in data/lake.poly tests/inputs/letter_a.poly tests/inputs/map.poly data/
         elif [ $allok = 1 ] && [ "$n" -eq 1 ]; then
             ok "$dom $b: one hash $(printf "%s\n" $hashes | head -1) at ranks:seeds $RUNS, check OK"
         elif [ $allok = 1 ]; then
-            bad "$dom $b: $n different hashes:$hashes"
+            fail "$dom $b: $n different hashes:$hashes"
         fi
     done
 done
@@ -70,12 +60,12 @@ done
 hs="" allok=1
 for r in 1:0 5:3 8:9 16:2; do
     np=${r%%:*} seed=${r##*:}
-    out=$(timeout 120 $MPIRUN -np "$np" "$BIN/pcdm" -NEP --deterministic --perturb "$seed" \
+    out=$(mpi_run "$np" "$BIN/pcdm" -NEP --deterministic --perturb "$seed" \
         --subdomains 16 -q 31 -a 1e-4 --check --stats tests/inputs/map.poly 2>&1)
     st=$?
     h=$(printf '%s\n' "$out" | grep '^stats:' | field hash)
     if [ $st -ne 0 ] || ! printf '%s\n' "$out" | grep -q 'check: OK' || [ -z "$h" ]; then
-        bad "map --subdomains 16 np=$np perturb=$seed: exit $st, no passing check or hash"
+        fail "map --subdomains 16 np=$np perturb=$seed: exit $st, no passing check or hash"
         allok=0
     fi
     rounds=$(printf '%s\n' "$out" | grep '^stats:' | field rounds)
@@ -86,7 +76,7 @@ n=$(printf '%s\n' $hs | sort -u | wc -l)
 if [ $allok = 1 ] && [ "$n" -eq 1 ]; then
     ok "map -q 31 -a 1e-4 --subdomains 16: one hash at 1, 5, 8, 16 ranks (perturbed)"
 elif [ $allok = 1 ]; then
-    bad "map --subdomains 16: $n different hashes:$hs"
+    fail "map --subdomains 16: $n different hashes:$hs"
 fi
 # the Steiner budget (-S: split among the subdomains by weight) and the poll interval (--poll 1:
 # the kernel stops after every insertion) must not change the mesh either
@@ -94,23 +84,22 @@ hs=""
 for r in "1 " "3 " "2 --poll 1"; do
     np=${r%% *} extra=${r#* }
     # shellcheck disable=SC2086
-    out=$(timeout 120 $MPIRUN -np "$np" "$BIN/pcdm" -NEP --deterministic --subdomains 4 -q 30 -a 1e-4 \
+    out=$(mpi_run "$np" "$BIN/pcdm" -NEP --deterministic --subdomains 4 -q 30 -a 1e-4 \
         -S 5000 --stats --check $extra data/lake.poly 2>&1)
     st=$?
     h=$(printf '%s\n' "$out" | grep '^stats:' | field hash)
     if [ $st -ne 3 ] || ! printf '%s\n' "$out" | grep -q 'check: OK' || [ -z "$h" ]; then
-        bad "-S 5000 np=$np $extra: exit $st (want 3, the limit), no passing check or hash"
+        fail "-S 5000 np=$np $extra: exit $st (want 3, the limit), no passing check or hash"
     fi
     hs="$hs $h"
 done
 n=$(printf '%s\n' $hs | sort -u | wc -l)
 if [ "$n" -eq 1 ]; then ok "-S 5000 (exit 3) at 1 and 3 ranks and with --poll 1: one hash"; else
-    bad "-S 5000 / --poll 1: $n different hashes:$hs"
+    fail "-S 5000 / --poll 1: $n different hashes:$hs"
 fi
 if [ "$maxrounds" -ge 2 ]; then
     ok "the domains needed up to $maxrounds rounds"
 else
-    bad "no domain needed a second round (max $maxrounds): the rounds are not exercised"
+    fail "no domain needed a second round (max $maxrounds): the rounds are not exercised"
 fi
-echo "t_determinism: $pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+finish

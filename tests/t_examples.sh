@@ -16,25 +16,16 @@
 # Triangle's own mesh NAME.1 passes ./meshcheck -c against it, but not ./meshcheck without -c.
 # Env: BIN (programs, default .), MPIRUN (default "mpirun --oversubscribe"), EXAMPLES (a
 # directory instead of the download), SANITIZE=1 (one bound only).
-set -u
-cd "$(dirname "$0")/.."
-BIN=${BIN:-.}
-MPIRUN=${MPIRUN:-mpirun --oversubscribe}
-if [ "$(id -u)" -eq 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
-export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0}
-tmp=$(mktemp -d "${TMPDIR:-/tmp}/t_examples.XXXXXX")
-trap 'rm -rf "$tmp"' EXIT
-
+. "$(dirname "$0")/lib.sh"
 # The package version is pinned, so every run sees the same files.
 VERSION=20250106
 dir=${EXAMPLES:-build/examples/triangle-$VERSION}
 if [ ! -d "$dir" ]; then
     if ! command -v python3 >/dev/null 2>&1; then
-        echo "t_examples: SKIP: no python3 to fetch Triangle's examples (set EXAMPLES=DIR)"
-        exit 0
+        skip "no python3 to fetch Triangle's examples (set EXAMPLES=DIR)"
     fi
     mkdir -p "$(dirname "$dir")"
-    if ! timeout 300 python3 - "$VERSION" "$tmp/ex" <<'EOF' >"$tmp/fetch.txt" 2>&1; then
+    if ! timeout 300 python3 - "$VERSION" "$T/ex" <<'EOF' >"$T/fetch.txt" 2>&1; then
 # The data files of the PyPI package `triangle`: from an installed copy of the pinned version,
 # else its wheel by pip download, else the wheel's address from PyPI's JSON API.
 import glob, io, json, os, shutil, subprocess, sys, tempfile, urllib.request, zipfile
@@ -79,15 +70,11 @@ with zipfile.ZipFile(io.BytesIO(data)) as z:
             n += 1
 print("fetched", n, "files")
 EOF
-        echo "t_examples: SKIP: cannot fetch Triangle's examples from PyPI: $(tail -1 "$tmp/fetch.txt")"
-        exit 0
+        skip "cannot fetch Triangle's examples from PyPI: $(tail -1 "$T/fetch.txt")"
     fi
-    mv "$tmp/ex" "$dir"
+    mv "$T/ex" "$dir"
 fi
 
-pass=0 fail=0
-ok() { pass=$((pass + 1)); }
-bad() { fail=$((fail + 1)); printf 'FAIL %s\n' "$*"; }
 first() { grep -v -e 'warning' -e '^---' -e '^$' "$1" | head -1 | cut -c1-200; }
 
 bounds=("-q 25" "-q 30")
@@ -102,48 +89,48 @@ for f in "$dir"/*.poly "$dir"/*.node; do
     case "$gen" in -*r*) ;; -*c*) c=-c ;; esac
     [ -n "$c" ] && echo "t_examples: $(basename "$f"): Triangle meshed it with $gen: meshed with -c"
     if [ -n "$c" ] && [ -e "${f%.*}.1.ele" ]; then # Triangle's own -c mesh
-        if ! "$BIN/meshcheck" -c "$f" "${f%.*}.1" >"$tmp/t.txt" 2>&1; then
-            bad "$(basename "$f"): Triangle's $gen mesh fails ./meshcheck -c: $(first "$tmp/t.txt")"
-        elif "$BIN/meshcheck" "$f" "${f%.*}.1" >"$tmp/t.txt" 2>&1; then
-            bad "$(basename "$f"): Triangle's $gen mesh passes ./meshcheck without -c"
+        if ! "$BIN/meshcheck" -c "$f" "${f%.*}.1" >"$T/t.txt" 2>&1; then
+            fail "$(basename "$f"): Triangle's $gen mesh fails ./meshcheck -c: $(first "$T/t.txt")"
+        elif "$BIN/meshcheck" "$f" "${f%.*}.1" >"$T/t.txt" 2>&1; then
+            fail "$(basename "$f"): Triangle's $gen mesh passes ./meshcheck without -c"
         else
-            ok
+            ok "$(basename "$f"): Triangle's $gen mesh passes ./meshcheck -c, not ./meshcheck"
         fi
     fi
     for b in "${bounds[@]}"; do
         b="$c${c:+ }$b"
         # shellcheck disable=SC2086
-        timeout 120 "$BIN/mesh" -NEP $b --check "$f" >"$tmp/m.txt" 2>&1
+        timeout 120 "$BIN/mesh" -NEP $b --check "$f" >"$T/m.txt" 2>&1
         want=$?
         name="$(basename "$f") $b"
         if [ -n "$c" ] && [ "$want" != 0 ]; then
-            bad "$name: ./mesh exit $want (Triangle meshed it with $gen): $(first "$tmp/m.txt")"
+            fail "$name: ./mesh exit $want (Triangle meshed it with $gen): $(first "$T/m.txt")"
             continue
         fi
-        if [ "$want" = 0 ] && ! grep -q '^meshcheck: OK' "$tmp/m.txt"; then
-            bad "$name: ./mesh exit 0 without meshcheck: OK"
+        if [ "$want" = 0 ] && ! grep -q '^meshcheck: OK' "$T/m.txt"; then
+            fail "$name: ./mesh exit 0 without meshcheck: OK"
             continue
         fi
         if [ "$want" != 0 ] && [ "$want" != 1 ]; then
-            bad "$name: ./mesh exit $want: $(first "$tmp/m.txt")"
+            fail "$name: ./mesh exit $want: $(first "$T/m.txt")"
             continue
         fi
-        ok
+        ok "$name: ./mesh exit $want"
         for run in "pcdm 3" "pcdm 8" "pbw 3"; do
             set -- $run
             # shellcheck disable=SC2086
-            timeout 300 $MPIRUN -np "$2" "$BIN/$1" -NEP $b --check "$f" >"$tmp/p.txt" 2>&1
+            TIMEOUT=300 mpi_run "$2" "$BIN/$1" -NEP $b --check "$f" >"$T/p.txt" 2>&1
             got=$?
             if [ "$got" != "$want" ]; then
-                bad "$name: ./$1 at $2 ranks exit $got, ./mesh exit $want: $(first "$tmp/p.txt")"
-            elif [ "$got" = 0 ] && ! grep -q '^meshcheck: OK' "$tmp/p.txt"; then
-                bad "$name: ./$1 at $2 ranks: exit 0 without meshcheck: OK"
+                fail "$name: ./$1 at $2 ranks exit $got (ranks: $rcs), ./mesh exit $want: $(first "$T/p.txt")"
+            elif [ "$got" = 0 ] && ! grep -q '^meshcheck: OK' "$T/p.txt"; then
+                fail "$name: ./$1 at $2 ranks: exit 0 without meshcheck: OK"
             else
-                ok
+                ok "$name: ./$1 at $2 ranks exit $got"
             fi
         done
     done
 done
-[ "$n" -gt 0 ] || bad "no .poly or .node files in $dir"
-echo "t_examples: $n files, $pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+[ "$n" -gt 0 ] || fail "no .poly or .node files in $dir"
+echo "$TEST: $n files"
+finish

@@ -1,15 +1,13 @@
 #!/usr/bin/env bash
 # Every crash, hang or wrong answer the fuzzer (tests/fuzz) or issue 10 found, kept: each row
 # of tests/fuzz/regress/TABLE runs ./mesh with a 90 s timeout (a hang is a failure; the slowest
-# row, thin_quad_8e29, takes 4 s of CPU, 8 s under ASan, and passed 30 s in a loaded CI run) and checks
-# the exit status and a pattern in the output; exit-0 rows run with --check (the validator
-# must accept the mesh).  Any other status (a crash, a sanitizer report) is a failure.
-set -u
-cd "$(dirname "$0")/.."
-BIN=${BIN:-.}
+# row, thin_quad_8e29, takes 4 s of CPU, 8 s under ASan, and passed 30 s in a loaded CI run) and
+# checks the exit status and a pattern in the output; exit-0 rows run with --check (the
+# validator must accept the mesh).  Any other status (a crash, a sanitizer report) is a failure.
+. "$(dirname "$0")/lib.sh"
 M=$BIN/mesh
 D=tests/fuzz/regress
-nfail=0 n=0
+n=0
 while IFS='|' read -r file optstr want pat; do
     file=$(echo $file)
     case "$file" in '' | '#'*) continue ;; esac
@@ -22,14 +20,12 @@ while IFS='|' read -r file optstr want pat; do
     out=$(timeout 90 "$M" -NEP "${opts[@]}" "${extra[@]}" "$D/$file" 2>&1) # -NEP: no files
     rc=$?
     if [ "$rc" != "$want" ]; then
-        echo "FAIL: $M ${opts[*]} ${extra[*]} $D/$file: exit $rc, expected $want: ${out:0:300}"
-        nfail=$((nfail + 1))
+        fail "$M ${opts[*]} ${extra[*]} $D/$file: exit $rc, expected $want: ${out:0:300}"
     elif [ "$pat" != - ] && ! grep -Eq -- "$pat" <<<"$out"; then
-        echo "FAIL: $M ${opts[*]} $D/$file: output lacks /$pat/: ${out:0:300}"
-        nfail=$((nfail + 1))
+        fail "$M ${opts[*]} $D/$file: output lacks /$pat/: ${out:0:300}"
     else
-        echo "ok: $file ${opts[*]} -> $rc"
+        ok "$file ${opts[*]} -> $rc"
     fi
 done <"$D/TABLE"
-echo "t_fuzz_regress: $n rows, $nfail failure(s)"
-[ "$nfail" -eq 0 ]
+echo "$TEST: $n rows"
+finish

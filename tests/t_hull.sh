@@ -22,17 +22,7 @@
 #     ./mesh -c -q25 --check either meshes (then hullcheck.py passes) or refuses with "cannot
 #     meet the bounds" (small input angles) -- never exits 0 with a mesh that fails.
 # Env: BIN, MPIRUN as the other tests.
-set -u
-cd "$(dirname "$0")/.."
-BIN=${BIN:-.}
-MPIRUN=${MPIRUN:-mpirun --oversubscribe}
-if [ "$(id -u)" -eq 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
-export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0}
-T=$(mktemp -d "${TMPDIR:-/tmp}/t_hull.XXXXXX")
-trap 'rm -rf "$T"' EXIT
-pass=0 nfail=0
-ok() { pass=$((pass + 1)); printf 'ok   %s\n' "$*"; }
-fail() { nfail=$((nfail + 1)); printf 'FAIL %s\n' "$*"; }
+. "$(dirname "$0")/lib.sh"
 IN=tests/inputs/hull/regions.poly
 HOLE=9,10,11,12 # the square around the hole, by vertex number
 area_of() { sed -n 's/.* area=\([^ ]*\) .*/\1/p' "$1" | head -1; }
@@ -94,10 +84,11 @@ if [ -s "$T/q.ele" ]; then
 fi
 
 # 3. ./pcdm and ./pbw
+TIMEOUT=300
 for prog in pcdm pbw; do
     for np in 1 2 4; do
         name="$prog -pcq30a0.05 at $np ranks"
-        if run "$name" "$T/$prog$np.txt" timeout 300 $MPIRUN -np "$np" "$BIN/$prog" -pcq30a0.05 --check -o "$T/$prog$np" "$IN"; then
+        if run "$name" "$T/$prog$np.txt" mpi_run "$np" "$BIN/$prog" -pcq30a0.05 --check -o "$T/$prog$np" "$IN"; then
             out=$(timeout 60 "$BIN/meshcheck" -c -q 30 -a 0.05 "$IN" "$T/$prog$np" 2>&1)
             [ $? = 0 ] && grep -q '^meshcheck: OK' <<<"$out" && ok "$name: meshcheck -c" ||
                 fail "$name: meshcheck -c: $out"
@@ -105,6 +96,7 @@ for prog in pcdm pbw; do
         fi
     done
 done
+unset TIMEOUT
 
 # 4. a point set: the hull with or without -c
 P=tests/inputs/hull/points.node
@@ -158,5 +150,4 @@ done
 [ "$nmeshed" -ge 40 ] && ok "random inputs: $nmeshed meshed and checked, $nrefused refused" ||
     fail "random inputs: only $nmeshed of 60 meshed ($nrefused refused)"
 
-echo "t_hull: $pass passed, $nfail failed"
-[ "$nfail" -eq 0 ]
+finish

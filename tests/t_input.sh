@@ -13,20 +13,9 @@
 #  4. --size: a background mesh with a small target length at one corner makes the triangles
 #     there smaller than at the far corner, in all three meshers.
 # Env: BIN, MPIRUN as the other tests.  Needs python3 for the file checks (plain, no modules).
-set -u
-cd "$(dirname "$0")/.."
-BIN=${BIN:-.}
-MPIRUN=${MPIRUN:-mpirun --oversubscribe}
-if [ "$(id -u)" -eq 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
+. "$(dirname "$0")/lib.sh"
 M=$BIN/mesh
 MC=$BIN/meshcheck
-T=$(mktemp -d "${TMPDIR:-/tmp}/t_input.XXXXXX")
-trap 'rm -rf "$T"' EXIT
-nfail=0
-fail() {
-    echo "FAIL: $*"
-    nfail=$((nfail + 1))
-}
 ok_check() { # name, command... : must exit 0 and print "meshcheck: OK"
     local name=$1 out
     shift
@@ -35,10 +24,10 @@ ok_check() { # name, command... : must exit 0 and print "meshcheck: OK"
     if [ $rc -ne 0 ] || ! grep -q 'meshcheck: OK' <<<"$out"; then
         fail "$name: exit $rc: $(grep -E 'FAIL|error|:[0-9]+:' <<<"$out" | head -3)"
     else
-        echo "ok $name"
+        ok "$name"
     fi
 }
-par() { timeout 120 $MPIRUN -np 2 "$@"; }
+par() { mpi_run 2 "$@"; } # at 2 ranks, every rank's status
 
 # ---- 1. crossings -------------------------------------------------------------------------
 for f in cross star overlap; do
@@ -219,8 +208,4 @@ EOF
 out=$("$M" --size "$T/s1" data/square.poly 2>&1) && fail "--size without lengths accepted"
 grep -q "s1.node: a background mesh needs one attribute per vertex" <<<"$out" || fail "--size: $out"
 
-if [ $nfail -gt 0 ]; then
-    echo "t_input: $nfail failed"
-    exit 1
-fi
-echo "t_input: all passed"
+finish

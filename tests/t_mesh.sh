@@ -3,24 +3,18 @@
 # (domain area / 200 and / 2000), written as Triangle files and validated by ./meshcheck with
 # the same bounds; then bad input (missing file, every file in tests/bad/, bad options) must
 # give one message naming the file and a non-zero exit.
-set -u
-cd "$(dirname "$0")/.."
-BIN=${BIN:-.}
+. "$(dirname "$0")/lib.sh"
 M=$BIN/mesh
 MC=$BIN/meshcheck
-T=$(mktemp -d "${TMPDIR:-/tmp}/t_mesh.XXXXXX")
-trap 'rm -rf "$T"' EXIT
-nfail=0
-fail() {
-    echo "FAIL: $*"
-    nfail=$((nfail + 1))
-}
 
 for f in data/*.poly; do
     name=$(basename "$f" .poly)
     # the domain's area, as the validator computes it from the PSLG alone
     area=$("$M" -NEP --cdt-only --check "$f" | sed -n 's/.* domain_area=\([^ ]*\).*/\1/p')
-    [ -n "$area" ] || { fail "$f: no domain area from ./mesh --cdt-only --check"; continue; }
+    [ -n "$area" ] || {
+        fail "$f: no domain area from ./mesh --cdt-only --check"
+        continue
+    }
     for q in 20.7 30; do
         for div in 200 2000; do
             a=$(awk -v A="$area" -v d="$div" 'BEGIN { printf "%.6g", A / d }')
@@ -32,8 +26,11 @@ for f in data/*.poly; do
             fi
             res=$("$MC" "$f" "$out" -q "$q" -a "$a" 2>&1)
             rc=$?
-            echo "$name -q $q -a $a: $(tail -n 1 "$out.log" | cut -c1-80) | ${res:0:60}"
-            [ "$rc" -eq 0 ] || fail "meshcheck $f $out -q $q -a $a: $res"
+            if [ "$rc" -eq 0 ]; then
+                ok "$name -q $q -a $a: $(tail -n 1 "$out.log" | cut -c1-80) | ${res:0:60}"
+            else
+                fail "meshcheck $f $out -q $q -a $a: $res"
+            fi
         done
     done
 done
@@ -78,14 +75,20 @@ expect_fail() { # pattern command...
     shift
     out=$("$@" 2>&1)
     rc=$?
-    [ "$rc" -ne 0 ] || fail "exit 0, expected failure: $*"
-    grep -q -- "$pat" <<<"$out" || fail "message lacks '$pat': $* -> $out"
+    if [ "$rc" -eq 0 ]; then
+        fail "exit 0, expected failure: $*"
+    elif ! grep -q -- "$pat" <<<"$out"; then
+        fail "message lacks '$pat': $* -> $out"
+    else
+        ok "exit $rc, '$pat': ${*#"$M "}"
+    fi
 }
 expect_fail "$T/nosuch.poly" "$M" "$T/nosuch.poly"
 expect_fail "nosuch.poly: cannot open" "$M" -q 30 "$T/nosuch.poly"
 for f in tests/bad/*; do
     case $(basename "$f") in duplicate_points.poly) continue ;; esac # merged with a warning
-    expect_fail "$f:[0-9]*:" "$M" -NEP --strict "$f" # --strict: crossings refused, not split
+    # --strict: crossings refused, not split
+    expect_fail "$f:[0-9]*:" "$M" -NEP --strict "$f"
 done
 expect_fail "unknown option" "$M" --bogus data/square.poly
 expect_fail "at most 60" "$M" -q 70 data/square.poly
@@ -94,5 +97,4 @@ expect_fail "usage" "$M"
 "$M" -NEP tests/bad/duplicate_points.poly >/dev/null 2>&1 || fail "duplicate points should be merged"
 "$M" --help | grep -q "usage: ./mesh" || fail "--help"
 
-echo "t_mesh: $nfail failure(s)"
-[ "$nfail" -eq 0 ]
+finish

@@ -1,26 +1,29 @@
 #!/usr/bin/env bash
 # meshcheck end to end: usage and exit codes (0 valid; 1 invalid, or an unreadable or bad input;
 # 2 usage error) and the one-line summary, on small meshes written here in Triangle's format.
-set -u
-cd "$(dirname "$0")/.."
-MC=${BIN:-.}/meshcheck
-T=$(mktemp -d "${TMPDIR:-/tmp}/t_meshcheck.XXXXXX")
-trap 'rm -rf "$T"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
-expect() { # rc pattern command...
-    local want=$1 pat=$2; shift 2
+. "$(dirname "$0")/lib.sh"
+MC=$BIN/meshcheck
+expect() { # rc pattern command...: exit status rc and a line matching pattern
+    local want=$1 pat=$2
+    shift 2
     local out rc
-    out=$("$@" 2>&1); rc=$?
+    out=$("$@" 2>&1)
+    rc=$?
     echo "\$ ${*#"$MC "} -> $rc: $out"
-    [ "$rc" -eq "$want" ] || fail "exit $rc, expected $want: $*"
-    grep -q -- "$pat" <<<"$out" || fail "output lacks '$pat': $*"
+    if [ "$rc" -ne "$want" ]; then
+        fail "exit $rc, expected $want: $*"
+    elif ! grep -q -- "$pat" <<<"$out"; then
+        fail "output lacks '$pat': $*"
+    else
+        ok "exit $rc, '$pat'"
+    fi
 }
 
-printf '4 2 0 1\n1 0 0 1\n2 1 0 1\n3 1 1 1\n4 0 1 1\n' > "$T/sq.node"
-printf '2 3 0\n1 1 2 3\n2 1 3 4\n' > "$T/sq.ele"
-printf '0 2 0 1\n4 1\n1 1 2 1\n2 2 3 1\n3 3 4 1\n4 4 1 1\n0\n' > "$T/sq.poly"
+printf '4 2 0 1\n1 0 0 1\n2 1 0 1\n3 1 1 1\n4 0 1 1\n' >"$T/sq.node"
+printf '2 3 0\n1 1 2 3\n2 1 3 4\n' >"$T/sq.ele"
+printf '0 2 0 1\n4 1\n1 1 2 1\n2 2 3 1\n3 3 4 1\n4 4 1 1\n0\n' >"$T/sq.poly"
 mkdir "$T/flip" && cp "$T/sq.node" "$T/sq.poly" "$T/flip/"
-printf '2 3 0\n1 1 3 2\n2 1 3 4\n' > "$T/flip/sq.ele"
+printf '2 3 0\n1 1 3 2\n2 1 3 4\n' >"$T/flip/sq.ele"
 
 expect 0 'usage: meshcheck' "$MC" --help
 expect 2 'usage: meshcheck' "$MC"
@@ -51,4 +54,4 @@ expect 1 'o2.ele:2: triangle 1: node 6 is not the midpoint of the edge opposite 
     "$MC" data/square.poly "$T/o2"
 printf '2 5 0\n1 1 2 3 5 6\n2 1 3 4 8 9\n' >"$T/o2.ele"
 expect 1 'expected 3 nodes per triangle (6: second order' "$MC" data/square.poly "$T/o2"
-echo "t_meshcheck: all passed"
+finish

@@ -5,35 +5,50 @@
 # model in force (net_latency_us, net_MBps) and the runtime's communication time (comm_s);
 # a malformed --net is a usage error (exit 2) on every rank.  Delivery times themselves are
 # checked by tests/mpi_rt_net.c.
-set -u
-cd "$(dirname "$0")/.."
-BIN=${BIN:-.}
-MPIRUN=${MPIRUN:-mpirun --oversubscribe}
-fail() { echo "t_net: FAILED: $*"; exit 1; }
-tmp=$(mktemp)
-trap 'rm -f "$tmp"' EXIT
+. "$(dirname "$0")/lib.sh"
+out=$T/out
 for prog in pcdm pbw; do
     for np in 2 3; do
         for how in "--net sp2" "env 200,5"; do
+            what="$prog np=$np $how"
             if [ "$how" = "--net sp2" ]; then
-                timeout 120 $MPIRUN -np $np "$BIN/$prog" -NEP -q 25 -a 0.0004 --check --stats --net sp2 data/lake.poly >"$tmp" 2>&1
-                rc=$?; lat=29.0; bw=33.6
+                mpi_run $np "$BIN/$prog" -NEP -q 25 -a 0.0004 --check --stats --net sp2 \
+                    data/lake.poly >"$out" 2>&1
+                rc=$? lat=29.0 bw=33.6
             else
-                PCDM_NET=200,5 timeout 120 $MPIRUN -np $np -x PCDM_NET "$BIN/$prog" -NEP -q 25 -a 0.0004 --check --stats data/lake.poly >"$tmp" 2>&1
-                rc=$?; lat=200.0; bw=5.0
+                PCDM_NET=200,5 MPI_X="-x PCDM_NET" mpi_run $np "$BIN/$prog" -NEP -q 25 -a 0.0004 \
+                    --check --stats data/lake.poly >"$out" 2>&1
+                rc=$? lat=200.0 bw=5.0
             fi
-            [ "$rc" = 0 ] || { cat "$tmp"; fail "$prog np=$np $how: exit $rc"; }
-            grep -q "^meshcheck: OK" "$tmp" ||
-                { cat "$tmp"; fail "$prog np=$np $how: no meshcheck line"; }
-            sl=$(grep '^stats:' "$tmp" | tail -1)
-            grep -q " net_latency_us=$lat net_MBps=$bw" <<<"$sl" || fail "$prog np=$np $how: model not reported: $sl"
-            grep -Eq ' comm_s=[0-9.]+ comm_max_s=[0-9.]+ handler_s=[0-9.]+' <<<"$sl" || fail "$prog np=$np $how: no comm_s: $sl"
-            echo "ok $prog np=$np $how: $(grep -o 'rsr=[0-9]*' <<<"$sl") $(grep -o 'comm_s=[0-9.]*' <<<"$sl")"
+            if [ "$rc" != 0 ]; then
+                cat "$out"
+                fail "$what: exit $rc (ranks: $rcs)"
+                continue
+            fi
+            if ! grep -q "^meshcheck: OK" "$out"; then
+                cat "$out"
+                fail "$what: no meshcheck line"
+                continue
+            fi
+            sl=$(grep '^stats:' "$out" | tail -1)
+            if ! grep -q " net_latency_us=$lat net_MBps=$bw" <<<"$sl"; then
+                fail "$what: model not reported: $sl"
+            elif ! grep -Eq ' comm_s=[0-9.]+ comm_max_s=[0-9.]+ handler_s=[0-9.]+' <<<"$sl"; then
+                fail "$what: no comm_s: $sl"
+            else
+                ok "$what: $(grep -o 'rsr=[0-9]*' <<<"$sl") $(grep -o 'comm_s=[0-9.]*' <<<"$sl")"
+            fi
         done
     done
-    timeout 60 $MPIRUN -np 2 "$BIN/$prog" --net 5,x data/lake.poly >"$tmp" 2>&1
+    TIMEOUT=60 mpi_run 2 "$BIN/$prog" --net 5,x data/lake.poly >"$out" 2>&1
     rc=$?
-    [ "$rc" = 2 ] || { cat "$tmp"; fail "$prog --net 5,x: exit $rc, want 2"; }
-    grep -q -- "--net '5,x'" "$tmp" || fail "$prog --net 5,x: no message"
+    if [ "$rc" != 2 ]; then
+        cat "$out"
+        fail "$prog --net 5,x: exit $rc (ranks: $rcs), want 2 on every rank"
+    elif ! grep -q -- "--net '5,x'" "$out"; then
+        fail "$prog --net 5,x: no message"
+    else
+        ok "$prog --net 5,x: exit 2 on every rank, named"
+    fi
 done
-echo "t_net: ok"
+finish

@@ -17,17 +17,7 @@
 # check, writing nothing; PBW_TEST_BREAK_DELAUNAY=R (rank R flips an edge the general path
 # committed) the same through the always-on end check of the Delaunay property.  Env: BIN (programs; "." or build/san/bin), MPIRUN ("mpirun
 # --oversubscribe"), SANITIZE=1 (fewer runs).
-set -u
-cd "$(dirname "$0")/.."
-BIN=${BIN:-.}
-MPIRUN=${MPIRUN:-mpirun --oversubscribe}
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-T=$(mktemp -d "${TMPDIR:-/tmp}/t_pbw.XXXXXX")
-trap 'rm -rf "$T"' EXIT
-fail() {
-    echo "FAIL: $*"
-    exit 1
-}
+. "$(dirname "$0")/lib.sh"
 
 # -a per domain: about 6-8K triangles (sanitizer build: about half)
 declare -A AREA=([square]=0.0002 [lshape]=0.0006 [wedge]=0.00002 [lake]=0.0005 [holes]=0.0002
@@ -50,27 +40,27 @@ seq_count() { # domain q -> ./mesh's triangle count (cached)
     if [ -z "${SEQ[$k]:-}" ]; then
         SEQ[$k]=$("$BIN/mesh" -NEP -q "$2" -a "${AREA[$1]}" --stats "data/$1.poly" |
             sed -n 's/^stats: triangles=\([0-9]*\).*/\1/p')
-        [ -n "${SEQ[$k]}" ] || fail "./mesh gave no triangle count for $1"
+        [ -n "${SEQ[$k]}" ] || fail "./mesh gave no triangle count for $1" # counted in $(...) too
     fi
     echo "${SEQ[$k]}"
 }
 
 n=0
-run() { # np domain q extra-args...
+run() { # np domain q extra-args...: one run, its checks
     local np=$1 d=$2 q=$3
     shift 3
-    local a=${AREA[$d]} pre="$T/m$n" out rc
-    n=$((n + 1))
-    out=$(timeout 120 $MPIRUN -np "$np" "$BIN/pbw" -q "$q" -a "$a" -o "$pre" --check --stats \
-        "$@" "data/$d.poly" 2>&1)
+    local a=${AREA[$d]} pre="$T/m$n" out rc n0
+    n=$((n + 1)) n0=$(nfailed)
+    out=$(mpi_run "$np" "$BIN/pbw" -q "$q" -a "$a" -o "$pre" --check --stats "$@" "data/$d.poly" 2>&1)
     rc=$?
     local last
     last=$(tail -n 1 <<<"$out")
     echo "np=$np $d -q $q $* -> $rc: $last"
-    [ "$rc" -eq 0 ] || {
+    if [ "$rc" -ne 0 ]; then
         echo "$out" | tail -n 20
-        fail "./pbw exit $rc (np=$np $d -q $q $*)"
-    }
+        fail "./pbw exit $rc, ranks $(cat "$T/rcs") (np=$np $d -q $q $*)"
+        return
+    fi
     grep -q '^meshcheck: OK' <<<"$out" || fail "--check did not pass (np=$np $d $*)"
     grep -Eq '^stats: ranks=[0-9]+ triangles=[0-9]+ vertices=[0-9]+ rsr=[0-9]+ undone=[0-9]+ min_angle=[0-9.]+ wall_s=[0-9.]+ busy_max_s=[0-9.]+ busy_sum_s=[0-9.]+ comm_pct=[0-9.]+ undo_pct=[0-9.]+' <<<"$last" ||
         fail "last line is not the stats line: $last"
@@ -93,6 +83,7 @@ run() { # np domain q extra-args...
     want=$(seq_count "$d" "$q")
     awk -v g="$got" -v w="$want" 'BEGIN { d = g - w; if (d < 0) d = -d; exit !(d <= 0.03 * w) }' ||
         fail "triangle count $got vs ./mesh $want (more than 3% apart; np=$np $d -q $q $*)"
+    [ "$(nfailed)" != "$n0" ] || ok "np=$np $d -q $q $*: checked, $got triangles (./mesh $want)"
 }
 
 # every domain, 1 2 4 8 ranks, -q 20.7
@@ -114,17 +105,19 @@ done
 # ghosts (issue 13): a cavity whose remote neighbours are not in conflict is decided on their
 # ghosts at the lower rank and stays local (a ghost commit sends nothing: the other side's stale
 # link is forwarded by the tombstone when an expansion follows it)
-out=$(timeout 120 $MPIRUN -np 8 "$BIN/pbw" -NEP -q 20.7 -a "${AREA[lake]}" --check --stats \
-    data/lake.poly 2>&1) || fail "./pbw with ghosts: $(tail -n 5 <<<"$out")"
+out=$(mpi_run 8 "$BIN/pbw" -NEP -q 20.7 -a "${AREA[lake]}" --check --stats data/lake.poly 2>&1) ||
+    fail "./pbw with ghosts: ranks $(cat "$T/rcs"): $(tail -n 5 <<<"$out")"
 grep -q '^meshcheck: OK' <<<"$out" || fail "--check did not pass (ghosts)"
-echo "ghosts: $(grep -o 'ghosted=[0-9]* forwarded=[0-9]*' <<<"$out")"
-grep -Eq '^cavities: .* ghosted=[1-9][0-9]* ' <<<"$out" || fail "no cavity kept local by ghosts"
+grep -Eq '^cavities: .* ghosted=[1-9][0-9]* ' <<<"$out" &&
+    ok "ghosts: $(grep -o 'ghosted=[0-9]* forwarded=[0-9]*' <<<"$out")" ||
+    fail "no cavity kept local by ghosts"
 # the data-parallel variant: local cavities first, then the rest (phase 1 postpones the
 # cavities that reach another rank)
 run 4 lake 20.7 --phases
-out=$(timeout 120 $MPIRUN -np 4 "$BIN/pbw" -NEP -q 20.7 -a "${AREA[lake]}" --phases --stats \
-    data/lake.poly 2>&1) || fail "./pbw --phases: $(tail -n 5 <<<"$out")"
-grep -Eq '^cavities: .* postponed=[1-9][0-9]* ' <<<"$out" || fail "--phases postponed nothing"
+out=$(mpi_run 4 "$BIN/pbw" -NEP -q 20.7 -a "${AREA[lake]}" --phases --stats data/lake.poly 2>&1) ||
+    fail "./pbw --phases: ranks $(cat "$T/rcs"): $(tail -n 5 <<<"$out")"
+grep -Eq '^cavities: .* postponed=[1-9][0-9]* ' <<<"$out" && ok "--phases postponed cavities" ||
+    fail "--phases postponed nothing"
 run 8 channel 20.7 --phases --perturb 2
 # imbalanced decomposition
 run 4 holes 20.7 --imbalance 2
@@ -138,37 +131,25 @@ PBW_NO_FAST_PATH=1 run 1 lake 30
 PBW_NO_FAST_PATH=1 run 4 holes 20.7 --perturb 3
 
 # bad input and impossible requests: one clear message, non-zero exit from every rank
-out=$(timeout 60 $MPIRUN -np 4 "$BIN/pbw" -NEP --strict tests/bad/self_intersecting.poly 2>&1)
+out=$(TIMEOUT=60 mpi_run 4 "$BIN/pbw" -NEP --strict tests/bad/self_intersecting.poly 2>&1)
 rc=$?
 echo "bad input -> $rc: $(head -n 1 <<<"$out")"
 [ "$rc" -ne 0 ] || fail "bad input accepted"
-grep -q 'self_intersecting.poly:11: segment 4 crosses segment 2' <<<"$out" ||
-    fail "bad input message missing: $out"
-out=$(timeout 60 $MPIRUN -np 2 "$BIN/pbw" "$T/nosuch.poly" 2>&1)
+all_ranks 4 1 || fail "bad input: not exit 1 on every rank: $(cat "$T/rcs")"
+grep -q 'self_intersecting.poly:11: segment 4 crosses segment 2' <<<"$out" &&
+    ok "bad input: exit 1 on every rank, FILE:LINE message" || fail "bad input message missing: $out"
+out=$(TIMEOUT=60 mpi_run 2 "$BIN/pbw" "$T/nosuch.poly" 2>&1)
 rc=$?
 [ "$rc" -ne 0 ] || fail "missing input accepted"
-grep -q 'nosuch.poly' <<<"$out" || fail "missing-file message does not name the file: $out"
-out=$(timeout 60 $MPIRUN -np 2 "$BIN/pbw" -NEP -q abc data/square.poly 2>&1)
+grep -q 'nosuch.poly' <<<"$out" && ok "missing input: exit $rc, file named" ||
+    fail "missing-file message does not name the file: $out"
+out=$(TIMEOUT=60 mpi_run 2 "$BIN/pbw" -NEP -q abc data/square.poly 2>&1)
 rc=$?
-[ "$rc" -ne 0 ] || fail "bad -q accepted"
-out=$(timeout 60 $MPIRUN -np 1 "$BIN/pbw" --help 2>&1)
+[ "$rc" -ne 0 ] && ok "bad -q: exit $rc" || fail "bad -q accepted"
+out=$(TIMEOUT=60 mpi_run 1 "$BIN/pbw" --help 2>&1)
 rc=$?
 [ "$rc" -eq 0 ] || fail "--help exit $rc"
-grep -q 'pbw' <<<"$out" || fail "--help does not name the program"
-# every rank's exit status: ranks_exit np file args... runs ./pbw under a wrapper that appends
-# "RANK STATUS" to file (the wrapper itself exits 0, so mpirun lets every rank finish); MPI_X:
-# extra mpirun options
-ranks_exit() {
-    local np=$1 file=$2
-    shift 2
-    rm -f "$file"
-    timeout 120 $MPIRUN ${MPI_X:-} -np "$np" sh -c '"$0" "$@"; echo "$OMPI_COMM_WORLD_RANK $?" >>"'"$file"'"' \
-        "$BIN/pbw" "$@"
-}
-all_exit_1() { # np file: every rank recorded status 1
-    [ "$(sort -u "$2" 2>/dev/null | awk '$2 == 1' | wc -l)" -eq "$1" ] &&
-        [ "$(wc -l <"$2")" -eq "$1" ]
-}
+grep -q 'pbw' <<<"$out" && ok "--help names the program" || fail "--help does not name the program"
 
 # no input runs forever (issue 10): a bound beyond reach ends with a clear error on every rank.
 # PBW's insertion order depends on message timing, so at -q 35 it occasionally does reach the
@@ -177,20 +158,25 @@ all_exit_1() { # np file: every rank recorded status 1
 bounded() { # label np args...: "cannot meet" with exit 1 on every rank, or exit 0 with --check OK
     local label=$1 np=$2
     shift 2
-    out=$(ranks_exit "$np" "$T/rc" -NEP --check "$@" 2>&1)
+    out=$(mpi_run "$np" "$BIN/pbw" -NEP --check "$@" 2>&1)
     local rc=$?
-    echo "np=$np $label -> [$(tr '\n' ' ' <"$T/rc" 2>/dev/null)]: $(grep -m1 -o 'cannot meet.*\|^meshcheck: OK' <<<"$out" | cut -c1-80)"
-    [ "$rc" -ne 124 ] || fail "$label at $np ranks: timeout"
-    if all_exit_1 "$np" "$T/rc"; then
-        grep -q "^pbw: data/lake.poly: cannot meet the bounds: [0-9]* triangles" <<<"$out" ||
+    echo "np=$np $label -> [$(cat "$T/rcs")]: $(grep -m1 -o 'cannot meet.*\|^meshcheck: OK' <<<"$out" | cut -c1-80)"
+    n=$((n + 1))
+    if [ "$rc" -eq 124 ]; then
+        fail "$label at $np ranks: timeout"
+    elif all_ranks "$np" 1; then
+        if grep -q "^pbw: data/lake.poly: cannot meet the bounds: [0-9]* triangles" <<<"$out"; then
+            ok "$label at $np ranks: cannot meet the bounds, exit 1 on every rank"
+        else
             fail "$label at $np ranks: exit 1 without 'cannot meet the bounds': $out"
+        fi
         unmet_runs=$((unmet_runs + 1))
-    elif [ "$(awk '$2 == 0' "$T/rc" | wc -l)" -eq "$np" ] && grep -q '^meshcheck: OK' <<<"$out"; then
+    elif all_ranks "$np" 0 && grep -q '^meshcheck: OK' <<<"$out"; then
+        ok "$label at $np ranks: met, --check OK"
         met_runs=$((met_runs + 1))
     else
-        fail "$label at $np ranks: neither 'cannot meet' on every rank nor a checked mesh: $(cat "$T/rc") $out"
+        fail "$label at $np ranks: neither 'cannot meet' on every rank nor a checked mesh: $(cat "$T/rcs") $out"
     fi
-    n=$((n + 1))
 }
 unmet_runs=0 met_runs=0
 for np in 1 2 4 8; do
@@ -222,29 +208,43 @@ while IFS='|' read -r f opts want pat; do
         continue
     fi
     for np in $REG_NPS; do
-        out=$(ranks_exit "$np" "$T/rc" -NEP $opts --check "tests/fuzz/regress/$f" 2>&1 </dev/null)
-        [ "$?" -ne 124 ] || fail "regress $f $opts np=$np: timeout"
-        st=$(awk '{print $2}' "$T/rc" | sort -u | tr '\n' ' ')
-        [ "$(wc -l <"$T/rc")" -eq "$np" ] || fail "regress $f $opts np=$np: not every rank ended: $st"
+        out=$(mpi_run "$np" "$BIN/pbw" -NEP $opts --check "tests/fuzz/regress/$f" 2>&1 </dev/null)
+        rc=$?
+        n=$((n + 1))
+        if [ "$rc" -eq 124 ]; then
+            fail "regress $f $opts np=$np: timeout"
+            continue
+        fi
+        st=$(tr ' ' '\n' <"$T/rcs" | sort -u | tr '\n' ' ')
+        if grep -qw none "$T/rcs"; then
+            fail "regress $f $opts np=$np: not every rank ended: $(cat "$T/rcs")"
+            continue
+        fi
         if [ "$kind" = meshed ]; then
             if [ "$st" = "0 " ]; then
-                grep -q '^meshcheck: OK' <<<"$out" || fail "regress $f $opts np=$np: no --check OK"
+                grep -q '^meshcheck: OK' <<<"$out" || {
+                    fail "regress $f $opts np=$np: no --check OK"
+                    continue
+                }
             elif [ "$st" = "1 " ] && grep -q "^pbw: cannot decompose" <<<"$out"; then
                 :
             else
                 fail "regress $f $opts np=$np: exit [$st]: $(grep -v '^ ' <<<"$out" | head -n 3)"
+                continue
             fi
         elif [ "$st" = "0 " ]; then
             # PBW's timing-dependent order may reach a bound ./mesh does not (see above)
-            grep -q '^meshcheck: OK' <<<"$out" || fail "regress $f $opts np=$np: exit 0, no --check OK"
+            grep -q '^meshcheck: OK' <<<"$out" || {
+                fail "regress $f $opts np=$np: exit 0, no --check OK"
+                continue
+            }
         elif [ "$st" = "1 " ] && grep -q "^pbw: cannot decompose" <<<"$out"; then
             :
-        else
-            [ "$st" = "1 " ] && grep -q 'cannot meet the bounds' <<<"$out" ||
-                fail "regress $f $opts np=$np: exit [$st], wanted 1 and 'cannot meet the bounds'"
+        elif ! { [ "$st" = "1 " ] && grep -q 'cannot meet the bounds' <<<"$out"; }; then
+            fail "regress $f $opts np=$np: exit [$st], wanted 1 and 'cannot meet the bounds'"
+            continue
         fi
-        echo "np=$np regress $f $opts ($kind) -> [$st]"
-        n=$((n + 1))
+        ok "np=$np regress $f $opts ($kind) -> [$st]"
     done
 done <tests/fuzz/regress/TABLE
 
@@ -257,36 +257,39 @@ PSEEDS="1 2 3 4 5 6"
 for np in 2 3 4 8; do
     for s in $PSEEDS; do
         inf=$((s % 4 + 1))
-        out=$(ranks_exit "$np" "$T/rc" -NEP -q 0 -S 20000 --check --perturb "$s" --inflight "$inf" \
+        out=$(mpi_run "$np" "$BIN/pbw" -NEP -q 0 -S 20000 --check --perturb "$s" --inflight "$inf" \
             tests/fuzz/regress/pbw_split_off_line.poly 2>&1 </dev/null)
-        [ "$?" -ne 124 ] || fail "pbw_split_off_line np=$np --perturb $s: timeout"
-        st=$(awk '{print $2}' "$T/rc" | sort -u | tr '\n' ' ')
-        [ "$(wc -l <"$T/rc")" -eq "$np" ] && [ "$st" = "0 " ] &&
-            grep -q '^meshcheck: OK' <<<"$out" ||
-            fail "pbw_split_off_line np=$np --perturb $s --inflight $inf: exit [$st]: $(grep -v '^ ' <<<"$out" | head -n 3)"
+        rc=$?
         n=$((n + 1))
+        if [ "$rc" -eq 124 ]; then
+            fail "pbw_split_off_line np=$np --perturb $s: timeout"
+        elif all_ranks "$np" 0 && grep -q '^meshcheck: OK' <<<"$out"; then
+            ok "np=$np pbw_split_off_line.poly -q 0 -S 20000 --perturb $s --inflight $inf"
+        else
+            fail "pbw_split_off_line np=$np --perturb $s --inflight $inf: exit [$(cat "$T/rcs")]: $(grep -v '^ ' <<<"$out" | head -n 3)"
+        fi
     done
-    echo "np=$np pbw_split_off_line.poly -q 0 -S 20000 --perturb $PSEEDS: OK"
 done
 
 # the Steiner limit: exit 3 on every rank, a conforming mesh written (checked without bounds);
 # not reached: exit 0
 rm -f "$T"/s100.*
-out=$(ranks_exit 3 "$T/rc" -S 100 -a 0.0001 --check -o "$T/s100" data/square.poly 2>&1)
-echo "np=3 -S 100 -> [$(tr '\n' ' ' <"$T/rc")]"
-[ "$(awk '$2 == 3' "$T/rc" | wc -l)" -eq 3 ] || fail "-S 100: not every rank exited 3: $(cat "$T/rc") $out"
+out=$(mpi_run 3 "$BIN/pbw" -S 100 -a 0.0001 --check -o "$T/s100" data/square.poly 2>&1)
+echo "np=3 -S 100 -> [$(cat "$T/rcs")]"
+all_ranks 3 3 || fail "-S 100: not every rank exited 3: $(cat "$T/rcs") $out"
 grep -q "Steiner point limit (-S 100) reached" <<<"$out" && grep -q '^meshcheck: OK' <<<"$out" &&
-    [ -s "$T/s100.ele" ] || fail "-S 100: no message, no --check OK or no mesh: $out"
+    [ -s "$T/s100.ele" ] && ok "-S 100: message, --check OK, mesh written" ||
+    fail "-S 100: no message, no --check OK or no mesh: $out"
 # a fuzz find (tests/fuzz/pending_par, 9a6bcc4c...): with the ghosts, once rank 0 reached its
 # share of the limit the other rank's cavities into it died and retried for ever (it needed
 # 20000 Steiner points then; since encroachment splits the forced-angle rule makes pointless are
 # skipped it meshes with about 150, so -S 100 keeps it at the limit)
-out=$(ranks_exit 2 "$T/rc" -NEP -q 30 -S 100 --check tests/fuzz/regress/pbw_ghost_steiner_limit.poly 2>&1)
-echo "np=2 fuzz -S 100 -> [$(tr '\n' ' ' <"$T/rc")]"
-[ "$(awk '$2 == 3' "$T/rc" | wc -l)" -eq 2 ] && grep -q '^meshcheck: OK' <<<"$out" ||
-    fail "pbw_ghost_steiner_limit: want exit 3 on both ranks and --check OK: $(cat "$T/rc") $out"
-out=$(ranks_exit 3 "$T/rc" -NEP -S 100000 -a 0.01 --check data/square.poly 2>&1)
-[ "$(awk '$2 == 0' "$T/rc" | wc -l)" -eq 3 ] || fail "-S not reached: $(cat "$T/rc") $out"
+out=$(mpi_run 2 "$BIN/pbw" -NEP -q 30 -S 100 --check tests/fuzz/regress/pbw_ghost_steiner_limit.poly 2>&1)
+echo "np=2 fuzz -S 100 -> [$(cat "$T/rcs")]"
+all_ranks 2 3 && grep -q '^meshcheck: OK' <<<"$out" && ok "pbw_ghost_steiner_limit: exit 3 on both ranks" ||
+    fail "pbw_ghost_steiner_limit: want exit 3 on both ranks and --check OK: $(cat "$T/rcs") $out"
+out=$(mpi_run 3 "$BIN/pbw" -NEP -S 100000 -a 0.01 --check data/square.poly 2>&1)
+all_ranks 3 0 && ok "-S not reached: exit 0 on every rank" || fail "-S not reached: $(cat "$T/rcs") $out"
 n=$((n + 2))
 
 # the test-only fault: rank 1 loses a triangle at a rank boundary; the always-on end check
@@ -294,13 +297,15 @@ n=$((n + 2))
 for np in 2 3 4 8; do
     [ "${SANITIZE:-}" = 1 ] && [ "$np" != 3 ] && continue
     rm -f "$T"/broken.*
-    out=$(PBW_TEST_BREAK_IFACE=1 MPI_X="-x PBW_TEST_BREAK_IFACE" ranks_exit "$np" "$T/rc" -q 30 \
+    n0=$(nfailed)
+    out=$(PBW_TEST_BREAK_IFACE=1 MPI_X="-x PBW_TEST_BREAK_IFACE" mpi_run "$np" "$BIN/pbw" -q 30 \
         -a 0.001 -o "$T/broken" data/lake.poly 2>&1)
-    echo "np=$np PBW_TEST_BREAK_IFACE=1 -> [$(tr '\n' ' ' <"$T/rc")]: $(grep -m1 -o 'interface check failed.*' <<<"$out" | cut -c1-90)"
-    all_exit_1 "$np" "$T/rc" || fail "fault np=$np: not every rank exited 1: $(cat "$T/rc") $out"
+    echo "np=$np PBW_TEST_BREAK_IFACE=1 -> [$(cat "$T/rcs")]: $(grep -m1 -o 'interface check failed.*' <<<"$out" | cut -c1-90)"
+    all_ranks "$np" 1 || fail "fault np=$np: not every rank exited 1: $(cat "$T/rcs") $out"
     grep -q "^pbw: data/lake.poly: rank [0-9]*: interface check failed: edge" <<<"$out" ||
         fail "fault np=$np: no interface-check message: $out"
     ! ls "$T"/broken.* >/dev/null 2>&1 || fail "fault np=$np: a broken mesh was written"
+    [ "$(nfailed)" != "$n0" ] || ok "fault np=$np: every rank exits 1 through the interface check, nothing written"
     n=$((n + 1))
 done
 # the other test-only fault: rank R flips an edge between two triangles the general path
@@ -310,20 +315,24 @@ for np in 1 2 3 4 8; do
     [ "${SANITIZE:-}" = 1 ] && [ "$np" != 3 ] && continue
     r=$((np > 1 ? 1 : 0))
     rm -f "$T"/broken.*
-    out=$(PBW_TEST_BREAK_DELAUNAY=$r MPI_X="-x PBW_TEST_BREAK_DELAUNAY" ranks_exit "$np" "$T/rc" \
+    n0=$(nfailed)
+    out=$(PBW_TEST_BREAK_DELAUNAY=$r MPI_X="-x PBW_TEST_BREAK_DELAUNAY" mpi_run "$np" "$BIN/pbw" \
         -q 30 -a 0.001 -o "$T/broken" data/lake.poly 2>&1)
-    echo "np=$np PBW_TEST_BREAK_DELAUNAY=$r -> [$(tr '\n' ' ' <"$T/rc")]: $(grep -m1 -o 'the mesh is not Delaunay.*' <<<"$out" | cut -c1-90)"
-    all_exit_1 "$np" "$T/rc" || fail "Delaunay fault np=$np: not every rank exited 1: $(cat "$T/rc") $out"
+    echo "np=$np PBW_TEST_BREAK_DELAUNAY=$r -> [$(cat "$T/rcs")]: $(grep -m1 -o 'the mesh is not Delaunay.*' <<<"$out" | cut -c1-90)"
+    all_ranks "$np" 1 || fail "Delaunay fault np=$np: not every rank exited 1: $(cat "$T/rcs") $out"
     grep -q "^pbw: data/lake.poly: rank $r: the mesh is not Delaunay: edge (" <<<"$out" ||
         fail "Delaunay fault np=$np: no end-check message: $out"
     ! ls "$T"/broken.* >/dev/null 2>&1 || fail "Delaunay fault np=$np: a mesh was written"
+    [ "$(nfailed)" != "$n0" ] || ok "Delaunay fault np=$np: every rank exits 1 through the end check, nothing written"
     n=$((n + 1))
 done
 # the same run without the faults is whole (so the fault, not the input, broke it), and the
 # stats line ends with the end check's cost
 run 3 lake 30
-out=$(timeout 120 $MPIRUN -np 3 "$BIN/pbw" -NEP -q 30 -a 0.001 --stats data/lake.poly 2>&1)
-grep -Eq '^stats: .* endcheck_max_s=[0-9.]+ endcheck_sum_s=[0-9.]+$' <<<"$out" ||
+out=$(mpi_run 3 "$BIN/pbw" -NEP -q 30 -a 0.001 --stats data/lake.poly 2>&1)
+grep -Eq '^stats: .* endcheck_max_s=[0-9.]+ endcheck_sum_s=[0-9.]+$' <<<"$out" &&
+    ok "the stats line ends with the end check's seconds" ||
     fail "the stats line does not end with the end check's seconds: $(tail -n 1 <<<"$out")"
 n=$((n + 1))
-echo "t_pbw: all $n runs passed"
+echo "$TEST: $n runs"
+finish

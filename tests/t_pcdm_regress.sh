@@ -14,26 +14,8 @@
 # rows of tests/fuzz/pending_par's replay (iface_*, cuts_tiny_angle_*, sliver_one_triangle) ran
 # for minutes or failed the interface check.
 # Env: BIN, MPIRUN as the other tests; SANITIZE=1 (3 ranks only).
-set -u
-cd "$(dirname "$0")/.."
-BIN=${BIN:-.}
-MPIRUN=${MPIRUN:-mpirun --oversubscribe}
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0}
-T=$(mktemp -d "${TMPDIR:-/tmp}/t_pcdm_regress.XXXXXX")
-trap 'rm -rf "$T"' EXIT
-nfail=0 n=0 refused=0
-fail() {
-    nfail=$((nfail + 1))
-    echo "FAIL: $*"
-}
-ranks_exit() { # np file args...: runs ./pcdm, each rank appends "RANK STATUS" to file
-    local np=$1 file=$2
-    shift 2
-    rm -f "$file"
-    timeout 120 $MPIRUN -np "$np" sh -c '"$0" "$@"; echo "$OMPI_COMM_WORLD_RANK $?" >>"'"$file"'"' \
-        "$BIN/pcdm" "$@"
-}
+. "$(dirname "$0")/lib.sh"
+refused=0
 NPS="2 3"
 [ "${SANITIZE:-}" = 1 ] && NPS="3"
 while IFS='|' read -r f opts want pat; do
@@ -51,24 +33,31 @@ while IFS='|' read -r f opts want pat; do
     fi
     for np in $NPS; do
         # shellcheck disable=SC2086
-        out=$(ranks_exit "$np" "$T/rc" -NEP $opts --check "tests/fuzz/regress/$f" 2>&1 </dev/null)
+        out=$(mpi_run "$np" "$BIN/pcdm" -NEP $opts --check "tests/fuzz/regress/$f" 2>&1 </dev/null)
         rc=$?
-        n=$((n + 1))
+        rcs=$(cat "$T/rcs")
         name="$f $opts np=$np"
         if [ "$rc" = 124 ]; then
             fail "$name: timeout (120 s)"
             continue
         fi
-        st=$(awk '{print $2}' "$T/rc" 2>/dev/null | sort -u | tr '\n' ' ')
-        if [ "$(wc -l <"$T/rc" 2>/dev/null)" != "$np" ]; then
-            fail "$name: not every rank ended: [$st]"
+        st=$(tr ' ' '\n' <<<"$rcs" | sort -u | tr '\n' ' ')
+        case " $rcs " in *" none "*)
+            fail "$name: not every rank ended: [$rcs]"
             continue
-        fi
+            ;;
+        esac
         if [ "$st" = "0 " ]; then
-            grep -q '^meshcheck: OK' <<<"$out" || fail "$name: exit 0 without --check OK"
+            if ! grep -q '^meshcheck: OK' <<<"$out"; then
+                fail "$name: exit 0 without --check OK"
+                continue
+            fi
             [ "$kind" = meshed ] || echo "met: $name: ./mesh exit $want, ./pcdm met the bounds"
         elif [ "$st" = "3 " ] && [ "$kind" = limit ]; then
-            grep -q '^meshcheck: OK' <<<"$out" || fail "$name: exit 3 without --check OK"
+            if ! grep -q '^meshcheck: OK' <<<"$out"; then
+                fail "$name: exit 3 without --check OK"
+                continue
+            fi
         elif [ "$st" = "1 " ] && grep -q 'cannot meet the bounds' <<<"$out"; then
             [ "$kind" = meshed ] && refused=$((refused + 1)) && echo "refused: $name: cannot meet the bounds"
         elif [ "$st" = "1 " ] && grep -q 'cannot decompose' <<<"$out"; then
@@ -76,8 +65,10 @@ while IFS='|' read -r f opts want pat; do
             echo "refused: $name: cannot decompose"
         else
             fail "$name ($kind): exit [$st]: $(grep -v '^ ' <<<"$out" | grep -v warning | head -n 2)"
+            continue
         fi
+        ok "$name ($kind): exit [$st]"
     done
 done <tests/fuzz/regress/TABLE
-echo "t_pcdm_regress: $n runs, $refused refused by ./pcdm (cannot decompose, or cannot meet the bounds where ./mesh meshes), $nfail failure(s)"
-[ "$nfail" -eq 0 ]
+echo "$TEST: $refused refused by ./pcdm (cannot decompose, or cannot meet the bounds where ./mesh meshes)"
+finish

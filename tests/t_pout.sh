@@ -7,45 +7,16 @@
 #     --check fail with exit status 1 on every rank, and nothing is written.
 # (The numbering itself, and files written by 1-8 ranks being equal as sets of exact
 # coordinates, are tested by tests/mpi_pout.c.)  Env: BIN, MPIRUN as the other tests.
-set -u
-cd "$(dirname "$0")/.."
-BIN=${BIN:-.}
-MPIRUN=${MPIRUN:-mpirun --oversubscribe}
-if [ "$(id -u)" -eq 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
-export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0}
-T=$(mktemp -d "${TMPDIR:-/tmp}/t_pout.XXXXXX")
-trap 'rm -rf "$T"' EXIT
-pass=0 nfail=0
-ok() { pass=$((pass + 1)); printf 'ok   %s\n' "$*"; }
-fail() { nfail=$((nfail + 1)); printf 'FAIL %s\n' "$*"; }
-
-# runp PROG NP ARGS...: every rank writes its exit status to $T/rc.RANK; sets rcs (the statuses,
-# rank order, space separated) and out/err files
-runp() {
-    local prog=$1 np=$2
-    shift 2
-    rm -f "$T"/rc.*
-    timeout 120 $MPIRUN -np "$np" sh -c \
-        '"$0" "$@"; echo $? >"'"$T"'/rc.${OMPI_COMM_WORLD_RANK:-${PMIX_RANK:-x}}"' \
-        "$BIN/$prog" "$@" >"$T/out" 2>"$T/err"
-    local r
-    rcs=""
-    for ((r = 0; r < np; r++)); do rcs="$rcs $(cat "$T/rc.$r" 2>/dev/null || echo none)"; done
-    rcs=${rcs# }
-}
-all() { # NP STATUS: the string of NP copies of STATUS
-    local s="" r
-    for ((r = 0; r < $1; r++)); do s="$s $2"; done
-    echo "${s# }"
-}
+. "$(dirname "$0")/lib.sh"
 
 A=0.001
 for prog in pcdm pbw; do
     for np in 1 2 4 8; do
         p="$T/$prog$np"
-        runp "$prog" "$np" -q 30 -a $A --check -o "$p" --vtk "$p.vtk" data/lake.poly
+        mpi_run "$np" "$BIN/$prog" -q 30 -a $A --check -o "$p" --vtk "$p.vtk" data/lake.poly \
+            >"$T/out" 2>"$T/err"
         name="$prog np=$np"
-        if [ "$rcs" != "$(all "$np" 0)" ]; then
+        if ! all_ranks "$np" 0; then
             fail "$name: exit statuses $rcs: $(head -3 "$T/err")"
             continue
         fi
@@ -64,14 +35,14 @@ done
 
 for prog in pcdm pbw; do
     np=4
-    PCDM_TEST_BREAK_PIECE=2 runp "$prog" $np -q 30 -a $A --check -o "$T/broken" data/lake.poly
+    PCDM_TEST_BREAK_PIECE=2 mpi_run $np "$BIN/$prog" -q 30 -a $A --check -o "$T/broken" \
+        data/lake.poly >"$T/out" 2>"$T/err"
     name="$prog np=$np broken part"
-    [ "$rcs" = "$(all $np 1)" ] && ok "$name: every rank exits 1" ||
-        fail "$name: exit statuses $rcs, want $(all $np 1)"
+    all_ranks $np 1 && ok "$name: every rank exits 1" ||
+        fail "$name: exit statuses $rcs, want 1 on each of $np ranks"
     grep -q '^meshcheck: FAIL rank 2: ' "$T/out" && ok "$name: $(grep '^meshcheck' "$T/out" | cut -c1-70)" ||
         fail "$name: no FAIL line naming rank 2: $(head -2 "$T/out")"
     [ ! -e "$T/broken.node" ] && ok "$name: nothing written" || fail "$name: files written"
 done
 
-echo "$pass passed, $nfail failed"
-[ "$nfail" -eq 0 ]
+finish

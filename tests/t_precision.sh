@@ -16,18 +16,7 @@
 # case: a pentagon 3 mm across with a square hole at (1234567, 7654321).  Below the model:
 # f = 2^-48 O at 1e9 must end "cannot meet the bounds", exit 1, in ./mesh.
 # Env: BIN (programs), MPIRUN ("mpirun --oversubscribe").
-set -u
-cd "$(dirname "$0")/.."
-BIN=${BIN:-.}
-MPIRUN=${MPIRUN:-mpirun --oversubscribe}
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-T=$(mktemp -d "${TMPDIR:-/tmp}/t_precision.XXXXXX")
-trap 'rm -rf "$T"' EXIT
-nfail=0
-fail() {
-    echo "FAIL: $*"
-    nfail=$((nfail + 1))
-}
+. "$(dirname "$0")/lib.sh"
 
 cat >"$T/gen.py" <<'EOF'
 # gen.py OFFSET FEATURE OUT.poly OUT0.poly: the domain at (O, 0.6 O) and at the origin
@@ -109,7 +98,7 @@ for O in 1e3 1e5 1e7 1e9; do
         elif ! python3 -c "import sys; sys.exit(abs($n - $n0) > 0.01 * $n0)"; then
             fail "O=$O f=$f: $n triangles, at the origin $n0 (more than 1% apart)"
         else
-            echo "ok: ./mesh O=$O f=$f: $n triangles, at the origin $n0"
+            ok "./mesh O=$O f=$f: $n triangles, at the origin $n0"
         fi
     done
 done
@@ -122,7 +111,7 @@ if ! out=$("$BIN/mesh" -Q "${POPTS[@]}" -o "$T/w" "$T/d.poly" 2>&1); then
 elif ! out=$("$BIN/meshcheck" "${POPTS[@]}" "$T/d.poly" "$T/w" 2>&1); then
     fail "./meshcheck of the written mesh at 1e9: ${out:0:300}"
 else
-    echo "ok: ./meshcheck of the written mesh at 1e9"
+    ok "./meshcheck of the written mesh at 1e9"
 fi
 
 # the parallel meshers at the smallest features
@@ -131,12 +120,12 @@ for O in 1e3 1e9; do
     python3 "$T/gen.py" "$O" "$f" "$T/p$O.poly" "$T/p0.poly"
     for prog in pcdm pbw; do
         for np in 2 3 8; do
-            out=$(timeout 120 $MPIRUN -np $np "$BIN/$prog" -NEP "${POPTS[@]}" --check "$T/p$O.poly" 2>&1)
+            out=$(mpi_run $np "$BIN/$prog" -NEP "${POPTS[@]}" --check "$T/p$O.poly" 2>&1)
             rc=$?
             if [ $rc != 0 ] || ! grep -q "^meshcheck: OK" <<<"$out"; then
-                fail "./$prog at $np ranks, O=$O f=$f: exit $rc: ${out:0:300}"
+                fail "./$prog at $np ranks, O=$O f=$f: exit $rc (ranks: $(cat "$T/rcs")): ${out:0:300}"
             else
-                echo "ok: ./$prog -np $np O=$O f=$f: $(count "$(grep '^meshcheck: OK' <<<"$out")") triangles"
+                ok "./$prog -np $np O=$O f=$f: $(count "$(grep '^meshcheck: OK' <<<"$out")") triangles"
             fi
         done
     done
@@ -150,11 +139,11 @@ for b in "-q 20 -a 1e-8" "-q 30 -a 2e-10"; do
         fail "./mesh $b on the pentagon: ${out:0:300}"
     for prog in pcdm pbw; do
         # shellcheck disable=SC2086
-        out=$(timeout 120 $MPIRUN -np 4 "$BIN/$prog" -NEP $b --check "$T/pent.poly" 2>&1) ||
+        out=$(mpi_run 4 "$BIN/$prog" -NEP $b --check "$T/pent.poly" 2>&1) ||
             fail "./$prog -np 4 $b on the pentagon: ${out:0:300}"
     done
 done
-echo "ok: the pentagon at (1234567, 7654321)"
+ok "the pentagon at (1234567, 7654321)"
 
 # below the model: a clear refusal, not a mesh and not a hang
 f=$(python3 -c "print(2.0 ** -48 * (1e9 + 24) * 1.01)")
@@ -164,10 +153,9 @@ rc=$?
 if [ $rc != 1 ] || ! grep -q "cannot meet the bounds" <<<"$out"; then
     fail "f = 2^-48 of 1e9: exit $rc, expected 1 and 'cannot meet the bounds': ${out:0:300}"
 else
-    echo "ok: f = 2^-48 of 1e9 refused"
+    ok "f = 2^-48 of 1e9 refused"
 fi
 out=$(timeout 60 "$BIN/mesh" -NEP "${POPTS[@]}" --check "$T/b0.poly" 2>&1) ||
     fail "the same domain at the origin: ${out:0:300}"
 
-echo "t_precision: $nfail failure(s)"
-[ "$nfail" -eq 0 ]
+finish

@@ -10,38 +10,35 @@
 # names the writing rank, and subdomains 0..3.  (Files written by 1-8 ranks for one mesh being
 # equal is tests/mpi_pout.c's; ./pcdm's mesh itself changes with the rank count.)  When python3, triangle or meshio is missing the test says so and passes
 # (SKIP); `make deps` tries to install them.  Env: BIN, MPIRUN as the other tests.
-set -u
-cd "$(dirname "$0")/.."
-BIN=${BIN:-.}
-MPIRUN=${MPIRUN:-mpirun --oversubscribe}
-if [ "$(id -u)" -eq 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
-export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0}
-if ! python3 -c 'import numpy, triangle, meshio' 2>/dev/null; then
-    echo "SKIP t_readers: python3 with numpy, triangle and meshio is needed (pip install triangle meshio)"
-    exit 0
-fi
-T=$(mktemp -d "${TMPDIR:-/tmp}/t_readers.XXXXXX")
-trap 'rm -rf "$T"' EXIT
+. "$(dirname "$0")/lib.sh"
+python3 -c 'import numpy, triangle, meshio' 2>/dev/null ||
+    skip "python3 with numpy, triangle and meshio is needed (pip install triangle meshio)"
 for np in 1 2 4; do
-    if ! timeout 300 $MPIRUN -np $np "$BIN/pcdm" -q 30 -a 2e-4 --subdomains 4 -o "$T/m$np" \
+    if TIMEOUT=300 mpi_run $np "$BIN/pcdm" -q 30 -a 2e-4 --subdomains 4 -o "$T/m$np" \
         --vtk "$T/m$np.pvtu" data/lake.poly >"$T/out$np" 2>&1; then
-        echo "FAIL pcdm np=$np:"
+        ok "pcdm np=$np -o, --vtk"
+    else
         cat "$T/out$np"
-        exit 1
+        fatal "pcdm np=$np: ranks exit $rcs"
     fi
 done
-python3 tests/readers.py "$T" 1 2 4 || exit 1
+if python3 tests/readers.py "$T" 1 2 4; then
+    ok "the triangle package and meshio read the files of 1, 2 and 4 ranks alike"
+else
+    fatal "tests/readers.py (see above)"
+fi
 # ./mesh's legacy VTK, binary (the default) and --vtk-ascii, and ./pcdm's pieces with
 # --vtk-ascii: meshio reads each; ./mesh: the same points (bit for bit, and as the .node has them),
 # triangles and markers in both encodings; ./pcdm: every piece whole, its cells its rank's
 "$BIN/mesh" -q 30 -a 2e-4 -o "$T/s" --vtk "$T/sb.vtk" data/lake.poly >/dev/null 2>&1 &&
     "$BIN/mesh" -NEP -q 30 -a 2e-4 --vtk "$T/sa.vtk" --vtk-ascii data/lake.poly >/dev/null 2>&1 &&
-    timeout 300 $MPIRUN -np 2 "$BIN/pcdm" -NEP -q 30 -a 2e-4 --subdomains 4 --vtk "$T/pa.pvtu" \
-        --vtk-ascii data/lake.poly >/dev/null 2>&1 || { echo "FAIL: writing the VTK files"; exit 1; }
-grep -q '^BINARY$' "$T/sb.vtk" && grep -q '^ASCII$' "$T/sa.vtk" || { echo "FAIL: VTK encodings"; exit 1; }
+    TIMEOUT=300 mpi_run 2 "$BIN/pcdm" -NEP -q 30 -a 2e-4 --subdomains 4 --vtk "$T/pa.pvtu" \
+        --vtk-ascii data/lake.poly >/dev/null 2>&1 || fatal "writing the VTK files"
+grep -q '^BINARY$' "$T/sb.vtk" && grep -q '^ASCII$' "$T/sa.vtk" || fatal "VTK encodings"
 grep -q 'format="ascii"' "$T/pa_0.vtu" && grep -q 'format="appended"' "$T/m2_0.vtu" ||
-    { echo "FAIL: .vtu encodings"; exit 1; }
-python3 - "$T" <<'PY' || exit 1
+    fatal ".vtu encodings"
+ok "VTK and .vtu encodings"
+if python3 - "$T" <<'PY'; then
 import sys, meshio, numpy as np
 T = sys.argv[1]
 b, a = meshio.read(T + "/sb.vtk"), meshio.read(T + "/sa.vtk")
@@ -59,3 +56,8 @@ print("t_readers: ./mesh VTK binary and ASCII, ./pcdm ASCII .vtu pieces read by 
       "OK" if ok else "FAILED")
 sys.exit(0 if ok else 1)
 PY
+    ok "meshio reads ./mesh's VTK files and ./pcdm's ASCII pieces"
+else
+    fail "meshio on the VTK files (see above)"
+fi
+finish

@@ -17,17 +17,7 @@
 #     regions.poly keeps its regions, so meshing it again with -A --region-areas passes the
 #     checks against the original.
 # Env: BIN, MPIRUN as the other tests.
-set -u
-cd "$(dirname "$0")/.."
-BIN=${BIN:-.}
-MPIRUN=${MPIRUN:-mpirun --oversubscribe}
-if [ "$(id -u)" -eq 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
-export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0}
-T=$(mktemp -d "${TMPDIR:-/tmp}/t_regions.XXXXXX")
-trap 'rm -rf "$T"' EXIT
-pass=0 nfail=0
-ok() { pass=$((pass + 1)); printf 'ok   %s\n' "$*"; }
-fail() { nfail=$((nfail + 1)); printf 'FAIL %s\n' "$*"; }
+. "$(dirname "$0")/lib.sh"
 IN=tests/inputs/regions.poly
 
 # strips PREFIX: "strip:attribute" for every distinct pair (strip = floor of the centroid's x)
@@ -68,7 +58,8 @@ else
     fail "mesh -A --region-areas: $(cat "$T/out")"
 fi
 if grep -q "SCALARS region_attr double" "$T/m.vtk"; then ok "mesh: VTK region_attr"; else
-    fail "mesh: no region_attr in the VTK file"; fi
+    fail "mesh: no region_attr in the VTK file"
+fi
 if "$BIN/mesh" -q 20 -a 0.03 -A --region-areas -o "$T/ma" "$IN" >"$T/out" 2>&1; then
     check "mesh -a 0.03 -A --region-areas" "$T/ma" -a 0.03
 else
@@ -77,18 +68,18 @@ fi
 for prog in pcdm pbw; do
     for np in 1 2 4; do
         p="$T/$prog$np"
-        if timeout 120 $MPIRUN -np "$np" "$BIN/$prog" -q 20 -A --region-areas --check -o "$p" \
+        if mpi_run "$np" "$BIN/$prog" -q 20 -A --region-areas --check -o "$p" \
             --vtk "$p.pvtu" "$IN" >"$T/out" 2>&1 && grep -q "meshcheck: OK" "$T/out"; then
             check "$prog np=$np -A --region-areas" "$p"
         else
             fail "$prog np=$np: $(tail -3 "$T/out")"
             continue
         fi
-        if grep -q 'Name="region_attr"' "$p.pvtu" && grep -q 'Name="region_attr"' "${p}_0.vtu"
-        then ok "$prog np=$np: .pvtu/.vtu region_attr"; else
-            fail "$prog np=$np: no region_attr in the .vtu pieces"; fi
+        if grep -q 'Name="region_attr"' "$p.pvtu" && grep -q 'Name="region_attr"' "${p}_0.vtu"; then ok "$prog np=$np: .pvtu/.vtu region_attr"; else
+            fail "$prog np=$np: no region_attr in the .vtu pieces"
+        fi
     done
-    if timeout 120 $MPIRUN -np 2 "$BIN/$prog" -q 20 -a 0.03 -A --region-areas -o "$T/${prog}a" \
+    if mpi_run 2 "$BIN/$prog" -q 20 -a 0.03 -A --region-areas -o "$T/${prog}a" \
         "$IN" >"$T/out" 2>&1; then
         check "$prog np=2 -a 0.03 -A --region-areas" "$T/${prog}a" -a 0.03
     else
@@ -119,11 +110,12 @@ rt() { # NAME PREFIX: mesh PREFIX.poly again, check against data/lake.poly
         fail "$name: $(cat "$T/out" "$T/mc")"
     fi
 }
-"$BIN/mesh" -q 25 -o "$T/lake" data/lake.poly >/dev/null 2>&1 && rt "mesh lake" "$T/lake"
-timeout 120 $MPIRUN -np 4 "$BIN/pcdm" -q 25 -o "$T/lakep" data/lake.poly >/dev/null 2>&1 &&
-    rt "pcdm np=4 lake" "$T/lakep"
-timeout 120 $MPIRUN -np 2 "$BIN/pbw" -q 25 -o "$T/lakeb" data/lake.poly >/dev/null 2>&1 &&
-    rt "pbw np=2 lake" "$T/lakeb"
+"$BIN/mesh" -q 25 -o "$T/lake" data/lake.poly >/dev/null 2>&1 && rt "mesh lake" "$T/lake" ||
+    fail "mesh lake: exit $?"
+mpi_run 4 "$BIN/pcdm" -q 25 -o "$T/lakep" data/lake.poly >/dev/null 2>&1 &&
+    rt "pcdm np=4 lake" "$T/lakep" || fail "pcdm np=4 lake: ranks exit $rcs"
+mpi_run 2 "$BIN/pbw" -q 25 -o "$T/lakeb" data/lake.poly >/dev/null 2>&1 &&
+    rt "pbw np=2 lake" "$T/lakeb" || fail "pbw np=2 lake: ranks exit $rcs"
 for p in "$T/m" "$T/pcdm4"; do
     if "$BIN/mesh" -q 20 -A --region-areas -o "$p.again" "$p.poly" >"$T/out" 2>&1; then
         check "round trip of $(basename "$p").poly with its regions" "$p.again"
@@ -132,5 +124,4 @@ for p in "$T/m" "$T/pcdm4"; do
     fi
 done
 
-echo "t_regions: $pass ok, $nfail failed"
-[ "$nfail" -eq 0 ]
+finish

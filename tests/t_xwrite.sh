@@ -10,21 +10,8 @@
 # Triangle's own .edge, .neigh and -o2 nodes (tests/xtriangle.py, PyPI triangle).  A .msh that cannot be written fails every rank with
 # exit status 1.  Without python3 and meshio the file checks are skipped (SKIP).  Env: BIN,
 # MPIRUN as the other tests.
-set -u
-cd "$(dirname "$0")/.."
-BIN=${BIN:-.}
-MPIRUN=${MPIRUN:-mpirun --oversubscribe}
-if [ "$(id -u)" -eq 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
-export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0}
-if ! python3 -c 'import meshio' 2>/dev/null; then
-    echo "SKIP t_xwrite: python3 with meshio is needed (pip install meshio)"
-    exit 0
-fi
-T=$(mktemp -d "${TMPDIR:-/tmp}/t_xwrite.XXXXXX")
-trap 'rm -rf "$T"' EXIT
-pass=0 nfail=0
-ok() { pass=$((pass + 1)); printf 'ok   %s\n' "$*"; }
-fail() { nfail=$((nfail + 1)); printf 'FAIL %s\n' "$*"; }
+. "$(dirname "$0")/lib.sh"
+python3 -c 'import meshio' 2>/dev/null || skip "python3 with meshio is needed (pip install meshio)"
 X="-q 25 -a 0.01 --check -e -n"
 
 # name, python checks..., then the run's exit status in $rc and output in $T/out
@@ -51,7 +38,7 @@ checked "mesh -e -n --msh" "$T/s1" --msh "$T/s1.msh" --keys "$T/s1.keys"
 
 for np in 1 2 4; do
     p=$T/p$np
-    timeout 120 $MPIRUN -np $np "$BIN/pcdm" $X --order2 --msh "$p.msh" --vtk "$p.pvtu" -o "$p" data/lake.poly >"$T/out" 2>&1
+    mpi_run $np "$BIN/pcdm" $X --order2 --msh "$p.msh" --vtk "$p.pvtu" -o "$p" data/lake.poly >"$T/out" 2>&1
     rc=$?
     checked "pcdm np=$np -e -n --order2 --msh --vtk" "$p" --o2 --msh "$p.msh" --vtk "$p.vtk" --keys "$p.keys"
     [ ! -e "$p.pvtu" ] || fail "pcdm np=$np --order2 --vtk: linear pieces written too"
@@ -63,12 +50,12 @@ for np in 1 2 4; do
     fi
 done
 # several chunks per rank (the files are a few MiB), another mesher
-timeout 120 $MPIRUN -np 3 "$BIN/pbw" -q 25 -a 1e-4 --check -e -n --order2 --msh "$T/b.msh" -o "$T/b" data/lake.poly >"$T/out" 2>&1
+mpi_run 3 "$BIN/pbw" -q 25 -a 1e-4 --check -e -n --order2 --msh "$T/b.msh" -o "$T/b" data/lake.poly >"$T/out" 2>&1
 rc=$?
 checked "pbw np=3 -a 1e-4 -e -n --order2 --msh" "$T/b" --o2 --msh "$T/b.msh"
 
 # two triangles on four ranks: ranks without a triangle write nothing but agree on the headers
-timeout 120 $MPIRUN -np 4 "$BIN/pbw" -q 20 --check -e -n --order2 --msh "$T/e.msh" -o "$T/e" data/square.poly >"$T/out" 2>&1
+mpi_run 4 "$BIN/pbw" -q 20 --check -e -n --order2 --msh "$T/e.msh" -o "$T/e" data/square.poly >"$T/out" 2>&1
 rc=$?
 checked "pbw np=4 square (empty ranks)" "$T/e" --o2 --msh "$T/e.msh"
 
@@ -94,7 +81,7 @@ for prog in mesh pcdm; do
     if [ $prog = mesh ]; then
         "$BIN/mesh" -q 25 --order2 -N -o "$T/n2" data/lake.poly >"$T/out" 2>&1
     else
-        timeout 120 $MPIRUN -np 2 "$BIN/pcdm" -q 25 --order2 -N -o "$T/n2" data/lake.poly >"$T/out" 2>&1
+        mpi_run 2 "$BIN/pcdm" -q 25 --order2 -N -o "$T/n2" data/lake.poly >"$T/out" 2>&1
     fi
     [ ! -e "$T/n2.node" ] && [ -e "$T/n2.poly" ] && [ "$(awk 'NR == 1 {print $2}' "$T/n2.ele")" = 6 ] &&
         ok "$prog --order2 -N: six-node .ele, no .node" ||
@@ -106,12 +93,8 @@ done
 rc=$?
 [ $rc -eq 1 ] && grep -q "no/such/dir/x.msh" "$T/out" && ok "mesh: unwritable --msh: exit 1, named" ||
     fail "mesh: unwritable --msh: exit $rc: $(head -2 "$T/out")"
-rm -f "$T"/rc.*
-timeout 120 $MPIRUN -np 2 sh -c '"$0" "$@"; echo $? >"'"$T"'/rc.${OMPI_COMM_WORLD_RANK:-${PMIX_RANK:-x}}"' \
-    "$BIN/pcdm" -q 25 -NEP --msh "$T/no/such/dir/x.msh" data/lake.poly >"$T/out" 2>&1
-rcs="$(cat "$T/rc.0" 2>/dev/null) $(cat "$T/rc.1" 2>/dev/null)"
-[ "$rcs" = "1 1" ] && grep -q "no/such/dir/x.msh" "$T/out" && ok "pcdm np=2: unwritable --msh: every rank exits 1" ||
+mpi_run 2 "$BIN/pcdm" -q 25 -NEP --msh "$T/no/such/dir/x.msh" data/lake.poly >"$T/out" 2>&1
+all_ranks 2 1 && grep -q "no/such/dir/x.msh" "$T/out" && ok "pcdm np=2: unwritable --msh: every rank exits 1" ||
     fail "pcdm np=2: unwritable --msh: statuses '$rcs': $(head -2 "$T/out")"
 
-echo "$pass passed, $nfail failed"
-[ "$nfail" -eq 0 ]
+finish

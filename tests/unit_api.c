@@ -13,9 +13,9 @@
  *    marked as ./mesh does: the same points, markers and triangles as ./mesh's files.
  */
 #include "api_check.h"
+#include "check_run.h"
 #include "io/meshio.h"
 
-#include <check.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -296,22 +296,8 @@ START_TEST(test_crossing_as_mesh) {
 END_TEST
 
 int main(void) {
-    Suite *s = suite_create("api");
-    TCase *tc = tcase_create("api");
-    tcase_set_timeout(tc, 120);
-    tcase_add_test(tc, test_plate);
-    tcase_add_test(tc, test_regions);
-    tcase_add_test(tc, test_convex_hull);
-    tcase_add_test(tc, test_callback);
-    tcase_add_test(tc, test_errors);
-    tcase_add_test(tc, test_steiner_limit);
-    tcase_add_test(tc, test_quiet);
-    tcase_add_test(tc, test_threads);
-    tcase_add_test(tc, test_crossing_as_mesh);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int nf = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return nf ? EXIT_FAILURE : EXIT_SUCCESS;
+    return ck_run(ck_suite("api", 120,
+                           CK_TESTS(test_plate, test_regions, test_convex_hull, test_callback,
+                                    test_errors, test_steiner_limit, test_quiet, test_threads,
+                                    test_crossing_as_mesh)));
 }

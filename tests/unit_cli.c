@@ -12,9 +12,9 @@
  * its copy through cli_par_parse).
  */
 #include "../apps/cli.h"
+#include "check_run.h"
 #include "pcdm.h"
 
-#include <check.h>
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -420,23 +420,8 @@ START_TEST(test_output_names) {
 END_TEST
 
 int main(void) {
-    Suite *s = suite_create("cli");
-    TCase *tc = tcase_create("core");
-    tcase_add_test(tc, test_defaults);
-    tcase_add_test(tc, test_spellings);
-    tcase_add_test(tc, test_number_edges);
-    tcase_add_test(tc, test_strict);
-    tcase_add_test(tc, test_usage_errors);
-    tcase_add_test(tc, test_choices);
-    tcase_add_test(tc, test_help);
-    tcase_add_test(tc, test_switch_strings);
-    tcase_add_test(tc, test_switch_errors);
-    tcase_add_test(tc, test_version);
-    tcase_add_test(tc, test_output_names);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int nf = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return nf ? 1 : 0;
+    return ck_run(ck_suite("cli", 0,
+                           CK_TESTS(test_defaults, test_spellings, test_number_edges, test_strict,
+                                    test_usage_errors, test_choices, test_help, test_switch_strings,
+                                    test_switch_errors, test_version, test_output_names)));
 }

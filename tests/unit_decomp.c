@@ -8,12 +8,12 @@
  * domain's; work is balanced against the targets; every rank owns a subdomain; the result is the
  * same bits when computed twice.  Inputs: data/ and tests/inputs/ (every input class).
  */
+#include "check_run.h"
 #include "decomp/decomp.h"
 #include "geom/geom.h"
 #include "geom/pslg.h"
 #include "seq/mesh.h"
 
-#include <check.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -509,9 +509,5 @@ static Suite *decomp_suite(void) {
 int main(void) {
     geom_init();
     setvbuf(stdout, NULL, _IOLBF, 0);
-    SRunner *sr = srunner_create(decomp_suite());
-    srunner_run_all(sr, CK_NORMAL);
-    int nf = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return nf ? EXIT_FAILURE : EXIT_SUCCESS;
+    return ck_run(decomp_suite());
 }

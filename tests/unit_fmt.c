@@ -6,9 +6,9 @@
  * random values in the fast path's range, decimal fractions k / 10^j (short forms), powers of
  * two (the narrow rounding intervals), neighbours of powers of ten, and the extremes.
  */
+#include "check_run.h"
 #include "io/fmt.h"
 
-#include <check.h>
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
@@ -146,20 +146,9 @@ START_TEST(test_int) {
 END_TEST
 
 int main(void) {
-    Suite *s = suite_create("fmt");
-    TCase *tc = tcase_create("core");
-    tcase_set_timeout(tc, 120);
-    tcase_add_test(tc, test_random_bits);
-    tcase_add_test(tc, test_mesh_range);
-    tcase_add_test(tc, test_special);
-    tcase_add_test(tc, test_int);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_set_fork_status(sr, CK_NOFORK);
-    srunner_run_all(sr, CK_NORMAL);
-    int nf = srunner_ntests_failed(sr);
-    srunner_free(sr);
+    int rc = ck_run_nofork(
+        ck_suite("fmt", 120, CK_TESTS(test_random_bits, test_mesh_range, test_special, test_int)));
     printf("unit_fmt: %ld values checked, %ld shorter than the shortest %%.{p}g\n", nchecked,
            nshorter);
-    return nf ? 1 : 0;
+    return rc;
 }

@@ -14,9 +14,9 @@
  * rounded helpers (circumcenter, angles, midpoint, area) are checked against known values and
  * invariants.
  */
+#include "check_run.h"
 #include "geom/geom.h"
 
-#include <check.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -901,9 +901,5 @@ static Suite *geom_suite(void) {
 
 int main(void) {
     geom_init();
-    SRunner *sr = srunner_create(geom_suite());
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+    return ck_run(geom_suite());
 }

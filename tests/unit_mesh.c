@@ -8,6 +8,7 @@
  * exact incircle) and, when it comes from a PSLG, through mesh_validate (validate.h).
  */
 #include "check/validate.h"
+#include "check_run.h"
 #include "geom/geom.h"
 #include "geom/pslg.h"
 #include "io/meshio.h"
@@ -15,7 +16,6 @@
 #include "seq/mesh.h"
 #include "seq/rules.h"
 
-#include <check.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -989,9 +989,5 @@ static Suite *suite(void) {
 }
 
 int main(void) {
-    SRunner *sr = srunner_create(suite());
-    srunner_run_all(sr, CK_NORMAL);
-    int nf = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return nf == 0 ? 0 : 1;
+    return ck_run(suite());
 }

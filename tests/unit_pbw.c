@@ -5,9 +5,9 @@
  * length floor), and the ghosts (conflict decided on a remote neighbour's ghost, tombstones
  * forwarding stale links), and the local fast path (pbw_local.c).  Each
  * test builds a context by hand, as pbw_setup would, with rank 0 of 1. */
+#include "check_run.h"
 #include "pbw/pbw_impl.h"
 
-#include <check.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -701,28 +701,10 @@ START_TEST(test_lock_table) {
 END_TEST
 
 int main(void) {
-
-    Suite *s = suite_create("pbw");
-    TCase *tc = tcase_create("pbw");
-    tcase_add_test(tc, test_vertex_table);
-    tcase_add_test(tc, test_slots_reuse);
-    tcase_add_test(tc, test_bad_queue_order);
-    tcase_add_test(tc, test_deferred_wakes);
-    tcase_add_test(tc, test_split_ticket);
-    tcase_add_test(tc, test_holds);
-    tcase_add_test(tc, test_cavity_wire_format);
-    tcase_add_test(tc, test_ghost_conflict);
-    tcase_add_test(tc, test_tombstones);
-    tcase_add_test(tc, test_ghost_commit);
-    tcase_add_test(tc, test_local_fast_path);
-    tcase_add_test(tc, test_lock_table);
-    tcase_add_test(tc, test_rules_edge_forced);
-    tcase_add_test(tc, test_rules_priority_floor);
-    tcase_add_test(tc, test_rules_unsuitable);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return ck_run(ck_suite(
+        "pbw", 0,
+        CK_TESTS(test_vertex_table, test_slots_reuse, test_bad_queue_order, test_deferred_wakes,
+                 test_split_ticket, test_holds, test_cavity_wire_format, test_ghost_conflict,
+                 test_tombstones, test_ghost_commit, test_local_fast_path, test_lock_table,
+                 test_rules_edge_forced, test_rules_priority_floor, test_rules_unsuitable)));
 }

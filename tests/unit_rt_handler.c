@@ -1,9 +1,9 @@
 /* unit_rt_handler.c - the handler table (rt_handler.c): deterministic ids in registration
  * order, validation at registration, the fatal stub in unregistered slots, payload length
  * checks, and the table comparison rt_start uses to name the first mismatching handler. */
+#include "check_run.h"
 #include "rt_internal.h"
 
-#include <check.h>
 #include <signal.h>
 #include <string.h>
 
@@ -123,16 +123,9 @@ END_TEST
 
 int main(void) {
     Suite *s = suite_create("rt_handler");
-    TCase *tc = tcase_create("handler");
-    tcase_add_test(tc, test_ids_in_order);
-    tcase_add_test(tc, test_registration_validation);
-    tcase_add_test(tc, test_payload_checks);
+    TCase *tc = ck_case(s, "rt_handler", 0,
+                        CK_TESTS(test_ids_in_order, test_registration_validation,
+                                 test_payload_checks, test_compare_tables));
     tcase_add_test_raise_signal(tc, test_unregistered_stub_aborts, SIGABRT);
-    tcase_add_test(tc, test_compare_tables);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed ? 1 : 0;
+    return ck_run(s);
 }

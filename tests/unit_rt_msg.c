@@ -1,9 +1,9 @@
 /* unit_rt_msg.c - wire format and aggregation (rt_msg.c): several RSRs packed into one
  * buffer and unpacked again, alignment, the full-buffer case, malformed buffers; the
  * termination decision rule (rt_term.c) and the perturbation pool (rt_perturb.c). */
+#include "check_run.h"
 #include "rt_internal.h"
 
-#include <check.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -192,20 +192,9 @@ START_TEST(test_prefer_local_pml) {
 END_TEST
 
 int main(void) {
-    Suite *s = suite_create("rt_msg");
-    TCase *tc = tcase_create("msg");
-    tcase_add_test(tc, test_pack_unpack_many);
-    tcase_add_test(tc, test_prefer_local_pml);
-    tcase_add_test(tc, test_wire_size_and_full);
-    tcase_add_test(tc, test_malformed);
-    tcase_add_test(tc, test_item_copy);
-    tcase_add_test(tc, test_term_decide);
-    tcase_add_test(tc, test_term_ring_one_rank);
-    tcase_add_test(tc, test_perturb_keeps_source_order);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed ? 1 : 0;
+    return ck_run(
+        ck_suite("rt_msg", 0,
+                 CK_TESTS(test_pack_unpack_many, test_prefer_local_pml, test_wire_size_and_full,
+                          test_malformed, test_item_copy, test_term_decide, test_term_ring_one_rank,
+                          test_perturb_keeps_source_order)));
 }

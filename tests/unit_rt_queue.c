@@ -1,7 +1,7 @@
 /* unit_rt_queue.c - the runtime's intrusive FIFO queues (rt_queue.c). */
+#include "check_run.h"
 #include "rt_internal.h"
 
-#include <check.h>
 #include <stdlib.h>
 
 typedef struct item {
@@ -100,16 +100,7 @@ START_TEST(test_many) {
 END_TEST
 
 int main(void) {
-    Suite *s = suite_create("rt_queue");
-    TCase *tc = tcase_create("queue");
-    tcase_add_test(tc, test_fifo_order);
-    tcase_add_test(tc, test_interleaved_and_reuse);
-    tcase_add_test(tc, test_append);
-    tcase_add_test(tc, test_many);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed ? 1 : 0;
+    return ck_run(
+        ck_suite("rt_queue", 0,
+                 CK_TESTS(test_fifo_order, test_interleaved_and_reuse, test_append, test_many)));
 }

@@ -4,9 +4,9 @@
  * task waits for: pending count, last request, label, time), its dump (rt_tasks_dump and
  * rt_blocked_dump) and statistics (rt_stats_local, rt_stats_reset), and the one-rank
  * termination ring telling termination from deadlock (rt_term_pass). */
+#include "check_run.h"
 #include "rt_internal.h"
 
-#include <check.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
@@ -462,22 +462,12 @@ END_TEST
 
 int main(void) {
     Suite *s = suite_create("rt_task");
-    TCase *tc = tcase_create("task");
-    tcase_add_test(tc, test_state_transitions);
-    tcase_add_test(tc, test_fifo_and_reuse);
-    tcase_add_test(tc, test_yield_and_empty_wait);
-    tcase_add_test(tc, test_bad_tokens);
+    TCase *tc =
+        ck_case(s, "rt_task", 0,
+                CK_TESTS(test_state_transitions, test_fifo_and_reuse, test_yield_and_empty_wait,
+                         test_bad_tokens, test_blocked_list, test_label_truncated, test_dump,
+                         test_public_dump_and_stats, test_term_deadlock_one_rank));
     tcase_add_test_raise_signal(tc, test_done_with_pending_aborts, SIGABRT);
-    tcase_add_test(tc, test_blocked_list);
-    tcase_add_test(tc, test_label_truncated);
     tcase_add_test_raise_signal(tc, test_label_finished_task_aborts, SIGABRT);
-    tcase_add_test(tc, test_dump);
-    tcase_add_test(tc, test_public_dump_and_stats);
-    tcase_add_test(tc, test_term_deadlock_one_rank);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed ? 1 : 0;
+    return ck_run(s);
 }

@@ -10,12 +10,12 @@
  * the rules see coordinates scaled by 2^scale_exp.  Files are written to a temporary folder.
  */
 #include "bounds/sizefield.h"
+#include "check_run.h"
 #include "geom/geom.h"
 #include "geom/pslg.h"
 #include "geom/tloc.h"
 #include "io/meshio.h"
 
-#include <check.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -156,19 +156,11 @@ int main(void) {
     snprintf(dir, sizeof dir, "%s/unit_sizefield.XXXXXX",
              getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
     if (!mkdtemp(dir)) return 1;
-    Suite *s = suite_create("sizefield");
-    TCase *tc = tcase_create("sizefield");
-    tcase_add_test(tc, test_tloc);
-    tcase_add_test(tc, test_refine_pslg_boundary);
-    tcase_add_test(tc, test_area_rule);
-    tcase_add_test(tc, test_background_rule);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int nf = srunner_ntests_failed(sr);
-    srunner_free(sr);
+    int rc = ck_run(ck_suite(
+        "sizefield", 0,
+        CK_TESTS(test_tloc, test_refine_pslg_boundary, test_area_rule, test_background_rule)));
     char cmd[300];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    if (system(cmd) != 0) nf++;
-    return nf ? 1 : 0;
+    if (system(cmd) != 0) rc = EXIT_FAILURE;
+    return rc;
 }

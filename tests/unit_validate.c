@@ -7,11 +7,11 @@
  * half a million triangles validates quickly.  Run from the repository root.
  */
 #include "check/validate.h"
+#include "check_run.h"
 #include "geom/geom.h"
 #include "geom/pslg.h"
 #include "io/meshio.h"
 
-#include <check.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -398,26 +398,10 @@ END_TEST
 
 int main(void) {
     geom_init();
-    Suite *s = suite_create("validate");
-    TCase *tc = tcase_create("validate");
-    tcase_set_timeout(tc, 120);
-    tcase_add_test(tc, test_square_ok);
-    tcase_add_test(tc, test_flipped);
-    tcase_add_test(tc, test_non_delaunay);
-    tcase_add_test(tc, test_interface_delaunay);
-    tcase_add_test(tc, test_missing_triangle);
-    tcase_add_test(tc, test_overlap);
-    tcase_add_test(tc, test_missing_segment_and_vertex);
-    tcase_add_test(tc, test_split_segment_chain);
-    tcase_add_test(tc, test_area_rounding_far);
-    tcase_add_test(tc, test_near_parallel_segments);
-    tcase_add_test(tc, test_quality_bounds);
-    tcase_add_test(tc, test_wedge_exemption);
-    tcase_add_test(tc, test_grid_mesh);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int nf = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return nf ? EXIT_FAILURE : EXIT_SUCCESS;
+    return ck_run(ck_suite("validate", 120,
+                           CK_TESTS(test_square_ok, test_flipped, test_non_delaunay,
+                                    test_interface_delaunay, test_missing_triangle, test_overlap,
+                                    test_missing_segment_and_vertex, test_split_segment_chain,
+                                    test_area_rounding_far, test_near_parallel_segments,
+                                    test_quality_bounds, test_wedge_exemption, test_grid_mesh)));
 }

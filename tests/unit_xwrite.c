@@ -6,10 +6,10 @@
  * 0 inside), and the text of .edge, .neigh, the -o2 .node/.ele, the quadratic VTK and the Gmsh
  * file with its physical groups (curves by marker, surfaces by regional attribute) and blocks.
  */
+#include "check_run.h"
 #include "io/meshio.h"
 #include "io/xwrite.h"
 
-#include <check.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -147,14 +147,5 @@ START_TEST(test_files) {
 END_TEST
 
 int main(void) {
-    Suite *s = suite_create("xwrite");
-    TCase *tc = tcase_create("xwrite");
-    tcase_add_test(tc, test_topology);
-    tcase_add_test(tc, test_files);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int nf = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return nf ? EXIT_FAILURE : EXIT_SUCCESS;
+    return ck_run(ck_suite("xwrite", 0, CK_TESTS(test_topology, test_files)));
 }

@@ -15,17 +15,11 @@
 # The angle bound comes from the option byte as in fuzz_mesh.c; the Steiner limit is LIMIT
 # (default 20000, the harness's).  Not part of make test: run it by hand after a campaign
 # (make fuzz-replay).  Env: BIN, MPIRUN, TIMEOUT (default 30), PAR_TIMEOUT (default 120).
-set -u
-cd "$(dirname "$0")/../.."
-BIN=${BIN:-.}
-MPIRUN=${MPIRUN:-mpirun --oversubscribe}
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+. "$(dirname "$0")/../lib.sh"
 TIMEOUT=${TIMEOUT:-30} PAR_TIMEOUT=${PAR_TIMEOUT:-120} LIMIT=${LIMIT:-20000}
 PCDM_NP=${PCDM_NP:-3} PBW_NP=${PBW_NP:-2}
 OUT=${OUT:-build/fuzz/replay_fail}
 mkdir -p "$OUT"
-T=$(mktemp -d "${TMPDIR:-/tmp}/replay_par.XXXXXX")
-trap 'rm -rf "$T"' EXIT
 QS=(0 20.7 25 30 33 20.7 25 28.6)
 [ $# -gt 0 ] || set -- build/fuzz/corpus
 n=0 skipped=0 nfail=0
@@ -39,24 +33,28 @@ fail() { # file program np message
 
 par() { # program np kind file...: runs it, each rank appending "RANK STATUS"; judges the result
     local prog=$1 np=$2 kind=$3 src=$4 out rc st
-    rm -f "$T/rc"
-    out=$(timeout "$PAR_TIMEOUT" $MPIRUN -np "$np" sh -c \
-        '"$0" "$@"; echo "$OMPI_COMM_WORLD_RANK $?" >>"'"$T/rc"'"' "$BIN/$prog" -NEP -q "$q" \
-        -S "$LIMIT" --check "$in" 2>&1 </dev/null)
+    out=$(TIMEOUT=$PAR_TIMEOUT mpi_run "$np" "$BIN/$prog" -NEP -q "$q" -S "$LIMIT" --check "$in" \
+        2>&1 </dev/null)
     rc=$?
-    if [ "$rc" = 124 ]; then fail "$src" "$prog" "$np" "timeout (${PAR_TIMEOUT} s)"; return; fi
-    if [ "$(wc -l <"$T/rc" 2>/dev/null)" != "$np" ]; then
+    if [ "$rc" = 124 ]; then
+        fail "$src" "$prog" "$np" "timeout (${PAR_TIMEOUT} s)"
+        return
+    fi
+    if grep -qw none "$T/rcs"; then
         fail "$src" "$prog" "$np" "not every rank ended: $(grep -m2 -v '^ ' <<<"$out")"
         return
     fi
-    st=$(awk '{print $2}' "$T/rc" | sort -u | tr '\n' ' ')
+    st=$(tr ' ' '\n' <"$T/rcs" | sort -u | tr '\n' ' ')
     case "$kind/$st" in
-    */"0 ") grep -q '^meshcheck: OK' <<<"$out" || fail "$src" "$prog" "$np" "exit 0 without --check OK"
-        [ "$kind" != refused ] || fail "$src" "$prog" "$np" "./mesh refuses the input, exit 0" ;;
+    */"0 ")
+        grep -q '^meshcheck: OK' <<<"$out" || fail "$src" "$prog" "$np" "exit 0 without --check OK"
+        [ "$kind" != refused ] || fail "$src" "$prog" "$np" "./mesh refuses the input, exit 0"
+        ;;
     refused/"1 ") ;;
     meshed/"1 " | unmet/"1 ")
         grep -Eq 'cannot (meet the bounds|decompose)' <<<"$out" ||
-            fail "$src" "$prog" "$np" "exit 1 ($kind by ./mesh): $(grep -m2 -v '^ ' <<<"$out")" ;;
+            fail "$src" "$prog" "$np" "exit 1 ($kind by ./mesh): $(grep -m2 -v '^ ' <<<"$out")"
+        ;;
     meshed/"3 " | unmet/"3 ") ;;
     *) fail "$src" "$prog" "$np" "exit [$st] ($kind by ./mesh): $(grep -m3 -v '^ ' <<<"$out" | cut -c1-200)" ;;
     esac
@@ -80,7 +78,10 @@ for dir in "$@"; do
         0) kind=meshed ;;
         3) kind=unmet ;;
         1) if grep -q 'cannot meet the bounds' <<<"$out"; then kind=unmet; else kind=refused; fi ;;
-        *) skipped=$((skipped + 1)); continue ;; # a timeout (or a ./mesh failure: the fuzzer's job)
+        *)
+            skipped=$((skipped + 1))
+            continue
+            ;; # a timeout (or a ./mesh failure: the fuzzer's job)
         esac
         n=$((n + 1))
         par pcdm "$PCDM_NP" "$kind" "$f"

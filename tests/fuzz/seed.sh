@@ -9,7 +9,10 @@ mkdir -p "$out"
 add() { # option-byte-octal file
     local t
     t=$(mktemp)
-    { printf "\\$1"; cat "$2"; } >"$t"
+    {
+        printf "\\$1"
+        cat "$2"
+    } >"$t"
     mv "$t" "$out/$(sha1sum <"$t" | cut -c1-40)"
 }
 for f in data/*.poly; do for o in 001 002 043 014 023; do add "$o" "$f"; done; done

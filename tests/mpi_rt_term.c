@@ -1,5 +1,5 @@
 // ranks: 1 2 4
-/* mpi_rt_deadlock.c - the blocking queue and the deadlock report of the runtime.
+/* mpi_rt_term.c - the blocking queue and the deadlock report of the runtime.
  *
  * Without arguments (what tests/run.sh runs) it is a normal run that must terminate: every
  * rank's local work spawns NTASK tasks, each of which labels itself and, ROUNDS times, issues
@@ -18,9 +18,9 @@
  * blocked task with its label "lonely request to rank N") and a fatal error, never hang and
  * never return from rt_run (exit status 3 if it does): tests/t_rt_deadlock.sh checks that.
  */
+#include "check_run.h"
 #include "rt.h"
 
-#include <check.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -212,8 +212,7 @@ static int run_deadlock(int every) {
     lonely_here = every || me == np - 1;
     rng = (uint64_t)me + 1;
     rt_run(local_work, NULL);
-    fprintf(stderr, "mpi_rt_deadlock: rank %d: rt_run returned although a task is still blocked\n",
-            me);
+    fprintf(stderr, "mpi_rt_term: rank %d: rt_run returned although a task is still blocked\n", me);
     return 3;
 }
 
@@ -236,22 +235,14 @@ int main(int argc, char **argv) {
         if (!strcmp(argv[1], "--deadlock") || !strcmp(argv[1], "--deadlock=one"))
             return run_deadlock(0);
         if (!strcmp(argv[1], "--deadlock=every")) return run_deadlock(1);
-        fprintf(stderr, "usage: mpi_rt_deadlock [--deadlock[=one|every]]\n");
+        fprintf(stderr, "usage: mpi_rt_term [--deadlock[=one|every]]\n");
         return 2;
     }
-
-    Suite *s = suite_create("rt_deadlock");
-    TCase *tc = tcase_create("waits");
-    tcase_set_timeout(tc, 120);
-    tcase_add_test(tc, test_waits_plain);
+    Suite *s = suite_create("rt_term");
+    TCase *tc = ck_case(s, "waits", 120, CK_TESTS(test_waits_plain));
     tcase_add_loop_test(tc, test_waits_perturbed, 0, 2);
     tcase_add_loop_test(tc, test_waits_chains, 0, 2);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_set_fork_status(sr, CK_NOFORK);
-    srunner_run_all(sr, me == 0 ? CK_NORMAL : CK_SILENT);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
+    int rc = ck_run_mpi(s, rt_app_comm());
     rt_finalize();
-    return failed ? 1 : 0;
+    return rc;
 }

@@ -1,4 +1,4 @@
-/* unit_pmove: Check suite for the held set of --balance dynamic (det_hold / det_release,
+/* unit_pcdm_det: Check suite for the held set of --balance dynamic (det_hold / det_release,
  * mesher/pcdm/pcdm_det.c), what pcdm_move.c changes while rt_run runs.
  *
  * Subdomains arrive in any order and leave from anywhere but the one being refined; the held
@@ -6,9 +6,9 @@
  * (-1 for the others), and D->cur must keep naming the same record (the one whose refinement is
  * in progress) while records before it come and go.  No MPI: the records are empty meshes.
  */
+#include "check_run.h"
 #include "pcdm/pcdm_det_impl.h"
 
-#include <check.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -83,13 +83,5 @@ START_TEST(test_hold_release) {
 END_TEST
 
 int main(void) {
-    Suite *su = suite_create("pmove");
-    TCase *tc = tcase_create("core");
-    tcase_add_test(tc, test_hold_release);
-    suite_add_tcase(su, tc);
-    SRunner *sr = srunner_create(su);
-    srunner_run_all(sr, CK_NORMAL);
-    int nf = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return nf == 0 ? 0 : 1;
+    return ck_run(ck_suite("pcdm_det", 0, CK_TESTS(test_hold_release)));
 }

@@ -1,4 +1,4 @@
-/* unit_io: the .poly/.node reader, pslg_check, pslg_domain_area and the mesh writers.
+/* unit_pslg: the .poly/.node reader, pslg_check, pslg_domain_area and the mesh writers.
  *
  * Walks the table of bad inputs in tests/bad/ (each must fail with a message naming the file,
  * the line and the problem), reads every domain in data/ and checks its counts, its domain
@@ -6,11 +6,11 @@
  * input angle, and round-trips a mesh through the Triangle writers and reader.  Run from the
  * repository root (tests/run.sh does).
  */
+#include "check_run.h"
 #include "geom/geom.h"
 #include "geom/pslg.h"
 #include "io/meshio.h"
 
-#include <check.h>
 #include <dirent.h>
 #include <math.h>
 #include <stdio.h>
@@ -525,24 +525,15 @@ END_TEST
 
 int main(void) {
     geom_init();
-    Suite *s = suite_create("io");
-    TCase *tc = tcase_create("io");
-    tcase_set_timeout(tc, 60);
+    Suite *s = suite_create("pslg");
+    TCase *tc =
+        ck_case(s, "pslg", 60,
+                CK_TESTS(test_duplicates_merged, test_domain_area_nested, test_domain_area_bridges,
+                         test_domain_area_thin_rings, test_input_angles_tjunction,
+                         test_node_and_regions, test_roundtrip));
     tcase_add_loop_test(tc, test_bad_file, 0, (int)(sizeof bad / sizeof bad[0]));
-    tcase_add_test(tc, test_duplicates_merged);
     tcase_add_loop_test(tc, test_data_counts, 0, (int)(sizeof data / sizeof data[0]));
     tcase_add_loop_test(tc, test_domain_area, 0, (int)(sizeof data / sizeof data[0]));
-    tcase_add_test(tc, test_domain_area_nested);
-    tcase_add_test(tc, test_domain_area_bridges);
-    tcase_add_test(tc, test_domain_area_thin_rings);
     tcase_add_loop_test(tc, test_input_angles, 0, (int)(sizeof data / sizeof data[0]));
-    tcase_add_test(tc, test_input_angles_tjunction);
-    tcase_add_test(tc, test_node_and_regions);
-    tcase_add_test(tc, test_roundtrip);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int nf = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return nf ? EXIT_FAILURE : EXIT_SUCCESS;
+    return ck_run(s);
 }

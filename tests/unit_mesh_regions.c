@@ -1,4 +1,4 @@
-/* unit_regions: the input's regions (Triangle's regional attributes and area constraints).
+/* unit_mesh_regions: the input's regions (Triangle's regional attributes and area constraints).
  *
  * tests/inputs/regions.poly is the square [0,4]^2 cut into four vertical strips by segments at
  * x = 1, 2, 3, with a square hole in strip 2; strip 3 is marked twice (the later point wins),
@@ -11,13 +11,13 @@
  * .poly; the validator rejects a wrong attribute.  Run from the repository root.
  */
 #include "check/validate.h"
+#include "check_run.h"
 #include "geom/geom.h"
 #include "geom/pslg.h"
 #include "io/meshio.h"
 #include "seq/mesh.h"
 #include "seq/rules.h"
 
-#include <check.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -264,18 +264,9 @@ END_TEST
 
 int main(void) {
     geom_init();
-    Suite *s = suite_create("regions");
-    TCase *tc = tcase_create("regions");
-    tcase_set_timeout(tc, 60);
-    tcase_add_test(tc, test_labels_cdt_and_refined);
-    tcase_add_test(tc, test_global_bound_wins_when_smaller);
-    tcase_add_test(tc, test_interface_segments_crossed);
-    tcase_add_test(tc, test_flat_write_validate);
-    tcase_add_test(tc, test_validator_region_area);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int nf = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return nf ? EXIT_FAILURE : EXIT_SUCCESS;
+    return ck_run(
+        ck_suite("mesh_regions", 60,
+                 CK_TESTS(test_labels_cdt_and_refined, test_global_bound_wins_when_smaller,
+                          test_interface_segments_crossed, test_flat_write_validate,
+                          test_validator_region_area)));
 }

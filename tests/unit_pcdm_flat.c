@@ -1,4 +1,4 @@
-/* unit_phash: Check suite for the mesh hash (pcdm_flat_hash, mesher/pcdm/pcdm_flat.c).
+/* unit_pcdm_flat: Check suite for the mesh hash (pcdm_flat_hash, mesher/pcdm/pcdm_flat.c).
  *
  * The hash must not depend on numbering or on how a mesh is cut into parts: the same triangles
  * with the vertices renumbered, the triangles shuffled and each rotated (still
@@ -7,9 +7,9 @@
  * coordinate moved by one ulp, one triangle reversed (clockwise), or a triangle missing changes
  * it.
  */
+#include "check_run.h"
 #include "pcdm/pcdm.h"
 
-#include <check.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -155,16 +155,6 @@ START_TEST(test_geometry) {
 END_TEST
 
 int main(void) {
-    Suite *s = suite_create("phash");
-    TCase *tc = tcase_create("core");
-    tcase_add_test(tc, test_numbering);
-    tcase_add_test(tc, test_parts);
-    tcase_add_test(tc, test_geometry);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_set_fork_status(sr, CK_NOFORK);
-    srunner_run_all(sr, CK_NORMAL);
-    int nf = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return nf == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+    return ck_run_nofork(
+        ck_suite("pcdm_flat", 0, CK_TESTS(test_numbering, test_parts, test_geometry)));
 }

@@ -1,5 +1,5 @@
 // ranks: 1 2 4 8
-/* mpi_rt_storm.c - a storm of RSRs through the runtime, checked for exactly-once delivery.
+/* mpi_rt.c - a storm of RSRs through the runtime, checked for exactly-once delivery.
  *
  * Every rank's local work issues NSEQ chains: a chain starts at its origin, visits 0..3
  * random ranks (A -> B -> C -> A), each hop handled by a threaded or non-threaded handler
@@ -14,9 +14,9 @@
  * With RT_TEST_MISMATCH=1 the last rank registers a differently named handler: rt_start must
  * then fail on every rank (tests/t_rt_mismatch.sh).
  */
+#include "check_run.h"
 #include "rt.h"
 
-#include <check.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
@@ -285,20 +285,14 @@ int main(int argc, char **argv) {
     returned = calloc(NSEQ, sizeof *returned);
     planned = calloc(NSEQ, sizeof *planned);
 
-    Suite *s = suite_create("rt_storm");
-    TCase *tc = tcase_create("storm");
-    tcase_add_test(tc, test_storm_plain);
+    Suite *s = suite_create("rt");
+    TCase *tc = ck_case(s, "storm", 0, CK_TESTS(test_storm_plain));
     tcase_add_loop_test(tc, test_storm_perturbed, 0, 3);
     tcase_add_test(tc, test_storm_stats_table);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_set_fork_status(sr, CK_NOFORK);
-    srunner_run_all(sr, me == 0 ? CK_NORMAL : CK_SILENT);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
+    int rc = ck_run_mpi(s, rt_app_comm());
     free(handled);
     free(returned);
     free(planned);
     rt_finalize();
-    return failed ? 1 : 0;
+    return rc;
 }

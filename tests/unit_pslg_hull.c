@@ -1,4 +1,4 @@
-/* unit_hull: the convex hull enclosed by segments (Triangle's -c; mesher/geom/pslg_hull.c).
+/* unit_pslg_hull: the convex hull enclosed by segments (Triangle's -c; mesher/geom/pslg_hull.c).
  *
  * pslg_hull against brute force on random point sets drawn from a small integer grid (many
  * collinear points and duplicates): every turn counter-clockwise or straight, every point on
@@ -11,10 +11,10 @@
  * pslg_check_ex with PSLG_HULL after crossings were split and duplicates merged; a point set's
  * hull vertices get boundary marker 1 (pslg_boundary_markers).
  */
+#include "check_run.h"
 #include "geom/geom.h"
 #include "geom/pslg.h"
 
-#include <check.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -221,17 +221,7 @@ END_TEST
 
 int main(void) {
     geom_init();
-    Suite *s = suite_create("hull");
-    TCase *tc = tcase_create("hull");
-    tcase_add_test(tc, test_grid_hull);
-    tcase_add_test(tc, test_random_hulls);
-    tcase_add_test(tc, test_enclose);
-    tcase_add_test(tc, test_enclose_flat);
-    tcase_add_test(tc, test_check_ex_hull);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int nf = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return nf ? 1 : 0;
+    return ck_run(ck_suite("pslg_hull", 0,
+                           CK_TESTS(test_grid_hull, test_random_hulls, test_enclose,
+                                    test_enclose_flat, test_check_ex_hull)));
 }

@@ -1,4 +1,4 @@
-/* unit_split: crossing and overlapping segments split at their intersections
+/* unit_pslg_split: crossing and overlapping segments split at their intersections
  * (pslg_check_ex with PSLG_SPLIT, mesher/geom/pslg_split.c).
  *
  * Each case builds a small PSLG in memory, checks that pslg_check (strict) refuses it and that
@@ -11,10 +11,10 @@
  * (pslg_boundary_markers): outer and hole boundaries 1, a marked edge and the file's vertex
  * markers kept, interior segments 0.
  */
+#include "check_run.h"
 #include "geom/geom.h"
 #include "geom/pslg.h"
 
-#include <check.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -286,23 +286,10 @@ END_TEST
 
 int main(void) {
     geom_init();
-    Suite *s = suite_create("split");
-    TCase *tc = tcase_create("split");
-    tcase_add_test(tc, test_cross);
-    tcase_add_test(tc, test_t_junction_split);
-    tcase_add_test(tc, test_overlap);
-    tcase_add_test(tc, test_contained_and_shared_end);
-    tcase_add_test(tc, test_collinear_chain);
-    tcase_add_test(tc, test_three_through_one_point);
-    tcase_add_test(tc, test_star_through_origin);
-    tcase_add_test(tc, test_grid_of_crossings);
-    tcase_add_test(tc, test_attributes_interpolated);
-    tcase_add_test(tc, test_scaled_input);
-    tcase_add_test(tc, test_boundary_markers);
-    suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int nf = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return nf ? 1 : 0;
+    return ck_run(ck_suite("pslg_split", 0,
+                           CK_TESTS(test_cross, test_t_junction_split, test_overlap,
+                                    test_contained_and_shared_end, test_collinear_chain,
+                                    test_three_through_one_point, test_star_through_origin,
+                                    test_grid_of_crossings, test_attributes_interpolated,
+                                    test_scaled_input, test_boundary_markers)));
 }

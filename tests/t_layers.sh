@@ -1,0 +1,132 @@
+#!/usr/bin/env bash
+# t_layers: the layers of the source tree, read from its #include lines.  LAYERS below lists
+# them bottom to top (the README's Layout says the same in words; include/pcdm.h, the public
+# header, includes nothing of ours and sits below the layers that implement it); names on one
+# line are one level.  A file may include the headers of its own folder and of the levels below its own:
+#  - never a header of a level above (up), nor of another folder of its own level (sideways:
+#    ./pcdm and ./pbw know nothing of each other);
+#  - never a *_impl.h or *_internal.h header of another folder (such a header is its folder's
+#    inside; what another layer needs is declared in a named header);
+#  - every quoted include resolves as the compiler resolves it (the including file's folder,
+#    then -Iinclude -Iruntime -Imesher), and every folder holding sources is in LAYERS.
+# Scanned: runtime/, mesher/, include/, apps/, bench/, examples/ (tests/ are white-box and may
+# include any header).  The checker first runs on a small tree made here with one violation of
+# each kind, and must report exactly those (so it cannot pass by seeing nothing); then on the
+# repository, where it must report nothing but the known exceptions (KNOWN), each of which must
+# still occur.
+. "$(dirname "$0")/lib.sh"
+
+LAYERS=(
+    "runtime"
+    "mesher/base"
+    "mesher/geom"
+    "mesher/io"
+    "mesher/check"
+    "mesher/seq"
+    "mesher/bounds"
+    "mesher/decomp"
+    "mesher/par"
+    "mesher/pcdm mesher/pbw"
+    "include"
+    "mesher/run"
+    "mesher/api"
+    "apps bench examples"
+)
+# Known violations, "FILE INCLUDE", each to go (none today).  Delete a line when its include
+# is gone (the test fails on a line that no longer occurs).
+KNOWN=()
+
+declare -A LEVEL
+for ((i = 0; i < ${#LAYERS[@]}; i++)); do
+    for d in ${LAYERS[i]}; do LEVEL[$d]=$i; done
+done
+
+# layer_check ROOT: one line "FILE INCLUDE: problem" per violation in the tree at ROOT
+layer_check() {
+    local root=$1 f dir inc target tdir why
+    (cd "$root" && find runtime mesher include apps bench examples -name '*.[ch]' 2>/dev/null) |
+        sort | while read -r f; do
+        dir=$(dirname "$f")
+        if [ -z "${LEVEL[$dir]:-}" ]; then
+            echo "$f -: folder $dir is in no layer (add it to LAYERS in tests/t_layers.sh)"
+            continue
+        fi
+        sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*"\([^"]*\)".*/\1/p' "$root/$f" |
+            while read -r inc; do
+                target=""
+                for base in "$dir" include runtime mesher; do
+                    if [ -e "$root/$base/$inc" ]; then
+                        target=$(realpath -m --relative-to="$root" "$root/$base/$inc")
+                        break
+                    fi
+                done
+                if [ -z "$target" ]; then
+                    echo "$f $inc: does not resolve (own folder, include/, runtime/, mesher/)"
+                    continue
+                fi
+                tdir=$(dirname "$target") why=""
+                if [ "$tdir" = "$dir" ]; then
+                    continue
+                elif [ -z "${LEVEL[$tdir]:-}" ]; then
+                    why="$target is in no layer"
+                elif [ "${LEVEL[$tdir]}" -gt "${LEVEL[$dir]}" ]; then
+                    why="points up: $dir includes $tdir, a layer above it"
+                elif [ "${LEVEL[$tdir]}" -eq "${LEVEL[$dir]}" ]; then
+                    why="points sideways: $dir and $tdir are one level"
+                fi
+                case $(basename "$target") in
+                *_impl.h | *_internal.h) why="${why:+$why; }$target is internal to $tdir" ;;
+                esac
+                [ -z "$why" ] || echo "$f $inc: $why"
+            done
+    done
+}
+
+# 1. the checker on a tree with one violation of each kind, and lines that are fine
+S=$T/tree
+mkdir -p "$S"/runtime "$S"/mesher/{base,geom,seq,pcdm,pbw,new} "$S"/apps
+touch "$S"/runtime/rt.h "$S"/mesher/base/base.h "$S"/mesher/seq/mesh.h "$S"/mesher/seq/mesh_impl.h \
+    "$S"/mesher/pcdm/pcdm.h "$S"/mesher/new/x.c
+printf '#include "rt.h"\n#include "base/base.h"\n' >"$S"/runtime/rt.c
+printf '#include "base/base.h"\n#include <stdio.h>\n#include "seq/mesh.h"\n' >"$S"/mesher/geom/g.c
+printf '#include "mesh_impl.h"\n#include "seq/mesh.h"\n' >"$S"/mesher/seq/mesh.c
+printf '#include "seq/mesh.h"\n  #  include "seq/mesh_impl.h" // x\n#include "pcdm.h"\n' >"$S"/mesher/pcdm/p.c
+printf '#include "pcdm/pcdm.h"\n#include "nosuch.h"\n' >"$S"/mesher/pbw/w.c
+printf '#include "pcdm/pcdm.h"\n#include "rt.h"\n' >"$S"/apps/m.c
+layer_check "$S" >"$T/self.txt"
+cat >"$T/self.want" <<'EOF'
+mesher/geom/g.c seq/mesh.h: points up: mesher/geom includes mesher/seq, a layer above it
+mesher/new/x.c -: folder mesher/new is in no layer (add it to LAYERS in tests/t_layers.sh)
+mesher/pbw/w.c pcdm/pcdm.h: points sideways: mesher/pbw and mesher/pcdm are one level
+mesher/pbw/w.c nosuch.h: does not resolve (own folder, include/, runtime/, mesher/)
+mesher/pcdm/p.c seq/mesh_impl.h: mesher/seq/mesh_impl.h is internal to mesher/seq
+runtime/rt.c base/base.h: points up: runtime includes mesher/base, a layer above it
+EOF
+if diff "$T/self.want" "$T/self.txt" >"$T/self.diff"; then
+    ok "the checker finds the planted violations, and only those ($(wc -l <"$T/self.txt"))"
+else
+    fail "the checker on the planted tree (< wanted, > found): $(cat "$T/self.diff")"
+fi
+
+# 2. the repository
+n0=$(nfailed)
+layer_check . >"$T/found.txt"
+: >"$T/known.txt"
+[ ${#KNOWN[@]} -eq 0 ] || printf '%s\n' "${KNOWN[@]}" | sort >"$T/known.txt"
+nfound=0
+while read -r f inc why; do
+    nfound=$((nfound + 1))
+    if grep -qxF "$f ${inc%:}" "$T/known.txt"; then
+        echo "known exception, to go: $f $inc $why"
+    else
+        fail "$f: #include \"${inc%:}\": $why"
+    fi
+done <"$T/found.txt"
+while read -r f inc; do
+    grep -q "^$f $inc: " "$T/found.txt" ||
+        fail "KNOWN lists '$f $inc', which no longer occurs: delete it from tests/t_layers.sh"
+done <"$T/known.txt"
+nfiles=$(find runtime mesher include apps bench examples -name '*.[ch]' | wc -l)
+[ "$(nfailed)" != "$n0" ] ||
+    ok "$nfiles files: no include points up or sideways or into another folder's inside (but ${#KNOWN[@]} known exceptions)"
+finish
