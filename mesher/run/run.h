@@ -12,7 +12,7 @@
  *   check    the validator (--check), the bounds left out when they were not met;
  *   write    the files asked for (programs) or the arrays (library);
  *   exit     the exit status (0, 1, 3) or the library's code.
- * The programs' mains are their option tables and one call (run_mesh_main, run_par_main); the
+ * The programs' mains are their option tables and one call (run_mesh, run_par_main); the
  * library fills a job from its arrays and calls the same stages, printing nothing.
  *
  * Layer: above pcdm/ and pbw/ (it calls both), below api/ and apps/.  Collective = every rank
