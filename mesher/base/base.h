@@ -21,6 +21,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <string.h>
 
 #if defined(__GNUC__)
@@ -62,6 +63,10 @@ void *mesh_xcalloc_at(const char *file, int line, size_t n, size_t size);
 #define mesh_xmalloc(n, size) mesh_xrealloc_at(__FILE__, __LINE__, NULL, (n), (size))
 #define mesh_xcalloc(n, size) mesh_xcalloc_at(__FILE__, __LINE__, (n), (size))
 void mesh_xfree(void *p);
+
+/* Reads f from where it stands to its end into one buffer from the funnel, NUL-terminated (free
+ * with free()); *n gets the bytes read, the NUL excluded.  A read error shows in ferror(f). */
+char *mesh_read_stream(FILE *f, size_t *n);
 
 /* Grows array p (of element type *p) so that index n is valid; cap doubles (16 at first). */
 #define MESH_GROW(p, n, cap)                                                                       \

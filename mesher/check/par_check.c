@@ -28,6 +28,7 @@
 #include "check/par_check.h"
 
 #include "base/base.h"
+#include "check/pexchange.h"
 #include "check/ptopo.h"
 #include "geom/geom.h"
 #include "rt.h"
@@ -148,37 +149,20 @@ static int32_t open_edges(const mesh_flat *f, const uint8_t *topen, int rank, op
 
 int par_check_interfaces_open(const mesh_flat *local, const uint8_t *topen, char *msg,
                               size_t msglen) {
-    MPI_Comm c = rt_app_comm();
     int rank = rt_rank(), P = rt_size();
     open_edge *e = NULL;
     int32_t n = open_edges(local, topen, rank, &e);
-    int *scnt = mesh_xcalloc((size_t)P, sizeof(int)), *rcnt = mesh_xcalloc((size_t)P, sizeof(int));
-    int *sdsp = mesh_xcalloc((size_t)P + 1, sizeof(int)),
-        *rdsp = mesh_xcalloc((size_t)P + 1, sizeof(int));
-    int *dest = mesh_xmalloc((size_t)n + 1, sizeof(int));
-    for (int32_t i = 0; i < n; i++) {
+    int *dest = mesh_xmalloc((size_t)n, sizeof(int));
+    for (int32_t i = 0; i < n; i++)
         dest[i] = (int)(edge_hash(&e[i]) % (uint64_t)P);
-        scnt[dest[i]] += (int)sizeof(open_edge);
-    }
-    MESH_MPI(MPI_Alltoall(scnt, 1, MPI_INT, rcnt, 1, MPI_INT, c));
-    for (int r = 0; r < P; r++) {
-        sdsp[r + 1] = sdsp[r] + scnt[r];
-        rdsp[r + 1] = rdsp[r] + rcnt[r];
-    }
-    open_edge *sb = mesh_xmalloc((size_t)n + 1, sizeof(open_edge));
-    int *fill = mesh_xcalloc((size_t)P, sizeof(int));
-    for (int32_t i = 0; i < n; i++) {
-        sb[(sdsp[dest[i]] + fill[dest[i]]) / (int)sizeof(open_edge)] = e[i];
-        fill[dest[i]] += (int)sizeof(open_edge);
-    }
-    int32_t nr = rdsp[P] / (int)sizeof(open_edge);
-    open_edge *rb = mesh_xmalloc((size_t)nr + 1, sizeof(open_edge));
-    MESH_MPI(MPI_Alltoallv(sb, scnt, sdsp, MPI_BYTE, rb, rcnt, rdsp, MPI_BYTE, c));
+    int64_t nr;
+    open_edge *rb = par_exchange(e, sizeof *e, dest, n, &nr);
     qsort(rb, (size_t)nr, sizeof *rb, cmp_open);
     int bad = 0;
     char m[400] = "";
-    for (int32_t i = 0; i < nr;) {
-        int32_t j = i, must = 0;
+    for (int64_t i = 0; i < nr;) {
+        int64_t j = i;
+        int32_t must = 0;
         while (j < nr && !memcmp(rb[j].x, rb[i].x, sizeof rb[i].x)) {
             must |= rb[j].must;
             j++;
@@ -194,14 +178,8 @@ int par_check_interfaces_open(const mesh_flat *local, const uint8_t *topen, char
     }
     if (bad && msglen) snprintf(msg, msglen, "%s (%d edges disagree here)", m, bad);
     mesh_xfree(e);
-    mesh_xfree(sb);
     mesh_xfree(rb);
-    mesh_xfree(scnt);
-    mesh_xfree(rcnt);
-    mesh_xfree(sdsp);
-    mesh_xfree(rdsp);
     mesh_xfree(dest);
-    mesh_xfree(fill);
     return bad ? -1 : 0;
 }
 
@@ -275,7 +253,6 @@ static uint64_t apex_hash(const apex_edge *e) {
 
 long par_check_interface_delaunay(const mesh_flat *local, const uint8_t *topen, char *msg,
                                   size_t msglen) {
-    MPI_Comm c = rt_app_comm();
     int rank = rt_rank(), P = rt_size();
     if (msglen) msg[0] = '\0';
     ekey *k = seg_keys(local);
@@ -286,33 +263,16 @@ long par_check_interface_delaunay(const mesh_flat *local, const uint8_t *topen, 
     par_vtris_free(&x);
     mesh_xfree(k);
     int32_t n = ac.n;
-    apex_edge *e = ac.o ? ac.o : mesh_xmalloc(1, sizeof(apex_edge));
-    /* to the rendezvous: counts, then the records (MPI_Alltoallv) */
-    int *scnt = mesh_xcalloc((size_t)P, sizeof(int)), *rcnt = mesh_xcalloc((size_t)P, sizeof(int));
-    int *sdsp = mesh_xcalloc((size_t)P + 1, sizeof(int)),
-        *rdsp = mesh_xcalloc((size_t)P + 1, sizeof(int)),
-        *fill = mesh_xcalloc((size_t)P, sizeof(int));
-    int *dest = mesh_xmalloc((size_t)n + 1, sizeof(int));
-    for (int32_t i = 0; i < n; i++) {
+    apex_edge *e = ac.o;
+    /* to the rendezvous (the hash of the edge) */
+    int *dest = mesh_xmalloc((size_t)n, sizeof(int));
+    for (int32_t i = 0; i < n; i++)
         dest[i] = (int)(apex_hash(&e[i]) % (uint64_t)P);
-        scnt[dest[i]] += (int)sizeof(apex_edge);
-    }
-    MESH_MPI(MPI_Alltoall(scnt, 1, MPI_INT, rcnt, 1, MPI_INT, c));
-    for (int r = 0; r < P; r++) {
-        sdsp[r + 1] = sdsp[r] + scnt[r];
-        rdsp[r + 1] = rdsp[r] + rcnt[r];
-    }
-    apex_edge *sb = mesh_xmalloc((size_t)n + 1, sizeof(apex_edge));
-    for (int32_t i = 0; i < n; i++) {
-        sb[(sdsp[dest[i]] + fill[dest[i]]) / (int)sizeof(apex_edge)] = e[i];
-        fill[dest[i]] += (int)sizeof(apex_edge);
-    }
-    int32_t nr = rdsp[P] / (int)sizeof(apex_edge);
-    apex_edge *rb = mesh_xmalloc((size_t)nr + 1, sizeof(apex_edge));
-    MESH_MPI(MPI_Alltoallv(sb, scnt, sdsp, MPI_BYTE, rb, rcnt, rdsp, MPI_BYTE, c));
+    int64_t nr;
+    apex_edge *rb = par_exchange(e, sizeof *e, dest, n, &nr);
     qsort(rb, (size_t)nr, sizeof *rb, cmp_apex);
     long bad = 0;
-    for (int32_t i = 0; i + 1 < nr; i++) {
+    for (int64_t i = 0; i + 1 < nr; i++) {
         const apex_edge *u = &rb[i], *v = &rb[i + 1];
         if (memcmp(u->x, v->x, sizeof u->x) || u->rank == v->rank || u->exempt || v->exempt)
             continue; /* not the two sides of one interface edge (par_check_interfaces_open decides
@@ -328,13 +288,7 @@ long par_check_interface_delaunay(const mesh_flat *local, const uint8_t *topen, 
                      p[0], p[1], q[0], q[1], (int)u->rank, (int)v->rank, v->c[0], v->c[1]);
     }
     mesh_xfree(e);
-    mesh_xfree(sb);
     mesh_xfree(rb);
-    mesh_xfree(scnt);
-    mesh_xfree(rcnt);
-    mesh_xfree(sdsp);
-    mesh_xfree(rdsp);
-    mesh_xfree(fill);
     mesh_xfree(dest);
     return bad;
 }

@@ -1,4 +1,6 @@
-/* validate: the mesh validator (design.md, "Invariants every test can check").
+/* validate: the mesh validator (design.md, "Invariants every test can check"): mesh_validate
+ * and the checks of the mesh's own structure; the checks against the input (vertices, segment
+ * chains, small corners, quality, regions) are validate_input.c's.
  *
  * Everything topological uses the exact predicates: orientation (geom_orient2d) and local
  * Delaunay (geom_incircle of the opposite vertex across each shared edge, strict).  Edges are
@@ -10,10 +12,10 @@
  * segments at rounded midpoints), and every boundary edge must lie on such a chain.  Input
  * vertices are found by hashing their exact coordinates.  Areas use compensated summation;
  * total triangle area, area enclosed by the boundary edges and pslg_domain_area() must agree
- * to a relative 1e-9 plus what the chains' rounding can move (validate_area_slack).  Quality checks
- * exempt triangles at small input angles (rule in validate.h).  Regions (-A, --region-areas) are
- * found from the input alone: the face of the segment arrangement (pslg_regions) holding a point
- * exactly inside each triangle.
+ * to a relative 1e-9 plus what the chains' rounding can move (validate_area_slack).  Quality
+ * checks exempt triangles at small input angles (rule in validate.h).  Regions (-A, --region-areas)
+ * are found from the input alone: the face of the segment arrangement (pslg_regions) holding a
+ * point exactly inside each triangle.
  */
 #include "check/validate.h"
 

@@ -292,11 +292,17 @@ void pslg_vertex_hits(const pslg *g, pslg_grid *vg, pslg_split_ctx *sc) {
     }
 }
 
-/* Sorts the hits of one segment (order[0..m), indices into sc->hits) from a to b. */
-void pslg_hits_along(const pslg *g, const pslg_split_ctx *sc, int32_t s, int32_t *order,
-                     int32_t *tmp, int32_t m) {
+int32_t pslg_hits_of(const pslg *g, const pslg_split_ctx *sc, int32_t s, size_t *h, int32_t *order,
+                     int32_t *tmp) {
+    size_t h0 = *h;
+    while (*h < sc->nhits && sc->hits[2 * *h] == s)
+        (*h)++;
+    int32_t m = (int32_t)(*h - h0);
+    for (int32_t i = 0; i < m; i++)
+        order[i] = (int32_t)(h0 + (size_t)i);
     along_ctx ac = {g->xy, sc->hits, g->xy + 2 * g->seg[2 * s], g->xy + 2 * g->seg[2 * s + 1]};
     pslg_msort(order, tmp, m, cmp_along, &ac);
+    return m;
 }
 
 /* Splits every segment at the vertices lying strictly inside it, so that afterwards a segment
@@ -322,13 +328,7 @@ void pslg_split_at_vertices(pslg *g) {
     int32_t *tmp = mesh_xmalloc(sc.nhits, sizeof *tmp);
     size_t n = 0, h = 0;
     for (int32_t s = 0; s < ns; s++) {
-        size_t h0 = h;
-        while (h < sc.nhits && sc.hits[2 * h] == s)
-            h++;
-        int32_t m = (int32_t)(h - h0);
-        for (int32_t i = 0; i < m; i++)
-            order[i] = (int32_t)(h0 + (size_t)i);
-        pslg_hits_along(g, &sc, s, order, tmp, m);
+        int32_t m = pslg_hits_of(g, &sc, s, &h, order, tmp);
         int32_t prev = g->seg[2 * s];
         for (int32_t i = 0; i <= m; i++) {
             int32_t v = i < m ? sc.hits[2 * order[i] + 1] : g->seg[2 * s + 1];

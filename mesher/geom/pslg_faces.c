@@ -81,13 +81,7 @@ static void arr_build(const pslg *g, arr *A) {
     size_t ne = 0, h = 0;
     for (int32_t s = 0; s < ns; s++) {
         int32_t a = g->seg[2 * s], b = g->seg[2 * s + 1];
-        size_t h0 = h;
-        while (h < sc.nhits && sc.hits[2 * h] == s)
-            h++;
-        int32_t m = (int32_t)(h - h0);
-        for (int32_t i = 0; i < m; i++)
-            order[i] = (int32_t)(h0 + (size_t)i);
-        pslg_hits_along(g, &sc, s, order, tmp, m);
+        int32_t m = pslg_hits_of(g, &sc, s, &h, order, tmp);
         int32_t prev = a;
         for (int32_t i = 0; i <= m; i++) {
             int32_t v = i < m ? sc.hits[2 * order[i] + 1] : b;
@@ -515,6 +509,20 @@ static void piece_push(pslg_pieces *P, int32_t *cap, int32_t v, uint8_t border, 
     P->vert[P->nvert++] = v;
 }
 
+/* The half-edge leaving vertex cur along a segment toward its endpoint b: the next piece of
+ * the segment, whose far end is b or lies strictly between cur and b on their line (exact
+ * orient2d); -1 if there is none. */
+static int32_t step_toward(const faces *F, const pslg *g, int32_t cur, int32_t b) {
+    const double *pc = g->xy + 2 * cur, *pb = g->xy + 2 * b;
+    for (int32_t i = F->A.vstart[cur]; i < F->A.vstart[cur + 1]; i++) {
+        int32_t h = F->A.out[i], w = F->A.org[h ^ 1];
+        const double *pw = g->xy + 2 * w;
+        if (w == b || (geom_orient2d(pc, pb, pw) == 0 && pslg_strictly_between(pc, pb, pw)))
+            return h;
+    }
+    return -1;
+}
+
 int pslg_segment_pieces(const pslg *g, pslg_pieces *P) {
     geom_init();
     memset(P, 0, sizeof *P);
@@ -525,25 +533,15 @@ int pslg_segment_pieces(const pslg *g, pslg_pieces *P) {
     int have = g->nsegs > 0 && faces_build(g, &F) == 0;
     for (int32_t s = 0; s < g->nsegs; s++) {
         int32_t a = g->seg[2 * s], b = g->seg[2 * s + 1], cur = a;
-        const double *pb = g->xy + 2 * b;
         int32_t first = P->nvert;
         piece_push(P, &cap, a, 0, 1);
         /* walk the pieces of s from a to b: at each vertex the outgoing half-edge pointing at
          * b (collinear, same direction) */
         for (int32_t steps = 0; have && cur != b && steps <= F.A.ne; steps++) {
-            int32_t next = -1;
-            for (int32_t i = F.A.vstart[cur]; i < F.A.vstart[cur + 1]; i++) {
-                int32_t h = F.A.out[i], w = F.A.org[h ^ 1];
-                const double *pc = g->xy + 2 * cur, *pw = g->xy + 2 * w;
-                if (w != b &&
-                    !(geom_orient2d(pc, pb, pw) == 0 && pslg_strictly_between(pc, pb, pw)))
-                    continue;
-                piece_push(P, &cap, w, (uint8_t)borders_domain(&F, h), 0);
-                next = w;
-                break;
-            }
-            if (next < 0) break;
-            cur = next;
+            int32_t h = step_toward(&F, g, cur, b);
+            if (h < 0) break;
+            cur = F.A.org[h ^ 1];
+            piece_push(P, &cap, cur, (uint8_t)borders_domain(&F, h), 0);
         }
         if (cur != b) { /* no arrangement (should not happen): the whole segment, required */
             P->nvert = first;
@@ -582,26 +580,16 @@ int pslg_boundary_markers(pslg *g) {
     int32_t *vert = mesh_xmalloc((size_t)cap, sizeof(int32_t));
     for (int32_t s = 0; s < g->nsegs; s++) {
         int32_t a = g->seg[2 * s], b = g->seg[2 * s + 1], cur = a;
-        const double *pb = g->xy + 2 * b;
         start[s] = nv;
         for (int32_t steps = 0; cur != b && steps <= F.A.ne; steps++) {
-            int32_t next = -1;
-            for (int32_t i = F.A.vstart[cur]; i < F.A.vstart[cur + 1]; i++) {
-                int32_t h = F.A.out[i], w = F.A.org[h ^ 1];
-                const double *pc = g->xy + 2 * cur, *pw = g->xy + 2 * w;
-                if (w != b &&
-                    !(geom_orient2d(pc, pb, pw) == 0 && pslg_strictly_between(pc, pb, pw)))
-                    continue;
-                if (on_boundary(&F, h)) onb[s] = 1;
-                if (w != b) {
-                    if (nv == cap) vert = mesh_xrealloc(vert, (size_t)(cap *= 2), sizeof(int32_t));
-                    vert[nv++] = w;
-                }
-                next = w;
-                break;
+            int32_t h = step_toward(&F, g, cur, b);
+            if (h < 0) break;
+            cur = F.A.org[h ^ 1];
+            if (on_boundary(&F, h)) onb[s] = 1;
+            if (cur != b) {
+                if (nv == cap) vert = mesh_xrealloc(vert, (size_t)(cap *= 2), sizeof(int32_t));
+                vert[nv++] = cur;
             }
-            if (next < 0) break;
-            cur = next;
         }
     }
     faces_free(&F);

@@ -70,10 +70,12 @@ typedef struct pslg_split_ctx {
  * of the vertices (caller frees). */
 void pslg_vertex_hits(const pslg *g, pslg_grid *vg, pslg_split_ctx *sc);
 
-/* Sorts the hits of segment s (order[0..m), indices into sc->hits) from its first endpoint to
- * its second; tmp has room for m items. */
-void pslg_hits_along(const pslg *g, const pslg_split_ctx *sc, int32_t s, int32_t *order,
-                     int32_t *tmp, int32_t m);
+/* The hits of segment s, the next ones in sc->hits from index *h on (pslg_vertex_hits groups
+ * them by segment, in segment order): their indices into sc->hits go to order[0..m), sorted from
+ * s's first endpoint to its second (tmp has room for m items), and *h moves past them.  Returns
+ * m. */
+int32_t pslg_hits_of(const pslg *g, const pslg_split_ctx *sc, int32_t s, size_t *h, int32_t *order,
+                     int32_t *tmp);
 
 /* Splits every segment at the vertices lying strictly inside it (pslg_check_ex, once the
  * crossings are resolved); the pieces keep the segment's marker and line.  Exact; adds no

@@ -55,14 +55,8 @@ static int reader_open(reader *r, const char *path, char *err, size_t errlen) {
         snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
         return -1;
     }
-    size_t cap = 1 << 16, n = 0;
-    char *buf = mesh_xmalloc(cap, 1);
-    for (;;) {
-        n += fread(buf + n, 1, cap - n - 1, f);
-        if (n < cap - 1) break;
-        buf = mesh_xrealloc(buf, cap, 2);
-        cap *= 2;
-    }
+    size_t n;
+    char *buf = mesh_read_stream(f, &n);
     int bad = ferror(f);
     fclose(f);
     if (bad) {
@@ -70,7 +64,6 @@ static int reader_open(reader *r, const char *path, char *err, size_t errlen) {
         snprintf(err, errlen, "%s: cannot read: %s", path, strerror(errno));
         return -1;
     }
-    buf[n] = '\0';
     r->buf = buf;
     r->len = n;
     r->next = buf;

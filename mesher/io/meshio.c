@@ -304,16 +304,14 @@ static int ele_dbl(char **s, double *v, int *missing) {
 static int read_ele(const char *path, mesh_flat *m, int first, char *err, size_t errlen) {
     FILE *f = fopen(path, "rb");
     if (!f) return meshio_fail(err, errlen, "%s: cannot open: %s", path, strerror(errno));
-    size_t cap = 1 << 16, n = 0;
-    char *buf = mesh_xmalloc(cap, 1);
-    for (;;) {
-        n += fread(buf + n, 1, cap - n - 1, f);
-        if (n < cap - 1) break;
-        buf = mesh_xrealloc(buf, cap, 2);
-        cap *= 2;
-    }
+    size_t n;
+    char *buf = mesh_read_stream(f, &n);
+    int bad = ferror(f);
     fclose(f);
-    buf[n] = '\0';
+    if (bad) {
+        free(buf);
+        return meshio_fail(err, errlen, "%s: cannot read: %s", path, strerror(errno));
+    }
     char *pos = buf, *end = buf + n, *s;
     long line = 0, nt, npt = 3, nattr = 0, v;
     int miss, rc = -1;

@@ -18,6 +18,7 @@
 #include "par/pextra.h"
 
 #include "base/base.h"
+#include "check/pexchange.h"
 #include "check/ptopo.h"
 #include "io/xwrite.h"
 #include "rt.h"

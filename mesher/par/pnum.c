@@ -17,6 +17,7 @@
  * vertices (input ones on rank 0 first) carry consecutive numbers after rank r-1's; data moved
  * is O(part boundary), never the mesh.  All messages on rt_app_comm().
  */
+#include "check/pexchange.h"
 #include "check/ptopo.h"
 #include "par/pout.h"
 
@@ -32,53 +33,6 @@
 
 static uint64_t pt_hash(double x, double y) {
     return mesh_hash64(mesh_dbits(x) * 0x9e3779b97f4a7c15ULL ^ mesh_hash64(mesh_dbits(y)));
-}
-
-/* ---- all-to-all of fixed-size records ------------------------------------------------------ */
-
-/* Collective.  Sends record i of recs (n records of sz bytes) to rank dest[i]; returns the
- * records this rank received (grouped by source rank, in rank order; free with free()) and
- * their number in *nout. */
-static void *exchange(const void *recs, size_t sz, const int *dest, int64_t n, int64_t *nout) {
-    MPI_Comm c = rt_app_comm();
-    int P = rt_size();
-    int *scnt = mesh_xcalloc((size_t)P, sizeof(int)), *rcnt = mesh_xcalloc((size_t)P, sizeof(int));
-    int *sdsp = mesh_xcalloc((size_t)P + 1, sizeof(int));
-    int *rdsp = mesh_xcalloc((size_t)P + 1, sizeof(int));
-    int64_t *fill = mesh_xcalloc((size_t)P, sizeof(int64_t));
-    for (int64_t i = 0; i < n; i++)
-        fill[dest[i]]++;
-    for (int r = 0; r < P; r++) {
-        if ((uint64_t)fill[r] * sz > INT_MAX / 2) MESH_BUG("exchange: %lld records", (long long)n);
-        scnt[r] = (int)((size_t)fill[r] * sz);
-    }
-    MESH_MPI(MPI_Alltoall(scnt, 1, MPI_INT, rcnt, 1, MPI_INT, c));
-    int64_t rtot = 0;
-    for (int r = 0; r < P; r++) {
-        sdsp[r + 1] = sdsp[r] + scnt[r];
-        rtot += rcnt[r];
-        if (rtot > INT_MAX / 2) MESH_BUG("exchange: %lld bytes to receive", (long long)rtot);
-        rdsp[r + 1] = (int)rtot;
-        fill[r] = sdsp[r];
-    }
-    char *sb = mesh_xmalloc((size_t)sdsp[P] + 1, 1), *rb = mesh_xmalloc((size_t)rtot + 1, 1);
-    for (int64_t i = 0; i < n; i++) {
-        memcpy(sb + fill[dest[i]], (const char *)recs + (size_t)i * sz, sz);
-        fill[dest[i]] += (int64_t)sz;
-    }
-    MESH_MPI(MPI_Alltoallv(sb, scnt, sdsp, MPI_BYTE, rb, rcnt, rdsp, MPI_BYTE, c));
-    free(sb);
-    free(scnt);
-    free(rcnt);
-    free(sdsp);
-    free(rdsp);
-    free(fill);
-    *nout = rtot / (int64_t)sz;
-    return rb;
-}
-
-void *par_exchange(const void *recs, size_t sz, const int *dest, int64_t n, int64_t *nout) {
-    return exchange(recs, sz, dest, n, nout);
 }
 
 /* ---- records ------------------------------------------------------------------------------- */
@@ -206,7 +160,7 @@ static void number_vertices(const mesh_flat *f, const par_vtris *x, par_numberin
         }
     /* round 1: candidates to their rendezvous; owner = lowest holder */
     int64_t nr;
-    vq *R = exchange(q, sizeof(vq), dest, nq, &nr);
+    vq *R = par_exchange(q, sizeof(vq), dest, nq, &nr);
     qsort(R, (size_t)nr, sizeof *R, cmp_vq);
     vr *rep = mesh_xmalloc((size_t)nr + 1, sizeof(vr));
     int *rdest = mesh_xmalloc((size_t)nr + 1, sizeof(int));
@@ -221,7 +175,7 @@ static void number_vertices(const mesh_flat *f, const par_vtris *x, par_numberin
         i = j;
     }
     int64_t nb;
-    vr *back = exchange(rep, sizeof(vr), rdest, nr, &nb);
+    vr *back = par_exchange(rep, sizeof(vr), rdest, nr, &nb);
     free(rep);
     /* owned vertices, numbered by a prefix sum */
     int32_t nshared = 0;
@@ -257,7 +211,7 @@ static void number_vertices(const mesh_flat *f, const par_vtris *x, par_numberin
             n2++;
         }
     int64_t ng;
-    vn *got = exchange(nq2, sizeof(vn), dest, n2, &ng);
+    vn *got = par_exchange(nq2, sizeof(vn), dest, n2, &ng);
     vn *fwd = mesh_xmalloc((size_t)nr + 1, sizeof(vn));
     int64_t nf = 0;
     for (int64_t i = 0; i < ng; i++) {
@@ -268,7 +222,7 @@ static void number_vertices(const mesh_flat *f, const par_vtris *x, par_numberin
         }
     }
     int64_t nl;
-    vn *learn = exchange(fwd, sizeof(vn), rdest, nf, &nl);
+    vn *learn = par_exchange(fwd, sizeof(vn), rdest, nf, &nl);
     for (int64_t i = 0; i < nl; i++)
         gid[learn[i].idx] = learn[i].gid;
     for (int32_t v = 0; v < nv && !num->unnumbered; v++)
@@ -355,7 +309,7 @@ static void number_segments(const mesh_flat *f, const uint8_t *artificial, const
         dest[i] = (int)(mesh_hash64(pt_hash(p[0], p[1]) ^ pt_hash(r[0], r[1])) % (uint64_t)P);
     }
     int64_t nr;
-    sq *R = exchange(q, sizeof(sq), dest, nc, &nr);
+    sq *R = par_exchange(q, sizeof(sq), dest, nc, &nr);
     qsort(R, (size_t)nr, sizeof *R, cmp_sq);
     int32_t *rep = mesh_xmalloc((size_t)nr + 1, sizeof(int32_t));
     int *rdest = mesh_xmalloc((size_t)nr + 1, sizeof(int));
@@ -366,7 +320,7 @@ static void number_segments(const mesh_flat *f, const uint8_t *artificial, const
             rdest[nrep++] = R[i].rank;
         }
     int64_t nb;
-    int32_t *back = exchange(rep, sizeof(int32_t), rdest, nrep, &nb);
+    int32_t *back = par_exchange(rep, sizeof(int32_t), rdest, nrep, &nb);
     for (int64_t i = 0; i < nb; i++)
         skip[back[i]] = 1;
     num->wseg = mesh_xmalloc((size_t)f->nsegs + 1, sizeof(int32_t));

@@ -68,11 +68,6 @@ int par_number(const mesh_flat *local, const pslg *in, const uint8_t *artificial
 int par_number_open(const mesh_flat *local, const pslg *in, const uint8_t *artificial,
                     const uint8_t *topen, par_numbering *num, char *err, size_t errlen);
 
-/* Collective (pnum.c).  Sends record i of recs (n records of sz bytes) to rank dest[i] over
- * rt_app_comm(); returns the records this rank received (grouped by source rank, in rank order;
- * free with free()) and their number in *nout. */
-void *par_exchange(const void *recs, size_t sz, const int *dest, int64_t n, int64_t *nout);
-
 /* Local.  Frees what num owns and zeroes it. */
 void par_numbering_free(par_numbering *num);
 

@@ -14,6 +14,21 @@
 
 /* ---- output --------------------------------------------------------------------------------*/
 
+/* The live subsegments into f's seg, smarker and sinterface (room for m->ss_live each), in
+ * record order, each with its segment's marker and interface flag. */
+static void flat_segments(const mesh *m, mesh_flat *f) {
+    int32_t ns = 0;
+    for (int32_t r = 0; r < m->nss; r++) {
+        const mesh_subseg *s = &m->ss[r];
+        if (s->level == -2) continue;
+        f->seg[2 * ns] = s->u;
+        f->seg[2 * ns + 1] = s->v;
+        f->smarker[ns] = m->smarker[s->seg];
+        f->sinterface[ns] = m->siface[s->seg];
+        ns++;
+    }
+}
+
 int mesh_to_flat(const mesh *m, mesh_flat *f) {
     memset(f, 0, sizeof *f);
     f->nverts = m->nv;
@@ -28,6 +43,7 @@ int mesh_to_flat(const mesh *m, mesh_flat *f) {
     f->seg = mesh_xmalloc(2 * (size_t)m->ss_live, sizeof(int32_t));
     f->smarker = mesh_xmalloc((size_t)m->ss_live, sizeof(int32_t));
     f->sinterface = mesh_xmalloc((size_t)m->ss_live, sizeof(int32_t));
+    flat_segments(m, f);
     memcpy(f->xy, m->xy, 2 * (size_t)m->nv * sizeof(double));
     f->scale_exp = m->scale_exp;
     if (m->treg) f->tattr = mesh_xmalloc((size_t)nt, sizeof(double));
@@ -41,16 +57,6 @@ int mesh_to_flat(const mesh *m, mesh_flat *f) {
         memcpy(f->tri + 3 * (size_t)nt, m->tv + 3 * (size_t)t, 3 * sizeof(int32_t));
         if (f->tattr) f->tattr[nt] = m->treg[t] >= 0 ? m->reg_attr[m->treg[t]] : 0;
         nt++;
-    }
-    int32_t ns = 0;
-    for (int32_t r = 0; r < m->nss; r++) {
-        const mesh_subseg *s = &m->ss[r];
-        if (s->level == -2) continue;
-        f->seg[2 * ns] = s->u;
-        f->seg[2 * ns + 1] = s->v;
-        f->smarker[ns] = m->smarker[s->seg];
-        f->sinterface[ns] = m->siface[s->seg];
-        ns++;
     }
     return 0;
 }
@@ -93,16 +99,7 @@ void mesh_take_flat(mesh *m, mesh_flat *f, uint8_t **topen) {
     f->seg = mesh_xmalloc(2 * (size_t)m->ss_live + 1, sizeof(int32_t));
     f->smarker = mesh_xmalloc((size_t)m->ss_live + 1, sizeof(int32_t));
     f->sinterface = mesh_xmalloc((size_t)m->ss_live + 1, sizeof(int32_t));
-    int32_t ns = 0;
-    for (int32_t r = 0; r < m->nss; r++) {
-        const mesh_subseg *s = &m->ss[r];
-        if (s->level == -2) continue;
-        f->seg[2 * ns] = s->u;
-        f->seg[2 * ns + 1] = s->v;
-        f->smarker[ns] = m->smarker[s->seg];
-        f->sinterface[ns] = m->siface[s->seg];
-        ns++;
-    }
+    flat_segments(m, f);
     int32_t *mk = m->vseg; /* markers over vseg, one int32 each, in place */
     for (int32_t v = 0; v < m->nv; v++)
         mk[v] = v < m->ninput ? (m->in_vmarker ? m->in_vmarker[v] : 0)
