@@ -201,9 +201,10 @@ FUZZ_SEED ?= 0
 FUZZ_RUNS ?= -1
 FUZZ_FLAGS := -g -O1 -ffp-contract=off -fno-omit-frame-pointer \
               -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined -DMESH_DEBUG
-# The sequential layers and the validator (not the MPI interface checks of mesher/check/).
+# The sequential layers, the validator (not the MPI interface checks of mesher/check/) and the
+# driver's sequential stages.
 FUZZ_SRC := $(wildcard mesher/base/*.c mesher/geom/*.c mesher/io/*.c mesher/check/validate*.c \
-                     mesher/seq/*.c)
+                     mesher/seq/*.c mesher/bounds/*.c) mesher/run/run.c mesher/run/run_seq.c
 build/fuzz/fuzz_mesh: tests/fuzz/fuzz_mesh.c $(FUZZ_SRC) $(wildcard mesher/*/*.h)
 	@mkdir -p $(dir $@)
 	$(FUZZ_CC) $(STD) $(FUZZ_FLAGS) -Imesher $(shell mpicc -showme:compile) $< $(FUZZ_SRC) \

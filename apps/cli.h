@@ -134,7 +134,7 @@ int cli_output_name(const char *input, int refine, char *buf, size_t n);
 /* Local.  Writes p's --help text (usage, options with defaults, exit statuses) to f. */
 void cli_help(const cli_prog *p, FILE *f);
 
-/* Local; a par_parse_fn for par_startup.  prog is the cli_prog (cli_pcdm or cli_pbw); only
+/* Local; a par_parse_fn for the parallel driver (run_par_main).  prog is the cli_prog (cli_pcdm or cli_pbw); only
  * rank 0 prints. */
 int cli_par_parse(int argc, char **argv, int rank, const void *prog, par_opts *o, int *status);
 

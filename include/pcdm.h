@@ -64,8 +64,15 @@ typedef struct pcdm_status {
  * segments, or with pcdm_options.convex_hull, the domain is the convex hull of the points (but
  * the holes).  Holes: nholes points, each inside a region to remove (holes[2h], holes[2h+1]).
  * Regions: nregions records of four doubles (x, y, attribute, maximum area), as in Triangle's
- * .poly.  Duplicate points are merged and repeated segments dropped (silently); a point inside
- * a segment splits it. */
+ * .poly.  The input is prepared as ./mesh, ./pcdm and ./pbw prepare a .poly (they share one
+ * driver): duplicate points are merged and repeated segments dropped (silently); a point inside
+ * a segment splits it; crossing segments are split at a new point at their (rounded)
+ * intersection, shared by every segment through it, and collinear overlaps become the pieces of
+ * their union (a piece covered twice keeps the earlier segment's marker).  Boundary markers
+ * follow Triangle's rules: a segment with marker 0 on the domain's boundary gets 1, a point
+ * with marker 0 takes the nonzero marker of a segment it lies on, a new point on a segment that
+ * segment's marker, other new points 0.  The mesh returned is the one ./mesh writes for the
+ * same input and bounds (the same points, markers and triangles, in the same order). */
 typedef struct pcdm_input {
     int32_t npoints;
     const double *points;

@@ -11,7 +11,9 @@
  *  - PBW through the same call gives a valid mesh (and refuses the size callback);
  *  - convex_hull (Triangle's -c), PCDM and PBW: segments that enclose nothing meshed over
  *    their hull, valid against the input enclosed by it;
- *  - bad input fails on every rank with the same code and message, and the next call works.
+ *  - bad input fails on every rank with the same code and message, and the next call works;
+ *  - crossing and overlapping segments (tests/inputs/cross.poly), PCDM and PBW: split as
+ *    ./pcdm and ./pbw split them, the whole mesh valid against the input so prepared.
  * Results are reduced over ranks before asserting, so no rank waits in a collective that
  * another rank skipped.  Runs with CK_NOFORK (MPI does not survive fork).
  */
@@ -176,6 +178,50 @@ START_TEST(test_convex_hull) {
 }
 END_TEST
 
+/* The arrays of a .poly as written (unchecked: the library prepares them); g keeps them. */
+static pcdm_input poly_arrays(const char *path, pslg *g) {
+    char err[512];
+    pcdm_input in = {0};
+    if (pslg_read(path, g, err, sizeof err) != 0) return in;
+    in.npoints = g->nverts;
+    in.points = g->xy;
+    in.pointmarkers = g->vmarker;
+    in.nsegments = g->nsegs;
+    in.segments = g->seg;
+    in.segmentmarkers = g->smarker;
+    in.nholes = g->nholes;
+    in.holes = g->holes;
+    return in;
+}
+
+START_TEST(test_crossing) {
+    int rank;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    pslg g;
+    pcdm_input in = poly_arrays("tests/inputs/cross.poly", &g);
+    ck_assert_int_gt(in.nsegments, 0);
+    pcdm_options o;
+    pcdm_options_default(&o);
+    o.min_angle = 30;
+    o.max_area = 0.5;
+    o.root = 0;
+    int ok = 1;
+    for (int method = PCDM_METHOD_PCDM; method <= PCDM_METHOD_PBW; method++) {
+        o.method = method;
+        pcdm_mesh m;
+        pcdm_status st;
+        int rc = pcdm_triangulate_par(MPI_COMM_WORLD, &in, &o, &m, &st);
+        ck_assert_msg(all_true(rc == PCDM_OK, MPI_COMM_WORLD), "method %d: code %d: %s", method, rc,
+                      st.message);
+        /* more points than given: the crossings' new points */
+        if (rank == 0) ok = ok && m.npoints > in.npoints && valid(&in, &m, 30, 0.5);
+        pcdm_mesh_free(&m);
+    }
+    pslg_free(&g);
+    ck_assert(all_true(ok, MPI_COMM_WORLD));
+}
+END_TEST
+
 START_TEST(test_errors_agree) {
     pcdm_input in = plate();
     int32_t bad[16];
@@ -209,7 +255,7 @@ int main(int argc, char **argv) {
     MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
     int rc = ck_run_mpi(ck_suite("mpi_api", 0,
                                  CK_TESTS(test_world_root, test_split_parts, test_pbw,
-                                          test_convex_hull, test_errors_agree)),
+                                          test_convex_hull, test_crossing, test_errors_agree)),
                         MPI_COMM_WORLD);
     MPI_Finalize();
     return rc;

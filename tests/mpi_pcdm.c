@@ -18,6 +18,7 @@
 #include "par/pout.h"
 #include "pcdm/pcdm.h"
 #include "rt.h"
+#include "run/run.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -127,14 +128,17 @@ START_TEST(test_pipeline_lake) {
     o.imbalance = 1;
     pslg in;
     pcdm_decomp d;
-    ck_assert_int_eq(par_load(&o, &in, &d), 0);
+    run_job j;
+    run_job_init(&j, RUN_PCDM, &o);
+    ck_assert_int_eq(run_par_load(&j, &in, &d), 0);
+    run_job_free(&j);
     pcdm_part p;
     char err[512];
     int rc = pcdm_part_build(&p, &d, rank, err, sizeof err);
     ck_assert_msg(all_true(rc == 0), "build failed: %s", rc ? err : "(other rank)");
     mesh_quality q;
     memset(&q, 0, sizeof q); /* diametral circles (lens = 0): interfaces end up Delaunay */
-    q.min_angle = 30 * (1 + 1e-9) + 1e-12;
+    q.min_angle = bounds_refine_angle(30);
     q.max_area = 0.001;
     q.max_steiner = -1;
     q.offcenter = 1;

@@ -8,10 +8,13 @@
  *  - bad arguments and bad input return a code and a message, never a mesh; the Steiner limit
  *    returns PCDM_ESTEINER with a valid mesh; pcdm_mesh_free is idempotent;
  *  - convex_hull (Triangle's -c) meshes segments that enclose nothing over their hull;
- *  - nothing is printed (duplicates merged quietly); two threads meshing at once agree with one.
+ *  - nothing is printed (duplicates merged quietly); two threads meshing at once agree with one;
+ *  - a PSLG with crossing and overlapping segments (tests/inputs/cross.poly) is split and
+ *    marked as ./mesh does: the same points, markers and triangles as ./mesh's files.
  */
 #include "api_check.h"
 #include "check_run.h"
+#include "io/meshio.h"
 
 #include <pthread.h>
 #include <stdio.h>
@@ -237,8 +240,64 @@ START_TEST(test_threads) {
 }
 END_TEST
 
+/* tests/inputs/cross.poly: an X of crossing segments, a T, an overlap on the bottom edge. */
+START_TEST(test_crossing_as_mesh) {
+    const char *bin = getenv("BIN") ? getenv("BIN") : ".";
+    char dir[] = "/tmp/unit_api_XXXXXX", cmd[1024], prefix[600], err[512];
+    ck_assert_ptr_nonnull(mkdtemp(dir));
+    snprintf(prefix, sizeof prefix, "%s/cross", dir);
+    snprintf(cmd, sizeof cmd, "%s/mesh -Q -q 30 -a 0.5 -o %s tests/inputs/cross.poly", bin, prefix);
+    ck_assert_msg(system(cmd) == 0, "%s failed", cmd);
+    mesh_flat w; /* what ./mesh wrote */
+    ck_assert_msg(meshio_read_triangle(prefix, &w, err, sizeof err) == 0, "%s", err);
+    pslg g; /* the file as given, unchecked: the library's input arrays */
+    ck_assert_msg(pslg_read("tests/inputs/cross.poly", &g, err, sizeof err) == 0, "%s", err);
+    pcdm_input in = {0};
+    in.npoints = g.nverts;
+    in.points = g.xy;
+    in.pointmarkers = g.vmarker;
+    in.npointattr = g.nattr;
+    in.pointattr = g.vattr;
+    in.nsegments = g.nsegs;
+    in.segments = g.seg;
+    in.segmentmarkers = g.smarker;
+    in.nholes = g.nholes;
+    in.holes = g.holes;
+    pcdm_options o;
+    pcdm_options_default(&o);
+    o.min_angle = 30;
+    o.max_area = 0.5;
+    pcdm_mesh m;
+    pcdm_status st;
+    ck_assert_int_eq(pcdm_triangulate(&in, &o, &m, &st), PCDM_OK);
+    ck_assert_int_gt(g.nsegs, 0);
+    ck_assert_int_eq(m.npoints, w.nverts);
+    ck_assert_int_eq(m.ntriangles, w.ntris);
+    ck_assert_int_eq(m.nsegments, w.nsegs);
+    for (int32_t i = 0; i < m.npoints; i++) {
+        ck_assert_msg(m.points[2 * i] == w.xy[2 * i] && m.points[2 * i + 1] == w.xy[2 * i + 1],
+                      "point %d: (%.17g, %.17g) against ./mesh's (%.17g, %.17g)", i,
+                      m.points[2 * i], m.points[2 * i + 1], w.xy[2 * i], w.xy[2 * i + 1]);
+        ck_assert_int_eq(m.pointmarkers[i], w.vmarker[i]);
+    }
+    for (int64_t k = 0; k < 3 * (int64_t)m.ntriangles; k++)
+        ck_assert_int_eq(m.triangles[k], w.tri[k]);
+    for (int64_t k = 0; k < m.nsegments; k++) {
+        ck_assert_int_eq(m.segments[2 * k], w.seg[2 * k]);
+        ck_assert_int_eq(m.segments[2 * k + 1], w.seg[2 * k + 1]);
+        ck_assert_int_eq(m.segmentmarkers[k], w.smarker[k]);
+    }
+    pcdm_mesh_free(&m);
+    mesh_flat_free(&w);
+    pslg_free(&g);
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    ck_assert_int_eq(system(cmd), 0);
+}
+END_TEST
+
 int main(void) {
     return ck_run(ck_suite("api", 120,
                            CK_TESTS(test_plate, test_regions, test_convex_hull, test_callback,
-                                    test_errors, test_steiner_limit, test_quiet, test_threads)));
+                                    test_errors, test_steiner_limit, test_quiet, test_threads,
+                                    test_crossing_as_mesh)));
 }

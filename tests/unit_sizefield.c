@@ -1,5 +1,5 @@
 /* unit_sizefield: exact point location (geom/tloc.h), the mesh to refine read as a PSLG and the
- * size rules of -r's .area and --size (io/sizefield.h).
+ * size rules of -r's .area and --size (bounds/sizefield.h).
  *
  * tloc: points inside, on a shared edge and vertex (the lowest triangle), outside (-1, and the
  * nearest triangle for tloc_find_near), clockwise input triangles, barycentric weights.  -r
@@ -9,11 +9,12 @@
  * old triangle only; the background size bounds areas by sqrt(3)/4 h^2, h interpolated, and
  * the rules see coordinates scaled by 2^scale_exp.  Files are written to a temporary folder.
  */
+#include "bounds/sizefield.h"
 #include "check_run.h"
 #include "geom/geom.h"
 #include "geom/pslg.h"
 #include "geom/tloc.h"
-#include "io/sizefield.h"
+#include "io/meshio.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -74,7 +75,7 @@ START_TEST(test_refine_pslg_boundary) {
     write_ring("ring");
     pslg g;
     char err[1024];
-    ck_assert_msg(size_field_read_mesh_pslg(at("ring.ele"), &g, err, sizeof err) == 0, "%s", err);
+    ck_assert_msg(meshio_read_mesh_pslg(at("ring.ele"), &g, err, sizeof err) == 0, "%s", err);
     ck_assert_int_eq(g.nverts, 8);
     ck_assert_int_eq(g.nsegs, 8);
     ck_assert_int_ge(g.nholes, 1);
@@ -87,7 +88,7 @@ START_TEST(test_refine_pslg_boundary) {
     /* with a .poly: its segments (only the outer square) and no holes */
     write_ring("ringp");
     put("ringp.poly", "0 2 0 1\n4 1\n1 1 2 5\n2 2 3 5\n3 3 4 5\n4 4 1 5\n0\n");
-    ck_assert_msg(size_field_read_mesh_pslg(at("ringp"), &g, err, sizeof err) == 0, "%s", err);
+    ck_assert_msg(meshio_read_mesh_pslg(at("ringp"), &g, err, sizeof err) == 0, "%s", err);
     ck_assert_int_eq(g.nsegs, 4);
     ck_assert_int_eq(g.nholes, 0);
     ck_assert_int_eq(g.smarker[0], 5);

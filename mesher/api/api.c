@@ -1,23 +1,21 @@
 /* api.c: the sequential half of libpcdm's public interface (include/pcdm.h) -- Triangle's
  * triangulate() in one call, and what both halves share (input, options, output, status).
  *
- * pcdm_triangulate is apps/mesh.c without files: the caller's PSLG is copied into a pslg and
- * normalised by pslg_check (duplicates merged, coordinates scaled by an exact power of two into
- * the predicates' working range, quietly: the library never prints; with convex_hull the hull
- * enclosed by segments, as ./mesh -c), triangulated
- * (mesh_build_cdt) and refined (mesh_refine) to the bounds, then copied out with the scaling
- * undone.  The caller's size rule sees the caller's coordinates: a wrapper multiplies the
- * mesher's coordinates by 2^-scale_exp and the area by 2^-2scale_exp, both exact (powers of
- * two).  As ./mesh, the angle bound is raised by a hair so that rounding in the quality test can
- * never leave a triangle a few ulps below it, and a mesh outside the bounds is never a silent
- * success: the Steiner limit returns PCDM_ESTEINER with the (valid, coarser) mesh, anything
- * else left unmet returns PCDM_EUNMET and no mesh.  The parallel call is api_par.c.
+ * pcdm_triangulate is ./mesh without files: the caller's arrays are copied into a pslg and
+ * handed to the driver (run/run.h) as a job, which goes through ./mesh's stages -- the input
+ * checked and normalised (duplicates merged, coordinates scaled by an exact power of two,
+ * crossing segments split, Triangle's boundary markers, the hull with convex_hull; quietly: the
+ * library never prints), the bounds as one value, the CDT refined, the verdict -- and the mesh
+ * is copied out with the scaling undone.  The caller's size rule sees the caller's coordinates
+ * (the driver's wrapper).  A mesh outside the bounds is never a silent success: the Steiner
+ * limit returns PCDM_ESTEINER with the (valid, coarser) mesh, anything else left unmet
+ * PCDM_EUNMET and no mesh.  The parallel call is api_par.c.
  */
 #include "api/api_impl.h"
 
 #include "base/base.h"
-#include "check/validate.h"
 #include "geom/geom.h"
+#include "run/run.h"
 #include "seq/mesh.h"
 
 #include <math.h>
@@ -93,7 +91,7 @@ static void *dup_array(const void *p, size_t n, size_t size) {
     return q;
 }
 
-int api_make_pslg(const pcdm_input *in, const pcdm_options *o, pslg *g, pcdm_status *st) {
+void api_copy_input(const pcdm_input *in, pslg *g) {
     memset(g, 0, sizeof *g);
     size_t nv = (size_t)in->npoints, ns = (size_t)in->nsegments;
     g->nverts = in->npoints;
@@ -116,41 +114,6 @@ int api_make_pslg(const pcdm_input *in, const pcdm_options *o, pslg *g, pcdm_sta
     g->first_index = 0;
     g->quiet = 1;
     snprintf(g->path, sizeof g->path, "input");
-    char err[1024];
-    if (pslg_check_ex(g, o->convex_hull ? PSLG_HULL : 0u, err, sizeof err) != 0) {
-        pslg_free(g);
-        return api_fail(st, PCDM_EINPUT, "%s", err);
-    }
-    return PCDM_OK;
-}
-
-/* The caller's size rule in the caller's units. */
-static int unscaled_rule(void *ctx, const double *const p[3], double area) {
-    const api_rule *u = ctx;
-    double q[3][2];
-    const double *qp[3] = {q[0], q[1], q[2]};
-    for (int i = 0; i < 3; i++) {
-        q[i][0] = ldexp(p[i][0], -u->scale_exp);
-        q[i][1] = ldexp(p[i][1], -u->scale_exp);
-    }
-    return u->fn(u->ctx, qp, ldexp(area, -2 * u->scale_exp));
-}
-
-void api_quality(const pcdm_options *o, mesh_quality *q) {
-    memset(q, 0, sizeof *q);
-    q->min_angle = o->min_angle > 0 ? o->min_angle * (1 + 1e-9) + 1e-12 : 0;
-    q->max_area = o->max_area;
-    q->max_steiner = o->max_steiner < 0 ? -1 : o->max_steiner;
-    q->offcenter = !o->circumcenters;
-    q->lens = 0;
-}
-
-void api_size_rule(mesh *m, const pcdm_options *o, api_rule *u, int scale_exp) {
-    if (!o->unsuitable) return;
-    u->fn = o->unsuitable;
-    u->ctx = o->unsuitable_ctx;
-    u->scale_exp = scale_exp;
-    mesh_set_size_rule(m, unscaled_rule, u);
 }
 
 void api_copy_points(pcdm_mesh *out, int32_t i, const double *xy, int scale_exp) {
@@ -184,6 +147,39 @@ static void flat_to_mesh(const mesh_flat *f, int scale_exp, pcdm_mesh *out) {
     out->nglobalsegments = out->nsegments;
 }
 
+void api_job(const pcdm_options *o, int method, pslg *g, run_job *j) {
+    par_opts po;
+    memset(&po, 0, sizeof po);
+    po.prog = "pcdm";
+    po.input = "input";
+    po.min_angle = o->min_angle;
+    po.max_area = o->max_area;
+    po.max_steiner = o->max_steiner < 0 ? -1 : o->max_steiner;
+    po.circumcenters = o->circumcenters;
+    po.convex_hull = o->convex_hull;
+    po.region_attr = o->region_attributes;
+    po.region_area = o->region_areas;
+    po.imbalance = 1;
+    po.nsub = o->subdomains;
+    po.quiet = 1;
+    run_job_init(j, (run_method)method, &po);
+    j->given = g;
+    j->lib = 1;
+    j->user_size = o->unsuitable;
+    j->user_size_ctx = o->unsuitable_ctx;
+}
+
+int api_make_pslg(const pcdm_input *in, const pcdm_options *o, pslg *g, pcdm_status *st) {
+    pslg given;
+    api_copy_input(in, &given);
+    run_job j;
+    api_job(o, RUN_SEQ, &given, &j);
+    char err[1024];
+    int rc = run_load(&j, g, 1, 0, err, sizeof err);
+    run_job_free(&j);
+    return rc == 0 ? PCDM_OK : api_fail(st, PCDM_EINPUT, "%s", err);
+}
+
 int pcdm_triangulate(const pcdm_input *in, const pcdm_options *opt, pcdm_mesh *out,
                      pcdm_status *st) {
     pcdm_status own;
@@ -198,60 +194,19 @@ int pcdm_triangulate(const pcdm_input *in, const pcdm_options *opt, pcdm_mesh *o
     else
         pcdm_options_default(&o);
     if (api_check_args(in, &o, st)) return st->code;
-    geom_init();
+    /* the driver's stages (run/run.h), as ./mesh: the input checked with crossing segments
+     * split and Triangle's boundary-marker rules, the bounds, the mesh, the verdict */
     pslg g;
-    if (api_make_pslg(in, &o, &g, st)) return st->code;
-    mesh m;
-    mesh_init(&m);
-    char err[1024];
-    if (mesh_build_cdt(&m, &g, NULL, err, sizeof err) != 0) {
-        mesh_free(&m);
-        pslg_free(&g);
-        return api_fail(st, PCDM_EINPUT, "%s", err);
-    }
-    if (o.region_attributes || o.region_areas) mesh_set_regions(&m, &g, o.region_areas, m.nseg);
-    api_rule rule;
-    mesh_quality q;
-    api_quality(&o, &q);
-    mesh_set_quality(&m, &q);
-    api_size_rule(&m, &o, &rule, g.scale_exp);
-    mesh_refine_result rr = mesh_refine(&m);
-    int64_t unmet = mesh_count_unmet(&m, NULL);
-    int limited = rr == MESH_REFINE_STEINER_LIMIT && unmet > 0;
-    if (unmet > 0 && !limited) {
-        api_fail(st, PCDM_EUNMET,
-                 "cannot meet the bounds: %lld triangles still violate them after %lld refused "
-                 "splits (features below the precision of the coordinates, a region too thin "
-                 "for its length, or min_angle %g beyond what refinement reaches)",
-                 (long long)unmet, (long long)m.stats.unresolved, o.min_angle);
-        mesh_free(&m);
-        pslg_free(&g);
-        return st->code;
-    }
-    double dom_w = 0, area_w = mesh_area(&m);
-    if (!validate_area_net(&g, area_w, &dom_w)) { /* the cheap net, as ./mesh */
-        api_fail(st, PCDM_EUNMET,
-                 "the mesh's area %.17g differs from the domain's %.17g by more than rounding "
-                 "explains (features below the precision of the coordinates)",
-                 ldexp(area_w, -2 * g.scale_exp), ldexp(dom_w, -2 * g.scale_exp));
-        mesh_free(&m);
-        pslg_free(&g);
-        return st->code;
-    }
+    api_copy_input(in, &g);
+    run_job j;
+    api_job(&o, RUN_SEQ, &g, &j);
     mesh_flat f;
-    if (mesh_to_flat(&m, &f) != 0) MESH_BUG("out of memory");
-    if (!o.region_attributes) { /* labels only for the region bounds: not returned */
-        free(f.tattr);
-        f.tattr = NULL;
-    }
-    flat_to_mesh(&f, g.scale_exp, out);
+    int scale_exp = 0;
+    int rc = run_mesh_flat(&j, &f, &scale_exp);
+    if (rc == 1) return api_fail(st, PCDM_EINPUT, "%s", j.msg);
+    if (rc == 2) return api_fail(st, PCDM_EUNMET, "%s", j.msg);
+    flat_to_mesh(&f, scale_exp, out);
     mesh_flat_free(&f);
-    mesh_free(&m);
-    pslg_free(&g);
-    if (limited)
-        api_fail(st, PCDM_ESTEINER,
-                 "Steiner point limit (%lld) reached with %lld triangles outside the bounds; the "
-                 "mesh is conforming but does not meet them",
-                 (long long)o.max_steiner, (long long)unmet);
+    if (j.verdict == RUN_STEINER) api_fail(st, PCDM_ESTEINER, "%s", j.msg);
     return st->code;
 }

@@ -1,13 +1,14 @@
-/* api_par.c: pcdm_triangulate_par (include/pcdm.h) -- PCDM (TR-97-17 section 3) in one call,
- * Collective over a communicator the caller gives.
+/* api_par.c: pcdm_triangulate_par (include/pcdm.h) -- PCDM (TR-97-17 section 3) or PBW
+ * (section 2) in one call, Collective over a communicator the caller gives.
  *
- * It is apps/pcdm.c without files or printing: the runtime is started on duplicates of the
+ * It is ./pcdm and ./pbw without files or printing: the runtime is started on duplicates of the
  * caller's communicator (rt_init_comm: MPI stays the caller's, any communicator works, e.g. a
- * split), the pcdm handler registered, every rank builds the same decomposition of the same
- * input (pcdm_decomp_auto; a hash of it is compared across the ranks), keeps and refines its
- * subdomains (pcdm_part_refine), and the parts are checked along their interfaces and numbered
- * by prefix sums (par_check_interfaces_open, par_number_open).  The runtime is finalised before
- * the call returns, on every path.
+ * split), the method's handlers registered, and the caller's arrays handed to the driver
+ * (run/run_par.c) as a job: every rank loads the same input and builds the same decomposition
+ * (a hash of it compared across the ranks), refines its part, and the verdict is reduced.  The
+ * library's own end is here: the parts checked along their interfaces and numbered by prefix
+ * sums (par_check_interfaces_open, par_number_open) and copied into the caller's arrays.  The
+ * runtime is finalised before the call returns, on every path.
  *
  * Output.  A rank's part lists its triangles' vertices; rank 0's part starts with every input
  * point (global numbers 0..nin-1, as the file writers do), so "pointowned" (the input points on
@@ -16,9 +17,9 @@
  * opt->root >= 0 exactly those rows, the triangles and the segments (in global numbers) are
  * gathered on the root (MPI_Gatherv on the library's communicator); that is the only gather.
  *
- * Errors.  Every failure is agreed collectively (agree(): the lowest failing rank's message is
- * broadcast) so every rank returns the same code and message and none waits in a collective
- * another rank skipped.  Nothing is printed.
+ * Errors.  Every failure is agreed collectively (par_agree: the lowest failing rank's code and
+ * message are broadcast) so every rank returns the same code and message and none waits in a
+ * collective another rank skipped.  Nothing is printed.
  */
 #include "api/api_impl.h"
 
@@ -30,6 +31,8 @@
 #include "pbw/pbw.h"
 #include "pcdm/pcdm.h"
 #include "rt.h"
+#include "run/run.h"
+#include "run/run_stats.h"
 
 #include <limits.h>
 #include <stdio.h>
@@ -39,24 +42,11 @@
 /* Collective.  Nonzero on every rank when code != PCDM_OK on any rank; then every rank's st
  * holds the lowest failing rank's code and message. */
 static int agree(int code, pcdm_status *st) {
-    MPI_Comm c = rt_app_comm();
-    int rank = rt_rank(), size = rt_size();
-    int mine = code != PCDM_OK ? rank : size, first = size;
-    MESH_MPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, c));
-    if (first == size) return 0;
-    struct {
-        int code;
-        char msg[sizeof st->message];
-    } b;
-    memset(&b, 0, sizeof b);
-    if (rank == first) {
-        b.code = code;
-        memcpy(b.msg, st->message, sizeof b.msg);
-    }
-    MESH_MPI(MPI_Bcast(&b, (int)sizeof b, MPI_BYTE, first, c));
-    st->code = b.code;
-    memcpy(st->message, b.msg, sizeof st->message);
-    st->message[sizeof st->message - 1] = '\0';
+    char buf[sizeof st->message];
+    int rc = par_agree(code, st->message, buf, sizeof buf);
+    if (!rc) return 0;
+    st->code = rc;
+    memcpy(st->message, buf, sizeof st->message);
     return 1;
 }
 
@@ -266,15 +256,13 @@ static int gather_whole(pcdm_mesh *p, int root, pcdm_mesh *out, pcdm_status *st)
     return PCDM_OK;
 }
 
-/* Collective.  Refines this rank's part of d to o's bounds and leaves it, checked along the
- * interfaces and numbered, in out (see part_to_mesh).  The runtime is up. */
-/* Collective.  The common end of both meshers: the refined parts (local, this rank's;
- * artificial, topen: as par_output_sub takes them, may be NULL), checked along the interfaces,
- * numbered and copied into out.  limited/unmet_all: the Steiner limit stopped refinement with
- * unmet_all triangles outside the bounds (PCDM_ESTEINER).  Frees local, artificial and topen. */
+/* Collective.  The library's end of both meshers (the driver's write stage for arrays): the
+ * refined parts (local, this rank's; artificial, topen: as par_output_sub takes them, may be
+ * NULL), checked along the interfaces, numbered and copied into out; the Steiner limit
+ * (j->verdict) gives PCDM_ESTEINER with the driver's message.  Frees local, artificial and
+ * topen. */
 static int finish_part(mesh_flat *local, const pslg *in, uint8_t *artificial, uint8_t *topen,
-                       int limited, long long unmet_all, const pcdm_options *o, pcdm_mesh *out,
-                       pcdm_status *st) {
+                       const run_job *j, pcdm_mesh *out, pcdm_status *st) {
     int rank = rt_rank();
     MPI_Comm c = rt_app_comm();
     char err[1024], msg[600];
@@ -299,11 +287,7 @@ static int finish_part(mesh_flat *local, const pslg *in, uint8_t *artificial, ui
         MESH_MPI(MPI_Allreduce(&any_t, &any_all, 1, MPI_INT, MPI_MAX, c));
         part_to_mesh(local, in, &num, all[0], all[1] && any_all, out);
         par_numbering_free(&num);
-        if (limited)
-            api_fail(st, PCDM_ESTEINER,
-                     "Steiner point limit (%lld) reached with %lld triangles outside the bounds; "
-                     "the mesh is conforming but does not meet them",
-                     (long long)o->max_steiner, unmet_all);
+        if (j->verdict == RUN_STEINER) api_fail(st, PCDM_ESTEINER, "%s", j->msg);
     }
     free(artificial);
     free(topen);
@@ -311,118 +295,20 @@ static int finish_part(mesh_flat *local, const pslg *in, uint8_t *artificial, ui
     return st->code;
 }
 
-static int unmet_fail(long long unmet_all, long long refused, const pcdm_options *o,
-                      pcdm_status *st) {
-    return api_fail(st, PCDM_EUNMET,
-                    "cannot meet the bounds: %lld triangles still violate them after %lld refused "
-                    "splits (features below the precision of the coordinates, a region too thin "
-                    "for its length, or min_angle %g beyond what refinement reaches)",
-                    unmet_all, refused, o->min_angle);
-}
-
-/* Collective.  PCDM: refines this rank's subdomains of d to o's bounds (the runtime is up,
- * pcdm_register called) and leaves the part in out (finish_part). */
-static int mesh_part_pcdm(const pcdm_decomp *d, const pslg *in, const pcdm_options *o,
-                          pcdm_mesh *out, pcdm_status *st) {
-    int rank = rt_rank();
-    MPI_Comm c = rt_app_comm();
-    char err[1024];
-    pcdm_part part;
-    int rc = pcdm_part_build(&part, d, rank, err, sizeof err) == 0
-                 ? PCDM_OK
-                 : api_fail(st, PCDM_EINPUT, "%s", err);
-    if (agree(rc, st)) {
-        if (rc == PCDM_OK) pcdm_part_free(&part);
-        return st->code;
+/* The library's code for a driver's RUN_F* code. */
+static int api_code(int run_code) {
+    switch (run_code) {
+    case 0:
+        return PCDM_OK;
+    case RUN_FINPUT:
+        return PCDM_EINPUT;
+    case RUN_FUNMET:
+        return PCDM_EUNMET;
+    case RUN_FINVAL:
+        return PCDM_EINVAL;
+    default:
+        return PCDM_EMESH;
     }
-    api_rule rule;
-    mesh_quality q;
-    api_quality(o, &q);
-    api_size_rule(&part.m, o, &rule, in->scale_exp);
-    if (o->max_steiner >= 0) { /* the global budget shared by target weight, as ./pcdm */
-        double share = 0;
-        for (int32_t s = 0; s < d->nsub; s++)
-            if (d->sub_owner[s] == rank) share += d->sub_target[s];
-        q.max_steiner = (int64_t)((double)o->max_steiner * share);
-    }
-    pcdm_part_refine(&part, &q, 300);
-    int limit_any = 0;
-    MESH_MPI(MPI_Allreduce(&part.limit_hit, &limit_any, 1, MPI_INT, MPI_MAX, c));
-    long long un[2] = {(long long)mesh_count_unmet(&part.m, NULL),
-                       (long long)part.m.stats.unresolved},
-              un_all[2] = {0, 0};
-    MESH_MPI(MPI_Allreduce(un, un_all, 2, MPI_LONG_LONG, MPI_SUM, c));
-    int limited = limit_any && un_all[0] > 0;
-    if (un_all[0] > 0 && !limited) {
-        pcdm_part_free(&part);
-        return unmet_fail(un_all[0], un_all[1], o, st);
-    }
-    uint8_t *artificial = pcdm_part_artificial(&part), *topen = NULL;
-    mesh_flat local;
-    pcdm_part_take_flat(&part, &local, NULL, &topen);
-    pcdm_part_free(&part);
-    return finish_part(&local, in, artificial, topen, limited, un_all[0], o, out, st);
-}
-
-/* Collective.  PBW (TR-97-17 section 2): one distributed mesh refined by remote cavity
- * expansion (the runtime is up, pbw_register called); the part into out (finish_part). */
-static int mesh_part_pbw(const pcdm_decomp *d, const pslg *in, const pcdm_options *o,
-                         pcdm_mesh *out, pcdm_status *st) {
-    par_opts po;
-    memset(&po, 0, sizeof po);
-    po.prog = "pbw";
-    po.min_angle = o->min_angle;
-    po.max_area = o->max_area;
-    po.max_steiner = o->max_steiner;
-    po.circumcenters = o->circumcenters;
-    po.imbalance = 1;
-    mesh_flat local;
-    pbw_result res;
-    /* fails on every rank alike only when the input does not triangulate, which the
-     * decomposition has ruled out already */
-    if (pbw_mesh(&po, in, d, &local, &res) != 0)
-        return api_fail(st, PCDM_EMESH, "pbw: the distributed mesh cannot be built");
-    free(res.topen); /* finish_part finds the open edges itself */
-    MPI_Comm c = rt_app_comm();
-    int limit_any = 0;
-    MESH_MPI(MPI_Allreduce(&res.limit_hit, &limit_any, 1, MPI_INT, MPI_MAX, c));
-    long long un[2] = {(long long)res.unmet, (long long)res.unresolved}, un_all[2] = {0, 0};
-    MESH_MPI(MPI_Allreduce(un, un_all, 2, MPI_LONG_LONG, MPI_SUM, c));
-    int limited = limit_any && un_all[0] > 0;
-    if (un_all[0] > 0 && !limited) {
-        mesh_flat_free(&local);
-        return unmet_fail(un_all[0], un_all[1], o, st);
-    }
-    return finish_part(&local, in, NULL, NULL, limited, un_all[0], o, out, st);
-}
-
-/* Collective.  Every rank builds the same decomposition of in for the communicator's ranks. */
-static int decompose(const pslg *in, const pcdm_options *o, pcdm_decomp *d, pcdm_status *st) {
-    int P = rt_size();
-    char err[1024];
-    pcdm_decomp_opts dopt;
-    pcdm_decomp_opts_default(&dopt);
-    dopt.nsub = o->subdomains;
-    dopt.nranks = P;
-    dopt.min_angle = o->min_angle;
-    dopt.max_area = o->max_area;
-    dopt.max_steiner = o->max_steiner;
-    int32_t k = o->subdomains > 0 ? o->subdomains : P;
-    int rc = PCDM_OK;
-    memset(d, 0, sizeof *d);
-    if (k > PAR_MAX_SUBDOMAINS)
-        rc = api_fail(st, PCDM_EINVAL, "%d subdomains: at most %d", (int)k, PAR_MAX_SUBDOMAINS);
-    else if (o->subdomains > 0 && o->subdomains < P)
-        rc = api_fail(st, PCDM_EINVAL, "%d subdomains: fewer than the %d ranks", (int)o->subdomains,
-                      P);
-    else if (pcdm_decomp_auto(in, &dopt, d, err, sizeof err) != 0)
-        rc = api_fail(st, PCDM_EINPUT, "cannot decompose the input for %d ranks: %.900s", P, err);
-    if (!agree(rc, st) && !par_decomp_agrees(d))
-        rc = api_fail(st, PCDM_EINVAL,
-                      "the ranks computed different decompositions (was the same input and "
-                      "options passed on every rank?)");
-    if (rc != PCDM_OK) pcdm_decomp_free(d);
-    return st->code;
 }
 
 int pcdm_triangulate_par(MPI_Comm comm, const pcdm_input *in, const pcdm_options *opt,
@@ -469,29 +355,46 @@ int pcdm_triangulate_par(MPI_Comm comm, const pcdm_input *in, const pcdm_options
                       "parallel call does not label regions yet)");
     if (rc == 0 && (o.root >= P))
         rc = api_fail(st, PCDM_EINVAL, "root %d: the communicator has %d ranks", o.root, P);
-    geom_init();
-    pslg g;
-    memset(&g, 0, sizeof g);
-    if (rc == 0) rc = api_make_pslg(in, &o, &g, st);
     if (agree(rc, st)) {
-        pslg_free(&g);
         rt_finalize();
         return st->code;
     }
+    /* the driver's stages (run/run.h), as ./pcdm and ./pbw: the input checked with crossing
+     * segments split and Triangle's boundary-marker rules, the decomposition, the bounds, the
+     * mesh, the verdict; then the library's own end (finish_part, the gather on root) */
+    pslg g, pin;
+    api_copy_input(in, &g);
+    run_job j;
+    api_job(&o, o.method == PCDM_METHOD_PBW ? RUN_PBW : RUN_PCDM, &g, &j);
     pcdm_decomp d;
-    if (decompose(&g, &o, &d, st) == PCDM_OK) {
-        rc = o.method == PCDM_METHOD_PBW ? mesh_part_pbw(&d, &g, &o, out, st)
-                                         : mesh_part_pcdm(&d, &g, &o, out, st);
-        pcdm_decomp_free(&d);
-        if ((rc == PCDM_OK || rc == PCDM_ESTEINER) && o.root >= 0) {
-            pcdm_mesh part = *out;
+    rc = run_par_load(&j, &pin, &d);
+    if (rc != 0) {
+        api_fail(st, api_code(rc), "%s", j.msg);
+        rt_finalize();
+        return st->code;
+    }
+    run_part part;
+    run_stats rs;
+    memset(&rs, 0, sizeof rs);
+    rc = run_par_mesh(&j, &pin, &d, &part, &rs);
+    run_stats_free(&rs);
+    if (rc != 0) {
+        api_fail(st, api_code(rc), "%s", j.msg);
+        run_part_free(&part);
+    } else {
+        free(part.tsub);
+        finish_part(&part.local, &pin, part.artificial, part.topen, &j, out, st);
+        if ((st->code == PCDM_OK || st->code == PCDM_ESTEINER) && o.root >= 0) {
+            pcdm_mesh whole = *out;
             int keep = st->code;
             memset(out, 0, sizeof *out);
-            if (gather_whole(&part, o.root, out, st) == PCDM_OK) st->code = keep;
+            if (gather_whole(&whole, o.root, out, st) == PCDM_OK) st->code = keep;
             agree(st->code == PCDM_ESTEINER ? PCDM_OK : st->code, st);
         }
     }
-    pslg_free(&g);
+    pcdm_decomp_free(&d);
+    pslg_free(&pin);
+    run_job_free(&j);
     rt_finalize();
     return st->code;
 }

@@ -147,10 +147,6 @@ static int32_t open_edges(const mesh_flat *f, const uint8_t *topen, int rank, op
     return no;
 }
 
-int par_check_interfaces(const mesh_flat *local, char *msg, size_t msglen) {
-    return par_check_interfaces_open(local, NULL, msg, msglen);
-}
-
 int par_check_interfaces_open(const mesh_flat *local, const uint8_t *topen, char *msg,
                               size_t msglen) {
     int rank = rt_rank(), P = rt_size();
@@ -279,7 +275,7 @@ long par_check_interface_delaunay(const mesh_flat *local, const uint8_t *topen, 
     for (int64_t i = 0; i + 1 < nr; i++) {
         const apex_edge *u = &rb[i], *v = &rb[i + 1];
         if (memcmp(u->x, v->x, sizeof u->x) || u->rank == v->rank || u->exempt || v->exempt)
-            continue; /* not the two sides of one interface edge (par_check_interfaces decides
+            continue; /* not the two sides of one interface edge (par_check_interfaces_open decides
                        * what else is wrong), or a constraint */
         const double *p = u->x, *q = u->x + 2;
         double o = geom_orient2d(p, q, u->c);

@@ -18,11 +18,9 @@
  * the same vertex coordinates bit for bit; so both sides of every interface agree on its
  * subsegments and vertices.  Each open edge travels once, to the rank its coordinates hash to
  * (O(interface) data, two all-to-all calls).  Returns 0, or -1 on the ranks that found a
- * disagreement, with a message in msg (callers agree through par_fail_any). */
-int par_check_interfaces(const mesh_flat *local, char *msg, size_t msglen);
-
-/* Collective.  par_check_interfaces, with the part's open edges from the mesher's mask
- * (topen: mesh_take_flat's, one byte per triangle; NULL: found through vertex rows). */
+ * disagreement, with a message in msg (callers agree through par_fail_any).  The open edges
+ * come from the mesher's mask (topen: mesh_take_flat's, one byte per triangle; NULL: found
+ * through vertex rows). */
 int par_check_interfaces_open(const mesh_flat *local, const uint8_t *topen, char *msg,
                               size_t msglen);
 

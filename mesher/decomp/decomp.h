@@ -94,7 +94,7 @@ typedef struct pcdm_decomp {
     int32_t ncoarse; /* triangles of the coarse mesh the decomposition was drawn on */
     int exact;       /* 1: drawn on the exact preview (the coarse mesh is the final mesh at the
                       * real bounds, and every one of its vertices is a vertex of g) */
-    double build_s;  /* wall seconds this rank spent building it (par_load measures) */
+    double build_s;  /* wall seconds this rank spent building it (the driver measures) */
 } pcdm_decomp;
 
 /* Fills o with defaults: nsub 0, nranks 1, min_angle 30, max_area 0, imbalance 1,

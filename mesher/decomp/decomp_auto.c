@@ -46,6 +46,7 @@
  */
 #include "decomp/decomp_impl.h"
 
+#include "bounds/bounds.h"
 #include "base/base.h"
 #include "geom/geom.h"
 #include "seq/rules.h"
@@ -594,7 +595,7 @@ static int exact_preview(mesh *m, const pslg *in, const pcdm_decomp_opts *o, int
     int64_t tmax = (int64_t)K * eps;
     if (o->max_area > 0 && A / o->max_area > (double)tmax) return 0;
     /* the bound exactly as ./mesh and ./pcdm refine with */
-    double q = o->min_angle > 0 ? o->min_angle * (1 + 1e-9) + 1e-12 : 0;
+    double q = bounds_refine_angle(o->min_angle);
     int64_t limit = tmax / 2 + 1; /* Steiner vertices: about half the triangles */
     if (o->region_area) mesh_set_regions(m, in, 1, m->nseg); /* the final mesh's bounds */
     if (refine(m, q, o->max_area, limit) != MESH_REFINE_DONE || m->nlive > tmax) return -1;
@@ -718,7 +719,7 @@ static int trial_ok(const pcdm_decomp *d, const pcdm_decomp_opts *o) {
     if (ok) {
         mesh_quality q;
         memset(&q, 0, sizeof q);
-        q.min_angle = o->min_angle > 0 ? o->min_angle * (1 + 1e-9) + 1e-12 : 0;
+        q.min_angle = bounds_refine_angle(o->min_angle);
         q.max_area = o->max_area;
         /* the preview's final mesh has at most K * exact_per_sub triangles (exact_preview):
          * a trial that needs 8 times as many cascades along an interface (a sliver of 1e-10

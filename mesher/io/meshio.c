@@ -32,8 +32,7 @@
 
 /* ---------------------------------------------------------------- atomic output --------- */
 
-__attribute__((format(printf, 3, 4))) static int efail(char *err, size_t errlen, const char *fmt,
-                                                       ...) {
+int meshio_fail(char *err, size_t errlen, const char *fmt, ...) {
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(err, errlen, fmt, ap);
@@ -42,11 +41,11 @@ __attribute__((format(printf, 3, 4))) static int efail(char *err, size_t errlen,
 }
 
 int meshio_mktemp(const char *path, char *tmp, size_t tmplen, char *err, size_t errlen) {
-    if (strlen(path) + 12 > tmplen) return efail(err, errlen, "%s: path too long", path);
+    if (strlen(path) + 12 > tmplen) return meshio_fail(err, errlen, "%s: path too long", path);
     snprintf(tmp, tmplen, "%s.tmpXXXXXX", path);
     int fd = mkstemp(tmp);
     if (fd < 0)
-        return efail(err, errlen, "%s: cannot create temporary file: %s", path, strerror(errno));
+        return meshio_fail(err, errlen, "%s: cannot create temporary file: %s", path, strerror(errno));
     mode_t um = umask(0);
     umask(um);
     (void)fchmod(fd, 0666 & ~um); /* mkstemp makes 0600; the usual permissions, not fatal */
@@ -66,7 +65,7 @@ int meshio_wopen(wfile *w, const char *path, char *err, size_t errlen) {
         int e = errno;
         close(fd);
         unlink(w->tmp);
-        return efail(err, errlen, "%s: cannot open temporary file: %s", path, strerror(e));
+        return meshio_fail(err, errlen, "%s: cannot open temporary file: %s", path, strerror(e));
     }
     w->vbuf = mesh_xmalloc(1 << 20, 1);
     if (w->vbuf) setvbuf(w->f, w->vbuf, _IOFBF, 1 << 20);
@@ -88,7 +87,7 @@ int meshio_wclose(wfile *w, int failed) {
     if (bad) {
         unlink(w->tmp);
         if (!failed || !w->err[0])
-            efail(w->err, w->errlen, "%s: write failed: %s", w->path, strerror(e));
+            meshio_fail(w->err, w->errlen, "%s: write failed: %s", w->path, strerror(e));
         return -1;
     }
     return 0;
@@ -233,7 +232,7 @@ int meshio_write_triangle(const mesh_flat *m, const char *prefix, char *err, siz
 int meshio_write_triangle_some(const mesh_flat *m, const char *prefix, unsigned skip, char *err,
                                size_t errlen) {
     char path[1024];
-    if (strlen(prefix) + 6 > sizeof path) return efail(err, errlen, "%s: path too long", prefix);
+    if (strlen(prefix) + 6 > sizeof path) return meshio_fail(err, errlen, "%s: path too long", prefix);
     snprintf(path, sizeof path, "%s.node", prefix);
     if (!(skip & MESHIO_SKIP_NODE) && write_node(m, path, err, errlen)) return -1;
     snprintf(path, sizeof path, "%s.ele", prefix);
@@ -304,14 +303,14 @@ static int ele_dbl(char **s, double *v, int *missing) {
 
 static int read_ele(const char *path, mesh_flat *m, int first, char *err, size_t errlen) {
     FILE *f = fopen(path, "rb");
-    if (!f) return efail(err, errlen, "%s: cannot open: %s", path, strerror(errno));
+    if (!f) return meshio_fail(err, errlen, "%s: cannot open: %s", path, strerror(errno));
     size_t n;
     char *buf = mesh_read_stream(f, &n);
     int bad = ferror(f);
     fclose(f);
     if (bad) {
         free(buf);
-        return efail(err, errlen, "%s: cannot read: %s", path, strerror(errno));
+        return meshio_fail(err, errlen, "%s: cannot read: %s", path, strerror(errno));
     }
     char *pos = buf, *end = buf + n, *s;
     long line = 0, nt, npt = 3, nattr = 0, v;
@@ -436,7 +435,7 @@ int meshio_read_triangle(const char *prefix, mesh_flat *m, char *err, size_t err
     memset(m, 0, sizeof *m);
     if (errlen) err[0] = '\0';
     char path[1024];
-    if (strlen(prefix) + 6 > sizeof path) return efail(err, errlen, "%s: path too long", prefix);
+    if (strlen(prefix) + 6 > sizeof path) return meshio_fail(err, errlen, "%s: path too long", prefix);
     pslg g;
     snprintf(path, sizeof path, "%s.node", prefix);
     if (pslg_read(path, &g, err, errlen)) return -1;
@@ -456,7 +455,7 @@ int meshio_read_triangle(const char *prefix, mesh_flat *m, char *err, size_t err
         if (pslg_read_segments(path, m->nverts, first, &g, err, errlen)) goto fail;
         if (g.nverts != 0) {
             pslg_free(&g);
-            efail(err, errlen, "%s: lists its own vertices; expected 0 (vertices in %s.node)", path,
+            meshio_fail(err, errlen, "%s: lists its own vertices; expected 0 (vertices in %s.node)", path,
                   prefix);
             goto fail;
         }

@@ -69,6 +69,32 @@ int meshio_write_triangle_some(const mesh_flat *m, const char *prefix, unsigned 
  * is a non-negative integer). */
 int meshio_read_triangle(const char *prefix, mesh_flat *m, char *err, size_t errlen);
 
+/* Formats a message into err (errlen bytes) and returns -1: the readers' and writers' failure
+ * path ("FILE:LINE: problem"). */
+int meshio_fail(char *err, size_t errlen, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
+/* Reads the mesh to refine (-r NAME; NAME, NAME.node or NAME.ele) into g as a PSLG (meshin.c;
+ * *g zeroed first; on failure it holds nothing): the mesh's vertices (attributes and markers
+ * included) are the PSLG's vertices, so the refined mesh keeps every one of them.  Segments and
+ * holes come from NAME.poly when it exists (0 vertices, as Triangle and these meshers write
+ * it); otherwise the mesh's boundary edges become segments (marker 1), and a hole point is put
+ * just outside every chain of boundary edges (at the midpoint of one of its edges, moved away
+ * from the triangle inside; kept only if it is, by exact tests, on the outer side of the edge
+ * and in no triangle of the mesh), so the holes of the old mesh stay holes.  Returns 0, or -1
+ * with "FILE:LINE: problem" in err. */
+int meshio_read_mesh_pslg(const char *name, struct pslg *g, char *err, size_t errlen);
+
+/* NAME without a trailing .node, .ele, .poly or .area into out (n bytes).  Returns 0, or -1
+ * with a message in err when it does not fit. */
+int meshio_mesh_prefix(const char *name, char *out, size_t n, char *err, size_t errlen);
+
+/* Makes every non-degenerate triangle of m counter-clockwise (files may list either). */
+void meshio_flat_orient_ccw(mesh_flat *m);
+
 /* Legacy VTK unstructured grid, with the rank (and with tattr the regional attribute,
  * "region_attr") as cell scalars and the boundary marker as a point scalar.  binary: the format's
  * BINARY encoding (big-endian doubles and 32-bit ints, as VTK, ParaView and meshio read it; 12

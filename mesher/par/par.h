@@ -1,6 +1,7 @@
-/* par: what ./pcdm and ./pbw share around their algorithms -- start-up, input, the
- * decomposition, the interface check and collective error exits.  The end of both programs
- * (numbering, output, --check, without a gather) is in par/pout.h.
+/* par: what ./pcdm and ./pbw share around their algorithms -- the command line's struct and
+ * the settings a parallel mesher takes, the decomposition's agreement, collective error exits.
+ * The end of both programs (numbering, output, --check, without a gather) is in par/pout.h;
+ * start-up, loading and the stages are the driver's (run/run.h).
  *
  * Both programs are SPMD: every rank parses the same arguments and reads the same input file
  * (a shared file system is assumed, as with mpirun on one machine), so input errors are
@@ -15,11 +16,11 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "bounds/bounds.h"
 #include "check/validate.h"
 #include "decomp/decomp.h"
 #include "geom/pslg.h"
 #include "io/meshio.h"
-#include "io/sizefield.h"
 
 /* Longest output prefix a mesher accepts (bytes, the terminating zero included). */
 #define PAR_NAME_MAX 1000
@@ -76,11 +77,25 @@ typedef struct par_opts {
     const char *msh;        /* --msh FILE: Gmsh 4.1 output */
     const char *size_field; /* --size FILE: background mesh with a target edge length per
                                vertex */
-    /* Set by the program after par_startup (par_load_sizes), not by the front end: the size
-     * rule of -r's .area and --size (mesh_rules.unsuitable; NULL: none). */
-    int (*unsuitable)(void *ctx, const double *const p[3], double area);
-    void *unsuitable_ctx;
 } par_opts;
+
+/* How a parallel mesher runs, apart from the bounds (bounds/bounds.h): what pbw_mesh and
+ * pcdm_mesh take instead of the command line (par_config_of). */
+typedef struct par_config {
+    const char *prog;   /* "pcdm" or "pbw": the prefix of messages */
+    const char *input;  /* the input's name, for messages (may be NULL) */
+    int32_t poll_every; /* local work units between two services of incoming RSRs (0: the
+                           mesher's default) */
+    int32_t inflight;   /* pbw: distributed cavities in flight per rank at most (0: default) */
+    int phases;         /* pbw: the data-parallel variant (two phases) */
+    int deterministic;  /* pcdm: refinement in rounds, each subdomain its own mesh */
+    int balance;        /* pcdm: 1: idle ranks take unstarted subdomains (implies rounds) */
+    int regions;        /* label triangles with their regions (-A or --region-areas) */
+    int progress;       /* progress lines on stderr (rank 0) */
+} par_config;
+
+/* Local.  The parallel settings of o. */
+par_config par_config_of(const par_opts *o);
 
 /* Collective.  -V: rank 0 prints what was read and decomposed and the bounds asked for. */
 void par_verbose_input(const par_opts *o, const pslg *in, const pcdm_decomp *d);
@@ -102,10 +117,10 @@ static inline unsigned par_skip_linear(const par_opts *o) {
     return par_skip_files(o) | (o->order2 ? MESHIO_SKIP_NODE | MESHIO_SKIP_ELE : 0u);
 }
 
-/* Local.  How par_startup reads the command line (the front end lives above this layer): called
- * on every rank once the runtime is up, with the arguments MPI left, this rank's number (only
- * rank 0 may print) and ctx.  Fills *o; returns 0 to go on, or 1 when the program must exit
- * now with *status (0: --help printed; 2: usage error). */
+/* Local.  How the parallel driver reads the command line (the front end lives above this
+ * layer): called on every rank once the runtime is up, with the arguments MPI left, this rank's
+ * number (only rank 0 may print) and ctx.  Fills *o; returns 0 to go on, or 1 when the program
+ * must exit now with *status (0: --help printed; 2: usage error). */
 typedef int (*par_parse_fn)(int argc, char **argv, int rank, const void *ctx, par_opts *o,
                             int *status);
 
@@ -114,55 +129,24 @@ static inline int par_balance_dynamic(const par_opts *o) {
     return o->balance && o->balance[0] == 'd';
 }
 
-/* Largest number of subdomains par_load lets the automatic decomposition attempt (every rank
+/* Largest number of subdomains the driver lets the automatic decomposition attempt (every rank
  * computes it, on a coarse mesh of about 200 K triangles); more is refused with a clear
  * message. */
 #define PAR_MAX_SUBDOMAINS 256
-
-/* Collective over MPI_COMM_WORLD.  The common start of ./pcdm and ./pbw: rt_init, the
- * command line (parse, with ctx; every rank stops, or none, with the same status), the
- * program's handler registration (reg, before rt_start), the --perturb seed, Triangle's output
- * name (rank 0's, when -o is not given) and par_load.
- * Returns 0 to go on (the runtime is up; *o, *in and *d are filled, *in and *d owned by the
- * caller), or 1 when the program must exit with *code (the runtime is already finalised;
- * messages printed on rank 0). */
-int par_startup(int *argc, char ***argv, const char *prog, par_parse_fn parse, const void *ctx,
-                int (*reg)(void), par_opts *o, pslg *in, pcdm_decomp *d, int *code);
-
-/* Collective.  Every rank reads and checks o->input and builds the decomposition (auto or
- * --cuts) for rt_size() ranks, then the ranks compare a hash of it (they must agree bit for
- * bit; a difference is an error).  On any error rank 0 prints the one message and every rank
- * returns -1 (the caller then exits non-zero after rt_finalize). */
-int par_load(const par_opts *o, pslg *in, pcdm_decomp *d);
 
 /* Collective over rt_app_comm().  1 iff every rank computed the same decomposition: each rank
  * builds it alone (deterministic code, no communication), so a hash of what the meshers consume
  * (the cut geometry, the cuts' subdomains, the owners) is compared across the ranks. */
 int par_decomp_agrees(const pcdm_decomp *d);
 
-/* Collective (psizes.c).  Loads the size rules o asks for (-r with -a alone: the input mesh's
- * .area; --size: the background mesh) into S on every rank, in the scale of in, and points
- * o->unsuitable at them (NULL when there are none).  Returns 0 (free S with size_field_free),
- * or -1 on every rank with the message printed by rank 0 (S then holds nothing). */
-int par_load_sizes(par_opts *o, const pslg *in, size_field *S);
-
-/* Collective over rt_app_comm().  The cheap check that always runs before any output: every
- * open edge of a rank's piece (an edge of exactly one local triangle) that is not a
- * non-interface constraint (a domain-boundary subsegment) must be the open edge of exactly one
- * other rank's piece, with the same vertex coordinates bit for bit; so both sides of every
- * interface agree on its subsegments and vertices.  Each open edge travels once, to the rank
- * its coordinates hash to (O(interface) data, two all-to-all calls).  Returns 0, or -1 on the
- * ranks that found a disagreement, with a message in msg (callers agree through
- * par_fail_any). */
-int par_check_interfaces(const mesh_flat *local, char *msg, size_t msglen);
+/* Collective.  Agreement on failure with a code: code (0: none) and msg (may be NULL) on this
+ * rank; returns 0 when no rank failed, else the lowest failing rank's code on every rank, with
+ * its message in out (outlen bytes; may be NULL).  Prints nothing. */
+int par_agree(int code, const char *msg, char *out, size_t outlen);
 
 /* Collective.  Agreement on failure: returns nonzero on every rank if local_fail is nonzero on
  * any rank; the first failing rank's message (msg, may be NULL) is printed by rank 0. */
 int par_fail_any(int local_fail, const char *msg);
-
-/* Local.  Smallest angle (degrees) over the triangles of g; *max_area (may be NULL) gets the
- * largest triangle area.  For stats lines; the validator decides correctness. */
-double par_mesh_quality(const mesh_flat *g, double *max_area);
 
 /* Local.  CPU seconds (user + system, all threads) this process has used so far.  The
  * "modelled" times of the benchmarks are built on it: unlike wall-clock busy time it does not

@@ -17,7 +17,7 @@
  * not an input constraint must be locally Delaunay (par_check_interface_delaunay: the two
  * apexes meet at a rendezvous rank, exact incircle), so the distributed check asks what
  * ./meshcheck asks of the merged mesh.  Interfaces were compared across ranks before (the
- * always-on par_check_interfaces).  Output and check use the mesher's open-edge mask when it
+ * always-on par_check_interfaces_open).  Output and check use the mesher's open-edge mask when it
  * hands one over (topen: no vertex-to-triangle rows).  Invariant: every function returns the
  * same result on every rank.
  */
@@ -352,7 +352,7 @@ int par_write_parts(const par_opts *o, const pslg *in, const mesh_flat *local, c
     return 0;
 }
 
-/* par_mesh_quality's figures without three atan2 per triangle: the smallest angle (at most 60
+/* The smallest angle and largest area without three atan2 per triangle: the smallest angle (at most 60
  * degrees, opposite the shortest edge a) has sin^2 = (2 area)^2 / (b^2 c^2), monotone in the
  * angle there, so only the triangle minimising it gets geom_min_angle_deg. */
 static double part_quality(const mesh_flat *g, double *max_area) {
@@ -387,11 +387,6 @@ void par_quality_all(const mesh_flat *local, double *min_angle, double *max_area
     MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, &mx, 1, MPI_DOUBLE, MPI_MAX, rt_app_comm()));
     *min_angle = mn;
     if (max_area) *max_area = mx;
-}
-
-int par_output(const par_opts *o, const pslg *in, mesh_flat *local, const uint8_t *artificial,
-               par_summary *sum) {
-    return par_output_sub(o, in, local, artificial, NULL, NULL, sum);
 }
 
 /* The sum of a part's triangle areas (working scale): doubled areas summed plainly in blocks

@@ -7,7 +7,7 @@
  * its triangles, every vertex they use (and possibly unused ones, which are not written), the
  * constraint subsegments of its triangles.  Vertices on an interface between ranks are held
  * by every rank whose triangles touch them, with bit-equal coordinates (the interface check,
- * par_check_interfaces, has verified this before any of the functions below runs).
+ * par_check_interfaces_open, has verified this before any of the functions below runs).
  *
  * Collective = every rank of rt_app_comm() calls it, in the same order; Local otherwise.
  */
@@ -73,7 +73,7 @@ void par_numbering_free(par_numbering *num);
 
 /* Collective.  The distributed --check.  Every rank runs the exact validator
  * (mesh_validate, part mode: the part's boundary may be interface edges, which
- * par_check_interfaces compared across the neighbours; input vertices and the domain area are
+ * the interface check compared across the neighbours; input vertices and the domain area are
  * checked over all parts) on its part with o's bounds, the edges between parts are tested
  * locally Delaunay across the ranks (par_check_interface_delaunay, counted as non_delaunay, as
  * the sequential validator counts every non-constraint edge), then the reports are reduced: counts
@@ -115,17 +115,14 @@ typedef struct par_summary {
 } par_summary;
 
 /* Collective.  The common end of ./pcdm and ./pbw once every rank holds its part (local):
- * par_check_interfaces and the parts' area sum against the domain's (validate_area_net; both
- * always, a failure fails every rank), par_number, the distributed
+ * the interface check (par_check_interfaces_open) and the parts' area sum against the domain's
+ * (validate_area_net; both always, a failure fails every rank), par_number, the distributed
  * check when o->check (its summary line printed by rank 0), then par_write_parts (nothing is
- * written when the check failed).  Returns 0, or 1 on every rank (messages printed by rank 0).
- * local may be changed by the test-only fault of par_check_parts. */
-int par_output(const par_opts *o, const pslg *in, mesh_flat *local, const uint8_t *artificial,
-               par_summary *sum);
-
-/* Collective.  par_output, with each triangle's subdomain (tsub, local->ntris entries, NULL or
- * not on every rank alike) written as VTU cell data, and the part's open edges from the
- * mesher's mask (topen: mesh_take_flat's, or NULL), which saves the vertex rows. */
+ * written when the check failed).  tsub: each triangle's subdomain (local->ntris entries, NULL
+ * or not on every rank alike), written as VTU cell data; topen: the part's open edges from the
+ * mesher's mask (mesh_take_flat's, or NULL), which saves the vertex rows.  Returns 0, or 1 on
+ * every rank (messages printed by rank 0).  local may be changed by the test-only fault of
+ * par_check_parts. */
 int par_output_sub(const par_opts *o, const pslg *in, mesh_flat *local, const uint8_t *artificial,
                    const int32_t *tsub, const uint8_t *topen, par_summary *sum);
 

@@ -141,8 +141,8 @@
 const char *const pbw_rsr_kind_name[PBW_RSR_NKINDS] = {"expansion", "reply", "release",
                                                        "commit",    "split", "wake"};
 
-int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat *local,
-             pbw_result *res) {
+int pbw_mesh(const mesh_bounds *b, const par_config *c, const pslg *in, const pcdm_decomp *d,
+             mesh_flat *local, pbw_result *res) {
     pbw_ctx *C = mesh_xcalloc(1, sizeof *C);
     mesh_init(&C->M); /* pbw_setup replaces it by the CDT */
     pbw_attach(C);    /* the handlers' way to the context */
@@ -154,38 +154,33 @@ int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat 
     C->qhi = -1;
     for (int i = 0; i <= NBUCKET; i++)
         C->head[i] = -1;
-    /* a hair above the requested bound, as ./mesh and ./pcdm do; the area bound in the
-     * working scale of the coordinates (pslg_check), as refine.c takes it */
-    double qa = o->min_angle > 0 ? o->min_angle * (1 + 1e-9) + 1e-12 : 0;
+    /* the refining angle (bounds.h); the area bound in the working scale of the coordinates
+     * (pslg_check), as refine.c takes it */
+    double qa = b->refine_angle;
     if (qa > 60) qa = 60;
-    double area = o->max_area;
+    double area = b->max_area;
     if (area > 0 && in->scale_exp != 0) {
         area = ldexp(area, 2 * in->scale_exp);
         if (!(area > 0)) area = DBL_MIN;
     }
-    mesh_rules_init(&C->R, qa, area, !o->circumcenters, 0);
-    C->R.unsuitable = o->unsuitable;
-    C->R.unsuitable_ctx = o->unsuitable_ctx;
-    C->poll_every = o->poll_every > 0 ? o->poll_every : WORK_BATCH;
-    C->max_inflight = o->inflight > 0 ? o->inflight : MAX_INFLIGHT;
-    C->steiner_limit = o->max_steiner >= 0 ? (o->max_steiner + C->size - 1) / C->size : -1;
+    bounds_rules(b, area, &C->R);
+    C->poll_every = c->poll_every > 0 ? c->poll_every : WORK_BATCH;
+    C->max_inflight = c->inflight > 0 ? c->inflight : MAX_INFLIGHT;
+    C->steiner_limit = b->max_steiner >= 0 ? (b->max_steiner + C->size - 1) / C->size : -1;
     memset(local, 0, sizeof *local);
     char err[1024], msg[1200];
     err[0] = 0;
-    pbw_setup_opts so = {qa,
-                         o->max_area,
-                         o->max_steiner,
-                         !o->circumcenters,
-                         o->region_attr || o->region_area,
-                         o->region_area};
+    const char *prog = c->prog ? c->prog : "pbw";
+    pbw_setup_opts so = {qa, b->max_area, b->max_steiner, b->offcenter, c->regions,
+                         b->region_area};
     int rc = pbw_setup(C, &so, in, d, err, sizeof err);
-    snprintf(msg, sizeof msg, "%s: %s", o->prog ? o->prog : "pbw", err);
+    snprintf(msg, sizeof msg, "%s: %s", prog, err);
     if (par_fail_any(rc != 0, msg)) {
         pbw_detach();
         pbw_ctx_free(C);
         return -1;
     }
-    if (o->phases) {
+    if (c->phases) {
         double t0 = rt_wtime();
         C->phase1 = 1;
         rt_run(pbw_work, C);
@@ -220,8 +215,7 @@ int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat 
     pbw_test_break_delaunay(C);
     char dmsg[800];
     int64_t dbad = pbw_check_delaunay(C, dmsg, sizeof dmsg, &C->res.endcheck_s);
-    snprintf(msg, sizeof msg, "%s: %s: %s", o->prog ? o->prog : "pbw", o->input ? o->input : "",
-             dmsg);
+    snprintf(msg, sizeof msg, "%s: %s: %s", prog, c->input ? c->input : "", dmsg);
     if (par_fail_any(dbad != 0, msg)) {
         pbw_detach();
         pbw_ctx_free(C);

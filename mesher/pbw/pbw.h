@@ -77,7 +77,7 @@ int pbw_register(void);
 
 /* Collective.  Builds the initial CDT of in on every rank, distributes its triangles by the
  * subdomains of d (triangle centroid -> subdomain -> d->sub_owner), refines the distributed
- * mesh with o's bounds (-q, -a, -S, --phases) and fills *local with this rank's triangles
+ * mesh to the bounds b (c: --phases, --poll, --inflight, regions) and fills *local with this rank's triangles
  * (local vertex numbering, trank = rank, the subsegments of its triangles); *local is the
  * caller's (mesh_flat_free).  res may be NULL.  Refinement always ends: a rank whose
  * refusals (edges below the length floor, seq/rules.h) pass the budget stops (res->gave_up),
@@ -86,7 +86,7 @@ int pbw_register(void);
  * was hit).  Test-only fault: env PBW_TEST_BREAK_IFACE=R makes rank R drop one triangle at a
  * rank boundary from *local (the caller's interface check must catch it).  Returns 0, or -1
  * on every rank (after rank 0 printed the message) if the CDT cannot be built. */
-int pbw_mesh(const par_opts *o, const pslg *in, const pcdm_decomp *d, mesh_flat *local,
-             pbw_result *res);
+int pbw_mesh(const mesh_bounds *b, const par_config *c, const pslg *in, const pcdm_decomp *d,
+             mesh_flat *local, pbw_result *res);
 
 #endif

@@ -392,6 +392,7 @@ void pcdm_part_figures(pcdm_part *p, pcdm_figures *f) {
     f->inserted = p->m.stats.inserted;
     f->mesh_bytes = mesh_memory_bytes(&p->m);
     f->unmet = mesh_count_unmet(&p->m, NULL);
+    f->refused = p->m.stats.unresolved;
     f->iface_enc = mesh_iface_defects(&p->m, &f->iface_remote);
 }
 

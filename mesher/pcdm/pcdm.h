@@ -29,8 +29,10 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "bounds/bounds.h"
 #include "decomp/decomp.h"
 #include "io/meshio.h"
+#include "par/par.h"
 #include "seq/mesh.h"
 
 /* The one RSR payload: split the subsegment [k/2^level, (k+1)/2^level] of segment seg (an
@@ -127,6 +129,7 @@ int pcdm_part_refine(pcdm_part *p, const mesh_quality *q, int32_t poll_every);
 /* Figures of a refined part (either mode; sums over its meshes). */
 typedef struct pcdm_figures {
     int64_t ntris, nverts, inserted, unmet;
+    int64_t refused;      /* refused splits (mesh_stats.unresolved summed) */
     int64_t iface_enc;    /* interface subsegments that do not conform (mesh_iface_defects:
                            * split on one side only, or not Delaunay): a split refinement
                            * refused (precision, the interface piece cap) */
@@ -171,5 +174,20 @@ uint8_t *pcdm_part_artificial(const pcdm_part *p);
 
 /* Local.  Frees the part's mesh and zeroes it. */
 void pcdm_part_free(pcdm_part *p);
+
+/* PCDM's entry (pcdm_entry.c), what the driver (run/) calls: the bounds b and the settings c
+ * instead of the command line.
+ * Local.  Builds this rank's part of d (in rounds, pcdm_part_build_det, when c->deterministic
+ * or c->balance; else pcdm_part_build_regions), labelled with regions when c->regions (and
+ * bounded by them when b->region_area).  Returns 0, or -1 with a message in err (*p then holds
+ * nothing); the caller agrees on failure across the ranks before pcdm_part_run. */
+int pcdm_part_start(pcdm_part *p, const pcdm_decomp *d, const mesh_bounds *b, const par_config *c,
+                    char *err, size_t errlen);
+
+/* Collective.  Refines the part to b (pcdm_part_refine; lenses never: diametral circles make
+ * the interface subsegments Delaunay edges of the merged mesh): the Steiner limit is shared by
+ * the subdomains in rounds, else split by the subdomains' target weights; b's size rule; c's
+ * poll (default 300), balance and progress.  Resets the runtime's statistics first. */
+void pcdm_part_run(pcdm_part *p, const mesh_bounds *b, const par_config *c);
 
 #endif

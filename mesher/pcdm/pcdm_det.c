@@ -632,6 +632,7 @@ void pcdm_det_figures(pcdm_part *p, pcdm_figures *f) {
         f->inserted += m->stats.inserted;
         f->mesh_bytes += mesh_memory_bytes(m);
         f->unmet += mesh_count_unmet(m, NULL);
+        f->refused += m->stats.unresolved;
         int64_t remote = 0;
         f->iface_enc += mesh_iface_defects(m, &remote);
         f->iface_remote += remote;

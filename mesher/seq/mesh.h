@@ -248,7 +248,7 @@ mesh_insert_result mesh_insert_point(mesh *m, const double p[2], int32_t hint, i
 void mesh_set_quality(mesh *m, const mesh_quality *q);
 
 /* A caller's size rule (mesh_rules.unsuitable, Triangle's triunsuitable; e.g.
- * io/sizefield.h's size_field_unsuitable), kept across mesh_set_quality; fn NULL: none.  The
+ * bounds/sizefield.h's size_field_unsuitable), kept across mesh_set_quality; fn NULL: none.  The
  * rule sees the mesh's internal coordinates (m->scale_exp). */
 void mesh_set_size_rule(mesh *m, int (*fn)(void *ctx, const double *const p[3], double area),
                         void *ctx);

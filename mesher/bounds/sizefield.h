@@ -1,13 +1,8 @@
-/* sizefield: refining an existing mesh (-r) and size fields (--size) -- the input mesh read as
- * a PSLG, and the size rule every mesher applies through mesh_rules.unsuitable.
+/* sizefield: the size rules of refining an existing mesh (-r) and of size fields (--size),
+ * which every mesher applies through mesh_rules.unsuitable (the bounds' size rule,
+ * bounds/bounds.h).  The mesh to refine itself is read by io/meshio.h's meshio_read_mesh_pslg.
  *
- * -r NAME (NAME, NAME.node or NAME.ele): the mesh's vertices (attributes and markers included)
- * are the PSLG's vertices, so the refined mesh keeps every one of them.  Segments and holes come
- * from NAME.poly when it exists (0 vertices, as Triangle and these meshers write it); otherwise
- * the mesh's boundary edges become segments (marker 1), and a hole point is put just outside
- * every chain of boundary edges (at the midpoint of one of its edges, moved away from the
- * triangle inside; kept only if it is, by exact tests, on the outer side of the edge and in no
- * triangle of the mesh), so the holes of the old mesh stay holes.  NAME.area (Triangle's .area
+ * -r NAME (NAME, NAME.node or NAME.ele): NAME.area (Triangle's .area
  * format: a count, then "triangle-number maximum-area" per line, a bound <= 0 meaning none)
  * gives a maximum area per old triangle, applied with -a alone as Triangle does: a new triangle
  * is too big when its area exceeds the bound of the old triangle containing its centroid.
@@ -47,10 +42,6 @@ typedef struct size_field {
     double *blen;
     tloc bg;
 } size_field;
-
-/* Reads the mesh to refine (-r NAME) into g as described above (*g zeroed first; on failure
- * it holds nothing).  Returns 0, or -1 with "FILE:LINE: problem" in err. */
-int size_field_read_mesh_pslg(const char *name, pslg *g, char *err, size_t errlen);
 
 /* Loads the rules into S (zeroed first): refine_area (NULL: none) is -r's NAME whose NAME.area
  * is read (an error when it does not exist), background (NULL: none) the --size FILE;

@@ -1,0 +1,534 @@
+/* run_par.c: the parallel driver (run.h) -- ./pcdm, ./pbw and pcdm_triangulate_par: the stages
+ * of run.c with the mesh made by PCDM (TR-97-17 section 3) or PBW (section 2) over the ranks.
+ *
+ * SPMD: every rank reads the same input and builds the same decomposition (a hash of it is
+ * compared across the ranks), so input errors are found on every rank; every failure is still
+ * agreed collectively (run_agree: the lowest failing rank's message goes to every rank, rank 0
+ * prints it unless the library asked), so no rank waits in a collective another one skipped.
+ * After refinement each rank keeps its own part: the verdict is reduced over the ranks, then
+ * the programs check the interfaces, number, check (--check) and write in parallel (par/pout.h)
+ * and the library copies the part out (api_par.c); no rank ever gathers the mesh.
+ *
+ * --stats (rank 0, stdout): one line per rank ("rank R: key=value ..."), then ./pcdm's
+ *   rsr: split=S mpi_msgs=M
+ *   stats: ranks=P triangles=N vertices=N rsr=S min_angle=D wall_s=T busy_max_s=B busy_sum_s=U
+ *          subdomains=K idle_max_s=I max_area=A ignored=G mpi_msgs=M speedup_model=X
+ *          peak_rss_mb=R bytes_per_tri=Y mesh_bytes_per_tri=Z output_s=W cpu_max_s=C
+ *          cpu_sum_s=E decomp_s=D tri_max=N tri_mean=M decomp_exact=0|1 rounds=R hash=H
+ *          balance=static|dynamic migrations=N moved_bytes=B move_max_s=S forwarded=F
+ *          comm_s=C comm_max_s=M handler_s=H net_latency_us=L net_MBps=B
+ * or ./pbw's rsr line by kind, its cavities: and blocking: lines, and
+ *   stats: ranks=P triangles=N vertices=N rsr=TOTAL_RSRS undone=CAVITIES_UNDONE min_angle=D
+ *          wall_s=T busy_max_s=B busy_sum_s=S comm_pct=C undo_pct=U speedup_model=X
+ *          peak_rss_mb=R bytes_per_tri=Y mesh_bytes_per_tri=Z phase1_s=F cpu_max_s=C
+ *          cpu_sum_s=E output_s=W comm_s=C comm_max_s=M handler_s=H net_latency_us=L net_MBps=B
+ *          endcheck_max_s=K endcheck_sum_s=L
+ * (one line each).  Definitions (rt_stats time buckets, inside rt_run):
+ *   busy (per rank) = RT_TIME_BUSY + RT_TIME_HANDLER (local work, tasks and handlers);
+ *                     speedup_model = busy_sum / busy_max.
+ *   comm (per rank) = rt_stats.comm_s: packing and sending RSRs and the polls that received
+ *                     something (handler bodies and empty polls excluded); comm_s its sum over
+ *                     the ranks, comm_max_s the largest rank's, handler_s the handlers' seconds.
+ *   comm_pct = 100 sum(handler + comm) / sum(busy + comm), the paper's communication overhead;
+ *   undo_pct = 100 sum(RT_TIME_UNDO) / sum(busy + comm), its undo computation overhead (the
+ *   expansion work of cavities released after a lock conflict); undone = cavity attempts
+ *   abandoned after a conflict; rsr = every RSR sent to another rank.
+ *   wall_s: from a barrier after loading and decomposition to the last rank leaving the mesher
+ *   (CDT, refinement, termination; no numbering, no output) -- ./mesh's wall_s span.
+ *   cpu: CPU seconds (getrusage) over that span: unlike busy it does not grow when the machine
+ *   is oversubscribed.  peak_rss_mb: the largest rank's peak RSS after the output;
+ *   bytes_per_tri: the ranks' peak RSS summed over the triangles (rank lines: its own over its
+ *   own); mesh_bytes_per_tri: the mesh arrays alone.  output_s: the slowest rank's seconds in
+ *   numbering, --check and writing.  rounds: --deterministic's rounds; hash: the mesh hash
+ *   (pcdm_flat_hash summed over the parts), the same for the same mesh whatever its numbering
+ *   and rank count.  endcheck_*: pbw's always-on end check of the Delaunay property.
+ *   net_latency_us, net_MBps: the network model in force (--net, PCDM_NET; 0 0: none).
+ */
+#include "run/run.h"
+#include "run/run_stats.h"
+
+#include "base/base.h"
+#include "geom/geom.h"
+#include "par/pout.h"
+#include "pbw/pbw.h"
+#include "pcdm/pcdm.h"
+#include "rt.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- agreement -------------------------------------------------------------------------- */
+
+int run_agree(run_job *j, int code, const char *msg) {
+    int rc = par_agree(code, msg, j->msg, sizeof j->msg);
+    if (rc && !j->lib && rt_rank() == 0 && j->msg[0]) fprintf(stderr, "%s\n", j->msg);
+    return rc;
+}
+
+/* Local.  The prefix of a message: "PROG: " (with_input: "PROG: INPUT: ") for the programs,
+ * "" for the library, which prints nothing and names no program. */
+static const char *msg_prefix(const run_job *j, int with_input, char *buf, size_t len) {
+    buf[0] = '\0';
+    if (j->lib) return buf;
+    if (with_input)
+        snprintf(buf, len, "%s: %s: ", j->o.prog, j->o.input);
+    else
+        snprintf(buf, len, "%s: ", j->o.prog);
+    return buf;
+}
+
+/* ---- load and decomposition ------------------------------------------------------------- */
+
+/* Local.  The decomposition of in for the ranks (auto, or --cuts).  Returns 0, or a RUN_F* code
+ * with the message in err. */
+static int decompose(const run_job *j, const pslg *in, pcdm_decomp *d, char *err, size_t errlen) {
+    const par_opts *o = &j->o;
+    int P = rt_size(), rc = 0;
+    pcdm_decomp_opts dopt;
+    pcdm_decomp_opts_default(&dopt);
+    /* --balance dynamic moves whole subdomains: several per rank by default */
+    int32_t k = o->nsub > 0 ? o->nsub : P * (par_balance_dynamic(o) ? 4 : 1);
+    if (!o->nsub && k > PAR_MAX_SUBDOMAINS && P <= PAR_MAX_SUBDOMAINS) k = PAR_MAX_SUBDOMAINS;
+    dopt.nsub = o->cuts ? o->nsub : k; /* cuts: 0 = as many as they make */
+    dopt.nranks = P;
+    dopt.min_angle = o->min_angle;
+    dopt.max_area = o->max_area;
+    dopt.imbalance = o->imbalance;
+    dopt.max_steiner = o->max_steiner;
+    dopt.region_area = o->region_area;
+    if (!o->cuts && k > PAR_MAX_SUBDOMAINS) {
+        snprintf(err, errlen,
+                 "%d subdomains: the automatic decomposition supports at most %d (fewer ranks or "
+                 "--subdomains, or give --cuts)",
+                 (int)k, PAR_MAX_SUBDOMAINS);
+        return RUN_FINVAL;
+    }
+    if (o->nsub > 0 && o->nsub < P) {
+        snprintf(err, errlen, "--subdomains %d: fewer subdomains than ranks (%d)", (int)o->nsub, P);
+        return RUN_FINVAL;
+    }
+    double t0 = rt_wtime();
+    rc = o->cuts ? pcdm_decomp_read_cuts(o->cuts, in, &dopt, d, err, errlen)
+                 : pcdm_decomp_auto(in, &dopt, d, err, errlen);
+    if (rc == 0) {
+        d->build_s = rt_wtime() - t0;
+        return 0;
+    }
+    char tmp[1024];
+    snprintf(tmp, sizeof tmp, "%.800s", err);
+    snprintf(err, errlen, "cannot decompose %.150s for %d ranks: %.800s", o->input, P, tmp);
+    return RUN_FINPUT;
+}
+
+int run_par_load(run_job *j, pslg *in, pcdm_decomp *d) {
+    const par_opts *o = &j->o;
+    char err[1024], msg[sizeof j->msg];
+    memset(d, 0, sizeof *d);
+    geom_init();
+    int quiet = j->lib || o->quiet || rt_rank() != 0; /* warnings: rank 0 only */
+    int rc = run_load(j, in, quiet, !j->lib, err, sizeof err) == 0 ? 0 : RUN_FINPUT;
+    if (rc == 0) rc = decompose(j, in, d, err, sizeof err);
+    char pre[600];
+    snprintf(msg, sizeof msg, "%s%s", msg_prefix(j, 0, pre, sizeof pre), err);
+    if ((rc = run_agree(j, rc, msg)) != 0) goto fail;
+    if (!par_decomp_agrees(d)) {
+        snprintf(msg, sizeof msg,
+                 "%sthe ranks computed different decompositions of %.200s (was the same input "
+                 "and options passed on every rank?)",
+                 pre, o->input);
+        rc = run_agree(j, RUN_FINVAL, msg);
+        goto fail;
+    }
+    if (o->write_cuts && rt_rank() == 0 &&
+        pcdm_decomp_write_cuts(d, o->write_cuts, err, sizeof err) != 0)
+        rc = RUN_FINPUT;
+    snprintf(msg, sizeof msg, "%s: %s", o->prog, err);
+    if ((rc = run_agree(j, rc, msg)) != 0) goto fail;
+    return 0;
+fail:
+    pslg_free(in); /* both zero what they free and accept a zeroed struct */
+    pcdm_decomp_free(d);
+    run_job_free(j);
+    return rc;
+}
+
+/* ---- mesh and verdict ------------------------------------------------------------------- */
+
+/* Local.  The runtime's time buckets (rt_stats) both meshers report, in their rank lines'
+ * order: busy (local work, tasks and handlers), idle, handlers, communication. */
+static void set_runtime_times(run_stats *st, const rt_stats *rs) {
+    run_stats_set(st, "busy_s", 3, 1, rs->time[RT_TIME_BUSY] + rs->time[RT_TIME_HANDLER]);
+    run_stats_set(st, "idle_s", 3, 1, rs->time[RT_TIME_IDLE]);
+    run_stats_set(st, "handler_s", 3, 1, rs->time[RT_TIME_HANDLER]);
+    run_stats_set(st, "comm_s", 3, 1, rs->comm_s);
+}
+
+/* Collective.  PCDM: this rank's subdomains refined to b; figures into st.  Returns 0, or a
+ * RUN_F* code on every rank (message agreed). */
+static int mesh_pcdm(run_job *j, const pcdm_decomp *d, const mesh_bounds *b, const par_config *c,
+                     run_part *p, run_stats *st, long long *unmet) {
+    char err[1024], msg[sizeof j->msg];
+    pcdm_part part;
+    int rc = pcdm_part_start(&part, d, b, c, err, sizeof err) == 0 ? 0 : RUN_FINPUT;
+    char pre[600];
+    snprintf(msg, sizeof msg, "%s%s", msg_prefix(j, 0, pre, sizeof pre), err);
+    if (run_agree(j, rc, msg)) {
+        if (rc == 0) pcdm_part_free(&part);
+        return RUN_FINPUT;
+    }
+    pcdm_part_run(&part, b, c);
+    p->wall = rt_wtime() - p->t0;
+    pcdm_figures fig;
+    pcdm_part_figures(&part, &fig);
+    rt_stats rs;
+    rt_stats_local(&rs);
+    run_stats_set(st, "subdomains", 0, 1, part.nsub_owned);
+    run_stats_set(st, "triangles", 0, 1, (double)fig.ntris);
+    run_stats_set(st, "vertices", 0, 1, (double)fig.nverts);
+    run_stats_set(st, "inserted", 0, 1, (double)fig.inserted);
+    run_stats_set(st, "split_sent", 0, 1, (double)part.split_sent);
+    run_stats_set(st, "split_recv", 0, 1, (double)part.split_recv);
+    run_stats_set(st, "split_ignored", 0, 1, (double)part.split_ignored);
+    set_runtime_times(st, &rs);
+    run_stats_set(st, "cpu_s", 3, 1, par_cpu_seconds() - p->c0);
+    run_stats_set(st, "mpi_msgs", 0, 1, (double)rs.mpi_sent);
+    run_stats_set(st, "output_s", 3, 1, 0);
+    run_stats_set(st, "number_s", 3, 1, 0);
+    run_stats_set(st, "write_s", 3, 1, 0);
+    run_stats_set(st, "output_cpu_s", 3, 1, 0);
+    run_stats_set(st, "peak_rss_mb", 1, 1, 0);
+    run_stats_set(st, "bytes_per_tri", 1, 1, 0);
+    run_stats_set(st, "migrations", 0, 1, (double)part.migrations);
+    run_stats_set(st, "moved_bytes", 0, 1, (double)part.moved_bytes);
+    run_stats_set(st, "move_s", 4, 1, part.move_s);
+    run_stats_set(st, "forwarded", 0, 1, (double)part.forwarded);
+    run_stats_set(st, "split_notfound", 0, 0, (double)part.split_notfound);
+    run_stats_set(st, "mesh_bytes", 0, 0, (double)fig.mesh_bytes);
+    run_stats_set(st, "wall_s", 3, 0, p->wall);
+    MPI_Comm comm = rt_app_comm();
+    int limit_any = 0;
+    MESH_MPI(MPI_Allreduce(&part.limit_hit, &limit_any, 1, MPI_INT, MPI_MAX, comm));
+    unmet[0] = fig.unmet;
+    unmet[1] = fig.refused;
+    unmet[2] = limit_any;
+    /* an interface piece split on one side only, or still encroached (a split refinement
+     * refused: interfaces at a tiny angle, precision): the parts would not form a Delaunay mesh
+     * of the input; an error on every rank, nothing written (not even with --write-partial) */
+    long long enc[2] = {(long long)fig.iface_enc, (long long)fig.iface_remote}, enc_all[2];
+    MESH_MPI(MPI_Allreduce(enc, enc_all, 2, MPI_LONG_LONG, MPI_SUM, comm));
+    if (enc_all[0] > 0) {
+        snprintf(msg, sizeof msg,
+                 "%scannot meet the bounds: %lld subdomain interface pieces could not be "
+                 "split on both sides (splits refused: interfaces meeting at a tiny angle, or "
+                 "features below the precision of the coordinates); the parts would not form a "
+                 "Delaunay mesh of the input, none written",
+                 msg_prefix(j, 1, pre, sizeof pre), enc_all[0]);
+        run_agree(j, rt_rank() == 0 ? RUN_FUNMET : 0, msg);
+        pcdm_part_free(&part);
+        return RUN_FUNMET;
+    }
+    p->rounds = part.rounds;
+    p->iface_remote = enc_all[1];
+    pcdm_part_take(&part, &p->local, &p->artificial, j->o.vtk ? &p->tsub : NULL, &p->topen);
+    pcdm_part_free(&part);
+    return 0;
+}
+
+/* Collective.  PBW: the one distributed mesh refined to b; figures into st. */
+static int mesh_pbw(run_job *j, const pslg *in, const pcdm_decomp *d, const mesh_bounds *b,
+                    const par_config *c, run_part *p, run_stats *st, long long *unmet) {
+    pbw_result res;
+    if (pbw_mesh(b, c, in, d, &p->local, &res) != 0) { /* message printed by rank 0 */
+        snprintf(j->msg, sizeof j->msg, "pbw: the distributed mesh cannot be built");
+        return RUN_FMESH;
+    }
+    p->wall = rt_wtime() - p->t0;
+    p->topen = res.topen;
+    rt_stats rs;
+    rt_stats_local(&rs);
+    run_stats_set(st, "triangles", 0, 1, (double)res.ntris);
+    run_stats_set(st, "inserted", 0, 1, (double)res.inserted);
+    run_stats_set(st, "splits", 0, 1, (double)res.splits);
+    run_stats_set(st, "cav_local", 0, 1, (double)res.cavities_local);
+    run_stats_set(st, "cav_remote", 0, 1, (double)res.cavities_remote);
+    run_stats_set(st, "undone_local", 0, 1, (double)res.undone_local);
+    run_stats_set(st, "undone_remote", 0, 1, (double)res.undone_remote);
+    run_stats_set(st, "parked", 0, 1, (double)res.parked);
+    run_stats_set(st, "rsr_sent", 0, 1, (double)(rs.rsr_sent - res.rsr_self));
+    set_runtime_times(st, &rs);
+    run_stats_set(st, "undo_s", 4, 1, rs.time[RT_TIME_UNDO]);
+    run_stats_set(st, "output_s", 3, 1, 0);
+    run_stats_set(st, "peak_rss_mb", 1, 1, 0);
+    run_stats_set(st, "bytes_per_tri", 1, 1, 0);
+    run_stats_set(st, "rejected", 0, 0, (double)res.rejected);
+    run_stats_set(st, "skipped_small", 0, 0, (double)res.skipped_small);
+    run_stats_set(st, "failed", 0, 0, (double)res.failed);
+    run_stats_set(st, "postponed", 0, 0, (double)res.postponed);
+    run_stats_set(st, "ghosted", 0, 0, (double)res.ghosted);
+    run_stats_set(st, "forwarded", 0, 0, (double)res.forwarded);
+    run_stats_set(st, "iface_edges", 0, 0, (double)res.iface_edges);
+    run_stats_set(st, "iface_len", 4, 0, res.iface_len);
+    run_stats_set(st, "unresolved", 0, 0, (double)res.unresolved);
+    run_stats_set(st, "forced", 0, 0, (double)res.forced);
+    run_stats_set(st, "mesh_bytes", 0, 0, (double)res.mesh_bytes);
+    run_stats_set(st, "wall_s", 3, 0, p->wall);
+    run_stats_set(st, "phase1_s", 3, 0, res.phase1_s);
+    run_stats_set(st, "cpu_s", 3, 0, par_cpu_seconds() - p->c0);
+    run_stats_set(st, "mpi_msgs", 0, 0, (double)rs.mpi_sent);
+    run_stats_set(st, "self", 0, 0, (double)res.rsr_self);
+    run_stats_set(st, "endcheck_s", 4, 0, res.endcheck_s);
+    run_stats_set(st, "tasks_blocked", 0, 0, (double)rs.blocked_count);
+    run_stats_set(st, "most_at_once", 0, 0, (double)rs.blocked_max);
+    run_stats_set(st, "wait_sum_s", 4, 0, rs.blocked_time_sum);
+    run_stats_set(st, "wait_max_s", 4, 0, rs.blocked_time_max);
+    for (int k = 0; k < PBW_RSR_NKINDS; k++)
+        run_stats_set(st, pbw_rsr_kind_name[k], 0, 0, (double)res.rsr_sent[k]);
+    int limit_any = 0;
+    MESH_MPI(MPI_Allreduce(&res.limit_hit, &limit_any, 1, MPI_INT, MPI_MAX, rt_app_comm()));
+    unmet[0] = res.unmet;
+    unmet[1] = res.unresolved;
+    unmet[2] = limit_any;
+    return 0;
+}
+
+int run_par_mesh(run_job *j, const pslg *in, const pcdm_decomp *d, run_part *p, run_stats *st) {
+    memset(p, 0, sizeof *p);
+    mesh_bounds b = run_bounds(j, in); /* 2. bounds */
+    par_config c = par_config_of(&j->o);
+    if (j->lib) c.progress = 0;
+    MPI_Comm comm = rt_app_comm();
+    /* wall_s starts here: input read, checked and decomposed on every rank */
+    MESH_MPI(MPI_Barrier(comm));
+    p->t0 = rt_wtime();
+    p->c0 = par_cpu_seconds();
+    rt_stats_reset();
+    long long un[3] = {0, 0, 0}; /* unmet, refused, Steiner limit hit (any rank) */
+    int rc = j->method == RUN_PBW ? mesh_pbw(j, in, d, &b, &c, p, st, un) /* 3. mesh */
+                                  : mesh_pcdm(j, d, &b, &c, p, st, un);
+    if (rc != 0) return rc;
+    /* 4. verdict: never a silent success outside the bounds: what is left must be forced by the
+     * input (corners of the decomposition get no exemption), or the Steiner limit the user set
+     * stopped refinement (exit 3: the mesh kept, checked without the bounds) */
+    long long all[2] = {0, 0};
+    MESH_MPI(MPI_Allreduce(un, all, 2, MPI_LONG_LONG, MPI_SUM, comm));
+    j->unmet = all[0];
+    j->refused = all[1];
+    j->verdict = run_verdict_of((int)un[2], j->unmet);
+    char prefix[600], msg[sizeof j->msg];
+    msg_prefix(j, 1, prefix, sizeof prefix);
+    run_verdict_message(j, prefix, msg, sizeof msg);
+    if (j->verdict != RUN_MET) {
+        snprintf(j->msg, sizeof j->msg, "%s", msg);
+        if (!j->lib && rt_rank() == 0) fprintf(stderr, "%s\n", msg);
+    }
+    if (j->verdict == RUN_UNMET && (j->lib || !j->o.write_partial)) return RUN_FUNMET;
+    if (p->iface_remote > 0) { /* interface pieces left encroached: Delaunay across the ranks? */
+        char imsg[512];
+        long bad = par_check_interface_delaunay(&p->local, p->topen, imsg, sizeof imsg), bad_all;
+        MESH_MPI(MPI_Allreduce(&bad, &bad_all, 1, MPI_LONG, MPI_SUM, comm));
+        snprintf(msg, sizeof msg,
+                 "%scannot meet the bounds: %ld subdomain interface edges are not Delaunay "
+                 "across the ranks (their splits were refused: features below the precision of "
+                 "the coordinates); none written",
+                 prefix, bad_all);
+        if (run_agree(j, bad_all > 0 ? RUN_FUNMET : 0, msg)) return RUN_FUNMET;
+    }
+    return 0;
+}
+
+void run_part_free(run_part *p) {
+    free(p->artificial);
+    free(p->tsub);
+    free(p->topen);
+    mesh_flat_free(&p->local);
+    memset(p, 0, sizeof *p);
+}
+
+/* ---- the programs: start-up, output, statistics ----------------------------------------- */
+
+/* Collective over MPI_COMM_WORLD.  The runtime, the command line (every rank parses the same
+ * arguments; all stop or none, with one status), the method's handlers, --perturb, --net and
+ * Triangle's output name (rank 0's).  Returns 0 to go on, or 1 with *code (the runtime
+ * finalised; messages printed on rank 0). */
+static int startup(int *argc, char ***argv, run_method method, par_parse_fn parse, const void *ctx,
+                   par_opts *o, int *code) {
+    const char *prog = method == RUN_PBW ? "pbw" : "pcdm";
+    int rc = rt_init(argc, argv, NULL);
+    *code = 1;
+    if (rc != RT_OK) {
+        fprintf(stderr, "%s: runtime initialisation failed: %s\n", prog, rt_strerror(rc));
+        return 1;
+    }
+    int status = 0, stop = parse(*argc, *argv, rt_rank(), ctx, o, &status) ? status : -1;
+    int agreed = stop;
+    MESH_MPI(MPI_Allreduce(&stop, &agreed, 1, MPI_INT, MPI_MAX, rt_app_comm()));
+    if (agreed >= 0) {
+        *code = agreed;
+        goto fin;
+    }
+    if ((rc = method == RUN_PBW ? pbw_register() : pcdm_register()) != 0) {
+        fprintf(stderr, "%s: cannot register the handlers: %s\n", prog, rt_strerror(rc));
+        goto fin;
+    }
+    if (o->perturb) rt_perturb_set(o->perturb);
+    if (o->net) { /* every rank parses the same text: all stop or none */
+        double lat = 0, bw = 0;
+        if (rt_net_parse(o->net, &lat, &bw) != RT_OK) {
+            if (rt_rank() == 0)
+                fprintf(stderr,
+                        "%s: --net '%s': want off, sp2 or LAT_US[,MBPS] (microseconds, "
+                        "megabytes per second)\n",
+                        prog, o->net);
+            *code = 2;
+            goto fin;
+        }
+        rt_net_set(lat, bw);
+    }
+    /* Triangle's output name (no -o): rank 0 decides, every rank writes to the same files */
+    int named = o->out_prefix == o->out_name;
+    MESH_MPI(MPI_Bcast(&named, 1, MPI_INT, 0, rt_app_comm()));
+    MESH_MPI(MPI_Bcast(o->out_name, (int)sizeof o->out_name, MPI_CHAR, 0, rt_app_comm()));
+    if (named) o->out_prefix = o->out_name;
+    *code = 0;
+    return 0;
+fin:
+    rt_finalize();
+    return 1;
+}
+
+/* Rank 0: ./pcdm's --stats lines (after the rank lines). */
+static void print_pcdm_stats(const run_job *j, const run_stats *st, const par_summary *sum,
+                             const pcdm_decomp *d, int32_t rounds, uint64_t hash) {
+#define S(k) run_stats_sum(st, k)
+#define M(k) run_stats_max(st, k)
+    int size = rt_size();
+    if (S("split_notfound") > 0)
+        fprintf(stderr, "pcdm: warning: %.0f split requests named no subsegment\n",
+                S("split_notfound"));
+    double nt = sum->ntris > 0 ? (double)sum->ntris : 1, lat, bw;
+    rt_net_get(&lat, &bw);
+    printf("rsr: split=%.0f mpi_msgs=%.0f\n", S("split_sent"), S("mpi_msgs"));
+    printf("stats: ranks=%d triangles=%lld vertices=%lld rsr=%.0f min_angle=%.4f "
+           "wall_s=%.3f busy_max_s=%.3f busy_sum_s=%.3f subdomains=%d idle_max_s=%.3f "
+           "max_area=%.6g ignored=%.0f mpi_msgs=%.0f speedup_model=%.2f "
+           "peak_rss_mb=%.1f bytes_per_tri=%.1f mesh_bytes_per_tri=%.1f output_s=%.3f "
+           "cpu_max_s=%.3f cpu_sum_s=%.3f decomp_s=%.3f tri_max=%.0f tri_mean=%.1f "
+           "decomp_exact=%d rounds=%d hash=%016llx balance=%s migrations=%.0f "
+           "moved_bytes=%.0f move_max_s=%.4f forwarded=%.0f comm_s=%.4f comm_max_s=%.4f "
+           "handler_s=%.4f net_latency_us=%.1f net_MBps=%.1f\n",
+           size, (long long)sum->ntris, (long long)sum->nverts, S("split_sent"), sum->min_angle,
+           M("wall_s"), M("busy_s"), S("busy_s"), (int)d->nsub, M("idle_s"), sum->max_area,
+           S("split_ignored"), S("mpi_msgs"), M("busy_s") > 0 ? S("busy_s") / M("busy_s") : 0.0,
+           M("rss") / 1048576.0, S("rss") / nt, S("mesh_bytes") / nt, M("output_s"), M("cpu_s"),
+           S("cpu_s"), d->build_s, M("triangles"), S("triangles") / size, d->exact, (int)rounds,
+           (unsigned long long)hash, par_balance_dynamic(&j->o) ? "dynamic" : "static",
+           S("migrations"), S("moved_bytes"), M("move_s"), S("forwarded"), S("comm_s"), M("comm_s"),
+           S("handler_s"), lat * 1e6, bw / 1e6);
+}
+
+/* Rank 0: ./pbw's --stats lines (after the rank lines). */
+static void print_pbw_stats(const run_stats *st, const par_summary *sum) {
+    int size = rt_size();
+    printf("rsr:");
+    for (int k = 0; k < PBW_RSR_NKINDS; k++)
+        printf(" %s=%.0f", pbw_rsr_kind_name[k], S(pbw_rsr_kind_name[k]));
+    printf(" mpi_msgs=%.0f self=%.0f\n", S("mpi_msgs"), S("self"));
+    printf("cavities: local=%.0f remote=%.0f undone_local=%.0f undone_remote=%.0f "
+           "parked=%.0f rejected=%.0f failed=%.0f skipped_small=%.0f postponed=%.0f "
+           "unresolved=%.0f forced=%.0f ghosted=%.0f forwarded=%.0f "
+           "iface_edges=%.0f iface_len=%.4f\n",
+           S("cav_local"), S("cav_remote"), S("undone_local"), S("undone_remote"), S("parked"),
+           S("rejected"), S("failed"), S("skipped_small"), S("postponed"), S("unresolved"),
+           S("forced"), S("ghosted"), S("forwarded"), S("iface_edges") / 2, S("iface_len") / 2);
+    double ncav = S("cav_local") + S("cav_remote");
+    printf("blocking: tasks_blocked=%.0f most_at_once=%.0f wait_sum_s=%.4f wait_max_s=%.4f "
+           "remote_cavity_pct=%.2f\n",
+           S("tasks_blocked"), M("most_at_once"), S("wait_sum_s"), M("wait_max_s"),
+           ncav > 0 ? 100 * S("cav_remote") / ncav : 0.0);
+    double nonidle = S("busy_s") + S("comm_s");
+    double nt = sum->ntris > 0 ? (double)sum->ntris : 1, lat, bw;
+    rt_net_get(&lat, &bw);
+    printf("stats: ranks=%d triangles=%ld vertices=%ld rsr=%.0f undone=%.0f "
+           "min_angle=%.4f wall_s=%.3f busy_max_s=%.3f busy_sum_s=%.3f comm_pct=%.2f "
+           "undo_pct=%.2f speedup_model=%.2f peak_rss_mb=%.1f bytes_per_tri=%.1f "
+           "mesh_bytes_per_tri=%.1f phase1_s=%.3f cpu_max_s=%.3f cpu_sum_s=%.3f output_s=%.3f "
+           "comm_s=%.4f comm_max_s=%.4f handler_s=%.4f net_latency_us=%.1f net_MBps=%.1f "
+           "endcheck_max_s=%.4f endcheck_sum_s=%.4f\n",
+           size, (long)sum->ntris, (long)sum->nverts, S("rsr_sent"),
+           S("undone_local") + S("undone_remote"), sum->min_angle, M("wall_s"), M("busy_s"),
+           S("busy_s"), nonidle > 0 ? 100.0 * (S("handler_s") + S("comm_s")) / nonidle : 0.0,
+           nonidle > 0 ? 100.0 * S("undo_s") / nonidle : 0.0,
+           M("busy_s") > 0 ? S("busy_s") / M("busy_s") : 0.0, M("rss") / 1048576.0, S("rss") / nt,
+           S("mesh_bytes") / nt, M("phase1_s"), M("cpu_s"), S("cpu_s"), M("output_s"), S("comm_s"),
+           M("comm_s"), S("handler_s"), lat * 1e6, bw / 1e6, M("endcheck_s"), S("endcheck_s"));
+#undef S
+#undef M
+}
+
+int run_par_main(int argc, char **argv, run_method method, par_parse_fn parse, const void *ctx) {
+    par_opts o;
+    int code;
+    if (startup(&argc, &argv, method, parse, ctx, &o, &code)) return code;
+    run_job j;
+    run_job_init(&j, method, &o);
+    pslg in;
+    pcdm_decomp d;
+    run_part p;
+    run_stats st;
+    memset(&p, 0, sizeof p);
+    memset(&st, 0, sizeof st);
+    int status = 1;
+    if (run_par_load(&j, &in, &d) != 0) { /* 1. load (the job freed) */
+        rt_finalize();
+        return 1;
+    }
+    int verbose = j.o.verbose && !j.o.quiet; /* -Q wins */
+    if (verbose) par_verbose_input(&j.o, &in, &d);
+    if (run_par_mesh(&j, &in, &d, &p, &st) != 0) goto done; /* 2-4. bounds, mesh, verdict */
+    /* the mesh hash: a sum over triangles, so one reduction of the parts' sums */
+    uint64_t hash = 0, hash_part = j.o.stats && method == RUN_PCDM ? pcdm_flat_hash(&p.local) : 0;
+    if (j.o.stats && method == RUN_PCDM)
+        MESH_MPI(MPI_Reduce(&hash_part, &hash, 1, MPI_UINT64_T, MPI_SUM, 0, rt_app_comm()));
+    /* 5, 6. the interface check, numbering, --check (held to the bounds only when they were
+     * met) and the files, every rank its own part */
+    par_summary sum;
+    double c2 = par_cpu_seconds();
+    par_opts oc = j.o;
+    run_check_bounds(&j, &oc.min_angle, &oc.max_area, &oc.region_area);
+    int out = par_output_sub(&oc, &in, &p.local, p.artificial, p.tsub, p.topen, &sum);
+    int32_t rounds = p.rounds;
+    double wall = p.wall;
+    run_part_free(&p);
+    /* statistics: memory taken now, after the output */
+    double rss = (double)par_peak_rss_bytes(), ntri = run_stats_get(&st, "triangles");
+    run_stats_set(&st, "output_s", 3, 1, sum.number_s + sum.check_s + sum.write_s);
+    if (method == RUN_PCDM) {
+        run_stats_set(&st, "number_s", 3, 1, sum.number_s);
+        run_stats_set(&st, "write_s", 3, 1, sum.write_s);
+        run_stats_set(&st, "output_cpu_s", 3, 1, par_cpu_seconds() - c2);
+    }
+    run_stats_set(&st, "peak_rss_mb", 1, 1, rss / 1048576.0);
+    run_stats_set(&st, "bytes_per_tri", 1, 1, rss / (ntri > 0 ? ntri : 1));
+    run_stats_set(&st, "rss", 0, 0, rss);
+    if (verbose && out == 0)
+        par_verbose_result(&j.o, wall, sum.ntris, sum.nverts, sum.min_angle,
+                           run_stats_get(&st, "output_s"));
+    if (run_stats_collect(&st, j.o.stats)) {
+        run_stats_rank_lines(&st, rt_size(), stdout);
+        if (method == RUN_PCDM)
+            print_pcdm_stats(&j, &st, &sum, &d, rounds, hash);
+        else
+            print_pbw_stats(&st, &sum);
+    }
+    fflush(stdout);
+    status = run_exit_status(j.verdict, out); /* 7. exit status */
+done:
+    run_part_free(&p);
+    run_stats_free(&st);
+    pcdm_decomp_free(&d);
+    pslg_free(&in);
+    run_job_free(&j);
+    rt_finalize();
+    return status;
+}
