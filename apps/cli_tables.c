@@ -30,6 +30,7 @@ static const cli_value v_ratio = {CLI_REAL, "R", 0, 1e6, 1, NULL};
 static const cli_value v_seed = {CLI_UINT64, "SEED", 0, INFINITY, 0, NULL};
 static const cli_value v_poll = {CLI_INT32, "N", 1, 1e6, 0, NULL};
 static const cli_value v_inflight = {CLI_INT32, "N", 1, 1024, 0, NULL};
+static const cli_value v_threads = {CLI_INT32, "T", 1, 256, 0, NULL};
 static const cli_value v_balance = {CLI_STRING, "MODE", 0, 0, 0, "static|dynamic"};
 static const cli_value v_net = {CLI_STRING, "SPEC", 0, 0, 0, NULL};
 
@@ -211,7 +212,7 @@ static const cli_opt parallel_rows[] = {
     {.name = "subdomains",
      .value = &v_nsub,
      .at = CLI_AT(par.nsub),
-     .dflt_text = "the number of ranks; with --balance dynamic 4 per rank",
+     .dflt_text = "the ranks; x4 with --balance dynamic; x4T with --threads T",
      .help = "number of subdomains, at least the number of ranks"},
     {.name = "imbalance",
      .value = &v_ratio,
@@ -249,6 +250,13 @@ static const cli_opt parallel_rows[] = {
     {.help = NULL}};
 
 static const cli_opt pcdm_rows[] = {
+    {.name = "threads",
+     .value = &v_threads,
+     .at = CLI_AT(par.threads),
+     .dflt_text = "1",
+     .help = "refine each rank's subdomains on T threads at once (in --deterministic's rounds, so "
+             "the mesh is the deterministic one; --subdomains defaults to 4 per thread and "
+             "rank); one process needs no mpirun: ./pcdm --threads 2 in.poly"},
     {.name = "deterministic",
      .value = &v_flag,
      .at = CLI_AT(par.deterministic),

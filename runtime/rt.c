@@ -461,6 +461,15 @@ int rt_perturb_set(uint64_t seed) {
     return RT_OK;
 }
 
+int rt_workers_ensure(int n) {
+    if (!rt_g.initialised) return RT_ESTATE;
+    if (rt_g.in_run || rt_in_worker || rt_g.in_handler) return RT_ESTATE;
+    if (n < 0 || n > 256) return RT_EINVAL;
+    int rc = rt_workers_grow(n);
+    if (rc == RT_OK && n > rt_g.cfg.nworkers) rt_g.cfg.nworkers = n;
+    return rc;
+}
+
 int rt_net_set(double latency_s, double bytes_per_s) {
     need_init("rt_net_set");
     if (rt_g.in_run || rt_in_worker) return RT_ESTATE;

@@ -241,6 +241,12 @@ typedef int (*rt_work_fn)(void *ctx);
  * through the fatal path (rank, file, line; exit status 70) instead of hanging. */
 int rt_run(rt_work_fn work, void *ctx);
 
+/* Local, main thread, outside rt_run, after rt_init.  At least n worker threads for threaded
+ * handlers from now on: the missing ones are started (none is ever stopped before
+ * rt_finalize).  Returns RT_OK, RT_EINVAL (n < 0 or n > 256), RT_ESTATE (inside rt_run or a
+ * handler, or before rt_init) or RT_ETHREAD. */
+int rt_workers_ensure(int n);
+
 /* Local, main thread, outside rt_run.  Turns perturbation on with seed (0: off), replacing
  * the configured seed; lets one program run the same computation under several seeds.
  * Returns RT_OK or RT_ESTATE (inside rt_run). */

@@ -283,6 +283,8 @@ double rt_net_wait(const rt_net *n, double now);
 /* ---- worker pool (rt_worker.c) ----------------------------------------------------------- */
 
 int rt_workers_start(int n);
+/* Starts workers until there are n (none stopped); main thread, outside rt_run. */
+int rt_workers_grow(int n);
 void rt_workers_stop(void);
 void rt_workers_submit(rt_item *it); /* main thread: run a threaded handler */
 /* Main thread: moves RSRs sent by workers and finished jobs out; true if any. */

@@ -86,6 +86,17 @@ int rt_workers_start(int n) {
     return RT_OK;
 }
 
+int rt_workers_grow(int n) {
+    if (n <= rt_g.nthreads) return RT_OK;
+    rt_g.threads = rt_xrealloc(rt_g.threads, sizeof *rt_g.threads * (size_t)n);
+    while (rt_g.nthreads < n) {
+        if (pthread_create(&rt_g.threads[rt_g.nthreads], NULL, worker_main, NULL) != 0)
+            return RT_ETHREAD;
+        rt_g.nthreads++;
+    }
+    return RT_OK;
+}
+
 void rt_workers_stop(void) {
     pthread_mutex_lock(&rt_g.wlock);
     rt_g.wstop = true;

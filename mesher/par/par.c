@@ -28,10 +28,11 @@ par_config par_config_of(const par_opts *o) {
                     o->poll_every,
                     o->inflight,
                     o->phases,
-                    o->deterministic,
+                    o->deterministic || o->threads > 1,
                     par_balance_dynamic(o),
                     o->region_attr || o->region_area,
-                    o->progress && !o->quiet};
+                    o->progress && !o->quiet,
+                    o->threads > 1 ? o->threads : 1};
     return c;
 }
 

@@ -46,6 +46,7 @@ typedef struct par_opts {
     int check;              /* --check: validate every part where it lives (pout.h) */
     int progress;           /* --progress: progress lines on stderr */
     int32_t nsub;           /* --subdomains K (0 = ranks) */
+    int32_t threads;        /* --threads T (pcdm only; 0/1: one): subdomain rounds on T workers */
     double imbalance;       /* --imbalance R (default 1) */
     const char *cuts;       /* --cuts FILE */
     const char *write_cuts; /* --write-cuts FILE */
@@ -90,6 +91,8 @@ typedef struct par_config {
     int phases;         /* pbw: the data-parallel variant (two phases) */
     int deterministic;  /* pcdm: refinement in rounds, each subdomain its own mesh */
     int balance;        /* pcdm: 1: idle ranks take unstarted subdomains (implies rounds) */
+    int threads;        /* pcdm: subdomain rounds on this many worker threads (> 1 implies
+                         * rounds) */
     int regions;        /* label triangles with their regions (-A or --region-areas) */
     int progress;       /* progress lines on stderr (rank 0) */
 } par_config;

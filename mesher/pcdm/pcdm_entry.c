@@ -14,7 +14,8 @@ int pcdm_part_start(pcdm_part *p, const pcdm_decomp *d, const mesh_bounds *b, co
     int regions = b->region_area ? PCDM_REGIONS_AREA
                   : c->regions   ? PCDM_REGIONS_LABEL
                                  : PCDM_REGIONS_NONE;
-    int det = c->deterministic || c->balance; /* subdomains move only as whole meshes */
+    /* subdomains move only as whole meshes, and threads refine whole subdomains */
+    int det = c->deterministic || c->balance || c->threads > 1;
     int rank = rt_rank();
     return det ? pcdm_part_build_det(p, d, rank, regions, err, errlen)
                : pcdm_part_build_regions(p, d, rank, regions, err, errlen);
@@ -34,5 +35,6 @@ void pcdm_part_run(pcdm_part *p, const mesh_bounds *b, const par_config *c) {
     rt_stats_reset();
     if (b->size) mesh_set_size_rule(&p->m, b->size, b->size_ctx);
     p->balance = c->balance;
+    p->threads = c->threads;
     pcdm_part_refine(p, &q, c->poll_every > 0 ? c->poll_every : 300);
 }

@@ -87,8 +87,10 @@ static int decompose(const run_job *j, const pslg *in, pcdm_decomp *d, char *err
     int P = rt_size(), rc = 0;
     pcdm_decomp_opts dopt;
     pcdm_decomp_opts_default(&dopt);
-    /* --balance dynamic moves whole subdomains: several per rank by default */
-    int32_t k = o->nsub > 0 ? o->nsub : P * (par_balance_dynamic(o) ? 4 : 1);
+    /* --balance dynamic moves whole subdomains, --threads refines them: several per rank (and
+     * thread) by default */
+    int32_t per = o->threads > 1 ? 4 * o->threads : par_balance_dynamic(o) ? 4 : 1;
+    int32_t k = o->nsub > 0 ? o->nsub : P * per;
     if (!o->nsub && k > PAR_MAX_SUBDOMAINS && P <= PAR_MAX_SUBDOMAINS) k = PAR_MAX_SUBDOMAINS;
     dopt.nsub = o->cuts ? o->nsub : k; /* cuts: 0 = as many as they make */
     dopt.nranks = P;
@@ -372,6 +374,11 @@ static int startup(int *argc, char ***argv, run_method method, par_parse_fn pars
         goto fin;
     }
     if (o->perturb) rt_perturb_set(o->perturb);
+    if (o->threads > 1 && (rc = rt_workers_ensure(o->threads)) != RT_OK) {
+        fprintf(stderr, "%s: --threads %d: cannot start the threads: %s\n", prog, (int)o->threads,
+                rt_strerror(rc));
+        goto fin;
+    }
     if (o->net) { /* every rank parses the same text: all stop or none */
         double lat = 0, bw = 0;
         if (rt_net_parse(o->net, &lat, &bw) != RT_OK) {

@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# ./pcdm --threads T: subdomain rounds on T worker threads per rank (the runtime's threaded
+# handlers).  The mesh is --deterministic's, so for a given input, bounds and --subdomains every
+# (ranks, threads) gives the same hash as --deterministic on one thread, and every mesh passes
+# --check:
+#   - three domains of data/ at -q 30 and 33, 8 subdomains, (ranks, threads) in (1,1) (1,2) (2,1)
+#     (2,2) (4,2) (8,1), plus (2,2) with --balance dynamic and (3,2) under --perturb;
+#   - one process without mpirun (./pcdm --threads 2 as a plain program) gives the same hash;
+#   - --threads 0 and a non-number are refused with a message, exit 2 (a usage error).
+. "$(dirname "$0")/lib.sh"
+
+hash_of() { grep -o 'hash=[0-9a-f]*' "$1" | tail -1; }
+
+for f in data/lake.poly data/holes.poly data/square.poly; do
+    for q in 30 33; do
+        want=""
+        for cfg in "1 1" "1 2" "2 1" "2 2" "4 2" "8 1" "2 2 --balance dynamic" "3 2 --perturb 5"; do
+            set -- $cfg
+            np=$1 th=$2
+            shift 2
+            mpi_run "$np" "$BIN/pcdm" --deterministic --threads "$th" --subdomains 8 -q "$q" -a 2e-5 -NEP --stats \
+                --check "$@" "$f" >"$T/out.txt" 2>&1
+            rc=$?
+            if [ "$rc" != 0 ] || ! grep -q '^meshcheck: OK' "$T/out.txt"; then
+                fail "$f -q $q ranks $np threads $th $*: exit $rc: $(grep -m1 'pcdm:' "$T/out.txt")"
+                continue
+            fi
+            h=$(hash_of "$T/out.txt")
+            [ -n "$want" ] || want=$h
+            if [ "$h" = "$want" ]; then
+                ok "$f -q $q ranks $np threads $th $*: $h"
+            else
+                fail "$f -q $q ranks $np threads $th $*: $h, (1,1) gave $want"
+            fi
+        done
+    done
+done
+
+# one process, no mpirun
+f=data/lake.poly
+mpi_run 1 "$BIN/pcdm" --deterministic --subdomains 8 -q 30 -a 2e-5 -NEP --stats "$f" >"$T/a.txt" 2>&1
+timeout 120 "$BIN/pcdm" --threads 2 --subdomains 8 -q 30 -a 2e-5 -NEP --stats --check "$f" \
+    >"$T/b.txt" 2>&1
+rc=$?
+if [ "$rc" = 0 ] && grep -q '^meshcheck: OK' "$T/b.txt" &&
+    [ "$(hash_of "$T/a.txt")" = "$(hash_of "$T/b.txt")" ] && [ -n "$(hash_of "$T/b.txt")" ]; then
+    ok "./pcdm --threads 2 without mpirun: $(hash_of "$T/b.txt"), as mpirun -np 1"
+else
+    fail "./pcdm --threads 2 without mpirun: exit $rc, $(hash_of "$T/b.txt") against $(hash_of "$T/a.txt")"
+fi
+
+for bad in 0 x -1; do
+    timeout 60 "$BIN/pcdm" --threads "$bad" -NEP data/square.poly >"$T/e.txt" 2>&1
+    rc=$?
+    if [ "$rc" = 2 ] && grep -q -- '--threads' "$T/e.txt"; then
+        ok "--threads $bad refused: $(head -1 "$T/e.txt")"
+    else
+        fail "--threads $bad: exit $rc: $(head -1 "$T/e.txt")"
+    fi
+done
+finish
