@@ -15,6 +15,7 @@
  * every (triangle, corner) with the -o2 node opposite it.  The Gmsh file must exist whole.
  * CK_NOFORK (MPI does not survive fork); run from the repository root.
  */
+#include "bounds/bounds.h"
 #include "base/base.h"
 #include "check_run.h"
 #include "geom/geom.h"
@@ -269,7 +270,7 @@ static void mesh_input(pslg *in, mesh_flat *F) {
     mesh m;
     mesh_init(&m);
     ck_assert_msg(mesh_build_cdt(&m, in, NULL, err, sizeof err) == 0, "%s", err);
-    mesh_quality q = {30 * (1 + 1e-9) + 1e-12, 0.005, -1, 1, 0};
+    mesh_quality q = {bounds_refine_angle(30), 0.005, -1, 1, 0};
     mesh_set_quality(&m, &q);
     ck_assert_int_eq(mesh_refine(&m), MESH_REFINE_DONE);
     ck_assert_int_eq(mesh_to_flat(&m, F), 0);

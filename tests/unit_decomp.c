@@ -8,6 +8,7 @@
  * domain's; work is balanced against the targets; every rank owns a subdomain; the result is the
  * same bits when computed twice.  Inputs: data/ and tests/inputs/ (every input class).
  */
+#include "bounds/bounds.h"
 #include "check_run.h"
 #include "decomp/decomp.h"
 #include "geom/geom.h"
@@ -357,7 +358,7 @@ static int64_t mesh_at(const pslg *g, const uint8_t *iface, double q, double a) 
     ck_assert_msg(mesh_build_cdt(&m, g, iface, err, sizeof err) == 0, "%s", err);
     mesh_quality mq;
     memset(&mq, 0, sizeof mq);
-    mq.min_angle = q * (1 + 1e-9) + 1e-12;
+    mq.min_angle = bounds_refine_angle(q);
     mq.max_area = a;
     mq.max_steiner = -1;
     mq.offcenter = 1;
