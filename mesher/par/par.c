@@ -23,16 +23,16 @@
 #include <unistd.h>
 
 par_config par_config_of(const par_opts *o) {
-    par_config c = {o->prog,
-                    o->input,
-                    o->poll_every,
-                    o->inflight,
-                    o->phases,
-                    o->deterministic || o->threads > 1,
-                    par_balance_dynamic(o),
-                    o->region_attr || o->region_area,
-                    o->progress && !o->quiet,
-                    o->threads > 1 ? o->threads : 1};
+    par_config c = {.prog = o->prog,
+                    .input = o->input,
+                    .poll_every = o->poll_every,
+                    .inflight = o->inflight,
+                    .phases = o->phases,
+                    .deterministic = o->deterministic || o->threads > 1,
+                    .balance = par_balance_dynamic(o),
+                    .threads = o->threads > 1 ? o->threads : 1,
+                    .regions = o->region_attr || o->region_area,
+                    .progress = o->progress && !o->quiet};
     return c;
 }
 
