@@ -396,6 +396,7 @@ static void send_common(int dest, int handler, const void *payload, uint32_t len
         atomic_fetch_add(&rt_g.wposted, 1);
         pthread_cond_signal(&rt_g.mcond);
         pthread_mutex_unlock(&rt_g.wlock);
+        rt_wait_wake();
         return;
     }
     rt_send_hdr(dest, &h, payload);
