@@ -5,7 +5,10 @@
  * (raw, runtime, raw, ...) so both see the same machine load; each trial is ITERS round trips
  * after WARM unmeasured ones; the best and the median trial are printed, last the
  * machine-readable line
- *   rsr_rtt: rsr_best_us=X rsr_median_us=Y mpi_best_us=Z mpi_median_us=W
+ *   rsr_rtt: rsr_best_us=X rsr_median_us=Y mpi_best_us=Z mpi_median_us=W msgs_per_rsr=M
+ *            waves_per_rsr=V
+ * (rank 0's MPI messages sent per round trip, and termination waves per round trip: rounds
+ * started while a reply is on its way).
  * Rank 0 drives: its local work sends a ping when no reply is outstanding; rank 1's handler
  * answers with a pong.
  */
@@ -93,15 +96,23 @@ int main(int argc, char **argv) {
     B.h_pong = rt_handler_register("rtt_pong", on_pong, NULL, RT_NONTHREADED, 0);
     rt_start();
     double rsr[TRIALS], mpi[TRIALS];
+    rt_stats st0, st1;
+    double msgs = 0, waves = 0;
     for (int k = 0; k < TRIALS; k++) {
         mpi[k] = mpi_trial();
+        rt_stats_local(&st0);
         rsr[k] = rsr_trial();
+        rt_stats_local(&st1);
+        msgs += (double)(st1.mpi_sent - st0.mpi_sent);
+        waves += (double)(st1.waves - st0.waves);
     }
     if (B.rank == 0) {
         qsort(rsr, TRIALS, sizeof rsr[0], cmp_dbl);
         qsort(mpi, TRIALS, sizeof mpi[0], cmp_dbl);
-        printf("rsr_rtt: rsr_best_us=%.2f rsr_median_us=%.2f mpi_best_us=%.2f mpi_median_us=%.2f\n",
-               rsr[0], rsr[TRIALS / 2], mpi[0], mpi[TRIALS / 2]);
+        printf("rsr_rtt: rsr_best_us=%.2f rsr_median_us=%.2f mpi_best_us=%.2f mpi_median_us=%.2f "
+               "msgs_per_rsr=%.2f waves_per_rsr=%.2f\n",
+               rsr[0], rsr[TRIALS / 2], mpi[0], mpi[TRIALS / 2],
+               msgs / ((double)TRIALS * (ITERS + WARM)), waves / ((double)TRIALS * (ITERS + WARM)));
     }
     rt_finalize();
     return 0;

@@ -301,6 +301,7 @@ typedef struct rt_waitst {
     int sock[RT_WAIT_MAXSOCK];
     double scanned;      /* rt_wtime of the last scan, -1 never */
     int idle_wakes;      /* wake-ups in a row with no RSR received */
+    int spin;            /* polls of MPI left before the next wait (after a wake-up) */
     uint64_t recvd_seen; /* rt_g.recvd at the last wait */
     _Atomic int polling; /* the main thread is in (or about to enter) ppoll */
 } rt_waitst;

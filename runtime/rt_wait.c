@@ -12,7 +12,9 @@
  * and looked up again every RESCAN_S) and on an eventfd that worker threads write when they
  * hand work to the main thread, with the backoff as timeout: an arriving message wakes the
  * rank at once, like a blocking read.  ppoll only watches; Open MPI still reads the sockets
- * when the scheduler next calls MPI.
+ * when the scheduler next calls MPI -- Open MPI 4.1 runs its event loop (which reads them) on
+ * one opal_progress call in eight, so after a wake-up the scheduler polls MPI SPIN_AFTER_WAKE
+ * times before it waits again.
  *
  * Used when the job spans hosts (Open MPI's OMPI_COMM_WORLD_LOCAL_SIZE below
  * OMPI_COMM_WORLD_SIZE) or when RT_SOCKET_WAIT=1; RT_SOCKET_WAIT=0 turns it off.  Without
@@ -41,6 +43,9 @@
 
 #define RESCAN_S 0.01     /* seconds between two lookups of the socket set */
 #define MAX_IDLE_WAKES 64 /* socket wake-ups in a row with nothing received */
+/* Open MPI reads its sockets in the event loop that opal_progress runs on every 8th call:
+ * after a wake-up the scheduler polls MPI this many times without waiting. */
+#define SPIN_AFTER_WAKE 16
 
 static bool wanted(void) {
     const char *e = getenv("RT_SOCKET_WAIT");
@@ -55,6 +60,7 @@ void rt_wait_init(void) {
     rt_g.wt.nsock = 0;
     rt_g.wt.scanned = -1;
     rt_g.wt.idle_wakes = 0;
+    rt_g.wt.spin = 0;
     atomic_store(&rt_g.wt.polling, 0);
     if (rt_g.wt.on && rt_g.nthreads > 0) {
         rt_g.wt.wake_fd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
@@ -115,8 +121,15 @@ bool rt_wait_sockets(uint64_t ns) {
         rt_g.wt.scanned = now;
     }
     if (rt_g.wt.nsock == 0 || rt_g.wt.idle_wakes >= MAX_IDLE_WAKES) return false;
-    if (rt_g.recvd != rt_g.wt.recvd_seen) rt_g.wt.idle_wakes = 0;
+    if (rt_g.recvd != rt_g.wt.recvd_seen) {
+        rt_g.wt.idle_wakes = 0;
+        rt_g.wt.spin = 0;
+    }
     rt_g.wt.recvd_seen = rt_g.recvd;
+    if (rt_g.wt.spin > 0) { /* data arrived: poll MPI again at once until it is read */
+        rt_g.wt.spin--;
+        return true;
+    }
     struct pollfd p[RT_WAIT_MAXSOCK + 1];
     int n = 0;
     for (int i = 0; i < rt_g.wt.nsock; i++)
@@ -132,7 +145,10 @@ bool rt_wait_sockets(uint64_t ns) {
         ssize_t rd = read(rt_g.wt.wake_fd, &v, sizeof v);
         (void)rd;
     }
-    if (r > 0) rt_g.wt.idle_wakes++;
+    if (r > 0) {
+        rt_g.wt.idle_wakes++;
+        rt_g.wt.spin = SPIN_AFTER_WAKE;
+    }
     if (r < 0 && errno != EINTR) rt_g.wt.on = false; /* fall back for good */
     return true;
 }
