@@ -177,6 +177,8 @@ fi
 # ---- 5. faults
 FAULT_RUN="-q 30 -a 1e-5 --net 5000"
 # fault_run NAME FAULT: ./pbw on 3 hosts, FAULT (kill or link) at 1.5 s; sets fault_msg
+since() { awk -v a="$1" -v b="${2:-$(date +%s.%N)}" 'BEGIN{printf "%.1f", b - a}'; } # T0 [NOW]
+gt() { awk -v a="$1" -v b="$2" 'BEGIN{exit !(a > b)}'; }
 procs() { ip netns pids "${NS_PREFIX}-$1" 2>/dev/null | wc -l; }
 fault_run() {
     local name=$1 fault=$2 dir=$W/fault-$1
@@ -191,7 +193,7 @@ fault_run() {
     if [ "$fault" = none ]; then
         wait $mp
         local st=$?
-        fault_msg="exit $st after $(printf %.1f "$(echo "$(date +%s.%N) - $t0" | bc)") s"
+        fault_msg="exit $st after $(since "$t0") s"
         return $st
     fi
     sleep 1.5
@@ -214,17 +216,17 @@ fault_run() {
         left=0
         for h in 1 2 3; do
             if [ -z "${end[$h]:-}" ]; then
-                if [ "$(procs h$h)" -eq 0 ]; then end[$h]=$(printf %.1f "$(echo "$now - $tf" | bc)"); else left=$((left + 1)); fi
+                if [ "$(procs h$h)" -eq 0 ]; then end[$h]=$(since "$tf" "$now"); else left=$((left + 1)); fi
             fi
         done
-        [ "$(echo "$now - $tf > 40" | bc)" = 1 ] && break
+        gt "$(since "$tf" "$now")" 40 && break
         sleep 0.1
     done
     wait $mp
     local st=$? worst=0 msg="" problems=""
     for h in 1 2 3; do
         msg="$msg h$h ${end[$h]:-never}s"
-        if [ -z "${end[$h]:-}" ] || [ "$(echo "${end[$h]} > 30" | bc)" = 1 ]; then
+        if [ -z "${end[$h]:-}" ] || gt "${end[$h]}" 30; then
             problems="$problems h$h still running after 30 s;"
         fi
     done
