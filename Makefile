@@ -9,6 +9,9 @@
 #   make format     clang-format the tree       make clean
 #   make install    programs, libpcdm (.a, .so), include/pcdm.h and pcdm.pc into PREFIX
 #                   (default /usr/local; DESTDIR for staging)    make uninstall
+#   make test-hosts ./pcdm, ./pbw and the runtime across 3 hosts made of network namespaces
+#                   (TCP between them; faults, bad set-ups; root only, skips otherwise)
+#   make bench-hosts round trips across those hosts (runtime, MPI, TCP), RSR counts
 #   make fuzz       libFuzzer run of ./mesh's reader and mesher (FUZZ_TIME seconds, default 90;
 #                   clang-14; corpus tests/fuzz/corpus, findings in build/fuzz/artifacts)
 
@@ -56,7 +59,7 @@ APPS := $(patsubst apps/%.c,%,$(APP_SRC))
 TESTS := $(patsubst tests/%.c,$(B)/tests/%,$(TEST_SRC))
 BENCHES := $(patsubst bench/%.c,$(B)/bench/%,$(BENCH_SRC))
 
-.PHONY: all libs install uninstall examples deps fuzz fuzz-deps fuzz-replay stress test check-deps demo bench bench-quick bench-seq bench-primitives format clean
+.PHONY: all libs install uninstall examples deps fuzz fuzz-deps fuzz-replay stress test check-deps demo bench bench-quick bench-seq bench-primitives test-hosts bench-hosts format clean
 .DEFAULT_GOAL := all
 # Keep the objects of programs and tests (they are intermediate files to make otherwise).
 .SECONDARY: $(patsubst %.c,$(B)/obj/%.o,$(APP_SRC) $(TEST_SRC) $(BENCH_SRC))
@@ -164,6 +167,15 @@ uninstall:
 test: deps
 	@$(MAKE) --no-print-directory all
 	@BUILD=$(B) SANITIZE=$(SANITIZE) bash tests/run.sh
+
+# Three hosts on this machine (network namespaces, TCP between them); needs root, else skips.
+test-hosts: deps
+	@$(MAKE) --no-print-directory all
+	@B=$(B) bash tests/hosts/run.sh
+
+bench-hosts: deps
+	@$(MAKE) --no-print-directory all
+	@B=$(B) bash bench/hosts.sh
 
 demo: deps
 	@$(MAKE) --no-print-directory all

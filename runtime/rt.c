@@ -396,6 +396,7 @@ static void send_common(int dest, int handler, const void *payload, uint32_t len
         atomic_fetch_add(&rt_g.wposted, 1);
         pthread_cond_signal(&rt_g.mcond);
         pthread_mutex_unlock(&rt_g.wlock);
+        rt_wait_wake();
         return;
     }
     rt_send_hdr(dest, &h, payload);
@@ -491,6 +492,9 @@ void rt_net_get(double *latency_s, double *bytes_per_s) {
 /* ---- scheduler ------------------------------------------------------------------------- */
 
 #define RT_WAVE_DELAY 20e-6 /* seconds of quiet before rank 0 starts a termination round */
+/* the same between hosts, where one round trip takes tens of microseconds (rt_wait.c): a
+ * round started while a reply is on its way would only add messages to that wait */
+#define RT_WAVE_DELAY_HOSTS 500e-6
 
 /* Nothing to do until a message arrives (blocked tasks allowed; rt_term.c). */
 static bool quiescent(bool local_busy) {
@@ -525,6 +529,7 @@ int rt_run(rt_work_fn work, void *ctx) {
     uint64_t backoff = rt_g.cfg.idle_min_ns;
     double idle_since = -1; /* when this rank last became quiescent, -1 while active */
     unsigned spins = 0;
+    double wave_delay = rt_g.wt.on ? RT_WAVE_DELAY_HOSTS : RT_WAVE_DELAY;
     /* Time accounting by laps: each stretch between two clock readings goes to one bucket;
      * non-threaded handler time is taken out of the communication laps. */
     double lap = rt_now(), inl = rt_g.inline_time, now;
@@ -589,7 +594,7 @@ int rt_run(rt_work_fn work, void *ctx) {
             if (idle_since < 0) idle_since = lap;
             rt_term_verdict v =
                 rt_term_pass(&rt_g.term, rt_g.rank, rt_g.size, rt_g.sent, rt_g.recvd,
-                             rt_g.tasks.nblocked, lap - idle_since >= RT_WAVE_DELAY);
+                             rt_g.tasks.nblocked, lap - idle_since >= wave_delay);
             if (v == RT_TERM_DONE) break;
             if (v == RT_TERM_DEADLOCK) deadlock_report(true);
         } else if (qui && idle_since < 0) {

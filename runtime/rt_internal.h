@@ -289,8 +289,31 @@ void rt_workers_stop(void);
 void rt_workers_submit(rt_item *it); /* main thread: run a threaded handler */
 /* Main thread: moves RSRs sent by workers and finished jobs out; true if any. */
 bool rt_workers_drain(void);
-/* Main thread: waits up to ns for worker activity (or returns at once if there is some). */
+/* Main thread: waits up to ns for worker activity (or returns at once if there is some), or,
+ * when rt_wait_sockets applies, for a message on the transport's sockets. */
 void rt_workers_idle_wait(uint64_t ns);
+
+/* ---- idle wait on the transport's sockets (rt_wait.c) ------------------------------------ */
+
+#define RT_WAIT_MAXSOCK 256
+typedef struct rt_waitst {
+    bool on;     /* the job spans hosts (or RT_SOCKET_WAIT=1) */
+    int wake_fd; /* eventfd written by workers while the main thread polls; -1 none */
+    int nsock;   /* connected TCP sockets found by the last scan */
+    int sock[RT_WAIT_MAXSOCK];
+    double scanned;      /* rt_wtime of the last scan, -1 never */
+    int idle_wakes;      /* wake-ups in a row with no RSR received */
+    int spin;            /* polls of MPI left before the next wait (after a wake-up) */
+    uint64_t recvd_seen; /* rt_g.recvd at the last wait */
+    _Atomic int polling; /* the main thread is in (or about to enter) ppoll */
+} rt_waitst;
+void rt_wait_init(void); /* after the workers started */
+void rt_wait_fini(void);
+/* Worker, after handing an item to the main thread: wakes it if it polls the sockets. */
+void rt_wait_wake(void);
+/* Main thread: waits up to ns on the sockets and the workers' eventfd; false when this wait
+ * does not apply (then the caller waits its own way). */
+bool rt_wait_sockets(uint64_t ns);
 extern _Thread_local int rt_in_worker;
 
 /* ---- transport (rt_comm.c) --------------------------------------------------------------- */
@@ -369,6 +392,7 @@ typedef struct rt_global {
     _Atomic int njobs;     /* jobs queued, readable without the lock (spinning workers) */
     _Atomic int wstop_hint;
     _Atomic int wposted; /* items in outq + doneq: the main thread locks only if nonzero */
+    rt_waitst wt;        /* idle wait on sockets (rt_wait.c) */
 } rt_global;
 
 extern rt_global rt_g;

@@ -9,7 +9,9 @@
  * completion, and the main thread drains the outgoing FIFO before the completion FIFO, so
  * wk_outstanding == 0 after a drain means every threaded handler finished and all its RSRs
  * have been handed to the transport.  One lock (rt_g.wlock) guards jobs, outq and doneq;
- * workers sleep on wcond, the idle main thread on mcond (timed, as it must also poll MPI).
+ * workers sleep on wcond, the idle main thread on mcond (timed, as it must also poll MPI), or,
+ * between hosts, in ppoll on the transport's sockets and an eventfd the workers write
+ * (rt_wait.c).
  */
 #include "rt_internal.h"
 
@@ -48,6 +50,7 @@ static void *worker_main(void *arg) {
         rt_queue_push(&rt_g.doneq, &it->q);
         atomic_fetch_add(&rt_g.wposted, 1);
         pthread_cond_signal(&rt_g.mcond);
+        rt_wait_wake();
         if (spin > 0 && rt_queue_empty(&rt_g.jobs)) {
             /* Latency mode: poll a while for the next job instead of sleeping at once. */
             pthread_mutex_unlock(&rt_g.wlock);
@@ -83,6 +86,7 @@ int rt_workers_start(int n) {
         if (pthread_create(&rt_g.threads[i], NULL, worker_main, NULL) != 0) return RT_ETHREAD;
         rt_g.nthreads++;
     }
+    rt_wait_init();
     return RT_OK;
 }
 
@@ -98,6 +102,7 @@ int rt_workers_grow(int n) {
 }
 
 void rt_workers_stop(void) {
+    rt_wait_fini();
     pthread_mutex_lock(&rt_g.wlock);
     rt_g.wstop = true;
     atomic_store(&rt_g.wstop_hint, 1);
@@ -159,6 +164,7 @@ bool rt_workers_drain(void) {
 }
 
 void rt_workers_idle_wait(uint64_t ns) {
+    if (rt_wait_sockets(ns)) return;
     if (rt_g.nthreads == 0) {
         struct timespec ts = {(time_t)(ns / 1000000000u), (long)(ns % 1000000000u)};
         nanosleep(&ts, NULL);
