@@ -298,7 +298,7 @@ fi
 printf 'h1 slots=1\nh2 slots=1\nh3 slots=1\nh2 slots=1\n' >"$W/hostfile4"
 bad_setup "h2 listed twice with a slot count each" "contains multiple definitions" \
     "$W/hostfile4" 60 -np 3 "$BIN/pcdm" -NEP data/lake.poly
-bad_setup "6 ranks, 4 subdomains" "cannot decompose .* fewer subdomains than ranks \(6\)" "$W/hostfile" 60 \
+bad_setup "6 ranks, 4 subdomains" "subdomains 4: fewer subdomains than ranks \(6\)" "$W/hostfile" 60 \
     -np 6 --map-by node "$BIN/pcdm" -NEP --subdomains 4 data/lake.poly
 printf 'h1 slots=2\nh4 slots=2\n' >"$W/hostfile3"
 bad_setup "a host that does not exist (h4)" "agent: no host 'h4'" "$W/hostfile3" 60 \
