@@ -45,11 +45,7 @@ static uint8_t *needed_inputs(const pslg *in) {
         return need;
     }
     pslg_pieces pc;
-    if (pslg_segment_pieces(in, &pc) != 0) { /* out of memory: ask for the segments' ends */
-        for (int32_t s = 0; s < in->nsegs; s++)
-            need[in->seg[2 * (size_t)s]] = need[in->seg[2 * (size_t)s + 1]] = 1;
-        return need;
-    }
+    pslg_segment_pieces(in, &pc);           /* returns 0 (the allocation funnel never fails) */
     for (int32_t s = 0; s < in->nsegs; s++) /* both ends of every bordering piece */
         for (int32_t i = pc.start[s]; i + 1 < pc.start[s + 1]; i++)
             if (pc.border[i]) need[pc.vert[i]] = need[pc.vert[i + 1]] = 1;
@@ -352,8 +348,8 @@ int par_write_parts(const par_opts *o, const pslg *in, const mesh_flat *local, c
     return 0;
 }
 
-/* The smallest angle and largest area without three atan2 per triangle: the smallest angle (at most 60
- * degrees, opposite the shortest edge a) has sin^2 = (2 area)^2 / (b^2 c^2), monotone in the
+/* The smallest angle and largest area without three atan2 per triangle: the smallest angle (at most
+ * 60 degrees, opposite the shortest edge a) has sin^2 = (2 area)^2 / (b^2 c^2), monotone in the
  * angle there, so only the triangle minimising it gets geom_min_angle_deg. */
 static double part_quality(const mesh_flat *g, double *max_area) {
     double kmin = 2, amax = 0;

@@ -171,8 +171,7 @@ int pbw_mesh(const mesh_bounds *b, const par_config *c, const pslg *in, const pc
     char err[1024], msg[1200];
     err[0] = 0;
     const char *prog = c->prog ? c->prog : "pbw";
-    pbw_setup_opts so = {qa, b->max_area, b->max_steiner, b->offcenter, c->regions,
-                         b->region_area};
+    pbw_setup_opts so = {qa, b->max_area, b->max_steiner, b->offcenter, c->regions, b->region_area};
     int rc = pbw_setup(C, &so, in, d, err, sizeof err);
     snprintf(msg, sizeof msg, "%s: %s", prog, err);
     if (par_fail_any(rc != 0, msg)) {

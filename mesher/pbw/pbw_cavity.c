@@ -411,8 +411,8 @@ static void gmap_init(gmap *m, int32_t n) {
     uint32_t cap = 16;
     while (cap < 2 * (uint32_t)n + 2)
         cap *= 2;
-    m->key = mesh_xrealloc(NULL, cap * sizeof(int64_t), 1);
-    m->val = mesh_xrealloc(NULL, cap * sizeof(int32_t), 1);
+    m->key = mesh_xrealloc(NULL, cap, sizeof(int64_t));
+    m->val = mesh_xrealloc(NULL, cap, sizeof(int32_t));
     m->mask = cap - 1;
     for (uint32_t i = 0; i < cap; i++)
         m->val[i] = -1;
@@ -461,7 +461,7 @@ int pbw_commit_all(pbw_ctx *C, pbw_cav *c, const rt_msg *to_origin) {
     int bad = n < 1;
     for (int32_t i = 0; i < n && !bad; i++)
         if (gmap_put(&A, c->b[i].ga, i) != 0 || gmap_put(&B, c->b[i].gb, i) != 0) bad = 1;
-    pbw_newtri *nt = mesh_xrealloc(NULL, (size_t)(n > 0 ? n : 1) * sizeof *nt, 1);
+    pbw_newtri *nt = mesh_xrealloc(NULL, (size_t)(n > 0 ? n : 1), sizeof *nt);
     int64_t pgid = ((int64_t)(C->rank + 1) << 32) | C->nvown;
     for (int32_t i = 0; i < n && !bad; i++) {
         const pbw_bnd *b = &c->b[i];
@@ -510,7 +510,7 @@ int pbw_commit_all(pbw_ctx *C, pbw_cav *c, const rt_msg *to_origin) {
     C->nvown++;
     C->res.steiner++;
     /* one message per participant, with the new triangles it owns */
-    pbw_newtri *mine = mesh_xrealloc(NULL, (size_t)(n > 0 ? n : 1) * sizeof *mine, 1);
+    pbw_newtri *mine = mesh_xrealloc(NULL, (size_t)(n > 0 ? n : 1), sizeof *mine);
     for (int32_t pi = 0; pi < c->np; pi++) {
         int32_t r = c->parts[pi];
         int32_t m = 0;

@@ -87,9 +87,9 @@ static int owners(pbw_ctx *C, const mesh *m0, const pcdm_decomp *d, int32_t *own
         mesh_free(&md);
         return -1;
     }
-    int32_t *lab = mesh_xrealloc(NULL, ((size_t)md.nt + 1) * sizeof(int32_t), 1);
+    int32_t *lab = mesh_xrealloc(NULL, (size_t)md.nt + 1, sizeof(int32_t));
     int32_t nreg = mesh_label_regions(&md, lab);
-    int32_t *rsub = mesh_xrealloc(NULL, ((size_t)nreg + 1) * sizeof(int32_t), 1);
+    int32_t *rsub = mesh_xrealloc(NULL, (size_t)nreg + 1, sizeof(int32_t));
     for (int32_t i = 0; i < nreg; i++)
         rsub[i] = -1;
     for (int32_t t = 0; t < md.nt; t++) {
@@ -112,8 +112,8 @@ static int owners(pbw_ctx *C, const mesh *m0, const pcdm_decomp *d, int32_t *own
     /* breadth first over m0, each centroid located from where its neighbour's was: a walk of a
      * few steps that a rough boundary (a coastline) seldom blocks, where m0's slot order sent
      * most walks across the domain and out of it */
-    int32_t *qt = mesh_xrealloc(NULL, ((size_t)m0->nt + 1) * sizeof(int32_t), 1);
-    int32_t *qh = mesh_xrealloc(NULL, ((size_t)m0->nt + 1) * sizeof(int32_t), 1);
+    int32_t *qt = mesh_xrealloc(NULL, (size_t)m0->nt + 1, sizeof(int32_t));
+    int32_t *qh = mesh_xrealloc(NULL, (size_t)m0->nt + 1, sizeof(int32_t));
     for (int32_t t = 0; t < m0->nt; t++)
         own[t] = mesh_tri_alive(m0, t) ? -2 : -1; /* -2: not reached yet */
     for (int32_t t0 = 0; t0 < m0->nt; t0++) {
@@ -191,7 +191,7 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
         mesh_refine(&m0);
         C->res.pre_tris = m0.nlive;
     }
-    int32_t *own = mesh_xrealloc(NULL, ((size_t)m0.nt + 1) * sizeof(int32_t), 1);
+    int32_t *own = mesh_xrealloc(NULL, (size_t)m0.nt + 1, sizeof(int32_t));
     if (owners(C, &m0, d, own, err, errlen) != 0) {
         free(own);
         mesh_free(&m0);
@@ -216,8 +216,8 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
     C->I.siface = NULL; /* PBW has no artificial segments */
     if (so->regions) {
         C->nregion = in->nregions;
-        C->reg_attr = mesh_xrealloc(NULL, ((size_t)in->nregions + 1) * sizeof(double), 1);
-        C->reg_area = mesh_xrealloc(NULL, ((size_t)in->nregions + 1) * sizeof(double), 1);
+        C->reg_attr = mesh_xrealloc(NULL, (size_t)in->nregions + 1, sizeof(double));
+        C->reg_area = mesh_xrealloc(NULL, (size_t)in->nregions + 1, sizeof(double));
         for (int32_t i = 0; i < in->nregions; i++) {
             C->reg_attr[i] = in->regions[4 * i + 2];
             double a = in->regions[4 * i + 3]; /* scaled by pslg_check, like the coordinates */
@@ -233,7 +233,7 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
     mesh *M = &C->M;
     C->ninit = M->nv;
     C->vgcap = M->vcap;
-    C->vgid = mesh_xrealloc(NULL, ((size_t)C->vgcap + 1) * sizeof(int64_t), 1);
+    C->vgid = mesh_xrealloc(NULL, (size_t)C->vgcap + 1, sizeof(int64_t));
     for (int32_t v = 0; v < M->nv; v++)
         C->vgid[v] = v;
     pbw_vt_rehash(C, 2048);
@@ -331,7 +331,7 @@ static int written(pbw_ctx *C, int32_t t) {
 
 int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
     memset(f, 0, sizeof *f);
-    int32_t *map = mesh_xrealloc(NULL, ((size_t)C->M.nv + 1) * sizeof(int32_t), 1);
+    int32_t *map = mesh_xrealloc(NULL, (size_t)C->M.nv + 1, sizeof(int32_t));
     for (int32_t v = 0; v < C->M.nv; v++)
         map[v] = -1;
     /* pass 1, on the whole store: the vertices used, the open edges, the subsegments; a slot
@@ -374,8 +374,8 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
     C->M.ss = NULL, C->M.hpair = C->M.hname = NULL, C->M.cav = NULL, C->M.bnd = NULL;
     C->M.stk = NULL, C->M.newt = NULL;
     f->nverts = nv;
-    f->xy = mesh_xrealloc(NULL, 2 * ((size_t)nv + 1) * sizeof(double), 1);
-    f->vmarker = mesh_xrealloc(NULL, ((size_t)nv + 1) * sizeof(int32_t), 1);
+    f->xy = mesh_xrealloc(NULL, 2 * ((size_t)nv + 1), sizeof(double));
+    f->vmarker = mesh_xrealloc(NULL, (size_t)nv + 1, sizeof(int32_t));
     for (int32_t v = 0; v < C->M.nv; v++) {
         int32_t o = map[v];
         if (o < 0) continue;
@@ -387,9 +387,9 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
                                                   : 0;
     }
     f->nsegs = nseg;
-    f->seg = mesh_xrealloc(NULL, 2 * ((size_t)nseg + 1) * sizeof(int32_t), 1);
-    f->smarker = mesh_xrealloc(NULL, ((size_t)nseg + 1) * sizeof(int32_t), 1);
-    f->sinterface = mesh_xrealloc(NULL, ((size_t)nseg + 1) * sizeof(int32_t), 1);
+    f->seg = mesh_xrealloc(NULL, 2 * ((size_t)nseg + 1), sizeof(int32_t));
+    f->smarker = mesh_xrealloc(NULL, (size_t)nseg + 1, sizeof(int32_t));
+    f->sinterface = mesh_xrealloc(NULL, (size_t)nseg + 1, sizeof(int32_t));
     for (int32_t i = 0; i < nseg; i++) {
         f->seg[2 * (size_t)i] = map[sv[3 * i]];
         f->seg[2 * (size_t)i + 1] = map[sv[3 * i + 1]];
@@ -416,8 +416,8 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
     f->tri = mesh_xrealloc(C->M.tv, 3 * ((size_t)ntri + 1), sizeof(int32_t));
     C->M.tv = NULL;
     C->M.nt = 0;
-    f->trank = mesh_xrealloc(NULL, ((size_t)ntri + 1) * sizeof(int32_t), 1);
-    if (C->M.treg) f->tattr = mesh_xrealloc(NULL, ((size_t)ntri + 1) * sizeof(double), 1);
+    f->trank = mesh_xrealloc(NULL, (size_t)ntri + 1, sizeof(int32_t));
+    if (C->M.treg) f->tattr = mesh_xrealloc(NULL, (size_t)ntri + 1, sizeof(double));
     for (int32_t i = 0; i < ntri; i++) {
         f->trank[i] = C->rank;
         if (f->tattr) f->tattr[i] = C->M.treg[i] >= 0 ? C->reg_attr[C->M.treg[i]] : 0;

@@ -45,7 +45,7 @@ int32_t pbw_vt_find(pbw_ctx *C, int64_t gid) {
 void pbw_vt_rehash(pbw_ctx *C, uint32_t cap) {
     free(C->vh);
     C->vhcap = cap;
-    C->vh = mesh_xrealloc(NULL, (size_t)cap * sizeof(int32_t), 1);
+    C->vh = mesh_xrealloc(NULL, (size_t)cap, sizeof(int32_t));
     for (uint32_t i = 0; i < cap; i++)
         C->vh[i] = -1;
     for (int32_t v = 0; v < C->M.nv; v++) {
@@ -63,7 +63,7 @@ int32_t pbw_vt_add(pbw_ctx *C, int64_t gid, double x, double y, int32_t vseg) {
     v = mesh_vert_add(&C->M, x, y, vseg);
     if (v >= C->vgcap) {
         C->vgcap = C->M.vcap;
-        C->vgid = mesh_xrealloc(C->vgid, (size_t)C->vgcap * sizeof(int64_t), 1);
+        C->vgid = mesh_xrealloc(C->vgid, (size_t)C->vgcap, sizeof(int64_t));
     }
     C->vgid[v] = gid;
     if (gid >= 0 && gid < C->ninit) {

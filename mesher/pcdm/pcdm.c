@@ -109,21 +109,10 @@ int pcdm_build_mesh(mesh *m, const pcdm_decomp *d, int rank, int32_t only_sub, i
         mesh_free(m);
         return -1;
     }
-    int32_t *label = mesh_xmalloc(((size_t)m->nt + 1) * sizeof(int32_t), 1);
-    if (!label) {
-        snprintf(err, errlen, "pcdm: out of memory");
-        mesh_free(m);
-        return -1;
-    }
+    int32_t *label = mesh_xmalloc((size_t)m->nt + 1, sizeof(int32_t));
     int32_t nreg = mesh_label_regions(m, label);
-    int32_t *regsub = mesh_xmalloc(((size_t)nreg + 1) * sizeof(int32_t), 1);
+    int32_t *regsub = mesh_xmalloc((size_t)nreg + 1, sizeof(int32_t));
     uint8_t *keep = mesh_xmalloc((size_t)nreg + 1, 1);
-    if (!regsub || !keep) {
-        snprintf(err, errlen, "pcdm: out of memory");
-        free(label), free(regsub), free(keep);
-        mesh_free(m);
-        return -1;
-    }
     for (int32_t r = 0; r < nreg; r++)
         regsub[r] = -2;
     int bad = 0;
@@ -320,7 +309,7 @@ int pcdm_part_refine(pcdm_part *p, const mesh_quality *q, int32_t poll_every) {
 
 int pcdm_part_flat(const pcdm_part *p, mesh_flat *f) {
     if (mesh_to_flat(&p->m, f) != 0) return -1;
-    f->trank = mesh_xmalloc(((size_t)f->ntris + 1) * sizeof(int32_t), 1);
+    f->trank = mesh_xmalloc((size_t)f->ntris + 1, sizeof(int32_t));
     if (!f->trank) {
         mesh_flat_free(f);
         return -1;
