@@ -11,7 +11,7 @@
 #     hash as 1 rank; ./pbw at 3 hosts x 1 and x 2: --check OK;
 #  3. files written through MPI-IO (-o: .node .ele .poly, -e .edge, -n .neigh) and the per-rank
 #     --vtk pieces with their index are byte-identical to a run of as many ranks on one host;
-#  4. the runtime's tests (tests/mpi_rt_storm, mpi_rt_deadlock, mpi_rt_net) pass across hosts,
+#  4. the runtime's tests (tests/mpi_rt, mpi_rt_term, mpi_rt_net) pass across hosts,
 #     and a handler table that differs on one host stops every rank with the mismatch named;
 #  5. faults in the middle of a run (./pbw -o, stretched by the --net model so it runs for
 #     seconds): a rank killed on h2, and h2's link taken down.  Every host's part of the job
@@ -38,7 +38,7 @@ if ! why=$(hosts_can); then
     echo "test-hosts: skipped: $why"
     exit 0
 fi
-for f in "$BIN/pcdm" "$BIN/pbw" "$B/tests/mpi_rt_storm" "$B/tests/mpi_rt_deadlock" \
+for f in "$BIN/pcdm" "$BIN/pbw" "$B/tests/mpi_rt" "$B/tests/mpi_rt_term" \
     "$B/tests/mpi_rt_net"; do
     [ -x "$f" ] || { echo "test-hosts: $f is missing (run make first)"; exit 1; }
 done
@@ -152,7 +152,7 @@ else
 fi
 
 # ---- 4. the runtime across hosts
-for t in mpi_rt_storm mpi_rt_deadlock mpi_rt_net; do
+for t in mpi_rt mpi_rt_term mpi_rt_net; do
     for np in 3 6; do
         out=$(mpirun_hosts 180 -np $np --map-by node "$B/tests/$t" 2>&1)
         st=$?
@@ -164,7 +164,7 @@ for t in mpi_rt_storm mpi_rt_deadlock mpi_rt_net; do
     done
 done
 # the last rank (on h3) registers a different handler
-out=$(mpirun_hosts 60 -np 3 --map-by node -x RT_TEST_MISMATCH=1 "$B/tests/mpi_rt_storm" 2>&1)
+out=$(mpirun_hosts 60 -np 3 --map-by node -x RT_TEST_MISMATCH=1 "$B/tests/mpi_rt" 2>&1)
 st=$?
 n=$(printf '%s\n' "$out" | grep -c "rank [012]: handler table mismatch at slot 1: rank 0 registered 'storm_chain_t'.*rank 2 registered 'storm_chain_X'")
 if [ $st -ne 0 ] && [ $st -ne 124 ] && [ $st -ne 137 ] && [ "$n" -eq 3 ]; then
