@@ -559,15 +559,21 @@ static int ready(const pcdm_det *D, const det_sub *s) {
     return r == 0 || s->got[(r - 1) & 1] == s->nnb;
 }
 
+/* The least advanced ready subdomain (index into D->s), or -1. */
+static int32_t next_ready(const pcdm_det *D) {
+    int32_t best = -1;
+    for (int32_t i = 0; i < D->n; i++)
+        if (ready(D, D->s[i]) && (best < 0 || D->s[i]->done < D->s[best]->done)) best = i;
+    return best;
+}
+
 static int det_work(void *ctx) {
     pcdm_det *D = ctx;
     if (D->threads > 1) {
         if (D->stop >= 0) return RT_WORK_IDLE;
         int started = 0;
         while (D->nrunning < D->threads && D->stop < 0) {
-            int32_t best = -1;
-            for (int32_t i = 0; i < D->n; i++)
-                if (ready(D, D->s[i]) && (best < 0 || D->s[i]->done < D->s[best]->done)) best = i;
+            int32_t best = next_ready(D);
             if (best < 0) break;
             det_sub *s = D->s[best];
             if (s->done > 0 && s->in[(s->done - 1) & 1].n == 0) {
@@ -589,9 +595,7 @@ static int det_work(void *ctx) {
         return RT_WORK_BUSY;
     }
     if (D->stop >= 0) return RT_WORK_IDLE;
-    int32_t best = -1;
-    for (int32_t i = 0; i < D->n; i++) /* the least advanced ready subdomain */
-        if (ready(D, D->s[i]) && (best < 0 || D->s[i]->done < D->s[best]->done)) best = i;
+    int32_t best = next_ready(D);
     if (best < 0) /* only a handler can make one ready; meanwhile take work from a busy rank */
         return det_move_steal(D) ? RT_WORK_BUSY : RT_WORK_IDLE;
     start_round(D, best);
