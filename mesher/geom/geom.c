@@ -46,13 +46,14 @@
 #define EPS 0x1p-53
 #define SPLITTER 134217729.0
 
-/* Error-bound coefficients of section 4.  The stage-A bound of orient2d is also the bound of
+/* Error-bound coefficients of section 4 (the stage-A ones of orient2d and incircle are
+ * geom.h's, for the inline filters there).  The stage-A bound of orient2d is also the bound of
  * geom_diametral (same expression tree up to the sign of one product). */
 static const double result_bound = (3.0 + 8.0 * EPS) * EPS;
-static const double ccw_bound_a = (3.0 + 16.0 * EPS) * EPS;
+static const double ccw_bound_a = GEOM_CCW_BOUND_A;
 static const double ccw_bound_b = (2.0 + 12.0 * EPS) * EPS;
 static const double ccw_bound_c = (9.0 + 64.0 * EPS) * EPS * EPS;
-static const double icc_bound_a = (10.0 + 96.0 * EPS) * EPS;
+static const double icc_bound_a = GEOM_ICC_BOUND_A;
 static const double icc_bound_b = (4.0 + 48.0 * EPS) * EPS;
 static const double icc_bound_c = (44.0 + 576.0 * EPS) * EPS * EPS;
 
@@ -257,7 +258,7 @@ static int mul2x2(const double *x, const double *y, double *h) {
 
 /* ---- orient2d ---------------------------------------------------------------------------- */
 
-static GEOM_NOINLINE double orient2d_adapt(const double a[2], const double b[2], const double c[2],
+GEOM_NOINLINE double geom_orient2d_adapt(const double a[2], const double b[2], const double c[2],
                                            double detsum) {
     double acx = a[0] - c[0], bcx = b[0] - c[0];
     double acy = a[1] - c[1], bcy = b[1] - c[1];
@@ -302,15 +303,7 @@ static GEOM_NOINLINE double orient2d_adapt(const double a[2], const double b[2],
 }
 
 double geom_orient2d(const double a[2], const double b[2], const double c[2]) {
-    double detleft = (a[0] - c[0]) * (b[1] - c[1]);
-    double detright = (a[1] - c[1]) * (b[0] - c[0]);
-    double det = detleft - detright;
-    /* Branch-free stage A (the paper tests the products' signs first; with opposite signs
-     * |det| == detsum, which passes this test anyway, so only one, well-predicted, branch). */
-    double detsum = fabs(detleft) + fabs(detright);
-    if (fabs(det) > ccw_bound_a * detsum) return det;
-    if (detsum == 0.0) return 0.0; /* both products exactly zero */
-    return orient2d_adapt(a, b, c, detsum);
+    return geom_orient2d_inline(a, b, c);
 }
 
 /* Twice the signed area of abc with a relative error of at most about 2^-40: the plain
@@ -364,7 +357,7 @@ static int incircle_term_exact(const double *dx, const double *dy, const double 
     return exp_mul(liftn, lift, mn, m, h);
 }
 
-static GEOM_NOINLINE double incircle_adapt(const double a[2], const double b[2], const double c[2],
+GEOM_NOINLINE double geom_incircle_adapt(const double a[2], const double b[2], const double c[2],
                                            const double d[2], double permanent) {
     double adx = a[0] - d[0], bdx = b[0] - d[0], cdx = c[0] - d[0];
     double ady = a[1] - d[1], bdy = b[1] - d[1], cdy = c[1] - d[1];
@@ -410,23 +403,7 @@ static GEOM_NOINLINE double incircle_adapt(const double a[2], const double b[2],
 }
 
 double geom_incircle(const double a[2], const double b[2], const double c[2], const double d[2]) {
-    double adx = a[0] - d[0], bdx = b[0] - d[0], cdx = c[0] - d[0];
-    double ady = a[1] - d[1], bdy = b[1] - d[1], cdy = c[1] - d[1];
-
-    double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
-    double alift = adx * adx + ady * ady;
-    double cdxady = cdx * ady, adxcdy = adx * cdy;
-    double blift = bdx * bdx + bdy * bdy;
-    double adxbdy = adx * bdy, bdxady = bdx * ady;
-    double clift = cdx * cdx + cdy * cdy;
-
-    double det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
-    double permanent = (fabs(bdxcdy) + fabs(cdxbdy)) * alift +
-                       (fabs(cdxady) + fabs(adxcdy)) * blift +
-                       (fabs(adxbdy) + fabs(bdxady)) * clift;
-    if (fabs(det) > icc_bound_a * permanent) return det;
-    if (permanent == 0.0) return 0.0; /* every product exactly zero */
-    return incircle_adapt(a, b, c, d, permanent);
+    return geom_incircle_inline(a, b, c, d);
 }
 
 /* ---- diametral circle --------------------------------------------------------------------- */

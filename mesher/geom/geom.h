@@ -19,6 +19,8 @@
 #ifndef GEOM_H
 #define GEOM_H
 
+#include <math.h>
+
 /* Working range of the mesher (sufficient for every predicate here, incircle included): every
  * coordinate a multiple of 2^-200 with magnitude at most 2^250.  Then every product of up to
  * four coordinate differences is a multiple of 2^-800 below 2^1010: no intermediate of the
@@ -43,6 +45,51 @@ double geom_orient2d(const double a[2], const double b[2], const double c[2]);
 /* > 0 if d lies inside the circle through a, b, c (given counter-clockwise), < 0 outside,
  * 0 on it.  Sign exact.  For clockwise a, b, c the sign is reversed. */
 double geom_incircle(const double a[2], const double b[2], const double c[2], const double d[2]);
+
+/* The stage-A error bounds of orient2d and incircle (Shewchuk 1997, section 4; EPS = 2^-53,
+ * which geom_init checks): ccwerrboundA = (3 + 16 EPS) EPS, iccerrboundA = (10 + 96 EPS) EPS. */
+#define GEOM_CCW_BOUND_A ((3.0 + 16.0 * 0x1p-53) * 0x1p-53)
+#define GEOM_ICC_BOUND_A ((10.0 + 96.0 * 0x1p-53) * 0x1p-53)
+
+/* The adaptive stages of geom_orient2d and geom_incircle, for the inline filters below only:
+ * detsum / permanent is the filter's magnitude bound (nonzero). */
+double geom_orient2d_adapt(const double a[2], const double b[2], const double c[2], double detsum);
+double geom_incircle_adapt(const double a[2], const double b[2], const double c[2],
+                           const double d[2], double permanent);
+
+/* geom_orient2d and geom_incircle with their floating-point filter (stage A) inline, for the
+ * kernel's hot loops (cavities, walks: several calls per inserted vertex); the same operations
+ * in the same order, so the same value bit for bit, and the same adaptive stages out of line
+ * when the filter cannot decide.  The filter is branch-free but for one well-predicted test:
+ * with products of opposite signs |det| == detsum, which passes it. */
+static inline double geom_orient2d_inline(const double a[2], const double b[2], const double c[2]) {
+    double detleft = (a[0] - c[0]) * (b[1] - c[1]);
+    double detright = (a[1] - c[1]) * (b[0] - c[0]);
+    double det = detleft - detright;
+    double detsum = fabs(detleft) + fabs(detright);
+    if (fabs(det) > GEOM_CCW_BOUND_A * detsum) return det;
+    if (detsum == 0.0) return 0.0; /* both products exactly zero */
+    return geom_orient2d_adapt(a, b, c, detsum);
+}
+
+static inline double geom_incircle_inline(const double a[2], const double b[2], const double c[2],
+                                          const double d[2]) {
+    double adx = a[0] - d[0], bdx = b[0] - d[0], cdx = c[0] - d[0];
+    double ady = a[1] - d[1], bdy = b[1] - d[1], cdy = c[1] - d[1];
+    double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
+    double alift = adx * adx + ady * ady;
+    double cdxady = cdx * ady, adxcdy = adx * cdy;
+    double blift = bdx * bdx + bdy * bdy;
+    double adxbdy = adx * bdy, bdxady = bdx * ady;
+    double clift = cdx * cdx + cdy * cdy;
+    double det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
+    double permanent = (fabs(bdxcdy) + fabs(cdxbdy)) * alift +
+                       (fabs(cdxady) + fabs(adxcdy)) * blift +
+                       (fabs(adxbdy) + fabs(bdxady)) * clift;
+    if (fabs(det) > GEOM_ICC_BOUND_A * permanent) return det;
+    if (permanent == 0.0) return 0.0; /* every product exactly zero */
+    return geom_incircle_adapt(a, b, c, d, permanent);
+}
 
 /* Sign of (a - p) . (b - p), exact: < 0 iff p lies strictly inside the circle whose diameter
  * is the segment ab (p "encroaches" ab), 0 on it, > 0 outside. */

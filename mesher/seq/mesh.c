@@ -237,7 +237,7 @@ int32_t mesh_walk(mesh *m, const double p[2], int32_t t, int avoid, int32_t *blo
             int32_t e = 3 * t + j;
             if (e == from) continue;
             const double *a = m->xy + 2 * v[j], *b = m->xy + 2 * v[(j + 1) % 3];
-            if (geom_orient2d(a, b, p) < 0) {
+            if (geom_orient2d_inline(a, b, p) < 0) {
                 if (m->tn[e] < 0 || (avoid && mesh_edge_constrained(m, e))) {
                     if (cons < 0) cons = e;
                     continue;
@@ -283,7 +283,7 @@ static int in_conflict(const mesh *m, int32_t t, const double p[2]) {
         double o = geom_orient2d(a, b, p);
         return o > 0 || (o == 0 && collinear_strictly_between(a, b, p));
     }
-    return geom_incircle(m->xy + 2 * v[0], m->xy + 2 * v[1], m->xy + 2 * v[2], p) > 0;
+    return geom_incircle_inline(m->xy + 2 * v[0], m->xy + 2 * v[1], m->xy + 2 * v[2], p) > 0;
 }
 
 /* The growth of push_i32's array, out of line: the cavity pushes several ids per inserted
@@ -355,7 +355,7 @@ int mesh_cavity_collect(mesh *m, const double p[2], int32_t t0, int32_t split_e,
         b->reg = m->treg ? m->treg[e / 3] : -1;
         /* remember the inner edge code in the stack array's slot: reuse twin for star check */
         if (!b->split && b->org >= 0 && b->dest >= 0 &&
-            geom_orient2d(m->xy + 2 * b->org, m->xy + 2 * b->dest, p) <= 0) {
+            geom_orient2d_inline(m->xy + 2 * b->org, m->xy + 2 * b->dest, p) <= 0) {
             if (bad) *bad = e;
             return CAV_NOT_STAR;
         }
