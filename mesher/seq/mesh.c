@@ -324,16 +324,17 @@ int mesh_cavity_collect(mesh *m, const double p[2], int32_t t0, int32_t split_e,
         int32_t nb = m->tn[e];
         int enter = 0;
         if (nb >= 0) {
-            int32_t tt = nb / 3;
-            if (m->tf[tt] & MESH_FENCE) return CAV_FENCED; /* a caller's (PBW: locked) */
+            int32_t tt = (int32_t)((uint32_t)nb / 3u); /* nb >= 0: no sign fix-up */
+            unsigned ftt = m->tf[tt];
+            if (ftt & MESH_FENCE) return CAV_FENCED; /* a caller's (PBW: locked) */
             if (e == split_e) {
                 enter = 1;
             } else if (!mesh_edge_constrained(m, e)) {
-                if (m->tf[tt] & MESH_MARK) return CAV_CYCLE;
+                if (ftt & MESH_MARK) return CAV_CYCLE;
                 enter = in_conflict(m, tt, p);
             }
             if (enter) {
-                if (m->tf[tt] & MESH_MARK) return CAV_CYCLE;
+                if (ftt & MESH_MARK) return CAV_CYCLE;
                 cav_add(m, tt);
                 push_i32(&m->stk, &m->nstk, &m->stkcap, mesh_edge_prev(nb));
                 push_i32(&m->stk, &m->nstk, &m->stkcap, mesh_edge_next(nb));
@@ -395,9 +396,10 @@ void mesh_cavity_commit(mesh *m, int32_t v, int32_t su, int32_t sv) {
     }
     for (int32_t i = n; i < m->ncav; i++)
         mesh_tri_kill(m, m->cav[i]);
-    for (int32_t i = 0; i < n; i++) {
-        const mesh_bedge *b = &m->bnd[(st + i) % nb];
-        const mesh_bedge *b2 = &m->bnd[(st + i + 1) % nb];
+    /* boundary edge ib = (st + i) mod nb and its successor, without a division per edge */
+    for (int32_t i = 0, ib = st < nb ? st : 0; i < n; i++, ib = (ib + 1 == nb) ? 0 : ib + 1) {
+        const mesh_bedge *b = &m->bnd[ib];
+        const mesh_bedge *b2 = &m->bnd[(ib + 1 == nb) ? 0 : ib + 1];
         if (b->dest != b2->org && !(s >= 0 && i == n - 1))
             MESH_BUG("cavity boundary not a cycle (%d -> %d, %d)", b->org, b->dest, b2->org);
         int32_t t = m->newt[i];

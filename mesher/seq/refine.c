@@ -195,7 +195,7 @@ static void make_room(mesh *m, qstack *q) {
     }
 }
 
-static void push_bad(mesh *m, int32_t t) {
+MESH_RULES_INLINE void push_bad(mesh *m, int32_t t) {
     mesh_refine_state *r = m->rf;
     double l2;
     if (!quality(m, &r->R, t, &l2, NULL)) return;
