@@ -416,15 +416,18 @@ void mesh_cavity_commit(mesh *m, int32_t v, int32_t su, int32_t sv) {
         }
         m->tf[t] = f;
         if (m->treg) m->treg[t] = b->reg;
-        if (b->org >= 0) m->vtri[b->org] = t;
-        if (b->dest >= 0) m->vtri[b->dest] = t; /* the chain's last vertex is no origin */
+        if (b->org >= 0) m->vtri[b->org] = t; /* each dest is the next edge's origin ... */
+    }
+    if (n > 0) { /* ... but the last one's in a split cavity's open chain */
+        const mesh_bedge *bl = &m->bnd[(st + n - 1) % nb];
+        if (bl->dest >= 0) m->vtri[bl->dest] = m->newt[n - 1];
     }
     for (int32_t i = 0; i < n; i++) {
         int32_t t = m->newt[i];
         if (s >= 0 && i == n - 1) {
             m->tn[3 * t + 1] = -1;
         } else {
-            int32_t t2 = m->newt[(i + 1) % n];
+            int32_t t2 = m->newt[i + 1 < n ? i + 1 : 0];
             m->tn[3 * t + 1] = 3 * t2 + 2;
             m->tn[3 * t2 + 2] = 3 * t + 1;
         }
