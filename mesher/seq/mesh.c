@@ -94,26 +94,34 @@ int32_t mesh_vert_add(mesh *m, double x, double y, int32_t vseg) {
     return v;
 }
 
-int32_t mesh_tri_new(mesh *m) {
+/* The triangle arrays' growth (doubling), out of line: rare, and it kept tri_new from being
+ * inlined into the cavity's commit. */
+static void tri_grow(mesh *m) {
+    int32_t cap = m->tcap ? m->tcap * 2 : 256;
+    m->tv = mesh_xrealloc(m->tv, 3 * (size_t)cap, sizeof(int32_t));
+    m->tn = mesh_xrealloc(m->tn, 3 * (size_t)cap, sizeof(int32_t));
+    m->tf = mesh_xrealloc(m->tf, cap, 1);
+    if (m->treg) m->treg = mesh_xrealloc(m->treg, cap, sizeof(int32_t));
+    m->tcap = cap;
+}
+
+static inline int32_t tri_new(mesh *m) {
     int32_t t;
     if (m->free_head >= 0) {
         t = m->free_head;
         m->free_head = m->tn[3 * t];
     } else {
-        if (m->nt == m->tcap) {
-            int32_t cap = m->tcap ? m->tcap * 2 : 256;
-            m->tv = mesh_xrealloc(m->tv, 3 * (size_t)cap, sizeof(int32_t));
-            m->tn = mesh_xrealloc(m->tn, 3 * (size_t)cap, sizeof(int32_t));
-            m->tf = mesh_xrealloc(m->tf, cap, 1);
-            if (m->treg) m->treg = mesh_xrealloc(m->treg, cap, sizeof(int32_t));
-            m->tcap = cap;
-        }
+        if (m->nt == m->tcap) tri_grow(m);
         t = m->nt++;
     }
     m->tf[t] = 0;
     if (m->treg) m->treg[t] = -1;
     m->nlive++;
     return t;
+}
+
+int32_t mesh_tri_new(mesh *m) {
+    return tri_new(m);
 }
 
 void mesh_tri_kill(mesh *m, int32_t t) {
@@ -228,15 +236,16 @@ int32_t mesh_walk(mesh *m, const double p[2], int32_t t, int avoid, int32_t *blo
             bits = mesh_rand(m);
             nbits = 32;
         }
-        int j0 = (int)((bits & 3) % 3);
+        static const uint8_t mod3[5] = {0, 1, 2, 0, 1}; /* x % 3 for x < 5: no division */
+        int j0 = mod3[bits & 3];
         bits >>= 2;
         nbits--;
         int32_t next = -1, cons = -1;
         for (int i = 0; i < 3; i++) {
-            int j = (j0 + i) % 3;
+            int j = mod3[j0 + i];
             int32_t e = 3 * t + j;
             if (e == from) continue;
-            const double *a = m->xy + 2 * v[j], *b = m->xy + 2 * v[(j + 1) % 3];
+            const double *a = m->xy + 2 * v[j], *b = m->xy + 2 * v[mod3[j + 1]];
             if (geom_orient2d_inline(a, b, p) < 0) {
                 if (m->tn[e] < 0 || (avoid && mesh_edge_constrained(m, e))) {
                     if (cons < 0) cons = e;
@@ -256,7 +265,7 @@ int32_t mesh_walk(mesh *m, const double p[2], int32_t t, int avoid, int32_t *blo
             return t;
         }
         from = m->tn[next];
-        t = from / 3;
+        t = (int32_t)((uint32_t)from / 3u); /* from >= 0 */
     }
 }
 
@@ -353,7 +362,7 @@ int mesh_cavity_collect(mesh *m, const double p[2], int32_t t0, int32_t split_e,
         b->twin = nb;
         b->cons = (uint8_t)mesh_edge_constrained(m, e);
         b->split = (uint8_t)(e == split_e);
-        b->reg = m->treg ? m->treg[e / 3] : -1;
+        b->reg = m->treg ? m->treg[(uint32_t)e / 3u] : -1;
         /* remember the inner edge code in the stack array's slot: reuse twin for star check */
         if (!b->split && b->org >= 0 && b->dest >= 0 &&
             geom_orient2d_inline(m->xy + 2 * b->org, m->xy + 2 * b->dest, p) <= 0) {
@@ -390,7 +399,7 @@ void mesh_cavity_commit(mesh *m, int32_t v, int32_t su, int32_t sv) {
             t = m->cav[i];
             m->tf[t] = 0;
         } else {
-            t = mesh_tri_new(m);
+            t = tri_new(m);
         }
         push_i32(&m->newt, &m->nnewt, &m->newtcap, t);
     }
