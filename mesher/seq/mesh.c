@@ -222,8 +222,8 @@ int32_t mesh_walk(mesh *m, const double p[2], int32_t t, int avoid, int32_t *blo
             return r;
         }
         const int32_t *v = m->tv + 3 * (size_t)t;
-        int g = mesh_ghost_index(m, t);
-        if (g >= 0) {
+        if ((v[0] | v[1] | v[2]) < 0) { /* a ghost (live: the only negative vertex id) */
+            int g = mesh_ghost_index(m, t);
             int32_t fe = 3 * t + (g + 1) % 3;
             const double *a = m->xy + 2 * m->tv[fe], *b = m->xy + 2 * mesh_dest(m, fe);
             double o = geom_orient2d(a, b, p);
@@ -286,8 +286,9 @@ int32_t mesh_locate(mesh *m, const double p[2], int32_t hint) {
 
 static int in_conflict(const mesh *m, int32_t t, const double p[2]) {
     const int32_t *v = m->tv + 3 * (size_t)t;
-    int g = mesh_ghost_index(m, t);
-    if (g >= 0) {
+    /* a live triangle's vertices are >= 0 but the ghost (-1): one sign test for the three */
+    if ((v[0] | v[1] | v[2]) < 0) {
+        int g = mesh_ghost_index(m, t);
         const double *a = m->xy + 2 * v[(g + 1) % 3], *b = m->xy + 2 * v[(g + 2) % 3];
         double o = geom_orient2d(a, b, p);
         return o > 0 || (o == 0 && collinear_strictly_between(a, b, p));
