@@ -259,7 +259,7 @@ static int mul2x2(const double *x, const double *y, double *h) {
 /* ---- orient2d ---------------------------------------------------------------------------- */
 
 GEOM_NOINLINE double geom_orient2d_adapt(const double a[2], const double b[2], const double c[2],
-                                           double detsum) {
+                                         double detsum) {
     double acx = a[0] - c[0], bcx = b[0] - c[0];
     double acy = a[1] - c[1], bcy = b[1] - c[1];
     double l[2], r[2], bb[4], det, errbound;
@@ -358,7 +358,7 @@ static int incircle_term_exact(const double *dx, const double *dy, const double 
 }
 
 GEOM_NOINLINE double geom_incircle_adapt(const double a[2], const double b[2], const double c[2],
-                                           const double d[2], double permanent) {
+                                         const double d[2], double permanent) {
     double adx = a[0] - d[0], bdx = b[0] - d[0], cdx = c[0] - d[0];
     double ady = a[1] - d[1], bdy = b[1] - d[1], cdy = c[1] - d[1];
     double ta[32], tb[32], tc[32], ab[64], fin[96], det, errbound;
