@@ -53,7 +53,6 @@ static const double result_bound = (3.0 + 8.0 * EPS) * EPS;
 static const double ccw_bound_a = GEOM_CCW_BOUND_A;
 static const double ccw_bound_b = (2.0 + 12.0 * EPS) * EPS;
 static const double ccw_bound_c = (9.0 + 64.0 * EPS) * EPS * EPS;
-static const double icc_bound_a = GEOM_ICC_BOUND_A;
 static const double icc_bound_b = (4.0 + 48.0 * EPS) * EPS;
 static const double icc_bound_c = (44.0 + 576.0 * EPS) * EPS * EPS;
 
