@@ -498,12 +498,7 @@ double geom_min_angle_deg(const double a[2], const double b[2], const double c[2
     return geom_angle_deg(a, c, b);
 }
 
-double geom_dist2(const double a[2], const double b[2]) {
-    double dx = b[0] - a[0], dy = b[1] - a[1];
-    return dx * dx + dy * dy;
-}
-
-int geom_working_point(double p[2]) {
+int geom_working_point_slow(double p[2]) {
     for (int k = 0; k < 2; k++) {
         if (!(fabs(p[k]) <= GEOM_WORK_MAX)) return -1; /* also NaN */
         if (fabs(p[k]) < 0x1p-147) p[k] = ldexp(nearbyint(ldexp(p[k], 200)), -200);

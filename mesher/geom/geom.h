@@ -32,7 +32,15 @@
  * of magnitude below 2^-147 is rounded to the nearest multiple of 2^-200 (a no-op for every
  * other double).  Returns 0, or -1 if p is not finite or farther than GEOM_WORK_MAX from the
  * origin on either axis (the point is then unusable). */
-int geom_working_point(double p[2]);
+int geom_working_point_slow(double p[2]); /* the whole test, out of line */
+static inline int geom_working_point(double p[2]) {
+    /* both coordinates' magnitudes in [2^-147, GEOM_WORK_MAX] (the common case): nothing to do
+     * (zero, NaN and the rest take the whole test) */
+    if (fabs(p[0]) >= 0x1p-147 && fabs(p[0]) <= GEOM_WORK_MAX && fabs(p[1]) >= 0x1p-147 &&
+        fabs(p[1]) <= GEOM_WORK_MAX)
+        return 0;
+    return geom_working_point_slow(p);
+}
 
 /* Computes the machine constants of the filters.  Idempotent; call once before anything
  * else (the mesher and the programs do). */
@@ -121,7 +129,10 @@ double geom_min_angle_deg(const double a[2], const double b[2], const double c[2
 /* Angle at vertex b between rays b->a and b->c, in degrees in [0, 180] (rounded). */
 double geom_angle_deg(const double a[2], const double b[2], const double c[2]);
 
-/* Squared length of ab. */
-double geom_dist2(const double a[2], const double b[2]);
+/* Squared length of ab (inline: on every Steiner point's path). */
+static inline double geom_dist2(const double a[2], const double b[2]) {
+    double dx = b[0] - a[0], dy = b[1] - a[1];
+    return dx * dx + dy * dy;
+}
 
 #endif
