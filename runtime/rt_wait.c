@@ -37,6 +37,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/eventfd.h>
+#include <sys/prctl.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <time.h>
@@ -47,6 +48,8 @@
 /* Open MPI reads its sockets in the event loop that opal_progress runs on every 8th call:
  * after a wake-up the scheduler polls MPI this many times without waiting. */
 #define SPIN_AFTER_WAKE 16
+/* timer slack of the long wait (see above): at least one scheduler tick (4 ms at HZ=250) */
+#define RT_WAIT_SLACK_NS 4000000ul
 
 static bool wanted(void) {
     const char *e = getenv("RT_SOCKET_WAIT");
@@ -55,8 +58,28 @@ static bool wanted(void) {
     return n && l && atoi(l) < atoi(n);
 }
 
+/* Every peer is reached through TCP sockets: Open MPI's ob1 layer asked for (mpirun --mca pml
+ * ob1 sets OMPI_MCA_pml) with the transports listed (--mca btl) and all of them tcp or self.
+ * Then every message from another rank makes a socket readable; otherwise (shared memory
+ * between the ranks of a host, InfiniBand, a layer Open MPI chose) some arrive unseen. */
+static bool sockets_only(void) {
+    const char *pml = getenv("OMPI_MCA_pml"), *btl = getenv("OMPI_MCA_btl");
+    if (!pml || strcmp(pml, "ob1") != 0 || !btl || !*btl) return false;
+    for (const char *b = btl; *b;) {
+        size_t n = strcspn(b, ",");
+        if (!((n == 3 && strncmp(b, "tcp", 3) == 0) || (n == 4 && strncmp(b, "self", 4) == 0)))
+            return false;
+        b += n;
+        if (*b == ',') b++;
+    }
+    return true;
+}
+
 void rt_wait_init(void) {
     rt_g.wt.on = wanted();
+    rt_g.wt.only = rt_g.wt.on && sockets_only();
+    int slack = prctl(PR_GET_TIMERSLACK, 0, 0, 0, 0);
+    rt_g.wt.slack0 = slack > 0 ? (unsigned long)slack : 0; /* 0: the thread's default */
     rt_g.wt.wake_fd = -1;
     rt_g.wt.nsock = 0;
     rt_g.wt.scanned = -1;
@@ -114,7 +137,7 @@ static void scan(void) {
     closedir(d);
 }
 
-bool rt_wait_sockets(uint64_t ns) {
+bool rt_wait_sockets(uint64_t ns, uint64_t long_ns) {
     if (!rt_g.wt.on) return false;
     double now = rt_wtime();
     if (rt_g.wt.scanned < 0 || now - rt_g.wt.scanned > RESCAN_S) {
@@ -131,6 +154,10 @@ bool rt_wait_sockets(uint64_t ns) {
         rt_g.wt.spin--;
         return true;
     }
+    /* Only time can bring what the sockets do not announce: with every message on them and
+     * no send of ours waiting for room on one (it would need POLLOUT), wait longer. */
+    bool lazy = rt_g.wt.only && rt_g.nreq == 0 && long_ns > ns;
+    if (lazy) ns = long_ns;
     struct pollfd p[RT_WAIT_MAXSOCK + 1];
     int n = 0;
     for (int i = 0; i < rt_g.wt.nsock; i++)
@@ -139,7 +166,11 @@ bool rt_wait_sockets(uint64_t ns) {
     struct timespec ts = {(time_t)(ns / 1000000000u), (long)(ns % 1000000000u)};
     atomic_store(&rt_g.wt.polling, 1);
     int r = 0;
-    if (atomic_load(&rt_g.wposted) == 0) r = ppoll(p, (nfds_t)n, &ts, NULL);
+    if (atomic_load(&rt_g.wposted) == 0) {
+        if (lazy) prctl(PR_SET_TIMERSLACK, RT_WAIT_SLACK_NS);
+        r = ppoll(p, (nfds_t)n, &ts, NULL);
+        if (lazy) prctl(PR_SET_TIMERSLACK, rt_g.wt.slack0);
+    }
     atomic_store(&rt_g.wt.polling, 0);
     if (rt_g.wt.wake_fd >= 0 && (p[n - 1].revents & POLLIN)) {
         uint64_t v;
