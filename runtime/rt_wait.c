@@ -10,22 +10,37 @@
  * reaches other ranks through TCP sockets (the TCP BTL), the idle wait is a ppoll(2) on those
  * sockets (connected AF_INET/AF_INET6 stream sockets of this process, found in /proc/self/fd
  * and looked up again every RESCAN_S) and on an eventfd that worker threads write when they
- * hand work to the main thread, with the backoff as timeout: an arriving message wakes the
- * rank at once, like a blocking read (make bench-hosts: null RSR 37.6/44.4 us best/median
- * against TCP 15.5/16.7 us, 136/153 us with the timed sleep, in one run).  ppoll only watches; Open
- * MPI still reads the sockets when the scheduler next calls MPI -- Open MPI 4.1 runs its event loop
- * (which reads them) on one opal_progress call in eight, so after a wake-up the scheduler polls MPI
- * SPIN_AFTER_WAKE times before it waits again.
+ * hand work to the main thread: an arriving message wakes the rank at once, like a blocking
+ * read.  ppoll only watches; Open MPI reads the sockets when the scheduler next calls MPI (its
+ * event loop; after a wake-up that finds nothing the scheduler polls MPI SPIN_AFTER_WAKE times
+ * before it waits again, as Open MPI may run that loop on only one progress call in eight).
+ *
+ * The timeout.  With the backoff (2 us to 1 ms) as timeout, most waits arm a timer that
+ * expires before the kernel's next tick, so entering the wait reprograms the CPU's timer and
+ * leaving it early (the message came first) reprograms it back; in a virtual machine each is
+ * a trap to the hypervisor.  Measured with two processes on one core over veth, 1-byte round
+ * trip, median of 3 runs' median trials: ppoll on the socket then read, 27.6 us with a 1 ms
+ * timeout, 18.2 us with 10 ms, 18.3 us with 1 ms and 4 ms of timer slack; a blocking read
+ * 16.1 us.  In the null RSR the step from one rank entering its wait to the other leaving
+ * its own took 10 us with the backoff, 3.4 us with the lazy timer.  So when every message
+ * arrives on a socket -- Open MPI's ob1 layer over the tcp and self transports only, asked
+ * for with mpirun --mca pml ob1 --mca btl tcp,self (sockets_only) -- and no send of ours
+ * waits for room on a socket, the timeout is only a safety net: the caller's long_ns (1 ms,
+ * or the rest of rank 0's wave delay) with RT_WAIT_SLACK_NS of timer slack, so the kernel
+ * fires it with its tick instead of a timer of its own.  Otherwise (shared memory between the
+ * ranks of a host, InfiniBand: messages that wake no socket) the backoff stays the timeout.
+ * RT_WAIT_LAZY=0 keeps the backoff in every case.
  *
  * Used when the job spans hosts (Open MPI's OMPI_COMM_WORLD_LOCAL_SIZE below
  * OMPI_COMM_WORLD_SIZE) or when RT_SOCKET_WAIT=1; RT_SOCKET_WAIT=0 turns it off.  Without
  * sockets (shared memory on one host) the timed condition-variable wait of rt_worker.c stays.
- * Invariants: the main thread never sleeps past its backoff; a worker's hand-over is never
- * missed (the main thread announces main_polling before it checks wposted, a worker bumps
- * wposted before it checks main_polling, both sequentially consistent, so one of them sees the
- * other); a socket that stays readable while MPI finds nothing (data for another layer, or a
- * closed peer) cannot make the rank spin: after MAX_IDLE_WAKES such wake-ups in a row the
- * sockets are ignored until the next rescan.
+ * Invariants: the main thread never sleeps past its backoff, or past long_ns plus the slack
+ * in the long wait (and the slack is the thread's own again outside that ppoll); a worker's
+ * hand-over is never missed (the main thread announces main_polling before it checks
+ * wposted, a worker bumps wposted before it checks main_polling, both sequentially
+ * consistent, so one of them sees the other); a socket that stays readable while MPI finds
+ * nothing (data for another layer, or a closed peer) cannot make the rank spin: after
+ * MAX_IDLE_WAKES such wake-ups in a row the sockets are ignored until the next rescan.
  */
 #define _GNU_SOURCE /* ppoll */
 #include "rt_internal.h"
@@ -63,6 +78,8 @@ static bool wanted(void) {
  * Then every message from another rank makes a socket readable; otherwise (shared memory
  * between the ranks of a host, InfiniBand, a layer Open MPI chose) some arrive unseen. */
 static bool sockets_only(void) {
+    const char *lazy = getenv("RT_WAIT_LAZY");
+    if (lazy && *lazy == '0') return false;
     const char *pml = getenv("OMPI_MCA_pml"), *btl = getenv("OMPI_MCA_btl");
     if (!pml || strcmp(pml, "ob1") != 0 || !btl || !*btl) return false;
     for (const char *b = btl; *b;) {
