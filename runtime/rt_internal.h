@@ -304,14 +304,19 @@ typedef struct rt_waitst {
     int wake_fd;          /* eventfd written by workers while the main thread polls; -1 none */
     int nsock;            /* connected TCP sockets found by the last scan */
     int sock[RT_WAIT_MAXSOCK];
-    double scanned;      /* rt_wtime of the last scan, -1 never */
-    int idle_wakes;      /* wake-ups in a row with no RSR received */
-    int spin;            /* polls of MPI left before the next wait (after a wake-up) */
-    uint64_t recvd_seen; /* rt_g.recvd at the last wait */
-    _Atomic int polling; /* the main thread is in (or about to enter) ppoll */
+    bool listening[RT_WAIT_MAXSOCK]; /* sock[i] listens: readable when a peer connects */
+    unsigned char *talked;           /* [rank] this rank has sent to it; NULL when not on */
+    double scanned;                  /* rt_wtime of the last scan, -1 never */
+    int idle_wakes;                  /* wake-ups in a row with no RSR received */
+    int spin;                        /* polls of MPI left before the next wait (after a wake-up) */
+    uint64_t recvd_seen;             /* rt_g.recvd at the last wait */
+    _Atomic int polling;             /* the main thread is in (or about to enter) ppoll */
 } rt_waitst;
 void rt_wait_init(void); /* after the workers started */
 void rt_wait_fini(void);
+/* Main thread, sending to dest: the first time, the socket set is looked up again at the next
+ * wait (the transport connects on a first send). */
+void rt_wait_sent_to(int dest);
 /* Worker, after handing an item to the main thread: wakes it if it polls the sockets. */
 void rt_wait_wake(void);
 /* Main thread: waits on the sockets and the workers' eventfd, up to ns, or up to long_ns when

@@ -98,6 +98,11 @@ void rt_wait_init(void) {
     int slack = prctl(PR_GET_TIMERSLACK, 0, 0, 0, 0);
     rt_g.wt.slack0 = slack > 0 ? (unsigned long)slack : 0; /* 0: the thread's default */
     rt_g.wt.wake_fd = -1;
+    rt_g.wt.talked = NULL;
+    if (rt_g.wt.on) {
+        rt_g.wt.talked = rt_xmalloc((size_t)rt_g.size);
+        memset(rt_g.wt.talked, 0, (size_t)rt_g.size);
+    }
     rt_g.wt.nsock = 0;
     rt_g.wt.scanned = -1;
     rt_g.wt.idle_wakes = 0;
@@ -109,7 +114,15 @@ void rt_wait_init(void) {
     }
 }
 
+void rt_wait_sent_to(int dest) {
+    if (!rt_g.wt.talked || rt_g.wt.talked[dest]) return;
+    rt_g.wt.talked[dest] = 1;
+    rt_g.wt.scanned = -1; /* Open MPI opens its connection to dest on the first send */
+}
+
 void rt_wait_fini(void) {
+    rt_xfree(rt_g.wt.talked);
+    rt_g.wt.talked = NULL;
     if (rt_g.wt.wake_fd >= 0) close(rt_g.wt.wake_fd);
     rt_g.wt.wake_fd = -1;
     rt_g.wt.on = false;
@@ -123,7 +136,8 @@ void rt_wait_wake(void) {
     }
 }
 
-/* Connected TCP sockets of this process: what Open MPI's TCP transport reads. */
+/* TCP sockets of this process: the connected ones are what Open MPI's TCP transport reads, a
+ * listening one becomes readable when a peer connects (its first message to this rank). */
 static void scan(void) {
     rt_g.wt.nsock = 0;
     rt_g.wt.idle_wakes = 0;
@@ -142,13 +156,13 @@ static void scan(void) {
         if (getsockopt((int)fd, SOL_SOCKET, SO_TYPE, &type, &len) != 0 || type != SOCK_STREAM)
             continue;
         len = sizeof listening;
-        if (getsockopt((int)fd, SOL_SOCKET, SO_ACCEPTCONN, &listening, &len) != 0 || listening)
-            continue;
+        if (getsockopt((int)fd, SOL_SOCKET, SO_ACCEPTCONN, &listening, &len) != 0) continue;
         struct sockaddr_storage a;
         len = sizeof a;
         if (getsockname((int)fd, (struct sockaddr *)&a, &len) != 0 ||
             (a.ss_family != AF_INET && a.ss_family != AF_INET6))
             continue;
+        rt_g.wt.listening[rt_g.wt.nsock] = listening != 0;
         rt_g.wt.sock[rt_g.wt.nsock++] = (int)fd;
     }
     closedir(d);
@@ -197,6 +211,9 @@ bool rt_wait_sockets(uint64_t ns, uint64_t long_ns) {
     if (r > 0) {
         rt_g.wt.idle_wakes++;
         rt_g.wt.spin = SPIN_AFTER_WAKE;
+        for (int i = 0; i < rt_g.wt.nsock; i++)
+            if (rt_g.wt.listening[i] && p[i].revents)
+                rt_g.wt.scanned = -1; /* a new connection: watch it from the next wait on */
     }
     if (r < 0 && errno != EINTR) rt_g.wt.on = false; /* fall back for good */
     return true;
