@@ -7,17 +7,17 @@
  * UNTIL the distributed termination detector (rt_term.c) declares that every rank is passive
  * and no RSR is in flight.  A rank with nothing to do backs off exponentially (about 2 us to
  * 1 ms) in a timed condition wait that a finishing worker cuts short, so idle ranks give
- * their core to busy ones; between hosts it waits on the transport's sockets instead, which
- * an arriving message also cuts short (rt_wait.c).  Invariants: only the thread that called
- * rt_init calls MPI; every RSR is counted once as sent (when the main thread hands it to the
- * transport) and once as received (when its handler has returned); a rank is quiescent only
- * when no ready task, local work, buffered or held RSR, or threaded handler remains, and
- * passive when it is quiescent with no blocked task; quiescent ranks pass the termination
- * token; rt_run returns on no rank before every rank has seen the termination decision (a
- * closing barrier), so the RSRs of the next phase are never handled inside this one.  When
- * the detector finds every rank quiescent, nothing in flight and tasks still blocked, no
- * reply can come any more: every rank prints its blocking queue (rt_blocked_dump) and, after
- * a barrier (so that every rank's report is out), fails through RT_FATAL.
+ * their core to busy ones (between hosts a wait on the sockets, rt_wait.c, that a message
+ * also cuts short).  Invariants: only the thread that called rt_init calls MPI; every
+ * RSR is counted once as sent (when the main thread hands it to the transport) and once as
+ * received (when its handler has returned); a rank is quiescent only when no ready task,
+ * local work, buffered or held RSR, or threaded handler remains, and passive when it is
+ * quiescent with no blocked task; quiescent ranks pass the termination token; rt_run
+ * returns on no rank before every rank has seen the termination decision (a closing
+ * barrier), so the RSRs of the next phase are never handled inside this one.  When the
+ * detector finds every rank quiescent, nothing in flight and tasks still blocked, no reply
+ * can come any more: every rank prints its blocking queue (rt_blocked_dump) and, after a
+ * barrier (so that every rank's report is out), fails through RT_FATAL.
  */
 #include "rt_internal.h"
 
