@@ -302,7 +302,7 @@ typedef struct rt_waitst {
     bool only;            /* every peer is reached through TCP sockets (pml ob1, btl tcp,self) */
     unsigned long slack0; /* the main thread's timer slack outside the long wait */
     int wake_fd;          /* eventfd written by workers while the main thread polls; -1 none */
-    int nsock;            /* connected TCP sockets found by the last scan */
+    int nsock;            /* TCP sockets found by the last scan (connected, listening) */
     int sock[RT_WAIT_MAXSOCK];
     bool listening[RT_WAIT_MAXSOCK]; /* sock[i] listens: readable when a peer connects */
     unsigned char *talked;           /* [rank] this rank has sent to it; NULL when not on */
