@@ -5,18 +5,20 @@
 #     TCP connection (build/bench/tcp_rtt), the runtime's null RSR and a raw MPI ping-pong (0
 #     bytes, blocking MPI_Send/MPI_Recv) in one run of build/bench/rsr_rtt (Open MPI: pml ob1,
 #     btl tcp,self), and the null RSR again with the runtime's socket wait off
-#     (RT_SOCKET_WAIT=0: the timed idle sleep it uses on one host), and the raw MPI ping-pong
-#     again with --mca mpi_yield_when_idle 1 (its blocking calls yield the CPU when they find
-#     nothing: Open MPI's own floor on a shared machine).  Each figure is the median
+#     (RT_SOCKET_WAIT=0: the timed idle sleep it uses on one host) and with the growing backoff
+#     as the socket wait's timeout (RT_WAIT_LAZY=0, see runtime/rt_wait.c), and the raw MPI
+#     ping-pong again with --mca mpi_yield_when_idle 1 (its blocking calls yield the CPU when
+#     they find nothing: Open MPI's own floor on a shared machine).  Each figure is the median
 #     over the rounds of each run's median trial (and of its best trial);
 #  2. the RSR counts of Tables 2 and 3 (./pcdm and ./pbw on DOMAIN at about 43K triangles,
 #     -q 20.7, imbalance 1 and 2) at 3 hosts x 1 and 3 hosts x 2 ranks beside the same rank
 #     counts on one host (shared memory), REPS runs each, medians.
 # Prints the tables and last the summary line
 #   bench-hosts: tcp_rtt_us=T rsr_rtt_us=R mpi_rtt_us=M mpi_yield_rtt_us=Y rsr_sleep_rtt_us=S
-#                ratio_rsr_tcp=X
+#                rsr_backoff_rtt_us=K ratio_rsr_tcp=X
 # (medians; the goal is ratio_rsr_tcp <= 2).  Env: ROUNDS (default 5), REPS (default 3),
-# DOMAIN (data/lake.poly), AREA (default 0.000077, about 43K triangles on the lake), B (build).
+# DOMAIN (data/lake.poly), AREA (default 0.000077, about 43K triangles on the lake), B (build),
+# TABLES=0 (round trips only).
 set -u
 cd "$(dirname "$0")/.."
 B=${B:-build}
@@ -60,10 +62,13 @@ for r in $(seq 1 "$ROUNDS"); do
     out=$(on_host h1 timeout 60 "$B/bench/tcp_rtt" ping 10.231.0.2 7000 2>&1)
     wait $sp
     echo "tcp $(printf '%s\n' "$out" | field best_us) $(printf '%s\n' "$out" | field median_us)" >>"$W/rtt"
-    for sw in 1 0 yield; do
+    for sw in 1 0 backoff yield; do
         if [ $sw = yield ]; then # Open MPI's blocking calls yield the CPU when they find nothing
             out=$(mpirun_hosts "$W/hostfile2" 120 --mca mpi_yield_when_idle 1 -np 2 --map-by node \
                 "$B/bench/rsr_rtt" 2>&1)
+        elif [ $sw = backoff ]; then # the socket wait with the backoff as its timeout
+            out=$(mpirun_hosts "$W/hostfile2" 120 -x RT_SOCKET_WAIT=1 -x RT_WAIT_LAZY=0 -np 2 \
+                --map-by node "$B/bench/rsr_rtt" 2>&1)
         else
             out=$(mpirun_hosts "$W/hostfile2" 120 -x RT_SOCKET_WAIT=$sw -np 2 --map-by node \
                 "$B/bench/rsr_rtt" 2>&1)
@@ -78,6 +83,8 @@ for r in $(seq 1 "$ROUNDS"); do
             echo "mpi $(printf '%s\n' "$line" | field mpi_best_us) $(printf '%s\n' "$line" | field mpi_median_us)" >>"$W/rtt"
         elif [ $sw = 0 ]; then
             echo "sleep $(printf '%s\n' "$line" | field rsr_best_us) $(printf '%s\n' "$line" | field rsr_median_us)" >>"$W/rtt"
+        elif [ $sw = backoff ]; then
+            echo "backoff $(printf '%s\n' "$line" | field rsr_best_us) $(printf '%s\n' "$line" | field rsr_median_us)" >>"$W/rtt"
         else
             echo "mpiy $(printf '%s\n' "$line" | field mpi_best_us) $(printf '%s\n' "$line" | field mpi_median_us)" >>"$W/rtt"
         fi
@@ -87,6 +94,7 @@ col() { awk -v k="$1" -v c="$2" '$1 == k {print $c}' "$W/rtt" | median; }
 printf '%-58s %12s %12s\n' "round trip, microseconds (median over rounds)" "best trial" "median trial"
 printf '%-58s %12s %12s\n' "raw TCP, 1 byte, TCP_NODELAY, blocking read" "$(col tcp 2)" "$(col tcp 3)"
 printf '%-58s %12s %12s\n' "runtime null RSR (idle wait on the sockets)" "$(col rsr 2)" "$(col rsr 3)"
+printf '%-58s %12s %12s\n' "runtime null RSR, RT_WAIT_LAZY=0 (backoff as the timeout)" "$(col backoff 2)" "$(col backoff 3)"
 printf '%-58s %12s %12s\n' "runtime null RSR, RT_SOCKET_WAIT=0 (timed idle sleep)" "$(col sleep 2)" "$(col sleep 3)"
 printf '%-58s %12s %12s\n' "raw MPI, 0 bytes, blocking MPI_Send/MPI_Recv (busy poll)" "$(col mpi 2)" "$(col mpi 3)"
 printf '%-58s %12s %12s\n' "raw MPI, the same, --mca mpi_yield_when_idle 1" "$(col mpiy 2)" "$(col mpiy 3)"
@@ -99,7 +107,9 @@ echo "machine load (1-minute average) at the end of the round trips: $(cut -d' '
 echo
 echo "bench-hosts: Tables 2/3 RSR counts, $DOMAIN -q 20.7 -a $AREA, median of $REPS runs"
 printf '%-5s %-4s %-9s %-10s %10s %10s %10s %10s\n' prog imb ranks where triangles rsr mpi_msgs wall_s
-for imb in 1 2; do
+imbs="1 2"
+[ "${TABLES:-1}" = 0 ] && imbs="" && echo "(skipped: TABLES=0)"
+for imb in $imbs; do
     imbargs=""
     [ $imb != 1 ] && imbargs="--imbalance $imb"
     for prog in pcdm pbw; do
@@ -132,5 +142,5 @@ for imb in 1 2; do
         done
     done
 done
-echo "bench-hosts: tcp_rtt_us=$(col tcp 3) rsr_rtt_us=$(col rsr 3) mpi_rtt_us=$(col mpi 3) mpi_yield_rtt_us=$(col mpiy 3) rsr_sleep_rtt_us=$(col sleep 3) ratio_rsr_tcp=$ratio"
+echo "bench-hosts: tcp_rtt_us=$(col tcp 3) rsr_rtt_us=$(col rsr 3) mpi_rtt_us=$(col mpi 3) mpi_yield_rtt_us=$(col mpiy 3) rsr_sleep_rtt_us=$(col sleep 3) rsr_backoff_rtt_us=$(col backoff 3) ratio_rsr_tcp=$ratio"
 exit $failed

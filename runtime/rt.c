@@ -7,7 +7,8 @@
  * UNTIL the distributed termination detector (rt_term.c) declares that every rank is passive
  * and no RSR is in flight.  A rank with nothing to do backs off exponentially (about 2 us to
  * 1 ms) in a timed condition wait that a finishing worker cuts short, so idle ranks give
- * their core to busy ones.  Invariants: only the thread that called rt_init calls MPI; every
+ * their core to busy ones (between hosts a wait on the sockets, rt_wait.c, that a message
+ * also cuts short).  Invariants: only the thread that called rt_init calls MPI; every
  * RSR is counted once as sent (when the main thread hands it to the transport) and once as
  * received (when its handler has returned); a rank is quiescent only when no ready task,
  * local work, buffered or held RSR, or threaded handler remains, and passive when it is
@@ -610,12 +611,20 @@ int rt_run(rt_work_fn work, void *ctx) {
             sched_yield(); /* held messages are released by iterations, not by time */
         } else {
             RT_COMM_LAP();
-            uint64_t ns = backoff;
+            /* ns: the growing backoff; long_ns: the wait when every message wakes the rank
+             * (rt_wait.c: a lazy timer), bounded by the end of rank 0's wave delay; none
+             * while the network model holds a message (its deliveries are timed) */
+            uint64_t ns = backoff, long_ns = rt_g.cfg.idle_max_ns;
             if (rt_g.net.nheld) { /* not past the network model's next delivery */
                 double w = rt_net_wait(&rt_g.net, lap) * 1e9;
                 if (w < (double)ns) ns = (uint64_t)w;
+                long_ns = 0;
             }
-            if (ns > 0) rt_workers_idle_wait(ns);
+            if (qui && rt_g.term.have_token) {
+                double w = (wave_delay - (lap - idle_since)) * 1e9;
+                if (w < (double)long_ns) long_ns = w > 0 ? (uint64_t)w : 0;
+            }
+            if (ns > 0) rt_workers_idle_wait(ns, long_ns);
             backoff = backoff * 2 > rt_g.cfg.idle_max_ns ? rt_g.cfg.idle_max_ns : backoff * 2;
         }
         RT_LAP(RT_TIME_IDLE);
@@ -633,7 +642,7 @@ int rt_run(rt_work_fn work, void *ctx) {
         if (rt_g.cfg.idle_spin) {
             sched_yield();
         } else {
-            rt_workers_idle_wait(backoff);
+            rt_workers_idle_wait(backoff, 0);
             backoff = backoff * 2 > rt_g.cfg.idle_max_ns ? rt_g.cfg.idle_max_ns : backoff * 2;
         }
     }

@@ -197,6 +197,7 @@ static void sendbuf_post(rt_sendbuf *sb, int tag) {
     RT_MPI(MPI_Isend(sb->buf, (int)sb->used, MPI_BYTE, sb->dest, tag, rt_g.comm,
                      &rt_g.reqs[rt_g.nreq]));
     rt_g.reqbuf[rt_g.nreq++] = sb;
+    rt_wait_sent_to(sb->dest);
     rt_g.st.mpi_sent++;
     rt_g.st.mpi_bytes_sent += sb->used;
 }

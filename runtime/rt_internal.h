@@ -290,30 +290,39 @@ void rt_workers_submit(rt_item *it); /* main thread: run a threaded handler */
 /* Main thread: moves RSRs sent by workers and finished jobs out; true if any. */
 bool rt_workers_drain(void);
 /* Main thread: waits up to ns for worker activity (or returns at once if there is some), or,
- * when rt_wait_sockets applies, for a message on the transport's sockets. */
-void rt_workers_idle_wait(uint64_t ns);
+ * when rt_wait_sockets applies, for a message on the transport's sockets (up to long_ns when
+ * every message arrives through them; long_ns <= ns means no such wait). */
+void rt_workers_idle_wait(uint64_t ns, uint64_t long_ns);
 
 /* ---- idle wait on the transport's sockets (rt_wait.c) ------------------------------------ */
 
 #define RT_WAIT_MAXSOCK 256
 typedef struct rt_waitst {
-    bool on;     /* the job spans hosts (or RT_SOCKET_WAIT=1) */
-    int wake_fd; /* eventfd written by workers while the main thread polls; -1 none */
-    int nsock;   /* connected TCP sockets found by the last scan */
+    bool on;              /* the job spans hosts (or RT_SOCKET_WAIT=1) */
+    bool only;            /* every peer is reached through TCP sockets (pml ob1, btl tcp,self) */
+    unsigned long slack0; /* the main thread's timer slack outside the long wait */
+    int wake_fd;          /* eventfd written by workers while the main thread polls; -1 none */
+    int nsock;            /* TCP sockets found by the last scan (connected, listening) */
     int sock[RT_WAIT_MAXSOCK];
-    double scanned;      /* rt_wtime of the last scan, -1 never */
-    int idle_wakes;      /* wake-ups in a row with no RSR received */
-    int spin;            /* polls of MPI left before the next wait (after a wake-up) */
-    uint64_t recvd_seen; /* rt_g.recvd at the last wait */
-    _Atomic int polling; /* the main thread is in (or about to enter) ppoll */
+    bool listening[RT_WAIT_MAXSOCK]; /* sock[i] listens: readable when a peer connects */
+    unsigned char *talked;           /* [rank] this rank has sent to it; NULL when not on */
+    double scanned;                  /* rt_wtime of the last scan, -1 never */
+    int idle_wakes;                  /* wake-ups in a row with no RSR received */
+    int spin;                        /* polls of MPI left before the next wait (after a wake-up) */
+    uint64_t recvd_seen;             /* rt_g.recvd at the last wait */
+    _Atomic int polling;             /* the main thread is in (or about to enter) ppoll */
 } rt_waitst;
 void rt_wait_init(void); /* after the workers started */
 void rt_wait_fini(void);
+/* Main thread, sending to dest: the first time, the socket set is looked up again at the next
+ * wait (the transport connects on a first send). */
+void rt_wait_sent_to(int dest);
 /* Worker, after handing an item to the main thread: wakes it if it polls the sockets. */
 void rt_wait_wake(void);
-/* Main thread: waits up to ns on the sockets and the workers' eventfd; false when this wait
- * does not apply (then the caller waits its own way). */
-bool rt_wait_sockets(uint64_t ns);
+/* Main thread: waits on the sockets and the workers' eventfd, up to ns, or up to long_ns when
+ * every message wakes the wait (rt_waitst.only, no send outstanding); false when this wait
+ * does not apply (then the caller waits its own way, up to ns). */
+bool rt_wait_sockets(uint64_t ns, uint64_t long_ns);
 extern _Thread_local int rt_in_worker;
 
 /* ---- transport (rt_comm.c) --------------------------------------------------------------- */

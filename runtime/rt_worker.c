@@ -163,8 +163,8 @@ bool rt_workers_drain(void) {
     return any;
 }
 
-void rt_workers_idle_wait(uint64_t ns) {
-    if (rt_wait_sockets(ns)) return;
+void rt_workers_idle_wait(uint64_t ns, uint64_t long_ns) {
+    if (rt_wait_sockets(ns, long_ns)) return;
     if (rt_g.nthreads == 0) {
         struct timespec ts = {(time_t)(ns / 1000000000u), (long)(ns % 1000000000u)};
         nanosleep(&ts, NULL);
