@@ -39,9 +39,9 @@
  *   is oversubscribed.  peak_rss_mb: the largest rank's peak RSS after the output;
  *   bytes_per_tri: the ranks' peak RSS summed over the triangles (rank lines: its own over its
  *   own); mesh_bytes_per_tri: the mesh arrays alone.  output_s: the slowest rank's seconds in
- *   numbering, --check and writing.  rounds: --deterministic's rounds; hash: the mesh hash
- *   (pcdm_flat_hash summed over the parts), the same for the same mesh whatever its numbering
- *   and rank count.  endcheck_*: pbw's always-on end check of the Delaunay property.
+ *   numbering, --check and writing.  rounds: the refinement's rounds (0 with --async); hash:
+ *   the mesh hash (pcdm_flat_hash summed over the parts), the same for the same mesh whatever
+ *   its numbering and rank count.  endcheck_*: pbw's always-on end check of the Delaunay property.
  *   net_latency_us, net_MBps: the network model in force (--net, PCDM_NET; 0 0: none).
  */
 #include "run/run.h"
@@ -371,6 +371,19 @@ static int startup(int *argc, char ***argv, run_method method, par_parse_fn pars
     }
     if ((rc = method == RUN_PBW ? pbw_register() : pcdm_register()) != 0) {
         fprintf(stderr, "%s: cannot register the handlers: %s\n", prog, rt_strerror(rc));
+        goto fin;
+    }
+    if (o->async && (o->threads > 1 || par_balance_dynamic(o) || o->deterministic)) {
+        /* every rank parsed the same arguments: all stop */
+        if (rt_rank() == 0)
+            fprintf(stderr,
+                    "%s: --async: the asynchronous protocol refines one mesh per rank on one "
+                    "thread: not with %s\n",
+                    prog,
+                    o->threads > 1           ? "--threads above 1"
+                    : par_balance_dynamic(o) ? "--balance dynamic"
+                                             : "--deterministic");
+        *code = 2;
         goto fin;
     }
     if (o->perturb) rt_perturb_set(o->perturb);
