@@ -746,7 +746,9 @@ fi
 # lake), end to end with -o; goals: meshing (wall_s) <= 0.6x ./mesh's, launch to exit <= 0.65x.
 # Then mpirun -np 1 ./pcdm --threads 2 against mpirun -np 2 ./pcdm (each with its default
 # subdomains), also with -o: wall time (goal: within 10%) and peak memory summed over the ranks
-# (goal: less with threads).  THR_REPS rounds of the four runs (default 2), in alternation;
+# (goal: less with threads); beside them the CPU seconds of ./pcdm --threads 2 over ./mesh's
+# (the work the threads add; on a loaded machine wall times say more about the scheduler than
+# about the programs).  THR_REPS rounds of the four runs (default 2), in alternation;
 # rows: $R/threads.tsv (as output.tsv), and a summary line "bench: threads: ...".  Quick runs and
 # NO_THREADS=1 skip it.
 THR_TSV=$R/threads.tsv
@@ -768,12 +770,14 @@ if [ -z "$QUICK" ] && [ -z "${NO_THREADS:-}" ]; then
         function mem(r,   n, a, i, p, s) { n = split(r, a, ","); s = 0; for (i = 1; i <= n; i++) { split(a[i], p, ":"); s += p[3] } return s }
         function med(v, n,   i, j, t) { for (i = 1; i <= n; i++) for (j = i + 1; j <= n; j++) if (v[j] < v[i]) { t = v[i]; v[i] = v[j]; v[j] = t }
             return n == 0 ? "NA" : n % 2 ? sprintf("%.2f", v[(n + 1) / 2]) : sprintf("%.2f", (v[n / 2] + v[n / 2 + 1]) / 2) }
-        NR > 1 && $6 == 0 { k = $1 ":" $2; ext[k, $5] = $7; wall[k, $5] = st($8, "wall_s"); mb[k, $5] = mem($9); reps[$5] = 1 }
+        NR > 1 && $6 == 0 { k = $1 ":" $2; ext[k, $5] = $7; wall[k, $5] = st($8, "wall_s"); mb[k, $5] = mem($9); reps[$5] = 1
+            cpu[k, $5] = $2 == "mesh" ? st($8, "cpu_s") : st($8, "cpu_sum_s") }
         END { for (r in reps) {
-                if (wall["thr:mesh", r] > 0 && wall["thr:pcdm", r] != "") { m[++nm] = wall["thr:pcdm", r] / wall["thr:mesh", r]; e[++ne] = ext["thr:pcdm", r] / ext["thr:mesh", r] }
+                if (wall["thr:mesh", r] > 0 && wall["thr:pcdm", r] != "") { m[++nm] = wall["thr:pcdm", r] / wall["thr:mesh", r]; e[++ne] = ext["thr:pcdm", r] / ext["thr:mesh", r]
+                    if (cpu["thr:mesh", r] > 0) c[++nc] = cpu["thr:pcdm", r] / cpu["thr:mesh", r] }
                 if (ext["mpi_np2:pcdm", r] > 0 && ext["mpi_t2:pcdm", r] != "") { w[++nw] = ext["mpi_t2:pcdm", r] / ext["mpi_np2:pcdm", r]
                     mw[++nmw] = wall["mpi_t2:pcdm", r] / wall["mpi_np2:pcdm", r]; t2[++nt] = mb["mpi_t2:pcdm", r]; n2[++nn] = mb["mpi_np2:pcdm", r] } }
-            printf "bench: threads: ./pcdm --threads 2 / ./mesh at -q 30 -a %s: meshing %s (goal <= 0.6), end to end %s (goal <= 0.65); mpirun -np 1 --threads 2 / -np 2: end to end %s, meshing %s (goal <= 1.1), peak MB summed over ranks %s vs %s (%d rounds, medians)\n", area, med(m, nm), med(e, ne), med(w, nw), med(mw, nmw), med(t2, nt), med(n2, nn), nm }' area="$OUT_AREA" "$THR_TSV" | tee "$R/threads.txt"
+            printf "bench: threads: ./pcdm --threads 2 / ./mesh at -q 30 -a %s: meshing %s (goal <= 0.6), end to end %s (goal <= 0.65), CPU seconds %s; mpirun -np 1 --threads 2 / -np 2: end to end %s, meshing %s (goal <= 1.1), peak MB summed over ranks %s vs %s (%d rounds, medians)\n", area, med(m, nm), med(e, ne), med(c, nc), med(w, nw), med(mw, nmw), med(t2, nt), med(n2, nn), nm }' area="$OUT_AREA" "$THR_TSV" | tee "$R/threads.txt"
     section_end
 fi
 if [ -n "${BENCH_100M:-}" ]; then
