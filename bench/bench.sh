@@ -689,7 +689,8 @@ OUT_AREA=${OUT_AREA:-3.5e-7}
 OUT_REPS=${OUT_REPS:-2}
 printf 'label\tprog\tnp\tarea\trep\trc\text_s\tstats\trank_stats\n' >"$OUT_TSV"
 out_run() { # out_run LABEL PROG NP AREA REP TIMEOUT [extra args]: one end-to-end run with -o
-    # (NP 0: ./pcdm as a plain program, no mpirun; rows to OUT_FILE, default OUT_TSV)
+    # (NP 0: ./pcdm as a plain program, no mpirun; rows to OUT_FILE, default OUT_TSV; more
+    # mpirun options in OUT_MPI_OPTS)
     local label=$1 prog=$2 np=$3 area=$4 rep=$5 tmo=$6
     shift 6
     local base="$R/logs/out_${label}_${prog}_np${np}_r${rep}" pre="$R/tmp/out_${label}_${prog}"
@@ -699,7 +700,8 @@ out_run() { # out_run LABEL PROG NP AREA REP TIMEOUT [extra args]: one end-to-en
     elif [ "$np" = 0 ]; then
         cmd=("$PCDM" -q 30 -a "$area" -o "$pre" --stats "$@" "$DOMAIN")
     else
-        cmd=(mpirun --oversubscribe -np "$np" "$PCDM" -q 30 -a "$area" -o "$pre" --stats "$@" "$DOMAIN")
+        # shellcheck disable=SC2206
+        cmd=(mpirun --oversubscribe ${OUT_MPI_OPTS:-} -np "$np" "$PCDM" -q 30 -a "$area" -o "$pre" --stats "$@" "$DOMAIN")
     fi
     echo "output/$label rep $rep: ${cmd[*]}" >>"$CMDS"
     # the same page-cache state for every run: the previous run's gigabyte of dirty pages
@@ -744,8 +746,9 @@ fi
 # One process on both cores: ./pcdm --threads 2 as a plain program (no mpirun; in rounds, 8
 # subdomains by default) against ./mesh, -q 30 -a OUT_AREA on DOMAIN (about 10M triangles on
 # lake), end to end with -o; goals: meshing (wall_s) <= 0.6x ./mesh's, launch to exit <= 0.65x.
-# Then mpirun -np 1 ./pcdm --threads 2 against mpirun -np 2 ./pcdm (each with its default
-# subdomains), also with -o: wall time (goal: within 10%) and peak memory summed over the ranks
+# Then mpirun --bind-to none -np 1 ./pcdm --threads 2 (Open MPI binds a lone rank to one core
+# otherwise, and its two threads would share it) against mpirun -np 2 ./pcdm (each with its
+# default subdomains), also with -o: wall time (goal: within 10%) and peak memory summed over the ranks
 # (goal: less with threads); beside them the CPU seconds of ./pcdm --threads 2 over ./mesh's
 # (the work the threads add; on a loaded machine wall times say more about the scheduler than
 # about the programs).  THR_REPS rounds of the four runs (default 2), in alternation;
@@ -762,7 +765,7 @@ if [ -z "$QUICK" ] && [ -z "${NO_THREADS:-}" ]; then
         fi
         OUT_FILE=$THR_TSV out_run thr mesh 1 "$OUT_AREA" "$rep" 300
         OUT_FILE=$THR_TSV out_run thr pcdm 0 "$OUT_AREA" "$rep" 300 --threads 2
-        OUT_FILE=$THR_TSV out_run mpi_t2 pcdm 1 "$OUT_AREA" "$rep" 300 --threads 2
+        OUT_FILE=$THR_TSV OUT_MPI_OPTS="--bind-to none" out_run mpi_t2 pcdm 1 "$OUT_AREA" "$rep" 300 --threads 2
         OUT_FILE=$THR_TSV out_run mpi_np2 pcdm 2 "$OUT_AREA" "$rep" 300
     done
     # medians of the ratios, each within one round (the same machine state)

@@ -1295,7 +1295,7 @@ def sec_threads(c):
     c.H("## Threads: one process on every core")
     c.H()
     c.H("`./mesh -q 30 -a A -o P`, `./pcdm --threads 2 -q 30 -a A -o P` (a plain program, no mpirun), "
-        "`mpirun -np 1 ./pcdm --threads 2 ...` and `mpirun -np 2 ./pcdm ...`, in alternation (launch "
+        "`mpirun --bind-to none -np 1 ./pcdm --threads 2 ...` and `mpirun -np 2 ./pcdm ...`, in alternation (launch "
         "to exit, files written).  mesh s = the program's `wall_s`; peak MB = each rank's peak RSS, "
         "summed over the ranks.")
     c.H()
@@ -1306,7 +1306,7 @@ def sec_threads(c):
         st = parse_stats(stats)
         mb = sum(num(x.split(":")[2]) or 0 for x in ranks.split(",") if x.count(":") >= 2)
         how = {"thr": "./mesh" if prog == "mesh" else "./pcdm --threads 2",
-               "mpi_t2": "mpirun -np 1 ./pcdm --threads 2", "mpi_np2": "mpirun -np 2 ./pcdm"}.get(label, label)
+               "mpi_t2": "mpirun --bind-to none -np 1 ./pcdm --threads 2", "mpi_np2": "mpirun -np 2 ./pcdm"}.get(label, label)
         rows.append([how, rep, rc, ext, fi(st.get("triangles")), f(st.get("wall_s")),
                      fi(st.get("subdomains")) if st.get("subdomains") is not None else "-", "%.0f" % mb if mb else "-"])
     c.H(md_table(["run", "rep", "status", "launch to exit s", "triangles", "mesh s", "subdomains",

@@ -392,6 +392,17 @@ static int startup(int *argc, char ***argv, run_method method, par_parse_fn pars
                 rt_strerror(rc));
         goto fin;
     }
+    if (o->threads > 1) { /* the threads share the CPUs a launcher left the rank */
+        int cpus = rt_cpus(), fewest = cpus;
+        MESH_MPI(MPI_Allreduce(&cpus, &fewest, 1, MPI_INT, MPI_MIN, rt_app_comm()));
+        if (fewest < o->threads && rt_rank() == 0 && !o->quiet)
+            fprintf(stderr,
+                    "%s: warning: --threads %d, but a rank may run on %d CPU%s only: the threads "
+                    "share %s (under mpirun, which binds each rank to one core by default, add "
+                    "--bind-to none or --map-by slot:PE=%d)\n",
+                    prog, (int)o->threads, fewest, fewest == 1 ? "" : "s",
+                    fewest == 1 ? "it" : "them", (int)o->threads);
+    }
     if (o->net) { /* every rank parses the same text: all stop or none */
         double lat = 0, bw = 0;
         if (rt_net_parse(o->net, &lat, &bw) != RT_OK) {
