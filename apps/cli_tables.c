@@ -260,17 +260,15 @@ static const cli_opt pcdm_rows[] = {
     {.name = "async",
      .value = &v_flag,
      .at = CLI_AT(par.async),
-     .help = "the paper's asynchronous protocol: each rank refines its subdomains in one mesh "
-             "and splits interface edges on request as the requests arrive, so the mesh "
-             "depends on message timing (default: each subdomain refined in rounds, its "
-             "neighbours' splits applied in canonical order: the same mesh, bit for bit, for "
-             "any ranks, threads and message timing, given the input, the bounds and "
-             "--subdomains); not with --threads above 1 or --balance dynamic"},
+     .help = "the paper's asynchronous protocol: one mesh per rank, split requests served as "
+             "they arrive, so the mesh depends on message timing (default: subdomains refined "
+             "in rounds, the same mesh, bit for bit, for any ranks, threads and timing, given "
+             "the input, the bounds and --subdomains); not with --threads above 1 or --balance "
+             "dynamic"},
     {.name = "deterministic",
      .value = &v_flag,
      .at = CLI_AT(par.deterministic),
-     .help = "refinement in rounds, the same mesh for any ranks, threads and timing: the "
-             "default (accepted for scripts that ask for it)"},
+     .help = "refinement in rounds: the default (accepted, changes nothing)"},
     {.name = "balance",
      .value = &v_balance,
      .at = CLI_AT(par.balance),
