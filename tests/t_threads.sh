@@ -9,13 +9,15 @@
 #   - one process without mpirun (./pcdm --threads 2 as a plain program) gives the same hash;
 #   - --threads 0 and a non-number are refused with a message, exit 2 (a usage error), and so
 #     is --async (the asynchronous protocol, one thread) with --threads 2.
-# THREADS_QUICK=1 (the ThreadSanitizer build): lake at -q 30 only, (1,1) (1,2) (2,2), (1,2) under
-# --perturb, (2,2) with --balance dynamic.
+# SANITIZE=1: lake, holes and square at -q 30 and 33.  THREADS_QUICK=1 (the ThreadSanitizer
+# build): lake at -q 30 only, (1,1) (1,2) (2,2), (1,2) under --perturb, (2,2) with --balance
+# dynamic.
 . "$(dirname "$0")/lib.sh"
 
 hash_of() { grep -o 'hash=[0-9a-f]*' "$1" | tail -1; }
 
 doms="lake holes square channel lshape wedge" bounds="20.7 30 33"
+[ "${SANITIZE:-}" = 1 ] && doms="lake holes square" bounds="30 33" # the ASan build: slower
 [ "${THREADS_QUICK:-}" = 1 ] && doms=lake bounds=30
 for d in $doms; do
     f=data/$d.poly
