@@ -5,6 +5,7 @@
 #   make            build everything            make test        build and run every test
 #   make demo       ./pcdm on 4 ranks           make bench       the paper's tables and more
 #   make deps       install Open MPI, Check, METIS  make SANITIZE=1 test   ASan + UBSan build
+#   make TSAN=1 test  ThreadSanitizer build (build/tsan), the threaded tests only (tests/run.sh)
 #   make DEBUG=1    debug build (build/debug, MESH_ASSERT on)
 #   make format     clang-format the tree       make clean
 #   make install    programs, libpcdm (.a, .so), include/pcdm.h and pcdm.pc into PREFIX
@@ -32,6 +33,13 @@ OPT := -O1 -g -ffp-contract=off -fno-omit-frame-pointer -fsanitize=address,undef
 LDFLAGS += -fsanitize=address,undefined
 export ASAN_OPTIONS := detect_leaks=0:abort_on_error=1
 export UBSAN_OPTIONS := print_stacktrace=1:halt_on_error=1
+else ifeq ($(TSAN),1)
+B := build/tsan
+# ThreadSanitizer over the threaded pieces (the runtime's workers, ./pcdm --threads).  Open MPI
+# is not instrumented: tests/tsan.supp names what TSan reports inside it (and only that).
+OPT := -O1 -g -ffp-contract=off -fno-omit-frame-pointer -fsanitize=thread -DMESH_DEBUG
+LDFLAGS += -fsanitize=thread
+export TSAN_OPTIONS := halt_on_error=1 second_deadlock_stack=1 suppressions=$(CURDIR)/tests/tsan.supp
 else ifeq ($(DEBUG),1)
 B := build/debug
 OPT := -O1 -g -ffp-contract=off -fno-omit-frame-pointer -DMESH_DEBUG
@@ -166,7 +174,7 @@ uninstall:
 
 test: deps
 	@$(MAKE) --no-print-directory all
-	@BUILD=$(B) SANITIZE=$(SANITIZE) bash tests/run.sh
+	@BUILD=$(B) SANITIZE=$(SANITIZE) TSAN=$(TSAN) bash tests/run.sh
 
 # Three hosts on this machine (network namespaces, TCP between them); needs root, else skips.
 test-hosts: deps

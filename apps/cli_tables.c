@@ -254,23 +254,28 @@ static const cli_opt pcdm_rows[] = {
      .value = &v_threads,
      .at = CLI_AT(par.threads),
      .dflt_text = "1",
-     .help = "refine each rank's subdomains on T threads at once (in --deterministic's rounds, so "
-             "the mesh is the deterministic one; --subdomains defaults to 4 per thread and "
-             "rank); one process needs no mpirun: ./pcdm --threads 2 in.poly"},
+     .help = "refine each rank's subdomains on T threads at once (the mesh is the same as on "
+             "one thread; --subdomains defaults to 4 per thread and rank); one process needs "
+             "no mpirun: ./pcdm --threads 2 in.poly uses two cores"},
+    {.name = "async",
+     .value = &v_flag,
+     .at = CLI_AT(par.async),
+     .help = "the paper's asynchronous protocol: one mesh per rank, split requests served as "
+             "they arrive, so the mesh depends on message timing (default: subdomains refined "
+             "in rounds, the same mesh, bit for bit, for any ranks, threads and timing, given "
+             "the input, the bounds and --subdomains); not with --threads above 1 or --balance "
+             "dynamic"},
     {.name = "deterministic",
      .value = &v_flag,
      .at = CLI_AT(par.deterministic),
-     .help = "refine each subdomain in rounds, its neighbours' splits applied in canonical order: "
-             "the same mesh, bit for bit, for any rank count and message timing, given the "
-             "input, the bounds and the subdomains (--subdomains)"},
+     .help = "refinement in rounds: the default (accepted, changes nothing)"},
     {.name = "balance",
      .value = &v_balance,
      .at = CLI_AT(par.balance),
      .dflt_text = "static",
      .help = "static: each rank refines the subdomains the decomposition gives it; dynamic: an "
-             "idle rank takes unstarted subdomains from busy ones (refined in --deterministic's "
-             "rounds, so the mesh is the deterministic one; --subdomains defaults to 4 per "
-             "rank)"},
+             "idle rank takes unstarted subdomains from busy ones (the mesh stays the same; "
+             "--subdomains defaults to 4 per rank)"},
     {.help = NULL}};
 
 static const cli_opt pbw_rows[] = {

@@ -17,7 +17,8 @@
 # DOMAIN=data/lake.poly, QDEG=20.7, MESH/PCDM/PBW=program paths, B=build dir (default build),
 # RUN_TIMEOUT=seconds per run, NO_10M=1, NO_TRIANGLE=1; output section (issue 12): NO_OUTPUT=1,
 # OUT_AREA, OUT_REPS, BENCH_100M=1 (one 100M-triangle ./pcdm -o --check run), TIMEOUT_100M;
-# coastline section: NO_COAST=1, COAST_N, COAST_REPS, TIMEOUT_COAST.
+# coastline section: NO_COAST=1, COAST_N, COAST_REPS, TIMEOUT_COAST; threads section (./pcdm
+# --threads 2 as one process against ./mesh and against 2 ranks): NO_THREADS=1, THR_REPS.
 # Exit status: 0 when every program existed and every run that was started succeeded; 1 otherwise
 # (the report and the summary line are still written, with NA and a message for whatever is
 # missing or failed).  Runs skipped because the time budget ran out are reported, not fatal.
@@ -126,7 +127,9 @@ fi
 
 # ---------------------------------------------------------------- one run
 # run_one SECTION LABEL PROG NP IMBALANCE AREA REP [extra args...]
-# PROG is mesh|pcdm|pbw.  With MEASURE_RSS=1 every process (each rank) runs under a wrapper that
+# PROG is mesh|pcdm|pbw.  ./pcdm runs the paper's asynchronous protocol (--async, as in Tables 2
+# and 3) unless the extra args ask for refinement in rounds (--deterministic, --threads,
+# --balance dynamic).  With MEASURE_RSS=1 every process (each rank) runs under a wrapper that
 # appends its peak RSS in KiB to a file, so memory = sum over ranks of each rank's peak:
 # /usr/bin/time -f %M (installed with apt-get when missing and we are root), else a python
 # getrusage(RUSAGE_CHILDREN) shim.
@@ -198,6 +201,9 @@ run_one() {
     [ "$MEASURE_RSS" = 1 ] && rss_wrapper "$rssf"
     local -a imbargs=()
     [ "$imb" != 1 ] && imbargs=(--imbalance "$imb")
+    if [ "$prog" = pcdm ] && ! [[ " $* " =~ \ (--deterministic|--threads|--balance\ dynamic)\  ]]; then
+        imbargs+=(--async)
+    fi
     if [ "$prog" = mesh ]; then
         cmd=(timeout "$tmo" "${RSS_WRAP[@]}" "$exe" -NEP -q "$QDEG" -a "$area" --stats "$@" "$DOMAIN")
     else
@@ -683,14 +689,19 @@ OUT_AREA=${OUT_AREA:-3.5e-7}
 OUT_REPS=${OUT_REPS:-2}
 printf 'label\tprog\tnp\tarea\trep\trc\text_s\tstats\trank_stats\n' >"$OUT_TSV"
 out_run() { # out_run LABEL PROG NP AREA REP TIMEOUT [extra args]: one end-to-end run with -o
+    # (NP 0: ./pcdm as a plain program, no mpirun; rows to OUT_FILE, default OUT_TSV; more
+    # mpirun options in OUT_MPI_OPTS)
     local label=$1 prog=$2 np=$3 area=$4 rep=$5 tmo=$6
     shift 6
     local base="$R/logs/out_${label}_${prog}_np${np}_r${rep}" pre="$R/tmp/out_${label}_${prog}"
     local -a cmd
     if [ "$prog" = mesh ]; then
         cmd=("$MESH" -q 30 -a "$area" -o "$pre" --stats "$@" "$DOMAIN")
+    elif [ "$np" = 0 ]; then
+        cmd=("$PCDM" -q 30 -a "$area" -o "$pre" --stats "$@" "$DOMAIN")
     else
-        cmd=(mpirun --oversubscribe -np "$np" "$PCDM" -q 30 -a "$area" -o "$pre" --stats "$@" "$DOMAIN")
+        # shellcheck disable=SC2206
+        cmd=(mpirun --oversubscribe ${OUT_MPI_OPTS:-} -np "$np" "$PCDM" -q 30 -a "$area" -o "$pre" --stats "$@" "$DOMAIN")
     fi
     echo "output/$label rep $rep: ${cmd[*]}" >>"$CMDS"
     # the same page-cache state for every run: the previous run's gigabyte of dirty pages
@@ -712,7 +723,7 @@ out_run() { # out_run LABEL PROG NP AREA REP TIMEOUT [extra args]: one end-to-en
     # per rank: R:triangles:peak_rss_mb:bytes_per_tri:output_s, comma separated
     ranks=$(sed -n 's/^rank \([0-9]*\):.* triangles=\([0-9]*\) .*output_s=\([0-9.]*\) .*peak_rss_mb=\([0-9.]*\) bytes_per_tri=\([0-9.]*\).*/\1:\2:\4:\5:\3/p' "$base.out" | paste -sd, -)
     printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$label" "$prog" "$np" "$area" "$rep" "$rc" "$ext" \
-        "$stats" "$ranks" >>"$OUT_TSV"
+        "$stats" "$ranks" >>"${OUT_FILE:-$OUT_TSV}"
     rm -f "$pre".node "$pre".ele "$pre".poly
     [ "$rc" = 0 ] && echo "bench:   $prog np=$np $label rep $rep: launch to exit ${ext}s; $(echo "$stats" | tr ' ' '\n' | grep -E '^(triangles|wall_s|output_s|peak_rss_mb|bytes_per_tri)=' | tr '\n' ' ')"
     [ -n "$ranks" ] && echo "bench:     per rank (rank:triangles:peak MB:bytes/triangle:output s): $ranks"
@@ -726,8 +737,50 @@ if [ -z "$QUICK" ] && [ -z "${NO_OUTPUT:-}" ]; then
             break
         fi
         out_run 10m mesh 1 "$OUT_AREA" "$rep" 300
-        out_run 10m pcdm 2 "$OUT_AREA" "$rep" 300
+        out_run 10m pcdm 2 "$OUT_AREA" "$rep" 300 --async
     done
+    section_end
+fi
+
+# ---------------------------------------------------------------- threads (issue 27)
+# One process on both cores: ./pcdm --threads 2 as a plain program (no mpirun; in rounds, 8
+# subdomains by default) against ./mesh, -q 30 -a OUT_AREA on DOMAIN (about 10M triangles on
+# lake), end to end with -o; goals: meshing (wall_s) <= 0.6x ./mesh's, launch to exit <= 0.65x.
+# Then mpirun --bind-to none -np 1 ./pcdm --threads 2 (Open MPI binds a lone rank to one core
+# otherwise, and its two threads would share it) against mpirun -np 2 ./pcdm (each with its
+# default subdomains), also with -o: wall time (goal: within 10%) and peak memory summed over the ranks
+# (goal: less with threads); beside them the CPU seconds of ./pcdm --threads 2 over ./mesh's
+# (the work the threads add; on a loaded machine wall times say more about the scheduler than
+# about the programs).  THR_REPS rounds of the four runs (default 2), in alternation;
+# rows: $R/threads.tsv (as output.tsv), and a summary line "bench: threads: ...".  Quick runs and
+# NO_THREADS=1 skip it.
+THR_TSV=$R/threads.tsv
+printf 'label\tprog\tnp\tarea\trep\trc\text_s\tstats\trank_stats\n' >"$THR_TSV"
+if [ -z "$QUICK" ] && [ -z "${NO_THREADS:-}" ]; then
+    section_begin "threads"
+    for rep in $(seq 1 "${THR_REPS:-2}"); do
+        if over_budget 150; then
+            note "threads: round $rep skipped (time budget)"
+            break
+        fi
+        OUT_FILE=$THR_TSV out_run thr mesh 1 "$OUT_AREA" "$rep" 300
+        OUT_FILE=$THR_TSV out_run thr pcdm 0 "$OUT_AREA" "$rep" 300 --threads 2
+        OUT_FILE=$THR_TSV OUT_MPI_OPTS="--bind-to none" out_run mpi_t2 pcdm 1 "$OUT_AREA" "$rep" 300 --threads 2
+        OUT_FILE=$THR_TSV out_run mpi_np2 pcdm 2 "$OUT_AREA" "$rep" 300
+    done
+    # medians of the ratios, each within one round (the same machine state)
+    awk -F'\t' 'function st(s, k,   n, a, i) { n = split(s, a, " "); for (i = 1; i <= n; i++) if (index(a[i], k "=") == 1) return substr(a[i], length(k) + 2); return "" }
+        function mem(r,   n, a, i, p, s) { n = split(r, a, ","); s = 0; for (i = 1; i <= n; i++) { split(a[i], p, ":"); s += p[3] } return s }
+        function med(v, n,   i, j, t) { for (i = 1; i <= n; i++) for (j = i + 1; j <= n; j++) if (v[j] < v[i]) { t = v[i]; v[i] = v[j]; v[j] = t }
+            return n == 0 ? "NA" : n % 2 ? sprintf("%.2f", v[(n + 1) / 2]) : sprintf("%.2f", (v[n / 2] + v[n / 2 + 1]) / 2) }
+        NR > 1 && $6 == 0 { k = $1 ":" $2; ext[k, $5] = $7; wall[k, $5] = st($8, "wall_s"); mb[k, $5] = mem($9); reps[$5] = 1
+            cpu[k, $5] = $2 == "mesh" ? st($8, "cpu_s") : st($8, "cpu_sum_s") }
+        END { for (r in reps) {
+                if (wall["thr:mesh", r] > 0 && wall["thr:pcdm", r] != "") { m[++nm] = wall["thr:pcdm", r] / wall["thr:mesh", r]; e[++ne] = ext["thr:pcdm", r] / ext["thr:mesh", r]
+                    if (cpu["thr:mesh", r] > 0) c[++nc] = cpu["thr:pcdm", r] / cpu["thr:mesh", r] }
+                if (ext["mpi_np2:pcdm", r] > 0 && ext["mpi_t2:pcdm", r] != "") { w[++nw] = ext["mpi_t2:pcdm", r] / ext["mpi_np2:pcdm", r]
+                    mw[++nmw] = wall["mpi_t2:pcdm", r] / wall["mpi_np2:pcdm", r]; t2[++nt] = mb["mpi_t2:pcdm", r]; n2[++nn] = mb["mpi_np2:pcdm", r] } }
+            printf "bench: threads: ./pcdm --threads 2 / ./mesh at -q 30 -a %s: meshing %s (goal <= 0.6), end to end %s (goal <= 0.65), CPU seconds %s; mpirun -np 1 --threads 2 / -np 2: end to end %s, meshing %s (goal <= 1.1), peak MB summed over ranks %s vs %s (%d rounds, medians)\n", area, med(m, nm), med(e, ne), med(c, nc), med(w, nw), med(mw, nmw), med(t2, nt), med(n2, nn), nm }' area="$OUT_AREA" "$THR_TSV" | tee "$R/threads.txt"
     section_end
 fi
 if [ -n "${BENCH_100M:-}" ]; then

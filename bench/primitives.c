@@ -1,12 +1,14 @@
 /* primitives.c - cost of the runtime's primitive operations, as TR-97-17 section 4 lists
  * them for DMCS on the SP2: thread creation, context switch, peak bandwidth, one-way latency
- * of a 0-byte message, and a non-threaded null RSR (plus a threaded one).  Each is measured
- * through the runtime and, in the same run, with raw MPI or raw pthreads, next to the
- * paper's figure.  Run on 2 ranks; rank 0 drives, rank 1 serves.  The runtime busy-polls
- * here (idle_spin) because latency is being measured.  Runtime and raw trials alternate;
- * each figure is shown as the best (min time / max rate) and the median of TRIALS trials,
- * and the last line, machine-readable, uses the best:
+ * of a 0-byte message, and a non-threaded null RSR (plus a threaded one, and a worker's task as
+ * ./pcdm --threads starts one: a threaded RSR to self whose handler ends by sending a
+ * non-threaded RSR back to the main thread).  Each is measured through the runtime and, in the
+ * same run, with raw MPI or raw pthreads, next to the paper's figure.  Run on 2 ranks; rank 0
+ * drives, rank 1 serves.  The runtime busy-polls here (idle_spin) because latency is being
+ * measured.  Runtime and raw trials alternate; each figure is shown as the best (min time / max
+ * rate) and the median of TRIALS trials, and the last line, machine-readable, uses the best:
  *   primitives: null_rsr_us=X raw_mpi_roundtrip_us=Y ratio=R threaded_rsr_us=Z bandwidth_MBps=B
+ *               thread_start_us=S worker_task_us=W context_switch_us=C
  */
 #include "rt.h"
 
@@ -20,7 +22,7 @@ enum { TRIALS = 9, RTT_ITERS = 2000, WARM = 200, BW_MSGS = 64, BW_SIZE = 1 << 20
 
 typedef struct bench {
     int rank;
-    int h_ping_nt, h_ping_t, h_pong, h_self_t, h_req, h_bulk, h_ack;
+    int h_ping_nt, h_ping_t, h_pong, h_self_t, h_req, h_bulk, h_ack, h_task, h_task_done;
     int ping; /* handler used for pings in this measurement */
     long iters, done;
     atomic_int outstanding;
@@ -94,6 +96,20 @@ static void on_self_t(const rt_msg *m, void *arg) {
     atomic_store(&B.outstanding, 0);
 }
 
+/* A worker's task (threaded): its end goes back to the main thread as a non-threaded RSR, as
+ * ./pcdm --threads' "pcdm_refine" ends with "pcdm_refined". */
+static void on_task(const rt_msg *m, void *arg) {
+    (void)m;
+    (void)arg;
+    rt_rsr(B.rank, B.h_task_done, NULL, 0);
+}
+
+static void on_task_done(const rt_msg *m, void *arg) {
+    (void)m;
+    (void)arg;
+    atomic_store(&B.outstanding, 0);
+}
+
 static void on_req(const rt_msg *m, void *arg) {
     (void)arg;
     rt_reply(m, B.h_pong, NULL, 0);
@@ -154,8 +170,19 @@ static int selfthread_work(void *ctx) {
     }
     B.done++;
     atomic_store(&B.outstanding, 1);
-    rt_rsr(0, B.h_self_t, NULL, 0);
+    rt_rsr(0, B.ping, NULL, 0);
     return RT_WORK_BUSY;
+}
+
+/* Rank 0 sends itself RTT_ITERS threaded RSRs (handler h), one at a time: us per RSR. */
+static double self_threaded_us(int h) {
+    B.ping = h;
+    B.iters = RTT_ITERS;
+    B.done = 0;
+    B.finished = 0;
+    atomic_store(&B.outstanding, 0);
+    rt_run(selfthread_work, NULL);
+    return 1e6 * (B.t1 - B.t0) / (double)B.iters;
 }
 
 static rt_task_status switch_task(rt_task *t, void *state) {
@@ -294,23 +321,22 @@ int main(int argc, char **argv) {
     B.h_req = rt_handler_register("req", on_req, NULL, RT_NONTHREADED, 0);
     B.h_bulk = rt_handler_register("bulk", on_bulk, NULL, RT_VARSIZE, BW_SIZE);
     B.h_ack = rt_handler_register("ack", on_ack, NULL, RT_NONTHREADED, 0);
+    B.h_task = rt_handler_register("task", on_task, NULL, RT_THREADED, 0);
+    B.h_task_done = rt_handler_register("task_done", on_task_done, NULL, RT_NONTHREADED, 0);
     rt_start();
     B.bulk = calloc(BW_SIZE, 1);
 
     /* Runtime and raw trials alternate so both see the same machine load. */
     double raw_rt[TRIALS], nt_rt[TRIALS], t_rt[TRIALS], disp[TRIALS], task_sw[TRIALS];
+    double wtask[TRIALS];
     double bw[TRIALS], raw_bw[TRIALS], raw_thr[TRIALS] = {0}, raw_sw[TRIALS] = {0};
     for (int k = 0; k < TRIALS; k++) {
         raw_rt[k] = raw_roundtrip_us();
         nt_rt[k] = rt_roundtrip_us(B.h_ping_nt);
         t_rt[k] = rt_roundtrip_us(B.h_ping_t);
 
-        B.iters = RTT_ITERS;
-        B.done = 0;
-        B.finished = 0;
-        atomic_store(&B.outstanding, 0);
-        rt_run(selfthread_work, NULL);
-        disp[k] = 1e6 * (B.t1 - B.t0) / (double)B.iters;
+        disp[k] = self_threaded_us(B.h_self_t);
+        wtask[k] = self_threaded_us(B.h_task);
 
         B.iters = RTT_ITERS;
         B.done = 0;
@@ -339,6 +365,9 @@ int main(int argc, char **argv) {
         print_row("thread creation [us]", disp, raw_thr, 12.0, 1);
         printf("  runtime: threaded null RSR to self, run by a pooled worker;\n"
                "  raw: pthread_create + pthread_join of a null thread\n");
+        print_row("worker task, start to end [us]", wtask, raw_thr, 12.0, 1);
+        printf("  runtime: threaded RSR to self whose handler sends a non-threaded RSR back to\n"
+               "  the main thread (./pcdm --threads' round on a worker, without the work)\n");
         print_row("context switch [us]", task_sw, raw_sw, 5.5, 1);
         printf("  runtime: task waits for a self request's reply and resumes;\n"
                "  raw: two pthreads passing a turn on a condvar, per switch\n");
@@ -357,8 +386,10 @@ int main(int argc, char **argv) {
                RTT_ITERS);
         double nt = best(nt_rt, 1), raw = best(raw_rt, 1);
         printf("primitives: null_rsr_us=%.2f raw_mpi_roundtrip_us=%.2f ratio=%.2f "
-               "threaded_rsr_us=%.2f bandwidth_MBps=%.1f\n",
-               nt, raw, nt / raw, best(t_rt, 1), best(bw, 0));
+               "threaded_rsr_us=%.2f bandwidth_MBps=%.1f thread_start_us=%.2f worker_task_us=%.2f "
+               "context_switch_us=%.2f\n",
+               nt, raw, nt / raw, best(t_rt, 1), best(bw, 0), best(disp, 1), best(wtask, 1),
+               best(task_sw, 1));
         fflush(stdout);
     }
     free(B.bulk);

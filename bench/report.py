@@ -1022,6 +1022,20 @@ def sec_primitives(c):
          "%s (31 / 29, both one-way)" % f(PAPER_NULL_RSR_US / PAPER_LAT_US), "the runtime's overhead on MPI"],
         ["peak bandwidth, 1 MB payloads", "%s MB/s" % f(bw, 1), "%s MB/s" % f(PAPER_BW, 1), ""],
     ]
+    # the threads module: the paper's thread creation (12 us) and context switch (5.5 us); goal:
+    # ours within 2x
+    for key, what, paper, note in (
+            ("thread_start_us", "threaded null RSR to self (a pooled worker runs it)", 12.0,
+             "DMCS created a thread per threaded RSR: thread creation"),
+            ("worker_task_us", "a worker's task, start to end (./pcdm --threads' round dispatch)", 12.0,
+             "threaded RSR to self + non-threaded RSR back to the main thread"),
+            ("context_switch_us", "context switch (a task waits for a reply and resumes)", 5.5,
+             "the raw pthread condvar switch is in the output below")):
+        v = p.get(key)
+        rows.append([what, "%s us (goal <= %s: %s)" % (f(v), f(2 * paper, 0), "met" if isnum(v) and v <= 2 * paper
+                                                        else "NOT met"), "%s us" % f(paper, 1), note])
+    rows.append(["threaded null RSR round trip, 2 ranks", "%s us" % f(p.get("threaded_rsr_us")), "-",
+                 "the reply sent by a worker"])
     c.H(md_table(["primitive", "this run (best of interleaved trials)", "**paper** (SP2, DMCS)", "note"], rows))
     c.H()
     c.keys["null_rsr_ratio"] = f(p.get("ratio"))
@@ -1029,7 +1043,8 @@ def sec_primitives(c):
           [["one_way_latency_us", div(raw, 2), PAPER_LAT_US], ["null_rsr_one_way_us", div(nt, 2), PAPER_NULL_RSR_US],
            ["null_rsr_roundtrip_us", nt, None], ["raw_mpi_roundtrip_us", raw, 2 * PAPER_LAT_US],
            ["ratio", p.get("ratio"), PAPER_NULL_RSR_US / PAPER_LAT_US], ["threaded_rsr_us", p.get("threaded_rsr_us"), None],
-           ["bandwidth_MBps", bw, PAPER_BW]])
+           ["bandwidth_MBps", bw, PAPER_BW], ["thread_start_us", p.get("thread_start_us"), 12.0],
+           ["worker_task_us", p.get("worker_task_us"), 12.0], ["context_switch_us", p.get("context_switch_us"), 5.5]])
     if pline:
         c.H("Runtime and raw MPI trials alternate in the same run (bench/primitives.c).  Output of "
             "`bash bench/primitives.sh`:")
@@ -1270,6 +1285,40 @@ def sec_output(c):
                          "wall_s", "output_s", "ranks_triangles_peakmb_bpt_outputs"], ocsv)
 
 
+# ---------------------------------------------------------------------------- threads (issue 27)
+def sec_threads(c):
+    """./pcdm --threads 2 as one process against ./mesh and against two ranks (bench.sh section
+    "threads"): rows from threads.tsv, the summary line bench.sh computed in threads.txt."""
+    lines = [ln.split("\t") for ln in read_lines(os.path.join(c.R, "threads.tsv"))[1:] if ln.strip()]
+    if not lines:
+        return
+    c.H("## Threads: one process on every core")
+    c.H()
+    c.H("`./mesh -q 30 -a A -o P`, `./pcdm --threads 2 -q 30 -a A -o P` (a plain program, no mpirun), "
+        "`mpirun --bind-to none -np 1 ./pcdm --threads 2 ...` and `mpirun -np 2 ./pcdm ...`, in alternation (launch "
+        "to exit, files written).  mesh s = the program's `wall_s`; peak MB = each rank's peak RSS, "
+        "summed over the ranks.")
+    c.H()
+    rows = []
+    for ln in lines:
+        ln += [""] * (9 - len(ln))
+        label, prog, np_, area, rep, rc, ext, stats, ranks = ln[:9]
+        st = parse_stats(stats)
+        mb = sum(num(x.split(":")[2]) or 0 for x in ranks.split(",") if x.count(":") >= 2)
+        how = {"thr": "./mesh" if prog == "mesh" else "./pcdm --threads 2",
+               "mpi_t2": "mpirun --bind-to none -np 1 ./pcdm --threads 2", "mpi_np2": "mpirun -np 2 ./pcdm"}.get(label, label)
+        rows.append([how, rep, rc, ext, fi(st.get("triangles")), f(st.get("wall_s")),
+                     fi(st.get("subdomains")) if st.get("subdomains") is not None else "-", "%.0f" % mb if mb else "-"])
+    c.H(md_table(["run", "rep", "status", "launch to exit s", "triangles", "mesh s", "subdomains",
+                  "peak MB (sum)"], rows))
+    c.H()
+    for ln in read_lines(os.path.join(c.R, "threads.txt")):
+        if ln.strip():
+            c.H("- " + ln.strip().replace("bench: threads: ", ""))
+            c.out.append(ln.strip().replace("bench: ", ""))
+    c.H()
+
+
 # ---------------------------------------------------------------------------- problems, timing, commands
 SIG = {"134": "SIGABRT (abort)", "137": "SIGKILL (out of memory or killed)", "139": "SIGSEGV",
        "143": "SIGTERM from outside the bench", "136": "SIGFPE"}
@@ -1407,6 +1456,7 @@ def main():
     sec_scale(c)
     sec_coast(c)
     sec_output(c)
+    sec_threads(c)
     sec_tail(c)
     with open(os.path.join(R, "report.md"), "w") as fh:
         fh.write("\n".join(c.report))

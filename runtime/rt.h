@@ -247,6 +247,10 @@ int rt_run(rt_work_fn work, void *ctx);
  * handler, or before rt_init) or RT_ETHREAD. */
 int rt_workers_ensure(int n);
 
+/* Local, any thread.  The CPUs this process may run on (its affinity mask on Linux: a launcher
+ * that binds a rank to one core leaves 1; elsewhere the CPUs online), at least 1. */
+int rt_cpus(void);
+
 /* Local, main thread, outside rt_run.  Turns perturbation on with seed (0: off), replacing
  * the configured seed; lets one program run the same computation under several seeds.
  * Returns RT_OK or RT_ESTATE (inside rt_run). */

@@ -13,11 +13,13 @@
  * between hosts, in ppoll on the transport's sockets and an eventfd the workers write
  * (rt_wait.c).
  */
+#define _GNU_SOURCE /* sched_getaffinity, CPU_COUNT */
 #include "rt_internal.h"
 
 #include <sched.h>
 #include <stdatomic.h>
 #include <time.h>
+#include <unistd.h>
 
 _Thread_local int rt_in_worker;
 
@@ -63,6 +65,16 @@ static void *worker_main(void *arg) {
     }
     pthread_mutex_unlock(&rt_g.wlock);
     return NULL;
+}
+
+int rt_cpus(void) {
+#ifdef __linux__
+    cpu_set_t s;
+    CPU_ZERO(&s);
+    if (sched_getaffinity(0, sizeof s, &s) == 0 && CPU_COUNT(&s) > 0) return CPU_COUNT(&s);
+#endif
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n > 0 ? (int)n : 1;
 }
 
 int rt_workers_start(int n) {

@@ -19,6 +19,14 @@ export B
 MPIRUN="mpirun --oversubscribe"
 export MPIRUN
 pass=0 fail=0 failed=()
+# TSAN=1 (make TSAN=1 test): the ThreadSanitizer build runs the tests that start threads only --
+# the runtime's tasks and threaded handlers, ./pcdm --threads -- at the rank counts given here
+# (TSan slows a program 5-15x); tests/tsan.supp holds the suppressions for Open MPI's insides.
+declare -A only=()
+if [ "${TSAN:-}" = 1 ]; then
+    only=([unit_rt_task]=1 [mpi_rt]="1 2" [mpi_rt_term]="1 2" [t_threads]=1 [t_threads_fault]=1)
+    export TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1 suppressions=$PWD/tests/tsan.supp} THREADS_QUICK=1
+fi
 # Nothing a test runs may write into the repository's inputs (a mesher without -o writes
 # NAME.1.* next to its input, as Triangle does: tests pass -o into a temporary folder or -NEP).
 inputs_before=$(ls data tests/inputs 2>/dev/null)
@@ -41,18 +49,22 @@ run() { # name, command...
 for src in tests/unit_*.c; do
     [ -e "$src" ] || continue
     t=$(basename "$src" .c)
+    [ ${#only[@]} = 0 ] || [ -n "${only[$t]:-}" ] || continue
     run "$t" timeout 600 "$B/tests/$t"
 done
 for src in tests/mpi_*.c; do
     [ -e "$src" ] || continue
     t=$(basename "$src" .c)
+    [ ${#only[@]} = 0 ] || [ -n "${only[$t]:-}" ] || continue
     ranks=$(sed -n 's|^// ranks: *||p' "$src" | head -1)
+    [ ${#only[@]} = 0 ] || ranks=${only[$t]}
     for np in ${ranks:-1 2 4 8}; do
         run "$t.np$np" timeout 300 $MPIRUN -np "$np" "$B/tests/$t"
     done
 done
 for sh in tests/t_*.sh; do
     [ -e "$sh" ] || continue
+    [ ${#only[@]} = 0 ] || [ -n "${only[$(basename "$sh" .sh)]:-}" ] || continue
     run "$(basename "$sh" .sh)" timeout 900 bash "$sh"
 done
 inputs_after=$(ls data tests/inputs 2>/dev/null)

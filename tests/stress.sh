@@ -4,7 +4,7 @@
 # (tests/fuzz/corpus: one option byte, then a .poly, or a .node when bit 7 is set, as
 # tests/fuzz/fuzz_mesh.c reads them) and the domains in data/ (small meshes, -q 20.7 and -q 30),
 # at 2, 3, 4 and 8 ranks, under many message schedules: --perturb SEED (the runtime delays and
-# reorders deliveries), ./pbw's --inflight 1-4, ./pcdm with and without --deterministic.  Every
+# reorders deliveries), ./pbw's --inflight 1-4, ./pcdm in rounds (its default) and --async.  Every
 # run has -S 20000 (unless its row sets -S) and --check, and is judged against ./mesh's answer
 # for the same input and options (as tests/fuzz/replay_par.sh):
 #   - ./mesh meshes it: every rank exits 0 with --check OK, or 1 with "cannot decompose" /
@@ -14,7 +14,7 @@
 #   - ./mesh refuses the input: every rank exits 1.
 # Always a failure: a timeout (a hang), a crash or any other status, ranks that disagree, exit 0
 # without --check OK.  A run whose launcher failed before any rank started (Open MPI's
-# orte_init, racing another mpirun on the machine) is run again, up to three times.  ./pcdm --deterministic --subdomains 8 must moreover give one mesh hash
+# orte_init, racing another mpirun on the machine) is run again, up to three times.  ./pcdm --subdomains 8 (in rounds) must moreover give one mesh hash
 # (--stats: hash=) per input and options, whatever the rank count and the schedule (these runs
 # share 12 of the cases, so that each is compared across many schedules).
 # Each failure is kept in OUT/fail-JOB/: the input, `cmd` (the command that reproduces it, from
@@ -99,7 +99,7 @@ echo "stress: $ncase cases ($k from the corpus), up to $STRESS_RUNS runs in ${ST
 # ---- the jobs: drawn from the seed ---------------------------------------------------------
 awk -v n="$STRESS_RUNS" -v s="$STRESS_SEED" -v nc="$ncase" -v nps="$STRESS_NPS" 'BEGIN {
     srand(s); k = split(nps, NP, " ")
-    # --deterministic runs share a few cases, so that each is compared across many schedules
+    # runs in rounds share a few cases, so that each is compared across many schedules
     nd = nc < 12 ? nc : 12
     for (i = 0; i < nd; i++) D[i] = int(rand() * nc)
     for (j = 0; j < n; j++) {
@@ -108,7 +108,8 @@ awk -v n="$STRESS_RUNS" -v s="$STRESS_SEED" -v nc="$ncase" -v nps="$STRESS_NPS" 
         seed = rand() < 0.1 ? 0 : 1 + int(rand() * 1000000)
         extra = ""
         if (prog == "pbw") extra = "--inflight " (1 + int(rand() * 4))
-        else if (rand() < 0.5) { extra = "--deterministic --subdomains 8"; c = D[int(rand() * nd)] }
+        else if (rand() < 0.5) { extra = "--subdomains 8"; c = D[int(rand() * nd)] }
+        else extra = "--async"
         printf "%d|%s|%d|%d|%d|%s\n", j, prog, c, np, seed, extra
     }
 }' >"$OUT/jobs.txt"
@@ -158,11 +159,12 @@ one() { # a line of jobs.txt
         esac
     fi
     rm -f "$rcf"
-    if [ -z "$why" ] && [ "$prog" = pcdm ] && [ -n "$extra" ] && [ "$st" = "0 " ]; then
+    if [ -z "$why" ] && [ "$prog" = pcdm ] && [ -n "$extra" ] && [ "$extra" != --async ] &&
+        [ "$st" = "0 " ]; then
         local h
         h=$(sed -n 's/^stats: .* hash=\([0-9a-f]*\).*/\1/p' <<<"$out")
         if [ -z "$h" ]; then
-            why="--deterministic: no hash= in --stats"
+            why="in rounds: no hash= in --stats"
         else
             echo "$c $h $prog -np $np $opts $sched $path" >>"$OUT/hashes.txt"
         fi
@@ -183,7 +185,7 @@ export -f one
 
 tr '\n' '\0' <"$OUT/jobs.txt" | xargs -0 -P "$STRESS_JOBS" -I{} bash -c 'one "$1"' _ {}
 
-# ---- --deterministic: one hash per case ----------------------------------------------------
+# ---- in rounds: one hash per case -----------------------------------------------------------
 nhash=0
 for c in $(awk '{print $1}' "$OUT/hashes.txt" | sort -un); do
     if [ "$(awk -v c="$c" '$1 == c {print $2}' "$OUT/hashes.txt" | sort -u | wc -l)" -gt 1 ]; then
@@ -191,7 +193,7 @@ for c in $(awk '{print $1}' "$OUT/hashes.txt" | sort -un); do
         d="$OUT/fail-hash-$c"
         mkdir -p "$d"
         awk -v c="$c" '$1 == c {$1 = ""; print}' "$OUT/hashes.txt" >"$d/runs"
-        echo "hash case $c: ./pcdm --deterministic gave $(awk '{print $1}' "$d/runs" | sort -u | wc -l) meshes ($d/runs)" |
+        echo "hash case $c: ./pcdm --subdomains 8 gave $(awk '{print $1}' "$d/runs" | sort -u | wc -l) meshes ($d/runs)" |
             tee -a "$OUT/failures.txt"
     fi
 done

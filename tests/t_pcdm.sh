@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # t_pcdm: end-to-end tests of ./pcdm (Parallel Constrained Delaunay Meshing, TR-97-17 sec. 3).
-#  1. every domain in data/ at 1, 2, 4 and 8 ranks, -q 20.7 and -q 30: the merged mesh passes
-#     the validator with interface edges required to be locally Delaunay (--check), and its
+#  1. every domain in data/ at 1, 2, 4 and 8 ranks with the paper's protocol (--async), and at 2
+#     and 8 ranks in rounds (the default), -q 20.7 and -q 30: the merged mesh passes the
+#     validator with interface edges required to be locally Delaunay (--check), and its
 #     triangle count is within TOL% (default 3) of ./mesh's for the same input and bounds;
-#  2. runtime perturbation (--perturb SEED, several seeds) on a subset;
+#  2. runtime perturbation (--perturb SEED, several seeds) on a subset, --async (in rounds the
+#     mesh does not depend on the schedule: t_determinism.sh);
 #  3. the files written with -o pass ./meshcheck --interfaces-delaunay; --vtk F.vtk writes the
 #     index F.pvtu and one piece F_R.vtu per rank;
 #  4. bad input (missing file, tests/bad/*.poly, too many subdomains, bad usage): a message on
@@ -58,9 +60,12 @@ for d in square lshape wedge lake holes channel; do
             fail "$d -q $q -a $a: ./mesh gave no stats line"
             continue
         fi
-        for np in 1 2 4 8; do
-            name="$d np=$np -q $q -a $a"
-            run_case "$name" "$np" "$q" "$a" "data/$d.poly" || continue
+        for run in "1 --async" "2 --async" "4 --async" "8 --async" 2 8; do
+            set -- $run
+            np=$1
+            shift
+            name="$d np=$np -q $q -a $a${1:+ }$*"
+            run_case "$name" "$np" "$q" "$a" "$@" "data/$d.poly" || continue
             nt=$(field triangles <"$T/last_stats")
             rsr=$(field rsr <"$T/last_stats")
             dev=$(awk -v n="$nt" -v r="$ref" 'BEGIN { printf "%.2f", 100 * (n - r) / r }')
@@ -80,8 +85,8 @@ for d in lake holes channel; do
         [ "$np" = 4 ] && seeds=1
         [ "$d" = holes ] && seeds=2
         for seed in $seeds; do
-            name="$d np=$np -q 30 -a $a --perturb $seed"
-            run_case "$name" "$np" 30 "$a" --perturb "$seed" "data/$d.poly" &&
+            name="$d np=$np -q 30 -a $a --async --perturb $seed"
+            run_case "$name" "$np" 30 "$a" --async --perturb "$seed" "data/$d.poly" &&
                 ok "$name: valid, $(field triangles <"$T/last_stats") triangles"
         done
     done
@@ -95,9 +100,12 @@ run_case "$name" 2 30 "$(area lake)" --subdomains 5 data/lake.poly &&
 # input segment 41 at 31.5 degrees; the interface (split at dyadic midpoints) and the boundary
 # piece (concentric shells) at that corner used to split each other down to the corner until
 # precision ran out (failed splits, missing segment 41, min angle 0.85)
-for np in 1 3; do
-    name="lake np=$np -q 30 -a 0.0002 --subdomains 6 (interface at 31.5 degrees)"
-    run_case "$name" "$np" 30 0.0002 --subdomains 6 data/lake.poly &&
+for np in "1 --async" "3 --async" 3; do
+    set -- $np
+    np=$1
+    shift
+    name="lake np=$np -q 30 -a 0.0002 --subdomains 6${1:+ }$* (interface at 31.5 degrees)"
+    run_case "$name" "$np" 30 0.0002 --subdomains 6 "$@" data/lake.poly &&
         ok "$name: valid, min_angle=$(field min_angle <"$T/last_stats")"
 done
 name="square np=4 --subdomains 8"
@@ -111,8 +119,8 @@ run_case "$name" 3 20.7 "$(area square)" --imbalance 2 data/square.poly &&
 ref=$("$BIN/mesh" -NEP -q 30 -a "$(area lake)" --circumcenters --stats data/lake.poly | grep '^stats:' |
     field triangles)
 for np in 1 4; do
-    name="lake np=$np -q 30 --circumcenters --poll 1"
-    run_case "$name" "$np" 30 "$(area lake)" --circumcenters --poll 1 data/lake.poly || continue
+    name="lake np=$np -q 30 --async --circumcenters --poll 1"
+    run_case "$name" "$np" 30 "$(area lake)" --async --circumcenters --poll 1 data/lake.poly || continue
     nt=$(field triangles <"$T/last_stats")
     if awk -v n="$nt" -v r="$ref" -v t="$TOL" 'BEGIN { d = 100 * (n - r) / r; exit !(d <= t && d >= -t) }'; then
         ok "$name: valid, triangles=$nt (./mesh --circumcenters $ref)"
@@ -201,11 +209,11 @@ mpi_run 3 "$BIN/pcdm" -NEP -S 100000 -a 0.01 --check data/square.poly \
 # segment at 5e-10 degrees (a point set over 22 orders of magnitude) is refused up front (their
 # splits cascaded for minutes); an interface split one side made and the other could not make
 # (a channel with a vertex on its wall, past the Steiner limit) fails on every rank, clearly,
-# instead of the interface check (--deterministic: the same refusals in every run)
+# instead of the interface check (in rounds: the same refusals in every run)
 expect_error "interfaces at 5e-10 degrees" 1 3 -q 30 tests/fuzz/regress/cuts_tiny_angle_5e-10.node
 grep -q "cannot decompose: a subdomain interface meets another segment at 4.71e-10 degrees" \
     "$T/err.txt" || fail "interfaces at 5e-10 degrees: $(head -c 300 "$T/err.txt")"
-expect_error "interface split refused on one side" 1 3 -q 30 -S 20000 --deterministic --check \
+expect_error "interface split refused on one side" 1 3 -q 30 -S 20000 --check \
     tests/fuzz/regress/iface_split_refused_channel.poly
 grep -q "cannot meet the bounds: [0-9]* subdomain interface pieces could not be split on both" \
     "$T/err.txt" || fail "interface split refused on one side: $(head -c 300 "$T/err.txt")"

@@ -207,7 +207,7 @@ START_TEST(test_help) {
     const char *only[] = {"--cdt-only", "--interfaces-delaunay", NULL, "--phases"};
     for (int k = 0; k < 4; k++) {
         cli_opts o;
-        char msg[8192];
+        char msg[16384];
         ck_assert_int_eq(parse(progs[k], &o, msg, sizeof msg, "--help", NULL), 0);
         ck_assert_msg(!strncmp(msg, "usage: ", 7), "%s", msg);
         ck_assert_ptr_nonnull(strstr(msg, "Exit status: 0 success; 1 bad input"));
@@ -220,7 +220,7 @@ START_TEST(test_help) {
         ck_assert_int_eq(parse(progs[k], &o, msg, sizeof msg, "-h", NULL), 0);
     }
     cli_opts o;
-    char msg[8192];
+    char msg[16384];
     parse(&cli_pcdm, &o, msg, sizeof msg, "--help", NULL);
     ck_assert_ptr_nonnull(strstr(msg, "(default: 20.7)"));
     ck_assert_ptr_nonnull(strstr(msg, "--subdomains K"));

@@ -3,13 +3,17 @@
  * blocking queue (a list in order of blocking, O(1) removal from anywhere in it, what each
  * task waits for: pending count, last request, label, time), its dump (rt_tasks_dump and
  * rt_blocked_dump) and statistics (rt_stats_local, rt_stats_reset), and the one-rank
- * termination ring telling termination from deadlock (rt_term_pass). */
+ * termination ring telling termination from deadlock (rt_term_pass); rt_cpus against the
+ * process's affinity mask. */
+#define _GNU_SOURCE /* sched_setaffinity */
 #include "check_run.h"
 #include "rt_internal.h"
 
+#include <sched.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 typedef struct ts_state {
     int runs;
@@ -460,13 +464,36 @@ START_TEST(test_term_deadlock_one_rank) {
 }
 END_TEST
 
+/* rt_cpus: the CPUs this process may run on, 1 to the CPUs online; pinned to one CPU, 1. */
+START_TEST(test_cpus) {
+    long online = sysconf(_SC_NPROCESSORS_ONLN);
+    int n = rt_cpus();
+    ck_assert_int_ge(n, 1);
+    ck_assert_int_le(n, online > 0 ? online : 1);
+#ifdef __linux__
+    cpu_set_t all, one;
+    ck_assert_int_eq(sched_getaffinity(0, sizeof all, &all), 0);
+    int first = 0;
+    while (!CPU_ISSET(first, &all))
+        first++;
+    CPU_ZERO(&one);
+    CPU_SET(first, &one);
+    ck_assert_int_eq(sched_setaffinity(0, sizeof one, &one), 0);
+    int pinned = rt_cpus();
+    ck_assert_int_eq(sched_setaffinity(0, sizeof all, &all), 0);
+    ck_assert_int_eq(pinned, 1);
+    ck_assert_int_eq(rt_cpus(), n);
+#endif
+}
+END_TEST
+
 int main(void) {
     Suite *s = suite_create("rt_task");
     TCase *tc =
         ck_case(s, "rt_task", 0,
                 CK_TESTS(test_state_transitions, test_fifo_and_reuse, test_yield_and_empty_wait,
                          test_bad_tokens, test_blocked_list, test_label_truncated, test_dump,
-                         test_public_dump_and_stats, test_term_deadlock_one_rank));
+                         test_public_dump_and_stats, test_term_deadlock_one_rank, test_cpus));
     tcase_add_test_raise_signal(tc, test_done_with_pending_aborts, SIGABRT);
     tcase_add_test_raise_signal(tc, test_label_finished_task_aborts, SIGABRT);
     return ck_run(s);

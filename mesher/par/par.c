@@ -28,7 +28,7 @@ par_config par_config_of(const par_opts *o) {
                     .poll_every = o->poll_every,
                     .inflight = o->inflight,
                     .phases = o->phases,
-                    .deterministic = o->deterministic || o->threads > 1,
+                    .deterministic = !o->async || o->threads > 1,
                     .balance = par_balance_dynamic(o),
                     .threads = o->threads > 1 ? o->threads : 1,
                     .regions = o->region_attr || o->region_area,

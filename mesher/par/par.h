@@ -60,8 +60,12 @@ typedef struct par_opts {
     uint64_t perturb;       /* --perturb SEED (0 = off; also env RT_PERTURB) */
     const char *net;        /* --net SPEC: the runtime's network model (rt_net_parse; NULL:
                                the environment's PCDM_NET, else off) */
-    int deterministic;      /* --deterministic (pcdm only): refinement in rounds, the same mesh
-                               for any rank count and timing (mesher/pcdm/pcdm_det.c) */
+    int deterministic;      /* --deterministic (pcdm only): the default, refinement in rounds
+                               (accepted, changes nothing; refused with --async) */
+    int async;              /* --async (pcdm only): the paper's asynchronous protocol, one mesh
+                               per rank, the mesh depending on message timing; 0: refinement in
+                               rounds, the same mesh for any ranks x threads and timing
+                               (mesher/pcdm/pcdm_det.c) */
     const char *balance;    /* --balance static|dynamic (pcdm only; NULL: static) */
     /* Triangle's switches (issue 15); the same for all three meshers. */
     int region_attr;        /* -A: regional attributes carried into .ele (and VTK/Gmsh) */

@@ -9,8 +9,8 @@
  * point (bit for bit: mesh_rules_iface_point from the name and the original endpoints).  A request
  * for a subsegment already split is counted and dropped.  Termination: the runtime's detector.
  *
- * That is the asynchronous mode (./pcdm's default): the mesh depends on message timing.  The
- * deterministic mode (pcdm_part_build_det, pcdm_det.c; ./pcdm --deterministic) refines each
+ * That is the asynchronous mode (./pcdm --async): the mesh depends on message timing.  The
+ * deterministic mode (pcdm_part_build_det, pcdm_det.c; ./pcdm's default) refines each
  * subdomain in its own mesh, in rounds, so the mesh depends only on the input, the bounds and
  * the decomposition.  With p->balance (./pcdm --balance dynamic, pcdm_move.c) idle ranks take
  * unstarted subdomains from busy ones during the deterministic refinement; the mesh stays the

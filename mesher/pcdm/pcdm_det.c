@@ -498,7 +498,10 @@ static void start_round(pcdm_det *D, int32_t i) {
  * runtime's threaded handler "pcdm_refine" (a worker applies the lists and refines to
  * completion, without polls), whose end comes back as "pcdm_refined" on the main thread, which
  * sends the round's lists.  A round is a pure function of the subdomain's mesh and lists, so
- * which thread runs it changes nothing in the mesh.  Payloads: the subdomain number. */
+ * which thread runs it changes nothing in the mesh.  Payloads: the subdomain number.
+ * A fault in a worker (a broken invariant, memory exhausted: MESH_BUG) stops every rank at once
+ * (MPI_Abort), before anything is written; PCDM_TEST_WORKER_FAULT=SUB injects one into the
+ * worker that takes subdomain SUB's first round (tests/t_threads_fault.sh). */
 
 static void refine_handler(const rt_msg *msg, void *arg) {
     det_slot *sl = arg;
@@ -506,6 +509,9 @@ static void refine_handler(const rt_msg *msg, void *arg) {
     int32_t sub;
     memcpy(&sub, msg->data, sizeof sub);
     det_sub *s = D->job[sub];
+    if (s->id == D->fault_sub && s->done == 0)
+        MESH_BUG("worker thread refining subdomain %d: fault injected by PCDM_TEST_WORKER_FAULT",
+                 (int)s->id);
     double c = det_cpu();
     mesh_refine_result r = MESH_REFINE_DONE;
     if (apply_lists(s)) {
@@ -612,6 +618,8 @@ void pcdm_det_refine(pcdm_part *p, const mesh_quality *q) {
     D->balance = p->balance;
     D->threads = p->threads > 1 ? p->threads : 1;
     if (D->threads > 1) D->job = mesh_xcalloc((size_t)p->d->nsub, sizeof *D->job);
+    const char *fault = getenv("PCDM_TEST_WORKER_FAULT");
+    D->fault_sub = fault && *fault ? (int32_t)atoi(fault) : -1;
     det_move_begin(D);
     D->cpu0 = det_cpu();
     dslot.active = D;

@@ -88,6 +88,9 @@ struct pcdm_det {
     int threads;
     int32_t nrunning;
     det_sub **job;
+    int32_t fault_sub; /* test-only (PCDM_TEST_WORKER_FAULT=SUB): the worker that takes
+                        * subdomain SUB's first round stops the job as a broken invariant in
+                        * the kernel would (MESH_BUG); -1: off */
 };
 
 /* pcdm_det.c, for pcdm_move.c. */

@@ -132,7 +132,7 @@ typedef struct run_part {
     uint8_t *artificial;    /* pcdm: per subsegment, 1 for an interface edge (NULL: none) */
     uint8_t *topen;         /* the mesher's open-edge mask (par_output_sub; may be NULL) */
     int32_t *tsub;          /* pcdm with --vtk: each triangle's subdomain (else NULL) */
-    int32_t rounds;         /* pcdm --deterministic: rounds */
+    int32_t rounds;         /* pcdm: the refinement's rounds (0: --async) */
     long long iface_remote; /* pcdm: interface pieces left encroached (all ranks) */
     double t0, c0, wall;    /* wall seconds at the start of the mesh stage, CPU seconds, span */
 } run_part;

@@ -39,9 +39,9 @@
  *   is oversubscribed.  peak_rss_mb: the largest rank's peak RSS after the output;
  *   bytes_per_tri: the ranks' peak RSS summed over the triangles (rank lines: its own over its
  *   own); mesh_bytes_per_tri: the mesh arrays alone.  output_s: the slowest rank's seconds in
- *   numbering, --check and writing.  rounds: --deterministic's rounds; hash: the mesh hash
- *   (pcdm_flat_hash summed over the parts), the same for the same mesh whatever its numbering
- *   and rank count.  endcheck_*: pbw's always-on end check of the Delaunay property.
+ *   numbering, --check and writing.  rounds: the refinement's rounds (0 with --async); hash:
+ *   the mesh hash (pcdm_flat_hash summed over the parts), the same for the same mesh whatever
+ *   its numbering and rank count.  endcheck_*: pbw's always-on end check of the Delaunay property.
  *   net_latency_us, net_MBps: the network model in force (--net, PCDM_NET; 0 0: none).
  */
 #include "run/run.h"
@@ -373,11 +373,35 @@ static int startup(int *argc, char ***argv, run_method method, par_parse_fn pars
         fprintf(stderr, "%s: cannot register the handlers: %s\n", prog, rt_strerror(rc));
         goto fin;
     }
+    if (o->async && (o->threads > 1 || par_balance_dynamic(o) || o->deterministic)) {
+        /* every rank parsed the same arguments: all stop */
+        if (rt_rank() == 0)
+            fprintf(stderr,
+                    "%s: --async: the asynchronous protocol refines one mesh per rank on one "
+                    "thread: not with %s\n",
+                    prog,
+                    o->threads > 1           ? "--threads above 1"
+                    : par_balance_dynamic(o) ? "--balance dynamic"
+                                             : "--deterministic");
+        *code = 2;
+        goto fin;
+    }
     if (o->perturb) rt_perturb_set(o->perturb);
     if (o->threads > 1 && (rc = rt_workers_ensure(o->threads)) != RT_OK) {
         fprintf(stderr, "%s: --threads %d: cannot start the threads: %s\n", prog, (int)o->threads,
                 rt_strerror(rc));
         goto fin;
+    }
+    if (o->threads > 1) { /* the threads share the CPUs a launcher left the rank */
+        int cpus = rt_cpus(), fewest = cpus;
+        MESH_MPI(MPI_Allreduce(&cpus, &fewest, 1, MPI_INT, MPI_MIN, rt_app_comm()));
+        if (fewest < o->threads && rt_rank() == 0 && !o->quiet)
+            fprintf(stderr,
+                    "%s: warning: --threads %d, but a rank may run on %d CPU%s only: the threads "
+                    "share %s (under mpirun, which binds each rank to one core by default, add "
+                    "--bind-to none or --map-by slot:PE=%d)\n",
+                    prog, (int)o->threads, fewest, fewest == 1 ? "" : "s",
+                    fewest == 1 ? "it" : "them", (int)o->threads);
     }
     if (o->net) { /* every rank parses the same text: all stop or none */
         double lat = 0, bw = 0;
