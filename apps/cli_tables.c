@@ -212,7 +212,8 @@ static const cli_opt parallel_rows[] = {
     {.name = "subdomains",
      .value = &v_nsub,
      .at = CLI_AT(par.nsub),
-     .dflt_text = "the ranks; x4 with --balance dynamic; x4T with --threads T",
+     .dflt_text = "./pcdm: 16, or ranks x threads where that is more; ./pcdm --async and "
+                  "./pbw: the ranks, x4 with --balance dynamic",
      .help = "number of subdomains, at least the number of ranks"},
     {.name = "imbalance",
      .value = &v_ratio,
@@ -255,7 +256,7 @@ static const cli_opt pcdm_rows[] = {
      .at = CLI_AT(par.threads),
      .dflt_text = "1",
      .help = "refine each rank's subdomains on T threads at once (the mesh is the same as on "
-             "one thread; --subdomains defaults to 4 per thread and rank); one process needs "
+             "one thread); one process needs "
              "no mpirun: ./pcdm --threads 2 in.poly uses two cores"},
     {.name = "async",
      .value = &v_flag,
@@ -274,8 +275,7 @@ static const cli_opt pcdm_rows[] = {
      .at = CLI_AT(par.balance),
      .dflt_text = "static",
      .help = "static: each rank refines the subdomains the decomposition gives it; dynamic: an "
-             "idle rank takes unstarted subdomains from busy ones (the mesh stays the same; "
-             "--subdomains defaults to 4 per rank)"},
+             "idle rank takes unstarted subdomains from busy ones (the mesh stays the same)"},
     {.help = NULL}};
 
 static const cli_opt pbw_rows[] = {
@@ -442,7 +442,7 @@ void cli_help(const cli_prog *p, FILE *f) {
     fprintf(f, "Options:\n");
     for (const cli_opt *const *t = p->tables; *t; t++)
         for (const cli_opt *r = *t; r->help; r++) {
-            char left[64], text[512], dflt[96] = "";
+            char left[64], text[640], dflt[192] = "";
             int n = snprintf(left, sizeof left, "  ");
             char sw[2] = {r->letter, 0};
             if (r->letter || r->spelling)

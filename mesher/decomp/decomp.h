@@ -48,6 +48,8 @@
 typedef struct pcdm_decomp_opts {
     int32_t nsub;          /* K, number of subdomains; 0 = nranks (auto) / whatever the cuts make */
     int32_t nranks;        /* P >= 1 */
+    int nsub_fit;          /* 1: nsub is a default, not asked for: halved (not below nranks)
+                            * while the coarse mesh has fewer than 2 triangles per subdomain */
     double min_angle;      /* quality bound in degrees of the final mesh (the coarse mesh's bound is
                             * at least 30 and a little above this one) */
     double max_area;       /* area bound, 0 = none */

@@ -673,6 +673,10 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
             b = mesh_rules_area_bound(b, in->regions[4 * m.treg[t] + 3]);
         tw[t] = b > 0 && ar > b ? ar / b : 1;
     }
+    /* a default count shrinks to what the coarse mesh can share out; halving from the same
+     * default gives the same K for every rank count up to it */
+    if (o->nsub_fit)
+        while (K > P && n < 2 * K) K = K / 2 < P ? P : K / 2;
     double *target = mesh_xmalloc((size_t)K, sizeof(double));
     int32_t *planned = mesh_xmalloc((size_t)K, sizeof(int32_t));
     plan(K, P, R, target, planned);
@@ -724,7 +728,7 @@ static int trial_ok(const pcdm_decomp *d, const pcdm_decomp_opts *o) {
         /* the preview's final mesh has at most K * exact_per_sub triangles (exact_preview):
          * a trial that needs 8 times as many cascades along an interface (a sliver of 1e-10
          * radians cut along its length split for minutes), so it is not ok */
-        int32_t K = o->nsub > 0 ? o->nsub : o->nranks;
+        int32_t K = d->nsub;
         int32_t eps = o->exact_per_sub == 0 ? EXACT_PER_SUB_DEFAULT : o->exact_per_sub;
         q.max_steiner = 4 * (int64_t)K * (eps > 0 ? eps : EXACT_PER_SUB_DEFAULT);
         q.offcenter = 1;
@@ -738,11 +742,11 @@ static int trial_ok(const pcdm_decomp *d, const pcdm_decomp_opts *o) {
 
 int pcdm_decomp_auto(const pslg *in, const pcdm_decomp_opts *o, pcdm_decomp *out, char *err,
                      size_t errlen) {
-    int32_t K = o->nsub > 0 ? o->nsub : o->nranks;
     for (int mode = 0; mode < 3; mode++) {
         int rc = attempt(in, o, mode, out, err, errlen);
         if (rc != 0 || !out->exact || trial_ok(out, o)) return rc;
-        int more = out->ncoarse < (int64_t)K * EXACT_SAFE_PER_SUB; /* would mode 1 differ? */
+        /* would mode 1 differ? */
+        int more = out->ncoarse < (int64_t)out->nsub * EXACT_SAFE_PER_SUB;
         pcdm_decomp_free(out);
         if (mode == 0 && !more) mode = 1;
     }

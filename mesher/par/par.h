@@ -140,6 +140,9 @@ static inline int par_balance_dynamic(const par_opts *o) {
  * computes it, on a coarse mesh of about 200 K triangles); more is refused with a clear
  * message. */
 #define PAR_MAX_SUBDOMAINS 256
+/* ./pcdm's default number of subdomains in rounds (see run_par.c's decompose): fixed, so the
+ * default mesh is the same for any ranks x threads up to this many */
+#define PAR_ROUNDS_SUBDOMAINS 16
 
 /* Collective over rt_app_comm().  1 iff every rank computed the same decomposition: each rank
  * builds it alone (deterministic code, no communication), so a hash of what the meshers consume

@@ -87,13 +87,21 @@ static int decompose(const run_job *j, const pslg *in, pcdm_decomp *d, char *err
     int P = rt_size(), rc = 0;
     pcdm_decomp_opts dopt;
     pcdm_decomp_opts_default(&dopt);
-    /* --balance dynamic moves whole subdomains, --threads refines them: several per rank (and
-     * thread) by default */
-    int32_t per = o->threads > 1 ? 4 * o->threads : par_balance_dynamic(o) ? 4 : 1;
-    int32_t k = o->nsub > 0 ? o->nsub : P * per;
+    /* The default count.  In rounds (./pcdm without --async) the mesh is a function of the
+     * input, the bounds and the number of subdomains, so the default is one fixed count,
+     * PAR_ROUNDS_SUBDOMAINS, whatever the ranks, threads and balancing (one per rank and thread
+     * where there are more): the same mesh for any of those.  Otherwise one per rank, several
+     * with --balance dynamic, which moves whole subdomains. */
+    int rounds = j->method == RUN_PCDM && (!o->async || o->threads > 1);
+    int32_t per = par_balance_dynamic(o) ? 4 : 1;
+    int32_t T = o->threads > 1 ? o->threads : 1;
+    int32_t dflt =
+        rounds ? (P * T > PAR_ROUNDS_SUBDOMAINS ? P * T : PAR_ROUNDS_SUBDOMAINS) : P * per;
+    int32_t k = o->nsub > 0 ? o->nsub : dflt;
     if (!o->nsub && k > PAR_MAX_SUBDOMAINS && P <= PAR_MAX_SUBDOMAINS) k = PAR_MAX_SUBDOMAINS;
     dopt.nsub = o->cuts ? o->nsub : k; /* cuts: 0 = as many as they make */
     dopt.nranks = P;
+    dopt.nsub_fit = rounds && !o->nsub && !o->cuts;
     dopt.min_angle = o->min_angle;
     dopt.max_area = o->max_area;
     dopt.imbalance = o->imbalance;
