@@ -6,6 +6,8 @@
 #   - the six domains of data/ at -q 20.7, 30 and 33, 8 subdomains, (ranks, threads) in (1,1)
 #     (1,2) (2,1) (2,2) (4,2) (8,1), plus, at -q 30 on three of them, (2,2) with --balance
 #     dynamic, (3,2) under --perturb and (2,1) with --deterministic (accepted, the default);
+#   - without --subdomains (its default is fixed), lake and square (4 subdomains at
+#     -q 35 -a 0.05) at 4-5 settings: one hash;
 #   - one process without mpirun (./pcdm --threads 2 as a plain program) gives the same hash;
 #   - --threads 0 and a non-number are refused with a message, exit 2 (a usage error), and so
 #     is --async (the asynchronous protocol, one thread) with --threads 2.
@@ -47,6 +49,31 @@ for d in $doms; do
                 fail "$f -q $q ranks $np threads $th $*: $h, (1,1) gave $want"
             fi
         done
+    done
+done
+
+# the default --subdomains is fixed (16, halved where the coarse mesh is small): the same hash
+# for any ranks x threads and balancing without giving it (square at -q 35 -a 0.05: a coarse
+# mesh of 8 triangles, 4 subdomains, so at most 4 ranks)
+for spec in "data/lake.poly 30 2e-5" "data/square.poly 35 0.05"; do
+    read -r f q a <<<"$spec"
+    cfgs=("1 1" "2 2" "4 2" "8 1" "2 1 --balance dynamic")
+    [ "$q" = 35 ] && cfgs=("1 1" "2 2" "4 1" "2 1 --balance dynamic")
+    want=""
+    for cfg in "${cfgs[@]}"; do
+        set -- $cfg
+        np=$1 th=$2
+        shift 2
+        mpi_run "$np" "$BIN/pcdm" --threads "$th" -q "$q" -a "$a" -NEP --stats --check "$@" "$f" \
+            >"$T/out.txt" 2>&1
+        rc=$?
+        h=$(hash_of "$T/out.txt")
+        [ -n "$want" ] || want=$h
+        if [ "$rc" = 0 ] && grep -q '^meshcheck: OK' "$T/out.txt" && [ "$h" = "$want" ]; then
+            ok "$f -q $q -a $a default subdomains, ranks $np threads $th $*: $h"
+        else
+            fail "$f -q $q -a $a default subdomains, ranks $np threads $th $*: exit $rc, $h against $want"
+        fi
     done
 done
 
