@@ -233,7 +233,7 @@ static const cli_opt parallel_rows[] = {
      .value = &v_poll,
      .at = CLI_AT(par.poll_every),
      .dflt = 0,
-     .dflt_text = "300 for ./pcdm, 64 for ./pbw",
+     .dflt_text = "300 for ./pcdm, 1024 for ./pbw",
      .help = "local work units (insertions, splits) between two services of incoming requests "
              "(1: after every insertion, as the paper)"},
     {.name = "perturb",
