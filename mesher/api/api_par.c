@@ -1,4 +1,4 @@
-/* api_par.c: pcdm_triangulate_par (include/pcdm.h) -- PCDM (TR-97-17 section 3) or PBW
+/* api_par.c: pcdm_triangulate_par (include/pcdm_par.h) -- PCDM (TR-97-17 section 3) or PBW
  * (section 2) in one call, Collective over a communicator the caller gives.
  *
  * It is ./pcdm and ./pbw without files or printing: the runtime is started on duplicates of the
@@ -22,6 +22,7 @@
  * collective another rank skipped.  Nothing is printed.
  */
 #include "api/api_impl.h"
+#include "pcdm_par.h"
 
 #include "base/base.h"
 #include "decomp/decomp.h"
