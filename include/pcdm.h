@@ -131,14 +131,20 @@ typedef struct pcdm_options {
                       * new segments on the hull's edges not covered by input segments, cut at
                       * every point on them, marker 1; the domain is everything inside the
                       * hull but the holes (default 0: the domain the segments enclose) */
+    /* pcdm_triangulate only */
+    int no_refine; /* 1: the constrained Delaunay triangulation of the input alone, no Steiner
+                    * points, the bounds ignored (Triangle without -q, -a and -u); default 0 */
+    int lenses;    /* 1: a subsegment is encroached by a point in its diametral lens (as
+                    * Triangle: fewer points on segments); 0: its diametral circle (default) */
 } pcdm_options;
 
 /* Local.  Fills *o with the defaults above. */
 void pcdm_options_default(pcdm_options *o);
 
 /* A mesh (or one rank's part of it).  Points: npoints, points[2i], points[2i+1];
- * pointmarkers (npoints); pointattr (npointattr per point; NULL with npointattr 0 while the
- * mesher does not carry point attributes to the mesh).  The input's points come
+ * pointmarkers (npoints); pointattr (npointattr per point, the input's point attributes
+ * linearly interpolated on the new points as Triangle does; NULL with npointattr 0 when the
+ * input has none, and for now in the parallel call).  The input's points come
  * first, in their order (after merging duplicates), then the Steiner points.  Triangles:
  * triangles[3t..3t+2], counter-clockwise; triangleattr (one per triangle: its region's
  * attribute, or NULL when the mesher does not provide them).  Segments: the subsegments of the

@@ -354,6 +354,8 @@ int pcdm_triangulate_par(MPI_Comm comm, const pcdm_input *in, const pcdm_options
         rc = api_fail(st, PCDM_EINVAL,
                       "region_attributes and region_areas work with pcdm_triangulate only (the "
                       "parallel call does not label regions yet)");
+    if (rc == 0 && (o.no_refine || o.lenses))
+        rc = api_fail(st, PCDM_EINVAL, "no_refine and lenses work with pcdm_triangulate only");
     if (rc == 0 && (o.root >= P))
         rc = api_fail(st, PCDM_EINVAL, "root %d: the communicator has %d ranks", o.root, P);
     if (agree(rc, st)) {
