@@ -53,6 +53,8 @@ ext = Extension(
     libraries=["m"],
 )
 
-# build/python: beside the Makefile's build output, not over it
+# build/python: beside the Makefile's build output, not over it; every object rebuilt (setuptools
+# does not see a changed header, and pip builds in the tree)
 setup(version=version(), ext_modules=[ext],
-      options={"build": {"build_base": os.path.join("build", "python")}})
+      options={"build": {"build_base": os.path.join("build", "python")},
+               "build_ext": {"force": True}})
