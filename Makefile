@@ -60,7 +60,7 @@ APPS := $(patsubst apps/%.c,%,$(APP_SRC))
 TESTS := $(patsubst tests/%.c,$(B)/tests/%,$(TEST_SRC))
 BENCHES := $(patsubst bench/%.c,$(B)/bench/%,$(BENCH_SRC))
 
-.PHONY: all libs install uninstall examples deps fuzz fuzz-deps fuzz-replay stress test check-deps demo bench bench-quick bench-seq bench-primitives test-hosts bench-hosts format clean
+.PHONY: all libs install uninstall examples deps fuzz fuzz-deps fuzz-replay stress test check-deps demo bench bench-quick bench-seq bench-primitives bench-python test-hosts bench-hosts format clean
 .DEFAULT_GOAL := all
 # Keep the objects of programs and tests (they are intermediate files to make otherwise).
 .SECONDARY: $(patsubst %.c,$(B)/obj/%.o,$(APP_SRC) $(TEST_SRC) $(BENCH_SRC))
@@ -228,6 +228,12 @@ bench-quick: deps
 bench-seq: deps
 	@$(MAKE) --no-print-directory all
 	@bash bench/seq.sh
+
+# The Python section alone (bench/python.py; the package installed by tests/t_python.sh).
+bench-python: deps
+	@$(MAKE) --no-print-directory all
+	@B=$(B) bash tests/t_python.sh >/dev/null
+	@$(B)/pyvenv/bin/python bench/python.py $(if $(QUICK),--sizes 1e6 --reps 1,)
 
 bench-primitives: deps
 	@$(MAKE) --no-print-directory all
