@@ -5,7 +5,8 @@
 # keys, dtypes, shapes, the validator, Steiner counts; bad input as ValueError; memory over
 # 10,000 calls; the GIL; python -m pcdm).  What the environment lacks is installed there from
 # PyPI with pip (setuptools, numpy, pytest, triangle, pinned as tests/t_examples.sh pins it).
-# Skips, saying why, without python3 (with venv and pip); the sanitizer and debug builds skip it
+# With MPI (mpicc, METIS), pcdm.parallel too: python/tests/par_check.py under mpirun at 2 and 3
+# ranks (mpi4py from PyPI when missing).  Skips, saying why, without python3 (with venv and pip); the sanitizer and debug builds skip it
 # (the package is built by setup.py, not by their flags).
 . "$(dirname "$0")/lib.sh"
 if [ "${SANITIZE:-}" = 1 ] || [ "${DEBUG:-}" = 1 ] || [ "$B" != build ]; then
@@ -45,4 +46,20 @@ else
     fail "pytest: $(grep -E '^(FAILED|ERROR)' "$T/pytest.log" | head -20)$(tail -1 "$T/pytest.log")"
 fi
 grep -E '^(Steiner|RSS|one call)' "$T/pytest.log"
+# pcdm.parallel (built where MPI and METIS are): mpi4py from PyPI when missing, then
+# python/tests/par_check.py at 2 and 3 ranks
+if (cd "$T" && "$py" -c 'import pcdm._par') 2>/dev/null; then
+    "$py" -c 'import mpi4py' 2>/dev/null || pip_in mpi4py || fatal "pip install mpi4py: $(tail -3 "$T/pip.log")"
+    for np in 2 3; do
+        if (cd "$T" && TIMEOUT=300 mpi_run "$np" "$py" "$root/python/tests/par_check.py" >"$T/par.log" 2>&1); then
+            ok "pcdm.parallel at $np ranks: $(grep '^par_check' "$T/par.log")"
+        else
+            fail "pcdm.parallel at $np ranks: $(tail -5 "$T/par.log")"
+        fi
+    done
+elif command -v mpicc >/dev/null 2>&1; then
+    fail "mpicc is here but the package was built without pcdm._par: $(grep -m1 'without pcdm.parallel' "$T/pip.log")"
+else
+    echo "$TEST: no MPI: pcdm.parallel not built, not tested"
+fi
 finish
