@@ -116,6 +116,8 @@ def test_examples(name, opts):
     nt = len(t["vertices"]) - len(d["vertices"])
     nr = len(r["vertices"]) - len(d["vertices"])
     STEINER.append((name, opts, nt, nr))
+    if "q" not in opts and "a" not in opts:  # the CDT alone, as Triangle: no Steiner point
+        assert nr == 0 and len(r["triangles"]) == len(t["triangles"])
     assert abs(nr - nt) <= 0.05 * nt + 8, f"Steiner points: pcdm {nr}, triangle {nt}"
     if "A" in opts:  # the same regional attributes, where both put a triangle's centroid
         assert set(np.unique(r["triangle_attributes"])) <= set(
