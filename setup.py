@@ -113,7 +113,12 @@ def mpi_extension():
 exts = [ext] + [e for e in [mpi_extension()] if e]
 
 # build/python: beside the Makefile's build output, not over it; every object rebuilt (setuptools
-# does not see a changed header, and pip builds in the tree)
+# does not see a changed header, and pip builds in the tree), and the staging folders of an
+# earlier build emptied first (a module built then, e.g. pcdm._par before PCDM_MPI=0, would
+# otherwise ride along into the wheel)
+for d in glob.glob(os.path.join(ROOT, "build", "python", "lib*")) + \
+        glob.glob(os.path.join(ROOT, "build", "python", "bdist*")):
+    shutil.rmtree(d, ignore_errors=True)
 setup(version=version(), ext_modules=exts,
       options={"build": {"build_base": os.path.join("build", "python")},
                "build_ext": {"force": True, "parallel": os.cpu_count() or 1}})
