@@ -1,7 +1,8 @@
 """pcdm.parallel under mpirun (tests/t_python.sh runs it at 2 and 3 ranks): every rank's part
 adds up to the whole (owned vertices, triangles, triangle_first as the prefix sums), the whole
 mesh collected on a root passes the validator with the bounds, its size is within 3% of the
-sequential mesh's (pcdm.triangulate with the library's diametral circles), PBW as well, and bad
+sequential mesh's (about 20K triangles: on smaller meshes the interface splits of the
+asynchronous protocol alone move the count by up to 3%, as tests/t_pcdm.sh found) (pcdm.triangulate with the library's diametral circles), PBW as well, and bad
 input raises the same ValueError on every rank.  Prints "par_check: OK ..." on rank 0 and exits
 0 only when every rank passed."""
 import os
@@ -19,6 +20,7 @@ from poly import read_poly  # noqa: E402
 
 comm = MPI.COMM_WORLD
 problems = []
+devs = []
 
 
 def expect(c, what):
@@ -28,9 +30,9 @@ def expect(c, what):
 
 pts, segs, holes = read_poly(os.path.join(HERE, "..", "..", "data", "lake.poly"))
 d = {"vertices": np.array(pts), "segments": np.array(segs), "holes": np.array(holes)}
-seq = pcdm.triangulate(d, "pq30a0.0005", lenses=False)
+seq = pcdm.triangulate(d, "pq30a0.00015", lenses=False)
 for method in ("pcdm", "pbw"):
-    p = pcdm.parallel.triangulate(d, "pq30a0.0005", comm=comm, method=method)
+    p = pcdm.parallel.triangulate(d, "pq30a0.00015", comm=comm, method=method)
     nt = len(p["triangles"])
     expect(comm.allreduce(int(p["vertex_owned"].sum())) == p["global_vertices"],
            f"{method}: owned vertices do not add up to global_vertices")
@@ -39,11 +41,12 @@ for method in ("pcdm", "pbw"):
     expect(p["triangle_first"] == (below if comm.rank else 0),
            f"{method}: triangle_first is not the prefix sum")
     expect(p["triangles"].max() < len(p["vertices"]), f"{method}: a local index out of range")
-    w = pcdm.parallel.triangulate(d, "pq30a0.0005", comm=comm, method=method, root=0)
+    w = pcdm.parallel.triangulate(d, "pq30a0.00015", comm=comm, method=method, root=0)
     if comm.rank == 0:
-        rep = pcdm.check(w, d, q=30, a=0.0005)
+        rep = pcdm.check(w, d, q=30, a=0.00015)
         expect(rep["ok"], f"{method}: the whole mesh: {rep['summary']}")
         dev = len(w["triangles"]) / len(seq["triangles"]) - 1
+        devs.append(f"{method} {len(w['triangles'])} ({dev:+.1%})")
         expect(abs(dev) <= 0.03, f"{method}: {len(w['triangles'])} triangles against "
                f"{len(seq['triangles'])} sequential ({dev:+.1%})")
     else:
@@ -63,6 +66,6 @@ allp = comm.gather(problems)
 if comm.rank == 0:
     bad = [f"rank {r}: {x}" for r, ps in enumerate(allp) for x in ps]
     print("\n".join(bad) if bad else
-          f"par_check: OK {comm.size} ranks, pcdm and pbw, {len(seq['triangles'])} triangles "
-          "sequentially")
+          f"par_check: OK {comm.size} ranks: {', '.join(devs)} triangles against "
+          f"{len(seq['triangles'])} sequentially")
 sys.exit(1 if comm.allreduce(len(problems)) else 0)
