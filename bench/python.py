@@ -15,7 +15,8 @@ only; the ratio of the medians).
 
 Lines printed (last): "python: N=... pcdm_tps=... triangle_tps=... ratio=... pcdm_mb=...
 triangle_mb=... mem_ratio=..." per size, then "python: threads=2 seq_s=... par_s=...
-ratio=...".  Figures are measured, never typed in; on a loaded machine compare ratios only.
+ratio=... cpu_per_wall=..." (the threads' CPU seconds per wall second: 2 when both ran at
+once; the machine's load average beside it).  Figures are measured, never typed in; on a loaded machine compare ratios only.
 """
 import argparse
 import os
@@ -86,20 +87,28 @@ def threads(path, switches, reps):
     import pcdm
     d1, d2 = load(path), load(path)
     pcdm.triangulate(d1, switches)  # warm
-    seq, par = [], []
+    seq, par, cpu = [], [], []
+
+    def cpu_s():
+        r = resource.getrusage(resource.RUSAGE_SELF)
+        return r.ru_utime + r.ru_stime
     for _ in range(reps):
         t0 = time.perf_counter()
         pcdm.triangulate(d1, switches)
         pcdm.triangulate(d2, switches)
         seq.append(time.perf_counter() - t0)
         ts = [threading.Thread(target=pcdm.triangulate, args=(d, switches)) for d in (d1, d2)]
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), cpu_s()
         for t in ts:
             t.start()
         for t in ts:
             t.join()
         par.append(time.perf_counter() - t0)
-    return statistics.median(seq), statistics.median(par)
+        cpu.append(cpu_s() - c0)
+    # the threads' CPU seconds over the wall seconds: near 2 when both ran at once on two free
+    # cores, near 1 when they took turns (a lock, or one core free)
+    return statistics.median(seq), statistics.median(par), statistics.median(
+        c / w for c, w in zip(cpu, par))
 
 
 def main():
@@ -146,9 +155,10 @@ def main():
                      f" mem_ratio={med['pcdm'][1] / med['triangle'][1]:.2f}")
         print(line, flush=True)
     sw = switches(a.q, dom * 1.6 / a.thread_size)
-    s, p = threads(path, sw, a.reps)
+    s, p, busy = threads(path, sw, a.reps)
     print(f"python: threads=2 switches={sw} seq_s={s:.3f} par_s={p:.3f} ratio={p / s:.2f} "
-          f"cpus={os.cpu_count()}")
+          f"cpu_per_wall={busy:.2f} cpus={os.cpu_count()} "
+          f"loadavg={os.getloadavg()[0]:.1f}")
     return 0
 
 
