@@ -8,7 +8,8 @@
 #   make TSAN=1 test  ThreadSanitizer build (build/tsan), the threaded tests only (tests/run.sh)
 #   make DEBUG=1    debug build (build/debug, MESH_ASSERT on)
 #   make format     clang-format the tree       make clean
-#   make install    programs, libpcdm (.a, .so), include/pcdm.h and pcdm.pc into PREFIX
+#   make install    programs, libpcdm and libpcdm_seq (.a, .so), include/pcdm.h, pcdm_par.h,
+#                   pcdm.pc and pcdm-seq.pc into PREFIX
 #                   (default /usr/local; DESTDIR for staging)    make uninstall
 #   make test-hosts ./pcdm, ./pbw and the runtime across 3 hosts made of network namespaces
 #                   (TCP between them; faults, bad set-ups; root only, skips otherwise)
@@ -67,7 +68,7 @@ APPS := $(patsubst apps/%.c,%,$(APP_SRC))
 TESTS := $(patsubst tests/%.c,$(B)/tests/%,$(TEST_SRC))
 BENCHES := $(patsubst bench/%.c,$(B)/bench/%,$(BENCH_SRC))
 
-.PHONY: all libs install uninstall examples deps fuzz fuzz-deps fuzz-replay stress test check-deps demo bench bench-quick bench-seq bench-primitives test-hosts bench-hosts format clean
+.PHONY: all libs install uninstall examples deps fuzz fuzz-deps fuzz-replay stress test check-deps demo bench bench-quick bench-seq bench-primitives bench-python test-hosts bench-hosts format clean
 .DEFAULT_GOAL := all
 # Keep the objects of programs and tests (they are intermediate files to make otherwise).
 .SECONDARY: $(patsubst %.c,$(B)/obj/%.o,$(APP_SRC) $(TEST_SRC) $(BENCH_SRC))
@@ -133,7 +134,29 @@ INCDIR = $(PREFIX)/include
 MPI_CFLAGS = $(shell $(CC) -showme:compile 2>/dev/null)
 MPI_LIBS = $(shell $(CC) -showme:link 2>/dev/null)
 
-libs: $(LIB_A) $(LIB_SO)
+# The sequential library libpcdm_seq (pcdm_triangulate and the validator, include/pcdm.h):
+# the sources listed in mesher/seq_sources.txt -- the one list, which the Python build reads
+# too -- compiled with the plain C compiler and linked with neither MPI nor METIS.
+SEQ_CC ?= cc
+SEQ_SRC := $(wildcard $(shell sed 's/\#.*//' mesher/seq_sources.txt))
+SEQ_OBJ := $(patsubst %.c,$(B)/seq/%.o,$(SEQ_SRC))
+LIB_SEQ_A := $(B)/lib/libpcdm_seq.a
+LIB_SEQ_SO := $(B)/lib/libpcdm_seq.so.$(PCDM_VERSION)
+
+$(B)/seq/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(SEQ_CC) $(STD) $(WARN) $(OPT) -fPIC -Iinclude -Imesher $(CFLAGS) -MMD -MP -c $< -o $@
+
+$(LIB_SEQ_A): $(SEQ_OBJ)
+	@mkdir -p $(dir $@)
+	rm -f $@ && ar rcs $@ $^
+
+$(LIB_SEQ_SO): $(SEQ_OBJ) mesher/api/pcdm_seq.map
+	@mkdir -p $(dir $@)
+	$(SEQ_CC) -shared $(LDFLAGS) -Wl,-soname,libpcdm_seq.so.$(PCDM_SOMAJOR) -Wl,--no-undefined \
+	    -Wl,--version-script,mesher/api/pcdm_seq.map $(SEQ_OBJ) -lm -o $@
+
+libs: $(LIB_A) $(LIB_SO) $(LIB_SEQ_A) $(LIB_SEQ_SO)
 
 $(B)/pic/%.o: %.c
 	@mkdir -p $(dir $@)
@@ -149,6 +172,10 @@ $(LIB_SO): $(PIC_OBJ) mesher/api/pcdm.map
 	$(CC) -shared $(LDFLAGS) -Wl,-soname,libpcdm.so.$(PCDM_SOMAJOR) \
 	    -Wl,--version-script,mesher/api/pcdm.map $(PIC_OBJ) $(LDLIBS) -o $@
 
+$(B)/pcdm-seq.pc: mesher/api/pcdm-seq.pc.in Makefile
+	@mkdir -p $(dir $@)
+	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@VERSION@|$(PCDM_VERSION)|' $< > $@
+
 $(B)/pcdm.pc: mesher/api/pcdm.pc.in Makefile
 	@mkdir -p $(dir $@)
 	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@VERSION@|$(PCDM_VERSION)|' \
@@ -156,21 +183,30 @@ $(B)/pcdm.pc: mesher/api/pcdm.pc.in Makefile
 
 # The .pc file names PREFIX, so it is rebuilt on every install.
 install: $(patsubst %,$(B)/bin/%,$(APPS)) libs
-	@rm -f $(B)/pcdm.pc && $(MAKE) --no-print-directory $(B)/pcdm.pc PREFIX=$(PREFIX)
+	@rm -f $(B)/pcdm.pc $(B)/pcdm-seq.pc && \
+	    $(MAKE) --no-print-directory $(B)/pcdm.pc $(B)/pcdm-seq.pc PREFIX=$(PREFIX)
 	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR)/pkgconfig $(DESTDIR)$(INCDIR)
 	install -m 755 $(patsubst %,$(B)/bin/%,$(APPS)) $(DESTDIR)$(BINDIR)/
 	install -m 644 $(LIB_A) $(DESTDIR)$(LIBDIR)/
 	install -m 755 $(LIB_SO) $(DESTDIR)$(LIBDIR)/
 	ln -sf libpcdm.so.$(PCDM_VERSION) $(DESTDIR)$(LIBDIR)/libpcdm.so.$(PCDM_SOMAJOR)
 	ln -sf libpcdm.so.$(PCDM_SOMAJOR) $(DESTDIR)$(LIBDIR)/libpcdm.so
-	install -m 644 include/pcdm.h $(DESTDIR)$(INCDIR)/
-	install -m 644 $(B)/pcdm.pc $(DESTDIR)$(LIBDIR)/pkgconfig/
+	install -m 644 $(LIB_SEQ_A) $(DESTDIR)$(LIBDIR)/
+	install -m 755 $(LIB_SEQ_SO) $(DESTDIR)$(LIBDIR)/
+	ln -sf libpcdm_seq.so.$(PCDM_VERSION) $(DESTDIR)$(LIBDIR)/libpcdm_seq.so.$(PCDM_SOMAJOR)
+	ln -sf libpcdm_seq.so.$(PCDM_SOMAJOR) $(DESTDIR)$(LIBDIR)/libpcdm_seq.so
+	install -m 644 include/pcdm.h include/pcdm_par.h $(DESTDIR)$(INCDIR)/
+	install -m 644 $(B)/pcdm.pc $(B)/pcdm-seq.pc $(DESTDIR)$(LIBDIR)/pkgconfig/
 
 uninstall:
 	rm -f $(patsubst %,$(DESTDIR)$(BINDIR)/%,$(APPS)) $(DESTDIR)$(INCDIR)/pcdm.h \
+	    $(DESTDIR)$(INCDIR)/pcdm_par.h \
 	    $(DESTDIR)$(LIBDIR)/libpcdm.a $(DESTDIR)$(LIBDIR)/libpcdm.so \
 	    $(DESTDIR)$(LIBDIR)/libpcdm.so.$(PCDM_SOMAJOR) $(DESTDIR)$(LIBDIR)/libpcdm.so.$(PCDM_VERSION) \
-	    $(DESTDIR)$(LIBDIR)/pkgconfig/pcdm.pc
+	    $(DESTDIR)$(LIBDIR)/libpcdm_seq.a $(DESTDIR)$(LIBDIR)/libpcdm_seq.so \
+	    $(DESTDIR)$(LIBDIR)/libpcdm_seq.so.$(PCDM_SOMAJOR) \
+	    $(DESTDIR)$(LIBDIR)/libpcdm_seq.so.$(PCDM_VERSION) \
+	    $(DESTDIR)$(LIBDIR)/pkgconfig/pcdm.pc $(DESTDIR)$(LIBDIR)/pkgconfig/pcdm-seq.pc
 
 test: deps
 	@$(MAKE) --no-print-directory all
@@ -201,6 +237,12 @@ bench-seq: deps
 	@$(MAKE) --no-print-directory all
 	@bash bench/seq.sh
 
+# The Python section alone (bench/python.py; the package installed by tests/t_python.sh).
+bench-python: deps
+	@$(MAKE) --no-print-directory all
+	@B=$(B) bash tests/t_python.sh >/dev/null
+	@$(B)/pyvenv/bin/python bench/python.py $(if $(QUICK),--sizes 1e6 --reps 1,)
+
 bench-primitives: deps
 	@$(MAKE) --no-print-directory all
 	@B=$(B) bash bench/primitives.sh
@@ -221,14 +263,12 @@ FUZZ_SEED ?= 0
 FUZZ_RUNS ?= -1
 FUZZ_FLAGS := -g -O1 -ffp-contract=off -fno-omit-frame-pointer \
               -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined -DMESH_DEBUG
-# The sequential layers, the validator (not the MPI interface checks of mesher/check/) and the
-# driver's sequential stages.
-FUZZ_SRC := $(wildcard mesher/base/*.c mesher/geom/*.c mesher/io/*.c mesher/check/validate*.c \
-                     mesher/seq/*.c mesher/bounds/*.c) mesher/run/run.c mesher/run/run_seq.c
+# The sequential library's sources (mesher/seq_sources.txt: the sequential layers, the validator
+# and the driver's sequential stages; no MPI).
+FUZZ_SRC := $(SEQ_SRC)
 build/fuzz/fuzz_mesh: tests/fuzz/fuzz_mesh.c $(FUZZ_SRC) $(wildcard mesher/*/*.h)
 	@mkdir -p $(dir $@)
-	$(FUZZ_CC) $(STD) $(FUZZ_FLAGS) -Imesher $(shell mpicc -showme:compile) $< $(FUZZ_SRC) \
-	    $(shell mpicc -showme:link) -lm -o $@
+	$(FUZZ_CC) $(STD) $(FUZZ_FLAGS) -Iinclude -Imesher $< $(FUZZ_SRC) -lm -o $@
 
 fuzz-deps:
 	@FUZZ=1 sh tests/deps.sh

@@ -792,6 +792,32 @@ if [ -n "${BENCH_100M:-}" ]; then
     section_end
 fi
 
+# ---------------------------------------------------------------- Python (bench/python.py)
+# pcdm.triangulate against triangle.triangulate at 1M (and, full run, 10M) triangles, peak
+# memory, and two threads against one after the other; in the virtual environment tests/
+# t_python.sh makes (build/pyvenv: pip install . and the triangle package).  NO_PYTHON=1 skips.
+PYV=$B/pyvenv/bin/python
+if [ -z "${NO_PYTHON:-}" ]; then
+    section_begin "python"
+    if [ ! -x "$PYV" ] || ! "$PYV" -c 'import pcdm' 2>/dev/null; then
+        note "python: no $PYV with pcdm (bash tests/t_python.sh makes it) -- section skipped"
+    elif over_budget 60; then
+        note "python: skipped (time budget)"
+    else
+        PY_SIZES=$([ -n "$QUICK" ] || [ -n "${NO_10M:-}" ] && echo 1e6 || echo 1e6,1e7)
+        echo "$PYV bench/python.py --sizes $PY_SIZES --reps $([ -n "$QUICK" ] && echo 1 || echo 3)" >>"$CMDS"
+        timeout "$([ -n "$QUICK" ] && echo 120 || echo 900)" "$PYV" bench/python.py --sizes "$PY_SIZES" \
+            --reps "$([ -n "$QUICK" ] && echo 1 || echo 3)" >"$R/python.txt" 2>"$R/python.err"
+        rc=$?
+        if [ "$rc" != 0 ] || ! grep -q '^python: threads' "$R/python.txt"; then
+            FAILED=1
+            note "bench/python.py failed (exit status $rc); see $R/python.err"
+        fi
+        grep '^python: [Nt]' "$R/python.txt" | sed 's/^/bench:   /'
+    fi
+    section_end
+fi
+
 # ---------------------------------------------------------------- report
 TOTAL=$(since "$T_START")
 printf 'total\t%s\n' "$TOTAL" >>"$TIMES"

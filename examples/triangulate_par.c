@@ -1,4 +1,4 @@
-/* triangulate_par: libpcdm's parallel call (include/pcdm.h) on a communicator of the caller's.
+/* triangulate_par: libpcdm's parallel call (include/pcdm_par.h) on a communicator of the caller's.
  *
  *   cc triangulate_par.c $(pkg-config --cflags --libs pcdm) -o triangulate_par
  *   mpirun -np 4 ./triangulate_par NAME     writes NAME.poly and NAME.1.node/.ele/.poly
@@ -11,7 +11,7 @@
 #include "example_util.h"
 
 #include <mpi.h>
-#include <pcdm.h>
+#include <pcdm_par.h>
 
 #include <stdio.h>
 

@@ -1,5 +1,7 @@
 /* pcdm.h: the public interface of libpcdm -- quality triangulation in one call, sequential or
  * parallel (Chew, Chrisochoides, Sukup, "Parallel Constrained Delaunay Meshing", TR-97-17).
+ * This header is the sequential half and needs no MPI; the parallel call is in pcdm_par.h,
+ * which includes this one and <mpi.h>.
  *
  * In the spirit of Triangle's triangulate(): give a planar straight-line graph (points,
  * segments with boundary markers, holes, regions, point attributes) and the bounds, get back a
@@ -16,12 +18,13 @@
  * coordinate the library returns or shows the size callback is in the caller's units.
  * Out of memory is the one exception: the allocation funnel aborts the process.
  *
- * Link with `pkg-config --cflags --libs pcdm` (the library uses MPI, METIS and pthreads).
+ * Link with `pkg-config --cflags --libs pcdm` (the whole library: MPI, METIS and pthreads), or,
+ * for pcdm_triangulate alone, `pkg-config --cflags --libs pcdm-seq` (libpcdm_seq: neither MPI
+ * nor METIS).
  */
 #ifndef PCDM_PUBLIC_H
 #define PCDM_PUBLIC_H
 
-#include <mpi.h>
 #include <stdint.h>
 
 #ifdef __cplusplus
@@ -100,6 +103,8 @@ typedef int (*pcdm_unsuitable_fn)(void *ctx, const double *const corner[3], doub
  * expansion and locks (no size callback). */
 enum { PCDM_METHOD_PCDM = 0, PCDM_METHOD_PBW = 1 };
 
+/* pcdm_options: the bounds and switches of both calls; the fields marked
+ * "pcdm_triangulate_par only" are read by the parallel call (pcdm_par.h) alone. */
 typedef struct pcdm_options {
     double min_angle;    /* degrees: no triangle angle below it (0: none; default 20.7; at
                           * most about 34 is reached on every input) */
@@ -126,14 +131,20 @@ typedef struct pcdm_options {
                       * new segments on the hull's edges not covered by input segments, cut at
                       * every point on them, marker 1; the domain is everything inside the
                       * hull but the holes (default 0: the domain the segments enclose) */
+    /* pcdm_triangulate only */
+    int no_refine; /* 1: the constrained Delaunay triangulation of the input alone, no Steiner
+                    * points, the bounds ignored (Triangle without -q, -a and -u); default 0 */
+    int lenses;    /* 1: a subsegment is encroached by a point in its diametral lens (as
+                    * Triangle: fewer points on segments); 0: its diametral circle (default) */
 } pcdm_options;
 
 /* Local.  Fills *o with the defaults above. */
 void pcdm_options_default(pcdm_options *o);
 
 /* A mesh (or one rank's part of it).  Points: npoints, points[2i], points[2i+1];
- * pointmarkers (npoints); pointattr (npointattr per point; NULL with npointattr 0 while the
- * mesher does not carry point attributes to the mesh).  The input's points come
+ * pointmarkers (npoints); pointattr (npointattr per point, the input's point attributes
+ * linearly interpolated on the new points as Triangle does; NULL with npointattr 0 when the
+ * input has none, and for now in the parallel call).  The input's points come
  * first, in their order (after merging duplicates), then the Steiner points.  Triangles:
  * triangles[3t..3t+2], counter-clockwise; triangleattr (one per triangle: its region's
  * attribute, or NULL when the mesher does not provide them).  Segments: the subsegments of the
@@ -175,17 +186,6 @@ void pcdm_mesh_free(pcdm_mesh *m);
  * aside). */
 int pcdm_triangulate(const pcdm_input *in, const pcdm_options *opt, pcdm_mesh *out,
                      pcdm_status *st);
-
-/* Collective over comm (any communicator: MPI_COMM_WORLD, a split, ...).  The caller has
- * initialised MPI with at least MPI_THREAD_FUNNELED and calls from MPI's main thread; the
- * library neither initialises nor finalises MPI, and leaves comm as it was (it works on
- * duplicates).  Every rank passes the same input and options.  PCDM (TR-97-17): the domain is
- * cut into subdomains (METIS on a coarse mesh), each rank refines its own, splitting interface
- * subsegments by remote requests (or PBW, opt->method); the mesh is numbered globally by prefix
- * sums, never gathered unless opt->root >= 0.  Every rank returns the same code and message.  The
- * parallel runtime runs inside the call only: one call at a time per process. */
-int pcdm_triangulate_par(MPI_Comm comm, const pcdm_input *in, const pcdm_options *opt,
-                         pcdm_mesh *out, pcdm_status *st);
 
 #ifdef __cplusplus
 }

@@ -19,6 +19,7 @@
  */
 #include "api_check.h"
 #include "check_run.h"
+#include "pcdm_par.h"
 
 #include <mpi.h>
 #include <stdlib.h>

@@ -10,7 +10,11 @@
 #  - every quoted include resolves as the compiler resolves it (the including file's folder,
 #    then -Iinclude -Iruntime -Imesher), and every folder holding sources is in LAYERS.
 # Scanned: runtime/, mesher/, include/, apps/, bench/, examples/ (tests/ are white-box and may
-# include any header).  The checker first runs on a small tree made here with one violation of
+# include any header).
+# The sequential library (the sources mesher/seq_sources.txt lists: libpcdm_seq and the Python
+# package) needs neither MPI nor METIS nor the runtime: no file it lists, nor any header such a
+# file includes (followed through quoted includes), includes <mpi.h>, <metis.h> or a runtime/
+# header, and every line of the list names at least one file.  The checker first runs on a small tree made here with one violation of
 # each kind, and must report exactly those (so it cannot pass by seeing nothing); then on the
 # repository, where it must report nothing but the known exceptions (KNOWN), each of which must
 # still occur.
@@ -108,6 +112,67 @@ else
     fail "the checker on the planted tree (< wanted, > found): $(cat "$T/self.diff")"
 fi
 
+# seq_check ROOT: one line "FILE INCLUDE: problem" per include of the sequential library's files
+# (ROOT/mesher/seq_sources.txt, and the headers they reach) that needs MPI, METIS or the runtime
+seq_check() {
+    local root=$1 pat f inc base target
+    local -A seen=()
+    local todo=()
+    while read -r pat; do
+        [ -n "$pat" ] || continue
+        local n=0
+        for f in $(cd "$root" && compgen -G "$pat"); do
+            todo+=("$f") n=$((n + 1))
+        done
+        [ "$n" -gt 0 ] || echo "mesher/seq_sources.txt $pat: names no file"
+    done < <(sed 's/#.*//; s/[[:space:]]*$//' "$root/mesher/seq_sources.txt")
+    while [ ${#todo[@]} -gt 0 ]; do
+        f=${todo[0]} todo=("${todo[@]:1}")
+        [ -z "${seen[$f]:-}" ] || continue
+        seen[$f]=1
+        sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*<\(mpi\.h\|metis\.h\)>.*/\1/p' \
+            "$root/$f" | while read -r inc; do
+            echo "$f <$inc>: the sequential library includes <$inc>"
+        done
+        while read -r inc; do
+            for base in "$(dirname "$f")" include runtime mesher; do
+                if [ -e "$root/$base/$inc" ]; then
+                    target=$(realpath -m --relative-to="$root" "$root/$base/$inc")
+                    case $target in
+                    runtime/*) echo "$f $inc: the sequential library includes the runtime" ;;
+                    *) todo+=("$target") ;;
+                    esac
+                    break
+                fi
+            done
+        done < <(sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*"\([^"]*\)".*/\1/p' "$root/$f")
+    done
+}
+
+# 1b. the sequential library's checker on a planted tree: a listed file reaching <mpi.h> through
+# a header, one including <metis.h>, one the runtime, a pattern that names nothing
+S2=$T/seqtree
+mkdir -p "$S2"/mesher/{base,geom,io} "$S2"/runtime
+printf '# comment\nmesher/base/*.c\nmesher/geom/g.c  # trailing\nmesher/io/none*.c\n' >"$S2"/mesher/seq_sources.txt
+printf '#include "base/base.h"\n#include <stdio.h>\n' >"$S2"/mesher/base/base.c
+printf '#include "io/w.h"\n' >"$S2"/mesher/base/b2.c
+printf '#include <stddef.h>\n' >"$S2"/mesher/base/base.h
+printf '#include "base/base.h"\n#include <mpi.h>\n' >"$S2"/mesher/io/w.h
+printf '#include <metis.h>\n#include "rt.h"\n' >"$S2"/mesher/geom/g.c
+touch "$S2"/runtime/rt.h "$S2"/mesher/io/p.c
+seq_check "$S2" | sort >"$T/seq_self.txt"
+cat >"$T/seq_self.want" <<'EOF2'
+mesher/geom/g.c <metis.h>: the sequential library includes <metis.h>
+mesher/geom/g.c rt.h: the sequential library includes the runtime
+mesher/io/w.h <mpi.h>: the sequential library includes <mpi.h>
+mesher/seq_sources.txt mesher/io/none*.c: names no file
+EOF2
+if diff "$T/seq_self.want" "$T/seq_self.txt" >"$T/seq_self.diff"; then
+    ok "the sequential library's checker finds the planted violations, and only those ($(wc -l <"$T/seq_self.txt"))"
+else
+    fail "the sequential library's checker on the planted tree (< wanted, > found): $(cat "$T/seq_self.diff")"
+fi
+
 # 2. the repository
 n0=$(nfailed)
 layer_check . >"$T/found.txt"
@@ -126,6 +191,12 @@ while read -r f inc; do
     grep -q "^$f $inc: " "$T/found.txt" ||
         fail "KNOWN lists '$f $inc', which no longer occurs: delete it from tests/t_layers.sh"
 done <"$T/known.txt"
+seq_check . >"$T/seq_found.txt"
+while read -r line; do
+    fail "$line"
+done <"$T/seq_found.txt"
+nseq=$(sed 's/#.*//' mesher/seq_sources.txt | while read -r pat; do [ -z "$pat" ] || compgen -G "$pat"; done | wc -l)
+[ -s "$T/seq_found.txt" ] || ok "the sequential library's $nseq sources reach neither <mpi.h> nor <metis.h> nor the runtime"
 nfiles=$(find runtime mesher include apps bench examples -name '*.[ch]' | wc -l)
 [ "$(nfailed)" != "$n0" ] ||
     ok "$nfiles files: no include points up or sideways or into another folder's inside (but ${#KNOWN[@]} known exceptions)"

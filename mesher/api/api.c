@@ -58,6 +58,19 @@ int api_fail(pcdm_status *st, int code, const char *fmt, ...) {
     return code;
 }
 
+const char *api_unpath(const char *msg) {
+    /* the arrays have no file or lines: "input:LINE: " or "input: " says nothing */
+    static const char name[] = "input:";
+    if (strncmp(msg, name, sizeof name - 1) != 0) return msg;
+    const char *p = msg + sizeof name - 1;
+    while (*p >= '0' && *p <= '9')
+        p++;
+    if (*p == ':') p++;
+    while (*p == ' ')
+        p++;
+    return *p ? p : msg;
+}
+
 int api_check_args(const pcdm_input *in, const pcdm_options *o, pcdm_status *st) {
     if (!in) return api_fail(st, PCDM_EINVAL, "no input");
     if (!(o->min_angle >= 0 && o->min_angle < 60))
@@ -165,6 +178,8 @@ void api_job(const pcdm_options *o, int method, pslg *g, run_job *j) {
     run_job_init(j, (run_method)method, &po);
     j->given = g;
     j->lib = 1;
+    j->cdt_only = o->no_refine;
+    j->lens = o->lenses;
     j->user_size = o->unsuitable;
     j->user_size_ctx = o->unsuitable_ctx;
 }
@@ -203,7 +218,7 @@ int pcdm_triangulate(const pcdm_input *in, const pcdm_options *opt, pcdm_mesh *o
     mesh_flat f;
     int scale_exp = 0;
     int rc = run_mesh_flat(&j, &f, &scale_exp);
-    if (rc == 1) return api_fail(st, PCDM_EINPUT, "%s", j.msg);
+    if (rc == 1) return api_fail(st, PCDM_EINPUT, "%s", api_unpath(j.msg));
     if (rc == 2) return api_fail(st, PCDM_EUNMET, "%s", j.msg);
     flat_to_mesh(&f, scale_exp, out);
     mesh_flat_free(&f);

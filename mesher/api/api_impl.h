@@ -22,6 +22,10 @@ int api_fail(pcdm_status *st, int code, const char *fmt, ...)
 #endif
     ;
 
+/* msg without the "input:LINE: " or "input: " the driver's load stage puts before a problem
+ * with the arrays (they have no file name or lines; the message names the point or segment). */
+const char *api_unpath(const char *msg);
+
 /* Checks counts, pointers, segment endpoints and the bounds.  Returns PCDM_OK or an error code
  * (st set). */
 int api_check_args(const pcdm_input *in, const pcdm_options *o, pcdm_status *st);

@@ -1,4 +1,4 @@
-/* api_par.c: pcdm_triangulate_par (include/pcdm.h) -- PCDM (TR-97-17 section 3) or PBW
+/* api_par.c: pcdm_triangulate_par (include/pcdm_par.h) -- PCDM (TR-97-17 section 3) or PBW
  * (section 2) in one call, Collective over a communicator the caller gives.
  *
  * It is ./pcdm and ./pbw without files or printing: the runtime is started on duplicates of the
@@ -22,6 +22,7 @@
  * collective another rank skipped.  Nothing is printed.
  */
 #include "api/api_impl.h"
+#include "pcdm_par.h"
 
 #include "base/base.h"
 #include "decomp/decomp.h"
@@ -353,6 +354,8 @@ int pcdm_triangulate_par(MPI_Comm comm, const pcdm_input *in, const pcdm_options
         rc = api_fail(st, PCDM_EINVAL,
                       "region_attributes and region_areas work with pcdm_triangulate only (the "
                       "parallel call does not label regions yet)");
+    if (rc == 0 && (o.no_refine || o.lenses))
+        rc = api_fail(st, PCDM_EINVAL, "no_refine and lenses work with pcdm_triangulate only");
     if (rc == 0 && (o.root >= P))
         rc = api_fail(st, PCDM_EINVAL, "root %d: the communicator has %d ranks", o.root, P);
     if (agree(rc, st)) {

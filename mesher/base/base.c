@@ -1,34 +1,32 @@
-/* base.c: the allocation funnel, the bug report and the MPI error check of mesher/ (base.h).
+/* base.c: the allocation funnel and the bug report of mesher/ (base.h); no MPI (the sequential
+ * library is built from this file; the MPI half of the report is base_mpi.c).
  *
- * The bug report names the rank (from MPI_COMM_WORLD when MPI is running, "-" otherwise) and
- * the caller's file and line, flushes stderr, and stops every rank with MPI_Abort (exit code
- * 70, EX_SOFTWARE) when MPI is initialised and not yet finalised; abort() otherwise, so a core
- * dump or a debugger stops at the caller.
+ * The bug report names the rank and the caller's file and line, flushes stderr, and stops every
+ * rank (exit code 70, EX_SOFTWARE) when a parallel run is up -- the rank and the stop come from
+ * the environment base_mpi.c installs in programs that link the parallel layers -- and calls
+ * abort() otherwise (rank "-"), so a core dump or a debugger stops at the caller.
  */
 #include "base/base.h"
 
-#include <mpi.h>
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-static int mpi_running(void) {
-    int init = 0, fin = 0;
-    MPI_Initialized(&init);
-    if (init) MPI_Finalized(&fin);
-    return init && !fin;
+/* The parallel half of the report, when a program links it (base_mpi.c installs it before
+ * main); NULL: a sequential program or library.  The one process-wide setting of mesher/: the
+ * bug report has no caller's context to take it from. */
+static const mesh_bug_env *bug_env;
+
+void mesh_bug_set_env(const mesh_bug_env *e) {
+    bug_env = e;
 }
 
 void mesh_bug_at(const char *file, int line, const char *fmt, ...) {
     char rank[16] = "-";
-    int running = mpi_running();
-    if (running) {
-        int r = 0;
-        MPI_Comm_rank(MPI_COMM_WORLD, &r);
-        snprintf(rank, sizeof rank, "%d", r);
-    }
+    int r = bug_env ? bug_env->rank() : -1;
+    if (r >= 0) snprintf(rank, sizeof rank, "%d", r);
     char msg[512];
     va_list ap;
     va_start(ap, fmt);
@@ -36,15 +34,8 @@ void mesh_bug_at(const char *file, int line, const char *fmt, ...) {
     va_end(ap);
     fprintf(stderr, "pcdm: bug on rank %s (%s:%d): %s\n", rank, file, line, msg);
     fflush(stderr);
-    if (running) MPI_Abort(MPI_COMM_WORLD, 70);
+    if (r >= 0) bug_env->stop(70);
     abort();
-}
-
-void mesh_mpi_fail_at(const char *file, int line, const char *call, int rc) {
-    char s[MPI_MAX_ERROR_STRING] = "";
-    int len = 0;
-    if (MPI_Error_string(rc, s, &len) != MPI_SUCCESS) snprintf(s, sizeof s, "error %d", rc);
-    mesh_bug_at(file, line, "%s failed: %s", call, s);
 }
 
 void *mesh_xrealloc_at(const char *file, int line, void *p, size_t n, size_t size) {

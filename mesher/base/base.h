@@ -9,6 +9,8 @@
  *  - recoverable failures (bad input, I/O) are return codes with a "FILE:LINE: problem"
  *    message, decided by each layer;
  *  - algorithm outcomes are enums.
+ * The bug report needs no MPI; the parallel layers' half of it (the rank, MPI_Abort, the MPI
+ * error check) is base_mpi.c, so the sequential library links without MPI.
  * MESH_ASSERT is the debug tier: checked in `make SANITIZE=1` and `make DEBUG=1` builds (which
  * define MESH_DEBUG), compiled out of the normal build; use it for checks too costly to run
  * always.  MESH_MPI checks an MPI call; every communicator the project uses has
@@ -32,8 +34,8 @@
 #define MESH_PRINTF(a, b)
 #endif
 
-/* Reports a bug at file:line of the caller and stops the program (every rank, via
- * MPI_Abort, when MPI is initialised and not finalised).  Never returns. */
+/* Reports a bug at file:line of the caller and stops the program (every rank, via the
+ * environment below, while a parallel run is up).  Never returns. */
 MESH_NORETURN MESH_PRINTF(3, 4) void mesh_bug_at(const char *file, int line, const char *fmt, ...);
 #define MESH_BUG(...) mesh_bug_at(__FILE__, __LINE__, __VA_ARGS__)
 #define MESH_CHECK(c)                                                                              \
@@ -46,7 +48,20 @@ MESH_NORETURN MESH_PRINTF(3, 4) void mesh_bug_at(const char *file, int line, con
 #define MESH_ASSERT(c) ((void)0)
 #endif
 
-/* Checks an MPI call's return code; a failure is reported as a bug with MPI's error string. */
+/* Where the bug report learns its rank and how it stops every rank.  rank: this process's
+ * rank while a parallel run is up (MPI initialised, not finalised), else -1; stop: stops every
+ * rank with exit code code (MPI_Abort) and does not return.  base_mpi.c installs MPI's before
+ * main in every program that links it (the parallel layers do: they use MESH_MPI); without it
+ * (the sequential library, ./mesh) a report says rank "-" and calls abort().  Set before any
+ * thread starts; e NULL: none. */
+typedef struct mesh_bug_env {
+    int (*rank)(void);
+    void (*stop)(int code);
+} mesh_bug_env;
+void mesh_bug_set_env(const mesh_bug_env *e);
+
+/* Checks an MPI call's return code; a failure is reported as a bug with MPI's error string
+ * (base_mpi.c: only code that links MPI uses it). */
 void mesh_mpi_fail_at(const char *file, int line, const char *call, int rc);
 #define MESH_MPI(call)                                                                             \
     do {                                                                                           \

@@ -88,8 +88,7 @@ static int hole_beside(const tloc *L, const double *a, const double *b, const do
     return 0;
 }
 
-/* The boundary of m as segments of g (marker 1), with a hole point beside every chain. */
-static int boundary_segments(const mesh_flat *m, pslg *g) {
+int meshio_boundary_pslg(const mesh_flat *m, pslg *g) {
     int64_t ne = 3 * (int64_t)m->ntris;
     ekey *k = mesh_xmalloc((size_t)ne + 1, sizeof *k);
     for (int64_t e = 0; e < ne; e++) {
@@ -193,7 +192,7 @@ int meshio_read_mesh_pslg(const char *name, pslg *g, char *err, size_t errlen) {
         }
     } else {
         snprintf(g->segpath, sizeof g->segpath, "%s.ele", prefix);
-        if (boundary_segments(&m, g) != 0)
+        if (meshio_boundary_pslg(&m, g) != 0)
             rc = meshio_fail(err, errlen, "%s.ele: too many triangles to index", prefix);
     }
     mesh_flat_free(&m);

@@ -88,6 +88,13 @@ int meshio_fail(char *err, size_t errlen, const char *fmt, ...)
  * with "FILE:LINE: problem" in err. */
 int meshio_read_mesh_pslg(const char *name, struct pslg *g, char *err, size_t errlen);
 
+/* Local.  The boundary of m (counter-clockwise triangles: meshio_flat_orient_ccw) as the
+ * segments of g (marker 1; g must have no segments or holes yet: they are set) with a
+ * hole point beside every chain of boundary edges, as meshio_read_mesh_pslg makes them when
+ * there is no NAME.poly (the -r of arrays: the Python package).  Returns 0, or -1 (too many
+ * triangles to index). */
+int meshio_boundary_pslg(const mesh_flat *m, struct pslg *g);
+
 /* NAME without a trailing .node, .ele, .poly or .area into out (n bytes).  Returns 0, or -1
  * with a message in err when it does not fit. */
 int meshio_mesh_prefix(const char *name, char *out, size_t n, char *err, size_t errlen);

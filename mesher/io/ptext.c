@@ -1,7 +1,6 @@
-/* ptext.c: sectioned text files, sequential and with MPI-IO (ptext.h).
+/* ptext.c: sectioned text files with MPI-IO (ptext.h; the one-process writer is text.c).
  *
- * Sequential: the records go through a wfile (temporary name, renamed on success).
- * Parallel: pass 1 formats every record of this rank into a scratch line to count its bytes
+ * Pass 1 formats every record of this rank into a scratch line to count its bytes
  * (the shortest round-trip coordinates have no cheaper length), per section; an MPI_Allreduce of
  * the section sizes and an MPI_Exscan of this rank's give its offset in each section: the
  * sections of all ranks before, then the lower ranks' bytes of this section.  Rank 0 creates
@@ -34,36 +33,16 @@ MESH_PRINTF(3, 4) static void pt_err(char *err, size_t errlen, const char *fmt, 
     va_end(ap);
 }
 
-/* n, after checking that the callback kept within its room (a bug otherwise). */
-static long long pt_len(ptrdiff_t n, size_t room) {
-    if (n < 0 || (size_t)n > room)
-        MESH_BUG("ptext: %lld bytes in a room of %zu", (long long)n, room);
-    return (long long)n;
+static int pt_put(void *ctx, const char *path, const mesh_text_sec *s, int ns, char *err,
+                  size_t errlen) {
+    return meshio_pwrite_sections(*(MPI_Comm *)ctx, path, s, ns, err, errlen);
 }
 
-static size_t line_room(const mesh_text_sec *s, int ns) {
-    size_t room = 256;
-    for (int k = 0; k < ns; k++) {
-        if (s[k].headmax + 64 > room) room = s[k].headmax + 64;
-        if (s[k].recmax + 64 > room) room = s[k].recmax + 64;
-    }
-    return room;
-}
-
-int meshio_write_sections(const char *path, const mesh_text_sec *s, int ns, char *err,
-                          size_t errlen) {
-    wfile w;
-    if (meshio_wopen(&w, path, err, errlen)) return -1;
-    char *line = mesh_xmalloc(line_room(s, ns), 1);
-    for (int k = 0; k < ns; k++) {
-        const mesh_text_sec *c = &s[k];
-        if (c->head) fwrite(line, 1, (size_t)pt_len(c->head(c->ctx, line) - line, c->headmax), w.f);
-        for (int64_t i = 0; i < c->nrec; i++)
-            fwrite(line, 1, (size_t)pt_len(c->rec(c->ctx, i, line) - line, c->recmax), w.f);
-        if (c->tail) fwrite(line, 1, (size_t)pt_len(c->tail(c->ctx, line) - line, c->headmax), w.f);
-    }
-    free(line);
-    return meshio_wclose(&w, 0);
+mesh_text_out meshio_ptext_out(MPI_Comm *comm) {
+    mesh_text_out o = {0, 1, pt_put, comm};
+    MESH_MPI(MPI_Comm_rank(*comm, &o.rank));
+    MESH_MPI(MPI_Comm_size(*comm, &o.size));
+    return o;
 }
 
 int meshio_pagree(MPI_Comm comm, int ok, char *err, size_t errlen) {
@@ -105,17 +84,17 @@ int meshio_pwrite_sections(MPI_Comm comm, const char *path, const mesh_text_sec 
     MESH_MPI(MPI_Comm_rank(comm, &rank));
     if (errlen) err[0] = '\0';
     if (ns > MESH_TEXT_MAXSEC) MESH_BUG("ptext: %d sections", ns);
-    size_t room = line_room(s, ns);
+    size_t room = meshio_text_room(s, ns);
     char *line = mesh_xmalloc(room, 1);
     /* pass 1: this rank's bytes per section */
     long long mine[MESH_TEXT_MAXSEC] = {0}, tot[MESH_TEXT_MAXSEC] = {0},
               below[MESH_TEXT_MAXSEC] = {0};
     for (int k = 0; k < ns; k++) {
         const mesh_text_sec *c = &s[k];
-        if (c->head) mine[k] += pt_len(c->head(c->ctx, line) - line, c->headmax);
+        if (c->head) mine[k] += meshio_text_len(c->head(c->ctx, line) - line, c->headmax);
         for (int64_t i = 0; i < c->nrec; i++)
-            mine[k] += pt_len(c->rec(c->ctx, i, line) - line, c->recmax);
-        if (c->tail) mine[k] += pt_len(c->tail(c->ctx, line) - line, c->headmax);
+            mine[k] += meshio_text_len(c->rec(c->ctx, i, line) - line, c->recmax);
+        if (c->tail) mine[k] += meshio_text_len(c->tail(c->ctx, line) - line, c->headmax);
     }
     MESH_MPI(MPI_Allreduce(mine, tot, ns, MPI_LONG_LONG, MPI_SUM, comm));
     MESH_MPI(MPI_Exscan(mine, below, ns, MPI_LONG_LONG, MPI_SUM, comm));

@@ -1,6 +1,6 @@
-/* xwrite.c: the text of the derived outputs (xwrite.h), as sections of records (ptext.h) so
+/* xwrite.c: the text of the derived outputs (xwrite.h), as sections of records (text.h) so
  * that one set of formatting functions serves ./mesh (one process) and every rank of ./pcdm and
- * ./pbw (one shared file, MPI-IO).
+ * ./pbw (one shared file, MPI-IO, through the writer ptext.h gives).
  *
  * Formats (public documentation): Triangle's .edge ("N 1", then "e a b marker"), .neigh ("N 3",
  * then "t n0 n1 n2", -1 for none, neighbour j opposite corner j), -o2 .node (the vertices, then
@@ -17,7 +17,7 @@
 
 #include "base/base.h"
 #include "io/fmt.h"
-#include "io/ptext.h"
+#include "io/text.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -435,10 +435,10 @@ static char *msh_tail(void *c, char *q) {
 
 /* ---- writing ------------------------------------------------------------------------------ */
 
-static int put(MPI_Comm comm, const char *path, const mesh_text_sec *s, int ns, char *err,
-               size_t errlen) {
-    if (comm == MPI_COMM_NULL) return meshio_write_sections(path, s, ns, err, errlen);
-    return meshio_pwrite_sections(comm, path, s, ns, err, errlen);
+static int put(const mesh_text_out *out, const char *path, const mesh_text_sec *s, int ns,
+               char *err, size_t errlen) {
+    if (!out) return meshio_write_sections(path, s, ns, err, errlen);
+    return out->put(out->ctx, path, s, ns, err, errlen);
 }
 
 /* Sorted positions' groups and per-group counts (for the Gmsh block headers). */
@@ -480,12 +480,12 @@ static void msh_groups(wctx *w) {
     }
 }
 
-int mesh_xview_write(const mesh_xview *x, MPI_Comm comm, const mesh_xreq *r, char *err,
+int mesh_xview_write(const mesh_xview *x, const mesh_text_out *out, const mesh_xreq *r, char *err,
                      size_t errlen) {
     wctx w = {x, 0, 1, r->order2, NULL, NULL, NULL, NULL};
-    if (comm != MPI_COMM_NULL) {
-        MESH_MPI(MPI_Comm_rank(comm, &w.rank));
-        MESH_MPI(MPI_Comm_size(comm, &w.size));
+    if (out) {
+        w.rank = out->rank;
+        w.size = out->size;
     }
     if (errlen) err[0] = '\0';
     const int64_t nv = x->nhead + x->nsel, nt = x->f->ntris;
@@ -499,23 +499,23 @@ int mesh_xview_write(const mesh_xview *x, MPI_Comm comm, const mesh_xreq *r, cha
     if (r->prefix && r->edges) {
         snprintf(path, sizeof path, "%s.edge", r->prefix);
         mesh_text_sec s = {x->nwe, edge_head, edge_rec, tail_pcdm, &w, 64, rm};
-        rc = put(comm, path, &s, 1, err, errlen);
+        rc = put(out, path, &s, 1, err, errlen);
     }
     if (rc == 0 && r->prefix && r->neighbors) {
         snprintf(path, sizeof path, "%s.neigh", r->prefix);
         mesh_text_sec s = {nt, neigh_head, neigh_rec, tail_pcdm, &w, 64, rm};
-        rc = put(comm, path, &s, 1, err, errlen);
+        rc = put(out, path, &s, 1, err, errlen);
     }
     if (rc == 0 && r->prefix && r->order2 && !(r->skip & MESHIO_SKIP_NODE)) {
         snprintf(path, sizeof path, "%s.node", r->prefix);
         mesh_text_sec s[2] = {{nv, node2_head, node2_vrec, NULL, &w, 64, rm},
                               {x->nwe, NULL, node2_mrec, tail_pcdm, &w, 64, rm}};
-        rc = put(comm, path, s, 2, err, errlen);
+        rc = put(out, path, s, 2, err, errlen);
     }
     if (rc == 0 && r->prefix && r->order2 && !(r->skip & MESHIO_SKIP_ELE)) {
         snprintf(path, sizeof path, "%s.ele", r->prefix);
         mesh_text_sec e = {nt, ele2_head, ele2_rec, tail_pcdm, &w, 64, rm};
-        rc = put(comm, path, &e, 1, err, errlen);
+        rc = put(out, path, &e, 1, err, errlen);
     }
     if (rc == 0 && r->vtk && r->order2) {
         mesh_text_sec s[7] = {{nv, vtk_head, vtk_vrec, NULL, &w, 256, rm},
@@ -525,7 +525,7 @@ int mesh_xview_write(const mesh_xview *x, MPI_Comm comm, const mesh_xreq *r, cha
                               {nt, vtk_cdata_head, vtk_crank, NULL, &w, 128, rm},
                               {nv, vtk_pdata_head, vtk_vmark, NULL, &w, 128, rm},
                               {x->nwe, NULL, vtk_mmark, NULL, &w, 64, rm}};
-        rc = put(comm, r->vtk, s, 7, err, errlen);
+        rc = put(out, r->vtk, s, 7, err, errlen);
     }
     if (rc == 0 && r->msh) {
         msh_groups(&w);
@@ -536,7 +536,7 @@ int mesh_xview_write(const mesh_xview *x, MPI_Comm comm, const mesh_xreq *r, cha
             {x->nwl, msh_ehead, msh_line, NULL, &w, 128, rm},
             {nt, NULL, msh_tri, msh_tail, &w, 64, rm}};
         if (!w.o2) s[1].head = NULL;
-        rc = put(comm, r->msh, s, 4, err, errlen);
+        rc = put(out, r->msh, s, 4, err, errlen);
     }
     free(w.lgrp);
     free(w.tgrp);
@@ -572,7 +572,7 @@ int meshio_write_extras(const mesh_flat *m, const mesh_xreq *r, char *err, size_
             x.bbox[2 + k] = fmax(x.bbox[2 + k], c);
         }
     if (m->nverts == 0) x.bbox[0] = x.bbox[1] = x.bbox[2] = x.bbox[3] = 0;
-    int rc = mesh_xview_write(&x, MPI_COMM_NULL, r, err, errlen);
+    int rc = mesh_xview_write(&x, NULL, r, err, errlen);
     mesh_xview_free(&x);
     return rc;
 }

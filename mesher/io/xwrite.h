@@ -21,11 +21,11 @@
 #ifndef MESH_IO_XWRITE_H
 #define MESH_IO_XWRITE_H
 
-#include <mpi.h>
 #include <stddef.h>
 #include <stdint.h>
 
 #include "io/meshio.h"
+#include "io/text.h"
 
 /* Edge flags (mesh_xview.eflag). */
 enum {
@@ -119,10 +119,10 @@ typedef struct mesh_xreq {
     unsigned skip;   /* -o2: MESHIO_SKIP_NODE / _ELE leave that file out (Triangle's -N, -E) */
 } mesh_xreq;
 
-/* comm == MPI_COMM_NULL: Local (x is the whole mesh); else Collective over comm with every
- * field of x filled.  Writes what r asks; returns 0, or -1 with "FILE: problem" in err (on every
- * rank). */
-int mesh_xview_write(const mesh_xview *x, MPI_Comm comm, const mesh_xreq *r, char *err,
+/* out == NULL: Local (x is the whole mesh, one process writes); else Collective over out's
+ * writers (io/ptext.h's meshio_ptext_out) with every field of x filled.  Writes what r asks;
+ * returns 0, or -1 with "FILE: problem" in err (on every rank). */
+int mesh_xview_write(const mesh_xview *x, const mesh_text_out *out, const mesh_xreq *r, char *err,
                      size_t errlen);
 
 /* Local.  The whole of ./mesh's part: builds the view of m (sequential numbering), writes what

@@ -20,6 +20,7 @@
 #include "base/base.h"
 #include "check/pexchange.h"
 #include "check/ptopo.h"
+#include "io/ptext.h"
 #include "io/xwrite.h"
 #include "rt.h"
 
@@ -272,7 +273,8 @@ int par_write_extras(const par_opts *o, const pslg *in, const mesh_flat *local,
     mesh_xreq r = {prefix,           o->edges, o->neighbors, o->order2, o->msh, vtk[0] ? vtk : NULL,
                    par_skip_files(o)};
     char err[600];
-    int rc = mesh_xview_write(&x, c, &r, err, sizeof err);
+    mesh_text_out out = meshio_ptext_out(&c);
+    int rc = mesh_xview_write(&x, &out, &r, err, sizeof err);
     if (rc != 0 && rank == 0) fprintf(stderr, "%s: %s\n", o->prog, err);
     mesh_xview_free(&x);
     return rc;

@@ -299,8 +299,15 @@ int run_mesh_flat(run_job *j, mesh_flat *f, int *scale_exp) {
             free(f->tattr);
             f->tattr = NULL;
         }
+        /* the input's vertex attributes, interpolated on the new vertices (as ./mesh writes) */
+        if (mesh_interpolate_attributes(&g, f, err, sizeof err) != 0) {
+            snprintf(j->msg, sizeof j->msg, "%s", err);
+            mesh_flat_free(f);
+            rc = 1;
+        }
         *scale_exp = g.scale_exp;
-        if (j->o.check) { /* the check stage, as ./mesh --check (the harnesses' oracle) */
+        if (rc == 0 &&
+            j->o.check) { /* the check stage, as ./mesh --check (the harnesses' oracle) */
             if (meshio_flat_domain(f, &g) != 0) MESH_BUG("the flat mesh's domain");
             j->check_ok = check_stage(j, &g, f);
         }

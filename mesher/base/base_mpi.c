@@ -1,0 +1,43 @@
+/* base_mpi.c: the MPI half of the bug report (base.h) -- the rank from MPI_COMM_WORLD and
+ * MPI_Abort while MPI is initialised and not finalised -- and the MPI error check (MESH_MPI).
+ *
+ * Linked into every program and library that uses the parallel layers (they call
+ * mesh_mpi_fail_at through MESH_MPI, which pulls this object in); a constructor installs the
+ * environment before main, so a bug anywhere, on any thread, names its rank and stops every
+ * rank, with no set-up call for a program or a test to forget.  The sequential library leaves
+ * this file out and needs no MPI.
+ */
+#include "base/base.h"
+
+#include <mpi.h>
+#include <stdio.h>
+
+static int mpi_rank(void) {
+    int init = 0, fin = 0, r = 0;
+    MPI_Initialized(&init);
+    if (init) MPI_Finalized(&fin);
+    if (!init || fin) return -1;
+    MPI_Comm_rank(MPI_COMM_WORLD, &r);
+    return r;
+}
+
+static void mpi_stop(int code) {
+    MPI_Abort(MPI_COMM_WORLD, code);
+}
+
+static const mesh_bug_env mpi_env = {mpi_rank, mpi_stop};
+
+#if defined(__GNUC__)
+__attribute__((constructor))
+#endif
+static void
+mpi_env_install(void) {
+    mesh_bug_set_env(&mpi_env);
+}
+
+void mesh_mpi_fail_at(const char *file, int line, const char *call, int rc) {
+    char s[MPI_MAX_ERROR_STRING] = "";
+    int len = 0;
+    if (MPI_Error_string(rc, s, &len) != MPI_SUCCESS) snprintf(s, sizeof s, "error %d", rc);
+    mesh_bug_at(file, line, "%s failed: %s", call, s);
+}

@@ -1,0 +1,340 @@
+"""pcdm: quality constrained Delaunay triangulation (Ruppert/Chew refinement with exact
+predicates), a drop-in for the ``triangle`` package.
+
+>>> import pcdm
+>>> t = pcdm.triangulate({"vertices": [[0, 0], [1, 0], [1, 1], [0, 1]]}, "qa0.1")
+>>> sorted(t)
+['segment_markers', 'segments', 'triangles', 'vertex_markers', 'vertices']
+>>> pcdm.check(t, {"vertices": [[0, 0], [1, 0], [1, 1], [0, 1]]}, q=20, a=0.1)["ok"]
+True
+
+``pcdm.triangulate(tri, opts)`` takes what ``triangle.triangulate`` takes -- a dict of arrays
+with the keys ``vertices``, ``vertex_markers``, ``vertex_attributes``, ``segments``,
+``segment_markers``, ``holes``, ``regions`` (and ``triangles`` with ``triangle_max_area`` for
+``r``) -- and Triangle's switch string, read by the command line's own parser (``./mesh``):
+``p`` (accepted), ``q[DEG]``, ``a[AREA]``, ``A``, ``c``, ``e``, ``n``, ``S[N]``, ``Q``, ``V``,
+``r``, ``z`` (indices are always zero-based here).  It returns the same keys, dtypes and shapes.
+Switches the command line refuses raise ``ValueError`` with its message.  Meshing releases the
+GIL, so Python threads mesh at once.  ``pcdm.check`` runs the project's validator.
+"""
+
+from __future__ import annotations
+
+import warnings
+from typing import Any, Callable, Dict, Mapping, Optional
+
+import numpy as np
+
+from . import _core
+
+__all__ = ["triangulate", "check", "__version__", "MeshError"]
+
+__version__: str = _core.version()
+
+Mesh = Dict[str, np.ndarray]
+
+
+class MeshError(ValueError):
+    """The bounds cannot be met on this input (no mesh), or the size rule failed."""
+
+
+# ---- input conversion -------------------------------------------------------------------------
+
+
+def _floats(tri: Mapping[str, Any], key: str, cols: Optional[int]) -> Optional[np.ndarray]:
+    if key not in tri or tri[key] is None:
+        return None
+    try:
+        a = np.asarray(tri[key], dtype=np.float64)
+    except (TypeError, ValueError) as e:
+        raise ValueError(f"{key}: not an array of numbers ({e})") from None
+    if cols is None:  # vertex attributes: (n, k) or (n,)
+        if a.ndim == 1:
+            a = a.reshape(-1, 1)
+        if a.ndim != 2:
+            raise ValueError(f"{key}: expected shape (N, K), got {a.shape}")
+    else:
+        if a.size == 0:
+            a = a.reshape(0, cols)
+        if a.ndim != 2 or a.shape[1] != cols:
+            raise ValueError(f"{key}: expected shape (N, {cols}), got {a.shape}")
+    bad = np.argwhere(~np.isfinite(a))
+    if len(bad):
+        i = tuple(int(x) for x in bad[0])
+        raise ValueError(f"{key}[{i[0]}]: {float(a[i])} is not a finite number")
+    return np.ascontiguousarray(a)
+
+
+def _ints(tri: Mapping[str, Any], key: str, cols: int) -> Optional[np.ndarray]:
+    """Indices or markers as int32; cols 0: one per row (shape (N,) or (N, 1))."""
+    if key not in tri or tri[key] is None:
+        return None
+    a = np.asarray(tri[key])
+    if a.size == 0:
+        a = a.reshape((0, cols) if cols else (0,))
+    if a.dtype.kind == "b" or (a.dtype.kind not in "iuf"):
+        raise ValueError(f"{key}: not an array of integers (dtype {a.dtype})")
+    if cols == 0 and a.ndim == 2 and a.shape[1] == 1:
+        a = a[:, 0]
+    if (cols and (a.ndim != 2 or a.shape[1] != cols)) or (not cols and a.ndim != 1):
+        want = f"(N, {cols})" if cols else "(N,) or (N, 1)"
+        raise ValueError(f"{key}: expected shape {want}, got {a.shape}")
+    if a.dtype.kind == "f":
+        bad = np.argwhere(~np.isfinite(a) | (a != np.round(a)))
+        if len(bad):
+            i = tuple(int(x) for x in bad[0])
+            raise ValueError(f"{key}[{i[0]}]: {float(a[i])} is not an integer")
+    if a.size:
+        lo, hi = a.min(), a.max()
+        if lo < -(2**31) or hi >= 2**31:
+            v = lo if lo < -(2**31) else hi
+            i = tuple(int(x) for x in np.argwhere(a == v)[0])
+            raise ValueError(f"{key}[{i[0]}]: {int(v)} does not fit 32 bits")
+    return np.ascontiguousarray(a, dtype=np.int32)
+
+
+def _input(tri: Mapping[str, Any]) -> Dict[str, Optional[np.ndarray]]:
+    if not isinstance(tri, Mapping):
+        raise TypeError("tri: a dict of arrays (vertices, segments, holes, regions, ...)")
+    if "vertices" not in tri:
+        raise ValueError("vertices: missing (the input needs at least 3 vertices)")
+    v = _floats(tri, "vertices", 2)
+    d = {
+        "vertices": v,
+        "vertex_markers": _ints(tri, "vertex_markers", 0),
+        "vertex_attributes": _floats(tri, "vertex_attributes", None),
+        "segments": _ints(tri, "segments", 2),
+        "segment_markers": _ints(tri, "segment_markers", 0),
+        "holes": _floats(tri, "holes", 2),
+        "regions": _floats(tri, "regions", 4) if _nregcols(tri) != 3 else _regions3(tri),
+    }
+    n = len(v)
+    for k in ("vertex_markers", "vertex_attributes"):
+        if d[k] is not None and len(d[k]) != n:
+            raise ValueError(f"{k}: {len(d[k])} rows for {n} vertices")
+    if d["segment_markers"] is not None:
+        ns = 0 if d["segments"] is None else len(d["segments"])
+        if len(d["segment_markers"]) != ns:
+            raise ValueError(f"segment_markers: {len(d['segment_markers'])} rows for {ns} segments")
+    if d["vertex_attributes"] is not None and d["vertex_attributes"].shape[1] == 0:
+        d["vertex_attributes"] = None
+    return d
+
+
+def _nregcols(tri: Mapping[str, Any]) -> int:
+    r = tri.get("regions")
+    if r is None:
+        return 4
+    a = np.asarray(r)
+    return a.shape[1] if a.ndim == 2 else 4
+
+
+def _regions3(tri: Mapping[str, Any]) -> Optional[np.ndarray]:
+    # x, y, attribute: Triangle reads a region line with one value after x y as both the
+    # attribute and the area bound; a (N, 3) array here means no area bound (-1)
+    r = _floats(tri, "regions", 3)
+    return None if r is None else np.ascontiguousarray(np.hstack([r, -np.ones((len(r), 1))]))
+
+
+# ---- triangulate --------------------------------------------------------------------------------
+
+
+def triangulate(
+    tri: Mapping[str, Any],
+    opts: str = "",
+    *,
+    min_angle: Optional[float] = None,
+    max_area: Optional[float] = None,
+    max_steiner: Optional[int] = None,
+    convex_hull: Optional[bool] = None,
+    size: Optional[Callable[[np.ndarray, float], bool]] = None,
+    circumcenters: Optional[bool] = None,
+    lenses: bool = True,
+) -> Mesh:
+    """Mesh ``tri`` (a dict of arrays, as ``triangle.triangulate`` takes) with Triangle's
+    switches ``opts``; returns a dict of numpy arrays with ``triangle``'s keys, dtypes and shapes
+    (``vertices`` float64 (N, 2), ``vertex_markers`` int32 (N, 1), ``triangles`` int32 (T, 3),
+    ``segments`` int32 (S, 2), ``segment_markers`` int32 (S, 1), and when asked
+    ``vertex_attributes``, ``triangle_attributes`` (``A``), ``edges``/``edge_markers`` (``e``),
+    ``neighbors`` (``n``, -1 on the boundary); ``holes`` and ``regions`` are passed through with
+    ``p``).  Indices are zero-based.
+
+    As in Triangle, without ``q``, ``a`` (or the keywords below) the mesh is the constrained
+    Delaunay triangulation alone.  Keyword alternatives to switches: ``min_angle`` (degrees,
+    ``q``), ``max_area`` (``a``), ``max_steiner`` (``S``), ``convex_hull`` (``c``),
+    ``circumcenters`` (circumcenters only, as Triangle; the default also uses off-centers),
+    ``lenses`` (default True, as Triangle: a segment is split when a point lies in its
+    diametral lens; False: in its diametral circle, as ``./mesh`` without ``--lens``);
+    ``size(corners, area)`` is called with a triangle's corners ((3, 2) array) and area and
+    returns True when the triangle is too big (Triangle's ``u``).  The GIL is released while
+    meshing.
+
+    Raises ``ValueError`` (bad input or switches, with the command line's message) or
+    ``MeshError`` (a ``ValueError``: the bounds cannot be met); the Steiner limit (``S``) returns
+    the mesh it reached with a ``RuntimeWarning``.
+    """
+    if not isinstance(opts, str):
+        raise TypeError("opts: a switch string such as 'pq30a0.01'")
+    s = _core.parse(opts.replace("z", ""))  # z (zero-based indices) is always so here
+    for w in s["warnings"].splitlines():
+        warnings.warn(w, RuntimeWarning, stacklevel=2)
+    if s["order2"]:
+        raise ValueError("option -o2 (quadratic triangles) is not supported by pcdm.triangulate")
+    d = _input(tri)
+    p_given = "p" in opts.lstrip("-") and not opts.startswith("--")
+    refine_input = s["refine"]
+    d["refine_areas"] = None
+    if refine_input:
+        d = _refine_input(tri, d, p_given, bool(s["region_areas"]))
+    q = s["q_given"] or min_angle is not None
+    a = s["a_given"] or max_area is not None or s["region_areas"]
+    ma = float(min_angle) if min_angle is not None else s["min_angle"]
+    area = float(max_area) if max_area is not None else s["max_area"]
+    steiner = int(max_steiner) if max_steiner is not None else s["max_steiner"]
+    if min_angle is not None and not (0 <= ma < 60):
+        raise ValueError(f"min_angle {ma:g}: must be at least 0 and below 60")
+    if max_area is not None and not (area > 0 and np.isfinite(area)):
+        raise ValueError(f"max_area {area:g}: must be a positive number")
+    hull = bool(convex_hull) if convex_hull is not None else bool(s["convex_hull"])
+    cc = bool(circumcenters) if circumcenters is not None else bool(s["circumcenters"])
+    code, message, mesh = _core.triangulate(
+        d["vertices"],
+        d["vertex_markers"],
+        d["vertex_attributes"],
+        d["segments"],
+        d["segment_markers"],
+        d["holes"],
+        d["regions"],
+        ma if q else 0.0,
+        area,
+        steiner,
+        cc,
+        hull,
+        bool(s["region_attributes"]),
+        bool(s["region_areas"]),
+        not (q or a or size is not None),
+        bool(lenses),
+        size,
+        d["refine_areas"],
+        bool(s["edges"]),
+        bool(s["neighbors"]),
+    )
+    if mesh is None:
+        if code == 4:  # PCDM_EUNMET
+            raise MeshError(message)
+        raise ValueError(message)
+    if code == 3:  # PCDM_ESTEINER: the mesh, outside the bounds
+        warnings.warn(message, RuntimeWarning, stacklevel=2)
+    return _shape_output(mesh, tri, d, s, p_given or hull, refine_input)
+
+
+def _shape_output(
+    mesh: Mesh, tri: Mapping[str, Any], d: Dict[str, Any], s: Dict[str, Any], p: bool, r: bool
+) -> Mesh:
+    """triangle's output conventions: segments only with p (or c), holes and regions passed
+    through with p, the files N, E, P leave out."""
+    if not p:
+        mesh.pop("segments", None)
+        mesh.pop("segment_markers", None)
+    else:
+        for k in ("holes", "regions"):
+            if tri.get(k) is not None and len(np.asarray(tri[k])):
+                mesh[k] = np.array(tri[k], dtype=np.float64)
+    if s["no_node"]:
+        for k in ("vertices", "vertex_markers", "vertex_attributes"):
+            mesh.pop(k, None)
+    if s["no_ele"]:
+        for k in ("triangles", "triangle_attributes", "neighbors"):
+            mesh.pop(k, None)
+    if s["no_poly"]:
+        mesh.pop("segments", None)
+        mesh.pop("segment_markers", None)
+    return mesh
+
+
+def _refine_input(
+    tri: Mapping[str, Any], d: Dict[str, Any], p: bool, area_bare: bool
+) -> Dict[str, Any]:
+    """r: the mesh tri["triangles"] refined, as ./mesh -r does: every vertex kept; the segments
+    (and holes) the input gives with p, else the mesh's boundary edges with a hole point beside
+    every chain of them; with a alone, tri["triangle_max_area"] bounds each old triangle's
+    area (a new triangle is too big when it exceeds the bound of the old one holding its
+    centroid)."""
+    t = _ints(tri, "triangles", 3)
+    if t is None or len(t) == 0:
+        raise ValueError("option -r: the input has no triangles to refine")
+    n = len(d["vertices"])
+    bad = np.argwhere((t < 0) | (t >= n))
+    if len(bad):
+        i, j = (int(x) for x in bad[0])
+        raise ValueError(f"triangles[{i}]: vertex {int(t[i, j])} out of range (0..{n - 1})")
+    if not (p and d["segments"] is not None and len(d["segments"])):
+        seg, holes = _core.boundary(d["vertices"], t)
+        d["segments"], d["segment_markers"] = seg, None
+        if p and d["holes"] is not None:
+            holes = np.ascontiguousarray(np.vstack([d["holes"], holes]))
+        d["holes"] = holes
+    d["refine_areas"] = None
+    if area_bare and tri.get("triangle_max_area") is not None:
+        ar = np.asarray(tri["triangle_max_area"], dtype=np.float64).reshape(-1)
+        if len(ar) != len(t):
+            raise ValueError(f"triangle_max_area: {len(ar)} values for {len(t)} triangles")
+        d["refine_areas"] = (d["vertices"], t, np.ascontiguousarray(ar))
+    return d
+
+
+# ---- check ------------------------------------------------------------------------------------
+
+
+def check(
+    mesh: Mapping[str, Any],
+    tri: Mapping[str, Any],
+    q: float = 0.0,
+    a: float = 0.0,
+    *,
+    convex_hull: bool = False,
+    region_attributes: bool = False,
+    region_areas: bool = False,
+) -> Dict[str, Any]:
+    """The project's validator (``./meshcheck``) on ``mesh`` (a result of ``triangulate``, or
+    any dict with ``vertices`` and ``triangles``, optionally ``segments``, ``segment_markers``,
+    ``triangle_attributes``) against its input ``tri``: conforming, counter-clockwise, every
+    input vertex and segment present, the domain's area, locally Delaunay, and the bounds
+    ``q`` (smallest angle, degrees; 0: none) and ``a`` (largest area; 0: none).  With
+    ``convex_hull`` the domain is the input and its hull (a mesh made with ``c``).
+
+    Returns the report: ``ok``, ``summary`` (the one line ``./meshcheck`` prints),
+    ``first_problem`` and the counts and measures (``min_angle``, ``max_area``, ``area``,
+    ``domain_area``, ``missing_segments``, ``non_delaunay``, ...).  Bad input raises
+    ``ValueError``.
+    """
+    d = _input(tri)
+    mv = _floats(mesh, "vertices", 2)
+    mt = _ints(mesh, "triangles", 3)
+    if mv is None or mt is None:
+        raise ValueError("mesh: needs vertices and triangles")
+    ms = _ints(mesh, "segments", 2)
+    msm = _ints(mesh, "segment_markers", 0)
+    ta = None
+    if region_attributes:
+        if mesh.get("triangle_attributes") is None:
+            raise ValueError("region_attributes: the mesh has no triangle_attributes")
+        ta = np.ascontiguousarray(np.asarray(mesh["triangle_attributes"], np.float64)[:, 0])
+    return _core.check(
+        d["vertices"],
+        d["vertex_markers"],
+        d["segments"],
+        d["segment_markers"],
+        d["holes"],
+        d["regions"],
+        mv,
+        mt,
+        ms,
+        msm,
+        ta,
+        float(q),
+        float(a),
+        bool(convex_hull),
+        bool(region_attributes),
+        bool(region_areas),
+    )

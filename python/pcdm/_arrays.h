@@ -1,0 +1,70 @@
+/* _arrays.h: numpy arrays in and out of the package's extensions (_core.c, _par.c): borrowed
+ * input data with its shape checked, and library buffers handed to numpy without a copy.
+ * Include after <Python.h> and <numpy/arrayobject.h>. */
+#ifndef PCDM_PY_ARRAYS_H
+#define PCDM_PY_ARRAYS_H
+
+#include <stdlib.h>
+
+/* ---- arrays ------------------------------------------------------------------------------ */
+
+/* The data of o, a C-contiguous numpy array of type type with cols columns (cols 0: one
+ * dimension), or NULL when o is None; *n gets its rows.  Sets a TypeError and returns NULL with
+ * *bad = 1 otherwise (the Python half converts every input first, so this is a contract). */
+static inline void *arr_data(PyObject *o, int type, int cols, const char *name, npy_intp *n,
+                             int *bad) {
+    *n = 0;
+    if (o == Py_None) return NULL;
+    if (!PyArray_Check(o) || PyArray_TYPE((PyArrayObject *)o) != type ||
+        !PyArray_IS_C_CONTIGUOUS((PyArrayObject *)o) ||
+        PyArray_NDIM((PyArrayObject *)o) != (cols ? 2 : 1) ||
+        (cols && PyArray_DIM((PyArrayObject *)o, 1) != cols)) {
+        PyErr_Format(PyExc_TypeError, "_core: %s: not a contiguous array of the expected type",
+                     name);
+        *bad = 1;
+        return NULL;
+    }
+    *n = PyArray_DIM((PyArrayObject *)o, 0);
+    return PyArray_DATA((PyArrayObject *)o);
+}
+
+static inline void capsule_free(PyObject *cap) {
+    free(PyCapsule_GetPointer(cap, "pcdm.buffer"));
+}
+
+/* A numpy array (rows x cols, cols 0: one dimension) over p, a buffer from malloc that the
+ * array then owns (freed with it); p NULL: an empty array.  NULL with an exception set. */
+static inline PyObject *arr_own(void *p, npy_intp rows, npy_intp cols, int type) {
+    npy_intp dims[2] = {rows, cols};
+    int nd = cols ? 2 : 1;
+    if (!p || rows == 0) {
+        free(p);
+        return PyArray_ZEROS(nd, dims, type, 0);
+    }
+    PyObject *a = PyArray_SimpleNewFromData(nd, dims, type, p);
+    if (!a) {
+        free(p);
+        return NULL;
+    }
+    PyObject *cap = PyCapsule_New(p, "pcdm.buffer", capsule_free);
+    if (!cap) {
+        Py_DECREF(a);
+        free(p);
+        return NULL;
+    }
+    if (PyArray_SetBaseObject((PyArrayObject *)a, cap) < 0) { /* steals cap */
+        Py_DECREF(a);
+        return NULL;
+    }
+    return a;
+}
+
+/* d[key] = v (stolen); 0, or -1 with an exception (v NULL: one is set already). */
+static inline int put(PyObject *d, const char *key, PyObject *v) {
+    if (!v) return -1;
+    int rc = PyDict_SetItemString(d, key, v);
+    Py_DECREF(v);
+    return rc;
+}
+
+#endif

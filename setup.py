@@ -1,0 +1,124 @@
+"""The pcdm package's C extensions (pyproject.toml holds the rest).
+
+pcdm._core: the sequential library's sources -- the list mesher/seq_sources.txt, which the
+Makefile reads too (libpcdm_seq) -- plus the programs' front end (apps/cli.c,
+apps/cli_tables.c: the switch parser) and python/pcdm/_core.c.  No MPI.
+
+pcdm._par (pcdm.parallel, for mpi4py users): the whole library -- the Makefile's library
+sources, every .c of runtime/ and mesher/*/ -- and python/pcdm/_par.c, with MPI's flags (from
+mpicc) and METIS.  Built when mpicc is on PATH and metis.h is found (PCDM_MPI=0: never;
+PCDM_MPI=1: required, an error otherwise); pcdm and pcdm._core never load MPI.
+
+The version is include/pcdm.h's.  The flags are the Makefile's that matter for correctness:
+C11, and no contraction of products into fused multiply-adds (the exact predicates need every
+product and sum rounded once).
+"""
+
+import glob
+import os
+import re
+import shutil
+import subprocess
+import sysconfig
+
+import numpy
+from setuptools import Extension, setup
+
+ROOT = os.path.dirname(os.path.abspath(__file__))
+
+
+def rel(p):
+    return os.path.relpath(os.path.join(ROOT, p), os.getcwd())
+
+
+def version():
+    text = open(os.path.join(ROOT, "include", "pcdm.h")).read()
+    v = [re.search(r"#define PCDM_VERSION_%s\s+(\d+)" % k, text).group(1)
+         for k in ("MAJOR", "MINOR", "PATCH")]
+    return ".".join(v)
+
+
+def seq_sources():
+    out = []
+    for line in open(os.path.join(ROOT, "mesher", "seq_sources.txt")):
+        pat = line.split("#", 1)[0].strip()
+        if pat:
+            hits = sorted(glob.glob(os.path.join(ROOT, pat)))
+            if not hits:
+                raise SystemExit("mesher/seq_sources.txt: %s names no file" % pat)
+            out += [os.path.relpath(h, ROOT) for h in hits]
+    return out
+
+
+sources = ["python/pcdm/_core.c", "apps/cli.c", "apps/cli_tables.c"] + seq_sources()
+
+CFLAGS = ["-std=c11", "-O2", "-ffp-contract=off", "-fno-fast-math", "-Wno-unused-parameter",
+          "-Wno-sign-compare"]
+MACROS = [("_POSIX_C_SOURCE", "200809L"), ("_DEFAULT_SOURCE", None)]
+
+ext = Extension(
+    "pcdm._core",
+    sources=[rel(s) for s in sources],
+    include_dirs=[rel("include"), rel("mesher"), rel("apps"), numpy.get_include()],
+    define_macros=MACROS,
+    extra_compile_args=CFLAGS,
+    libraries=["m"],
+)
+
+
+def mpi_extension():
+    """pcdm._par, or None (PCDM_MPI=1 makes a missing MPI or METIS an error)."""
+    want = os.environ.get("PCDM_MPI", "")
+    if want == "0":
+        return None
+    why = None
+    mpicc = shutil.which("mpicc")
+    if not mpicc:
+        why = "no mpicc on PATH"
+    else:
+        try:
+            comp = subprocess.run([mpicc, "-showme:compile"], capture_output=True, text=True,
+                                  check=True).stdout.split()
+            link = subprocess.run([mpicc, "-showme:link"], capture_output=True, text=True,
+                                  check=True).stdout.split()
+        except (OSError, subprocess.CalledProcessError):  # MPICH and others: -show
+            out = subprocess.run([mpicc, "-show"], capture_output=True, text=True).stdout.split()
+            comp = [a for a in out[1:] if a.startswith(("-I", "-D"))]
+            link = [a for a in out[1:] if a.startswith(("-L", "-l", "-Wl"))]
+        incs = [os.path.dirname(sysconfig.get_paths()["include"])] + \
+            ["/usr/include", "/usr/local/include"] + [a[2:] for a in comp if a.startswith("-I")]
+        if not any(os.path.exists(os.path.join(d, "metis.h")) for d in incs):
+            why = "no metis.h (libmetis-dev)"
+    if why:
+        if want == "1":
+            raise SystemExit("PCDM_MPI=1: cannot build pcdm._par: " + why)
+        print("pcdm: building without pcdm.parallel: " + why)
+        return None
+    lib = sorted(glob.glob(os.path.join(ROOT, "runtime", "*.c")) +
+                 glob.glob(os.path.join(ROOT, "mesher", "*", "*.c")))
+    srcs = ["python/pcdm/_par.c"] + [os.path.relpath(f, ROOT) for f in lib]
+    return Extension(
+        "pcdm._par",
+        sources=[rel(s) for s in srcs],
+        include_dirs=[rel("include"), rel("mesher"), rel("runtime"), numpy.get_include()] +
+        [a[2:] for a in comp if a.startswith("-I")],
+        define_macros=MACROS,
+        extra_compile_args=CFLAGS + [a for a in comp if not a.startswith("-I")],
+        library_dirs=[a[2:] for a in link if a.startswith("-L")],
+        libraries=["metis", "pthread", "m"] + [a[2:] for a in link if a.startswith("-l")],
+        extra_link_args=[a for a in link if a.startswith("-Wl")],
+    )
+
+
+exts = [ext] + [e for e in [mpi_extension()] if e]
+
+# build/python: beside the Makefile's build output, not over it; every object rebuilt (setuptools
+# does not see a changed header, and pip builds in the tree), and the staging folders of an
+# earlier build emptied first (a module built then, e.g. pcdm._par before PCDM_MPI=0, would
+# otherwise ride along into the wheel)
+for d in glob.glob(os.path.join(ROOT, "build", "python", "lib*")) + \
+        glob.glob(os.path.join(ROOT, "build", "python", "bdist*")):
+    shutil.rmtree(d, ignore_errors=True)
+setup(version=version(), ext_modules=exts,
+      options={"build": {"build_base": os.path.join("build", "python")},
+               "build_ext": {"force": True, "parallel": os.cpu_count() or 1}})
