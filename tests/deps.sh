@@ -10,6 +10,12 @@ command -v pkg-config >/dev/null 2>&1 || missing="$missing pkg-config"
 pkg-config --exists check 2>/dev/null || missing="$missing check"
 command -v make >/dev/null 2>&1 || missing="$missing make"
 [ -e /usr/include/metis.h ] || missing="$missing libmetis-dev"
+# The Python package (tests/t_python.sh): the headers to build it and venv to install it.
+if command -v python3 >/dev/null 2>&1; then
+    python3 -c 'import ensurepip, venv' 2>/dev/null || missing="$missing python3-venv"
+    [ -e "$(python3 -c 'import sysconfig; print(sysconfig.get_paths()["include"])')/Python.h" ] ||
+        missing="$missing python3-dev"
+fi
 if [ "${FUZZ:-}" = 1 ]; then # make fuzz: clang with libFuzzer and the sanitizer runtimes
     command -v clang-14 >/dev/null 2>&1 || missing="$missing clang-14"
     [ -e /usr/lib/llvm-14/lib/clang/14.0.0/lib/linux/libclang_rt.fuzzer-x86_64.a ] ||
