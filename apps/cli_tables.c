@@ -212,7 +212,8 @@ static const cli_opt parallel_rows[] = {
     {.name = "subdomains",
      .value = &v_nsub,
      .at = CLI_AT(par.nsub),
-     .dflt_text = "./pcdm: 16, or ranks x threads where that is more; ./pcdm --async and "
+     .dflt_text = "./pcdm: 16, or ranks x threads where that is more, fewer on a small mesh; "
+                  "./pcdm --async and "
                   "./pbw: the ranks, x4 with --balance dynamic",
      .help = "number of subdomains, at least the number of ranks"},
     {.name = "imbalance",

@@ -7,7 +7,7 @@
 #     (1,2) (2,1) (2,2) (4,2) (8,1), plus, at -q 30 on three of them, (2,2) with --balance
 #     dynamic, (3,2) under --perturb and (2,1) with --deterministic (accepted, the default);
 #   - without --subdomains (its default is fixed), lake and square (4 subdomains at
-#     -q 35 -a 0.05) at 4-5 settings: one hash;
+#     -a 0.005) at 5 settings: one hash;
 #   - one process without mpirun (./pcdm --threads 2 as a plain program) gives the same hash;
 #   - --threads 0 and a non-number are refused with a message, exit 2 (a usage error), and so
 #     is --async (the asynchronous protocol, one thread) with --threads 2.
@@ -53,12 +53,12 @@ for d in $doms; do
 done
 
 # the default --subdomains is fixed (16, halved where the coarse mesh is small): the same hash
-# for any ranks x threads and balancing without giving it (square at -q 35 -a 0.05: a coarse
-# mesh of 8 triangles, 4 subdomains, so at most 4 ranks)
-for spec in "data/lake.poly 30 2e-5" "data/square.poly 35 0.05"; do
+# for any ranks x threads and balancing without giving it (square at -q 30 -a 0.005: a final
+# mesh of about 320 triangles, halved to 4 subdomains, so at most 4 ranks)
+for spec in "data/lake.poly 30 2e-5" "data/square.poly 30 0.005"; do
     read -r f q a <<<"$spec"
     cfgs=("1 1" "2 2" "4 2" "8 1" "2 1 --balance dynamic")
-    [ "$q" = 35 ] && cfgs=("1 1" "2 2" "4 1" "2 1 --balance dynamic")
+    [ "$a" = 0.005 ] && cfgs=("1 1" "1 2" "2 2" "4 1" "2 1 --balance dynamic")
     want=""
     for cfg in "${cfgs[@]}"; do
         set -- $cfg

@@ -46,8 +46,8 @@
  */
 #include "decomp/decomp_impl.h"
 
-#include "bounds/bounds.h"
 #include "base/base.h"
+#include "bounds/bounds.h"
 #include "geom/geom.h"
 #include "seq/rules.h"
 
@@ -61,6 +61,7 @@
 #define EXACT_PER_SUB_DEFAULT 1000 /* exact preview up to this many final triangles per part */
 #define EXACT_MIN_PER_RANK 12      /* exact preview: triangles per rank at least */
 #define EXACT_SAFE_PER_SUB 12      /* ... per subdomain, when 2 per subdomain fails the trial */
+#define FIT_MIN_PER_SUB 64         /* a default count halves to this many final triangles each */
 #define ENC_PENALTY 64.0           /* METIS edge weight factor of an encroached edge (exact) */
 #define WIDE_DEG 60.0              /* sectors an interface bounds are at least this wide */
 #define WIDEN_PASSES 32
@@ -588,8 +589,9 @@ static void fill_empty(const mesh *m, int32_t *part, int32_t K) {
  * with an area bound up to min_per_sub triangles per subdomain).
  * Returns 1 if m is now the exact preview, 0 if it was not tried (m untouched), -1 if it was
  * tried and the final mesh is too large (m is spoilt: rebuild it). */
-static int exact_preview(mesh *m, const pslg *in, const pcdm_decomp_opts *o, int32_t K, double A,
+static int exact_preview(mesh *m, const pslg *in, const pcdm_decomp_opts *o, int32_t *Kp, double A,
                          int32_t min_per_sub) {
+    int32_t K = *Kp;
     int32_t eps = o->exact_per_sub == 0 ? EXACT_PER_SUB_DEFAULT : o->exact_per_sub;
     if (K == 1 || eps < 0 || o->max_steiner >= 0) return 0;
     int64_t tmax = (int64_t)K * eps;
@@ -602,6 +604,14 @@ static int exact_preview(mesh *m, const pslg *in, const pcdm_decomp_opts *o, int
     /* enough triangles to balance the ranks, and min_per_sub per subdomain; counted per
      * subdomain (K >= P), so the subdomains depend on K alone, not on the rank count (the
      * deterministic mode's promise: the same mesh for any rank count, given K) */
+    /* a default count (nsub_fit) halves, not below the ranks, to what the final mesh can
+     * share out without refining it further: a small mesh stays as ./mesh makes it */
+    if (o->nsub_fit) {
+        while (K > o->nranks && m->nlive < (int64_t)K * FIT_MIN_PER_SUB)
+            K = K / 2 < o->nranks ? o->nranks : K / 2;
+        *Kp = K;
+        if (K == 1) return -1; /* one subdomain: the input's CDT, as when one is asked for */
+    }
     int64_t want = (int64_t)K * EXACT_MIN_PER_RANK;
     if (want < min_per_sub * (int64_t)K) want = min_per_sub * (int64_t)K;
     if (m->nlive < want) { /* the final mesh has too few triangles to share out */
@@ -629,7 +639,7 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
     }
     int exact =
         mode == 2 ? 0
-                  : exact_preview(&m, in, o, K, mesh_area(&m), mode == 0 ? 2 : EXACT_SAFE_PER_SUB);
+                  : exact_preview(&m, in, o, &K, mesh_area(&m), mode == 0 ? 2 : EXACT_SAFE_PER_SUB);
     if (exact < 0) { /* the final mesh is larger: start again from the CDT */
         mesh_free(&m);
         mesh_init(&m);
@@ -676,7 +686,8 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
     /* a default count shrinks to what the coarse mesh can share out; halving from the same
      * default gives the same K for every rank count up to it */
     if (o->nsub_fit)
-        while (K > P && n < 2 * K) K = K / 2 < P ? P : K / 2;
+        while (K > P && n < 2 * K)
+            K = K / 2 < P ? P : K / 2;
     double *target = mesh_xmalloc((size_t)K, sizeof(double));
     int32_t *planned = mesh_xmalloc((size_t)K, sizeof(int32_t));
     plan(K, P, R, target, planned);
