@@ -123,7 +123,9 @@ typedef struct pcdm_options {
                             * region_attributes, pcdm_triangulate only */
     /* pcdm_triangulate_par only */
     int method;         /* PCDM_METHOD_PCDM (default) or PCDM_METHOD_PBW */
-    int32_t subdomains; /* subdomains of the decomposition (0: one per rank; default 0) */
+    int32_t subdomains; /* subdomains of the decomposition (0: ./pcdm's default: 16, or ranks
+                         * x threads where that is more, fewer on a small mesh; with
+                         * PCDM_METHOD_PBW one per rank; default 0) */
     int root;           /* < 0: every rank keeps its part (default -1); >= 0: the whole mesh
                          * is collected on this rank (others get an empty mesh) */
     /* both calls */
@@ -136,6 +138,11 @@ typedef struct pcdm_options {
                     * points, the bounds ignored (Triangle without -q, -a and -u); default 0 */
     int lenses;    /* 1: a subsegment is encroached by a point in its diametral lens (as
                     * Triangle: fewer points on segments); 0: its diametral circle (default) */
+    /* pcdm_triangulate_par only */
+    int threads; /* PCDM: worker threads per rank refining its subdomains at once (0 or 1: the
+                  * calling thread alone; default 0); the mesh is the same for any count.
+                  * One process of several threads: pcdm_triangulate_par on MPI_COMM_SELF.
+                  * pcdm_triangulate refuses more than 1 (PCDM_EINVAL) */
 } pcdm_options;
 
 /* Local.  Fills *o with the defaults above. */

@@ -11,6 +11,7 @@
  *  - PBW through the same call gives a valid mesh (and refuses the size callback);
  *  - convex_hull (Triangle's -c), PCDM and PBW: segments that enclose nothing meshed over
  *    their hull, valid against the input enclosed by it;
+ *  - threads: 2 worker threads per rank give the mesh of one (PCDM), PBW refuses them;
  *  - bad input fails on every rank with the same code and message, and the next call works;
  *  - crossing and overlapping segments (tests/inputs/cross.poly), PCDM and PBW: split as
  *    ./pcdm and ./pbw split them, the whole mesh valid against the input so prepared.
@@ -223,6 +224,39 @@ START_TEST(test_crossing) {
 }
 END_TEST
 
+/* threads: each rank refines its subdomains on 2 worker threads; the mesh is the one of one
+ * thread (the same counts and the same points in the same order on the root), valid; PBW
+ * refuses threads on every rank */
+START_TEST(test_threads) {
+    int rank, size;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+    pcdm_input in = plate();
+    pcdm_options o;
+    pcdm_options_default(&o);
+    o.min_angle = 28;
+    o.max_area = 0.01;
+    o.root = 0;
+    pcdm_mesh one, two;
+    pcdm_status st;
+    int rc1 = pcdm_triangulate_par(MPI_COMM_WORLD, &in, &o, &one, &st);
+    o.threads = 2;
+    int rc2 = pcdm_triangulate_par(MPI_COMM_WORLD, &in, &o, &two, &st);
+    ck_assert_msg(all_true(rc1 == PCDM_OK && rc2 == PCDM_OK, MPI_COMM_WORLD), "codes %d %d: %s",
+                  rc1, rc2, st.message);
+    int ok = one.nglobaltriangles == two.nglobaltriangles && one.nglobaltriangles > 0;
+    if (rank == 0)
+        ok = ok && valid(&in, &two, 28, 0.01) && one.npoints == two.npoints &&
+             memcmp(one.points, two.points, 2 * sizeof(double) * (size_t)one.npoints) == 0;
+    pcdm_mesh_free(&one);
+    pcdm_mesh_free(&two);
+    ck_assert_msg(all_true(ok, MPI_COMM_WORLD), "threads 2 differs from threads 1");
+    o.method = PCDM_METHOD_PBW;
+    int rc = pcdm_triangulate_par(MPI_COMM_WORLD, &in, &o, &two, &st);
+    ck_assert(all_true(rc == PCDM_EINVAL && strstr(st.message, "threads") != NULL, MPI_COMM_WORLD));
+}
+END_TEST
+
 START_TEST(test_errors_agree) {
     pcdm_input in = plate();
     int32_t bad[16];
@@ -254,10 +288,11 @@ END_TEST
 int main(int argc, char **argv) {
     int provided;
     MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
-    int rc = ck_run_mpi(ck_suite("mpi_api", 0,
-                                 CK_TESTS(test_world_root, test_split_parts, test_pbw,
-                                          test_convex_hull, test_crossing, test_errors_agree)),
-                        MPI_COMM_WORLD);
+    int rc =
+        ck_run_mpi(ck_suite("mpi_api", 0,
+                            CK_TESTS(test_world_root, test_split_parts, test_pbw, test_convex_hull,
+                                     test_crossing, test_threads, test_errors_agree)),
+                   MPI_COMM_WORLD);
     MPI_Finalize();
     return rc;
 }

@@ -154,6 +154,11 @@ START_TEST(test_errors) {
     ck_assert_int_eq(pcdm_triangulate(&in, &o, &m, &st), PCDM_EINVAL);
     ck_assert_ptr_nonnull(strstr(st.message, "min_angle 65"));
     o.min_angle = 20;
+    o.threads = 2; /* worker threads are the parallel call's */
+    ck_assert_int_eq(pcdm_triangulate(&in, &o, &m, &st), PCDM_EINVAL);
+    ck_assert_ptr_nonnull(
+        strstr(st.message, "threads 2: worker threads work with pcdm_triangulate_par"));
+    o.threads = 0;
     ck_assert_int_eq(pcdm_triangulate(&in, &o, NULL, &st), PCDM_EINVAL);
     ck_assert_int_eq(pcdm_triangulate(NULL, &o, &m, NULL), PCDM_EINVAL);
     const double line[] = {0, 0, 1, 1, 2, 2, 3, 3};
@@ -296,8 +301,8 @@ START_TEST(test_crossing_as_mesh) {
 END_TEST
 
 int main(void) {
-    return ck_run(ck_suite("api", 120,
-                           CK_TESTS(test_plate, test_regions, test_convex_hull, test_callback,
-                                    test_errors, test_steiner_limit, test_quiet, test_threads,
-                                    test_crossing_as_mesh)));
+    return ck_run(
+        ck_suite("api", 120,
+                 CK_TESTS(test_plate, test_regions, test_convex_hull, test_callback, test_errors,
+                          test_steiner_limit, test_quiet, test_threads, test_crossing_as_mesh)));
 }

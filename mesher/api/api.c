@@ -174,6 +174,7 @@ void api_job(const pcdm_options *o, int method, pslg *g, run_job *j) {
     po.region_area = o->region_areas;
     po.imbalance = 1;
     po.nsub = o->subdomains;
+    po.threads = o->threads > 1 ? o->threads : 1;
     po.quiet = 1;
     run_job_init(j, (run_method)method, &po);
     j->given = g;
@@ -209,6 +210,11 @@ int pcdm_triangulate(const pcdm_input *in, const pcdm_options *opt, pcdm_mesh *o
     else
         pcdm_options_default(&o);
     if (api_check_args(in, &o, st)) return st->code;
+    if (o.threads > 1)
+        return api_fail(st, PCDM_EINVAL,
+                        "threads %d: worker threads work with pcdm_triangulate_par (one process: "
+                        "on MPI_COMM_SELF)",
+                        o.threads);
     /* the driver's stages (run/run.h), as ./mesh: the input checked with crossing segments
      * split and Triangle's boundary-marker rules, the bounds, the mesh, the verdict */
     pslg g;

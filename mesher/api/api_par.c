@@ -356,6 +356,14 @@ int pcdm_triangulate_par(MPI_Comm comm, const pcdm_input *in, const pcdm_options
                       "parallel call does not label regions yet)");
     if (rc == 0 && (o.no_refine || o.lenses))
         rc = api_fail(st, PCDM_EINVAL, "no_refine and lenses work with pcdm_triangulate only");
+    if (rc == 0 && o.threads > 1 && o.method == PCDM_METHOD_PBW)
+        rc = api_fail(st, PCDM_EINVAL, "threads work with PCDM_METHOD_PCDM only");
+    if (rc == 0 && o.threads > 1) {
+        int w = rt_workers_ensure(o.threads);
+        if (w != RT_OK)
+            rc = api_fail(st, PCDM_EMESH, "cannot start %d worker threads: %s", o.threads,
+                          rt_strerror(w));
+    }
     if (rc == 0 && (o.root >= P))
         rc = api_fail(st, PCDM_EINVAL, "root %d: the communicator has %d ranks", o.root, P);
     if (agree(rc, st)) {

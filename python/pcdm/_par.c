@@ -28,21 +28,21 @@ static const char *const kw[] = {
     "segments",    "segment_markers", "holes",          "regions",
     "min_angle",   "max_area",        "max_steiner",    "circumcenters",
     "convex_hull", "method",          "subdomains",     "root",
-    NULL};
+    "threads",     NULL};
 
 /* triangulate(comm, vertices, vertex_markers, vertex_attributes, segments, segment_markers,
  * holes, regions, min_angle, max_area, max_steiner, circumcenters, convex_hull, method,
- * subdomains, root) -> (code, message, dict or None).  Collective over comm (a Fortran
+ * subdomains, root, threads) -> (code, message, dict or None).  Collective over comm (a Fortran
  * handle).  The arrays as pcdm._core.triangulate takes them. */
 static PyObject *py_triangulate(PyObject *self, PyObject *args, PyObject *kwargs) {
     long long fcomm, max_steiner;
     PyObject *ov, *ovm, *ova, *os, *osm, *oh, *orr;
     double min_angle, max_area;
-    int circumcenters, convex_hull, method, subdomains, root;
-    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "LOOOOOOOddLppiii", (char **)kw, &fcomm, &ov,
+    int circumcenters, convex_hull, method, subdomains, root, threads;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "LOOOOOOOddLppiiii", (char **)kw, &fcomm, &ov,
                                      &ovm, &ova, &os, &osm, &oh, &orr, &min_angle, &max_area,
                                      &max_steiner, &circumcenters, &convex_hull, &method,
-                                     &subdomains, &root))
+                                     &subdomains, &root, &threads))
         return NULL;
     int bad = 0;
     npy_intp nv, nvm, nva = 0, ns, nsm, nh, nr;
@@ -79,6 +79,7 @@ static PyObject *py_triangulate(PyObject *self, PyObject *args, PyObject *kwargs
     o.convex_hull = convex_hull;
     o.method = method;
     o.subdomains = subdomains;
+    o.threads = threads;
     o.root = root;
     MPI_Comm comm = MPI_Comm_f2c((MPI_Fint)fcomm);
     pcdm_mesh m;

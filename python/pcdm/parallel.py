@@ -42,13 +42,16 @@ def triangulate(
     *,
     method: str = "pcdm",
     subdomains: int = 0,
+    threads: int = 1,
     root: Optional[int] = None,
     min_angle: Optional[float] = None,
     max_area: Optional[float] = None,
 ) -> Dict[str, Any]:
     """Collective over ``comm`` (an mpi4py communicator; None: ``MPI.COMM_WORLD``): this rank's
     part of the mesh of ``tri`` under ``opts`` (see the module's help).  Raises ValueError (the
-    same on every rank) on bad input or switches, MeshError when the bounds cannot be met."""
+    same on every rank) on bad input or switches, MeshError when the bounds cannot be met.
+    ``threads``: worker threads per rank refining its subdomains at once (PCDM only); the mesh is
+    the same for any count, and one process of several threads is ``comm=MPI.COMM_SELF``."""
     if comm is None:
         from mpi4py import MPI
         comm = MPI.COMM_WORLD
@@ -66,7 +69,8 @@ def triangulate(
         int(comm.py2f()), d["vertices"], d["vertex_markers"], d["vertex_attributes"],
         d["segments"], d["segment_markers"], d["holes"], d["regions"], ma, area,
         s["max_steiner"], bool(s["circumcenters"]), bool(s["convex_hull"]),
-        0 if method == "pcdm" else 1, int(subdomains), -1 if root is None else int(root))
+        0 if method == "pcdm" else 1, int(subdomains), -1 if root is None else int(root),
+        int(threads))
     if mesh is None:
         raise (MeshError if code == 4 else ValueError)(message)
     return mesh

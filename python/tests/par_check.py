@@ -3,7 +3,7 @@ adds up to the whole (owned vertices, triangles, triangle_first as the prefix su
 mesh collected on a root passes the validator with the bounds, its size is within 3% of the
 sequential mesh's (about 20K triangles: on smaller meshes the interface splits of the
 asynchronous protocol alone move the count by up to 3%, as tests/t_pcdm.sh found) (pcdm.triangulate with the library's diametral circles), PBW as well, and bad
-input raises the same ValueError on every rank.  Prints "par_check: OK ..." on rank 0 and exits
+input raises the same ValueError on every rank; threads=2 gives the mesh of one thread.  Prints "par_check: OK ..." on rank 0 and exits
 0 only when every rank passed."""
 import os
 import sys
@@ -51,6 +51,14 @@ for method in ("pcdm", "pbw"):
                f"{len(seq['triangles'])} sequential ({dev:+.1%})")
     else:
         expect(len(w["triangles"]) == 0, f"{method}: a rank other than root got triangles")
+# threads=2: each rank refines its subdomains on two worker threads; the mesh is the one of
+# one thread (the same vertices on the root)
+t1 = pcdm.parallel.triangulate(d, "pq30a0.001", comm=comm, root=0)
+t2 = pcdm.parallel.triangulate(d, "pq30a0.001", comm=comm, root=0, threads=2)
+if comm.rank == 0:
+    expect(len(t1["triangles"]) > 0 and np.array_equal(t1["vertices"], t2["vertices"])
+           and np.array_equal(t1["triangles"], t2["triangles"]),
+           "threads=2: not the mesh of one thread")
 try:
     pcdm.parallel.triangulate({"vertices": [[0, 0], [1, 1], [2, 2]]}, "pq", comm=comm)
     expect(False, "collinear input: no ValueError")
