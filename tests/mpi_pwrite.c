@@ -255,10 +255,12 @@ START_TEST(test_triangle_chunks) {
         ok = meshio_write_triangle(&whole, seq, err, sizeof err) == 0;
         mesh_flat_free(&whole);
     }
-    for (int c = 0; c < 4; c++) {
+    for (int ct = 0; ct < 12; ct++) { /* every chunk size with 1, 2 and 3 formatting threads */
+        int c = ct % 4;
         meshio_pwrite_set_chunk(chunks[c]);
         q.keep = keep[c];
-        snprintf(par, sizeof par, "%s/chunk%d", dir, c);
+        q.threads = 1 + ct / 4;
+        snprintf(par, sizeof par, "%s/chunk%d", dir, ct);
         int rc = meshio_pwrite_triangle(MPI_COMM_WORLD, &q, par, err, sizeof err);
         if (rc) fprintf(stderr, "rank %d: chunk %zu: %s\n", rank, chunks[c], err);
         ok = ok && rc == 0;
@@ -268,7 +270,8 @@ START_TEST(test_triangle_chunks) {
             snprintf(a, sizeof a, "%s.%s", par, ext[e]);
             snprintf(b, sizeof b, "%s.%s", seq, ext[e]);
             if (!same_file(a, b)) {
-                fprintf(stderr, "chunk %zu: %s and %s differ\n", chunks[c], a, b);
+                fprintf(stderr, "chunk %zu, %d threads: %s and %s differ\n", chunks[c], q.threads,
+                        a, b);
                 ok = 0;
             }
         }

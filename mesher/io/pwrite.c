@@ -38,7 +38,9 @@
 
 #include <errno.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -248,6 +250,163 @@ static size_t fill_chunk(ftext *x, int64_t *i, int *tail_done, char *buf, size_t
     return (size_t)(q - buf);
 }
 
+/* ---- several threads formatting one rank's text ------------------------------------------
+ * With mesh_part.threads = T > 1 the records a rank formats after its kept text are cut into
+ * blocks of a fixed number of records; T threads take the blocks in order, each formatting one
+ * into a free slot of a ring of 2T + 1 buffers (with its own copy of the file's ftext: the
+ * record counter is per thread), while the calling thread alone writes the blocks at their
+ * offsets in block order and frees their slots.  A block's text depends only on its records,
+ * so the bytes are the same as one thread's.  The counting pass runs on T contiguous ranges
+ * of records at once (rec_len only reads). */
+
+#define PT_MAXTHR 64
+
+/* The threaded pass 2 of one file: blocks [0, nblk) of records from i0 on. */
+typedef struct pfmt {
+    pthread_mutex_t mu;
+    pthread_cond_t cv; /* a slot filled or freed, or stop */
+    const ftext *x;
+    int64_t i0, per; /* first record, records per block */
+    int64_t nblk, claim;
+    int tail; /* the last block ends with the trailer */
+    int nslot, stop;
+    char **buf;
+    size_t *len;
+    int64_t *blk; /* the block a slot holds (ready when len != SIZE_MAX), or -1: free */
+} pfmt;
+
+static void *pfmt_worker(void *arg) {
+    pfmt *w = arg;
+    ftext x = *w->x;
+    x.ctr_i = -1;
+    pthread_mutex_lock(&w->mu);
+    for (;;) {
+        while (!w->stop && w->claim < w->nblk && w->blk[w->claim % w->nslot] >= 0)
+            pthread_cond_wait(&w->cv, &w->mu);
+        if (w->stop || w->claim >= w->nblk) break;
+        int64_t j = w->claim++;
+        int s = (int)(j % w->nslot);
+        w->blk[s] = j;
+        w->len[s] = SIZE_MAX;
+        pthread_mutex_unlock(&w->mu);
+        int64_t a = w->i0 + j * w->per, b = a + w->per < x.nrec ? a + w->per : x.nrec;
+        char *q = w->buf[s];
+        for (int64_t i = a; i < b; i++)
+            q = fmt_rec(&x, i, q);
+        if (j == w->nblk - 1 && w->tail) q = fmt_tail(&x, q);
+        pthread_mutex_lock(&w->mu);
+        w->len[s] = (size_t)(q - w->buf[s]);
+        pthread_cond_broadcast(&w->cv);
+    }
+    pthread_mutex_unlock(&w->mu);
+    return NULL;
+}
+
+/* Records [*i, nrec) of x (and its trailer when x->last and not *tail_done) formatted by T
+ * threads and written at *at of fh in order by this thread; *i, *tail_done and *at advance.
+ * 0, or -1 with the message in err. */
+static int pass2_threads(MPI_File fh, const char *path, ftext *x, int64_t *i, int *tail_done,
+                         long long *at, size_t chunk, int T, char *err, size_t errlen) {
+    pfmt w;
+    memset(&w, 0, sizeof w);
+    w.x = x;
+    w.i0 = *i;
+    w.per = (int64_t)(chunk / 40) > 0 ? (int64_t)(chunk / 40) : 1;
+    w.tail = x->last && !*tail_done;
+    w.nblk = (x->nrec - *i + w.per - 1) / w.per;
+    if (w.nblk == 0 && w.tail) w.nblk = 1;
+    if (w.nblk == 0) return 0;
+    if (T > PT_MAXTHR) T = PT_MAXTHR;
+    if (T > w.nblk) T = (int)w.nblk;
+    w.nslot = 2 * T + 1;
+    w.buf = mesh_xmalloc((size_t)w.nslot, sizeof *w.buf);
+    w.len = mesh_xmalloc((size_t)w.nslot, sizeof *w.len);
+    w.blk = mesh_xmalloc((size_t)w.nslot, sizeof *w.blk);
+    for (int s = 0; s < w.nslot; s++) {
+        w.buf[s] = mesh_xmalloc((size_t)(w.per + 1) * x->recmax + 512, 1);
+        w.blk[s] = -1;
+    }
+    pthread_mutex_init(&w.mu, NULL);
+    pthread_cond_init(&w.cv, NULL);
+    pthread_t th[PT_MAXTHR];
+    int nth = 0;
+    for (; nth < T; nth++)
+        if (pthread_create(&th[nth], NULL, pfmt_worker, &w) != 0) break;
+    if (nth == 0) MESH_BUG("pwrite: cannot start a formatting thread");
+    int ok = 1;
+    for (int64_t j = 0; j < w.nblk && ok; j++) {
+        int s = (int)(j % w.nslot);
+        pthread_mutex_lock(&w.mu);
+        while (w.blk[s] != j || w.len[s] == SIZE_MAX)
+            pthread_cond_wait(&w.cv, &w.mu);
+        size_t n = w.len[s];
+        pthread_mutex_unlock(&w.mu);
+        if (n && meshio_pwrite_at(fh, *at, w.buf[s], n, path, err, errlen) != 0) ok = 0;
+        *at += (long long)n;
+        pthread_mutex_lock(&w.mu);
+        w.blk[s] = -1;
+        if (!ok) w.stop = 1;
+        pthread_cond_broadcast(&w.cv);
+        pthread_mutex_unlock(&w.mu);
+    }
+    for (int k = 0; k < nth; k++)
+        pthread_join(th[k], NULL);
+    pthread_cond_destroy(&w.cv);
+    pthread_mutex_destroy(&w.mu);
+    for (int s = 0; s < w.nslot; s++)
+        free(w.buf[s]);
+    free(w.buf);
+    free(w.len);
+    free(w.blk);
+    *i = x->nrec;
+    if (w.tail) *tail_done = 1;
+    return ok ? 0 : -1;
+}
+
+/* The bytes of records [a, b) of x, counted by the calling thread. */
+typedef struct pcount {
+    ftext *x;
+    int64_t a, b;
+    long long n;
+} pcount;
+
+static void *pcount_run(void *arg) {
+    pcount *c = arg;
+    long long n = 0;
+    for (int64_t j = c->a; j < c->b; j++)
+        n += (long long)rec_len(c->x, j);
+    c->n = n;
+    return NULL;
+}
+
+/* The bytes of records [a, b) of x, counted on T contiguous ranges at once (T - 1 new threads
+ * and this one). */
+static long long count_threads(ftext *x, int64_t a, int64_t b, int T) {
+    if (T > PT_MAXTHR) T = PT_MAXTHR;
+    if (T < 1 || b - a < 4096) T = 1;
+    pcount c[PT_MAXTHR];
+    pthread_t th[PT_MAXTHR];
+    int started[PT_MAXTHR] = {0};
+    for (int k = 0; k < T; k++) {
+        c[k].x = x;
+        c[k].a = a + (b - a) * k / T;
+        c[k].b = a + (b - a) * (k + 1) / T;
+        c[k].n = 0;
+    }
+    for (int k = 1; k < T; k++)
+        started[k] = pthread_create(&th[k], NULL, pcount_run, &c[k]) == 0;
+    pcount_run(&c[0]);
+    long long n = c[0].n;
+    for (int k = 1; k < T; k++) {
+        if (started[k])
+            pthread_join(th[k], NULL);
+        else
+            pcount_run(&c[k]);
+        n += c[k].n;
+    }
+    return n;
+}
+
 /* ---- one shared file ------------------------------------------------------------------- */
 
 #define NFILES 3
@@ -285,18 +444,26 @@ static int write_files(MPI_Comm comm, const char (*path)[PATH_MAX_LEN + 8], ftex
         rmax = x[f].recmax > rmax ? x[f].recmax : rmax;
     char *buf[NFILES], *scratch = mesh_xmalloc(rmax + 256, 1);
     int64_t i[NFILES];
-    int tail_done[NFILES];
+    int tail_done[NFILES], counted[NFILES];
     long long mine[NFILES], off[NFILES] = {0};
+    /* with threads, pass 2 formats in parallel what pass 1 would keep, and the last rank, whose
+     * bytes place no other rank, counts nothing */
+    int T = nf > 0 && x[0].p->threads > 1 ? x[0].p->threads : 1;
     for (int f = 0; f < nf; f++) {
-        size_t ahead = chunk + (x[f].kind == F_NODE ? x[f].p->keep : 0);
+        size_t ahead =
+            T > 1 ? (x[f].last ? 0 : chunk) : chunk + (x[f].kind == F_NODE ? x[f].p->keep : 0);
         buf[f] = mesh_xmalloc(ahead + x[f].recmax + 512, 1);
         char *q = x[f].first ? fmt_head(&x[f], buf[f]) : buf[f];
         i[f] = 0;
         tail_done[f] = 0;
         kept[f] = (size_t)(q - buf[f]) + fill_chunk(&x[f], &i[f], &tail_done[f], q, ahead);
         mine[f] = (long long)kept[f];
-        for (int64_t j = i[f]; j < x[f].nrec; j++)
-            mine[f] += (long long)rec_len(&x[f], j);
+        counted[f] = T == 1 || !x[f].last;
+        if (T > 1 && counted[f])
+            mine[f] += count_threads(&x[f], i[f], x[f].nrec, T);
+        else if (T == 1)
+            for (int64_t j = i[f]; j < x[f].nrec; j++)
+                mine[f] += (long long)rec_len(&x[f], j);
         if (x[f].last && !tail_done[f]) mine[f] += (long long)(fmt_tail(&x[f], scratch) - scratch);
     }
     MESH_MPI(MPI_Exscan(mine, off, nf, MPI_LONG_LONG, MPI_SUM, comm));
@@ -325,9 +492,17 @@ static int write_files(MPI_Comm comm, const char (*path)[PATH_MAX_LEN + 8], ftex
             if (n && meshio_pwrite_at(fh[f], at, buf[f], n, path[f], err, errlen) != 0) ok = 0;
             at += (long long)n;
             if (i[f] == x[f].nrec && (tail_done[f] || !x[f].last)) break;
+            if (T > 1) {
+                if (pass2_threads(fh[f], path[f], &x[f], &i[f], &tail_done[f], &at, chunk, T, err,
+                                  errlen) != 0)
+                    ok = 0;
+                n = 0;
+                continue;
+            }
             n = fill_chunk(&x[f], &i[f], &tail_done[f], buf[f], chunk);
         }
-        if (ok && at != off[f] + mine[f]) { /* pass 2 must have made exactly pass 1's bytes */
+        if (ok && counted[f] &&
+            at != off[f] + mine[f]) { /* pass 2 must have made exactly pass 1's bytes */
             ok = 0;
             efmt(err, errlen, "%s: internal error: %lld bytes counted, %lld written", path[f],
                  mine[f], at - off[f]);

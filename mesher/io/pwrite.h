@@ -60,6 +60,8 @@ typedef struct mesh_part {
     size_t keep;   /* bytes of .node text pass 1 may format ahead and keep for pass 2 (beyond
                     * one chunk), saving their second formatting; 0: one chunk */
     unsigned skip; /* MESHIO_SKIP_* (io/meshio.h): files not written (the same on every rank) */
+    int threads;   /* threads that format this rank's text (0/1: the calling thread alone);
+                    * the bytes are the same for any count.  Only the calling thread calls MPI */
 } mesh_part;
 
 /* Collective.  Writes PREFIX.node, PREFIX.ele and PREFIX.poly from every rank's part.  Memory:

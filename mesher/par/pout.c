@@ -210,7 +210,9 @@ static int write_triangle(const par_opts *o, const pslg *in, const mesh_flat *f,
                     * mesh's peak (about 45) and saves half the second formatting of the
                     * coordinates */
                    .keep = 8 * (size_t)f->ntris,
-                   .skip = par_skip_linear(o)};
+                   .skip = par_skip_linear(o),
+                   /* the rank's workers are idle now: they format the text */
+                   .threads = o->threads};
     int rc = meshio_pwrite_triangle(rt_app_comm(), &p, o->out_prefix, err, errlen);
     free(seg);
     free(smk);
