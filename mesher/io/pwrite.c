@@ -363,48 +363,70 @@ static int pass2_threads(MPI_File fh, const char *path, ftext *x, int64_t *i, in
     return ok ? 0 : -1;
 }
 
-/* The bytes of records [a, b) of x, counted by the calling thread. */
-typedef struct pcount {
+/* A range [a, b) of records (or local vertices) one thread works on; n: its result. */
+typedef struct prange {
     ftext *x;
+    const mesh_part *p;
+    uint64_t *vdig;
+    uint8_t *vlen;
     int64_t a, b;
     long long n;
-} pcount;
+    void (*fn)(struct prange *r);
+} prange;
 
-static void *pcount_run(void *arg) {
-    pcount *c = arg;
-    long long n = 0;
-    for (int64_t j = c->a; j < c->b; j++)
-        n += (long long)rec_len(c->x, j);
-    c->n = n;
+static void *prange_run(void *arg) {
+    prange *r = arg;
+    r->fn(r);
     return NULL;
 }
 
-/* The bytes of records [a, b) of x, counted on T contiguous ranges at once (T - 1 new threads
- * and this one). */
-static long long count_threads(ftext *x, int64_t a, int64_t b, int T) {
+/* Runs r0.fn on T contiguous parts of [a, b) at once (T - 1 new threads and this one; one
+ * part when the range is short); returns the sum of their n. */
+static long long split_run(prange r0, int64_t a, int64_t b, int T) {
     if (T > PT_MAXTHR) T = PT_MAXTHR;
     if (T < 1 || b - a < 4096) T = 1;
-    pcount c[PT_MAXTHR];
+    prange r[PT_MAXTHR];
     pthread_t th[PT_MAXTHR];
     int started[PT_MAXTHR] = {0};
     for (int k = 0; k < T; k++) {
-        c[k].x = x;
-        c[k].a = a + (b - a) * k / T;
-        c[k].b = a + (b - a) * (k + 1) / T;
-        c[k].n = 0;
+        r[k] = r0;
+        r[k].a = a + (b - a) * k / T;
+        r[k].b = a + (b - a) * (k + 1) / T;
+        r[k].n = 0;
     }
     for (int k = 1; k < T; k++)
-        started[k] = pthread_create(&th[k], NULL, pcount_run, &c[k]) == 0;
-    pcount_run(&c[0]);
-    long long n = c[0].n;
+        started[k] = pthread_create(&th[k], NULL, prange_run, &r[k]) == 0;
+    r[0].fn(&r[0]);
+    long long n = r[0].n;
     for (int k = 1; k < T; k++) {
         if (started[k])
             pthread_join(th[k], NULL);
         else
-            pcount_run(&c[k]);
-        n += c[k].n;
+            r[k].fn(&r[k]);
+        n += r[k].n;
     }
     return n;
+}
+
+/* The bytes of records [a, b) of r->x. */
+static void count_range(prange *r) {
+    long long n = 0;
+    for (int64_t j = r->a; j < r->b; j++)
+        n += (long long)rec_len(r->x, j);
+    r->n = n;
+}
+
+/* The digit cache of local vertices [a, b): each number + 1 as up to 8 digits (padded with
+ * blanks) and their count (0: more than 8 digits, formatted each time). */
+static void digits_range(prange *r) {
+    for (int64_t v = r->a; v < r->b; v++) {
+        char d[24];
+        long long g = (long long)r->p->gid[v] + 1;
+        int n = g >= 1 && g <= 99999999 ? (int)(fmt_int(d, g) - d) : 0;
+        memset(d + n, ' ', 8 - (size_t)n);
+        memcpy(&r->vdig[v], d, 8);
+        r->vlen[v] = (uint8_t)n;
+    }
 }
 
 /* ---- one shared file ------------------------------------------------------------------- */
@@ -460,7 +482,7 @@ static int write_files(MPI_Comm comm, const char (*path)[PATH_MAX_LEN + 8], ftex
         mine[f] = (long long)kept[f];
         counted[f] = T == 1 || !x[f].last;
         if (T > 1 && counted[f])
-            mine[f] += count_threads(&x[f], i[f], x[f].nrec, T);
+            mine[f] += split_run((prange){.x = &x[f], .fn = count_range}, i[f], x[f].nrec, T);
         else if (T == 1)
             for (int64_t j = i[f]; j < x[f].nrec; j++)
                 mine[f] += (long long)rec_len(&x[f], j);
@@ -560,14 +582,8 @@ int meshio_pwrite_triangle(MPI_Comm comm, const mesh_part *p, const char *prefix
     if (!p->tri && p->ltri && p->nlocal > 0 && p->ntris > 0 && !(p->skip & MESHIO_SKIP_ELE)) {
         vdig = mesh_xmalloc((size_t)p->nlocal, sizeof *vdig);
         vlen = mesh_xmalloc((size_t)p->nlocal, 1);
-        for (int64_t v = 0; v < p->nlocal; v++) {
-            char d[24];
-            long long g = (long long)p->gid[v] + 1;
-            int n = g >= 1 && g <= 99999999 ? (int)(fmt_int(d, g) - d) : 0;
-            memset(d + n, ' ', 8 - (size_t)n);
-            memcpy(&vdig[v], d, 8);
-            vlen[v] = (uint8_t)n;
-        }
+        split_run((prange){.p = p, .vdig = vdig, .vlen = vlen, .fn = digits_range}, 0, p->nlocal,
+                  p->threads > 1 ? p->threads : 1);
     }
     char path[NFILES][PATH_MAX_LEN + 8];
     ftext x[NFILES];

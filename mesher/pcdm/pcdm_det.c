@@ -42,6 +42,7 @@
 
 #include "rt.h"
 
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -634,11 +635,18 @@ void pcdm_det_refine(pcdm_part *p, const mesh_quality *q) {
 
 /* ---- figures and output --------------------------------------------------------------------- */
 
-void pcdm_det_figures(pcdm_part *p, pcdm_figures *f) {
-    pcdm_det *D = p->det;
-    memset(f, 0, sizeof *f);
-    for (int32_t i = 0; i < D->n; i++) {
-        mesh *m = &D->s[i]->m;
+/* The figures of subdomains i = k, k + T, k + 2T, ... of D (a thread's share). */
+typedef struct det_fig {
+    pcdm_det *D;
+    int32_t k, T;
+    pcdm_figures f;
+} det_fig;
+
+static void *det_fig_run(void *arg) {
+    det_fig *g = arg;
+    pcdm_figures *f = &g->f;
+    for (int32_t i = g->k; i < g->D->n; i += g->T) {
+        mesh *m = &g->D->s[i]->m;
         f->ntris += m->nlive;
         f->nverts += m->nv;
         f->inserted += m->stats.inserted;
@@ -648,6 +656,42 @@ void pcdm_det_figures(pcdm_part *p, pcdm_figures *f) {
         int64_t remote = 0;
         f->iface_enc += mesh_iface_defects(m, &remote);
         f->iface_remote += remote;
+    }
+    return NULL;
+}
+
+void pcdm_det_figures(pcdm_part *p, pcdm_figures *f) {
+    pcdm_det *D = p->det;
+    memset(f, 0, sizeof *f);
+    /* each subdomain is its own mesh: the rank's worker count of threads scan them at once
+     * (integer sums: the same figures for any count) */
+    enum { FIG_MAXTHR = 64 };
+    int32_t T = D->threads < D->n ? D->threads : D->n;
+    if (T > FIG_MAXTHR) T = FIG_MAXTHR;
+    if (T < 1) T = 1;
+    det_fig g[FIG_MAXTHR];
+    pthread_t th[FIG_MAXTHR];
+    int started[FIG_MAXTHR] = {0};
+    for (int32_t k = 0; k < T; k++) {
+        memset(&g[k], 0, sizeof g[k]);
+        g[k].D = D;
+        g[k].k = k;
+        g[k].T = T;
+    }
+    for (int32_t k = 1; k < T; k++)
+        started[k] = pthread_create(&th[k], NULL, det_fig_run, &g[k]) == 0;
+    det_fig_run(&g[0]);
+    for (int32_t k = 0; k < T; k++) {
+        if (k > 0 && started[k]) pthread_join(th[k], NULL);
+        if (k > 0 && !started[k]) det_fig_run(&g[k]);
+        f->ntris += g[k].f.ntris;
+        f->nverts += g[k].f.nverts;
+        f->inserted += g[k].f.inserted;
+        f->mesh_bytes += g[k].f.mesh_bytes;
+        f->unmet += g[k].f.unmet;
+        f->refused += g[k].f.refused;
+        f->iface_enc += g[k].f.iface_enc;
+        f->iface_remote += g[k].f.iface_remote;
     }
     /* the merged part hides the interfaces between this rank's subdomains from the collective
      * test (they are no open edges): an encroached piece counts as a defect when one of them
