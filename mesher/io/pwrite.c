@@ -19,7 +19,10 @@
  * vertex (8 bytes and a length), and record numbers come from a decimal counter.  After
  * MPI_File_close the ranks agree on success; rank 0 renames the temporary files over the targets
  * (or removes them), and its outcome is agreed again.  Global numbers are 1-based in the files
- * (Triangle's default), so the bytes equal meshio_write_triangle's for the same mesh.
+ * (Triangle's default), so the bytes equal meshio_write_triangle's for the same mesh.  With
+ * mesh_part.threads T > 1 the formatting runs on T threads ("several threads" below: blocks of
+ * records formatted at once, written in order by the calling thread, which alone calls MPI),
+ * the counting on T ranges at once, and the last rank counts nothing: its bytes place no rank.
  *
  * VTU pieces are local files (binary appended raw data, or ASCII), each written through
  * meshio_wopen/meshio_wclose, array by array in blocks converted on the fly (VTK's XML file
