@@ -278,6 +278,16 @@ typedef struct pfmt {
     int64_t *blk; /* the block a slot holds (ready when len != SIZE_MAX), or -1: free */
 } pfmt;
 
+/* Formats block j of w into buf with x (a thread's own copy); returns the bytes. */
+static size_t pfmt_block(const pfmt *w, ftext *x, int64_t j, char *buf) {
+    int64_t a = w->i0 + j * w->per, b = a + w->per < x->nrec ? a + w->per : x->nrec;
+    char *q = buf;
+    for (int64_t i = a; i < b; i++)
+        q = fmt_rec(x, i, q);
+    if (j == w->nblk - 1 && w->tail) q = fmt_tail(x, q);
+    return (size_t)(q - buf);
+}
+
 static void *pfmt_worker(void *arg) {
     pfmt *w = arg;
     ftext x = *w->x;
@@ -292,13 +302,9 @@ static void *pfmt_worker(void *arg) {
         w->blk[s] = j;
         w->len[s] = SIZE_MAX;
         pthread_mutex_unlock(&w->mu);
-        int64_t a = w->i0 + j * w->per, b = a + w->per < x.nrec ? a + w->per : x.nrec;
-        char *q = w->buf[s];
-        for (int64_t i = a; i < b; i++)
-            q = fmt_rec(&x, i, q);
-        if (j == w->nblk - 1 && w->tail) q = fmt_tail(&x, q);
+        size_t n = pfmt_block(w, &x, j, w->buf[s]);
         pthread_mutex_lock(&w->mu);
-        w->len[s] = (size_t)(q - w->buf[s]);
+        w->len[s] = n;
         pthread_cond_broadcast(&w->cv);
     }
     pthread_mutex_unlock(&w->mu);
@@ -335,10 +341,15 @@ static int pass2_threads(MPI_File fh, const char *path, ftext *x, int64_t *i, in
     int nth = 0;
     for (; nth < T; nth++)
         if (pthread_create(&th[nth], NULL, pfmt_worker, &w) != 0) break;
-    if (nth == 0) MESH_BUG("pwrite: cannot start a formatting thread");
+    ftext own = *x; /* no thread started: this one formats each block itself */
+    own.ctr_i = -1;
     int ok = 1;
     for (int64_t j = 0; j < w.nblk && ok; j++) {
         int s = (int)(j % w.nslot);
+        if (nth == 0) {
+            w.blk[s] = j;
+            w.len[s] = pfmt_block(&w, &own, j, w.buf[s]);
+        }
         pthread_mutex_lock(&w.mu);
         while (w.blk[s] != j || w.len[s] == SIZE_MAX)
             pthread_cond_wait(&w.cv, &w.mu);
