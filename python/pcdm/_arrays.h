@@ -1,10 +1,12 @@
 /* _arrays.h: numpy arrays in and out of the package's extensions (_core.c, _par.c): borrowed
  * input data with its shape checked, and library buffers handed to numpy without a copy.
- * Include after <Python.h> and <numpy/arrayobject.h>. */
+ * Include after <Python.h>, <numpy/arrayobject.h> and pcdm.h. */
 #ifndef PCDM_PY_ARRAYS_H
 #define PCDM_PY_ARRAYS_H
 
+#include <stdint.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* ---- arrays ------------------------------------------------------------------------------ */
 
@@ -26,6 +28,39 @@ static inline void *arr_data(PyObject *o, int type, int cols, const char *name, 
     }
     *n = PyArray_DIM((PyArrayObject *)o, 0);
     return PyArray_DATA((PyArrayObject *)o);
+}
+
+/* in from the input arrays as the Python half passes them (vertices, vertex_markers,
+ * vertex_attributes, segments, segment_markers, holes, regions; None where absent), the data
+ * borrowed from them.  0, or -1 with an exception set (who names the module in it). */
+static inline int arr_input(PyObject *ov, PyObject *ovm, PyObject *ova, PyObject *os, PyObject *osm,
+                            PyObject *oh, PyObject *orr, const char *who, pcdm_input *in) {
+    int bad = 0;
+    npy_intp nv, nvm, nva = 0, ns, nsm, nh, nr;
+    memset(in, 0, sizeof *in);
+    in->points = arr_data(ov, NPY_DOUBLE, 2, "vertices", &nv, &bad);
+    in->pointmarkers = arr_data(ovm, NPY_INT32, 0, "vertex_markers", &nvm, &bad);
+    int k = 0;
+    if (ova != Py_None && PyArray_Check(ova) && PyArray_NDIM((PyArrayObject *)ova) == 2)
+        k = (int)PyArray_DIM((PyArrayObject *)ova, 1);
+    in->pointattr = k ? arr_data(ova, NPY_DOUBLE, k, "vertex_attributes", &nva, &bad) : NULL;
+    in->segments = arr_data(os, NPY_INT32, 2, "segments", &ns, &bad);
+    in->segmentmarkers = arr_data(osm, NPY_INT32, 0, "segment_markers", &nsm, &bad);
+    in->holes = arr_data(oh, NPY_DOUBLE, 2, "holes", &nh, &bad);
+    in->regions = arr_data(orr, NPY_DOUBLE, 4, "regions", &nr, &bad);
+    if (bad) return -1;
+    if (nv > INT32_MAX || ns > INT32_MAX || nh > INT32_MAX || nr > INT32_MAX ||
+        (in->pointmarkers && nvm != nv) || (in->pointattr && nva != nv) ||
+        (in->segmentmarkers && nsm != ns)) {
+        PyErr_Format(PyExc_ValueError, "%s: array lengths do not match", who);
+        return -1;
+    }
+    in->npoints = (int32_t)nv;
+    in->npointattr = in->pointattr ? k : 0;
+    in->nsegments = (int32_t)ns;
+    in->nholes = (int32_t)nh;
+    in->nregions = (int32_t)nr;
+    return 0;
 }
 
 static inline void capsule_free(PyObject *cap) {

@@ -333,32 +333,8 @@ static PyObject *py_triangulate(PyObject *self, PyObject *args, PyObject *kw) {
                                      &max_steiner, &circumcenters, &convex_hull, &rattr, &rarea,
                                      &no_refine, &lenses, &size, &rareas, &want_e, &want_n))
         return NULL;
-    int bad = 0;
-    npy_intp nv, nvm, nva = 0, ns, nsm, nh, nr;
     pcdm_input in;
-    memset(&in, 0, sizeof in);
-    in.points = arr_data(ov, NPY_DOUBLE, 2, "vertices", &nv, &bad);
-    in.pointmarkers = arr_data(ovm, NPY_INT32, 0, "vertex_markers", &nvm, &bad);
-    int k = 0;
-    if (ova != Py_None && PyArray_Check(ova) && PyArray_NDIM((PyArrayObject *)ova) == 2)
-        k = (int)PyArray_DIM((PyArrayObject *)ova, 1);
-    in.pointattr = k ? arr_data(ova, NPY_DOUBLE, k, "vertex_attributes", &nva, &bad) : NULL;
-    in.segments = arr_data(os, NPY_INT32, 2, "segments", &ns, &bad);
-    in.segmentmarkers = arr_data(osm, NPY_INT32, 0, "segment_markers", &nsm, &bad);
-    in.holes = arr_data(oh, NPY_DOUBLE, 2, "holes", &nh, &bad);
-    in.regions = arr_data(orr, NPY_DOUBLE, 4, "regions", &nr, &bad);
-    if (bad) return NULL;
-    if (nv > INT32_MAX || ns > INT32_MAX || nh > INT32_MAX || nr > INT32_MAX ||
-        (in.pointmarkers && nvm != nv) || (in.pointattr && nva != nv) ||
-        (in.segmentmarkers && nsm != ns)) {
-        PyErr_SetString(PyExc_ValueError, "_core: array lengths do not match");
-        return NULL;
-    }
-    in.npoints = (int32_t)nv;
-    in.npointattr = in.pointattr ? k : 0;
-    in.nsegments = (int32_t)ns;
-    in.nholes = (int32_t)nh;
-    in.nregions = (int32_t)nr;
+    if (arr_input(ov, ovm, ova, os, osm, oh, orr, "_core", &in)) return NULL;
     pcdm_options o;
     pcdm_options_default(&o);
     o.min_angle = min_angle;
@@ -380,6 +356,7 @@ static PyObject *py_triangulate(PyObject *self, PyObject *args, PyObject *kw) {
     if (rareas != Py_None) { /* (old vertices, old triangles, their areas): r with a alone */
         PyObject *rv, *rt, *ra;
         npy_intp onv, ont, ona;
+        int bad = 0;
         if (!PyArg_ParseTuple(rareas, "OOO", &rv, &rt, &ra)) return NULL;
         const double *oxy = arr_data(rv, NPY_DOUBLE, 2, "refine vertices", &onv, &bad);
         const int32_t *otri = arr_data(rt, NPY_INT32, 3, "refine triangles", &ont, &bad);

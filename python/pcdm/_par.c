@@ -23,12 +23,15 @@
 #include <stdint.h>
 #include <string.h>
 
-static const char *const kw[] = {
-    "comm",        "vertices",        "vertex_markers", "vertex_attributes",
-    "segments",    "segment_markers", "holes",          "regions",
-    "min_angle",   "max_area",        "max_steiner",    "circumcenters",
-    "convex_hull", "method",          "subdomains",     "root",
-    "threads",     NULL};
+static const char *const kw[] = {"comm",           "vertices",
+                                 "vertex_markers", "vertex_attributes",
+                                 "segments",       "segment_markers",
+                                 "holes",          "regions",
+                                 "min_angle",      "max_area",
+                                 "max_steiner",    "circumcenters",
+                                 "convex_hull",    "method",
+                                 "subdomains",     "root",
+                                 "threads",        NULL};
 
 /* triangulate(comm, vertices, vertex_markers, vertex_attributes, segments, segment_markers,
  * holes, regions, min_angle, max_area, max_steiner, circumcenters, convex_hull, method,
@@ -44,32 +47,8 @@ static PyObject *py_triangulate(PyObject *self, PyObject *args, PyObject *kwargs
                                      &max_steiner, &circumcenters, &convex_hull, &method,
                                      &subdomains, &root, &threads))
         return NULL;
-    int bad = 0;
-    npy_intp nv, nvm, nva = 0, ns, nsm, nh, nr;
     pcdm_input in;
-    memset(&in, 0, sizeof in);
-    in.points = arr_data(ov, NPY_DOUBLE, 2, "vertices", &nv, &bad);
-    in.pointmarkers = arr_data(ovm, NPY_INT32, 0, "vertex_markers", &nvm, &bad);
-    int k = 0;
-    if (ova != Py_None && PyArray_Check(ova) && PyArray_NDIM((PyArrayObject *)ova) == 2)
-        k = (int)PyArray_DIM((PyArrayObject *)ova, 1);
-    in.pointattr = k ? arr_data(ova, NPY_DOUBLE, k, "vertex_attributes", &nva, &bad) : NULL;
-    in.segments = arr_data(os, NPY_INT32, 2, "segments", &ns, &bad);
-    in.segmentmarkers = arr_data(osm, NPY_INT32, 0, "segment_markers", &nsm, &bad);
-    in.holes = arr_data(oh, NPY_DOUBLE, 2, "holes", &nh, &bad);
-    in.regions = arr_data(orr, NPY_DOUBLE, 4, "regions", &nr, &bad);
-    if (bad) return NULL;
-    if (nv > INT32_MAX || ns > INT32_MAX || nh > INT32_MAX || nr > INT32_MAX ||
-        (in.pointmarkers && nvm != nv) || (in.pointattr && nva != nv) ||
-        (in.segmentmarkers && nsm != ns)) {
-        PyErr_SetString(PyExc_ValueError, "_par: array lengths do not match");
-        return NULL;
-    }
-    in.npoints = (int32_t)nv;
-    in.npointattr = in.pointattr ? k : 0;
-    in.nsegments = (int32_t)ns;
-    in.nholes = (int32_t)nh;
-    in.nregions = (int32_t)nr;
+    if (arr_input(ov, ovm, ova, os, osm, oh, orr, "_par", &in)) return NULL;
     pcdm_options o;
     pcdm_options_default(&o);
     o.min_angle = min_angle;
