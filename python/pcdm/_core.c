@@ -336,12 +336,7 @@ static PyObject *py_triangulate(PyObject *self, PyObject *args, PyObject *kw) {
     pcdm_input in;
     if (arr_input(ov, ovm, ova, os, osm, oh, orr, "_core", &in)) return NULL;
     pcdm_options o;
-    pcdm_options_default(&o);
-    o.min_angle = min_angle;
-    o.max_area = max_area;
-    o.max_steiner = max_steiner;
-    o.circumcenters = circumcenters;
-    o.convex_hull = convex_hull;
+    arr_options(&o, min_angle, max_area, max_steiner, circumcenters, convex_hull);
     o.region_attributes = rattr;
     o.region_areas = rarea;
     o.no_refine = no_refine;
@@ -403,25 +398,7 @@ static PyObject *py_triangulate(PyObject *self, PyObject *args, PyObject *kw) {
     }
     PyObject *d = PyDict_New();
     int rc = d ? 0 : -1;
-    /* each array handed over once: the mesh's pointers are cleared as numpy takes them */
-    rc = rc || put(d, "vertices", arr_own(m.points, m.npoints, 2, NPY_DOUBLE));
-    m.points = NULL;
-    rc = rc || put(d, "vertex_markers", arr_own(m.pointmarkers, m.npoints, 1, NPY_INT32));
-    m.pointmarkers = NULL;
-    if (m.npointattr > 0)
-        rc = rc ||
-             put(d, "vertex_attributes", arr_own(m.pointattr, m.npoints, m.npointattr, NPY_DOUBLE));
-    m.pointattr = NULL;
-    rc = rc || put(d, "triangles", arr_own(m.triangles, m.ntriangles, 3, NPY_INT32));
-    m.triangles = NULL;
-    if (m.triangleattr)
-        rc = rc ||
-             put(d, "triangle_attributes", arr_own(m.triangleattr, m.ntriangles, 1, NPY_DOUBLE));
-    m.triangleattr = NULL;
-    rc = rc || put(d, "segments", arr_own(m.segments, m.nsegments, 2, NPY_INT32));
-    m.segments = NULL;
-    rc = rc || put(d, "segment_markers", arr_own(m.segmentmarkers, m.nsegments, 1, NPY_INT32));
-    m.segmentmarkers = NULL;
+    rc = rc || arr_put_mesh(d, &m);
     if (want_e) {
         rc = rc || put(d, "edges", arr_own(edges, ne, 2, NPY_INT32));
         edges = NULL;
@@ -434,13 +411,7 @@ static PyObject *py_triangulate(PyObject *self, PyObject *args, PyObject *kw) {
     }
     pcdm_mesh_free(&m);
     free(edges), free(emark), free(neigh);
-    if (rc) {
-        Py_XDECREF(d);
-        return NULL;
-    }
-    PyObject *r = Py_BuildValue("isO", code, st.message, d);
-    Py_DECREF(d);
-    return r;
+    return arr_result(code, &st, d, rc);
 }
 
 /* ---- check ------------------------------------------------------------------------------- */
