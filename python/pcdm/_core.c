@@ -7,7 +7,9 @@
  * gives is read by the very parser ./mesh uses (cli_parse with ./mesh's table), so the letters,
  * the numbers' syntax and every message ("option -D in '-pD' is not supported ...") are the
  * command line's.  Meshing runs with the GIL released (pcdm_triangulate keeps no global state:
- * two Python threads mesh at once); a size callable is called back with the GIL taken again.
+ * two Python threads mesh at once); a size callable is called back with the GIL taken again,
+ * while a background mesh given as size= is a rule in C here (located by geom/tloc.h's grid and
+ * exact orient2d) that needs no GIL.
  * The arrays the library returns are handed to numpy without a copy (each owned by a capsule
  * that frees it).  Nothing here prints, exits or aborts on bad input: every failure is a Python
  * exception (ValueError with the library's or the parser's one-line message).
@@ -485,10 +487,12 @@ static const char *const tri_kw[] = {"vertices",
 
 /* triangulate(vertices, vertex_markers, vertex_attributes, segments, segment_markers, holes,
  * regions, min_angle, max_area, max_steiner, circumcenters, convex_hull, region_attributes,
- * region_areas, no_refine, lenses, size, refine_areas, edges, neighbors) -> (code, message,
- * dict); refine_areas: None or (old vertices, old triangles (int32 (t, 3)), their bounds
- * (float64 (t,))), r's triangle_max_area rule: the arrays as the
- * Python half converted them (float64 (n, 2), int32 (n,), float64 (n, k), int32 (m, 2), int32
+ * region_areas, no_refine, lenses, size, refine_areas, edges, neighbors, background) -> (code,
+ * message, dict); refine_areas: None or (old vertices, old triangles (int32 (t, 3)), their
+ * bounds (float64 (t,))), r's triangle_max_area rule; background: None or size= as a
+ * background mesh (vertices float64 (n, 2), triangles int32 (m, 3), values float64 (n,) or
+ * (m,), per_triangle), its indices, values and triangles checked here (bg_from); the arrays as
+ * the Python half converted them (float64 (n, 2), int32 (n,), float64 (n, k), int32 (m, 2), int32
  * (m,), float64 (h, 2), float64 (r, 4); None: absent), pcdm_options' fields, the size callable
  * (or None), and whether edges and neighbours are wanted.  code is pcdm_triangulate's (0 or
  * PCDM_ESTEINER with the mesh; else the dict is None and message says why). */
