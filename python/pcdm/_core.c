@@ -8,8 +8,8 @@
  * the numbers' syntax and every message ("option -D in '-pD' is not supported ...") are the
  * command line's.  Meshing runs with the GIL released (pcdm_triangulate keeps no global state:
  * two Python threads mesh at once); a size callable is called back with the GIL taken again,
- * while a background mesh given as size= is a rule in C here (located by geom/tloc.h's grid and
- * exact orient2d) that needs no GIL.
+ * while a background mesh given as size= is a rule in C (_bgsize.h: a quadtree and the exact
+ * orient2d locate the point) that needs no GIL.
  * The arrays the library returns are handed to numpy without a copy (each owned by a capsule
  * that frees it).  Nothing here prints, exits or aborts on bad input: every failure is a Python
  * exception (ValueError with the library's or the parser's one-line message).
@@ -40,6 +40,7 @@
 #include <string.h>
 
 #include "_arrays.h"
+#include "_bgsize.h"
 
 /* ---- the switch parser ----------------------------------------------------------------- */
 
@@ -213,135 +214,7 @@ static PyObject *py_boundary(PyObject *self, PyObject *args) {
     return Py_BuildValue("NN", s, h);
 }
 
-/* ---- size= as a background mesh ------------------------------------------------------------ */
-
-/* size={"vertices", "triangles", "vertex_sizes" | "triangle_max_area"}: the caller's background
- * mesh (arrays borrowed: the call's arguments keep them alive) with a target edge length h per
- * vertex (linear over each background triangle; a triangle is too big when its area exceeds the
- * equilateral triangle's of side h, sqrt(3)/4 h^2, the rule of ./mesh --size) or a maximum
- * area per background triangle (constant over it, Triangle's .area).  The value is taken at
- * the new triangle's centroid, located by tloc (geom/tloc.h: a grid over the background, about
- * one cell per triangle, and the exact orient2d deciding which triangle holds the point; on a
- * shared edge or vertex the lowest index).  A centroid outside the background takes the value
- * at the nearest point of the nearest background triangle, found by searching the grid's cells
- * in growing rings (rounded distances: they pick a size, not topology).  Read only once built:
- * the rule needs no GIL and no lock, as pcdm_unsuitable_fn asks. */
-typedef struct bg_size {
-    tloc loc;
-    const double *xy;    /* vertices, 2 per vertex (caller's coordinates) */
-    const int32_t *tri;  /* 3 vertex indices per triangle, either orientation */
-    const double *value; /* h per vertex, or the maximum area per triangle */
-    int per_triangle;
-} bg_size;
-
-/* B over the arrays (indices in range, values positive: bg_from); refuses a degenerate triangle
- * (collinear corners, exact).  0, or -1 with a ValueError set (B then holds nothing). */
-static int bg_build(bg_size *B, const double *xy, const int32_t *tri, npy_intp nt,
-                    const double *value, int per_triangle) {
-    memset(B, 0, sizeof *B);
-    if (nt < 1 || nt > INT32_MAX / 3) {
-        PyErr_SetString(PyExc_ValueError, nt < 1 ? "size[\"triangles\"]: no triangles"
-                                                 : "size[\"triangles\"]: too many");
-        return -1;
-    }
-    for (npy_intp t = 0; t < nt; t++) {
-        const int32_t *v = tri + 3 * (size_t)t;
-        if (geom_orient2d(xy + 2 * (size_t)v[0], xy + 2 * (size_t)v[1], xy + 2 * (size_t)v[2]) ==
-            0) {
-            PyErr_Format(PyExc_ValueError,
-                         "size[\"triangles\"][%zd]: degenerate (its corners %d %d %d are "
-                         "collinear)",
-                         (Py_ssize_t)t, v[0], v[1], v[2]);
-            return -1;
-        }
-    }
-    if (tloc_build(&B->loc, xy, tri, (int32_t)nt) != 0) {
-        PyErr_SetString(PyExc_ValueError, "size[\"triangles\"]: too many to index");
-        return -1;
-    }
-    B->xy = xy;
-    B->tri = tri;
-    B->value = value;
-    B->per_triangle = per_triangle;
-    return 0;
-}
-
-/* The point of segment ab nearest to p into q; returns the squared distance. */
-static double seg_nearest(const double *a, const double *b, const double p[2], double q[2]) {
-    double dx = b[0] - a[0], dy = b[1] - a[1], l2 = dx * dx + dy * dy;
-    double s = l2 > 0 ? ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2 : 0;
-    s = s < 0 ? 0 : s > 1 ? 1 : s;
-    q[0] = a[0] + s * dx;
-    q[1] = a[1] + s * dy;
-    return (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]);
-}
-
-/* The grid cell of coordinate v (as tloc's: clamped to 0 .. n-1). */
-static int32_t bg_cell(double v, double v0, double w, int32_t n) {
-    double c = (v - v0) / w;
-    if (!(c > 0)) return 0;
-    return c >= n - 1 ? n - 1 : (int32_t)c;
-}
-
-/* The background triangle nearest to p (which lies in none), and its point nearest to p into
- * q: the cells in rings around p's (clamped) cell, until no unseen triangle can be nearer
- * (every triangle is listed in each cell its bounding box meets, so one not seen by ring r
- * lies beyond the sides of the rings' box that are not the grid's border). */
-static int32_t bg_nearest(const bg_size *B, const double p[2], double q[2]) {
-    const tloc *L = &B->loc;
-    int32_t i0 = bg_cell(p[0], L->x0, L->cw, L->nx), j0 = bg_cell(p[1], L->y0, L->ch, L->ny);
-    int32_t best = -1, rmax = L->nx > L->ny ? L->nx : L->ny;
-    double bd = INFINITY;
-    for (int32_t r = 0; r <= rmax; r++) {
-        for (int32_t j = j0 - r; j <= j0 + r; j++) {
-            if (j < 0 || j >= L->ny) continue;
-            int32_t step = (j == j0 - r || j == j0 + r) ? 1 : 2 * r; /* the ring only */
-            for (int32_t i = i0 - r; i <= i0 + r; i += step > 0 ? step : 1) {
-                if (i < 0 || i >= L->nx) continue;
-                size_t c = (size_t)j * L->nx + i;
-                for (int32_t k = L->start[c]; k < L->start[c + 1]; k++) {
-                    int32_t t = L->item[k];
-                    const int32_t *v = B->tri + 3 * (size_t)t;
-                    for (int e = 0; e < 3; e++) {
-                        double x[2];
-                        double d = seg_nearest(B->xy + 2 * (size_t)v[e],
-                                               B->xy + 2 * (size_t)v[(e + 1) % 3], p, x);
-                        if (d < bd || (d == bd && t < best)) {
-                            bd = d, best = t;
-                            q[0] = x[0], q[1] = x[1];
-                        }
-                    }
-                }
-            }
-        }
-        /* how far the unseen cells are: the sides of the box of rings 0..r inside the grid */
-        double gap = INFINITY;
-        if (i0 - r > 0) gap = fmin(gap, p[0] - (L->x0 + (i0 - r) * L->cw));
-        if (i0 + r < L->nx - 1) gap = fmin(gap, L->x0 + (i0 + r + 1) * L->cw - p[0]);
-        if (j0 - r > 0) gap = fmin(gap, p[1] - (L->y0 + (j0 - r) * L->ch));
-        if (j0 + r < L->ny - 1) gap = fmin(gap, L->y0 + (j0 + r + 1) * L->ch - p[1]);
-        if (best >= 0 && (gap == INFINITY || (gap > 0 && bd <= gap * gap))) break;
-        if (gap == INFINITY) break; /* every cell seen */
-    }
-    return best;
-}
-
-/* The background rule: 1 iff the triangle (corners, area) is too big for the size at its
- * centroid. */
-static int bg_unsuitable(const bg_size *B, const double *const corner[3], double area) {
-    double c[2] = {(corner[0][0] + corner[1][0] + corner[2][0]) / 3,
-                   (corner[0][1] + corner[1][1] + corner[2][1]) / 3};
-    double q[2] = {c[0], c[1]};
-    int32_t t = tloc_find(&B->loc, c);
-    if (t < 0) t = bg_nearest(B, c, q);
-    if (t < 0) return 0;
-    if (B->per_triangle) return area > B->value[t];
-    double w[3], h = 0;
-    tloc_weights(&B->loc, t, q, w);
-    for (int k = 0; k < 3; k++)
-        h += w[k] * B->value[B->tri[3 * (size_t)t + k]];
-    return area > 0.4330127018922193 * h * h; /* sqrt(3)/4 h^2 */
-}
+/* ---- size= as a background mesh (_bgsize.h) ---------------------------------------------- */
 
 /* B from the Python half's tuple (vertices float64 (n, 2), triangles int32 (m, 3), values
  * float64 (n,) or (m,), per_triangle; shapes and finiteness checked there), after checking
@@ -375,8 +248,12 @@ static int bg_from(PyObject *obg, bg_size *B) {
                          per_triangle ? "triangle_max_area" : "vertex_sizes", (Py_ssize_t)k, num);
             return -1;
         }
-    if (bg_build(B, bxy, btri, bnt, bvalue, per_triangle) != 0) return -1;
-    return 0;
+    if (bnt < 1 || bnt > INT32_MAX / 3) {
+        PyErr_SetString(PyExc_ValueError, bnt < 1 ? "size[\"triangles\"]: no triangles"
+                                                  : "size[\"triangles\"]: too many");
+        return -1;
+    }
+    return bg_build(B, bxy, btri, (int32_t)bnt, bvalue, per_triangle);
 }
 
 /* The size callable's context: the callable, and the first exception it raised (then every
@@ -564,7 +441,7 @@ static PyObject *py_triangulate(PyObject *self, PyObject *args, PyObject *kw) {
         topology(&m, want_e, want_n, &edges, &ne, &emark, &neigh);
     Py_END_ALLOW_THREADS;
     size_field_free(&S);
-    tloc_free(&B.loc);
+    bg_free(&B);
     if (sc.exc) { /* the size callable raised: that exception, whatever the mesh */
         if (code == PCDM_OK || code == PCDM_ESTEINER) pcdm_mesh_free(&m);
         free(edges), free(emark), free(neigh);
