@@ -285,3 +285,30 @@ def test_cheaper_than_a_callable(case):
           "%.3f us" % (case, len(bt), queries, ntri["a"], med["a"], med["background"],
                        med["callable"], per["background"], per["callable"]))
     assert med["background"] < med["callable"]
+
+
+def rss_kb():
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE") // 1024
+
+
+@pytest.mark.skipif(not os.path.exists("/proc/self/statm"), reason="no /proc/self/statm")
+def test_repeated_calls_do_not_grow_memory():
+    bv, bt = grid_mesh(4)
+    good = {"vertices": bv, "triangles": bt, "vertex_sizes": 0.1 + bv[:, 0]}
+    bad = dict(good, triangles=np.vstack([bt[:-1], [[0, 1, 1]]]))  # refused while checked
+    empty = dict(SQUARE, holes=[[0.5, 0.5]])  # refused by the mesher, after the tree is built
+
+    def calls(n):
+        for _ in range(n):
+            assert len(pcdm.triangulate(SQUARE, "pq30", size=good)["triangles"]) > 20
+            with pytest.raises(ValueError, match="degenerate"):
+                pcdm.triangulate(SQUARE, "pq30", size=bad)
+            with pytest.raises(ValueError, match="domain is empty"):
+                pcdm.triangulate(empty, "pq30", size=good)
+    calls(500)
+    before = rss_kb()
+    calls(5000)
+    grown = rss_kb() - before
+    print(f"\nsize= background: RSS after 500 calls {before} KB, after 5,000 more {before + grown} KB")
+    assert grown < 1024, f"RSS grew {grown} KB over 5,000 calls"
