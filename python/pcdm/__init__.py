@@ -258,7 +258,9 @@ def _background(size: Any) -> Tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
         )
     for k in ("vertices", "triangles"):
         if size.get(k) is None:
-            raise ValueError(f'size["{k}"]: missing (a background mesh needs vertices and triangles)')
+            raise ValueError(
+                f'size["{k}"]: missing (a background mesh needs vertices and triangles)'
+            )
     given = [k for k in ("vertex_sizes", "triangle_max_area") if size.get(k) is not None]
     if len(given) != 1:
         raise ValueError(
@@ -266,6 +268,10 @@ def _background(size: Any) -> Tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
             "(one per triangle)" + (", not both" if given else "")
         )
     name = {k: f'size["{k}"]' for k in ("vertices", "triangles", given[0])}
+    if np.ndim(size[given[0]]) not in (1, 2):
+        raise ValueError(
+            f"{name[given[0]]}: expected shape (N,) or (N, 1), got {np.shape(size[given[0]])}"
+        )
     b = {name[k]: size[k] for k in name}
     v = _floats(b, name["vertices"], 2)
     t = _ints(b, name["triangles"], 3)

@@ -118,7 +118,8 @@ def test_constant_background_is_a(opts):
     assert np.array_equal(m["triangles"], a["triangles"])
     assert pcdm.check(m, SQUARE, q=float(opts[2:] or 0), a=area)["ok"]
     # a result of triangulate with the sizes added is a background too
-    m2 = pcdm.triangulate(SQUARE, opts, size=dict(a, triangle_max_area=np.full(len(a["triangles"]), area)))
+    areas = np.full(len(a["triangles"]), area)
+    m2 = pcdm.triangulate(SQUARE, opts, size=dict(a, triangle_max_area=areas))
     assert np.array_equal(m2["triangles"], a["triangles"])
 
 
@@ -208,6 +209,7 @@ BAD = {
                                      r'size\["triangle_max_area"\]: 3 values for 2 triangles'),
     "sizes as columns": (dict(BG, vertex_sizes=np.ones((4, 2))),
                          r'size\["vertex_sizes"\]: expected shape'),
+    "one size for all": (dict(BG, vertex_sizes=0.1), r'size\["vertex_sizes"\]: expected shape'),
     "vertices of 3 columns": (dict(BG, vertices=np.zeros((4, 3))),
                               r'size\["vertices"\]: expected shape \(N, 2\)'),
     "triangles of 2 columns": (dict(BG, triangles=[[0, 1], [1, 2]]),
@@ -310,5 +312,6 @@ def test_repeated_calls_do_not_grow_memory():
     before = rss_kb()
     calls(5000)
     grown = rss_kb() - before
-    print(f"\nsize= background: RSS after 500 calls {before} KB, after 5,000 more {before + grown} KB")
+    print(f"\nsize= background: RSS after 500 calls {before} KB, after 5,000 more "
+          f"{before + grown} KB")
     assert grown < 1024, f"RSS grew {grown} KB over 5,000 calls"
