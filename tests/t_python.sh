@@ -45,7 +45,7 @@ if (cd "$T" && "$py" -m pytest -q -p no:cacheprovider -s "$root/python/tests" >"
 else
     fail "pytest: $(grep -E '^(FAILED|ERROR)' "$T/pytest.log" | head -20)$(tail -1 "$T/pytest.log")"
 fi
-grep -E '^(Steiner|RSS|[0-9]+ calls)' "$T/pytest.log"
+grep -E '^(Steiner|RSS|size|[0-9]+ calls)' "$T/pytest.log"
 # pcdm.parallel (built where MPI and METIS are): mpi4py from PyPI when missing, then
 # python/tests/par_check.py at 2 and 3 ranks
 if (cd "$T" && "$py" -c 'import pcdm._par') 2>/dev/null; then

@@ -21,7 +21,7 @@ GIL, so Python threads mesh at once.  ``pcdm.check`` runs the project's validato
 from __future__ import annotations
 
 import warnings
-from typing import Any, Callable, Dict, Mapping, Optional
+from typing import Any, Callable, Dict, Mapping, Optional, Tuple, Union
 
 import numpy as np
 
@@ -32,6 +32,7 @@ __all__ = ["triangulate", "check", "__version__", "MeshError"]
 __version__: str = _core.version()
 
 Mesh = Dict[str, np.ndarray]
+SizeRule = Union[Callable[[np.ndarray, float], bool], Mapping[str, Any]]
 
 
 class MeshError(ValueError):
@@ -147,7 +148,7 @@ def triangulate(
     max_area: Optional[float] = None,
     max_steiner: Optional[int] = None,
     convex_hull: Optional[bool] = None,
-    size: Optional[Callable[[np.ndarray, float], bool]] = None,
+    size: Optional[SizeRule] = None,
     circumcenters: Optional[bool] = None,
     lenses: bool = True,
 ) -> Mesh:
@@ -165,9 +166,25 @@ def triangulate(
     ``circumcenters`` (circumcenters only, as Triangle; the default also uses off-centers),
     ``lenses`` (default True, as Triangle: a segment is split when a point lies in its
     diametral lens; False: in its diametral circle, as ``./mesh`` without ``--lens``);
-    ``size(corners, area)`` is called with a triangle's corners ((3, 2) array) and area and
-    returns True when the triangle is too big (Triangle's ``u``).  The GIL is released while
-    meshing.
+    ``size`` bounds the triangles' size where you say (Triangle's ``u``), in one of two forms:
+
+    - a callable ``size(corners, area)``, called with a triangle's corners ((3, 2) array) and
+      area, returning True when the triangle is too big;
+    - a background mesh, a dict with ``vertices`` ((N, 2)), ``triangles`` ((M, 3), zero-based,
+      either orientation, none degenerate) and one of ``vertex_sizes`` ((N,): the target edge
+      length at each vertex, interpolated linearly over each background triangle; a triangle
+      is too big when its area exceeds the equilateral triangle's of that side, sqrt(3)/4 h**2,
+      as ``./mesh --size`` does) or ``triangle_max_area`` ((M,): the largest area over each
+      background triangle, as Triangle's ``.area``).  Values must be positive.  The value is
+      taken at the new triangle's centroid; a centroid outside the background mesh takes the
+      value at the nearest point of the background mesh, so it need not cover the domain
+      exactly.  Other keys are ignored, so a result of ``triangulate`` with one of the two
+      arrays added is a background (``dict(mesh, vertex_sizes=h)``).  This rule runs in C
+      (no Python call per triangle, the GIL stays released).
+
+    The size rule adds to ``q``, ``a`` and the regions' bounds (a triangle is split when any of
+    them says so).  The GIL is released while meshing (a size callable takes it back for each
+    call).
 
     Raises ``ValueError`` (bad input or switches, with the command line's message) or
     ``MeshError`` (a ``ValueError``: the bounds cannot be met); the Steiner limit (``S``) returns
@@ -195,6 +212,7 @@ def triangulate(
         raise ValueError(f"min_angle {ma:g}: must be at least 0 and below 60")
     if max_area is not None and not (area > 0 and np.isfinite(area)):
         raise ValueError(f"max_area {area:g}: must be a positive number")
+    fn, background = (size, None) if size is None or callable(size) else (None, _background(size))
     hull = bool(convex_hull) if convex_hull is not None else bool(s["convex_hull"])
     cc = bool(circumcenters) if circumcenters is not None else bool(s["circumcenters"])
     code, message, mesh = _core.triangulate(
@@ -214,10 +232,11 @@ def triangulate(
         bool(s["region_areas"]),
         not (q or a or size is not None),
         bool(lenses),
-        size,
+        fn,
         d["refine_areas"],
         bool(s["edges"]),
         bool(s["neighbors"]),
+        background,
     )
     if mesh is None:
         if code == 4:  # PCDM_EUNMET
@@ -226,6 +245,45 @@ def triangulate(
     if code == 3:  # PCDM_ESTEINER: the mesh, outside the bounds
         warnings.warn(message, RuntimeWarning, stacklevel=2)
     return _shape_output(mesh, tri, d, s, p_given or hull, refine_input)
+
+
+def _background(size: Any) -> Tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
+    """size= as a background mesh: (vertices, triangles, values, per_triangle) as _core takes
+    them (shapes, dtypes and finite numbers checked here; indices, positive values and
+    degenerate triangles by _core, which names the array and the index too)."""
+    if not isinstance(size, Mapping):
+        raise TypeError(
+            "size: a callable size(corners, area) or a background mesh (a dict with vertices, "
+            "triangles and vertex_sizes or triangle_max_area)"
+        )
+    for k in ("vertices", "triangles"):
+        if size.get(k) is None:
+            raise ValueError(
+                f'size["{k}"]: missing (a background mesh needs vertices and triangles)'
+            )
+    given = [k for k in ("vertex_sizes", "triangle_max_area") if size.get(k) is not None]
+    if len(given) != 1:
+        raise ValueError(
+            'size: a background mesh needs "vertex_sizes" (one per vertex) or "triangle_max_area" '
+            "(one per triangle)" + (", not both" if given else "")
+        )
+    name = {k: f'size["{k}"]' for k in ("vertices", "triangles", given[0])}
+    if np.ndim(size[given[0]]) not in (1, 2):
+        raise ValueError(
+            f"{name[given[0]]}: expected shape (N,) or (N, 1), got {np.shape(size[given[0]])}"
+        )
+    b = {name[k]: size[k] for k in name}
+    v = _floats(b, name["vertices"], 2)
+    t = _ints(b, name["triangles"], 3)
+    val = _floats(b, name[given[0]], None)
+    assert v is not None and t is not None and val is not None
+    if val.shape[1] != 1:
+        raise ValueError(f"{name[given[0]]}: expected shape (N,) or (N, 1), got {val.shape}")
+    per_triangle = given[0] == "triangle_max_area"
+    n, what = (len(t), "triangles") if per_triangle else (len(v), "vertices")
+    if len(val) != n:
+        raise ValueError(f"{name[given[0]]}: {len(val)} values for {n} {what}")
+    return v, t, np.ascontiguousarray(val[:, 0]), per_triangle
 
 
 def _shape_output(

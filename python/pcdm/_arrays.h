@@ -102,4 +102,51 @@ static inline int put(PyObject *d, const char *key, PyObject *v) {
     return rc;
 }
 
+/* Hands the mesh's arrays over to the dict d (numpy takes each buffer without a copy and m's
+ * pointer is cleared, so pcdm_mesh_free(m) afterwards frees only what was not handed over):
+ * vertices float64 (n, 2), vertex_markers int32 (n, 1), vertex_attributes float64 (n, k) when
+ * k > 0, triangles int32 (t, 3), triangle_attributes float64 (t, 1) when the library gives
+ * them, segments int32 (s, 2), segment_markers int32 (s, 1).  0, or -1 with an exception. */
+static inline int arr_put_mesh(PyObject *d, pcdm_mesh *m) {
+    int rc = 0;
+    rc = rc || put(d, "vertices", arr_own(m->points, m->npoints, 2, NPY_DOUBLE));
+    m->points = NULL;
+    rc = rc || put(d, "vertex_markers", arr_own(m->pointmarkers, m->npoints, 1, NPY_INT32));
+    m->pointmarkers = NULL;
+    if (m->npointattr > 0)
+        rc = rc || put(d, "vertex_attributes",
+                       arr_own(m->pointattr, m->npoints, m->npointattr, NPY_DOUBLE));
+    m->pointattr = NULL;
+    rc = rc || put(d, "triangles", arr_own(m->triangles, m->ntriangles, 3, NPY_INT32));
+    m->triangles = NULL;
+    if (m->triangleattr)
+        rc = rc ||
+             put(d, "triangle_attributes", arr_own(m->triangleattr, m->ntriangles, 1, NPY_DOUBLE));
+    m->triangleattr = NULL;
+    rc = rc || put(d, "segments", arr_own(m->segments, m->nsegments, 2, NPY_INT32));
+    m->segments = NULL;
+    rc = rc || put(d, "segment_markers", arr_own(m->segmentmarkers, m->nsegments, 1, NPY_INT32));
+    m->segmentmarkers = NULL;
+    return rc;
+}
+
+/* *o: the defaults (pcdm_options_default) with the bounds and switches both calls take. */
+static inline void arr_options(pcdm_options *o, double min_angle, double max_area,
+                               long long max_steiner, int circumcenters, int convex_hull) {
+    pcdm_options_default(o);
+    o->min_angle = min_angle;
+    o->max_area = max_area;
+    o->max_steiner = max_steiner;
+    o->circumcenters = circumcenters;
+    o->convex_hull = convex_hull;
+}
+
+/* The extensions' return value (code, message, d), d taken over (its reference dropped); rc
+ * nonzero (building d failed, an exception set) or d NULL: NULL. */
+static inline PyObject *arr_result(int code, const pcdm_status *st, PyObject *d, int rc) {
+    PyObject *r = rc || !d ? NULL : Py_BuildValue("isO", code, st->message, d);
+    Py_XDECREF(d);
+    return r;
+}
+
 #endif

@@ -7,7 +7,9 @@
  * gives is read by the very parser ./mesh uses (cli_parse with ./mesh's table), so the letters,
  * the numbers' syntax and every message ("option -D in '-pD' is not supported ...") are the
  * command line's.  Meshing runs with the GIL released (pcdm_triangulate keeps no global state:
- * two Python threads mesh at once); a size callable is called back with the GIL taken again.
+ * two Python threads mesh at once); a size callable is called back with the GIL taken again,
+ * while a background mesh given as size= is a rule in C (_bgsize.h: a quadtree and the exact
+ * orient2d locate the point) that needs no GIL.
  * The arrays the library returns are handed to numpy without a copy (each owned by a capsule
  * that frees it).  Nothing here prints, exits or aborts on bad input: every failure is a Python
  * exception (ValueError with the library's or the parser's one-line message).
@@ -38,6 +40,7 @@
 #include <string.h>
 
 #include "_arrays.h"
+#include "_bgsize.h"
 
 /* ---- the switch parser ----------------------------------------------------------------- */
 
@@ -211,17 +214,61 @@ static PyObject *py_boundary(PyObject *self, PyObject *args) {
     return Py_BuildValue("NN", s, h);
 }
 
+/* ---- size= as a background mesh (_bgsize.h) ---------------------------------------------- */
+
+/* B from the Python half's tuple (vertices float64 (n, 2), triangles int32 (m, 3), values
+ * float64 (n,) or (m,), per_triangle; shapes and finiteness checked there), after checking
+ * the indices, the values (positive) and the triangles (bg_build).  0, or -1 with a
+ * ValueError naming the array and the index. */
+static int bg_from(PyObject *obg, bg_size *B) {
+    PyObject *bv, *bt, *bval;
+    int per_triangle, bad = 0;
+    npy_intp bnv, bnt, bnval;
+    if (!PyArg_ParseTuple(obg, "OOOp", &bv, &bt, &bval, &per_triangle)) return -1;
+    const double *bxy = arr_data(bv, NPY_DOUBLE, 2, "size vertices", &bnv, &bad);
+    const int32_t *btri = arr_data(bt, NPY_INT32, 3, "size triangles", &bnt, &bad);
+    const double *bvalue = arr_data(bval, NPY_DOUBLE, 0, "size values", &bnval, &bad);
+    if (bad) return -1;
+    if (!bxy || !btri || !bvalue || bnval != (per_triangle ? bnt : bnv)) {
+        PyErr_SetString(PyExc_ValueError, "_core: array lengths do not match");
+        return -1;
+    }
+    for (npy_intp k = 0; k < 3 * bnt; k++)
+        if (btri[k] < 0 || btri[k] >= bnv) {
+            PyErr_Format(PyExc_ValueError,
+                         "size[\"triangles\"][%zd]: vertex %d out of range (0..%zd)",
+                         (Py_ssize_t)(k / 3), btri[k], (Py_ssize_t)bnv - 1);
+            return -1;
+        }
+    for (npy_intp k = 0; k < bnval; k++)
+        if (!(bvalue[k] > 0 && bvalue[k] < HUGE_VAL)) {
+            char num[32];
+            snprintf(num, sizeof num, "%g", bvalue[k]);
+            PyErr_Format(PyExc_ValueError, "size[\"%s\"][%zd]: %s is not a positive number",
+                         per_triangle ? "triangle_max_area" : "vertex_sizes", (Py_ssize_t)k, num);
+            return -1;
+        }
+    if (bnt < 1 || bnt > INT32_MAX / 3) {
+        PyErr_SetString(PyExc_ValueError, bnt < 1 ? "size[\"triangles\"]: no triangles"
+                                                  : "size[\"triangles\"]: too many");
+        return -1;
+    }
+    return bg_build(B, bxy, btri, (int32_t)bnt, bvalue, per_triangle);
+}
+
 /* The size callable's context: the callable, and the first exception it raised (then every
  * later triangle is taken as small enough, so refinement ends soon). */
 typedef struct size_ctx {
     PyObject *fn; /* None: none */
     PyObject *exc;
     size_field *areas; /* r's triangle_max_area (caller's coordinates), or NULL */
+    bg_size *bg;       /* size= as a background mesh, or NULL */
 } size_ctx;
 
 static int size_call(void *ctx, const double *const corner[3], double area) {
     size_ctx *c = ctx;
     if (c->areas && size_field_unsuitable(c->areas, corner, area)) return 1;
+    if (c->bg && bg_unsuitable(c->bg, corner, area)) return 1;
     if (c->fn == Py_None) return 0;
     PyGILState_STATE gs = PyGILState_Ensure();
     int big = 0;
@@ -312,41 +359,41 @@ static const char *const tri_kw[] = {"vertices",
                                      "refine_areas",
                                      "edges",
                                      "neighbors",
+                                     "background",
                                      NULL};
 
 /* triangulate(vertices, vertex_markers, vertex_attributes, segments, segment_markers, holes,
  * regions, min_angle, max_area, max_steiner, circumcenters, convex_hull, region_attributes,
- * region_areas, no_refine, lenses, size, refine_areas, edges, neighbors) -> (code, message,
- * dict); refine_areas: None or (old vertices, old triangles (int32 (t, 3)), their bounds
- * (float64 (t,))), r's triangle_max_area rule: the arrays as the
- * Python half converted them (float64 (n, 2), int32 (n,), float64 (n, k), int32 (m, 2), int32
+ * region_areas, no_refine, lenses, size, refine_areas, edges, neighbors, background) -> (code,
+ * message, dict); refine_areas: None or (old vertices, old triangles (int32 (t, 3)), their
+ * bounds (float64 (t,))), r's triangle_max_area rule; background: None or size= as a
+ * background mesh (vertices float64 (n, 2), triangles int32 (m, 3), values float64 (n,) or
+ * (m,), per_triangle), its indices, values and triangles checked here (bg_from); the arrays as
+ * the Python half converted them (float64 (n, 2), int32 (n,), float64 (n, k), int32 (m, 2), int32
  * (m,), float64 (h, 2), float64 (r, 4); None: absent), pcdm_options' fields, the size callable
  * (or None), and whether edges and neighbours are wanted.  code is pcdm_triangulate's (0 or
  * PCDM_ESTEINER with the mesh; else the dict is None and message says why). */
 static PyObject *py_triangulate(PyObject *self, PyObject *args, PyObject *kw) {
-    PyObject *ov, *ovm, *ova, *os, *osm, *oh, *orr, *size, *rareas;
+    PyObject *ov, *ovm, *ova, *os, *osm, *oh, *orr, *size, *rareas, *obg;
     double min_angle, max_area;
     long long max_steiner;
     int circumcenters, convex_hull, rattr, rarea, no_refine, lenses, want_e, want_n;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "OOOOOOOddLppppppOOpp", (char **)tri_kw, &ov, &ovm,
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "OOOOOOOddLppppppOOppO", (char **)tri_kw, &ov, &ovm,
                                      &ova, &os, &osm, &oh, &orr, &min_angle, &max_area,
                                      &max_steiner, &circumcenters, &convex_hull, &rattr, &rarea,
-                                     &no_refine, &lenses, &size, &rareas, &want_e, &want_n))
+                                     &no_refine, &lenses, &size, &rareas, &want_e, &want_n, &obg))
         return NULL;
     pcdm_input in;
     if (arr_input(ov, ovm, ova, os, osm, oh, orr, "_core", &in)) return NULL;
     pcdm_options o;
-    pcdm_options_default(&o);
-    o.min_angle = min_angle;
-    o.max_area = max_area;
-    o.max_steiner = max_steiner;
-    o.circumcenters = circumcenters;
-    o.convex_hull = convex_hull;
+    arr_options(&o, min_angle, max_area, max_steiner, circumcenters, convex_hull);
     o.region_attributes = rattr;
     o.region_areas = rarea;
     o.no_refine = no_refine;
     o.lenses = lenses;
-    size_ctx sc = {size, NULL, NULL};
+    size_ctx sc = {size, NULL, NULL, NULL};
+    bg_size B;
+    memset(&B, 0, sizeof B);
     size_field S;
     memset(&S, 0, sizeof S);
     if (size != Py_None && !PyCallable_Check(size)) {
@@ -373,7 +420,14 @@ static PyObject *py_triangulate(PyObject *self, PyObject *args, PyObject *kw) {
         }
         sc.areas = &S;
     }
-    if (size != Py_None || sc.areas) {
+    if (obg != Py_None) {
+        if (bg_from(obg, &B) != 0) {
+            size_field_free(&S);
+            return NULL;
+        }
+        sc.bg = &B;
+    }
+    if (size != Py_None || sc.areas || sc.bg) {
         o.unsuitable = size_call;
         o.unsuitable_ctx = &sc;
     }
@@ -387,6 +441,7 @@ static PyObject *py_triangulate(PyObject *self, PyObject *args, PyObject *kw) {
         topology(&m, want_e, want_n, &edges, &ne, &emark, &neigh);
     Py_END_ALLOW_THREADS;
     size_field_free(&S);
+    bg_free(&B);
     if (sc.exc) { /* the size callable raised: that exception, whatever the mesh */
         if (code == PCDM_OK || code == PCDM_ESTEINER) pcdm_mesh_free(&m);
         free(edges), free(emark), free(neigh);
@@ -403,25 +458,7 @@ static PyObject *py_triangulate(PyObject *self, PyObject *args, PyObject *kw) {
     }
     PyObject *d = PyDict_New();
     int rc = d ? 0 : -1;
-    /* each array handed over once: the mesh's pointers are cleared as numpy takes them */
-    rc = rc || put(d, "vertices", arr_own(m.points, m.npoints, 2, NPY_DOUBLE));
-    m.points = NULL;
-    rc = rc || put(d, "vertex_markers", arr_own(m.pointmarkers, m.npoints, 1, NPY_INT32));
-    m.pointmarkers = NULL;
-    if (m.npointattr > 0)
-        rc = rc ||
-             put(d, "vertex_attributes", arr_own(m.pointattr, m.npoints, m.npointattr, NPY_DOUBLE));
-    m.pointattr = NULL;
-    rc = rc || put(d, "triangles", arr_own(m.triangles, m.ntriangles, 3, NPY_INT32));
-    m.triangles = NULL;
-    if (m.triangleattr)
-        rc = rc ||
-             put(d, "triangle_attributes", arr_own(m.triangleattr, m.ntriangles, 1, NPY_DOUBLE));
-    m.triangleattr = NULL;
-    rc = rc || put(d, "segments", arr_own(m.segments, m.nsegments, 2, NPY_INT32));
-    m.segments = NULL;
-    rc = rc || put(d, "segment_markers", arr_own(m.segmentmarkers, m.nsegments, 1, NPY_INT32));
-    m.segmentmarkers = NULL;
+    rc = rc || arr_put_mesh(d, &m);
     if (want_e) {
         rc = rc || put(d, "edges", arr_own(edges, ne, 2, NPY_INT32));
         edges = NULL;
@@ -434,13 +471,7 @@ static PyObject *py_triangulate(PyObject *self, PyObject *args, PyObject *kw) {
     }
     pcdm_mesh_free(&m);
     free(edges), free(emark), free(neigh);
-    if (rc) {
-        Py_XDECREF(d);
-        return NULL;
-    }
-    PyObject *r = Py_BuildValue("isO", code, st.message, d);
-    Py_DECREF(d);
-    return r;
+    return arr_result(code, &st, d, rc);
 }
 
 /* ---- check ------------------------------------------------------------------------------- */

@@ -26,6 +26,7 @@ def triangulate(
     refine_areas: Optional[Tuple[np.ndarray, np.ndarray, np.ndarray]],
     edges: bool,
     neighbors: bool,
+    background: Optional[Tuple[np.ndarray, np.ndarray, np.ndarray, bool]],
 ) -> Tuple[int, str, Optional[Dict[str, np.ndarray]]]: ...
 def check(
     vertices: np.ndarray,

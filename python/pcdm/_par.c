@@ -50,12 +50,7 @@ static PyObject *py_triangulate(PyObject *self, PyObject *args, PyObject *kwargs
     pcdm_input in;
     if (arr_input(ov, ovm, ova, os, osm, oh, orr, "_par", &in)) return NULL;
     pcdm_options o;
-    pcdm_options_default(&o);
-    o.min_angle = min_angle;
-    o.max_area = max_area;
-    o.max_steiner = max_steiner;
-    o.circumcenters = circumcenters;
-    o.convex_hull = convex_hull;
+    arr_options(&o, min_angle, max_area, max_steiner, circumcenters, convex_hull);
     o.method = method;
     o.subdomains = subdomains;
     o.threads = threads;
@@ -71,20 +66,7 @@ static PyObject *py_triangulate(PyObject *self, PyObject *args, PyObject *kwargs
         return Py_BuildValue("isO", code, st.message, Py_None);
     PyObject *d = PyDict_New();
     int rc = d ? 0 : -1;
-    rc = rc || put(d, "vertices", arr_own(m.points, m.npoints, 2, NPY_DOUBLE));
-    m.points = NULL;
-    rc = rc || put(d, "vertex_markers", arr_own(m.pointmarkers, m.npoints, 1, NPY_INT32));
-    m.pointmarkers = NULL;
-    if (m.npointattr > 0)
-        rc = rc ||
-             put(d, "vertex_attributes", arr_own(m.pointattr, m.npoints, m.npointattr, NPY_DOUBLE));
-    m.pointattr = NULL;
-    rc = rc || put(d, "triangles", arr_own(m.triangles, m.ntriangles, 3, NPY_INT32));
-    m.triangles = NULL;
-    rc = rc || put(d, "segments", arr_own(m.segments, m.nsegments, 2, NPY_INT32));
-    m.segments = NULL;
-    rc = rc || put(d, "segment_markers", arr_own(m.segmentmarkers, m.nsegments, 1, NPY_INT32));
-    m.segmentmarkers = NULL;
+    rc = rc || arr_put_mesh(d, &m);
     if (m.pointglobal) {
         rc = rc || put(d, "vertex_global", arr_own(m.pointglobal, m.npoints, 0, NPY_INT64));
         m.pointglobal = NULL;
@@ -96,13 +78,7 @@ static PyObject *py_triangulate(PyObject *self, PyObject *args, PyObject *kwargs
     rc = rc || put(d, "global_triangles", PyLong_FromLongLong(m.nglobaltriangles));
     rc = rc || put(d, "global_segments", PyLong_FromLongLong(m.nglobalsegments));
     pcdm_mesh_free(&m);
-    if (rc) {
-        Py_XDECREF(d);
-        return NULL;
-    }
-    PyObject *r = Py_BuildValue("isO", code, st.message, d);
-    Py_DECREF(d);
-    return r;
+    return arr_result(code, &st, d, rc);
 }
 
 static PyMethodDef methods[] = {
