@@ -55,8 +55,7 @@ START_TEST(test_same_any_threads) {
                       st.message);
         ck_assert_ptr_null(m[t].pointglobal);
         ck_assert_int_eq((int)m[t].nglobaltriangles, m[t].ntriangles);
-        ck_assert_msg(valid(&in, &m[t], 30, 0.002), "threads %d: the mesh fails the validator",
-                      t);
+        ck_assert_msg(valid(&in, &m[t], 30, 0.002), "threads %d: the mesh fails the validator", t);
     }
     printf("thr_api: plate -q 30 -a 0.002: threads 0: %d triangles; threads 1-3: %d\n",
            m[0].ntriangles, m[1].ntriangles);

@@ -213,8 +213,7 @@ int pcdm_triangulate(const pcdm_input *in, const pcdm_options *opt, pcdm_mesh *o
         pcdm_options_default(&o);
     if (api_check_args(in, &o, st)) return st->code;
     if (o.threads < 0)
-        return api_fail(st, PCDM_EINVAL, "threads %d: must be 0 (this thread) or more",
-                        o.threads);
+        return api_fail(st, PCDM_EINVAL, "threads %d: must be 0 (this thread) or more", o.threads);
     if (o.threads > 0 && !o.no_refine) {
 #ifdef PCDM_THREADS
         return api_triangulate_threads(in, &o, out, st);

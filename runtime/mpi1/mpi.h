@@ -180,25 +180,23 @@ int MPI_Allreduce(const void *sb, void *rb, int count, MPI_Datatype t, MPI_Op op
 int MPI_Reduce(const void *sb, void *rb, int count, MPI_Datatype t, MPI_Op op, int root,
                MPI_Comm comm);
 int MPI_Exscan(const void *sb, void *rb, int count, MPI_Datatype t, MPI_Op op, MPI_Comm comm);
-int MPI_Gather(const void *sb, int scount, MPI_Datatype st, void *rb, int rcount,
-               MPI_Datatype rt, int root, MPI_Comm comm);
+int MPI_Gather(const void *sb, int scount, MPI_Datatype st, void *rb, int rcount, MPI_Datatype rt,
+               int root, MPI_Comm comm);
 int MPI_Gatherv(const void *sb, int scount, MPI_Datatype st, void *rb, const int *rcounts,
                 const int *displs, MPI_Datatype rt, int root, MPI_Comm comm);
 int MPI_Allgather(const void *sb, int scount, MPI_Datatype st, void *rb, int rcount,
                   MPI_Datatype rt, MPI_Comm comm);
 int MPI_Allgatherv(const void *sb, int scount, MPI_Datatype st, void *rb, const int *rcounts,
                    const int *displs, MPI_Datatype rt, MPI_Comm comm);
-int MPI_Alltoall(const void *sb, int scount, MPI_Datatype st, void *rb, int rcount,
-                 MPI_Datatype rt, MPI_Comm comm);
-int MPI_Alltoallv(const void *sb, const int *scounts, const int *sdispls, MPI_Datatype st,
-                  void *rb, const int *rcounts, const int *rdispls, MPI_Datatype rt,
-                  MPI_Comm comm);
+int MPI_Alltoall(const void *sb, int scount, MPI_Datatype st, void *rb, int rcount, MPI_Datatype rt,
+                 MPI_Comm comm);
+int MPI_Alltoallv(const void *sb, const int *scounts, const int *sdispls, MPI_Datatype st, void *rb,
+                  const int *rcounts, const int *rdispls, MPI_Datatype rt, MPI_Comm comm);
 
 /* point-to-point and requests */
 int MPI_Isend(const void *buf, int count, MPI_Datatype t, int dest, int tag, MPI_Comm comm,
               MPI_Request *req);
-int MPI_Recv(void *buf, int count, MPI_Datatype t, int src, int tag, MPI_Comm comm,
-             MPI_Status *st);
+int MPI_Recv(void *buf, int count, MPI_Datatype t, int src, int tag, MPI_Comm comm, MPI_Status *st);
 int MPI_Recv_init(void *buf, int count, MPI_Datatype t, int src, int tag, MPI_Comm comm,
                   MPI_Request *req);
 int MPI_Start(MPI_Request *req);

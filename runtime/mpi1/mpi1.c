@@ -34,7 +34,7 @@ static atomic_int next_comm = 3; /* after MPI_COMM_WORLD and MPI_COMM_SELF */
 
 /* Bytes of one element of t; 0 for an invalid type. */
 static size_t type_size(MPI_Datatype t) {
-    if (t < 0) return (size_t)-(long)t;
+    if (t < 0) return (size_t) - (long)t;
     switch (t) {
     case MPI_BYTE:
     case MPI_CHAR:
@@ -238,8 +238,8 @@ int MPI_Exscan(const void *sb, void *rb, int count, MPI_Datatype t, MPI_Op op, M
     return type_size(t) && count >= 0 ? MPI_SUCCESS : MPI_ERR_TYPE; /* rank 0: undefined */
 }
 
-int MPI_Gather(const void *sb, int scount, MPI_Datatype st, void *rb, int rcount,
-               MPI_Datatype rt, int root, MPI_Comm comm) {
+int MPI_Gather(const void *sb, int scount, MPI_Datatype st, void *rb, int rcount, MPI_Datatype rt,
+               int root, MPI_Comm comm) {
     if (!comm_ok(comm)) return MPI_ERR_COMM;
     if (root != 0) return MPI_ERR_RANK;
     if (type_size(st) * (size_t)scount != type_size(rt) * (size_t)rcount) return MPI_ERR_TYPE;
@@ -265,14 +265,13 @@ int MPI_Allgatherv(const void *sb, int scount, MPI_Datatype st, void *rb, const 
     return MPI_Gatherv(sb, scount, st, rb, rcounts, displs, rt, 0, comm);
 }
 
-int MPI_Alltoall(const void *sb, int scount, MPI_Datatype st, void *rb, int rcount,
-                 MPI_Datatype rt, MPI_Comm comm) {
+int MPI_Alltoall(const void *sb, int scount, MPI_Datatype st, void *rb, int rcount, MPI_Datatype rt,
+                 MPI_Comm comm) {
     return MPI_Gather(sb, scount, st, rb, rcount, rt, 0, comm);
 }
 
-int MPI_Alltoallv(const void *sb, const int *scounts, const int *sdispls, MPI_Datatype st,
-                  void *rb, const int *rcounts, const int *rdispls, MPI_Datatype rt,
-                  MPI_Comm comm) {
+int MPI_Alltoallv(const void *sb, const int *scounts, const int *sdispls, MPI_Datatype st, void *rb,
+                  const int *rcounts, const int *rdispls, MPI_Datatype rt, MPI_Comm comm) {
     if (!comm_ok(comm)) return MPI_ERR_COMM;
     if (type_size(st) * (size_t)scounts[0] != type_size(rt) * (size_t)rcounts[0])
         return MPI_ERR_TYPE;
