@@ -219,9 +219,9 @@ int pcdm_triangulate(const pcdm_input *in, const pcdm_options *opt, pcdm_mesh *o
         return api_triangulate_threads(in, &o, out, st);
 #else
         return api_fail(st, PCDM_EINVAL,
-                        "threads %d: this build of the library has no threaded mesher (it is "
-                        "libpcdm_seq, built without METIS): link libpcdm_threads "
-                        "(pkg-config pcdm-threads)",
+                        "threads %d: this build has no threaded mesher (it was built without "
+                        "METIS): in C link libpcdm_threads (pkg-config pcdm-threads); the Python "
+                        "package has threads when METIS (libmetis-dev) is there as it is built",
                         o.threads);
 #endif
     }
