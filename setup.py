@@ -26,8 +26,11 @@ import shutil
 import subprocess
 import sysconfig
 
+import copy
+
 import numpy
 from setuptools import Extension, setup
+from setuptools.command.build_ext import build_ext
 
 ROOT = os.path.dirname(os.path.abspath(__file__))
 
@@ -163,6 +166,20 @@ exts = [ext] + [e for e in [mpi_extension()] if e]
 for d in glob.glob(os.path.join(ROOT, "build", "python", "lib*")) + \
         glob.glob(os.path.join(ROOT, "build", "python", "bdist*")):
     shutil.rmtree(d, ignore_errors=True)
-setup(version=version(), ext_modules=exts,
+
+
+class BuildExt(build_ext):
+    """Each extension's objects in a folder of its own: pcdm._core and pcdm._par compile the
+    same sources against different mpi.h (runtime/mpi1's, MPI's), so one folder would hand
+    one's objects to the other.  A shallow copy of the command per extension keeps this safe
+    when the extensions build at once (build_ext's parallel option)."""
+
+    def build_extension(self, ext):
+        mine = copy.copy(self)
+        mine.build_temp = os.path.join(self.build_temp, ext.name)
+        return build_ext.build_extension(mine, ext)
+
+
+setup(version=version(), ext_modules=exts, cmdclass={"build_ext": BuildExt},
       options={"build": {"build_base": os.path.join("build", "python")},
                "build_ext": {"force": True, "parallel": os.cpu_count() or 1}})
