@@ -294,7 +294,7 @@ bench-primitives: deps
 
 CLANG_FORMAT ?= $(shell command -v clang-format || command -v clang-format-14)
 format:
-	$(CLANG_FORMAT) -i $(wildcard runtime/*.[ch] mesher/*/*.[ch] apps/*.[ch] tests/*.[ch] tests/fuzz/*.c bench/*.c include/*.h examples/*.[ch])
+	$(CLANG_FORMAT) -i $(wildcard runtime/*.[ch] runtime/mpi1/*.[ch] mesher/*/*.[ch] apps/*.[ch] tests/*.[ch] tests/fuzz/*.c bench/*.c include/*.h examples/*.[ch])
 
 # ---- fuzzing (issue 10): clang's libFuzzer with ASan + UBSan over the reader and the mesher.
 # The seed corpus lives in git (tests/fuzz/corpus); the run works on a copy in build/fuzz, so
