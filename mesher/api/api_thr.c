@@ -2,12 +2,12 @@
  * -- the subdomain mesher of ./pcdm (PCDM, TR-97-17 section 3, refined in rounds) in the
  * calling process, the same mesh as ./pcdm --threads T for every T.
  *
- * It is pcdm_triangulate_par on a one-rank communicator (MPI_COMM_SELF) with the whole mesh
- * collected on that rank: one process, T worker threads of the runtime refining the subdomains,
- * the calling thread the runtime's main thread.  Compiled twice: into libpcdm against MPI (the
- * caller must then have initialised MPI with MPI_THREAD_FUNNELED), and into the MPI-free build
- * (libpcdm_threads, the Python package's threaded path) against the one-process stand-in
- * runtime/mpi1, where MPI is always there and nothing leaves the process.
+ * It is pcdm_triangulate_par on a one-rank communicator (MPI_COMM_SELF): one process, T worker
+ * threads of the runtime refining the subdomains, the calling thread the runtime's main thread.
+ * Compiled twice: into libpcdm against MPI (the caller must then have initialised MPI with
+ * MPI_THREAD_FUNNELED), and into the MPI-free build (libpcdm_threads, the Python package's threaded
+ * path) against the one-process stand-in runtime/mpi1, where MPI is always there and nothing leaves
+ * the process.
  *
  * The runtime is one per process (rt_init_comm refuses a second), so threaded calls are
  * serialised by a process-wide lock: a caller waits for the one before it instead of failing.
