@@ -8,8 +8,8 @@
 #   make TSAN=1 test  ThreadSanitizer build (build/tsan), the threaded tests only (tests/run.sh)
 #   make DEBUG=1    debug build (build/debug, MESH_ASSERT on)
 #   make format     clang-format the tree       make clean
-#   make install    programs, libpcdm and libpcdm_seq (.a, .so), include/pcdm.h, pcdm_par.h,
-#                   pcdm.pc and pcdm-seq.pc into PREFIX
+#   make install    programs, libpcdm, libpcdm_seq and libpcdm_threads (.a, .so), include/pcdm.h,
+#                   pcdm_par.h, pcdm.pc, pcdm-seq.pc and pcdm-threads.pc into PREFIX
 #                   (default /usr/local; DESTDIR for staging)    make uninstall
 #   make test-hosts ./pcdm, ./pbw and the runtime across 3 hosts made of network namespaces
 #                   (TCP between them; faults, bad set-ups; root only, skips otherwise)
@@ -48,7 +48,8 @@ else
 B := build
 endif
 
-ALL_CFLAGS = $(STD) $(WARN) $(OPT) -Iinclude -Iruntime -Imesher $(CFLAGS)
+# PCDM_THREADS: pcdm_triangulate has its threaded path (mesher/api/api_thr.c) in this build.
+ALL_CFLAGS = $(STD) $(WARN) $(OPT) -DPCDM_THREADS -Iinclude -Iruntime -Imesher $(CFLAGS)
 CHECK_CFLAGS = $(shell pkg-config --cflags check 2>/dev/null)
 CHECK_LIBS = $(shell pkg-config --libs check 2>/dev/null)
 
@@ -66,6 +67,8 @@ MESH_LIB := $(B)/libpcdm_mesher.a
 APP_LIB := $(B)/libpcdm_apps.a
 APPS := $(patsubst apps/%.c,%,$(APP_SRC))
 TESTS := $(patsubst tests/%.c,$(B)/tests/%,$(TEST_SRC))
+# the tests of libpcdm_threads (tests/thr_*.c): linked with it, no MPI (its rules are below)
+THR_TESTS := $(patsubst tests/%.c,$(B)/tests/%,$(wildcard tests/thr_*.c))
 BENCHES := $(patsubst bench/%.c,$(B)/bench/%,$(BENCH_SRC))
 
 .PHONY: all libs install uninstall examples deps fuzz fuzz-deps fuzz-replay stress test check-deps demo bench bench-quick bench-seq bench-primitives bench-python test-hosts bench-hosts format clean
@@ -73,7 +76,7 @@ BENCHES := $(patsubst bench/%.c,$(B)/bench/%,$(BENCH_SRC))
 # Keep the objects of programs and tests (they are intermediate files to make otherwise).
 .SECONDARY: $(patsubst %.c,$(B)/obj/%.o,$(APP_SRC) $(TEST_SRC) $(BENCH_SRC))
 
-all: $(patsubst %,$(B)/bin/%,$(APPS)) $(APPS) $(TESTS) $(BENCHES) libs
+all: $(patsubst %,$(B)/bin/%,$(APPS)) $(APPS) $(TESTS) $(THR_TESTS) $(BENCHES) libs
 
 # Install what the build needs when it is missing (Debian); does nothing otherwise.
 deps:
@@ -156,7 +159,36 @@ $(LIB_SEQ_SO): $(SEQ_OBJ) mesher/api/pcdm_seq.map
 	$(SEQ_CC) -shared $(LDFLAGS) -Wl,-soname,libpcdm_seq.so.$(PCDM_SOMAJOR) -Wl,--no-undefined \
 	    -Wl,--version-script,mesher/api/pcdm_seq.map $(SEQ_OBJ) -lm -o $@
 
-libs: $(LIB_A) $(LIB_SO) $(LIB_SEQ_A) $(LIB_SEQ_SO)
+# libpcdm_threads: the sequential interface (include/pcdm.h) with pcdm_options.threads, and no
+# MPI: the whole library's sources plus the one-process MPI stand-in runtime/mpi1 (its mpi.h on
+# the include path in place of MPI's; no other build names that folder), compiled with the plain
+# C compiler and linked with METIS and pthreads only.  Exports what libpcdm_seq exports.
+THR_SRC := $(LIB_SRC) runtime/mpi1/mpi1.c
+THR_OBJ := $(patsubst %.c,$(B)/thr/%.o,$(THR_SRC))
+THR_CFLAGS = $(STD) $(WARN) $(OPT) -fPIC -pthread -DPCDM_THREADS -Iruntime/mpi1 -Iinclude \
+             -Iruntime -Imesher $(CFLAGS)
+THR_LIBS := -lmetis -lpthread -lm
+LIB_THR_A := $(B)/lib/libpcdm_threads.a
+LIB_THR_SO := $(B)/lib/libpcdm_threads.so.$(PCDM_VERSION)
+
+$(B)/thr/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(SEQ_CC) $(THR_CFLAGS) $(CHECK_CFLAGS) -MMD -MP -c $< -o $@
+
+$(LIB_THR_A): $(THR_OBJ)
+	@mkdir -p $(dir $@)
+	rm -f $@ && ar rcs $@ $^
+
+$(LIB_THR_SO): $(THR_OBJ) mesher/api/pcdm_seq.map
+	@mkdir -p $(dir $@)
+	$(SEQ_CC) -shared $(LDFLAGS) -Wl,-soname,libpcdm_threads.so.$(PCDM_SOMAJOR) -Wl,--no-undefined \
+	    -Wl,--version-script,mesher/api/pcdm_seq.map $(THR_OBJ) $(THR_LIBS) -o $@
+
+$(B)/tests/thr_%: $(B)/thr/tests/thr_%.o $(LIB_THR_A)
+	@mkdir -p $(dir $@)
+	$(SEQ_CC) $(LDFLAGS) $< $(LIB_THR_A) $(CHECK_LIBS) $(THR_LIBS) -o $@
+
+libs: $(LIB_A) $(LIB_SO) $(LIB_SEQ_A) $(LIB_SEQ_SO) $(LIB_THR_A) $(LIB_THR_SO)
 
 $(B)/pic/%.o: %.c
 	@mkdir -p $(dir $@)
@@ -176,6 +208,10 @@ $(B)/pcdm-seq.pc: mesher/api/pcdm-seq.pc.in Makefile
 	@mkdir -p $(dir $@)
 	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@VERSION@|$(PCDM_VERSION)|' $< > $@
 
+$(B)/pcdm-threads.pc: mesher/api/pcdm-threads.pc.in Makefile
+	@mkdir -p $(dir $@)
+	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@VERSION@|$(PCDM_VERSION)|' $< > $@
+
 $(B)/pcdm.pc: mesher/api/pcdm.pc.in Makefile
 	@mkdir -p $(dir $@)
 	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@VERSION@|$(PCDM_VERSION)|' \
@@ -183,8 +219,9 @@ $(B)/pcdm.pc: mesher/api/pcdm.pc.in Makefile
 
 # The .pc file names PREFIX, so it is rebuilt on every install.
 install: $(patsubst %,$(B)/bin/%,$(APPS)) libs
-	@rm -f $(B)/pcdm.pc $(B)/pcdm-seq.pc && \
-	    $(MAKE) --no-print-directory $(B)/pcdm.pc $(B)/pcdm-seq.pc PREFIX=$(PREFIX)
+	@rm -f $(B)/pcdm.pc $(B)/pcdm-seq.pc $(B)/pcdm-threads.pc && \
+	    $(MAKE) --no-print-directory $(B)/pcdm.pc $(B)/pcdm-seq.pc $(B)/pcdm-threads.pc \
+	    PREFIX=$(PREFIX)
 	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR)/pkgconfig $(DESTDIR)$(INCDIR)
 	install -m 755 $(patsubst %,$(B)/bin/%,$(APPS)) $(DESTDIR)$(BINDIR)/
 	install -m 644 $(LIB_A) $(DESTDIR)$(LIBDIR)/
@@ -195,8 +232,12 @@ install: $(patsubst %,$(B)/bin/%,$(APPS)) libs
 	install -m 755 $(LIB_SEQ_SO) $(DESTDIR)$(LIBDIR)/
 	ln -sf libpcdm_seq.so.$(PCDM_VERSION) $(DESTDIR)$(LIBDIR)/libpcdm_seq.so.$(PCDM_SOMAJOR)
 	ln -sf libpcdm_seq.so.$(PCDM_SOMAJOR) $(DESTDIR)$(LIBDIR)/libpcdm_seq.so
+	install -m 644 $(LIB_THR_A) $(DESTDIR)$(LIBDIR)/
+	install -m 755 $(LIB_THR_SO) $(DESTDIR)$(LIBDIR)/
+	ln -sf libpcdm_threads.so.$(PCDM_VERSION) $(DESTDIR)$(LIBDIR)/libpcdm_threads.so.$(PCDM_SOMAJOR)
+	ln -sf libpcdm_threads.so.$(PCDM_SOMAJOR) $(DESTDIR)$(LIBDIR)/libpcdm_threads.so
 	install -m 644 include/pcdm.h include/pcdm_par.h $(DESTDIR)$(INCDIR)/
-	install -m 644 $(B)/pcdm.pc $(B)/pcdm-seq.pc $(DESTDIR)$(LIBDIR)/pkgconfig/
+	install -m 644 $(B)/pcdm.pc $(B)/pcdm-seq.pc $(B)/pcdm-threads.pc $(DESTDIR)$(LIBDIR)/pkgconfig/
 
 uninstall:
 	rm -f $(patsubst %,$(DESTDIR)$(BINDIR)/%,$(APPS)) $(DESTDIR)$(INCDIR)/pcdm.h \
@@ -206,7 +247,11 @@ uninstall:
 	    $(DESTDIR)$(LIBDIR)/libpcdm_seq.a $(DESTDIR)$(LIBDIR)/libpcdm_seq.so \
 	    $(DESTDIR)$(LIBDIR)/libpcdm_seq.so.$(PCDM_SOMAJOR) \
 	    $(DESTDIR)$(LIBDIR)/libpcdm_seq.so.$(PCDM_VERSION) \
-	    $(DESTDIR)$(LIBDIR)/pkgconfig/pcdm.pc $(DESTDIR)$(LIBDIR)/pkgconfig/pcdm-seq.pc
+	    $(DESTDIR)$(LIBDIR)/libpcdm_threads.a $(DESTDIR)$(LIBDIR)/libpcdm_threads.so \
+	    $(DESTDIR)$(LIBDIR)/libpcdm_threads.so.$(PCDM_SOMAJOR) \
+	    $(DESTDIR)$(LIBDIR)/libpcdm_threads.so.$(PCDM_VERSION) \
+	    $(DESTDIR)$(LIBDIR)/pkgconfig/pcdm.pc $(DESTDIR)$(LIBDIR)/pkgconfig/pcdm-seq.pc \
+	    $(DESTDIR)$(LIBDIR)/pkgconfig/pcdm-threads.pc
 
 test: deps
 	@$(MAKE) --no-print-directory all
@@ -249,7 +294,7 @@ bench-primitives: deps
 
 CLANG_FORMAT ?= $(shell command -v clang-format || command -v clang-format-14)
 format:
-	$(CLANG_FORMAT) -i $(wildcard runtime/*.[ch] mesher/*/*.[ch] apps/*.[ch] tests/*.[ch] tests/fuzz/*.c bench/*.c include/*.h examples/*.[ch])
+	$(CLANG_FORMAT) -i $(wildcard runtime/*.[ch] runtime/mpi1/*.[ch] mesher/*/*.[ch] apps/*.[ch] tests/*.[ch] tests/fuzz/*.c bench/*.c include/*.h examples/*.[ch])
 
 # ---- fuzzing (issue 10): clang's libFuzzer with ASan + UBSan over the reader and the mesher.
 # The seed corpus lives in git (tests/fuzz/corpus); the run works on a copy in build/fuzz, so

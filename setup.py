@@ -2,7 +2,12 @@
 
 pcdm._core: the sequential library's sources -- the list mesher/seq_sources.txt, which the
 Makefile reads too (libpcdm_seq) -- plus the programs' front end (apps/cli.c,
-apps/cli_tables.c: the switch parser) and python/pcdm/_core.c.  No MPI.
+apps/cli_tables.c: the switch parser) and python/pcdm/_core.c.  No MPI.  Where METIS is found
+(metis.h and libmetis), the whole library instead, as the Makefile builds libpcdm_threads: every
+.c of runtime/ and mesher/*/ plus runtime/mpi1/mpi1.c, the one-process MPI stand-in, whose mpi.h
+comes first on the include path -- pcdm_triangulate then takes threads >= 1 (./pcdm's subdomain
+mesher on worker threads) with METIS and pthreads and still no MPI; without METIS it refuses
+threads (ValueError).  PCDM_THREADS=0: never; PCDM_THREADS=1: required, an error otherwise.
 
 pcdm._par (pcdm.parallel, for mpi4py users): the whole library -- the Makefile's library
 sources, every .c of runtime/ and mesher/*/ -- and python/pcdm/_par.c, with MPI's flags (from
@@ -21,8 +26,11 @@ import shutil
 import subprocess
 import sysconfig
 
+import copy
+
 import numpy
 from setuptools import Extension, setup
+from setuptools.command.build_ext import build_ext
 
 ROOT = os.path.dirname(os.path.abspath(__file__))
 
@@ -50,7 +58,48 @@ def seq_sources():
     return out
 
 
-sources = ["python/pcdm/_core.c", "apps/cli.c", "apps/cli_tables.c"] + seq_sources()
+def lib_sources():
+    """The whole library's sources (the Makefile's LIB_SRC): runtime/*.c and mesher/*/*.c."""
+    lib = sorted(glob.glob(os.path.join(ROOT, "runtime", "*.c")) +
+                 glob.glob(os.path.join(ROOT, "mesher", "*", "*.c")))
+    return [os.path.relpath(f, ROOT) for f in lib]
+
+
+def metis_missing(extra_incs=()):
+    """None when metis.h and libmetis are found, else what is missing."""
+    incs = [os.path.dirname(sysconfig.get_paths()["include"]), "/usr/include",
+            "/usr/local/include"] + list(extra_incs) + \
+        [d for d in os.environ.get("CPATH", "").split(":") if d]
+    if not any(os.path.exists(os.path.join(d, "metis.h")) for d in incs):
+        return "no metis.h (libmetis-dev)"
+    libdirs = ["/usr/lib", "/usr/local/lib", "/usr/lib64", sysconfig.get_config_var("LIBDIR") or ""] + \
+        glob.glob("/usr/lib/*-linux-gnu") + \
+        [d for d in os.environ.get("LIBRARY_PATH", "").split(":") if d]
+    if not any(glob.glob(os.path.join(d, "libmetis.*")) for d in libdirs if d):
+        return "no libmetis"
+    return None
+
+
+def core_threaded():
+    """True: pcdm._core with the threaded path (PCDM_THREADS=1 makes a missing METIS an error)."""
+    want = os.environ.get("PCDM_THREADS", "")
+    if want == "0":
+        return False
+    why = metis_missing()
+    if why:
+        if want == "1":
+            raise SystemExit("PCDM_THREADS=1: cannot build the threaded path: " + why)
+        print("pcdm: building pcdm.triangulate without threads: " + why)
+        return False
+    return True
+
+
+THREADED = core_threaded()
+front = ["python/pcdm/_core.c", "apps/cli.c", "apps/cli_tables.c"]
+if THREADED:
+    sources = front + lib_sources() + ["runtime/mpi1/mpi1.c"]
+else:
+    sources = front + seq_sources()
 
 CFLAGS = ["-std=c11", "-O2", "-ffp-contract=off", "-fno-fast-math", "-Wno-unused-parameter",
           "-Wno-sign-compare"]
@@ -59,10 +108,13 @@ MACROS = [("_POSIX_C_SOURCE", "200809L"), ("_DEFAULT_SOURCE", None)]
 ext = Extension(
     "pcdm._core",
     sources=[rel(s) for s in sources],
-    include_dirs=[rel("include"), rel("mesher"), rel("apps"), numpy.get_include()],
-    define_macros=MACROS,
-    extra_compile_args=CFLAGS,
-    libraries=["m"],
+    include_dirs=([rel("runtime/mpi1")] if THREADED else []) +
+    [rel("include"), rel("mesher"), rel("apps"), numpy.get_include()] +
+    ([rel("runtime")] if THREADED else []),
+    define_macros=MACROS + ([("PCDM_THREADS", None)] if THREADED else []),
+    extra_compile_args=CFLAGS + (["-pthread"] if THREADED else []),
+    extra_link_args=["-pthread"] if THREADED else [],
+    libraries=(["metis", "pthread"] if THREADED else []) + ["m"],
 )
 
 
@@ -85,24 +137,19 @@ def mpi_extension():
             out = subprocess.run([mpicc, "-show"], capture_output=True, text=True).stdout.split()
             comp = [a for a in out[1:] if a.startswith(("-I", "-D"))]
             link = [a for a in out[1:] if a.startswith(("-L", "-l", "-Wl"))]
-        incs = [os.path.dirname(sysconfig.get_paths()["include"])] + \
-            ["/usr/include", "/usr/local/include"] + [a[2:] for a in comp if a.startswith("-I")]
-        if not any(os.path.exists(os.path.join(d, "metis.h")) for d in incs):
-            why = "no metis.h (libmetis-dev)"
+        why = metis_missing([a[2:] for a in comp if a.startswith("-I")])
     if why:
         if want == "1":
             raise SystemExit("PCDM_MPI=1: cannot build pcdm._par: " + why)
         print("pcdm: building without pcdm.parallel: " + why)
         return None
-    lib = sorted(glob.glob(os.path.join(ROOT, "runtime", "*.c")) +
-                 glob.glob(os.path.join(ROOT, "mesher", "*", "*.c")))
-    srcs = ["python/pcdm/_par.c"] + [os.path.relpath(f, ROOT) for f in lib]
+    srcs = ["python/pcdm/_par.c"] + lib_sources()
     return Extension(
         "pcdm._par",
         sources=[rel(s) for s in srcs],
         include_dirs=[rel("include"), rel("mesher"), rel("runtime"), numpy.get_include()] +
         [a[2:] for a in comp if a.startswith("-I")],
-        define_macros=MACROS,
+        define_macros=MACROS + [("PCDM_THREADS", None)],
         extra_compile_args=CFLAGS + [a for a in comp if not a.startswith("-I")],
         library_dirs=[a[2:] for a in link if a.startswith("-L")],
         libraries=["metis", "pthread", "m"] + [a[2:] for a in link if a.startswith("-l")],
@@ -119,6 +166,20 @@ exts = [ext] + [e for e in [mpi_extension()] if e]
 for d in glob.glob(os.path.join(ROOT, "build", "python", "lib*")) + \
         glob.glob(os.path.join(ROOT, "build", "python", "bdist*")):
     shutil.rmtree(d, ignore_errors=True)
-setup(version=version(), ext_modules=exts,
+
+
+class BuildExt(build_ext):
+    """Each extension's objects in a folder of its own: pcdm._core and pcdm._par compile the
+    same sources against different mpi.h (runtime/mpi1's, MPI's), so one folder would hand
+    one's objects to the other.  A shallow copy of the command per extension keeps this safe
+    when the extensions build at once (build_ext's parallel option)."""
+
+    def build_extension(self, ext):
+        mine = copy.copy(self)
+        mine.build_temp = os.path.join(self.build_temp, ext.name)
+        return build_ext.build_extension(mine, ext)
+
+
+setup(version=version(), ext_modules=exts, cmdclass={"build_ext": BuildExt},
       options={"build": {"build_base": os.path.join("build", "python")},
                "build_ext": {"force": True, "parallel": os.cpu_count() or 1}})

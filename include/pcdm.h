@@ -19,8 +19,9 @@
  * Out of memory is the one exception: the allocation funnel aborts the process.
  *
  * Link with `pkg-config --cflags --libs pcdm` (the whole library: MPI, METIS and pthreads), or,
- * for pcdm_triangulate alone, `pkg-config --cflags --libs pcdm-seq` (libpcdm_seq: neither MPI
- * nor METIS).
+ * for pcdm_triangulate alone, `pkg-config --cflags --libs pcdm-threads` (libpcdm_threads: METIS
+ * and pthreads, no MPI; pcdm_options.threads on every core of one machine) or `pkg-config
+ * --cflags --libs pcdm-seq` (libpcdm_seq: neither MPI nor METIS; no threads).
  */
 #ifndef PCDM_PUBLIC_H
 #define PCDM_PUBLIC_H
@@ -125,7 +126,8 @@ typedef struct pcdm_options {
     int method;         /* PCDM_METHOD_PCDM (default) or PCDM_METHOD_PBW */
     int32_t subdomains; /* subdomains of the decomposition (0: ./pcdm's default: 16, or ranks
                          * x threads where that is more, fewer on a small mesh; with
-                         * PCDM_METHOD_PBW one per rank; default 0) */
+                         * PCDM_METHOD_PBW one per rank; default 0); also pcdm_triangulate's
+                         * with threads >= 1 */
     int root;           /* < 0: every rank keeps its part (default -1); >= 0: the whole mesh
                          * is collected on this rank (others get an empty mesh) */
     /* both calls */
@@ -138,11 +140,16 @@ typedef struct pcdm_options {
                     * points, the bounds ignored (Triangle without -q, -a and -u); default 0 */
     int lenses;    /* 1: a subsegment is encroached by a point in its diametral lens (as
                     * Triangle: fewer points on segments); 0: its diametral circle (default) */
-    /* pcdm_triangulate_par only */
-    int threads; /* PCDM: worker threads per rank refining its subdomains at once (0 or 1: the
-                  * calling thread alone; default 0); the mesh is the same for any count.
-                  * One process of several threads: pcdm_triangulate_par on MPI_COMM_SELF.
-                  * pcdm_triangulate refuses more than 1 (PCDM_EINVAL) */
+    /* both calls */
+    int threads; /* pcdm_triangulate_par (PCDM): worker threads per rank refining its subdomains
+                  * at once (0 or 1: the calling thread alone; default 0); the mesh is the same
+                  * for any count.  pcdm_triangulate: 0 (default) is the sequential mesher
+                  * (./mesh's mesh); T >= 1 is ./pcdm's subdomain mesher on T worker threads of
+                  * this process (./pcdm --threads T's mesh, the same for every T, given
+                  * subdomains; not with lenses, region_attributes, region_areas: PCDM_EINVAL;
+                  * with no_refine the sequential CDT).  It needs libpcdm_threads (no MPI) or
+                  * libpcdm with MPI initialised (else PCDM_EMPI); libpcdm_seq refuses it
+                  * (PCDM_EINVAL).  Threaded calls in one process take turns (one runtime). */
 } pcdm_options;
 
 /* Local.  Fills *o with the defaults above. */
@@ -186,11 +193,12 @@ typedef struct pcdm_mesh {
 /* Local.  Frees every array of m and zeroes it (a zeroed or already freed m is fine). */
 void pcdm_mesh_free(pcdm_mesh *m);
 
-/* Local (no MPI needed).  Meshes in (the constrained Delaunay triangulation, then Delaunay
- * refinement to opt's bounds; opt NULL: the defaults).  out is overwritten: on PCDM_OK and
- * PCDM_ESTEINER it holds the mesh (free with pcdm_mesh_free), otherwise nothing.  st may be
- * NULL.  Returns st->code.  Thread-safe for distinct arguments (the callback's own state
- * aside). */
+/* Local (no MPI needed but in libpcdm with threads >= 1).  Meshes in (the constrained Delaunay
+ * triangulation, then Delaunay refinement to opt's bounds; opt NULL: the defaults; with
+ * opt->threads >= 1 ./pcdm's subdomain mesher on worker threads, see pcdm_options).  out is
+ * overwritten: on PCDM_OK and PCDM_ESTEINER it holds the mesh (free with pcdm_mesh_free), otherwise
+ * nothing.  st may be NULL.  Returns st->code.  Thread-safe for distinct arguments (the callback's
+ * own state aside). */
 int pcdm_triangulate(const pcdm_input *in, const pcdm_options *opt, pcdm_mesh *out,
                      pcdm_status *st);
 

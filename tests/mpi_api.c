@@ -11,7 +11,8 @@
  *  - PBW through the same call gives a valid mesh (and refuses the size callback);
  *  - convex_hull (Triangle's -c), PCDM and PBW: segments that enclose nothing meshed over
  *    their hull, valid against the input enclosed by it;
- *  - threads: 2 worker threads per rank give the mesh of one (PCDM), PBW refuses them;
+ *  - threads: 2 worker threads per rank give the mesh of one (PCDM), and so does
+ *    pcdm_triangulate with threads 2 on every rank (MPI_COMM_SELF); PBW refuses them;
  *  - bad input fails on every rank with the same code and message, and the next call works;
  *  - crossing and overlapping segments (tests/inputs/cross.poly), PCDM and PBW: split as
  *    ./pcdm and ./pbw split them, the whole mesh valid against the input so prepared.
@@ -20,10 +21,23 @@
  */
 #include "api_check.h"
 #include "check_run.h"
+#include "pcdm/pcdm.h"
 #include "pcdm_par.h"
 
 #include <mpi.h>
 #include <stdlib.h>
+
+/* The mesh hash of ./pcdm --stats (pcdm_flat_hash: independent of the numbering) of a whole
+ * mesh, in the caller's coordinates. */
+static uint64_t mesh_hash(const pcdm_mesh *m) {
+    mesh_flat f;
+    memset(&f, 0, sizeof f);
+    f.nverts = m->npoints;
+    f.xy = m->points;
+    f.ntris = m->ntriangles;
+    f.tri = m->triangles;
+    return pcdm_flat_hash(&f);
+}
 
 static int all_true(int local, MPI_Comm c) {
     int g = 0;
@@ -237,6 +251,7 @@ START_TEST(test_threads) {
     o.min_angle = 28;
     o.max_area = 0.01;
     o.root = 0;
+    o.subdomains = 8; /* the default count fits a small mesh, not below the ranks */
     pcdm_mesh one, two;
     pcdm_status st;
     int rc1 = pcdm_triangulate_par(MPI_COMM_WORLD, &in, &o, &one, &st);
@@ -248,9 +263,27 @@ START_TEST(test_threads) {
     if (rank == 0)
         ok = ok && valid(&in, &two, 28, 0.01) && one.npoints == two.npoints &&
              memcmp(one.points, two.points, 2 * sizeof(double) * (size_t)one.npoints) == 0;
+    /* pcdm_triangulate with threads 2 (MPI initialised: on MPI_COMM_SELF, every rank at once):
+     * the parallel call's whole mesh, bit for bit */
+    pcdm_mesh self;
+    pcdm_status sst;
+    int rc3 = pcdm_triangulate(&in, &o, &self, &sst);
+    ck_assert_msg(all_true(rc3 == PCDM_OK, MPI_COMM_WORLD), "pcdm_triangulate threads 2: %s",
+                  sst.message);
+    int same = self.nglobaltriangles == one.nglobaltriangles;
+    if (rank == 0) /* on more ranks the numbering follows the ranks: compare hashes */
+        same = same && self.npoints == one.npoints && self.ntriangles == one.ntriangles &&
+               mesh_hash(&self) == mesh_hash(&one) &&
+               (size > 1 ||
+                (!memcmp(self.points, one.points, 2 * sizeof(double) * (size_t)one.npoints) &&
+                 !memcmp(self.triangles, one.triangles,
+                         3 * sizeof(int32_t) * (size_t)one.ntriangles)));
+    pcdm_mesh_free(&self);
     pcdm_mesh_free(&one);
     pcdm_mesh_free(&two);
     ck_assert_msg(all_true(ok, MPI_COMM_WORLD), "threads 2 differs from threads 1");
+    ck_assert_msg(all_true(same, MPI_COMM_WORLD),
+                  "pcdm_triangulate threads 2 differs from pcdm_triangulate_par");
     o.method = PCDM_METHOD_PBW;
     int rc = pcdm_triangulate_par(MPI_COMM_WORLD, &in, &o, &two, &st);
     ck_assert(all_true(rc == PCDM_EINVAL && strstr(st.message, "threads") != NULL, MPI_COMM_WORLD));

@@ -20,13 +20,14 @@ MPIRUN="mpirun --oversubscribe"
 export MPIRUN
 pass=0 fail=0 failed=()
 # TSAN=1 (make TSAN=1 test): the ThreadSanitizer build runs the tests that start threads only --
-# the runtime's tasks and threaded handlers, ./pcdm --threads, the writer's formatting threads --
+# the runtime's tasks and threaded handlers, ./pcdm --threads, the writer's formatting threads,
+# pcdm_triangulate's threads in libpcdm_threads --
 # at the rank counts given here
 # (TSan slows a program 5-15x); tests/tsan.supp holds the suppressions for Open MPI's insides.
 declare -A only=()
 if [ "${TSAN:-}" = 1 ]; then
     only=([unit_rt_task]=1 [mpi_rt]="1 2" [mpi_rt_term]="1 2" [mpi_pwrite]="1 2" [t_threads]=1
-        [t_threads_fault]=1)
+        [t_threads_fault]=1 [t_threads_lib]=1)
     export TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1 suppressions=$PWD/tests/tsan.supp} THREADS_QUICK=1
 fi
 # Nothing a test runs may write into the repository's inputs (a mesher without -o writes

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # t_install: the library as a user gets it.  `make install PREFIX=$T` (programs, libpcdm.a,
-# libpcdm.so with its soname links, libpcdm_seq (.a, .so), include/pcdm.h and pcdm_par.h,
+# libpcdm.so with its soname links, libpcdm_seq and libpcdm_threads (.a, .so), include/pcdm.h and pcdm_par.h,
 # lib/pkgconfig/pcdm.pc and pcdm-seq.pc), then the examples
 # (examples/triangulate.c, examples/triangulate_par.c) compiled with the plain C compiler and
 # nothing but `pkg-config --cflags --libs pcdm` from the temporary prefix -- against the shared
@@ -29,7 +29,9 @@ make -s --no-print-directory install PREFIX="$p" >"$T/install.log" 2>&1 ||
     }
 for f in bin/mesh bin/pcdm bin/pbw bin/meshcheck include/pcdm.h include/pcdm_par.h lib/libpcdm.a \
     lib/libpcdm.so.$V lib/libpcdm.so.$M lib/libpcdm.so lib/pkgconfig/pcdm.pc lib/libpcdm_seq.a \
-    lib/libpcdm_seq.so.$V lib/libpcdm_seq.so.$M lib/libpcdm_seq.so lib/pkgconfig/pcdm-seq.pc; do
+    lib/libpcdm_seq.so.$V lib/libpcdm_seq.so.$M lib/libpcdm_seq.so lib/pkgconfig/pcdm-seq.pc \
+    lib/libpcdm_threads.a lib/libpcdm_threads.so.$V lib/libpcdm_threads.so.$M lib/libpcdm_threads.so \
+    lib/pkgconfig/pcdm-threads.pc; do
     [ -e "$p/$f" ] || fail "make install did not install $f"
 done
 [ "$(readlink "$p/lib/libpcdm.so")" = libpcdm.so.$M ] || fail "libpcdm.so does not link to libpcdm.so.$M"
@@ -83,6 +85,20 @@ if [ -x "$T/tri_seq" ]; then
     (cd "$T" && LD_LIBRARY_PATH=$p/lib ./tri_seq sq) || fail "triangulate (libpcdm_seq) failed"
     cmp -s "$T/sq.1.ele" "$T/seq.1.ele" || fail "libpcdm_seq and libpcdm made different meshes"
     cmp -s "$T/sq.1.node" "$T/seq.1.node" || fail "libpcdm_seq and libpcdm made different vertices"
+fi
+# against libpcdm_threads: pkg-config pcdm-threads alone (METIS, no MPI); threads 0 (the
+# example's default) is the sequential mesh
+tcflags=$(pkg-config --cflags pcdm-threads) tlibs=$(pkg-config --libs pcdm-threads)
+echo "pcdm-threads: $tcflags $tlibs"
+case "$tcflags $tlibs" in *mpi*) fail "pkg-config pcdm-threads names MPI: $tcflags $tlibs" ;; esac
+$CC_USER -std=c11 -Wall -Wextra -Werror examples/triangulate.c $tcflags $tlibs -o "$T/tri_thr" ||
+    fail "examples/triangulate.c does not build with pkg-config pcdm-threads' flags"
+if [ -x "$T/tri_thr" ]; then
+    needed=$(readelf -d "$T/tri_thr" "$p/lib/libpcdm_threads.so.$V" | sed -n 's/.*NEEDED.*\[\(.*\)\]/\1/p' | tr '\n' ' ')
+    case "$needed" in *libpcdm_threads.so.$M*) ;; *) fail "tri_thr is not linked to libpcdm_threads.so.$M: $needed" ;; esac
+    case "$needed" in *mpi*) fail "tri_thr or libpcdm_threads needs MPI: $needed" ;; esac
+    (cd "$T" && LD_LIBRARY_PATH=$p/lib ./tri_thr th) || fail "triangulate (libpcdm_threads) failed"
+    cmp -s "$T/th.1.ele" "$T/seq.1.ele" || fail "libpcdm_threads and libpcdm made different meshes"
 fi
 # the parallel example: 3 ranks = a half of 2 (parts) and a half of 1 (the whole mesh)
 $CC_USER -std=c11 -Wall -Wextra -Werror examples/triangulate_par.c $cflags $libs -o "$T/trp" ||

@@ -8,7 +8,11 @@
 #  - never a *_impl.h or *_internal.h header of another folder (such a header is its folder's
 #    inside; what another layer needs is declared in a named header);
 #  - every quoted include resolves as the compiler resolves it (the including file's folder,
-#    then -Iinclude -Iruntime -Imesher), and every folder holding sources is in LAYERS.
+#    then -Iinclude -Iruntime -Imesher), and every folder holding sources is in LAYERS;
+#  - runtime/mpi1, the one-process MPI stand-in, is included by no file outside it: the MPI-free
+#    build (libpcdm_threads, the Python package's threaded path) alone reaches it, as <mpi.h>
+#    with -Iruntime/mpi1 (and the Makefile names that folder on an include path in THR_CFLAGS
+#    only).
 # Scanned: runtime/, mesher/, include/, apps/, bench/, examples/ (tests/ are white-box and may
 # include any header).
 # The sequential library (the sources mesher/seq_sources.txt lists: libpcdm_seq and the Python
@@ -21,6 +25,7 @@
 . "$(dirname "$0")/lib.sh"
 
 LAYERS=(
+    "runtime/mpi1"
     "runtime"
     "mesher/base"
     "mesher/geom"
@@ -78,6 +83,9 @@ layer_check() {
                 elif [ "${LEVEL[$tdir]}" -eq "${LEVEL[$dir]}" ]; then
                     why="points sideways: $dir and $tdir are one level"
                 fi
+                if [ "$tdir" = runtime/mpi1 ]; then
+                    why="${why:+$why; }runtime/mpi1 (the MPI stand-in) is reached only as <mpi.h> by the MPI-free build"
+                fi
                 case $(basename "$target") in
                 *_impl.h | *_internal.h) why="${why:+$why; }$target is internal to $tdir" ;;
                 esac
@@ -88,17 +96,19 @@ layer_check() {
 
 # 1. the checker on a tree with one violation of each kind, and lines that are fine
 S=$T/tree
-mkdir -p "$S"/runtime "$S"/mesher/{base,geom,seq,pcdm,pbw,new} "$S"/apps
-touch "$S"/runtime/rt.h "$S"/mesher/base/base.h "$S"/mesher/seq/mesh.h "$S"/mesher/seq/mesh_impl.h \
+mkdir -p "$S"/runtime/mpi1 "$S"/mesher/{base,geom,seq,pcdm,pbw,new} "$S"/apps
+touch "$S"/runtime/rt.h "$S"/runtime/mpi1/mpi.h "$S"/mesher/base/base.h "$S"/mesher/seq/mesh.h "$S"/mesher/seq/mesh_impl.h \
     "$S"/mesher/pcdm/pcdm.h "$S"/mesher/new/x.c
 printf '#include "rt.h"\n#include "base/base.h"\n' >"$S"/runtime/rt.c
 printf '#include "base/base.h"\n#include <stdio.h>\n#include "seq/mesh.h"\n' >"$S"/mesher/geom/g.c
 printf '#include "mesh_impl.h"\n#include "seq/mesh.h"\n' >"$S"/mesher/seq/mesh.c
 printf '#include "seq/mesh.h"\n  #  include "seq/mesh_impl.h" // x\n#include "pcdm.h"\n' >"$S"/mesher/pcdm/p.c
 printf '#include "pcdm/pcdm.h"\n#include "nosuch.h"\n' >"$S"/mesher/pbw/w.c
-printf '#include "pcdm/pcdm.h"\n#include "rt.h"\n' >"$S"/apps/m.c
+printf '#include "pcdm/pcdm.h"\n#include "rt.h"\n#include "mpi1/mpi.h"\n' >"$S"/apps/m.c
+printf '#include "mpi.h"\n' >"$S"/runtime/mpi1/mpi1.c
 layer_check "$S" >"$T/self.txt"
 cat >"$T/self.want" <<'EOF'
+apps/m.c mpi1/mpi.h: runtime/mpi1 (the MPI stand-in) is reached only as <mpi.h> by the MPI-free build
 mesher/geom/g.c seq/mesh.h: points up: mesher/geom includes mesher/seq, a layer above it
 mesher/new/x.c -: folder mesher/new is in no layer (add it to LAYERS in tests/t_layers.sh)
 mesher/pbw/w.c pcdm/pcdm.h: points sideways: mesher/pbw and mesher/pcdm are one level
@@ -197,6 +207,14 @@ while read -r line; do
 done <"$T/seq_found.txt"
 nseq=$(sed 's/#.*//' mesher/seq_sources.txt | while read -r pat; do [ -z "$pat" ] || compgen -G "$pat"; done | wc -l)
 [ -s "$T/seq_found.txt" ] || ok "the sequential library's $nseq sources reach neither <mpi.h> nor <metis.h> nor the runtime"
+# the Makefile puts runtime/mpi1 on an include path in THR_CFLAGS only
+bad=$(grep -n -- '-Iruntime/mpi1' Makefile | grep -v '^[0-9]*:THR_CFLAGS = ')
+nmk=$(grep -c -- '-Iruntime/mpi1' Makefile)
+if [ -z "$bad" ] && [ "$nmk" -ge 1 ]; then
+    ok "the Makefile names runtime/mpi1 as an include path in THR_CFLAGS only ($nmk line)"
+else
+    fail "the Makefile names -Iruntime/mpi1 outside THR_CFLAGS (or nowhere): ${bad:-none}"
+fi
 nfiles=$(find runtime mesher include apps bench examples -name '*.[ch]' | wc -l)
 [ "$(nfailed)" != "$n0" ] ||
     ok "$nfiles files: no include points up or sideways or into another folder's inside (but ${#KNOWN[@]} known exceptions)"

@@ -9,7 +9,9 @@
  * is copied out with the scaling undone.  The caller's size rule sees the caller's coordinates
  * (the driver's wrapper).  A mesh outside the bounds is never a silent success: the Steiner
  * limit returns PCDM_ESTEINER with the (valid, coarser) mesh, anything else left unmet
- * PCDM_EUNMET and no mesh.  The parallel call is api_par.c.
+ * PCDM_EUNMET and no mesh.  With threads >= 1 (and something to refine) the call is the
+ * subdomain mesher of ./pcdm instead (api_thr.c), in the builds that have it (PCDM_THREADS:
+ * libpcdm, libpcdm_threads); libpcdm_seq refuses it.  The parallel call is api_par.c.
  */
 #include "api/api_impl.h"
 
@@ -210,11 +212,19 @@ int pcdm_triangulate(const pcdm_input *in, const pcdm_options *opt, pcdm_mesh *o
     else
         pcdm_options_default(&o);
     if (api_check_args(in, &o, st)) return st->code;
-    if (o.threads > 1)
+    if (o.threads < 0)
+        return api_fail(st, PCDM_EINVAL, "threads %d: must be 0 (this thread) or more", o.threads);
+    if (o.threads > 0 && !o.no_refine) {
+#ifdef PCDM_THREADS
+        return api_triangulate_threads(in, &o, out, st);
+#else
         return api_fail(st, PCDM_EINVAL,
-                        "threads %d: worker threads work with pcdm_triangulate_par (one process: "
-                        "on MPI_COMM_SELF)",
+                        "threads %d: this build has no threaded mesher (it was built without "
+                        "METIS): in C link libpcdm_threads (pkg-config pcdm-threads); the Python "
+                        "package has threads when METIS (libmetis-dev) is there as it is built",
                         o.threads);
+#endif
+    }
     /* the driver's stages (run/run.h), as ./mesh: the input checked with crossing segments
      * split and Triangle's boundary-marker rules, the bounds, the mesh, the verdict */
     pslg g;

@@ -43,6 +43,12 @@ int api_make_pslg(const pcdm_input *in, const pcdm_options *o, pslg *g, pcdm_sta
  * over by the driver); nothing printed. */
 void api_job(const pcdm_options *o, int method, pslg *g, run_job *j);
 
+/* pcdm_triangulate with o->threads >= 1 (api_thr.c; only in the builds that define
+ * PCDM_THREADS): the subdomain mesher of ./pcdm on a one-rank communicator, the whole mesh in
+ * out.  Returns st->code. */
+int api_triangulate_threads(const pcdm_input *in, const pcdm_options *o, pcdm_mesh *out,
+                            pcdm_status *st);
+
 /* out->points[i] = xy scaled back by 2^-scale_exp (exact). */
 void api_copy_points(pcdm_mesh *out, int32_t i, const double *xy, int scale_exp);
 

@@ -1,0 +1,83 @@
+"""pcdm.triangulate(..., threads=T): ./pcdm's subdomain mesher on T worker threads of this
+process, no MPI (the package's _core built with METIS: the parallel stack over the one-process
+MPI stand-in runtime/mpi1).
+
+- threads 1, 2 and 3 give one mesh, array for array; threads 0 (the default) is the sequential
+  mesher's, another mesh; both pass pcdm.check with the bounds;
+- bad input through the threaded path raises ValueError (the process lives on), and the next
+  call meshes;
+- a build without METIS refuses threads with a ValueError that says so.
+"""
+
+import ctypes.util
+import inspect
+import os
+
+import numpy as np
+import pytest
+
+import pcdm
+
+if "threads" not in inspect.signature(pcdm.triangulate).parameters:
+    pytest.skip("pcdm.triangulate takes no threads= in this build of the bindings",
+                allow_module_level=True)
+
+# a plate with a hole, in non-dyadic coordinates
+PLATE = {
+    "vertices": np.array([[0, 0], [10, 0], [10, 6], [0, 6],
+                          [4.1, 2.3], [5.7, 2.3], [5.7, 3.9], [4.1, 3.9]], dtype=float),
+    "segments": np.array([[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [5, 6], [6, 7], [7, 4]]),
+    "holes": np.array([[4.9, 3.1]]),
+}
+OPTS = "pq30a0.002"
+
+
+def has_threads():
+    """Whether this build has the threaded mesher (ValueError naming METIS when not)."""
+    try:
+        pcdm.triangulate(PLATE, "pq20a1", threads=2)
+        return True
+    except ValueError as e:
+        assert "METIS" in str(e), str(e)
+        return False
+
+
+def test_threads_or_metis_message():
+    """Threads where libmetis is (and PCDM_THREADS=0 did not turn them off), else the message."""
+    want = ctypes.util.find_library("metis") is not None and os.environ.get("PCDM_THREADS") != "0"
+    assert has_threads() == want
+
+
+@pytest.mark.skipif(not has_threads(), reason="built without METIS")
+def test_same_mesh_any_threads():
+    m = {t: pcdm.triangulate(PLATE, OPTS, threads=t) for t in (0, 1, 2, 3)}
+    for t in (2, 3):
+        for k in ("vertices", "vertex_markers", "triangles", "segments", "segment_markers"):
+            assert np.array_equal(m[t][k], m[1][k]), (t, k)
+    assert len(m[0]["triangles"]) != len(m[1]["triangles"]) or \
+        not np.array_equal(m[0]["vertices"], m[1]["vertices"])
+    print("threads 0: %d triangles, threads 1-3: %d" % (len(m[0]["triangles"]),
+                                                         len(m[1]["triangles"])))
+    for t in (0, 2):
+        r = pcdm.check(m[t], PLATE, q=30, a=0.002)
+        assert r["ok"], r
+
+
+@pytest.mark.skipif(not has_threads(), reason="built without METIS")
+def test_bad_input_raises():
+    bad = dict(PLATE, vertices=PLATE["vertices"].copy())
+    bad["vertices"][2, 1] = np.nan
+    with pytest.raises(ValueError):
+        pcdm.triangulate(bad, OPTS, threads=2)
+    with pytest.raises(ValueError, match="out of range"):
+        pcdm.triangulate(dict(PLATE, segments=np.array([[0, 1], [1, 99]])), OPTS, threads=2)
+    with pytest.raises(ValueError, match="zero length"):
+        pcdm.triangulate(dict(PLATE, segments=np.array([[0, 1], [1, 1], [1, 2], [2, 3], [3, 0]])),
+                         OPTS, threads=2)
+    with pytest.raises(ValueError):
+        pcdm.triangulate({"vertices": np.zeros((0, 2))}, OPTS, threads=2)
+    with pytest.raises(ValueError):
+        pcdm.triangulate({"vertices": np.array([[0, 0], [1, 1], [2, 2], [3, 3.0]])}, "q30",
+                         threads=2)
+    m = pcdm.triangulate(PLATE, OPTS, threads=2)  # and the next call meshes
+    assert len(m["triangles"]) > 1000
