@@ -150,7 +150,8 @@ def triangulate(
     convex_hull: Optional[bool] = None,
     size: Optional[SizeRule] = None,
     circumcenters: Optional[bool] = None,
-    lenses: bool = True,
+    lenses: Optional[bool] = None,
+    threads: int = 0,
 ) -> Mesh:
     """Mesh ``tri`` (a dict of arrays, as ``triangle.triangulate`` takes) with Triangle's
     switches ``opts``; returns a dict of numpy arrays with ``triangle``'s keys, dtypes and shapes
@@ -164,8 +165,13 @@ def triangulate(
     Delaunay triangulation alone.  Keyword alternatives to switches: ``min_angle`` (degrees,
     ``q``), ``max_area`` (``a``), ``max_steiner`` (``S``), ``convex_hull`` (``c``),
     ``circumcenters`` (circumcenters only, as Triangle; the default also uses off-centers),
-    ``lenses`` (default True, as Triangle: a segment is split when a point lies in its
-    diametral lens; False: in its diametral circle, as ``./mesh`` without ``--lens``);
+    ``lenses`` (default True with ``threads=0``, as Triangle: a segment is split when a point
+    lies in its diametral lens; False: in its diametral circle, as ``./mesh`` without
+    ``--lens``; the subdomain mesher of ``threads`` >= 1 tests circles only);
+    ``threads`` (default 0: the sequential mesher, ``./mesh``'s mesh; T >= 1: ``./pcdm``'s
+    subdomain mesher on T threads of this process, the same mesh for every T, as
+    ``./pcdm --threads T`` makes it; not with ``A`` or region areas; in builds with METIS,
+    else ``ValueError``);
     ``size`` bounds the triangles' size where you say (Triangle's ``u``), in one of two forms:
 
     - a callable ``size(corners, area)``, called with a triangle's corners ((3, 2) array) and
@@ -215,6 +221,11 @@ def triangulate(
     fn, background = (size, None) if size is None or callable(size) else (None, _background(size))
     hull = bool(convex_hull) if convex_hull is not None else bool(s["convex_hull"])
     cc = bool(circumcenters) if circumcenters is not None else bool(s["circumcenters"])
+    threads = int(threads)
+    if threads < 0:
+        raise ValueError(f"threads {threads}: must be 0 (sequential) or a number of threads")
+    if lenses is None:  # Triangle's lenses; the subdomain mesher tests diametral circles
+        lenses = threads == 0
     code, message, mesh = _core.triangulate(
         d["vertices"],
         d["vertex_markers"],
@@ -237,6 +248,7 @@ def triangulate(
         bool(s["edges"]),
         bool(s["neighbors"]),
         background,
+        threads,
     )
     if mesh is None:
         if code == 4:  # PCDM_EUNMET

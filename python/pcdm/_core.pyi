@@ -27,6 +27,7 @@ def triangulate(
     edges: bool,
     neighbors: bool,
     background: Optional[Tuple[np.ndarray, np.ndarray, np.ndarray, bool]],
+    threads: int = ...,
 ) -> Tuple[int, str, Optional[Dict[str, np.ndarray]]]: ...
 def check(
     vertices: np.ndarray,

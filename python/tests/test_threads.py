@@ -10,17 +10,12 @@ MPI stand-in runtime/mpi1).
 """
 
 import ctypes.util
-import inspect
 import os
 
 import numpy as np
 import pytest
 
 import pcdm
-
-if "threads" not in inspect.signature(pcdm.triangulate).parameters:
-    pytest.skip("pcdm.triangulate takes no threads= in this build of the bindings",
-                allow_module_level=True)
 
 # a plate with a hole, in non-dyadic coordinates
 PLATE = {
@@ -81,3 +76,28 @@ def test_bad_input_raises():
                          threads=2)
     m = pcdm.triangulate(PLATE, OPTS, threads=2)  # and the next call meshes
     assert len(m["triangles"]) > 1000
+
+
+@pytest.mark.skipif(not has_threads(), reason="built without METIS")
+def test_size_rules_with_threads():
+    """size= (a callable, called back from the worker threads with the GIL, and a background
+    mesh, read by them without it) gives one mesh for threads 1 and 2, and meets its bound."""
+    corner = lambda c: np.hypot(c[:, 0], c[:, 1])  # noqa: E731
+    def fn(corners, area):
+        return area > 0.0005 + 0.01 * corner(corners.mean(axis=0, keepdims=True))[0]
+    bg = {"vertices": np.array([[0, 0], [10, 0], [10, 6], [0, 6.0]]),
+          "triangles": np.array([[0, 1, 2], [0, 2, 3]]),
+          "vertex_sizes": np.array([0.05, 0.5, 0.5, 0.5])}
+    for size in (fn, bg):
+        m = {t: pcdm.triangulate(PLATE, "pq30", size=size, threads=t) for t in (1, 2)}
+        for k in ("vertices", "triangles", "segments"):
+            assert np.array_equal(m[1][k], m[2][k]), k
+        r = pcdm.check(m[2], PLATE, q=30)
+        assert r["ok"], r
+        v, t = m[2]["vertices"], m[2]["triangles"]
+        p = v[t]
+        area = 0.5 * np.abs(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]))
+        if size is fn:
+            bound = 0.0005 + 0.01 * corner(p.mean(axis=1))
+            assert (area <= bound * (1 + 1e-9)).all()
+        assert len(t) > 200
