@@ -96,7 +96,8 @@ def test_size_rules_with_threads():
         assert r["ok"], r
         v, t = m[2]["vertices"], m[2]["triangles"]
         p = v[t]
-        area = 0.5 * np.abs(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]))
+        d1, d2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+        area = 0.5 * np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0])
         if size is fn:
             bound = 0.0005 + 0.01 * corner(p.mean(axis=1))
             assert (area <= bound * (1 + 1e-9)).all()
