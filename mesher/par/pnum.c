@@ -22,6 +22,7 @@
 #include "par/pout.h"
 
 #include "base/base.h"
+#include "base/pfor.h"
 #include "rt.h"
 
 #include <limits.h>
@@ -90,8 +91,35 @@ static int cmp_pair_id(const void *pa, const void *pb) { /* int64 pairs (key, id
 
 /* ---- input vertices ------------------------------------------------------------------------ */
 
-/* in_id[v] = input number of local vertex v (exact coordinates), or -1. */
-static int64_t *input_ids(const mesh_flat *f, const pslg *in) {
+/* The input's points in an open-addressing table keyed by their coordinates. */
+typedef struct in_table {
+    const pslg *in;
+    const mesh_flat *f;
+    int32_t *slot; /* input point numbers, -1: empty */
+    size_t mask;
+    int64_t *id;
+} in_table;
+
+/* Local vertices [a, b) looked up in the table (read only: any number of threads at once). */
+static void input_ids_range(void *arg, int part, int64_t a, int64_t b) {
+    (void)part;
+    const in_table *t = arg;
+    const double *ixy = t->in->xy;
+    for (int64_t v = a; v < b; v++) {
+        double x = t->f->xy[2 * (size_t)v], y = t->f->xy[2 * (size_t)v + 1];
+        size_t h = pt_hash(x, y) & t->mask;
+        t->id[v] = -1;
+        for (; t->slot[h] >= 0; h = (h + 1) & t->mask)
+            if (ixy[2 * (size_t)t->slot[h]] == x && ixy[2 * (size_t)t->slot[h] + 1] == y) {
+                t->id[v] = t->slot[h];
+                break;
+            }
+    }
+}
+
+/* in_id[v] = input number of local vertex v (exact coordinates), or -1; the lookups on up to
+ * threads threads. */
+static int64_t *input_ids(const mesh_flat *f, const pslg *in, int threads) {
     size_t ns = 16;
     while (ns < 2 * (size_t)in->nverts + 2)
         ns *= 2;
@@ -105,19 +133,10 @@ static int64_t *input_ids(const mesh_flat *f, const pslg *in) {
             h = (h + 1) & (ns - 1);
         if (slot[h] < 0) slot[h] = i; /* a repeated input point keeps its first number */
     }
-    int64_t *id = mesh_xmalloc((size_t)f->nverts + 1, sizeof(int64_t));
-    for (int32_t v = 0; v < f->nverts; v++) {
-        double x = f->xy[2 * (size_t)v], y = f->xy[2 * (size_t)v + 1];
-        size_t h = pt_hash(x, y) & (ns - 1);
-        id[v] = -1;
-        for (; slot[h] >= 0; h = (h + 1) & (ns - 1))
-            if (in->xy[2 * (size_t)slot[h]] == x && in->xy[2 * (size_t)slot[h] + 1] == y) {
-                id[v] = slot[h];
-                break;
-            }
-    }
+    in_table t = {in, f, slot, ns - 1, mesh_xmalloc((size_t)f->nverts + 1, sizeof(int64_t))};
+    mesh_pfor_ranges(f->nverts, threads, 1 << 14, input_ids_range, &t);
     free(slot);
-    return id;
+    return t.id;
 }
 
 /* ---- vertices ------------------------------------------------------------------------------ */
@@ -343,17 +362,18 @@ static void number_segments(const mesh_flat *f, const uint8_t *artificial, const
 
 int par_number(const mesh_flat *local, const pslg *in, const uint8_t *artificial,
                par_numbering *num, char *err, size_t errlen) {
-    return par_number_open(local, in, artificial, NULL, num, err, errlen);
+    return par_number_open(local, in, artificial, NULL, 1, num, err, errlen);
 }
 
 int par_number_open(const mesh_flat *local, const pslg *in, const uint8_t *artificial,
-                    const uint8_t *topen, par_numbering *num, char *err, size_t errlen) {
+                    const uint8_t *topen, int threads, par_numbering *num, char *err,
+                    size_t errlen) {
     MPI_Comm c = rt_app_comm();
     int rank = rt_rank();
     memset(num, 0, sizeof *num);
     if (errlen) err[0] = '\0';
     num->nin = in->nverts;
-    num->gid = input_ids(local, in);
+    num->gid = input_ids(local, in, threads);
     par_vtris x;
     par_vtris_open(local, topen, &x);
     num->topen = topen;
