@@ -153,16 +153,64 @@ static void mark_open(void *ctx, int32_t a, int32_t b, int32_t apex) {
     if (m->gid[b] < 0) m->st[b] |= 2;
 }
 
-/* Steps (2)-(4) of the header: fills num->gid, owned, nowned, vfirst, nverts, nshared. */
-static void number_vertices(const mesh_flat *f, const par_vtris *x, par_numbering *num) {
+/* The used vertices: st[v] = 1 for every triangle corner v.  On several threads each marks a
+ * range of corners in its own bitmap, then each sets st over a range of 64-vertex words from
+ * all bitmaps (disjoint bytes). */
+typedef struct used_job {
+    const mesh_flat *f;
+    uint8_t *st;
+    uint64_t *bits[MESH_PFOR_MAXTHR];
+    int n;     /* bitmaps */
+    size_t nw; /* words per bitmap */
+} used_job;
+
+static void used_mark(void *arg, int k, int64_t a, int64_t b) {
+    used_job *j = arg;
+    uint64_t *w = mesh_xcalloc(j->nw, sizeof(uint64_t));
+    for (int64_t i = a; i < b; i++) {
+        uint32_t v = (uint32_t)j->f->tri[i];
+        w[v >> 6] |= 1ULL << (v & 63);
+    }
+    j->bits[k] = w;
+}
+
+static void used_merge(void *arg, int k, int64_t a, int64_t b) {
+    (void)k;
+    used_job *j = arg;
+    for (int64_t q = a; q < b; q++) {
+        uint64_t x = 0;
+        for (int t = 0; t < j->n; t++)
+            x |= j->bits[t][q];
+        for (; x; x &= x - 1)
+            j->st[64 * (size_t)q + (size_t)__builtin_ctzll(x)] = 1;
+    }
+}
+
+static void mark_used(const mesh_flat *f, uint8_t *st, int threads) {
+    int64_t ncorner = 3 * (int64_t)f->ntris;
+    if (threads <= 1 || ncorner < (1 << 16)) {
+        for (int64_t i = 0; i < ncorner; i++)
+            st[f->tri[i]] = 1;
+        return;
+    }
+    used_job j = {.f = f, .st = st, .nw = (size_t)f->nverts / 64 + 1};
+    j.n = mesh_pfor_ranges(ncorner, threads, 1 << 16, used_mark, &j);
+    mesh_pfor_ranges((int64_t)j.nw, threads, 1 << 10, used_merge, &j);
+    for (int t = 0; t < j.n; t++)
+        free(j.bits[t]);
+}
+
+/* Steps (2)-(4) of the header: fills num->gid, owned, nowned, vfirst, nverts, nshared; the
+ * used vertices found on up to threads threads. */
+static void number_vertices(const mesh_flat *f, const par_vtris *x, int threads,
+                            par_numbering *num) {
     int rank = rt_rank(), P = rt_size();
     MPI_Comm c = rt_app_comm();
     int32_t nv = f->nverts;
     int64_t *gid = num->gid;
     /* used vertices and candidates (non-input vertices of open edges) */
     uint8_t *st = mesh_xcalloc((size_t)nv + 1, 1); /* 1 used, 2 candidate, 4 owned elsewhere */
-    for (size_t i = 0; i < 3 * (size_t)f->ntris; i++)
-        st[f->tri[i]] |= 1;
+    mark_used(f, st, threads);
     mark_ctx mc = {st, gid};
     par_open_edges(f, x, mark_open, &mc);
     int64_t nq = 0;
@@ -377,7 +425,7 @@ int par_number_open(const mesh_flat *local, const pslg *in, const uint8_t *artif
     par_vtris x;
     par_vtris_open(local, topen, &x);
     num->topen = topen;
-    number_vertices(local, &x, num);
+    number_vertices(local, &x, threads, num);
     number_segments(local, artificial, &x, num);
     par_vtris_free(&x);
     /* a holder that did not see a shared vertex on its part's boundary owns it too, and the
