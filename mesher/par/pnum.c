@@ -153,51 +153,25 @@ static void mark_open(void *ctx, int32_t a, int32_t b, int32_t apex) {
     if (m->gid[b] < 0) m->st[b] |= 2;
 }
 
-/* The used vertices: st[v] = 1 for every triangle corner v.  On several threads each marks a
- * range of corners in its own bitmap, then each sets st over a range of 64-vertex words from
- * all bitmaps (disjoint bytes). */
+/* The used vertices: st[v] = 1 for every triangle corner v, on several threads each over a
+ * range of corners.  Two threads may mark one vertex: the marks are relaxed atomic stores of the
+ * same value (plain stores on common hardware; no read-modify-write), and the join orders them
+ * before every later read. */
 typedef struct used_job {
     const mesh_flat *f;
     uint8_t *st;
-    uint64_t *bits[MESH_PFOR_MAXTHR];
-    int n;     /* bitmaps */
-    size_t nw; /* words per bitmap */
 } used_job;
 
 static void used_mark(void *arg, int k, int64_t a, int64_t b) {
-    used_job *j = arg;
-    uint64_t *w = mesh_xcalloc(j->nw, sizeof(uint64_t));
-    for (int64_t i = a; i < b; i++) {
-        uint32_t v = (uint32_t)j->f->tri[i];
-        w[v >> 6] |= 1ULL << (v & 63);
-    }
-    j->bits[k] = w;
-}
-
-static void used_merge(void *arg, int k, int64_t a, int64_t b) {
     (void)k;
-    used_job *j = arg;
-    for (int64_t q = a; q < b; q++) {
-        uint64_t x = 0;
-        for (int t = 0; t < j->n; t++)
-            x |= j->bits[t][q];
-        for (; x; x &= x - 1)
-            j->st[64 * (size_t)q + (size_t)__builtin_ctzll(x)] = 1;
-    }
+    const used_job *j = arg;
+    for (int64_t i = a; i < b; i++)
+        __atomic_store_n(&j->st[j->f->tri[i]], (uint8_t)1, __ATOMIC_RELAXED);
 }
 
 static void mark_used(const mesh_flat *f, uint8_t *st, int threads) {
-    int64_t ncorner = 3 * (int64_t)f->ntris;
-    if (threads <= 1 || ncorner < (1 << 16)) {
-        for (int64_t i = 0; i < ncorner; i++)
-            st[f->tri[i]] = 1;
-        return;
-    }
-    used_job j = {.f = f, .st = st, .nw = (size_t)f->nverts / 64 + 1};
-    j.n = mesh_pfor_ranges(ncorner, threads, 1 << 16, used_mark, &j);
-    mesh_pfor_ranges((int64_t)j.nw, threads, 1 << 10, used_merge, &j);
-    for (int t = 0; t < j.n; t++)
-        free(j.bits[t]);
+    used_job j = {f, st};
+    mesh_pfor_ranges(3 * (int64_t)f->ntris, threads, 1 << 16, used_mark, &j);
 }
 
 /* Steps (2)-(4) of the header: fills num->gid, owned, nowned, vfirst, nverts, nshared; the
