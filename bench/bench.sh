@@ -751,7 +751,9 @@ fi
 # default subdomains), also with -o: wall time (goal: within 10%) and peak memory summed over the ranks
 # (goal: less with threads); beside them the CPU seconds of ./pcdm --threads 2 over ./mesh's
 # (the work the threads add; on a loaded machine wall times say more about the scheduler than
-# about the programs).  THR_REPS rounds of the four runs (default 2), in alternation;
+# about the programs) and both programs' seconds outside meshing (launch to exit minus wall_s:
+# start-up, merging the subdomain meshes, numbering, writing, exit; steadier under load than the
+# ratio, which the meshing's wall time dominates).  THR_REPS rounds of the four runs (default 2), in alternation;
 # rows: $R/threads.tsv (as output.tsv), and a summary line "bench: threads: ...".  Quick runs and
 # NO_THREADS=1 skip it.
 THR_TSV=$R/threads.tsv
@@ -777,10 +779,11 @@ if [ -z "$QUICK" ] && [ -z "${NO_THREADS:-}" ]; then
             cpu[k, $5] = $2 == "mesh" ? st($8, "cpu_s") : st($8, "cpu_sum_s") }
         END { for (r in reps) {
                 if (wall["thr:mesh", r] > 0 && wall["thr:pcdm", r] != "") { m[++nm] = wall["thr:pcdm", r] / wall["thr:mesh", r]; e[++ne] = ext["thr:pcdm", r] / ext["thr:mesh", r]
+                    op[++nop] = ext["thr:pcdm", r] - wall["thr:pcdm", r]; om[++nom] = ext["thr:mesh", r] - wall["thr:mesh", r]
                     if (cpu["thr:mesh", r] > 0) c[++nc] = cpu["thr:pcdm", r] / cpu["thr:mesh", r] }
                 if (ext["mpi_np2:pcdm", r] > 0 && ext["mpi_t2:pcdm", r] != "") { w[++nw] = ext["mpi_t2:pcdm", r] / ext["mpi_np2:pcdm", r]
                     mw[++nmw] = wall["mpi_t2:pcdm", r] / wall["mpi_np2:pcdm", r]; t2[++nt] = mb["mpi_t2:pcdm", r]; n2[++nn] = mb["mpi_np2:pcdm", r] } }
-            printf "bench: threads: ./pcdm --threads 2 / ./mesh at -q 30 -a %s: meshing %s (goal <= 0.6), end to end %s (goal <= 0.65), CPU seconds %s; mpirun -np 1 --threads 2 / -np 2: end to end %s, meshing %s (goal <= 1.1), peak MB summed over ranks %s vs %s (%d rounds, medians)\n", area, med(m, nm), med(e, ne), med(c, nc), med(w, nw), med(mw, nmw), med(t2, nt), med(n2, nn), nm }' area="$OUT_AREA" "$THR_TSV" | tee "$R/threads.txt"
+            printf "bench: threads: ./pcdm --threads 2 / ./mesh at -q 30 -a %s: meshing %s (goal <= 0.6), end to end %s (goal <= 0.65), CPU seconds %s, seconds outside meshing (launch to exit minus wall_s: start, merge, numbering, output, exit) %s vs %s; mpirun -np 1 --threads 2 / -np 2: end to end %s, meshing %s (goal <= 1.1), peak MB summed over ranks %s vs %s (%d rounds, medians)\n", area, med(m, nm), med(e, ne), med(c, nc), med(op, nop), med(om, nom), med(w, nw), med(mw, nmw), med(t2, nt), med(n2, nn), nm }' area="$OUT_AREA" "$THR_TSV" | tee "$R/threads.txt"
     section_end
 fi
 if [ -n "${BENCH_100M:-}" ]; then

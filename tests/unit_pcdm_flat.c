@@ -5,7 +5,7 @@
  * counter-clockwise), and the mesh split into parts whose hashes are summed (as ./pcdm sums the
  * ranks' parts) all give one value; -0.0 counts as +0.0.  It must see the geometry: one
  * coordinate moved by one ulp, one triangle reversed (clockwise), or a triangle missing changes
- * it.
+ * it.  Hashed on several threads it is the same value.
  */
 #include "check_run.h"
 #include "pcdm/pcdm.h"
@@ -92,12 +92,12 @@ static void scramble(const mesh_flat *f, mesh_flat *g) {
 START_TEST(test_numbering) {
     mesh_flat f, g;
     grid(&f);
-    uint64_t h = pcdm_flat_hash(&f);
+    uint64_t h = pcdm_flat_hash(&f, 1);
     ck_assert_uint_ne(h, 0);
     for (int rep = 0; rep < 20; rep++) {
         scramble(&f, &g);
-        ck_assert_msg(pcdm_flat_hash(&g) == h, "scrambled copy %d: %016llx != %016llx", rep,
-                      (unsigned long long)pcdm_flat_hash(&g), (unsigned long long)h);
+        ck_assert_msg(pcdm_flat_hash(&g, 1) == h, "scrambled copy %d: %016llx != %016llx", rep,
+                      (unsigned long long)pcdm_flat_hash(&g, 1), (unsigned long long)h);
         flat_clear(&g);
     }
     flat_clear(&f);
@@ -108,14 +108,14 @@ END_TEST
 START_TEST(test_parts) {
     mesh_flat f;
     grid(&f);
-    uint64_t h = pcdm_flat_hash(&f);
+    uint64_t h = pcdm_flat_hash(&f, 1);
     int32_t n = f.ntris;
     for (int32_t cut = 0; cut <= n; cut += 7) {
         mesh_flat a = f, b = f;
         a.ntris = cut;
         b.ntris = n - cut;
         b.tri = f.tri + 3 * (size_t)cut;
-        uint64_t s = pcdm_flat_hash(&a) + pcdm_flat_hash(&b);
+        uint64_t s = pcdm_flat_hash(&a, 1) + pcdm_flat_hash(&b, 1);
         ck_assert_msg(s == h, "cut %d: %016llx != %016llx", cut, (unsigned long long)s,
                       (unsigned long long)h);
     }
@@ -126,35 +126,57 @@ END_TEST
 START_TEST(test_geometry) {
     mesh_flat f;
     grid(&f);
-    uint64_t h = pcdm_flat_hash(&f);
+    uint64_t h = pcdm_flat_hash(&f, 1);
     /* -0.0 is +0.0: vertex (0, 0) exists at j = 3, i = 0 */
     double x = f.xy[2 * 3];
     ck_assert(x == 0);
     f.xy[2 * 3] = -0.0;
-    ck_assert_uint_eq(pcdm_flat_hash(&f), h);
+    ck_assert_uint_eq(pcdm_flat_hash(&f, 1), h);
     f.xy[2 * 3] = x;
     /* one ulp */
     f.xy[2 * 40 + 1] = nextafter(f.xy[2 * 40 + 1], 1e9);
-    ck_assert_uint_ne(pcdm_flat_hash(&f), h);
+    ck_assert_uint_ne(pcdm_flat_hash(&f, 1), h);
     f.xy[2 * 40 + 1] = nextafter(f.xy[2 * 40 + 1], -1e9);
-    ck_assert_uint_eq(pcdm_flat_hash(&f), h);
+    ck_assert_uint_eq(pcdm_flat_hash(&f, 1), h);
     /* a reversed triangle */
     int32_t t = f.tri[1];
     f.tri[1] = f.tri[2];
     f.tri[2] = t;
-    ck_assert_uint_ne(pcdm_flat_hash(&f), h);
+    ck_assert_uint_ne(pcdm_flat_hash(&f, 1), h);
     f.tri[2] = f.tri[1];
     f.tri[1] = t;
     /* a triangle missing */
     f.ntris--;
-    ck_assert_uint_ne(pcdm_flat_hash(&f), h);
+    ck_assert_uint_ne(pcdm_flat_hash(&f, 1), h);
     f.ntris++;
-    ck_assert_uint_eq(pcdm_flat_hash(&f), h);
+    ck_assert_uint_eq(pcdm_flat_hash(&f, 1), h);
+    flat_clear(&f);
+}
+END_TEST
+
+/* The grid's triangles repeated R times, rotated: R times the hash, on any number of threads. */
+START_TEST(test_threads) {
+    enum { R = 300 };
+    mesh_flat f, g;
+    grid(&f);
+    uint64_t h = pcdm_flat_hash(&f, 1);
+    g = f;
+    g.ntris = R * f.ntris;
+    g.tri = malloc(3 * (size_t)g.ntris * sizeof(int32_t));
+    for (int32_t t = 0; t < g.ntris; t++)
+        for (int j = 0; j < 3; j++)
+            g.tri[3 * (size_t)t + j] = f.tri[3 * (size_t)(t % f.ntris) + (j + t / f.ntris) % 3];
+    for (int T = 1; T <= 65; T += T < 4 ? 1 : 61) {
+        uint64_t s = pcdm_flat_hash(&g, T);
+        ck_assert_msg(s == (uint64_t)R * h, "%d threads: %016llx != %d x %016llx", T,
+                      (unsigned long long)s, R, (unsigned long long)h);
+    }
+    free(g.tri);
     flat_clear(&f);
 }
 END_TEST
 
 int main(void) {
-    return ck_run_nofork(
-        ck_suite("pcdm_flat", 0, CK_TESTS(test_numbering, test_parts, test_geometry)));
+    return ck_run_nofork(ck_suite(
+        "pcdm_flat", 0, CK_TESTS(test_numbering, test_parts, test_geometry, test_threads)));
 }

@@ -191,10 +191,34 @@ START_TEST(test_prefer_local_pml) {
 }
 END_TEST
 
+/* A singleton runs without Open MPI's daemon; under a launcher, or by the user's choice, the
+ * setting is left alone. */
+START_TEST(test_prefer_isolated_singleton) {
+    unsetenv("OMPI_MCA_ess_singleton_isolated");
+    unsetenv("PMIX_RANK");
+    unsetenv("PMI_RANK");
+    setenv("OMPI_COMM_WORLD_SIZE", "2", 1); /* mpirun */
+    ck_assert_int_eq(rt_prefer_isolated_singleton(), 0);
+    ck_assert_ptr_null(getenv("OMPI_MCA_ess_singleton_isolated"));
+    unsetenv("OMPI_COMM_WORLD_SIZE");
+    setenv("PMIX_RANK", "0", 1); /* another launcher */
+    ck_assert_int_eq(rt_prefer_isolated_singleton(), 0);
+    ck_assert_ptr_null(getenv("OMPI_MCA_ess_singleton_isolated"));
+    unsetenv("PMIX_RANK");
+    setenv("OMPI_MCA_ess_singleton_isolated", "0", 1); /* the user's choice stands */
+    ck_assert_int_eq(rt_prefer_isolated_singleton(), 0);
+    ck_assert_str_eq(getenv("OMPI_MCA_ess_singleton_isolated"), "0");
+    unsetenv("OMPI_MCA_ess_singleton_isolated"); /* a singleton */
+    ck_assert_int_eq(rt_prefer_isolated_singleton(), 1);
+    ck_assert_str_eq(getenv("OMPI_MCA_ess_singleton_isolated"), "1");
+    unsetenv("OMPI_MCA_ess_singleton_isolated");
+}
+END_TEST
+
 int main(void) {
-    return ck_run(
-        ck_suite("rt_msg", 0,
-                 CK_TESTS(test_pack_unpack_many, test_prefer_local_pml, test_wire_size_and_full,
-                          test_malformed, test_item_copy, test_term_decide, test_term_ring_one_rank,
-                          test_perturb_keeps_source_order)));
+    return ck_run(ck_suite("rt_msg", 0,
+                           CK_TESTS(test_pack_unpack_many, test_prefer_local_pml,
+                                    test_prefer_isolated_singleton, test_wire_size_and_full,
+                                    test_malformed, test_item_copy, test_term_decide,
+                                    test_term_ring_one_rank, test_perturb_keeps_source_order)));
 }

@@ -274,7 +274,7 @@ static int finish_part(mesh_flat *local, const pslg *in, uint8_t *artificial, ui
     par_numbering num;
     memset(&num, 0, sizeof num);
     if (!agree(rc, st)) {
-        if (par_number_open(local, in, artificial, topen, &num, err, sizeof err) != 0)
+        if (par_number_open(local, in, artificial, topen, j->o.threads, &num, err, sizeof err) != 0)
             api_fail(st, PCDM_EMESH, "%s", err); /* the same on every rank */
     }
     if (st->code == PCDM_OK) {

@@ -22,6 +22,7 @@
 #include "par/pout.h"
 
 #include "base/base.h"
+#include "base/pfor.h"
 #include "rt.h"
 
 #include <limits.h>
@@ -90,8 +91,35 @@ static int cmp_pair_id(const void *pa, const void *pb) { /* int64 pairs (key, id
 
 /* ---- input vertices ------------------------------------------------------------------------ */
 
-/* in_id[v] = input number of local vertex v (exact coordinates), or -1. */
-static int64_t *input_ids(const mesh_flat *f, const pslg *in) {
+/* The input's points in an open-addressing table keyed by their coordinates. */
+typedef struct in_table {
+    const pslg *in;
+    const mesh_flat *f;
+    int32_t *slot; /* input point numbers, -1: empty */
+    size_t mask;
+    int64_t *id;
+} in_table;
+
+/* Local vertices [a, b) looked up in the table (read only: any number of threads at once). */
+static void input_ids_range(void *arg, int part, int64_t a, int64_t b) {
+    (void)part;
+    const in_table *t = arg;
+    const double *ixy = t->in->xy;
+    for (int64_t v = a; v < b; v++) {
+        double x = t->f->xy[2 * (size_t)v], y = t->f->xy[2 * (size_t)v + 1];
+        size_t h = pt_hash(x, y) & t->mask;
+        t->id[v] = -1;
+        for (; t->slot[h] >= 0; h = (h + 1) & t->mask)
+            if (ixy[2 * (size_t)t->slot[h]] == x && ixy[2 * (size_t)t->slot[h] + 1] == y) {
+                t->id[v] = t->slot[h];
+                break;
+            }
+    }
+}
+
+/* in_id[v] = input number of local vertex v (exact coordinates), or -1; the lookups on up to
+ * threads threads. */
+static int64_t *input_ids(const mesh_flat *f, const pslg *in, int threads) {
     size_t ns = 16;
     while (ns < 2 * (size_t)in->nverts + 2)
         ns *= 2;
@@ -105,19 +133,10 @@ static int64_t *input_ids(const mesh_flat *f, const pslg *in) {
             h = (h + 1) & (ns - 1);
         if (slot[h] < 0) slot[h] = i; /* a repeated input point keeps its first number */
     }
-    int64_t *id = mesh_xmalloc((size_t)f->nverts + 1, sizeof(int64_t));
-    for (int32_t v = 0; v < f->nverts; v++) {
-        double x = f->xy[2 * (size_t)v], y = f->xy[2 * (size_t)v + 1];
-        size_t h = pt_hash(x, y) & (ns - 1);
-        id[v] = -1;
-        for (; slot[h] >= 0; h = (h + 1) & (ns - 1))
-            if (in->xy[2 * (size_t)slot[h]] == x && in->xy[2 * (size_t)slot[h] + 1] == y) {
-                id[v] = slot[h];
-                break;
-            }
-    }
+    in_table t = {in, f, slot, ns - 1, mesh_xmalloc((size_t)f->nverts + 1, sizeof(int64_t))};
+    mesh_pfor_ranges(f->nverts, threads, 1 << 14, input_ids_range, &t);
     free(slot);
-    return id;
+    return t.id;
 }
 
 /* ---- vertices ------------------------------------------------------------------------------ */
@@ -134,16 +153,38 @@ static void mark_open(void *ctx, int32_t a, int32_t b, int32_t apex) {
     if (m->gid[b] < 0) m->st[b] |= 2;
 }
 
-/* Steps (2)-(4) of the header: fills num->gid, owned, nowned, vfirst, nverts, nshared. */
-static void number_vertices(const mesh_flat *f, const par_vtris *x, par_numbering *num) {
+/* The used vertices: st[v] = 1 for every triangle corner v, on several threads each over a
+ * range of corners.  Two threads may mark one vertex: the marks are relaxed atomic stores of the
+ * same value (plain stores on common hardware; no read-modify-write), and the join orders them
+ * before every later read. */
+typedef struct used_job {
+    const mesh_flat *f;
+    uint8_t *st;
+} used_job;
+
+static void used_mark(void *arg, int k, int64_t a, int64_t b) {
+    (void)k;
+    const used_job *j = arg;
+    for (int64_t i = a; i < b; i++)
+        __atomic_store_n(&j->st[j->f->tri[i]], (uint8_t)1, __ATOMIC_RELAXED);
+}
+
+static void mark_used(const mesh_flat *f, uint8_t *st, int threads) {
+    used_job j = {f, st};
+    mesh_pfor_ranges(3 * (int64_t)f->ntris, threads, 1 << 16, used_mark, &j);
+}
+
+/* Steps (2)-(4) of the header: fills num->gid, owned, nowned, vfirst, nverts, nshared; the
+ * used vertices found on up to threads threads. */
+static void number_vertices(const mesh_flat *f, const par_vtris *x, int threads,
+                            par_numbering *num) {
     int rank = rt_rank(), P = rt_size();
     MPI_Comm c = rt_app_comm();
     int32_t nv = f->nverts;
     int64_t *gid = num->gid;
     /* used vertices and candidates (non-input vertices of open edges) */
     uint8_t *st = mesh_xcalloc((size_t)nv + 1, 1); /* 1 used, 2 candidate, 4 owned elsewhere */
-    for (size_t i = 0; i < 3 * (size_t)f->ntris; i++)
-        st[f->tri[i]] |= 1;
+    mark_used(f, st, threads);
     mark_ctx mc = {st, gid};
     par_open_edges(f, x, mark_open, &mc);
     int64_t nq = 0;
@@ -343,21 +384,22 @@ static void number_segments(const mesh_flat *f, const uint8_t *artificial, const
 
 int par_number(const mesh_flat *local, const pslg *in, const uint8_t *artificial,
                par_numbering *num, char *err, size_t errlen) {
-    return par_number_open(local, in, artificial, NULL, num, err, errlen);
+    return par_number_open(local, in, artificial, NULL, 1, num, err, errlen);
 }
 
 int par_number_open(const mesh_flat *local, const pslg *in, const uint8_t *artificial,
-                    const uint8_t *topen, par_numbering *num, char *err, size_t errlen) {
+                    const uint8_t *topen, int threads, par_numbering *num, char *err,
+                    size_t errlen) {
     MPI_Comm c = rt_app_comm();
     int rank = rt_rank();
     memset(num, 0, sizeof *num);
     if (errlen) err[0] = '\0';
     num->nin = in->nverts;
-    num->gid = input_ids(local, in);
+    num->gid = input_ids(local, in, threads);
     par_vtris x;
     par_vtris_open(local, topen, &x);
     num->topen = topen;
-    number_vertices(local, &x, num);
+    number_vertices(local, &x, threads, num);
     number_segments(local, artificial, &x, num);
     par_vtris_free(&x);
     /* a holder that did not see a shared vertex on its part's boundary owns it too, and the

@@ -24,6 +24,7 @@
 #include "par/pout.h"
 
 #include "base/base.h"
+#include "base/pfor.h"
 #include "geom/geom.h"
 #include "io/pwrite.h"
 #include "par/pextra.h"
@@ -352,11 +353,21 @@ int par_write_parts(const par_opts *o, const pslg *in, const mesh_flat *local, c
 
 /* The smallest angle and largest area without three atan2 per triangle: the smallest angle (at most
  * 60 degrees, opposite the shortest edge a) has sin^2 = (2 area)^2 / (b^2 c^2), monotone in the
- * angle there, so only the triangle minimising it gets geom_min_angle_deg. */
-static double part_quality(const mesh_flat *g, double *max_area) {
+ * angle there, so only the triangle minimising it gets geom_min_angle_deg.  On the rank's threads:
+ * each takes a range of triangles; the lowest k wins, the first triangle on ties, as in one
+ * pass. */
+typedef struct quality_job {
+    const mesh_flat *g;
+    double kmin[MESH_PFOR_MAXTHR], amax[MESH_PFOR_MAXTHR];
+    int32_t tmin[MESH_PFOR_MAXTHR];
+} quality_job;
+
+static void quality_range(void *arg, int part, int64_t t0, int64_t t1) {
+    quality_job *j = arg;
+    const mesh_flat *g = j->g;
     double kmin = 2, amax = 0;
     int32_t tmin = -1;
-    for (int32_t t = 0; t < g->ntris; t++) {
+    for (int64_t t = t0; t < t1; t++) {
         const double *a = g->xy + 2 * (size_t)g->tri[3 * (size_t)t],
                      *b = g->xy + 2 * (size_t)g->tri[3 * (size_t)t + 1],
                      *c = g->xy + 2 * (size_t)g->tri[3 * (size_t)t + 2];
@@ -368,9 +379,26 @@ static double part_quality(const mesh_flat *g, double *max_area) {
         double k = prod > 0 ? 4 * ar * ar / prod : 0;
         if (k < kmin) {
             kmin = k;
-            tmin = t;
+            tmin = (int32_t)t;
         }
         if (ar > amax) amax = ar;
+    }
+    j->kmin[part] = kmin;
+    j->tmin[part] = tmin;
+    j->amax[part] = amax;
+}
+
+static double part_quality(const mesh_flat *g, int threads, double *max_area) {
+    quality_job j = {.g = g};
+    int n = mesh_pfor_ranges(g->ntris, threads, 1 << 14, quality_range, &j);
+    double kmin = 2, amax = 0;
+    int32_t tmin = -1;
+    for (int k = 0; k < n; k++) {
+        if (j.kmin[k] < kmin) {
+            kmin = j.kmin[k];
+            tmin = j.tmin[k];
+        }
+        if (j.amax[k] > amax) amax = j.amax[k];
     }
     if (max_area) *max_area = amax;
     if (tmin < 0) return 180;
@@ -379,8 +407,8 @@ static double part_quality(const mesh_flat *g, double *max_area) {
                               g->xy + 2 * (size_t)g->tri[3 * (size_t)tmin + 2]);
 }
 
-void par_quality_all(const mesh_flat *local, double *min_angle, double *max_area) {
-    double mx = 0, mn = part_quality(local, &mx);
+void par_quality_all(const mesh_flat *local, int threads, double *min_angle, double *max_area) {
+    double mx = 0, mn = part_quality(local, threads, &mx);
     MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, &mn, 1, MPI_DOUBLE, MPI_MIN, rt_app_comm()));
     MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, &mx, 1, MPI_DOUBLE, MPI_MAX, rt_app_comm()));
     *min_angle = mn;
@@ -388,11 +416,19 @@ void par_quality_all(const mesh_flat *local, double *min_angle, double *max_area
 }
 
 /* The sum of a part's triangle areas (working scale): doubled areas summed plainly in blocks
- * of 256, the blocks with Neumaier's compensation (as mesh_area). */
-static double flat_area(const mesh_flat *f) {
-    double a = 0, c = 0;
-    for (int64_t t0 = 0; t0 < f->ntris; t0 += 256) {
-        int64_t t1 = f->ntris - t0 < 256 ? f->ntris : t0 + 256;
+ * of 256 (on the rank's threads, each a range of blocks), the blocks' sums then with Neumaier's
+ * compensation in block order (as mesh_area): the same value for any thread count. */
+typedef struct area_job {
+    const mesh_flat *f;
+    double *blk;
+} area_job;
+
+static void area_range(void *arg, int part, int64_t b0, int64_t b1) {
+    (void)part;
+    const area_job *j = arg;
+    const mesh_flat *f = j->f;
+    for (int64_t k = b0; k < b1; k++) {
+        int64_t t0 = 256 * k, t1 = f->ntris - t0 < 256 ? f->ntris : t0 + 256;
         double x = 0;
         for (int64_t t = t0; t < t1; t++) {
             const int32_t *v = f->tri + 3 * (size_t)t;
@@ -400,10 +436,21 @@ static double flat_area(const mesh_flat *f) {
                          *r = f->xy + 2 * (size_t)v[2];
             x += (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
         }
-        double s = a + x;
+        j->blk[k] = x;
+    }
+}
+
+static double flat_area(const mesh_flat *f, int threads) {
+    int64_t nb = ((int64_t)f->ntris + 255) / 256;
+    area_job j = {f, mesh_xmalloc((size_t)nb + 1, sizeof(double))};
+    mesh_pfor_ranges(nb, threads, 64, area_range, &j);
+    double a = 0, c = 0;
+    for (int64_t k = 0; k < nb; k++) {
+        double x = j.blk[k], s = a + x;
         c += fabs(a) >= fabs(x) ? (a - s) + x : (x - s) + a;
         a = s;
     }
+    free(j.blk);
     return 0.5 * (a + c);
 }
 
@@ -423,7 +470,7 @@ int par_output_sub(const par_opts *o, const pslg *in, mesh_flat *local, const ui
              rt_rank(), imsg);
     if (par_fail_any(ibad, msg)) return 1;
     /* ... and the parts' areas sum to the domain's (the cheap net ./mesh runs too) */
-    double area = flat_area(local), dom = 0;
+    double area = flat_area(local, o->threads), dom = 0;
     MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, &area, 1, MPI_DOUBLE, MPI_SUM, rt_app_comm()));
     int abad = !validate_area_net(in, area, &dom);
     snprintf(msg, sizeof msg,
@@ -435,7 +482,7 @@ int par_output_sub(const par_opts *o, const pslg *in, mesh_flat *local, const ui
     double t0 = rt_wtime();
     par_numbering num;
     char err[512];
-    if (par_number_open(local, in, artificial, topen, &num, err, sizeof err) != 0) {
+    if (par_number_open(local, in, artificial, topen, o->threads, &num, err, sizeof err) != 0) {
         if (rt_rank() == 0) fprintf(stderr, "%s: %s\n", o->prog, err);
         return 1;
     }
@@ -460,7 +507,7 @@ int par_output_sub(const par_opts *o, const pslg *in, mesh_flat *local, const ui
     sum->nshared = num.nshared;
     par_numbering_free(&num);
     if (o->stats || o->verbose) /* only printed there */
-        par_quality_all(local, &sum->min_angle, &sum->max_area);
+        par_quality_all(local, o->threads, &sum->min_angle, &sum->max_area);
     sum->number_s = t1 - t0;
     sum->check_s = t2 - t1;
     sum->write_s = t3 - t2;

@@ -64,9 +64,12 @@ int par_number(const mesh_flat *local, const pslg *in, const uint8_t *artificial
                par_numbering *num, char *err, size_t errlen);
 
 /* Collective.  par_number with the part's open edges from the mesher's mask (topen,
- * mesh_take_flat's; NULL: found through vertex rows), kept in num->topen for the check. */
+ * mesh_take_flat's; NULL: found through vertex rows), kept in num->topen for the check; the
+ * part's vertices are matched with the input's on up to threads threads (the same numbers for
+ * any count). */
 int par_number_open(const mesh_flat *local, const pslg *in, const uint8_t *artificial,
-                    const uint8_t *topen, par_numbering *num, char *err, size_t errlen);
+                    const uint8_t *topen, int threads, par_numbering *num, char *err,
+                    size_t errlen);
 
 /* Local.  Frees what num owns and zeroes it. */
 void par_numbering_free(par_numbering *num);
@@ -97,8 +100,8 @@ int par_write_parts(const par_opts *o, const pslg *in, const mesh_flat *local, c
                     const par_numbering *num);
 
 /* Collective.  Smallest angle and largest area over every rank's triangles (the same on every
- * rank). */
-void par_quality_all(const mesh_flat *local, double *min_angle, double *max_area);
+ * rank), each rank's part scanned on up to threads threads (the same result for any count). */
+void par_quality_all(const mesh_flat *local, int threads, double *min_angle, double *max_area);
 
 /* Collective.  The --stats figures: when on, rank 0 receives every rank's n figures (returned,
  * rank-major, free with free()) and tot/mx (n entries each) get their sums and maxima over the

@@ -357,9 +357,6 @@ void pcdm_part_take_flat(pcdm_part *p, mesh_flat *f, int32_t **tsub, uint8_t **t
         *tsub = sub;
     }
     mesh_take_flat(&p->m, f, topen);
-    f->trank = mesh_xmalloc((size_t)f->ntris + 1, sizeof(int32_t));
-    for (int32_t t = 0; t < f->ntris; t++)
-        f->trank[t] = p->rank;
 }
 
 uint8_t *pcdm_part_artificial(const pcdm_part *p) {

@@ -142,29 +142,33 @@ typedef struct pcdm_figures {
  * mesh_iface_defects summed). */
 void pcdm_part_figures(pcdm_part *p, pcdm_figures *f);
 
-/* Local.  Either mode: moves the part into f as pcdm_part_take_flat does; *artificial gets
- * pcdm_part_artificial's flags for f's subsegments (free with free()).  In deterministic mode
- * the subdomains' meshes are merged into one part: the vertices two of them share (on their
- * interface, bit-equal coordinates) and the subsegments of that interface appear once; topen
- * then marks the edges open in the merged part. */
+/* Local.  Either mode: moves the part into f as pcdm_part_take_flat does (trank NULL);
+ * *artificial gets pcdm_part_artificial's flags for f's subsegments (free with free()).  In
+ * deterministic mode the subdomains' meshes are merged into one part: the vertices two of them
+ * share (on their interface, bit-equal coordinates) and the subsegments of that interface appear
+ * once; topen then marks the edges open in the merged part.  The merge runs on p->threads
+ * threads and frees each subdomain's mesh as soon as it is copied, so the rank holds every
+ * triangle about once. */
 void pcdm_part_take(pcdm_part *p, mesh_flat *f, uint8_t **artificial, int32_t **tsub,
                     uint8_t **topen);
 
 /* Local, pure.  The mesh hash: the sum (mod 2^64) over f's triangles of a strong 64-bit mix of
  * the triangle's three vertices' coordinate bits, taken counter-clockwise from the vertex with
  * the smallest (x, y) (-0.0 as +0.0).  It does not depend on vertex or triangle numbering, so
- * the sum over the ranks' parts (MPI_SUM of uint64) hashes the whole mesh for any rank count. */
-uint64_t pcdm_flat_hash(const mesh_flat *f);
+ * the sum over the ranks' parts (MPI_SUM of uint64) hashes the whole mesh for any rank count.
+ * Runs on up to threads threads (the sum is the same for any count). */
+uint64_t pcdm_flat_hash(const mesh_flat *f, int threads);
 
 /* Local, asynchronous parts only.  The part as a mesh_flat (local numbering) with trank set to
  * p->rank.  Returns 0 or -1 (out of memory).  Free with mesh_flat_free. */
 int pcdm_part_flat(const pcdm_part *p, mesh_flat *f);
 
 /* Local, asynchronous parts only.  Moves the part's mesh into f (mesh_take_flat: the mesh is never
- * held twice) with trank set to p->rank; when tsub is not NULL, *tsub gets each triangle's
- * subdomain (f->ntris entries, same order; free with free()); when topen is not NULL, *topen the
- * open-edge mask of mesh_take_flat.  p's mesh is empty afterwards: take every figure from it (and
- * pcdm_part_artificial) first.  Free f with mesh_flat_free. */
+ * held twice) with trank NULL (every triangle is this rank's: the writers take the rank); when tsub
+ * is not NULL, *tsub gets each triangle's subdomain (f->ntris entries, same order; free with
+ * free()); when topen is not NULL, *topen the open-edge mask of mesh_take_flat.  p's mesh is empty
+ * afterwards: take every figure from it (and pcdm_part_artificial) first.  Free f with
+ * mesh_flat_free. */
 void pcdm_part_take_flat(pcdm_part *p, mesh_flat *f, int32_t **tsub, uint8_t **topen);
 
 /* Local, asynchronous parts only.  Per subsegment of pcdm_part_flat's output (same order): 1 if it

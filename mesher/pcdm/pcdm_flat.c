@@ -7,40 +7,66 @@
  * subsegment in both meshes and has bit-equal coordinates there (dyadic splits): such
  * candidates are merged through a hash of their coordinate bits; every other vertex is
  * appended.  An interface subsegment both subdomains list is kept once, and the triangle edges
- * on it are no longer open.  Meshes are moved out one at a time (mesh_take_flat) and appended,
- * so the rank never holds its mesh twice over.
+ * on it are no longer open.  The part is the meshes' vertices and live triangles in mesh order
+ * (each mesh in mesh_take_flat's order), so every place in it is known before anything is
+ * copied: (1) on the rank's threads, each mesh sheds its scratch, counts its triangles and lists
+ * its candidates; (2) one thread numbers the candidates in mesh order (a repeat takes the first
+ * one's number: vertex v of mesh i is numbered vbase_i + v - ninput - (repeats of mesh i below
+ * v)) and merges the subsegments (O(interface)); (3) on the rank's threads, each mesh writes
+ * its triangles, then its vertices, straight into the part and frees each array once read.  The
+ * part is the one the meshes merged one after another would give, for any thread count, and
+ * the rank holds each triangle about once (the part grows as the meshes go).
  *
  * Hash (pcdm_flat_hash).  Each triangle is hashed from its vertices' coordinate bits, rotated to
  * start at the smallest (x, y) while keeping counter-clockwise order; the triangle hashes are
  * summed mod 2^64.  The sum is independent of numbering and of how the triangles are split among
- * ranks, so ranks sum their parts' hashes with one reduction.
+ * ranks (or a rank's threads), so ranks sum their parts' hashes with one reduction.
  */
 #include "pcdm/pcdm_impl.h"
 
 #include "base/base.h"
+#include "base/pfor.h"
+#include "seq/kernel.h"
 
 #include <stdlib.h>
 #include <string.h>
 
 /* ---- the mesh hash ------------------------------------------------------------------------- */
 
-uint64_t pcdm_flat_hash(const mesh_flat *f) {
+typedef struct hash_job {
+    const mesh_flat *f;
+    uint64_t sum[MESH_PFOR_MAXTHR];
+} hash_job;
+
+/* Part k of pcdm_flat_hash: triangles [a, b). */
+static void hash_range(void *arg, int k, int64_t a, int64_t b) {
+    hash_job *j = arg;
+    const mesh_flat *f = j->f;
     uint64_t sum = 0;
-    for (int32_t t = 0; t < f->ntris; t++) {
+    for (int64_t t = a; t < b; t++) {
         const int32_t *v = f->tri + 3 * (size_t)t;
         int first = 0;
-        for (int j = 1; j < 3; j++) {
-            const double *a = f->xy + 2 * (size_t)v[j], *b = f->xy + 2 * (size_t)v[first];
-            if (a[0] < b[0] || (a[0] == b[0] && a[1] < b[1])) first = j;
+        for (int i = 1; i < 3; i++) {
+            const double *p = f->xy + 2 * (size_t)v[i], *q = f->xy + 2 * (size_t)v[first];
+            if (p[0] < q[0] || (p[0] == q[0] && p[1] < q[1])) first = i;
         }
         uint64_t h = 0x243f6a8885a308d3ULL;
-        for (int j = 0; j < 3; j++) {
-            const double *a = f->xy + 2 * (size_t)v[(first + j) % 3];
-            h = mesh_hash64(h ^ mesh_dbits(a[0]));
-            h = mesh_hash64(h ^ (mesh_dbits(a[1]) * 0x9e3779b97f4a7c15ULL));
+        for (int i = 0; i < 3; i++) {
+            const double *p = f->xy + 2 * (size_t)v[(first + i) % 3];
+            h = mesh_hash64(h ^ mesh_dbits(p[0]));
+            h = mesh_hash64(h ^ (mesh_dbits(p[1]) * 0x9e3779b97f4a7c15ULL));
         }
         sum += h;
     }
+    j->sum[k] = sum;
+}
+
+uint64_t pcdm_flat_hash(const mesh_flat *f, int threads) {
+    hash_job j = {.f = f};
+    int n = mesh_pfor_ranges(f->ntris, threads, 1 << 14, hash_range, &j);
+    uint64_t sum = 0; /* mod 2^64: the same for any split */
+    for (int k = 0; k < n; k++)
+        sum += j.sum[k];
     return sum;
 }
 
@@ -75,7 +101,8 @@ static uint64_t pair_key(int32_t a, int32_t b) {
     return mesh_hash64((uint64_t)(uint32_t)a << 32 | (uint32_t)b);
 }
 
-/* The merged vertex with p's coordinate bits, or -1; *at gets the slot to fill. */
+/* The entry whose point (xy[2 id], xy[2 id + 1]) has p's coordinate bits, or -1; *at gets the
+ * slot to fill. */
 static int32_t vfind(const id_table *t, const double *xy, const double *p, uint64_t *at) {
     uint64_t i = pt_key(p) & t->mask;
     for (; t->slot[i] >= 0; i = (i + 1) & t->mask) {
@@ -98,9 +125,150 @@ static int32_t sfind(const id_table *t, const int32_t *seg, int32_t a, int32_t b
     return -1;
 }
 
+/* One subdomain mesh in the merge. */
+typedef struct take_mesh {
+    mesh *m;
+    int32_t sub;
+    int32_t ncand, *cand; /* its non-input interface vertices, ascending */
+    int32_t ndup;         /* of those, the ones an earlier candidate already gave a number */
+    int32_t *dv, *did;    /* ascending: those vertices, and the numbers they take */
+    int64_t vbase;        /* merged number of its first own non-input vertex */
+    int64_t tbase, nt;    /* its first merged triangle, its triangles */
+} take_mesh;
+
+typedef struct take_ctx {
+    take_mesh *tm;
+    int32_t ninput;
+    mesh_flat *f;
+    int32_t *ts;   /* or NULL */
+    uint8_t *open; /* or NULL */
+    id_table st;   /* the merged subsegments */
+    const uint8_t *dup;
+} take_ctx;
+
+/* A triangle slot mesh_take_flat hands out: live, no ghost. */
+static int slot_real(const mesh *m, int32_t t) {
+    const int32_t *v = m->tv + 3 * (size_t)t;
+    return v[0] != MESH_DEAD && v[0] != MESH_GHOST && v[1] != MESH_GHOST && v[2] != MESH_GHOST;
+}
+
+/* Item i of the first parallel pass: mesh i's scratch freed (what the merge does not read:
+ * refinement queues, cavity buffers, vertex-to-triangle links, triangle flags, hash tables),
+ * its triangles counted, its candidates listed. */
+static void take_scan(void *arg, int64_t i) {
+    take_ctx *c = arg;
+    take_mesh *tm = &c->tm[i];
+    mesh *m = tm->m;
+    mesh_refine_free(m);
+    free(m->vtri), free(m->cav), free(m->bnd), free(m->stk), free(m->newt), free(m->tf);
+    free(m->hpair), free(m->hname), free(m->inc_off), free(m->inc_seg), free(m->corner);
+    free(m->seg_nsub);
+    m->vtri = m->cav = m->stk = m->newt = m->hpair = m->hname = NULL;
+    m->inc_off = m->inc_seg = m->seg_nsub = NULL;
+    m->bnd = NULL;
+    m->tf = m->corner = NULL;
+    int64_t nt = 0;
+    for (int32_t t = 0; t < m->nt; t++)
+        nt += slot_real(m, t);
+    tm->nt = nt;
+    int32_t n = 0;
+    int32_t *cv = mesh_xmalloc(2 * (size_t)m->nss + 1, sizeof(int32_t));
+    for (int32_t r = 0; r < m->nss; r++) {
+        const mesh_subseg *s = &m->ss[r];
+        if (s->level == -2 || !m->siface[s->seg]) continue;
+        if (s->u >= c->ninput) cv[n++] = s->u;
+        if (s->v >= c->ninput) cv[n++] = s->v;
+    }
+    qsort(cv, (size_t)n, sizeof *cv, mesh_cmp_i32);
+    int32_t k = 0;
+    for (int32_t j = 0; j < n; j++)
+        if (k == 0 || cv[j] != cv[k - 1]) cv[k++] = cv[j];
+    tm->ncand = k;
+    tm->cand = cv;
+}
+
+/* Entries of the ascending a[0 .. n) below v. */
+static int32_t count_below(const int32_t *a, int32_t n, int32_t v) {
+    int32_t lo = 0, hi = n;
+    while (lo < hi) {
+        int32_t mid = lo + (hi - lo) / 2;
+        if (a[mid] < v)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* The merged number of vertex v of tm (its dups decided up to v). */
+static int32_t merged_id(const take_mesh *tm, int32_t ninput, int32_t v) {
+    if (v < ninput) return v;
+    int32_t k = count_below(tm->dv, tm->ndup, v);
+    if (k < tm->ndup && tm->dv[k] == v) return tm->did[k];
+    return (int32_t)(tm->vbase + (v - ninput) - k);
+}
+
+/* Item i of the second parallel pass: mesh i's triangles (with their open-edge bits), then its
+ * vertices written at its place in the merged part, each array of the mesh freed once read, so
+ * the rank holds each triangle about once while the part grows. */
+static void take_copy(void *arg, int64_t i) {
+    take_ctx *c = arg;
+    take_mesh *tm = &c->tm[i];
+    mesh *m = tm->m;
+    mesh_flat *f = c->f;
+    int32_t ninput = c->ninput;
+    int32_t *map = mesh_xmalloc((size_t)m->nv + 1, sizeof(int32_t));
+    for (int32_t v = 0, k = 0; v < m->nv; v++) {
+        if (v < ninput)
+            map[v] = v;
+        else if (k < tm->ndup && tm->dv[k] == v)
+            map[v] = tm->did[k++];
+        else
+            map[v] = (int32_t)(tm->vbase + (v - ninput) - k);
+    }
+    int64_t n = tm->tbase;
+    for (int32_t t = 0; t < m->nt; t++) {
+        if (!slot_real(m, t)) continue;
+        int32_t *out = f->tri + 3 * (size_t)n;
+        for (int j = 0; j < 3; j++)
+            out[j] = map[m->tv[3 * (size_t)t + j]];
+        if (f->tattr) f->tattr[n] = m->treg && m->treg[t] >= 0 ? m->reg_attr[m->treg[t]] : 0;
+        if (c->ts) c->ts[n] = tm->sub;
+        if (c->open) {
+            uint8_t o = 0;
+            for (int j = 0; j < 3; j++) {
+                if (m->tn[3 * (size_t)t + j] >= 0) continue;
+                /* an edge on an interface between two of this rank's subdomains is inner now */
+                uint64_t at = 0;
+                int32_t s = sfind(&c->st, f->seg, out[j], out[(j + 1) % 3], &at);
+                if (s < 0 || !c->dup[s]) o |= (uint8_t)(1u << j);
+            }
+            c->open[n] = o;
+        }
+        n++;
+    }
+    free(m->tv), free(m->tn), free(m->treg);
+    m->tv = m->tn = m->treg = NULL;
+    for (int32_t v = i == 0 ? 0 : ninput, k = 0; v < m->nv; v++) {
+        int32_t w = map[v];
+        if (k < tm->ndup && tm->dv[k] == v) { /* a vertex an earlier candidate gave */
+            k++;
+            continue;
+        }
+        f->xy[2 * (size_t)w] = m->xy[2 * (size_t)v];
+        f->xy[2 * (size_t)w + 1] = m->xy[2 * (size_t)v + 1];
+        f->vmarker[w] = v < ninput        ? (m->in_vmarker ? m->in_vmarker[v] : 0)
+                        : m->vseg[v] >= 0 ? m->smarker[m->vseg[v]]
+                                          : 0;
+    }
+    free(map);
+    mesh_free(m);
+}
+
 void pcdm_det_take(pcdm_part *p, mesh_flat *f, uint8_t **artificial, int32_t **tsub,
                    uint8_t **topen) {
     int32_t nm = pcdm_det_nmesh(p), nboundary = p->d->nboundary;
+    int T = p->threads > 1 ? p->threads : 1;
     memset(f, 0, sizeof *f);
     if (nm == 1) { /* one subdomain: moved as it is (the memory peak of the asynchronous mode) */
         int32_t sub;
@@ -110,9 +278,6 @@ void pcdm_det_take(pcdm_part *p, mesh_flat *f, uint8_t **artificial, int32_t **t
         for (int32_t r = 0; r < m->nss; r++)
             if (m->ss[r].level != -2) a[k++] = m->ss[r].seg >= nboundary;
         mesh_take_flat(m, f, topen);
-        f->trank = mesh_xmalloc((size_t)f->ntris + 1, sizeof(int32_t));
-        for (int32_t t = 0; t < f->ntris; t++)
-            f->trank[t] = p->rank;
         if (tsub) {
             *tsub = mesh_xmalloc((size_t)f->ntris + 1, sizeof(int32_t));
             for (int32_t t = 0; t < f->ntris; t++)
@@ -121,137 +286,121 @@ void pcdm_det_take(pcdm_part *p, mesh_flat *f, uint8_t **artificial, int32_t **t
         *artificial = a;
         return;
     }
-    int64_t ncand = 0, nseg_if = 0;
-    for (int32_t i = 0; i < nm; i++) {
-        int32_t sub;
-        const mesh *m = pcdm_det_mesh(p, i, &sub);
-        for (int32_t r = 0; r < m->nss; r++)
-            if (m->ss[r].level != -2 && m->siface[m->ss[r].seg]) nseg_if++;
-    }
-    ncand = 2 * nseg_if;
-    id_table vt, st;
+    take_ctx c;
+    memset(&c, 0, sizeof c);
+    c.tm = mesh_xcalloc((size_t)nm + 1, sizeof(take_mesh));
+    c.f = f;
+    for (int32_t i = 0; i < nm; i++)
+        c.tm[i].m = pcdm_det_mesh(p, i, &c.tm[i].sub);
+    c.ninput = nm ? c.tm[0].m->ninput : 0;
+    int32_t ninput = c.ninput;
+    mesh_pfor_items(nm, T, take_scan, &c);
+
+    /* vertices: numbers in mesh order, a candidate seen before (bit-equal coordinates) takes
+     * the earlier one's; records (mesh, vertex) of first sightings in a coordinate table */
+    int64_t ncand = 0, nv = ninput, nt = 0;
+    for (int32_t i = 0; i < nm; i++)
+        ncand += c.tm[i].ncand;
+    id_table vt;
     table_init(&vt, ncand);
-    table_init(&st, nseg_if);
-    uint8_t *art = NULL, *open = NULL, *dup = NULL;
-    int32_t *ts = NULL;
-    int64_t nv = 0, nt = 0, ns = 0;
+    int32_t *rec = mesh_xmalloc(2 * (size_t)ncand + 1, sizeof(int32_t)); /* (mesh, vertex) */
+    double *rxy = mesh_xmalloc(2 * (size_t)ncand + 1, sizeof(double));
+    int32_t nrec = 0;
     for (int32_t i = 0; i < nm; i++) {
-        int32_t sub;
-        mesh *m = pcdm_det_mesh(p, i, &sub);
-        int32_t ninput = m->ninput;
-        uint8_t *cand = mesh_xcalloc((size_t)m->nv + 1, 1);
-        uint8_t *a = mesh_xmalloc((size_t)m->ss_live + 1, 1);
-        int32_t k = 0;
-        for (int32_t r = 0; r < m->nss; r++) { /* mesh_take_flat's subsegment order */
-            const mesh_subseg *s = &m->ss[r];
-            if (s->level == -2) continue;
-            a[k++] = s->seg >= nboundary;
-            if (m->siface[s->seg]) cand[s->u] = cand[s->v] = 1;
-        }
-        mesh_flat g;
-        uint8_t *gopen = NULL;
-        mesh_take_flat(m, &g, topen ? &gopen : NULL);
-        if (i == 0) {
-            f->scale_exp = g.scale_exp;
-            nv = ninput;
-        }
-        /* vertices */
-        f->xy = mesh_xrealloc(f->xy, 2 * ((size_t)nv + (size_t)g.nverts) + 1, sizeof(double));
-        f->vmarker = mesh_xrealloc(f->vmarker, (size_t)nv + (size_t)g.nverts + 1, sizeof(int32_t));
-        if (i == 0) {
-            memcpy(f->xy, g.xy, 2 * (size_t)ninput * sizeof(double));
-            memcpy(f->vmarker, g.vmarker, (size_t)ninput * sizeof(int32_t));
-        }
-        int32_t *map = mesh_xmalloc((size_t)g.nverts + 1, sizeof(int32_t));
-        for (int32_t v = 0; v < g.nverts; v++) {
-            if (v < ninput) {
-                map[v] = v;
+        take_mesh *tm = &c.tm[i];
+        const mesh *m = tm->m;
+        if (m->ninput != ninput)
+            MESH_BUG("subdomain %d's mesh has %d input vertices, subdomain %d's %d", (int)tm->sub,
+                     (int)m->ninput, (int)c.tm[0].sub, (int)ninput);
+        tm->vbase = nv;
+        tm->dv = mesh_xmalloc((size_t)tm->ncand + 1, sizeof(int32_t));
+        tm->did = mesh_xmalloc((size_t)tm->ncand + 1, sizeof(int32_t));
+        for (int32_t j = 0; j < tm->ncand; j++) {
+            int32_t v = tm->cand[j];
+            uint64_t at = 0;
+            int32_t w = vfind(&vt, rxy, m->xy + 2 * (size_t)v, &at);
+            if (w >= 0) {
+                tm->dv[tm->ndup] = v;
+                tm->did[tm->ndup++] =
+                    merged_id(&c.tm[rec[2 * (size_t)w]], ninput, rec[2 * (size_t)w + 1]);
                 continue;
             }
-            uint64_t at = 0;
-            int32_t w = cand[v] ? vfind(&vt, f->xy, g.xy + 2 * (size_t)v, &at) : -1;
-            if (w < 0) {
-                w = (int32_t)nv++;
-                f->xy[2 * (size_t)w] = g.xy[2 * (size_t)v];
-                f->xy[2 * (size_t)w + 1] = g.xy[2 * (size_t)v + 1];
-                f->vmarker[w] = g.vmarker[v];
-                if (cand[v]) vt.slot[at] = w;
-            }
-            map[v] = w;
+            rec[2 * (size_t)nrec] = i;
+            rec[2 * (size_t)nrec + 1] = v;
+            rxy[2 * (size_t)nrec] = m->xy[2 * (size_t)v];
+            rxy[2 * (size_t)nrec + 1] = m->xy[2 * (size_t)v + 1];
+            vt.slot[at] = nrec++;
         }
-        /* triangles */
-        f->tri = mesh_xrealloc(f->tri, 3 * ((size_t)nt + (size_t)g.ntris) + 1, sizeof(int32_t));
-        ts = mesh_xrealloc(ts, (size_t)nt + (size_t)g.ntris + 1, sizeof(int32_t));
-        if (g.tattr || f->tattr) {
-            f->tattr = mesh_xrealloc(f->tattr, (size_t)nt + (size_t)g.ntris + 1, sizeof(double));
-            for (int32_t t = 0; t < g.ntris; t++)
-                f->tattr[nt + t] = g.tattr ? g.tattr[t] : 0;
-        }
-        if (topen) {
-            open = mesh_xrealloc(open, (size_t)nt + (size_t)g.ntris + 1, 1);
-            memcpy(open + nt, gopen, (size_t)g.ntris);
-        }
-        for (int32_t t = 0; t < g.ntris; t++) {
-            for (int j = 0; j < 3; j++)
-                f->tri[3 * (size_t)(nt + t) + j] = map[g.tri[3 * (size_t)t + j]];
-            ts[nt + t] = sub;
-        }
-        nt += g.ntris;
-        /* subsegments: an interface one both sides list is kept once */
-        size_t sc = (size_t)ns + (size_t)g.nsegs + 1;
-        f->seg = mesh_xrealloc(f->seg, 2 * sc, sizeof(int32_t));
-        f->smarker = mesh_xrealloc(f->smarker, sc, sizeof(int32_t));
-        f->sinterface = mesh_xrealloc(f->sinterface, sc, sizeof(int32_t));
-        art = mesh_xrealloc(art, sc, 1);
-        dup = mesh_xrealloc(dup, sc, 1);
-        for (int32_t s = 0; s < g.nsegs; s++) {
-            int32_t u = map[g.seg[2 * (size_t)s]], v = map[g.seg[2 * (size_t)s + 1]];
-            uint64_t at = 0;
-            if (g.sinterface[s]) {
-                int32_t w = sfind(&st, f->seg, u, v, &at);
+        nv += (m->nv - ninput) - tm->ndup;
+        tm->tbase = nt;
+        nt += tm->nt;
+    }
+    free(vt.slot);
+    free(rec);
+    free(rxy);
+
+    /* subsegments in mesh order (mesh_take_flat's order in each): an interface one both sides
+     * list is kept once */
+    int64_t nss = 0;
+    for (int32_t i = 0; i < nm; i++)
+        nss += c.tm[i].m->ss_live;
+    table_init(&c.st, nss);
+    f->seg = mesh_xmalloc(2 * (size_t)nss + 1, sizeof(int32_t));
+    f->smarker = mesh_xmalloc((size_t)nss + 1, sizeof(int32_t));
+    f->sinterface = mesh_xmalloc((size_t)nss + 1, sizeof(int32_t));
+    uint8_t *art = mesh_xmalloc((size_t)nss + 1, 1), *dup = mesh_xmalloc((size_t)nss + 1, 1);
+    int64_t ns = 0;
+    int any_reg = 0;
+    for (int32_t i = 0; i < nm; i++) {
+        const take_mesh *tm = &c.tm[i];
+        const mesh *m = tm->m;
+        any_reg |= m->treg != NULL;
+        for (int32_t r = 0; r < m->nss; r++) {
+            const mesh_subseg *s = &m->ss[r];
+            if (s->level == -2) continue;
+            int32_t u = merged_id(tm, ninput, s->u), v = merged_id(tm, ninput, s->v);
+            if (m->siface[s->seg]) {
+                uint64_t at = 0;
+                int32_t w = sfind(&c.st, f->seg, u, v, &at);
                 if (w >= 0) {
                     dup[w] = 1;
                     continue;
                 }
-                st.slot[at] = (int32_t)ns;
+                c.st.slot[at] = (int32_t)ns;
             }
             f->seg[2 * (size_t)ns] = u;
             f->seg[2 * (size_t)ns + 1] = v;
-            f->smarker[ns] = g.smarker[s];
-            f->sinterface[ns] = g.sinterface[s];
-            art[ns] = a[s];
+            f->smarker[ns] = m->smarker[s->seg];
+            f->sinterface[ns] = m->siface[s->seg];
+            art[ns] = s->seg >= nboundary;
             dup[ns] = 0;
             ns++;
         }
-        free(map);
-        free(cand);
-        free(a);
-        free(gopen);
-        mesh_flat_free(&g);
     }
-    if (open) /* edges on an interface between two of this rank's subdomains are inner now */
-        for (int64_t t = 0; t < nt; t++)
-            for (int j = 0; j < 3; j++) {
-                if (!(open[t] >> j & 1)) continue;
-                uint64_t at = 0;
-                int32_t w = sfind(&st, f->seg, f->tri[3 * t + j], f->tri[3 * t + (j + 1) % 3], &at);
-                if (w >= 0 && dup[w]) open[t] &= (uint8_t) ~(1u << j);
-            }
+    c.dup = dup;
+
+    /* vertices and triangles: each mesh at its place, on the rank's threads */
+    f->scale_exp = nm ? c.tm[0].m->scale_exp : 0;
     f->nverts = (int32_t)nv;
     f->ntris = (int32_t)nt;
     f->nsegs = (int32_t)ns;
-    f->xy = mesh_xrealloc(f->xy, 2 * (size_t)nv + 1, sizeof(double));
-    f->vmarker = mesh_xrealloc(f->vmarker, (size_t)nv + 1, sizeof(int32_t));
-    f->trank = mesh_xmalloc((size_t)nt + 1, sizeof(int32_t));
-    for (int64_t t = 0; t < nt; t++)
-        f->trank[t] = p->rank;
-    free(vt.slot);
-    free(st.slot);
+    f->xy = mesh_xmalloc(2 * (size_t)nv + 1, sizeof(double));
+    f->vmarker = mesh_xmalloc((size_t)nv + 1, sizeof(int32_t));
+    f->tri = mesh_xmalloc(3 * (size_t)nt + 1, sizeof(int32_t));
+    if (any_reg) f->tattr = mesh_xmalloc((size_t)nt + 1, sizeof(double));
+    c.ts = tsub ? mesh_xmalloc((size_t)nt + 1, sizeof(int32_t)) : NULL;
+    c.open = topen ? mesh_xmalloc((size_t)nt + 1, 1) : NULL;
+    mesh_pfor_items(nm, T, take_copy, &c);
+
+    for (int32_t i = 0; i < nm; i++) {
+        free(c.tm[i].cand);
+        free(c.tm[i].dv);
+        free(c.tm[i].did);
+    }
+    free(c.tm);
+    free(c.st.slot);
     free(dup);
-    if (tsub)
-        *tsub = ts;
-    else
-        free(ts);
-    if (topen) *topen = open;
+    if (tsub) *tsub = c.ts;
+    if (topen) *topen = c.open;
     *artificial = art;
 }

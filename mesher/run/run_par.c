@@ -526,7 +526,9 @@ int run_par_main(int argc, char **argv, run_method method, par_parse_fn parse, c
     if (verbose) par_verbose_input(&j.o, &in, &d);
     if (run_par_mesh(&j, &in, &d, &p, &st) != 0) goto done; /* 2-4. bounds, mesh, verdict */
     /* the mesh hash: a sum over triangles, so one reduction of the parts' sums */
-    uint64_t hash = 0, hash_part = j.o.stats && method == RUN_PCDM ? pcdm_flat_hash(&p.local) : 0;
+    uint64_t hash = 0, hash_part = j.o.stats && method == RUN_PCDM
+                                       ? pcdm_flat_hash(&p.local, j.o.threads)
+                                       : 0;
     if (j.o.stats && method == RUN_PCDM)
         MESH_MPI(MPI_Reduce(&hash_part, &hash, 1, MPI_UINT64_T, MPI_SUM, 0, rt_app_comm()));
     /* 5, 6. the interface check, numbering, --check (held to the bounds only when they were
