@@ -36,7 +36,7 @@ static uint64_t mesh_hash(const pcdm_mesh *m) {
     f.xy = m->points;
     f.ntris = m->ntriangles;
     f.tri = m->triangles;
-    return pcdm_flat_hash(&f);
+    return pcdm_flat_hash(&f, 1);
 }
 
 static int all_true(int local, MPI_Comm c) {
