@@ -148,12 +148,9 @@ int pbw_mesh(const mesh_bounds *b, const par_config *c, const pslg *in, const pc
     pbw_attach(C);    /* the handlers' way to the context */
     C->rank = rt_rank();
     C->size = rt_size();
-    C->pool_free = -1;
     C->confree = -1;
     C->cursor = NBUCKET + 1;
     C->qhi = -1;
-    for (int i = 0; i <= NBUCKET; i++)
-        C->head[i] = -1;
     /* the refining angle (bounds.h); the area bound in the working scale of the coordinates
      * (pslg_check), as refine.c takes it */
     double qa = b->refine_angle;

@@ -269,9 +269,10 @@ int pbw_process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial) {
 
 void pbw_check_new_triangle(pbw_ctx *C, int32_t t) {
     pbw_push_bad(C, t);
-    for (int j = 0; j < 3; j++) {
+    unsigned cons = C->M.tf[t] & 7u; /* the constraint bits of its edges (most have none) */
+    for (int j = 0; cons != 0 && j < 3; j++) {
         size_t e = 3 * (size_t)t + (size_t)j;
-        if (!mesh_edge_constrained(&C->M, (int32_t)e)) continue;
+        if (!((cons >> j) & 1u)) continue;
         int32_t a = C->M.tv[e], b = C->M.tv[3 * (size_t)t + (size_t)((j + 1) % 3)],
                 o = C->M.tv[3 * (size_t)t + (size_t)((j + 2) % 3)];
         /* an apex on the other segment of a small input corner, as far from it as a or b,

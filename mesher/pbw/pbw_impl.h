@@ -232,9 +232,10 @@ typedef struct pbw_waiter {
     int32_t rank, pad;
 } pbw_waiter;
 
-typedef struct qent {
-    int32_t t, next;
-} qent;
+typedef struct pbw_qstack { /* one bucket of bad triangles: a stack of slots (LIFO) */
+    int32_t *t;
+    int32_t n, cap;
+} pbw_qstack;
 
 struct pbw_ctx {
     int rank, size;
@@ -281,9 +282,8 @@ struct pbw_ctx {
     int stopped;
     int32_t poll_every; /* work items per work step (--poll; default WORK_BATCH) */
     /* queues */
-    int32_t head[NBUCKET + 1]; /* per bucket: a stack of pool entries */
-    qent *pool;
-    int32_t npool, poolcap, pool_free, cursor;
+    pbw_qstack q[NBUCKET]; /* per bucket: a stack of slots (pbw_push_bad) */
+    int32_t cursor;        /* no bucket below it holds an entry */
     int32_t qhi; /* no bucket above it holds an entry (the scans for the next entry stop there) */
     ivec splitq, retryq, deferred, phase2;
     ivec slotq; /* cavities that reach other ranks, waiting for a slot (max_inflight) */
@@ -431,8 +431,17 @@ void pbw_slot_free(pbw_ctx *C, int32_t s);
 int pbw_find_edge(pbw_ctx *C, int32_t t, int64_t ga, int64_t gb);
 
 /* MESH_BAD_ANGLE / MESH_BAD_AREA bits (mesh_rules_bad), 0: good.  *bucket (may be NULL): queue
- * priority (mesh_rules_bucket: shortest edge first, as refine.c).  *sh: shortest edge j. */
-int pbw_quality(pbw_ctx *C, int32_t t, int *bucket, int *sh);
+ * priority (mesh_rules_bucket: shortest edge first, as refine.c).  *sh (may be NULL): shortest
+ * edge j.  Inline, as refine.c's quality: it runs for every new triangle. */
+MESH_RULES_INLINE int pbw_quality(const pbw_ctx *C, int32_t t, int *bucket, int *sh) {
+    const int32_t *tv = C->M.tv + 3 * (size_t)t;
+    const double *p[3] = {VX(C, tv[0]), VX(C, tv[1]), VX(C, tv[2])};
+    double l2;
+    double rb = C->M.treg && C->M.treg[t] >= 0 ? C->reg_area[C->M.treg[t]] : 0;
+    int res = mesh_rules_bad_bound(&C->R, mesh_rules_area_bound(C->R.max_area, rb), p, sh, &l2);
+    if (res && bucket) *bucket = mesh_rules_bucket(l2);
+    return res;
+}
 
 /* Queues triangle t if it is bad (its bucket: pbw_quality). */
 void pbw_push_bad(pbw_ctx *C, int32_t t);
@@ -443,7 +452,7 @@ void pbw_push_bad(pbw_ctx *C, int32_t t);
  * empty buckets every time (measured: 8 ranks, lake 1M: 146M instructions in pbw_pop_bad
  * summed over the ranks, 12M on 1 rank). */
 static inline int pbw_bad_left(pbw_ctx *C) {
-    while (C->cursor <= C->qhi && C->head[C->cursor] < 0)
+    while (C->cursor <= C->qhi && C->q[C->cursor].n == 0)
         C->cursor++;
     if (C->cursor <= C->qhi) return 1;
     C->cursor = NBUCKET + 1;
@@ -455,6 +464,10 @@ static inline int pbw_bad_left(pbw_ctx *C) {
  * they were queued (MESH_QUEUED cleared) are skipped.  The triangle may still have changed
  * role or become good: re-check it. */
 int32_t pbw_pop_bad(pbw_ctx *C);
+
+/* Frees the bad-triangle queue (empty afterwards); its bytes (capacities). */
+void pbw_queue_free(pbw_ctx *C);
+size_t pbw_queue_bytes(const pbw_ctx *C);
 
 /* 1 iff vertex id g is an input vertex at a corner below 60 degrees. */
 int pbw_is_corner_gid(pbw_ctx *C, int64_t g);

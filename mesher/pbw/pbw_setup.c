@@ -486,8 +486,9 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
         ntri++;
     }
     /* what only refinement needed goes before the flat copy is made (a lower peak) */
-    free(C->M.tn), free(C->M.tf), free(C->con), free(C->lkk), free(C->lkv), free(C->pool);
-    C->M.tn = NULL, C->M.tf = NULL, C->con = NULL, C->lkk = NULL, C->lkv = NULL, C->pool = NULL;
+    free(C->M.tn), free(C->M.tf), free(C->con), free(C->lkk), free(C->lkv);
+    C->M.tn = NULL, C->M.tf = NULL, C->con = NULL, C->lkk = NULL, C->lkv = NULL;
+    pbw_queue_free(C);
     free(C->M.ss), free(C->M.hpair), free(C->M.hname), free(C->M.cav), free(C->M.bnd);
     free(C->M.stk), free(C->M.newt);
     C->M.ss = NULL, C->M.hpair = C->M.hname = NULL, C->M.cav = NULL, C->M.bnd = NULL;
@@ -553,7 +554,7 @@ void pbw_ctx_free(pbw_ctx *C) {
     free(C->reg_attr), free(C->reg_area);
     free(C->pieces);
     free(C->gen);
-    free(C->pool);
+    pbw_queue_free(C);
     pbw_iv_free(&C->splitq), pbw_iv_free(&C->retryq), pbw_iv_free(&C->deferred),
         pbw_iv_free(&C->slotq), pbw_iv_free(&C->phase2);
     for (int32_t i = 0; i < C->nhd; i++)
@@ -574,6 +575,6 @@ size_t pbw_mesh_bytes(pbw_ctx *C) {
     b += (size_t)C->concap * sizeof(pbw_con);
     b += (size_t)C->vgcap * 8 + (size_t)C->vhcap * 4;
     b += (size_t)C->owncap * sizeof(int32_t);
-    b += (size_t)C->poolcap * sizeof(qent);
+    b += pbw_queue_bytes(C);
     return b;
 }
