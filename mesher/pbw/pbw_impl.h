@@ -605,12 +605,6 @@ int pbw_work(void *ctx);
  * queues the initial work.  Returns 0, or -1 with a message in err. */
 int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_decomp *d, char *err,
               size_t errlen);
-/* The end check of the bounds (as mesh_count_unmet): every triangle this rank owns that is
- * outside them, except a small angle forced by the input (a corner vertex, or the shared
- * forced-angle rule on its shortest edge).  Fills C->res.unmet and C->res.forced, and the
- * rank boundary's statistics C->res.iface_edges and iface_len. */
-void pbw_count_unmet(pbw_ctx *C);
-
 /* Test-only fault (env PBW_TEST_BREAK_IFACE=R): rank R loses the first triangle it owns that
  * has a neighbour on another rank, as if a commit had been lost at a rank boundary, so the
  * result no longer matches across that boundary.  The always-on end check (par_output's
@@ -618,7 +612,11 @@ void pbw_count_unmet(pbw_ctx *C);
 void pbw_test_fault(pbw_ctx *C);
 
 /* The end: this rank's triangles as a mesh_flat (local numbering of the vertices they use); *topen
- * (topen may be NULL): their open edges (pbw_result.topen).  It dismantles the store on the way
+ * (topen may be NULL): their open edges (pbw_result.topen).  The same pass is the end check of
+ * the bounds (as mesh_count_unmet): every triangle this rank owns that is outside them, except a
+ * small angle forced by the input (a corner vertex, or the shared forced-angle rule on its
+ * shortest edge), into C->res.unmet and C->res.forced, and the rank boundary's statistics
+ * C->res.iface_edges and iface_len.  Nothing may be locked.  It dismantles the store on the way
  * (the links, constraints, locks and queue are freed before the copy is made, the vertex table
  * once copied, and the triangles are renumbered in place into the flat's array): only
  * pbw_mesh_bytes, C->nlive and pbw_ctx_free may follow. */
