@@ -86,6 +86,8 @@ enum { IT_BAD = 0, IT_SPLIT = 1 };
 
 #define MAXMSG (1u << 28)
 
+#define PBW_CAV_POOL 16 /* freed cavity states kept for reuse */
+
 /* ---- wire formats (every handler payload is a plain struct or a header + arrays) -------- */
 
 typedef struct pbw_seed { /* visit triangle target, reached from member `from` across ga->gb */
@@ -295,7 +297,10 @@ struct pbw_ctx {
     int32_t nwt, wtcap;
     pbw_cav **pk;
     int32_t npk, pkcap;
-    pbw_cav **dy; /* tasks whose DIE reply arrived, not yet run */
+    pbw_cav *cavpool[PBW_CAV_POOL]; /* freed cavity states kept for reuse (pbw_cav_new) */
+    int32_t ncavpool;
+    int cavpool_closed; /* pbw_cav_pool_free ran: pbw_cav_free frees */
+    pbw_cav **dy;       /* tasks whose DIE reply arrived, not yet run */
     int32_t ndy, dycap;
     int draining;
     int inflight;
@@ -528,9 +533,11 @@ void pbw_release_local(pbw_ctx *C, int32_t hi, int undo);
 
 /* ---- pbw_cavity.c: cavities ------------------------------------------------------------- */
 
-/* A new empty cavity state of C (free with pbw_cav_free; NULL is fine there). */
+/* A new empty cavity state of C (free with pbw_cav_free; NULL is fine there): both recycle
+ * states through C's pool; pbw_cav_pool_free empties it for good (pbw_ctx_free). */
 pbw_cav *pbw_cav_new(pbw_ctx *C);
 void pbw_cav_free(pbw_cav *c);
+void pbw_cav_pool_free(pbw_ctx *C);
 
 /* Adds rank r to c's participants (once) / removes it. */
 void pbw_part_add(pbw_cav *c, int32_t r);

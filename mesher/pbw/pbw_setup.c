@@ -564,6 +564,7 @@ void pbw_ctx_free(pbw_ctx *C) {
         free(C->hd[i].slots);
     free(C->hd);
     free(C->wt);
+    pbw_cav_pool_free(C);
     for (int32_t i = 0; i < C->npk; i++)
         pbw_cav_free(C->pk[i]);
     free(C->pk);
