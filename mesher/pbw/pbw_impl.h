@@ -595,6 +595,15 @@ int32_t pbw_resolve_tomb(pbw_ctx *C, int32_t x, int64_t ga, int64_t gb);
  * reached another rank's triangle or a triangle with a role (lock, reservation, tombstone). */
 int pbw_local_insert(pbw_ctx *C, const double p[2], int32_t t);
 
+/* Splits the subsegment on edge j of t at p (its segment sseg; the halves' dyadic level clev,
+ * -1: none; ka the index of the half at the edge's first vertex, kb at its second) at once if
+ * the cavity opened across it lies on this rank, touches no lock, ghost or tombstone, is
+ * star-shaped, has no vertex inside, and p passes the far side's off-line test.  Returns 1 if
+ * it did (the new vertex, the fan, the halves' records, the counts, the new work; the caller
+ * wakes whoever asked for the split), 0 if the general path must decide (nothing written). */
+int pbw_local_split(pbw_ctx *C, const double p[2], int32_t t, int j, int32_t sseg, int32_t clev,
+                    int64_t ka, int64_t kb);
+
 /* ---- pbw_proto.c: the protocol ---------------------------------------------------------- */
 
 /* The task of a distributed cavity: send the expansion, wait in the blocking queue for the
