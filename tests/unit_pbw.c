@@ -20,11 +20,9 @@ static pbw_ctx *ctx_new(double min_angle, double max_area) {
         mesh_seg_add(&C->M, 0, 0, 0, 0);
     C->rank = 0;
     C->size = 1;
-    C->pool_free = -1;
     C->confree = -1;
     C->cursor = NBUCKET + 1;
-    for (int i = 0; i <= NBUCKET; i++)
-        C->head[i] = -1;
+    C->qhi = -1;
     mesh_rules_init(&C->R, min_angle, max_area, 1, 0);
     C->steiner_limit = -1;
     pbw_vt_rehash(C, 16);

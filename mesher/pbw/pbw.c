@@ -148,12 +148,9 @@ int pbw_mesh(const mesh_bounds *b, const par_config *c, const pslg *in, const pc
     pbw_attach(C);    /* the handlers' way to the context */
     C->rank = rt_rank();
     C->size = rt_size();
-    C->pool_free = -1;
     C->confree = -1;
     C->cursor = NBUCKET + 1;
     C->qhi = -1;
-    for (int i = 0; i <= NBUCKET; i++)
-        C->head[i] = -1;
     /* the refining angle (bounds.h); the area bound in the working scale of the coordinates
      * (pslg_check), as refine.c takes it */
     double qa = b->refine_angle;
@@ -208,7 +205,6 @@ int pbw_mesh(const mesh_bounds *b, const par_config *c, const pslg *in, const pc
         MESH_BUG("work left at the end: %d deferred, %d to retry, %d splits, %d postponed, "
                  "%d dying tasks, %d waiting for a slot",
                  left[0], left[1], left[2], left[3], left[4], left[5]);
-    pbw_count_unmet(C);
     /* the end check of the Delaunay property where the protocol decided it (pbw_check.c): a
      * defect ends every rank with an error, nothing written */
     pbw_test_break_delaunay(C);
@@ -221,6 +217,7 @@ int pbw_mesh(const mesh_bounds *b, const par_config *c, const pslg *in, const pc
         return -1;
     }
     pbw_test_fault(C);
+    /* this rank's part, and in the same pass the count of what is left outside the bounds */
     pbw_to_flat(C, local, res ? &C->res.topen : NULL);
     C->res.ntris = C->nlive;
     C->res.mesh_bytes = pbw_mesh_bytes(C);

@@ -15,9 +15,23 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Cavity states are recycled through C's pool (at most PBW_CAV_POOL kept, with their arrays):
+ * a state per distributed cavity and per expansion request, each with four arrays, was a tenth
+ * of a rank's instructions after its local work ran out (malloc, realloc and free). */
 pbw_cav *pbw_cav_new(pbw_ctx *C) {
-    pbw_cav *c = mesh_xrealloc(NULL, sizeof *c, 1);
-    memset(c, 0, sizeof *c);
+    pbw_cav *c;
+    if (C->ncavpool > 0) {
+        c = C->cavpool[--C->ncavpool];
+        pbw_cav keep = *c; /* the arrays and their capacities; everything else starts empty */
+        memset(c, 0, sizeof *c);
+        c->parts = keep.parts, c->pcap = keep.pcap;
+        c->b = keep.b, c->bcap = keep.bcap;
+        c->todo = keep.todo, c->tcap = keep.tcap;
+        c->stk = keep.stk, c->scap = keep.scap;
+    } else {
+        c = mesh_xrealloc(NULL, sizeof *c, 1);
+        memset(c, 0, sizeof *c);
+    }
     c->C = C;
     c->h.su = c->h.sv = c->h.holder = -1;
     return c;
@@ -25,12 +39,24 @@ pbw_cav *pbw_cav_new(pbw_ctx *C) {
 
 void pbw_cav_free(pbw_cav *c) {
     if (!c) return;
+    free(c->reply);
+    c->reply = NULL;
+    pbw_ctx *C = c->C;
+    if (C && !C->cavpool_closed && C->ncavpool < PBW_CAV_POOL) {
+        C->cavpool[C->ncavpool++] = c;
+        return;
+    }
     free(c->parts);
     free(c->b);
     free(c->todo);
     free(c->stk);
-    free(c->reply);
     free(c);
+}
+
+void pbw_cav_pool_free(pbw_ctx *C) {
+    C->cavpool_closed = 1;
+    while (C->ncavpool > 0)
+        pbw_cav_free(C->cavpool[--C->ncavpool]);
 }
 
 void pbw_part_add(pbw_cav *c, int32_t r) {
@@ -269,9 +295,10 @@ int pbw_process(pbw_ctx *C, pbw_cav *c, int32_t hi, int initial) {
 
 void pbw_check_new_triangle(pbw_ctx *C, int32_t t) {
     pbw_push_bad(C, t);
-    for (int j = 0; j < 3; j++) {
+    unsigned cons = C->M.tf[t] & 7u; /* the constraint bits of its edges (most have none) */
+    for (int j = 0; cons != 0 && j < 3; j++) {
         size_t e = 3 * (size_t)t + (size_t)j;
-        if (!mesh_edge_constrained(&C->M, (int32_t)e)) continue;
+        if (!((cons >> j) & 1u)) continue;
         int32_t a = C->M.tv[e], b = C->M.tv[3 * (size_t)t + (size_t)((j + 1) % 3)],
                 o = C->M.tv[3 * (size_t)t + (size_t)((j + 2) % 3)];
         /* an apex on the other segment of a small input corner, as far from it as a or b,

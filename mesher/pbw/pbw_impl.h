@@ -86,6 +86,8 @@ enum { IT_BAD = 0, IT_SPLIT = 1 };
 
 #define MAXMSG (1u << 28)
 
+#define PBW_CAV_POOL 16 /* freed cavity states kept for reuse */
+
 /* ---- wire formats (every handler payload is a plain struct or a header + arrays) -------- */
 
 typedef struct pbw_seed { /* visit triangle target, reached from member `from` across ga->gb */
@@ -232,9 +234,10 @@ typedef struct pbw_waiter {
     int32_t rank, pad;
 } pbw_waiter;
 
-typedef struct qent {
-    int32_t t, next;
-} qent;
+typedef struct pbw_qstack { /* one bucket of bad triangles: a stack of slots (LIFO) */
+    int32_t *t;
+    int32_t n, cap;
+} pbw_qstack;
 
 struct pbw_ctx {
     int rank, size;
@@ -281,9 +284,8 @@ struct pbw_ctx {
     int stopped;
     int32_t poll_every; /* work items per work step (--poll; default WORK_BATCH) */
     /* queues */
-    int32_t head[NBUCKET + 1]; /* per bucket: a stack of pool entries */
-    qent *pool;
-    int32_t npool, poolcap, pool_free, cursor;
+    pbw_qstack q[NBUCKET]; /* per bucket: a stack of slots (pbw_push_bad) */
+    int32_t cursor;        /* no bucket below it holds an entry */
     int32_t qhi; /* no bucket above it holds an entry (the scans for the next entry stop there) */
     ivec splitq, retryq, deferred, phase2;
     ivec slotq; /* cavities that reach other ranks, waiting for a slot (max_inflight) */
@@ -295,7 +297,10 @@ struct pbw_ctx {
     int32_t nwt, wtcap;
     pbw_cav **pk;
     int32_t npk, pkcap;
-    pbw_cav **dy; /* tasks whose DIE reply arrived, not yet run */
+    pbw_cav *cavpool[PBW_CAV_POOL]; /* freed cavity states kept for reuse (pbw_cav_new) */
+    int32_t ncavpool;
+    int cavpool_closed; /* pbw_cav_pool_free ran: pbw_cav_free frees */
+    pbw_cav **dy;       /* tasks whose DIE reply arrived, not yet run */
     int32_t ndy, dycap;
     int draining;
     int inflight;
@@ -431,8 +436,17 @@ void pbw_slot_free(pbw_ctx *C, int32_t s);
 int pbw_find_edge(pbw_ctx *C, int32_t t, int64_t ga, int64_t gb);
 
 /* MESH_BAD_ANGLE / MESH_BAD_AREA bits (mesh_rules_bad), 0: good.  *bucket (may be NULL): queue
- * priority (mesh_rules_bucket: shortest edge first, as refine.c).  *sh: shortest edge j. */
-int pbw_quality(pbw_ctx *C, int32_t t, int *bucket, int *sh);
+ * priority (mesh_rules_bucket: shortest edge first, as refine.c).  *sh (may be NULL): shortest
+ * edge j.  Inline, as refine.c's quality: it runs for every new triangle. */
+MESH_RULES_INLINE int pbw_quality(const pbw_ctx *C, int32_t t, int *bucket, int *sh) {
+    const int32_t *tv = C->M.tv + 3 * (size_t)t;
+    const double *p[3] = {VX(C, tv[0]), VX(C, tv[1]), VX(C, tv[2])};
+    double l2;
+    double rb = C->M.treg && C->M.treg[t] >= 0 ? C->reg_area[C->M.treg[t]] : 0;
+    int res = mesh_rules_bad_bound(&C->R, mesh_rules_area_bound(C->R.max_area, rb), p, sh, &l2);
+    if (res && bucket) *bucket = mesh_rules_bucket(l2);
+    return res;
+}
 
 /* Queues triangle t if it is bad (its bucket: pbw_quality). */
 void pbw_push_bad(pbw_ctx *C, int32_t t);
@@ -443,7 +457,7 @@ void pbw_push_bad(pbw_ctx *C, int32_t t);
  * empty buckets every time (measured: 8 ranks, lake 1M: 146M instructions in pbw_pop_bad
  * summed over the ranks, 12M on 1 rank). */
 static inline int pbw_bad_left(pbw_ctx *C) {
-    while (C->cursor <= C->qhi && C->head[C->cursor] < 0)
+    while (C->cursor <= C->qhi && C->q[C->cursor].n == 0)
         C->cursor++;
     if (C->cursor <= C->qhi) return 1;
     C->cursor = NBUCKET + 1;
@@ -455,6 +469,10 @@ static inline int pbw_bad_left(pbw_ctx *C) {
  * they were queued (MESH_QUEUED cleared) are skipped.  The triangle may still have changed
  * role or become good: re-check it. */
 int32_t pbw_pop_bad(pbw_ctx *C);
+
+/* Frees the bad-triangle queue (empty afterwards); its bytes (capacities). */
+void pbw_queue_free(pbw_ctx *C);
+size_t pbw_queue_bytes(const pbw_ctx *C);
 
 /* 1 iff vertex id g is an input vertex at a corner below 60 degrees. */
 int pbw_is_corner_gid(pbw_ctx *C, int64_t g);
@@ -515,9 +533,11 @@ void pbw_release_local(pbw_ctx *C, int32_t hi, int undo);
 
 /* ---- pbw_cavity.c: cavities ------------------------------------------------------------- */
 
-/* A new empty cavity state of C (free with pbw_cav_free; NULL is fine there). */
+/* A new empty cavity state of C (free with pbw_cav_free; NULL is fine there): both recycle
+ * states through C's pool; pbw_cav_pool_free empties it for good (pbw_ctx_free). */
 pbw_cav *pbw_cav_new(pbw_ctx *C);
 void pbw_cav_free(pbw_cav *c);
+void pbw_cav_pool_free(pbw_ctx *C);
 
 /* Adds rank r to c's participants (once) / removes it. */
 void pbw_part_add(pbw_cav *c, int32_t r);
@@ -575,6 +595,15 @@ int32_t pbw_resolve_tomb(pbw_ctx *C, int32_t x, int64_t ga, int64_t gb);
  * reached another rank's triangle or a triangle with a role (lock, reservation, tombstone). */
 int pbw_local_insert(pbw_ctx *C, const double p[2], int32_t t);
 
+/* Splits the subsegment on edge j of t at p (its segment sseg; the halves' dyadic level clev,
+ * -1: none; ka the index of the half at the edge's first vertex, kb at its second) at once if
+ * the cavity opened across it lies on this rank, touches no lock, ghost or tombstone, is
+ * star-shaped, has no vertex inside, and p passes the far side's off-line test.  Returns 1 if
+ * it did (the new vertex, the fan, the halves' records, the counts, the new work; the caller
+ * wakes whoever asked for the split), 0 if the general path must decide (nothing written). */
+int pbw_local_split(pbw_ctx *C, const double p[2], int32_t t, int j, int32_t sseg, int32_t clev,
+                    int64_t ka, int64_t kb);
+
 /* ---- pbw_proto.c: the protocol ---------------------------------------------------------- */
 
 /* The task of a distributed cavity: send the expansion, wait in the blocking queue for the
@@ -592,12 +621,6 @@ int pbw_work(void *ctx);
  * queues the initial work.  Returns 0, or -1 with a message in err. */
 int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_decomp *d, char *err,
               size_t errlen);
-/* The end check of the bounds (as mesh_count_unmet): every triangle this rank owns that is
- * outside them, except a small angle forced by the input (a corner vertex, or the shared
- * forced-angle rule on its shortest edge).  Fills C->res.unmet and C->res.forced, and the
- * rank boundary's statistics C->res.iface_edges and iface_len. */
-void pbw_count_unmet(pbw_ctx *C);
-
 /* Test-only fault (env PBW_TEST_BREAK_IFACE=R): rank R loses the first triangle it owns that
  * has a neighbour on another rank, as if a commit had been lost at a rank boundary, so the
  * result no longer matches across that boundary.  The always-on end check (par_output's
@@ -605,7 +628,11 @@ void pbw_count_unmet(pbw_ctx *C);
 void pbw_test_fault(pbw_ctx *C);
 
 /* The end: this rank's triangles as a mesh_flat (local numbering of the vertices they use); *topen
- * (topen may be NULL): their open edges (pbw_result.topen).  It dismantles the store on the way
+ * (topen may be NULL): their open edges (pbw_result.topen).  The same pass is the end check of
+ * the bounds (as mesh_count_unmet): every triangle this rank owns that is outside them, except a
+ * small angle forced by the input (a corner vertex, or the shared forced-angle rule on its
+ * shortest edge), into C->res.unmet and C->res.forced, and the rank boundary's statistics
+ * C->res.iface_edges and iface_len.  Nothing may be locked.  It dismantles the store on the way
  * (the links, constraints, locks and queue are freed before the copy is made, the vertex table
  * once copied, and the triangles are renumbered in place into the flat's array): only
  * pbw_mesh_bytes, C->nlive and pbw_ctx_free may follow. */

@@ -393,33 +393,26 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
     return 0;
 }
 
-/* The end check of the bounds (as mesh_count_unmet): every triangle this rank owns that is
- * outside them, except a small angle forced by the input (a corner vertex, or the shared
- * forced-angle rule on its shortest edge).  Fills C->res.unmet and C->res.forced, and the
- * rank boundary's statistics C->res.iface_edges and iface_len. */
-void pbw_count_unmet(pbw_ctx *C) {
-    for (int32_t t = 0; t < C->M.nt; t++) {
-        if (!alive(C, t)) continue;
-        for (int j = 0; j < 3; j++) { /* the rank boundary (a statistic: its length) */
-            int64_t n = TN(C, 3 * (size_t)t + (size_t)j);
-            if (n == NOREF || ref_rank(n) == C->rank) continue;
-            C->res.iface_edges++;
-            C->res.iface_len +=
-                sqrt(geom_dist2(VX(C, C->M.tv[3 * (size_t)t + (size_t)j]),
-                                VX(C, C->M.tv[3 * (size_t)t + (size_t)((j + 1) % 3)])));
-        }
-        int sh = 0, why = pbw_quality(C, t, NULL, &sh);
-        if (!why) continue;
-        const int32_t *tv = C->M.tv + 3 * (size_t)t;
-        if (why == MESH_BAD_ANGLE &&
-            (pbw_is_corner_gid(C, C->vgid[tv[0]]) || pbw_is_corner_gid(C, C->vgid[tv[1]]) ||
-             pbw_is_corner_gid(C, C->vgid[tv[2]]) ||
-             pbw_edge_forced(C, tv[sh], tv[(sh + 1) % 3]))) {
-            C->res.forced++;
-            continue;
-        }
-        C->res.unmet++;
+/* The end check of the bounds for live slot t (as mesh_count_unmet): outside them and not
+ * forced by the input (a corner vertex, or the shared forced-angle rule on its shortest edge)
+ * counts in C->res.unmet, forced in C->res.forced; its rank boundary edges in the statistics
+ * C->res.iface_edges and iface_len.  Called by pbw_to_flat's pass over the triangles. */
+static void tally(pbw_ctx *C, int32_t t) {
+    const int32_t *tv = C->M.tv + 3 * (size_t)t;
+    for (int j = 0; j < 3; j++) { /* the rank boundary (a statistic: its length) */
+        if (C->M.tn[3 * (size_t)t + (size_t)j] > -2) continue; /* local or none: no record */
+        C->res.iface_edges++;
+        C->res.iface_len += sqrt(geom_dist2(VX(C, tv[j]), VX(C, tv[(j + 1) % 3])));
     }
+    int sh = 0, why = pbw_quality(C, t, NULL, &sh);
+    if (!why) return;
+    if (why == MESH_BAD_ANGLE &&
+        (pbw_is_corner_gid(C, C->vgid[tv[0]]) || pbw_is_corner_gid(C, C->vgid[tv[1]]) ||
+         pbw_is_corner_gid(C, C->vgid[tv[2]]) || pbw_edge_forced(C, tv[sh], tv[(sh + 1) % 3]))) {
+        C->res.forced++;
+        return;
+    }
+    C->res.unmet++;
 }
 
 /* Test-only fault (env PBW_TEST_BREAK_IFACE=R): rank R loses the first triangle it owns that
@@ -434,6 +427,12 @@ void pbw_test_fault(pbw_ctx *C) {
         for (int j = 0; j < 3; j++) {
             int64_t n = TN(C, 3 * (size_t)t + (size_t)j);
             if (n != NOREF && ref_rank(n) != C->rank) {
+                /* its local neighbours lose their link too (a live slot links only live
+                 * slots: pbw_to_flat's open edges rely on it) */
+                for (int i = 0; i < 3; i++) {
+                    int32_t y = C->M.tn[3 * (size_t)t + (size_t)i];
+                    if (y >= 0) C->M.tn[y] = -1;
+                }
                 pbw_slot_free(C, t);
                 C->nlive--;
                 return;
@@ -442,11 +441,10 @@ void pbw_test_fault(pbw_ctx *C) {
     }
 }
 
-/* This rank's triangles as a mesh_flat (local numbering of the vertices they use). */
-/* 1 iff slot t is written into the flat form (live and not locked). */
-static int written(pbw_ctx *C, int32_t t) {
-    return alive(C, t) && LK(C, t) < 0;
-}
+/* This rank's triangles as a mesh_flat (local numbering of the vertices they use).  Nothing is
+ * locked at the end, so every live slot is written, and a live slot's local links name live
+ * slots (pbw_store.c: an involution on live slots; a tombstone's forward links point one way):
+ * an edge is open iff it has no local link, and no neighbour is looked at. */
 
 int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
     memset(f, 0, sizeof *f);
@@ -459,22 +457,27 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
     int32_t *sv = NULL; /* 3 per subsegment: vertex slots a, b and the segment */
     uint8_t *open = topen ? mesh_xrealloc(NULL, (size_t)C->nlive + 1, 1) : NULL;
     for (int32_t t = 0; t < C->M.nt; t++) {
-        if (!written(C, t)) {
+        if (!alive(C, t)) {
             C->M.tv[3 * (size_t)t] = -1;
             continue;
         }
+        tally(C, t);
         if (open) {
             if (ntri > C->nlive) MESH_BUG("more triangles written than live");
-            open[ntri] = 0;
+            uint8_t o = 0;
+            for (int j = 0; j < 3; j++) { /* open: no local neighbour (boundary, another rank) */
+                int32_t y = C->M.tn[3 * (size_t)t + (size_t)j];
+                MESH_ASSERT(y < 0 || alive(C, y / 3));
+                o |= (uint8_t)((y < 0) << j);
+            }
+            open[ntri] = o;
         }
+        unsigned cons = C->M.tf[t] & 7u; /* its constraint edges */
         for (int j = 0; j < 3; j++) {
             size_t e = 3 * (size_t)t + (size_t)j;
             int32_t v = C->M.tv[e];
             if (map[v] < 0) map[v] = nv++;
-            int64_t n = TN(C, e); /* open: no neighbour written here (boundary, another rank) */
-            if (open && !(n != NOREF && ref_rank(n) == C->rank && written(C, ref_idx(n))))
-                open[ntri] |= (uint8_t)(1u << j);
-            const mesh_subseg *ss = SSEG(C, e);
+            const mesh_subseg *ss = (cons >> j) & 1u ? SSEG(C, e) : NULL;
             if (ss) {
                 MESH_GROW(sv, 3 * (nseg + 1), segcap);
                 sv[3 * nseg] = v;
@@ -486,8 +489,9 @@ int pbw_to_flat(pbw_ctx *C, mesh_flat *f, uint8_t **topen) {
         ntri++;
     }
     /* what only refinement needed goes before the flat copy is made (a lower peak) */
-    free(C->M.tn), free(C->M.tf), free(C->con), free(C->lkk), free(C->lkv), free(C->pool);
-    C->M.tn = NULL, C->M.tf = NULL, C->con = NULL, C->lkk = NULL, C->lkv = NULL, C->pool = NULL;
+    free(C->M.tn), free(C->M.tf), free(C->con), free(C->lkk), free(C->lkv);
+    C->M.tn = NULL, C->M.tf = NULL, C->con = NULL, C->lkk = NULL, C->lkv = NULL;
+    pbw_queue_free(C);
     free(C->M.ss), free(C->M.hpair), free(C->M.hname), free(C->M.cav), free(C->M.bnd);
     free(C->M.stk), free(C->M.newt);
     C->M.ss = NULL, C->M.hpair = C->M.hname = NULL, C->M.cav = NULL, C->M.bnd = NULL;
@@ -553,13 +557,14 @@ void pbw_ctx_free(pbw_ctx *C) {
     free(C->reg_attr), free(C->reg_area);
     free(C->pieces);
     free(C->gen);
-    free(C->pool);
+    pbw_queue_free(C);
     pbw_iv_free(&C->splitq), pbw_iv_free(&C->retryq), pbw_iv_free(&C->deferred),
         pbw_iv_free(&C->slotq), pbw_iv_free(&C->phase2);
     for (int32_t i = 0; i < C->nhd; i++)
         free(C->hd[i].slots);
     free(C->hd);
     free(C->wt);
+    pbw_cav_pool_free(C);
     for (int32_t i = 0; i < C->npk; i++)
         pbw_cav_free(C->pk[i]);
     free(C->pk);
@@ -574,6 +579,6 @@ size_t pbw_mesh_bytes(pbw_ctx *C) {
     b += (size_t)C->concap * sizeof(pbw_con);
     b += (size_t)C->vgcap * 8 + (size_t)C->vhcap * 4;
     b += (size_t)C->owncap * sizeof(int32_t);
-    b += (size_t)C->poolcap * sizeof(qent);
+    b += pbw_queue_bytes(C);
     return b;
 }

@@ -195,33 +195,35 @@ int pbw_find_edge(pbw_ctx *C, int32_t t, int64_t ga, int64_t gb) {
     return -1;
 }
 
-/* MESH_BAD_ANGLE / MESH_BAD_AREA bits (mesh_rules_bad), 0: good.  *bucket (may be NULL): queue
- * priority (mesh_rules_bucket: shortest edge first, as refine.c).  *sh: shortest edge j. */
-int pbw_quality(pbw_ctx *C, int32_t t, int *bucket, int *sh) {
-    const int32_t *tv = C->M.tv + 3 * (size_t)t;
-    const double *p[3] = {VX(C, tv[0]), VX(C, tv[1]), VX(C, tv[2])};
-    double l2;
-    double rb = C->M.treg && C->M.treg[t] >= 0 ? C->reg_area[C->M.treg[t]] : 0;
-    int res = mesh_rules_bad_bound(&C->R, mesh_rules_area_bound(C->R.max_area, rb), p, sh, &l2);
-    if (res && bucket) *bucket = mesh_rules_bucket(l2);
-    return res;
+/* Makes room in a full bucket, as refine.c's queue: doubles its stack, or once it holds
+ * QUEUE_COMPACT entries, first drops the entries whose slot is no longer queued (the triangle
+ * died or its slot was rewritten: either is skipped when popped), keeping the order of the rest,
+ * and doubles only if that freed less than half.  Most entries go stale before they are popped
+ * (a queued triangle falls into a neighbour's cavity), so the queue stays near its live size. */
+#define QUEUE_COMPACT 4096
+
+static void make_room(pbw_ctx *C, pbw_qstack *q) {
+    if (q->cap >= QUEUE_COMPACT) {
+        int32_t n = 0;
+        for (int32_t i = 0; i < q->n; i++) {
+            int32_t t = q->t[i];
+            if (C->M.tf[t] & MESH_QUEUED) q->t[n++] = t;
+        }
+        q->n = n;
+    }
+    if (2 * q->n >= q->cap) {
+        q->cap = q->cap ? 2 * q->cap : 256;
+        q->t = mesh_xrealloc(q->t, (size_t)q->cap, sizeof(int32_t));
+    }
 }
 
 void pbw_push_bad(pbw_ctx *C, int32_t t) {
     int k;
     if (!pbw_quality(C, t, &k, NULL)) return;
-    int32_t i;
-    if (C->pool_free >= 0) {
-        i = C->pool_free;
-        C->pool_free = C->pool[i].next;
-    } else {
-        MESH_GROW(C->pool, C->npool, C->poolcap);
-        i = C->npool++;
-    }
     C->M.tf[t] |= MESH_QUEUED; /* cleared when the slot is rewritten: see pbw_pop_bad */
-    C->pool[i].t = t;
-    C->pool[i].next = C->head[k]; /* LIFO inside a bucket, as refine.c */
-    C->head[k] = i;
+    pbw_qstack *q = &C->q[k];
+    if (q->n == q->cap) make_room(C, q);
+    q->t[q->n++] = t; /* LIFO inside a bucket, as refine.c */
     if (k < C->cursor) C->cursor = k;
     if (k > C->qhi) C->qhi = k;
 }
@@ -229,11 +231,8 @@ void pbw_push_bad(pbw_ctx *C, int32_t t) {
 int32_t pbw_pop_bad(pbw_ctx *C) {
     for (;;) {
         if (!pbw_bad_left(C)) return -1;
-        int k = C->cursor;
-        int32_t i = C->head[k], t = C->pool[i].t;
-        C->head[k] = C->pool[i].next;
-        C->pool[i].next = C->pool_free;
-        C->pool_free = i;
+        pbw_qstack *q = &C->q[C->cursor];
+        int32_t t = q->t[--q->n];
         /* a slot rewritten since it was queued lost its bit (the kernel clears tf when it
          * writes a slot): its new triangle was queued on its own, so skip it untouched, as
          * refine.c does */
@@ -241,6 +240,21 @@ int32_t pbw_pop_bad(pbw_ctx *C) {
         C->M.tf[t] &= (uint8_t)~MESH_QUEUED;
         return t;
     }
+}
+
+void pbw_queue_free(pbw_ctx *C) {
+    for (int k = 0; k < NBUCKET; k++) {
+        free(C->q[k].t);
+        C->q[k].t = NULL;
+        C->q[k].n = C->q[k].cap = 0;
+    }
+}
+
+size_t pbw_queue_bytes(const pbw_ctx *C) {
+    size_t b = 0;
+    for (int k = 0; k < NBUCKET; k++)
+        b += (size_t)C->q[k].cap * sizeof(int32_t);
+    return b;
 }
 
 int pbw_is_corner_gid(pbw_ctx *C, int64_t g) {

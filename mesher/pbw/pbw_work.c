@@ -180,6 +180,10 @@ static void process_item(pbw_ctx *C, pbw_item *it) {
             pbw_notify(C, it->notify, it->ticket, 1);
             return;
         }
+        if (!C->no_fast && pbw_local_split(C, p, t, j, sg.seg, clev, ka, kb)) {
+            pbw_notify(C, it->notify, it->ticket, 0);
+            return;
+        }
         it->gu = C->vgid[la];
         it->gv = C->vgid[lb];
         split_desc sd = {sg.seg, clev, ka, kb};
