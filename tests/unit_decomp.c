@@ -6,7 +6,9 @@
  * between an interface and another segment at a shared vertex is at least 30 degrees (measured
  * with atan2: a quality figure, not a topological decision); the subdomain areas add up to the
  * domain's; work is balanced against the targets; every rank owns a subdomain; the result is the
- * same bits when computed twice.  Inputs: data/ and tests/inputs/ (every input class).
+ * same bits when computed twice (the second time keeping the input's CDT, which is checked to be
+ * the one mesh_build_cdt makes, refining alike).  Inputs: data/ and tests/inputs/ (every input
+ * class).
  */
 #include "bounds/bounds.h"
 #include "check_run.h"
@@ -152,6 +154,42 @@ static double verify(const pslg *in, const pcdm_decomp *d, int32_t K, int32_t P)
     return amin;
 }
 
+/* d->cdt is the CDT of in as mesh_build_cdt makes it (bits, and the state the kernel goes on
+ * from): refining it gives the very mesh refining a fresh build gives. */
+static void mesh_same(const mesh *a, const mesh *b) {
+    ck_assert_int_eq(a->nv, b->nv);
+    ck_assert_int_eq(a->nt, b->nt);
+    ck_assert_int_eq(a->nlive, b->nlive);
+    ck_assert_int_eq(a->nseg, b->nseg);
+    ck_assert_int_eq(a->nss, b->nss);
+    ck_assert(a->rng == b->rng && a->last == b->last);
+    ck_assert(!memcmp(a->xy, b->xy, 2 * (size_t)a->nv * sizeof(double)));
+    ck_assert(!memcmp(a->tv, b->tv, 3 * (size_t)a->nt * sizeof(int32_t)));
+    ck_assert(!memcmp(a->tn, b->tn, 3 * (size_t)a->nt * sizeof(int32_t)));
+    ck_assert(!memcmp(a->tf, b->tf, (size_t)a->nt));
+    ck_assert(!memcmp(a->seg, b->seg, 2 * (size_t)a->nseg * sizeof(int32_t)));
+}
+
+static void check_kept_cdt(const pslg *in, pcdm_decomp *d, double area) {
+    ck_assert_ptr_nonnull(d->cdt);
+    mesh fresh;
+    mesh_init(&fresh);
+    char err[256];
+    ck_assert_msg(mesh_build_cdt(&fresh, in, NULL, err, sizeof err) == 0, "%s", err);
+    mesh_same(d->cdt, &fresh);
+    mesh_quality q;
+    memset(&q, 0, sizeof q);
+    q.min_angle = 30;
+    q.max_area = area;
+    q.max_steiner = -1;
+    q.offcenter = 1;
+    mesh_set_quality(d->cdt, &q);
+    mesh_set_quality(&fresh, &q);
+    ck_assert_int_eq(mesh_refine(d->cdt), mesh_refine(&fresh));
+    mesh_same(d->cdt, &fresh);
+    mesh_free(&fresh);
+}
+
 static void run_auto(const char *path, int32_t K, int32_t P, double R, double area) {
     pslg in;
     load(path, &in);
@@ -183,8 +221,11 @@ static void run_auto(const char *path, int32_t K, int32_t P, double R, double ar
            path, (int)K, (int)P, R, (int)d.ncoarse, (int)(d.g.nsegs - d.nboundary), amin, 100 * dev,
            r0);
     if (area > 0 && K <= 16) ck_assert_msg(dev <= 0.10, "rank work off its target by %.3f", dev);
-    /* determinism */
+    ck_assert_ptr_null(d.cdt); /* not asked for */
+    /* determinism, and keep_cdt changes nothing but the kept CDT */
+    o.keep_cdt = 1;
     ck_assert(pcdm_decomp_auto(&in, &o, &d2, err, sizeof err) == 0);
+    check_kept_cdt(&in, &d2, area);
     ck_assert_int_eq(d.g.nverts, d2.g.nverts);
     ck_assert_int_eq(d.g.nsegs, d2.g.nsegs);
     ck_assert(!memcmp(d.g.xy, d2.g.xy, 2 * (size_t)d.g.nverts * sizeof(double)));

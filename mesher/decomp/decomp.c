@@ -62,6 +62,8 @@ void pcdm_decomp_free(pcdm_decomp *d) {
     mesh_xfree(d->sub_weight);
     mesh_xfree(d->sub_target);
     mesh_xfree(d->sub_owner);
+    if (d->cdt) mesh_free(d->cdt);
+    mesh_xfree(d->cdt);
     memset(d, 0, sizeof *d);
 }
 

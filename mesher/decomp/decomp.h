@@ -45,6 +45,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+struct mesh; /* seq/mesh.h */
+
 typedef struct pcdm_decomp_opts {
     int32_t nsub;          /* K, number of subdomains; 0 = nranks (auto) / whatever the cuts make */
     int32_t nranks;        /* P >= 1 */
@@ -62,6 +64,7 @@ typedef struct pcdm_decomp_opts {
     int region_area;       /* 1: the input's per-region area bounds hold too (--region-areas):
                             * auto: they enter the work weights, the exact preview and its
                             * trial (a cuts file's weights ignore them) */
+    int keep_cdt;          /* auto: 1 = keep a copy of the input's CDT in the result (cdt) */
 } pcdm_decomp_opts;
 
 typedef struct pcdm_decomp {
@@ -97,10 +100,15 @@ typedef struct pcdm_decomp {
     int exact;       /* 1: drawn on the exact preview (the coarse mesh is the final mesh at the
                       * real bounds, and every one of its vertices is a vertex of g) */
     double build_s;  /* wall seconds this rank spent building it (the driver measures) */
+    /* pcdm_decomp_auto with opts.keep_cdt: the constrained Delaunay triangulation of the input
+     * (mesh_build_cdt of in, no iface marks), as built before any refinement; else NULL.  Owned
+     * (pcdm_decomp_free frees it); a user may take its contents, leaving it an empty mesh
+     * (mesh_init): PBW's setup does, instead of building the same CDT again. */
+    struct mesh *cdt;
 } pcdm_decomp;
 
 /* Fills o with defaults: nsub 0, nranks 1, min_angle 30, max_area 0, imbalance 1,
- * per_sub 0 (200), exact_per_sub 0 (1000), max_steiner -1. */
+ * per_sub 0 (200), exact_per_sub 0 (1000), max_steiner -1, keep_cdt 0. */
 void pcdm_decomp_opts_default(pcdm_decomp_opts *o);
 
 /* Decomposes the domain of in (read and pslg_check()ed; not modified) into K = o->nsub

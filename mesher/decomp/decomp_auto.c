@@ -49,6 +49,7 @@
 #include "base/base.h"
 #include "bounds/bounds.h"
 #include "geom/geom.h"
+#include "seq/kernel.h"
 #include "seq/rules.h"
 
 #include <math.h>
@@ -631,11 +632,15 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
         return decomp_fail(err, errlen, "%d subdomains: fewer than the %d ranks", (int)K, (int)P);
     double R = o->imbalance > 0 ? o->imbalance : 1;
     int32_t per = o->per_sub > 0 ? o->per_sub : PER_SUB_DEFAULT;
-    mesh m;
+    mesh m, *keep = NULL;
     mesh_init(&m);
     if (mesh_build_cdt(&m, in, NULL, err, errlen) != 0) {
         mesh_free(&m);
         return -1;
+    }
+    if (o->keep_cdt) { /* the caller's copy, before anything below refines m */
+        keep = mesh_xmalloc(1, sizeof *keep);
+        mesh_copy(keep, &m);
     }
     int exact =
         mode == 2 ? 0
@@ -709,6 +714,12 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
         memcpy(out->sub_target, target, (size_t)K * sizeof(double));
         rc = decomp_map_owners(out, P, R, R != 1 ? planned : NULL, err, errlen);
         if (rc != 0) pcdm_decomp_free(out);
+    }
+    if (rc == 0) {
+        out->cdt = keep;
+    } else if (keep) {
+        mesh_free(keep);
+        mesh_xfree(keep);
     }
     mesh_xfree(id);
     mesh_xfree(part);

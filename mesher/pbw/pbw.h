@@ -75,10 +75,11 @@ typedef struct pbw_result {
  * Returns 0 or a negative RT_E* code. */
 int pbw_register(void);
 
-/* Collective.  Builds the initial CDT of in on every rank, distributes its triangles by the
+/* Collective.  Builds the initial CDT of in on every rank (or takes d->cdt's contents when the
+ * decomposition kept it: decomp.h), distributes its triangles by the
  * subdomains of d (triangle centroid -> subdomain -> d->sub_owner), refines the distributed
- * mesh to the bounds b (c: --phases, --poll, --inflight, regions) and fills *local with this rank's triangles
- * (local vertex numbering, trank = rank, the subsegments of its triangles); *local is the
+ * mesh to the bounds b (c: --phases, --poll, --inflight, regions) and fills *local with this rank's
+ * triangles (local vertex numbering, trank = rank, the subsegments of its triangles); *local is the
  * caller's (mesh_flat_free).  res may be NULL.  Refinement always ends: a rank whose
  * refusals (edges below the length floor, seq/rules.h) pass the budget stops (res->gave_up),
  * and res->unmet counts this rank's triangles left outside the bounds that the input does not

@@ -617,8 +617,9 @@ int pbw_work(void *ctx);
 
 /* ---- pbw_setup.c: set-up and end -------------------------------------------------------- */
 
-/* Builds the initial CDT of in, its length floor and this rank's share by the subdomains of d;
- * queues the initial work.  Returns 0, or -1 with a message in err. */
+/* Builds the initial CDT of in (or takes d->cdt's contents, the same CDT, when the
+ * decomposition kept it, leaving d->cdt empty), its length floor and this rank's share by the
+ * subdomains of d; queues the initial work.  Returns 0, or -1 with a message in err. */
 int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_decomp *d, char *err,
               size_t errlen);
 /* Test-only fault (env PBW_TEST_BREAK_IFACE=R): rank R loses the first triangle it owns that

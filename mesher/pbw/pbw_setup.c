@@ -1,12 +1,12 @@
-/* pbw_setup.c: the start and the end of a PBW run on one rank.  Start: every rank builds the
- * same CDT of the input (refined coarsely with an area bound, so every rank owns a piece),
- * computes the length floor from it as ./mesh does, and keeps the triangles whose centroid
- * lies in one of its subdomains (by the decomposition's segments a path to it crosses), with their
- * input regions when asked (mesh_set_regions on the CDT; new triangles inherit the region of
- * the cavity member on their edge, carried in the seeds and boundary records).  End: the
- * count of triangles left outside the bounds that the input does not force, the test-only
- * fault (PBW_TEST_BREAK_IFACE), this rank's triangles as a mesh_flat, and freeing the
- * context. */
+/* pbw_setup.c: the start and the end of a PBW run on one rank.  Start: every rank has the
+ * same CDT of the input (the decomposition's, which built it first and kept it; else built here),
+ * refines it coarsely with an area bound, so every rank owns a piece, computes the length floor
+ * from it as ./mesh does, and keeps the triangles whose centroid lies in one of its subdomains (by
+ * the decomposition's segments a path to it crosses), with their input regions when asked
+ * (mesh_set_regions on the CDT; new triangles inherit the region of the cavity member on their
+ * edge, carried in the seeds and boundary records).  End: the count of triangles left outside
+ * the bounds that the input does not force, the test-only fault (PBW_TEST_BREAK_IFACE), this
+ * rank's triangles as a mesh_flat, and freeing the context. */
 #include "pbw/pbw_impl.h"
 
 #include <math.h>
@@ -288,10 +288,15 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
     const char *nf = getenv("PBW_NO_FAST_PATH");
     C->no_fast = nf && nf[0] == '1';
     mesh m0;
-    mesh_init(&m0);
-    if (mesh_build_cdt(&m0, in, NULL, err, errlen) != 0) {
-        mesh_free(&m0);
-        return -1;
+    if (d->cdt && d->cdt->nt > 0) { /* the decomposition's CDT of in: taken, not built again */
+        m0 = *d->cdt;
+        mesh_init(d->cdt);
+    } else {
+        mesh_init(&m0);
+        if (mesh_build_cdt(&m0, in, NULL, err, errlen) != 0) {
+            mesh_free(&m0);
+            return -1;
+        }
     }
     /* regions labelled on the CDT (the pre-refinement below inherits them; their bounds are
      * the parallel phase's) */

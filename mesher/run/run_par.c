@@ -107,6 +107,7 @@ static int decompose(const run_job *j, const pslg *in, pcdm_decomp *d, char *err
     dopt.imbalance = o->imbalance;
     dopt.max_steiner = o->max_steiner;
     dopt.region_area = o->region_area;
+    dopt.keep_cdt = j->method == RUN_PBW; /* PBW starts from the same CDT of the input */
     if (!o->cuts && k > PAR_MAX_SUBDOMAINS) {
         snprintf(err, errlen,
                  "%d subdomains: the automatic decomposition supports at most %d (fewer ranks or "

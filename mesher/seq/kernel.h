@@ -75,6 +75,12 @@ void mesh_rebuild_vtri(mesh *m);
  * refused (precision, the interface piece cap). */
 int64_t mesh_iface_defects(mesh *m, int64_t *remote);
 
+/* Makes *dst (uninitialised or freed; overwritten) a deep copy of src, which has no refinement
+ * state (mesh_refine not started, or mesh_refine_free since): every array and every scalar
+ * (walk memory, random state, quality, hooks, statistics), so the copy behaves as src would.
+ * A caller's size-rule context is shared, not copied.  Local. */
+void mesh_copy(mesh *dst, const mesh *src);
+
 /* refine.c: called after every committed cavity when refinement is active. */
 void mesh_refine_free(mesh *m);
 

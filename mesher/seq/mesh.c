@@ -78,6 +78,50 @@ void mesh_free(mesh *m) {
     m->ss_free = -1;
 }
 
+/* n elements of size bytes from p into a new array of cap (>= n) elements; NULL stays NULL. */
+static void *dup_array(const void *p, size_t n, size_t cap, size_t size) {
+    if (!p) return NULL;
+    void *q = mesh_xrealloc(NULL, cap + 1, size);
+    if (n) memcpy(q, p, n * size);
+    return q;
+}
+
+void mesh_copy(mesh *dst, const mesh *src) {
+    if (src->rf) MESH_BUG("mesh_copy of a mesh with refinement state");
+    *dst = *src; /* every scalar: counts, free lists, walk memory, rng, rules */
+    /* the arrays at their length, not their capacity (a smaller copy; growth doubles from
+     * there); the hash tables keep theirs (hcap is their modulus) */
+    size_t nv = (size_t)src->nv, ni = (size_t)src->ninput, nt = (size_t)src->nt;
+    size_t ns = (size_t)src->nseg, nss = (size_t)src->nss, nr = (size_t)src->nregion;
+    dst->vcap = src->nv, dst->tcap = src->nt, dst->segcap = src->nseg, dst->sscap = src->nss;
+    dst->xy = dup_array(src->xy, 2 * nv, 2 * nv, sizeof(double));
+    dst->vseg = dup_array(src->vseg, nv, nv, sizeof(int32_t));
+    dst->vtri = dup_array(src->vtri, nv, nv, sizeof(int32_t));
+    dst->in_vmarker = dup_array(src->in_vmarker, ni, ni, sizeof(int32_t));
+    dst->tv = dup_array(src->tv, 3 * nt, 3 * nt, sizeof(int32_t));
+    dst->tn = dup_array(src->tn, 3 * nt, 3 * nt, sizeof(int32_t));
+    dst->tf = dup_array(src->tf, nt, nt, 1);
+    dst->treg = dup_array(src->treg, nt, nt, sizeof(int32_t));
+    dst->seg = dup_array(src->seg, 2 * ns, 2 * ns, sizeof(int32_t));
+    dst->smarker = dup_array(src->smarker, ns, ns, sizeof(int32_t));
+    dst->siface = dup_array(src->siface, ns, ns, 1);
+    dst->seg_nsub = dup_array(src->seg_nsub, ns, ns, sizeof(int32_t));
+    dst->inc_off = dup_array(src->inc_off, ni + 1, ni + 1, sizeof(int32_t));
+    size_t ninc = src->inc_off ? (size_t)src->inc_off[ni] : 0;
+    dst->inc_seg = dup_array(src->inc_seg, ninc, ninc, sizeof(int32_t));
+    dst->corner = dup_array(src->corner, ni, ni, 1);
+    dst->reg_attr = dup_array(src->reg_attr, nr, nr, sizeof(double));
+    dst->reg_area = dup_array(src->reg_area, nr, nr, sizeof(double));
+    dst->ss = dup_array(src->ss, nss, nss, sizeof(mesh_subseg));
+    dst->hpair = dup_array(src->hpair, src->hcap, src->hcap, sizeof(int32_t));
+    dst->hname = dup_array(src->hname, src->hcap, src->hcap, sizeof(int32_t));
+    /* the cavity and walk scratch, as it is */
+    dst->cav = dup_array(src->cav, (size_t)src->ncav, (size_t)src->cavcap, sizeof(int32_t));
+    dst->bnd = dup_array(src->bnd, (size_t)src->nbnd, (size_t)src->bndcap, sizeof(mesh_bedge));
+    dst->stk = dup_array(src->stk, (size_t)src->nstk, (size_t)src->stkcap, sizeof(int32_t));
+    dst->newt = dup_array(src->newt, (size_t)src->nnewt, (size_t)src->newtcap, sizeof(int32_t));
+}
+
 int32_t mesh_vert_add(mesh *m, double x, double y, int32_t vseg) {
     if (m->nv == m->vcap) {
         int32_t cap = m->vcap ? m->vcap * 2 : 64;
