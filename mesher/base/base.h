@@ -124,4 +124,17 @@ static inline int mesh_cmp_dbl(const void *pa, const void *pb) {
     return (a > b) - (a < b);
 }
 
+/* Entries of the ascending a[0 .. n) below v (binary search; where v would go). */
+static inline int32_t mesh_lower_i32(const int32_t *a, int32_t n, int32_t v) {
+    int32_t lo = 0, hi = n;
+    while (lo < hi) {
+        int32_t mid = lo + (hi - lo) / 2;
+        if (a[mid] < v)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
 #endif

@@ -198,14 +198,7 @@ static int cmp_rec_u(const void *x, const void *y) {
 
 /* 1 iff x is among the n sorted values a. */
 static int has_i32(const int32_t *a, int32_t n, int32_t x) {
-    int32_t lo = 0, hi = n;
-    while (lo < hi) {
-        int32_t mid = lo + (hi - lo) / 2;
-        if (a[mid] < x)
-            lo = mid + 1;
-        else
-            hi = mid;
-    }
+    int32_t lo = mesh_lower_i32(a, n, x);
     return lo < n && a[lo] == x;
 }
 

@@ -187,23 +187,10 @@ static void take_scan(void *arg, int64_t i) {
     tm->cand = cv;
 }
 
-/* Entries of the ascending a[0 .. n) below v. */
-static int32_t count_below(const int32_t *a, int32_t n, int32_t v) {
-    int32_t lo = 0, hi = n;
-    while (lo < hi) {
-        int32_t mid = lo + (hi - lo) / 2;
-        if (a[mid] < v)
-            lo = mid + 1;
-        else
-            hi = mid;
-    }
-    return lo;
-}
-
 /* The merged number of vertex v of tm (its dups decided up to v). */
 static int32_t merged_id(const take_mesh *tm, int32_t ninput, int32_t v) {
     if (v < ninput) return v;
-    int32_t k = count_below(tm->dv, tm->ndup, v);
+    int32_t k = mesh_lower_i32(tm->dv, tm->ndup, v);
     if (k < tm->ndup && tm->dv[k] == v) return tm->did[k];
     return (int32_t)(tm->vbase + (v - ninput) - k);
 }
