@@ -365,26 +365,26 @@ static const char *const tri_kw[] = {"vertices",
 
 /* triangulate(vertices, vertex_markers, vertex_attributes, segments, segment_markers, holes,
  * regions, min_angle, max_area, max_steiner, circumcenters, convex_hull, region_attributes,
- * region_areas, no_refine, lenses, size, refine_areas, edges, neighbors, background[, threads]) -> (code,
- * message, dict); refine_areas: None or (old vertices, old triangles (int32 (t, 3)), their
+ * region_areas, no_refine, lenses, size, refine_areas, edges, neighbors, background[, threads]) ->
+ * (code, message, dict); refine_areas: None or (old vertices, old triangles (int32 (t, 3)), their
  * bounds (float64 (t,))), r's triangle_max_area rule; background: None or size= as a
  * background mesh (vertices float64 (n, 2), triangles int32 (m, 3), values float64 (n,) or
  * (m,), per_triangle), its indices, values and triangles checked here (bg_from); the arrays as
  * the Python half converted them (float64 (n, 2), int32 (n,), float64 (n, k), int32 (m, 2), int32
  * (m,), float64 (h, 2), float64 (r, 4); None: absent), pcdm_options' fields, the size callable
  * (or None), whether edges and neighbours are wanted, and pcdm_options.threads (0: the
- * sequential mesher; T >= 1: the subdomain mesher on T threads, where the build has it).  code is pcdm_triangulate's (0 or
- * PCDM_ESTEINER with the mesh; else the dict is None and message says why). */
+ * sequential mesher; T >= 1: the subdomain mesher on T threads, where the build has it).  code is
+ * pcdm_triangulate's (0 or PCDM_ESTEINER with the mesh; else the dict is None and message says
+ * why). */
 static PyObject *py_triangulate(PyObject *self, PyObject *args, PyObject *kw) {
     PyObject *ov, *ovm, *ova, *os, *osm, *oh, *orr, *size, *rareas, *obg;
     double min_angle, max_area;
     long long max_steiner;
     int circumcenters, convex_hull, rattr, rarea, no_refine, lenses, want_e, want_n, threads = 0;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "OOOOOOOddLppppppOOppO|i", (char **)tri_kw, &ov,
-                                     &ovm, &ova, &os, &osm, &oh, &orr, &min_angle, &max_area,
-                                     &max_steiner, &circumcenters, &convex_hull, &rattr, &rarea,
-                                     &no_refine, &lenses, &size, &rareas, &want_e, &want_n, &obg,
-                                     &threads))
+    if (!PyArg_ParseTupleAndKeywords(
+            args, kw, "OOOOOOOddLppppppOOppO|i", (char **)tri_kw, &ov, &ovm, &ova, &os, &osm, &oh,
+            &orr, &min_angle, &max_area, &max_steiner, &circumcenters, &convex_hull, &rattr, &rarea,
+            &no_refine, &lenses, &size, &rareas, &want_e, &want_n, &obg, &threads))
         return NULL;
     pcdm_input in;
     if (arr_input(ov, ovm, ova, os, osm, oh, orr, "_core", &in)) return NULL;
