@@ -464,7 +464,7 @@ int par_output_sub(const par_opts *o, const pslg *in, mesh_flat *local, const ui
         local->tattr = NULL;
     }
     /* never a silent broken mesh: both sides of every interface must agree first */
-    char imsg[600], msg[1300];
+    char imsg[600] = "", msg[1300];
     int ibad = par_check_interfaces_open(local, topen, imsg, sizeof imsg) != 0;
     snprintf(msg, sizeof msg, "%s: %s: rank %d: %s", o->prog, in->path[0] ? in->path : "mesh",
              rt_rank(), imsg);
