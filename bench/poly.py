@@ -3,6 +3,8 @@
 
 read_poly(path) -> (vertices [(x, y)], segments [(i, j)] as 0-based indices, holes [(x, y)]):
 comments (#) and blank lines ignored, vertex numbering from 0 or 1 as the file says.
+poly_dict(path) -> the same as the dict of numpy arrays triangle.triangulate and
+pcdm.triangulate take (vertices float64, segments int32, holes float64; absent keys left out).
 Command line:  python3 bench/poly.py bbox-area FILE   prints the area of the bounding box
 of the vertices (the calibration's starting point, bench/bench.sh).
 """
@@ -38,6 +40,18 @@ def read_poly(path):
             holes.append((float(lines[i][1]), float(lines[i][2])))
             i += 1
     return pts, segs, holes
+
+
+def poly_dict(path):
+    import numpy as np  # only the Python bench needs numpy; bbox-area runs without it
+
+    pts, segs, holes = read_poly(path)
+    d = {"vertices": np.array(pts, dtype=np.float64)}
+    if segs:
+        d["segments"] = np.array(segs, dtype=np.int32)
+    if holes:
+        d["holes"] = np.array(holes, dtype=np.float64)
+    return d
 
 
 def bbox_area(path):

@@ -31,17 +31,7 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from poly import read_poly  # noqa: E402  (the bench's one .poly reader)
-
-
-def load(path):
-    pts, segs, holes = read_poly(path)
-    d = {"vertices": np.array(pts, dtype=np.float64)}
-    if segs:
-        d["segments"] = np.array(segs, dtype=np.int32)
-    if holes:
-        d["holes"] = np.array(holes, dtype=np.float64)
-    return d
+from poly import poly_dict  # noqa: E402  (the bench's one .poly reader)
 
 
 def rss_mb():
@@ -51,7 +41,7 @@ def rss_mb():
 
 def one(pkg, path, switches):
     mod = __import__(pkg)
-    d = load(path)
+    d = poly_dict(path)
     base = rss_mb()
     t0 = time.perf_counter()
     r = mod.triangulate(d, switches)
@@ -85,7 +75,7 @@ def domain_area(d):
 
 def threads(path, switches, reps):
     import pcdm
-    d1, d2 = load(path), load(path)
+    d1, d2 = poly_dict(path), poly_dict(path)
     pcdm.triangulate(d1, switches)  # warm
     seq, par, cpu = [], [], []
 
@@ -125,7 +115,7 @@ def main():
         one(*a.one)
         return 0
     path = os.path.abspath(a.domain)
-    dom = domain_area(load(path))
+    dom = domain_area(poly_dict(path))
     try:
         import triangle  # noqa: F401
         pkgs = ["pcdm", "triangle"]

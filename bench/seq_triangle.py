@@ -15,22 +15,10 @@ import resource
 import sys
 import time
 
-import numpy as np
 import triangle
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from poly import read_poly  # noqa: E402  (the bench's one .poly reader)
-
-
-def triangle_input(path):
-    """The .poly as the wrapper's dict (bench/poly.py reads it: 0- or 1-based like Triangle)."""
-    pts, segs, holes = read_poly(path)
-    d = {"vertices": np.array(pts, dtype=np.float64)}
-    if segs:
-        d["segments"] = np.array(segs, dtype=np.int32)
-    if holes:
-        d["holes"] = np.array(holes, dtype=np.float64)
-    return d
+from poly import poly_dict  # noqa: E402  (the bench's one .poly reader)
 
 
 def rss_now_mb():
@@ -43,7 +31,7 @@ def rss_now_mb():
 
 def main():
     path, switches = sys.argv[1], sys.argv[2]
-    d = triangle_input(path)
+    d = poly_dict(path)
     base = rss_now_mb()
     t0, c0 = time.perf_counter(), time.process_time()
     out = triangle.triangulate(d, switches)
