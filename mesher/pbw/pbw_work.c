@@ -2,7 +2,8 @@
  * subsegments first, then retries, then bad triangles in the queue's order: a bad triangle's
  * Steiner point (or a subsegment's split point: dyadic, or a concentric shell at a small
  * input corner) starts a cavity; a cavity that stays on this rank is decided at once, one that
- * reaches other ranks becomes a task (at most MAX_INFLIGHT at a time).  Refusals below the
+ * reaches other ranks becomes a task (at most --inflight at a time; ENDGAME_FACTOR times as
+ * many once the rank's own bad triangles and splits are done: the end game).  Refusals below the
  * length floor and the Steiner limit stop a rank's refinement (issue 10).  Env PBW_DEBUG=DIR:
  * each rank writes its queue and lock state to DIR/pbw.RANK.log every 2 s. */
 #include "pbw/pbw_impl.h"
@@ -311,6 +312,10 @@ int pbw_work(void *ctx) {
     pbw_ctx *C = ctx;
     int did = 0;
     debug_report(C);
+    if (C->endgame == 0 && !pbw_bad_left(C) && pbw_iv_empty(&C->splitq)) {
+        C->endgame = 1;
+        C->max_inflight *= ENDGAME_FACTOR;
+    }
     for (int32_t n = 0; n < C->poll_every && !C->stopped; n++) {
         pbw_item it;
         if (!next_item(C, &it)) break;

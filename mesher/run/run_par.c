@@ -285,7 +285,7 @@ static int mesh_pbw(run_job *j, const pslg *in, const pcdm_decomp *d, const mesh
     run_stats_set(st, "mesh_bytes", 0, 0, (double)res.mesh_bytes);
     run_stats_set(st, "wall_s", 3, 0, p->wall);
     run_stats_set(st, "phase1_s", 3, 0, res.phase1_s);
-    run_stats_set(st, "cpu_s", 3, 0, par_cpu_seconds() - p->c0);
+    run_stats_set(st, "cpu_s", 3, 1, par_cpu_seconds() - p->c0);
     run_stats_set(st, "mpi_msgs", 0, 0, (double)rs.mpi_sent);
     run_stats_set(st, "self", 0, 0, (double)res.rsr_self);
     run_stats_set(st, "endcheck_s", 4, 0, res.endcheck_s);
