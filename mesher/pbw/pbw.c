@@ -70,22 +70,24 @@
  * owner applies the commit, so nobody follows a link that is being rewritten; a link to a slot
  * reserved by a cavity whose commit has not arrived yet finds that slot locked.
  *
- * GHOSTS (issue 13).  Of the two triangles on a rank boundary edge, the one on the LOWER rank
- * keeps a ghost of the other: its apex (gx, a vertex slot; the edge's vertices are its own),
- * set by the initial distribution and by every commit that makes such an edge (the apex of
- * each new triangle's neighbours is known from the cavity's boundary).  When a cavity's member
- * x on rank A has a neighbour n on rank B > A with a ghost, A decides n on the ghost, exactly
- * as B would (incircle; across a constraint no test): n in conflict is visited (locked) as
- * before; otherwise n is NOT locked -- A reports the edge itself, with the new triangle T on A,
- * so a cavity whose remote neighbours are all unconflicted stays local.  Its commit writes T's
+ * GHOSTS (issue 13).  Of the two triangles on a rank boundary edge, the one on the pair's
+ * GHOST SIDE (one of the two ranks, the same for all their edges: pbw_ghosts.c) keeps a ghost
+ * of the other: its apex (gx, a vertex slot; the edge's vertices are its own), set by the
+ * initial distribution and by every commit that makes such an edge (the apex of each new
+ * triangle's neighbours is known from the cavity's boundary).  When a cavity's member x on
+ * rank A has a neighbour n on rank B with a ghost, A the ghost side of (A, B), A decides n on
+ * the ghost, exactly as B would (incircle; across a constraint no test): n in conflict is
+ * visited (locked) as before; otherwise n is NOT locked -- A reports the edge itself, with
+ * the new triangle T on A, so a cavity whose remote neighbours are all unconflicted stays local.  Its commit writes T's
  * link to n and makes x a TOMBSTONE (dead, never reused, keeping across that edge a forward
  * link to T); B is not told (n keeps its link to x), so a ghost commit sends nothing at all.
  * Why the ghost is exact: n only dies in a cavity that has n as a member, expanded on B; B is
- * the higher rank, so B never uses a ghost of A's side: it locks the triangle across (x, or T
+ * not the ghost side, so B never uses a ghost of A's side: it locks the triangle across (x, or T
  * through the tombstones), and that cavity's commit rewrites A's link (and ghost) before the
  * lock is released; so while A's triangle is unlocked and links n, n is alive and unchanged.
  * (Both sides deciding on ghosts at once could leave a non-Delaunay edge between the two new
- * fans: hence the rank order.)  Why the stale link is harmless: n links the tombstone x until
+ * fans: hence one ghost side per pair of ranks.  Which side it is moves load: see
+ * pbw_ghosts.c.)  Why the stale link is harmless: n links the tombstone x until
  * a cavity of B's rewrites it; an expansion that follows it arrives at A, as it would with a
  * fresh link (x and T are both A's), and A follows the forward links to the live triangle on
  * that edge (pbw_resolve_tomb) and goes on from there; if that triangle is the one the

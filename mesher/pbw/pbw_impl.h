@@ -284,6 +284,7 @@ struct pbw_ctx {
     double area_budget; /* this rank's share of mesh_rules_area_drift of the domain */
     double area_spent;  /* ... moved by its boundary splits, signed (mesh_rules_drift_spend) */
     int32_t *pieces;    /* per segment: splits this rank made (MESH_RULES_MAX_PIECES) */
+    uint8_t *gside;     /* per rank r: 1 if this rank keeps the ghosts towards r (pbw_ghosts.c) */
     int64_t unresolved_budget; /* refusals this rank accepts before it gives up */
     int64_t steiner_limit;
     int stopped;
@@ -384,9 +385,9 @@ static inline int alive(pbw_ctx *C, int32_t t) {
 }
 
 /* 1 iff this rank may decide the conflict of remote neighbour n on its ghost and never lock
- * it: the lower rank of the two does (see GHOSTS in pbw.c). */
+ * it: the pair's ghost side does (see GHOSTS in pbw.c, pbw_ghosts.c). */
 static inline int ghost_side(pbw_ctx *C, int64_t n) {
-    return n != NOREF && C->rank < ref_rank(n);
+    return n != NOREF && C->gside[ref_rank(n)];
 }
 
 /* Priority order: stamp, then key (unique), smaller = older. */
@@ -651,6 +652,12 @@ void pbw_ctx_free(pbw_ctx *C);
 
 /* Bytes of this rank's mesh arrays (capacities). */
 size_t pbw_mesh_bytes(pbw_ctx *C);
+
+/* ---- pbw_ghosts.c: the ghost side of each pair of ranks ---------------------------------- */
+
+/* Allocates C->gside: per rank, whether this rank keeps the ghosts towards it; computed alike on
+ * every rank from the initial mesh m0 and its triangles' owners own (slot -> rank). */
+void pbw_ghost_sides(pbw_ctx *C, const mesh *m0, const int32_t *own);
 
 /* ---- pbw_check.c: the end check ------------------------------------------------------- */
 

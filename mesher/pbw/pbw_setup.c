@@ -321,6 +321,7 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
     }
     int32_t *own = mesh_xrealloc(NULL, (size_t)m0.nt + 1, sizeof(int32_t));
     owners(C, &m0, d, own);
+    pbw_ghost_sides(C, &m0, own);
     /* input data: the CDT's own arrays (it becomes C->M below, which owns and frees them) */
     C->ninput = m0.ninput;
     C->nseg = m0.nseg;
@@ -561,6 +562,7 @@ void pbw_ctx_free(pbw_ctx *C) {
     free(C->con), free(C->lkk), free(C->lkv);
     free(C->reg_attr), free(C->reg_area);
     free(C->pieces);
+    free(C->gside);
     free(C->gen);
     pbw_queue_free(C);
     pbw_iv_free(&C->splitq), pbw_iv_free(&C->retryq), pbw_iv_free(&C->deferred),
