@@ -73,35 +73,32 @@ int64_t pbw_check_delaunay(pbw_ctx *C, char *msg, size_t len, double *secs) {
         *rcount = mesh_xcalloc((size_t)P, sizeof(int));
     int *sdisp = mesh_xcalloc((size_t)P + 1, sizeof(int)),
         *rdisp = mesh_xcalloc((size_t)P + 1, sizeof(int));
-    for (int32_t t = 0; t < M->nt; t++) {
-        if (!alive(C, t)) continue;
-        for (int j = 0; j < 3; j++) {
-            size_t e = 3 * (size_t)t + (size_t)j;
-            if (M->tn[e] <= -2 && !mesh_edge_constrained(M, (int32_t)e))
-                scount[ref_rank(TN(C, e))]++;
-        }
+    /* the rank boundary edges are the records' (pbw_store.c), not a pass over every slot */
+    for (int32_t i = 0; i < C->ncon; i++) {
+        int32_t e = C->con[i].e;
+        if (e < 0) continue;
+        if (M->tn[e] != -2 - i) MESH_BUG("record %d names edge %d, which does not link it", i, e);
+        if (alive(C, e / 3) && !mesh_edge_constrained(M, e)) scount[ref_rank(C->con[i].nb)]++;
     }
     for (int r = 0; r < P; r++)
         sdisp[r + 1] = sdisp[r] + scount[r];
     bedge *sb = mesh_xrealloc(NULL, (size_t)sdisp[P] + 1, sizeof *sb);
     int *fill = mesh_xcalloc((size_t)P, sizeof(int));
-    for (int32_t t = 0; t < M->nt; t++) {
-        if (!alive(C, t)) continue;
-        const int32_t *tv = M->tv + 3 * (size_t)t;
-        for (int j = 0; j < 3; j++) {
-            size_t e = 3 * (size_t)t + (size_t)j;
-            if (M->tn[e] > -2 || mesh_edge_constrained(M, (int32_t)e)) continue;
-            int64_t n = TN(C, e);
-            int r = ref_rank(n);
-            bedge *b = &sb[sdisp[r] + fill[r]++];
-            memset(b, 0, sizeof *b);
-            b->ga = C->vgid[tv[j]];
-            b->gb = C->vgid[tv[(j + 1) % 3]];
-            memcpy(b->pa, VX(C, tv[j]), sizeof b->pa);
-            memcpy(b->pb, VX(C, tv[(j + 1) % 3]), sizeof b->pb);
-            memcpy(b->apex, VX(C, tv[(j + 2) % 3]), sizeof b->apex);
-            b->slot = ref_idx(n);
-        }
+    for (int32_t i = 0; i < C->ncon; i++) {
+        int32_t e = C->con[i].e;
+        if (e < 0 || !alive(C, e / 3) || mesh_edge_constrained(M, e)) continue;
+        const int32_t *tv = M->tv + 3 * (size_t)(e / 3);
+        int j = e % 3;
+        int64_t n = C->con[i].nb;
+        int r = ref_rank(n);
+        bedge *b = &sb[sdisp[r] + fill[r]++];
+        memset(b, 0, sizeof *b);
+        b->ga = C->vgid[tv[j]];
+        b->gb = C->vgid[tv[(j + 1) % 3]];
+        memcpy(b->pa, VX(C, tv[j]), sizeof b->pa);
+        memcpy(b->pb, VX(C, tv[(j + 1) % 3]), sizeof b->pb);
+        memcpy(b->apex, VX(C, tv[(j + 2) % 3]), sizeof b->apex);
+        b->slot = ref_idx(n);
     }
     double t1 = par_cpu_seconds(); /* the collectives wait for the other ranks: not counted */
     MPI_Comm comm = rt_app_comm();

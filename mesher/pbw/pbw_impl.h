@@ -177,7 +177,8 @@ typedef struct pbw_ctx pbw_ctx;
 
 typedef struct pbw_con { /* an edge whose neighbour is on another rank (tn = -2 - record) */
     int64_t nb;          /* the neighbour reference (free record: the next free one) */
-    int32_t gx, pad;     /* ghost: vertex slot of the remote neighbour's apex, or -1 */
+    int32_t gx;          /* ghost: vertex slot of the remote neighbour's apex, or -1 */
+    int32_t e;           /* the edge (tn[e] = -2 - record); -1: a free record */
 } pbw_con;
 
 typedef struct pbw_item { /* a unit of local work */

@@ -363,7 +363,8 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
         C->vgid[v] = v;
     pbw_vt_rehash(C, 2048);
     for (int32_t t = 0; t < M->nt; t++) {
-        if (own[t] != C->rank) continue;
+        /* a free slot of the CDT (own 0) is nobody's: its tn[3t] is the free list's link */
+        if (own[t] != C->rank || !mesh_tri_alive(M, t)) continue;
         M->tf[t] &= (uint8_t) ~(MESH_MARK | MESH_QUEUED | MESH_FENCE); /* role none */
         for (int j = 0; j < 3; j++) {
             size_t e = 3 * (size_t)t + (size_t)j;

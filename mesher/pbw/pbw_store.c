@@ -107,7 +107,7 @@ static void rec_make(pbw_ctx *C, size_t e, int64_t nb) {
         MESH_GROW(C->con, C->ncon, C->concap);
         i = C->ncon++;
     }
-    C->con[i] = (pbw_con){nb, -1, 0};
+    C->con[i] = (pbw_con){nb, -1, (int32_t)e};
     C->M.tn[e] = -2 - i;
 }
 
@@ -116,6 +116,7 @@ static void rec_free(pbw_ctx *C, size_t e) {
     int32_t i = REC(C, e);
     if (i < 0) return;
     C->con[i].nb = C->confree;
+    C->con[i].e = -1;
     C->confree = i;
     C->M.tn[e] = -1;
 }
