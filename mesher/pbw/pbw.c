@@ -78,11 +78,11 @@
  * rank A has a neighbour n on rank B with a ghost, A the ghost side of (A, B), A decides n on
  * the ghost, exactly as B would (incircle; across a constraint no test): n in conflict is
  * visited (locked) as before; otherwise n is NOT locked -- A reports the edge itself, with
- * the new triangle T on A, so a cavity whose remote neighbours are all unconflicted stays local.  Its commit writes T's
- * link to n and makes x a TOMBSTONE (dead, never reused, keeping across that edge a forward
- * link to T); B is not told (n keeps its link to x), so a ghost commit sends nothing at all.
- * Why the ghost is exact: n only dies in a cavity that has n as a member, expanded on B; B is
- * not the ghost side, so B never uses a ghost of A's side: it locks the triangle across (x, or T
+ * the new triangle T on A, so a cavity whose remote neighbours are all unconflicted stays local.
+ * Its commit writes T's link to n and makes x a TOMBSTONE (dead, never reused, keeping across that
+ * edge a forward link to T); B is not told (n keeps its link to x), so a ghost commit sends nothing
+ * at all. Why the ghost is exact: n only dies in a cavity that has n as a member, expanded on B; B
+ * is not the ghost side, so B never uses a ghost of A's side: it locks the triangle across (x, or T
  * through the tombstones), and that cavity's commit rewrites A's link (and ghost) before the
  * lock is released; so while A's triangle is unlocked and links n, n is alive and unchanged.
  * (Both sides deciding on ghosts at once could leave a non-Delaunay edge between the two new

@@ -94,7 +94,7 @@ static void fill_cell(sgrid *G, int32_t c, void *arg) {
     G->ids[G->off[c]++] = *(const int32_t *)arg;
 }
 
-static void sgrid_build(sgrid *G, const pslg *g, int32_t s0, int32_t s1) {
+static void sgrid_build(sgrid *G, const pslg *g, int32_t s0, int32_t s1, double min_cells) {
     memset(G, 0, sizeof *G);
     double x0 = g->xy[0], x1 = x0, y0 = g->xy[1], y1 = y0;
     for (int32_t v = 1; v < g->nverts; v++) {
@@ -102,7 +102,7 @@ static void sgrid_build(sgrid *G, const pslg *g, int32_t s0, int32_t s1) {
         y0 = fmin(y0, g->xy[2 * v + 1]), y1 = fmax(y1, g->xy[2 * v + 1]);
     }
     double w = fmax(x1 - x0, DBL_MIN), h = fmax(y1 - y0, DBL_MIN);
-    double cells = 2.0 * (s1 - s0) + 64; /* about one segment per cell */
+    double cells = fmax(2.0 * (s1 - s0) + 64, min_cells); /* about one segment per cell */
     double side = sqrt(w * h / cells);
     G->nx = (int32_t)fmin(fmax(w / side, 1), 4096), G->ny = (int32_t)fmin(fmax(h / side, 1), 4096);
     G->x0 = x0, G->y0 = y0, G->cw = w / G->nx, G->ch = h / G->ny;
@@ -165,6 +165,16 @@ static void cross_cell(sgrid *G, int32_t c, void *arg) {
  * otherwise -2). */
 static int32_t face_across(sgrid *G, const pcdm_decomp *d, const double a[2], int32_t sa,
                            const double b[2], int check) {
+    /* both ends in one cell no segment was filed in (the filing is conservative, and the cell
+     * is convex): nothing crosses the path -- most paths, without a look at any segment */
+    int32_t ca = cell_x(G, a[0]);
+    if (!check && ca == cell_x(G, b[0])) {
+        int32_t ra = cell_y(G, a[1]);
+        if (ra == cell_y(G, b[1])) {
+            int32_t c = ra * G->nx + ca;
+            if (G->off[c] == G->off[c + 1]) return sa;
+        }
+    }
     crossing X = {d, a, b, 0, -1, 0, 0};
     if (++G->stamp == INT32_MAX) { /* wrap: forget every mark */
         memset(G->mark, 0, (size_t)d->g.nsegs * sizeof(int32_t));
@@ -197,8 +207,10 @@ static int32_t face_across(sgrid *G, const pcdm_decomp *d, const double a[2], in
  * centroid (above).  Every rank computes the same answer. */
 static void owners(pbw_ctx *C, const mesh *m0, const pcdm_decomp *d, int32_t *own) {
     sgrid G, GI; /* every segment; the interfaces alone */
-    sgrid_build(&G, &d->g, 0, d->g.nsegs);
-    sgrid_build(&GI, &d->g, d->nboundary, d->g.nsegs);
+    double gi =
+        0.25; /* GI: about four initial triangles per cell (most paths then meet no segment) */
+    sgrid_build(&G, &d->g, 0, d->g.nsegs, 0);
+    sgrid_build(&GI, &d->g, d->nboundary, d->g.nsegs, gi * m0->nt);
     int32_t nt = m0->nt;
     double *cen = mesh_xmalloc(2 * ((size_t)nt + 1), sizeof(double));
     int32_t *lab = mesh_xmalloc((size_t)nt + 1, sizeof(int32_t)); /* -3: none yet */
