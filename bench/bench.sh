@@ -13,7 +13,7 @@
 # (NET_LATS us, 33.6 MB/s, NET_REPS repetitions on NET_NPS ranks); bench/README.md says what
 # each figure is.
 # Environment: QUICK=1 (1 repetition, no 10M run), REPS=N (override repetitions), BIG_REPS,
-# BIG10_REPS, NET_REPS, NET_LATS, NET_NPS,
+# BIG10_REPS, NET_REPS, NET_LATS, NET_NPS, SCALE10_REPS (the balanced 10M scale runs; default 3),
 # DOMAIN=data/lake.poly, QDEG=20.7, MESH/PCDM/PBW=program paths, B=build dir (default build),
 # RUN_TIMEOUT=seconds per run, NO_10M=1, NO_TRIANGLE=1; output section (issue 12): NO_OUTPUT=1,
 # OUT_AREA, OUT_REPS, BENCH_100M=1 (one 100M-triangle ./pcdm -o --check run), TIMEOUT_100M;
@@ -670,7 +670,7 @@ if [ -z "$QUICK" ] && [ -z "${NO_10M:-}" ]; then
     SEC_TIMEOUT=$TIMEOUT_10M
     MIN_LEFT=60
     section_begin "scale_10m"
-    scale_size 10m "$A10M" "8 1 2 4" 1 1m 15
+    scale_size 10m "$A10M" "8 1 2 4" "${SCALE10_REPS:-3}" 1m 15
     section_end
 else
     note "10M-triangle scale runs skipped ($([ -n "$QUICK" ] && echo 'QUICK=1' || echo 'NO_10M=1'))"

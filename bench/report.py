@@ -1122,7 +1122,8 @@ def sec_decomp(c):
 def sec_scale(c):
     c.H("## Beyond the paper: 1M and 10M triangles against ./mesh and Triangle")
     c.H()
-    c.H("Balanced runs, one repetition.  Against the sequential `./mesh` and Shewchuk's Triangle (PyPI "
+    c.H("Balanced runs; where a size ran several repetitions (alternating the programs), the figures "
+        "are medians.  Against the sequential `./mesh` and Shewchuk's Triangle (PyPI "
         "`triangle`, time of the `triangulate` call only, switches `pq%sa<area>Q`).  tri/s = "
         "triangles / wall s (measured); cpu_max s = the busiest rank's CPU seconds (a lower bound on "
         "the time with a core per rank); CPU-bound speedup = 1-rank cpu_max / cpu_max_P (an upper "
@@ -1144,14 +1145,15 @@ def sec_scale(c):
                 continue
             s = rs[0]["s"]
             par = prog in ("pcdm", "pbw")
-            tris, wall, cpu = s.get("triangles"), s.get("wall_s"), s.get(CPU) if par else None
+            tris, wall = s.get("triangles"), med(vals(rs, "wall_s"))
+            cpu = med(vals(rs, CPU)) if par else None
             rss_kb = rs[0]["rss_sum_kb"] if isnum(rs[0]["rss_sum_kb"]) else None
             if prog == "triangle" and isnum(s.get("peak_rss_mb")):
                 rss_kb = s["peak_rss_mb"] * 1024.0
             bpt = div(rss_kb * 1024.0 if rss_kb else None, tris)
             own = s.get("bytes_per_tri") if isnum(s.get("bytes_per_tri")) else None
             csp = div(t1.get(prog), cpu) if par else None
-            rsr = s.get("rsr") if par else None
+            rsr = med(vals(rs, "rsr")) if par else None
             rows.append([lab, prog, np_, fi(tris), f(wall, 3), f(cpu, 3) if par else "-", fi(div(tris, wall)),
                          f(csp) if csp else "-", f(div(mesh_wall, wall)), f(rss_kb / 1024.0, 0) if rss_kb else "NA",
                          fi(bpt), fi(own) if own else "-", fi(rsr) if rsr is not None else "-",
