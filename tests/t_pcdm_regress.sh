@@ -12,7 +12,8 @@
 # --check OK, or be refused as above.  The refusals are counted and printed.  Found this way:
 # a point set 8e29 long and 2 wide (point_sliver_8e29.node) ran until killed at 3 ranks; the
 # rows of tests/fuzz/pending_par's replay (iface_*, cuts_tiny_angle_*, sliver_one_triangle) ran
-# for minutes or failed the interface check.
+# for minutes or failed the interface check.  Last, iface_fan_steiner_limit.poly at 8 ranks with
+# --async (below).
 # Env: BIN, MPIRUN as the other tests; SANITIZE=1 (3 ranks only).
 . "$(dirname "$0")/lib.sh"
 refused=0
@@ -71,4 +72,43 @@ while IFS='|' read -r f opts want pat; do
     done
 done <tests/fuzz/regress/TABLE
 echo "$TEST: $refused refused by ./pcdm (cannot decompose, or cannot meet the bounds where ./mesh meshes)"
+
+# The asynchronous protocol at 8 ranks on the interface fan at a tiny feature under the Steiner
+# limit: named interface splits received past the limit, at points rounded off their line,
+# left fan edges that were not locally Delaunay in one rank's mesh, and ./pcdm wrote that mesh
+# with exit 3 on every run (the schedule explorer, make stress).  Each rank's mesh is made
+# Delaunay again by flips after refinement: exit 3 with the mesh valid (--check, and ./meshcheck
+# on the files written without --check), or the interface error on every rank, nothing written.
+f=tests/fuzz/regress/iface_fan_steiner_limit.poly
+if [ "${SANITIZE:-}" != 1 ]; then
+    for run in 1 2; do
+        name="iface_fan_steiner_limit.poly -q 30 -S 20000 --async np=8 run $run"
+        rm -f "$T/fan".*
+        out=$(mpi_run 8 "$BIN/pcdm" -q 30 -S 20000 --async --stats -o "$T/fan" "$f" 2>&1 </dev/null)
+        rc=$?
+        if [ "$rc" = 3 ]; then
+            chk=$("$BIN/meshcheck" -q 0 "$f" "$T/fan" 2>&1)
+            flips=$(sed -n 's/^rank .* flips=\([0-9]*\).*/\1/p' <<<"$out" | awk '{ s += $1 } END { print s + 0 }')
+            if grep -q '^meshcheck: OK' <<<"$chk"; then
+                ok "$name: exit 3, ./meshcheck OK ($flips flips)"
+            else
+                fail "$name: exit 3 with a mesh ./meshcheck refuses: $(head -c 300 <<<"$chk")"
+            fi
+        elif [ "$rc" = 1 ] && grep -q 'cannot meet the bounds' <<<"$out" && ! [ -e "$T/fan.ele" ]; then
+            ok "$name: cannot meet the bounds on every rank, nothing written"
+        else
+            fail "$name: exit [$(cat "$T/rcs")]: $(grep -v '^ ' <<<"$out" | grep -v '^rank\|^rsr\|^stats' | head -n 2)"
+        fi
+    done
+    out=$(mpi_run 8 "$BIN/pcdm" -NEP -q 30 -S 20000 --async --check "$f" 2>&1 </dev/null)
+    rc=$?
+    name="iface_fan_steiner_limit.poly -q 30 -S 20000 --async np=8 --check"
+    if [ "$rc" = 3 ] && grep -q '^meshcheck: OK' <<<"$out"; then
+        ok "$name: exit 3, --check OK"
+    elif [ "$rc" = 1 ] && grep -q 'cannot meet the bounds' <<<"$out"; then
+        ok "$name: cannot meet the bounds on every rank"
+    else
+        fail "$name: exit [$(cat "$T/rcs")]: $(grep -E '^meshcheck|^pcdm' <<<"$out" | head -n 2 | head -c 400)"
+    fi
+fi
 finish

@@ -30,7 +30,15 @@
  * so at termination both sides hold the same chain of subsegments and the merged mesh
  * conforms -- unless the receiver could not make a split (its triangles put the point off the
  * line, at the precision limit): pcdm_part_figures counts those (mesh_iface_defects) and
- * ./pcdm then fails on every rank.  A decomposition whose interfaces meet another segment
+ * ./pcdm then fails on every rank.  When refinement is over each mesh is made a constrained
+ * Delaunay triangulation again by Lawson's flips (pcdm_mesh_restore_delaunay): a split point
+ * rounded off its line, with a far apex beside the subsegment (a split received from another
+ * rank has a cavity of that one triangle), leaves a new edge from the apex that is not locally
+ * Delaunay; refinement removes it (its two triangles are skinny), but not when it stopped first
+ * (the Steiner limit; tests/fuzz/regress/iface_fan_steiner_limit.poly at 8 ranks: a fan of
+ * interface pieces at a tiny feature).  Flips add no vertex and leave every constraint edge, input
+ * or interface, as it is, so the parts still conform; they change nothing in a mesh that already is
+ * one.  A decomposition whose interfaces meet another segment
  * below 1/MESH_RULES_IFACE_MAX_PIECES radian is refused at build (check_angles).  The work function
  * returns IDLE only when mesh_refine returned DONE (or hit the Steiner limit) and no request
  * arrived since, honouring rt_run's termination contract.
@@ -281,6 +289,78 @@ static int work(void *ctx) {
     return RT_WORK_BUSY; /* did work in this call; the next call reports IDLE */
 }
 
+/* ---- the Delaunay property after refinement ------------------------------------------------- */
+
+/* 1 iff edge e of a live triangle has a live neighbour across, is no constraint, touches no
+ * ghost vertex and is not locally Delaunay (the neighbour's apex strictly inside e's triangle's
+ * circumcircle, exact) while its flip gives two counter-clockwise triangles. */
+static int flippable(const mesh *m, int32_t e) {
+    int32_t f = m->tn[e];
+    if (f < 0 || mesh_edge_constrained(m, e) || !mesh_tri_alive(m, e / 3) ||
+        !mesh_tri_alive(m, f / 3))
+        return 0;
+    int32_t u = mesh_org(m, e), v = mesh_dest(m, e), w = mesh_apex(m, e), z = mesh_apex(m, f);
+    if (u < 0 || v < 0 || w < 0 || z < 0) return 0;
+    const double *U = mesh_vertex_xy(m, u), *V = mesh_vertex_xy(m, v), *W = mesh_vertex_xy(m, w),
+                 *Z = mesh_vertex_xy(m, z);
+    return geom_incircle(U, V, W, Z) > 0 && geom_orient2d(W, U, Z) > 0 &&
+           geom_orient2d(Z, V, W) > 0;
+}
+
+/* Pushes edge e onto the stack (grown as needed). */
+static void push_edge(int32_t **stack, int32_t *n, int32_t *cap, int32_t e) {
+    if (*n == *cap) {
+        *cap = *cap ? 2 * *cap : 64;
+        *stack = mesh_xrealloc(*stack, (size_t)*cap, sizeof **stack);
+    }
+    (*stack)[(*n)++] = e;
+}
+
+int64_t pcdm_mesh_restore_delaunay(mesh *m) {
+    int32_t *stack = NULL, n = 0, cap = 0;
+    int64_t flips = 0;
+    /* Bowyer-Watson leaves every edge locally Delaunay but the spokes of a point outside its
+     * cavity's kernel, which only a subsegment's split point can be (off its line): the edges
+     * at vertices on segments are the seeds, found by rotating around each */
+    for (int32_t v = 0; v < m->nv; v++) {
+        int32_t t0 = m->vseg[v] >= 0 ? m->vtri[v] : -1;
+        if (t0 < 0 || !mesh_tri_alive(m, t0)) continue;
+        int j = m->tv[3 * t0] == v       ? 0
+                : m->tv[3 * t0 + 1] == v ? 1
+                : m->tv[3 * t0 + 2] == v ? 2
+                                         : -1;
+        if (j < 0) continue;
+        int32_t e0 = 3 * t0 + j; /* v -> dest */
+        for (int dir = 0; dir < 2; dir++) {
+            int32_t e = e0;
+            for (int32_t steps = 0; steps <= m->nt; steps++) {
+                if (flippable(m, e)) push_edge(&stack, &n, &cap, e);
+                int32_t f = dir ? m->tn[e]                  /* dest -> v in the next triangle */
+                                : m->tn[mesh_edge_prev(e)]; /* v -> apex's twin */
+                if (f < 0) break;
+                e = dir ? mesh_edge_next(f) : f;
+                if (e == e0) { /* closed fan: every edge seen */
+                    dir = 2;
+                    break;
+                }
+            }
+        }
+    }
+    while (n > 0) {
+        int32_t e = stack[--n];
+        if (!flippable(m, e)) continue; /* flipped away, or Delaunay since */
+        int32_t t1 = e / 3, t2 = m->tn[e] / 3;
+        mesh_flip(m, e); /* t1 = (w, u, z), t2 = (z, v, w): their outer edges 0 and 1 */
+        flips++;
+        push_edge(&stack, &n, &cap, 3 * t1);
+        push_edge(&stack, &n, &cap, 3 * t1 + 1);
+        push_edge(&stack, &n, &cap, 3 * t2);
+        push_edge(&stack, &n, &cap, 3 * t2 + 1);
+    }
+    free(stack);
+    return flips;
+}
+
 int pcdm_part_refine(pcdm_part *p, const mesh_quality *q, int32_t poll_every) {
     p->poll_every = poll_every > 0 ? poll_every : 300;
     if (p->det) {
@@ -304,6 +384,7 @@ int pcdm_part_refine(pcdm_part *p, const mesh_quality *q, int32_t poll_every) {
     slot.active = p;
     rt_run(work, p);
     slot.active = NULL;
+    p->flips += (uint64_t)pcdm_mesh_restore_delaunay(&p->m);
     return 0;
 }
 

@@ -72,6 +72,8 @@ typedef struct pcdm_part {
     uint64_t split_ignored;  /* of those, subsegment already split here (dropped) */
     uint64_t split_notfound; /* of those, segment not present here (a protocol error) */
     uint64_t work_steps;     /* calls of the local work function that refined */
+    uint64_t flips;          /* edges flipped after refinement to make each mesh Delaunay again
+                              * (pcdm_mesh_restore_delaunay; 0 unless refinement stopped short) */
     /* dynamic load balancing (deterministic parts; set balance before pcdm_part_refine) */
     int balance;          /* 1: idle ranks take unstarted subdomains from busy ones */
     uint64_t migrations;  /* subdomains this rank received */

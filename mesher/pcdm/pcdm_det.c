@@ -630,6 +630,10 @@ void pcdm_det_refine(pcdm_part *p, const mesh_quality *q) {
         MESH_BUG("rank %d: rounds ended without a final round", p->rank);
     p->rounds = D->stop + 1;
     p->nsub_owned = D->n; /* after balancing: the subdomains this rank ends with */
+    /* each mesh a constrained Delaunay triangulation again (pcdm.c): a function of the mesh
+     * alone, so the same for any rank count */
+    for (int32_t i = 0; i < D->n; i++)
+        p->flips += (uint64_t)pcdm_mesh_restore_delaunay(&D->s[i]->m);
     det_move_end(D);
 }
 

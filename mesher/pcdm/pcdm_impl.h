@@ -13,6 +13,16 @@
 int pcdm_build_mesh(mesh *m, const pcdm_decomp *d, int rank, int32_t only_sub, int regions,
                     char *err, size_t errlen);
 
+/* Local.  Lawson's flips (exact incircle) of the edges of m that are not locally Delaunay,
+ * until none is left: m is a constrained Delaunay triangulation again.  Bowyer-Watson leaves
+ * such an edge only at a subsegment's split point rounded off its line, so the edges at the
+ * vertices on segments (vseg >= 0) are the seeds, and the edges each flip exposes are tested in
+ * turn: a pass over the vertices, nothing near the cost of refinement.  A constraint edge, input
+ * or interface, is never flipped (the subdomains still conform to each other); no vertex is
+ * added; the refinement queues are not updated (call it when refinement is over).  Returns the
+ * flips made (0 on a mesh that already was one: it is then unchanged, bit for bit). */
+int64_t pcdm_mesh_restore_delaunay(mesh *m);
+
 /* pcdm_det.c: registration (called by pcdm_register), build, refine, figures, output. */
 int pcdm_det_register(void);
 int pcdm_det_build(pcdm_part *p, char *err, size_t errlen);

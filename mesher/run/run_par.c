@@ -214,6 +214,7 @@ static int mesh_pcdm(run_job *j, const pcdm_decomp *d, const mesh_bounds *b, con
     run_stats_set(st, "moved_bytes", 0, 1, (double)part.moved_bytes);
     run_stats_set(st, "move_s", 4, 1, part.move_s);
     run_stats_set(st, "forwarded", 0, 1, (double)part.forwarded);
+    run_stats_set(st, "flips", 0, 1, (double)part.flips);
     run_stats_set(st, "split_notfound", 0, 0, (double)part.split_notfound);
     run_stats_set(st, "mesh_bytes", 0, 0, (double)fig.mesh_bytes);
     run_stats_set(st, "wall_s", 3, 0, p->wall);
