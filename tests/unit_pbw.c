@@ -402,6 +402,9 @@ END_TEST
 static int32_t ghost_setup(pbw_ctx *C, int rank) {
     C->rank = rank;
     C->size = 3;
+    C->gside = mesh_xcalloc((size_t)C->size, 1); /* the lower rank of each pair keeps ghosts */
+    for (int r = rank + 1; r < C->size; r++)
+        C->gside[r] = 1;
     const double xy[4][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 2}};
     for (int i = 0; i < 4; i++)
         pbw_vt_add(C, i, xy[i][0], xy[i][1], -1);
@@ -698,11 +701,57 @@ START_TEST(test_lock_table) {
 }
 END_TEST
 
+/* The ghost side of each pair of ranks (pbw_ghosts.c): three ranks around a point, each pair
+ * sharing one edge.  The lower rank of each pair would make rank 0 the ghost side towards both
+ * others and rank 2 towards none; the orientation gives each rank one pair of each kind, and
+ * the two sides of every pair agree. */
+START_TEST(test_ghost_sides) {
+    mesh m0;
+    mesh_init(&m0);
+    /* c = 0, outer a, b, d = 1, 2, 3: t0 = (c, a, b), t1 = (c, b, d), t2 = (c, d, a) */
+    const int32_t tv[9] = {0, 1, 2, 0, 2, 3, 0, 3, 1};
+    const int32_t tn[9] = {8, -1, 3, 2, -1, 6, 5, -1, 0};
+    m0.nt = 3;
+    m0.tv = mesh_xmalloc(9, sizeof(int32_t));
+    m0.tn = mesh_xmalloc(9, sizeof(int32_t));
+    memcpy(m0.tv, tv, sizeof tv);
+    memcpy(m0.tn, tn, sizeof tn);
+    const int32_t own[3] = {0, 1, 2};
+    uint8_t side[3][3];
+    for (int r = 0; r < 3; r++) {
+        pbw_ctx *C = ctx_new(0, 0);
+        C->rank = r;
+        C->size = 3;
+        pbw_ghost_sides(C, &m0, own);
+        memcpy(side[r], C->gside, 3);
+        pbw_ctx_free(C);
+    }
+    for (int r = 0; r < 3; r++) {
+        ck_assert_int_eq(side[r][r], 0);
+        ck_assert_int_eq(side[r][(r + 1) % 3] + side[r][(r + 2) % 3], 1);
+        for (int q = 0; q < 3; q++)
+            if (q != r) ck_assert_int_eq(side[r][q] + side[q][r], 1);
+    }
+    /* two ranks: the lower one, as before */
+    const int32_t own2[3] = {0, 1, 1};
+    for (int r = 0; r < 2; r++) {
+        pbw_ctx *C = ctx_new(0, 0);
+        C->rank = r;
+        C->size = 2;
+        pbw_ghost_sides(C, &m0, own2);
+        ck_assert_int_eq(C->gside[1 - r], r == 0);
+        pbw_ctx_free(C);
+    }
+    free(m0.tv), free(m0.tn);
+}
+END_TEST
+
 int main(void) {
-    return ck_run(ck_suite(
-        "pbw", 0,
-        CK_TESTS(test_vertex_table, test_slots_reuse, test_bad_queue_order, test_deferred_wakes,
-                 test_split_ticket, test_holds, test_cavity_wire_format, test_ghost_conflict,
-                 test_tombstones, test_ghost_commit, test_local_fast_path, test_lock_table,
-                 test_rules_edge_forced, test_rules_priority_floor, test_rules_unsuitable)));
+    return ck_run(ck_suite("pbw", 0,
+                           CK_TESTS(test_vertex_table, test_slots_reuse, test_bad_queue_order,
+                                    test_deferred_wakes, test_split_ticket, test_holds,
+                                    test_cavity_wire_format, test_ghost_conflict, test_tombstones,
+                                    test_ghost_commit, test_local_fast_path, test_lock_table,
+                                    test_rules_edge_forced, test_rules_priority_floor,
+                                    test_rules_unsuitable, test_ghost_sides)));
 }
