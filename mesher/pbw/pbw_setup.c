@@ -102,7 +102,8 @@ static void sgrid_build(sgrid *G, const pslg *g, int32_t s0, int32_t s1, double 
         y0 = fmin(y0, g->xy[2 * v + 1]), y1 = fmax(y1, g->xy[2 * v + 1]);
     }
     double w = fmax(x1 - x0, DBL_MIN), h = fmax(y1 - y0, DBL_MIN);
-    double cells = fmax(2.0 * (s1 - s0) + 64, min_cells); /* about one segment per cell */
+    double cells =
+        fmax(2.0 * (s1 - s0) + 64, min_cells); /* about one segment per cell, or min_cells */
     double side = sqrt(w * h / cells);
     G->nx = (int32_t)fmin(fmax(w / side, 1), 4096), G->ny = (int32_t)fmin(fmax(h / side, 1), 4096);
     G->x0 = x0, G->y0 = y0, G->cw = w / G->nx, G->ch = h / G->ny;
@@ -207,10 +208,10 @@ static int32_t face_across(sgrid *G, const pcdm_decomp *d, const double a[2], in
  * centroid (above).  Every rank computes the same answer. */
 static void owners(pbw_ctx *C, const mesh *m0, const pcdm_decomp *d, int32_t *own) {
     sgrid G, GI; /* every segment; the interfaces alone */
-    double gi =
-        0.25; /* GI: about four initial triangles per cell (most paths then meet no segment) */
     sgrid_build(&G, &d->g, 0, d->g.nsegs, 0);
-    sgrid_build(&GI, &d->g, d->nboundary, d->g.nsegs, gi * m0->nt);
+    /* GI finer: about four initial triangles per cell, so that most paths lie in a cell no
+     * interface crosses (face_across looks at no segment then) */
+    sgrid_build(&GI, &d->g, d->nboundary, d->g.nsegs, 0.25 * m0->nt);
     int32_t nt = m0->nt;
     double *cen = mesh_xmalloc(2 * ((size_t)nt + 1), sizeof(double));
     int32_t *lab = mesh_xmalloc((size_t)nt + 1, sizeof(int32_t)); /* -3: none yet */
