@@ -77,9 +77,11 @@ enum { IT_BAD = 0, IT_SPLIT = 1 };
 #define MAX_INFLIGHT 2 /* --inflight's default (see MESSAGES in pbw.c) */
 
 /* The end game (see MESSAGES in pbw.c): once a rank has no bad triangle and no split of its own
- * left, only cavities that reach other ranks remain (the slot queue), and it keeps up to
- * ENDGAME_FACTOR times --inflight of them in flight. */
+ * left, only cavities that reach other ranks remain (the slot queue); if at least
+ * ENDGAME_MIN_WAITING of them wait, it keeps up to ENDGAME_FACTOR times --inflight of them in
+ * flight from then on. */
 #define ENDGAME_FACTOR 4
+#define ENDGAME_MIN_WAITING 512
 
 /* Work items per work step (between two services of RSRs): --poll's default.  Each service is
  * an MPI progress call, which on shared cores (Open MPI yields the core when it finds nothing)
@@ -312,8 +314,8 @@ struct pbw_ctx {
     int draining;
     int inflight;
     int max_inflight; /* distributed cavities in flight at most (--inflight; MAX_INFLIGHT) */
-    int endgame;      /* 0; 1 once the end game began (max_inflight raised: pbw_work.c); -1 never
-                       * (--phases) */
+    int endgame;      /* 0; once the end game began 1 (max_inflight raised: pbw_work.c) or 2 (few
+                       * cavities waited: not raised); -1 never (--phases) */
     int fast_fenced;  /* pbw_local_insert declined at another rank's triangle or a role */
     uint64_t lclock;
     int64_t seq;

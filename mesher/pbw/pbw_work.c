@@ -3,7 +3,8 @@
  * Steiner point (or a subsegment's split point: dyadic, or a concentric shell at a small
  * input corner) starts a cavity; a cavity that stays on this rank is decided at once, one that
  * reaches other ranks becomes a task (at most --inflight at a time; ENDGAME_FACTOR times as
- * many once the rank's own bad triangles and splits are done: the end game).  Refusals below the
+ * many once the rank's own bad triangles and splits are done, if many such cavities wait: the
+ * end game).  Refusals below the
  * length floor and the Steiner limit stop a rank's refinement (issue 10).  Env PBW_DEBUG=DIR:
  * each rank writes its queue and lock state to DIR/pbw.RANK.log every 2 s. */
 #include "pbw/pbw_impl.h"
@@ -313,8 +314,9 @@ int pbw_work(void *ctx) {
     int did = 0;
     debug_report(C);
     if (C->endgame == 0 && !pbw_bad_left(C) && pbw_iv_empty(&C->splitq)) {
-        C->endgame = 1;
-        C->max_inflight *= ENDGAME_FACTOR;
+        /* the end game: with many cavities waiting for a slot, more slots (pbw.c, MESSAGES) */
+        C->endgame = C->slotq.n - C->slotq.head >= ENDGAME_MIN_WAITING ? 1 : 2;
+        if (C->endgame == 1) C->max_inflight *= ENDGAME_FACTOR;
     }
     for (int32_t n = 0; n < C->poll_every && !C->stopped; n++) {
         pbw_item it;
