@@ -3,8 +3,9 @@
  * task-parallel, with remote cavity expansion, locking and undo.
  *
  * MESH.  Every rank builds the same CDT of the input (with an area bound, refined identically
- * on every rank by the sequential refiner, by area only, to about 4096 triangles per rank, and
- * at least 64 times coarser than the bound, so that every rank owns a piece) and keeps the
+ * on every rank by the sequential refiner, by area only, where the subdomain interfaces run to
+ * the size of about 4096 triangles per rank but at least 64 times coarser than the bound, so
+ * that every rank owns a piece, and 16 times coarser away from them) and keeps the
  * triangles whose centroid lies in one of its subdomains (the decomposition only distributes the
  * initial mesh; no artificial constraint exists).  A triangle lives in a slot of its owner, and a
  * rank's triangles are the sequential kernel's mesh (seq/mesh.h: the slot numbering of that CDT, so
