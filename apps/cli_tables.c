@@ -290,8 +290,8 @@ static const cli_opt pbw_rows[] = {
      .dflt = 0,
      .dflt_text = "2",
      .help = "cavities reaching other ranks that a rank keeps in flight at most (more hide "
-             "latency but conflict with each other: more RSRs and undone attempts); four times "
-             "as many once the rank has no work of its own left"},
+             "latency but conflict with each other: more RSRs and undone attempts); eight times "
+             "as many, in a shuffled order, once the rank has no work of its own left"},
     {.help = NULL}};
 
 static const cli_opt mesh_rows[] = {

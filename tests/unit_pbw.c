@@ -746,6 +746,42 @@ START_TEST(test_ghost_sides) {
 }
 END_TEST
 
+/* The end game's shuffle of the slot queue: the waiting items (not the ones already taken) in
+ * another order, each exactly once, the same order for the same seed. */
+START_TEST(test_queue_shuffle) {
+    ivec q, r;
+    memset(&q, 0, sizeof q);
+    memset(&r, 0, sizeof r);
+    pbw_item it, got;
+    memset(&it, 0, sizeof it);
+    for (int32_t i = 0; i < 100; i++) {
+        it.t = i;
+        pbw_iv_push(&q, &it);
+        pbw_iv_push(&r, &it);
+    }
+    for (int i = 0; i < 10; i++) { /* taken already: stay taken */
+        ck_assert(pbw_iv_pop(&q, &got));
+        ck_assert(pbw_iv_pop(&r, &got));
+    }
+    pbw_iv_shuffle(&q, 3);
+    pbw_iv_shuffle(&r, 3);
+    int seen[100] = {0}, moved = 0;
+    for (int32_t i = 10; i < 100; i++) {
+        ck_assert(pbw_iv_pop(&q, &got));
+        ck_assert_int_ge(got.t, 10);
+        ck_assert_int_eq(seen[got.t]++, 0);
+        moved += got.t != i;
+        pbw_item g2;
+        ck_assert(pbw_iv_pop(&r, &g2));
+        ck_assert_int_eq(g2.t, got.t);
+    }
+    ck_assert(pbw_iv_empty(&q));
+    ck_assert_int_gt(moved, 45); /* not the identity, nor close to it */
+    pbw_iv_free(&q);
+    pbw_iv_free(&r);
+}
+END_TEST
+
 int main(void) {
     return ck_run(ck_suite("pbw", 0,
                            CK_TESTS(test_vertex_table, test_slots_reuse, test_bad_queue_order,
@@ -753,5 +789,5 @@ int main(void) {
                                     test_cavity_wire_format, test_ghost_conflict, test_tombstones,
                                     test_ghost_commit, test_local_fast_path, test_lock_table,
                                     test_rules_edge_forced, test_rules_priority_floor,
-                                    test_rules_unsuitable, test_ghost_sides)));
+                                    test_rules_unsuitable, test_ghost_sides, test_queue_shuffle)));
 }

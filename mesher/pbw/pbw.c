@@ -51,16 +51,20 @@
  * is done (at 8 ranks on 2 cores, lake 10M: 2,000-4,900 per rank, three quarters of them), and
  * the rank then spent 20-25% of its CPU on them, two at a time, a poll, a sleep and a context
  * switch per round trip.  So once a rank has no bad triangle and no split of its own left, if
- * at least ENDGAME_MIN_WAITING (512) cavities wait, it keeps ENDGAME_FACTOR (4) times
- * --inflight in flight (latched for the rest of the run; not with --phases, the paper's variant
- * as it was).  Many cavities lie apart along the rank boundary, so few conflict.  Measured (that
- * case, 4 runs alternating with the build before): cpu_max 0.366 s against 0.395 s, wall
- * 1.39-1.45 s against 1.75-1.90 s, RSRs +2%, undone cavities 3,900 -> 7,200 (of 5M; most die at
- * their first, local step, which costs no message); factors 6 and 8 measured no better.  A few
- * cavities lie close together and conflict: at the paper's size (43K triangles, 8 ranks, 93-190
- * waiting per rank) more slots raised the RSRs by 40% (replies and wakes of dead cavities);
- * waiting per rank at 8 ranks was 680-1,500 at 1M, 1,900-8,200 at 10M and 540-4,100 on the
- * coastline.
+ * at least ENDGAME_MIN_WAITING (512) cavities wait, it shuffles them and keeps ENDGAME_FACTOR
+ * (8) times --inflight in flight (latched for the rest of the run; not with --phases, the
+ * paper's variant as it was).  The queue holds them in the order they were found, and the
+ * refinement order (last in, first out) finds neighbours one after the other, so taken in that
+ * order the cavities in flight lie close together and kill each other; shuffled, they lie apart
+ * along the rank boundary.  Measured (that case, 4 runs alternating, medians): cpu_max 0.395 s
+ * with two slots, 0.366 s with 8 (in order; the first end game, 12 and 16 measured no better),
+ * 0.351 s with 8 shuffled and 0.348 s with 16 shuffled against 0.366 s with 8 in order in the
+ * same run; undone cavities 6,500 (in order) -> 3,000 (8 shuffled) -> 4,600 (16 shuffled), of
+ * 5M (most die at their first, local step, which costs no message); RSRs unchanged at 16
+ * shuffled, +5% at 32 with 15,000 undone.  A few cavities lie close together and conflict
+ * whatever the order: at the paper's size (43K triangles, 8 ranks, 93-190 waiting per rank)
+ * more slots raised the RSRs by 40% (replies and wakes of dead cavities); waiting per rank at 8
+ * ranks was 680-1,500 at 1M, 1,900-8,200 at 10M and 540-4,100 on the coastline.
  * DECIDE.  The rank where the chain ends knows the whole cavity.  If it is not the starter and
  * the cavity commits (no conflict, star-shaped, no encroachment), it commits there and then:
  * its own part at once, and one COMMIT per other participant with the new triangles it owns

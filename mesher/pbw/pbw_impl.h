@@ -78,9 +78,9 @@ enum { IT_BAD = 0, IT_SPLIT = 1 };
 
 /* The end game (see MESSAGES in pbw.c): once a rank has no bad triangle and no split of its own
  * left, only cavities that reach other ranks remain (the slot queue); if at least
- * ENDGAME_MIN_WAITING of them wait, it keeps up to ENDGAME_FACTOR times --inflight of them in
- * flight from then on. */
-#define ENDGAME_FACTOR 4
+ * ENDGAME_MIN_WAITING of them wait, they are shuffled and it keeps up to ENDGAME_FACTOR times
+ * --inflight of them in flight from then on. */
+#define ENDGAME_FACTOR 8
 #define ENDGAME_MIN_WAITING 512
 
 /* Work items per work step (between two services of RSRs): --poll's default.  Each service is
@@ -505,10 +505,11 @@ int pbw_steiner_point(pbw_ctx *C, int32_t t, int sh, double out[2]);
 
 /* ---- pbw_items.c: work items and locks -------------------------------------------------- */
 
-/* A FIFO of work items: push a copy of *it; pop the oldest into *it (0 if empty); empty?;
- * free (q is then empty and usable). */
+/* A FIFO of work items: push a copy of *it; pop the oldest into *it (0 if empty); shuffle the
+ * waiting items (a permutation fixed by seed); empty?; free (q is then empty and usable). */
 void pbw_iv_push(ivec *q, const pbw_item *it);
 int pbw_iv_pop(ivec *q, pbw_item *it);
+void pbw_iv_shuffle(ivec *q, uint64_t seed);
 int pbw_iv_empty(const ivec *q);
 void pbw_iv_free(ivec *q);
 

@@ -31,6 +31,20 @@ int pbw_iv_pop(ivec *q, pbw_item *it) {
     return 1;
 }
 
+void pbw_iv_shuffle(ivec *q, uint64_t seed) {
+    for (int32_t i = q->n - 1; i > q->head; i--) {
+        seed += 0x9e3779b97f4a7c15u; /* splitmix64 */
+        uint64_t z = seed;
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9u;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111ebu;
+        z ^= z >> 31;
+        int32_t j = q->head + (int32_t)(z % (uint64_t)(i - q->head + 1));
+        pbw_item t = q->a[i];
+        q->a[i] = q->a[j];
+        q->a[j] = t;
+    }
+}
+
 int pbw_iv_empty(const ivec *q) {
     return q->head >= q->n;
 }

@@ -316,7 +316,10 @@ int pbw_work(void *ctx) {
     if (C->endgame == 0 && !pbw_bad_left(C) && pbw_iv_empty(&C->splitq)) {
         /* the end game: with many cavities waiting for a slot, more slots (pbw.c, MESSAGES) */
         C->endgame = C->slotq.n - C->slotq.head >= ENDGAME_MIN_WAITING ? 1 : 2;
-        if (C->endgame == 1) C->max_inflight *= ENDGAME_FACTOR;
+        if (C->endgame == 1) {
+            C->max_inflight *= ENDGAME_FACTOR;
+            pbw_iv_shuffle(&C->slotq, (uint64_t)C->rank + 1);
+        }
     }
     for (int32_t n = 0; n < C->poll_every && !C->stopped; n++) {
         pbw_item it;
