@@ -14,7 +14,8 @@
 # domains at 1e3 and 1e9 at 2, 3 and 8 ranks (and the rest at 1 rank through ./mesh's
 # counterpart, --check each); ./meshcheck re-reads one written mesh at 1e9.  The issue's own
 # case: a pentagon 3 mm across with a square hole at (1234567, 7654321).  Below the model:
-# f = 2^-48 O at 1e9 must end "cannot meet the bounds", exit 1, in ./mesh.
+# f = 2^-48 O at 1e9 must end "cannot meet the bounds", exit 1, in ./mesh.  Coordinates that
+# pslg_check rescales (the lake times 2^-500): ./pcdm makes the lake's mesh, ./pbw shares it out.
 # Env: BIN (programs), MPIRUN ("mpirun --oversubscribe").
 . "$(dirname "$0")/lib.sh"
 
@@ -144,6 +145,60 @@ for b in "-q 20 -a 1e-8" "-q 30 -a 2e-10"; do
     done
 done
 ok "the pentagon at (1234567, 7654321)"
+
+# coordinates pslg_check rescales (the lake times 2^-500: every coordinate below the grid): the
+# parallel meshers' decomposition and initial mesh measure areas in the rescaled units, so the
+# area bound must be rescaled with them.  A power of two changes no bit of the geometry, so
+# ./pcdm's mesh has the lake's triangle count exactly, and ./pbw shares it out as on the lake
+# (no rank with more than twice the mean)
+python3 - data/lake.poly "$T/lake_p.poly" <<'EOF2'
+import math, sys
+L = open(sys.argv[1]).read().splitlines()
+out, state, nv, k, sc = [], 0, 0, 0, math.ldexp(1.0, -500)
+for l in L:
+    s = l.split('#')[0].split()
+    if s and state == 0:
+        nv, state = int(s[0]), 1
+    elif s and state == 1:
+        l = ' '.join([s[0], repr(float(s[1]) * sc), repr(float(s[2]) * sc)] + s[3:])
+        k += 1
+        state = 2 if k == nv else 1
+    out.append(l)
+for i in (len(out) - 2, len(out) - 1):  # the two hole points close the file
+    s = out[i].split()
+    out[i] = ' '.join([s[0], repr(float(s[1]) * sc), repr(float(s[2]) * sc)])
+open(sys.argv[2], 'w').write('\n'.join(out) + '\n')
+EOF2
+asc=$(python3 -c "import math; print(repr(3.356e-5 * math.ldexp(1.0, -1000)))")
+tri_of() { sed -n 's/^stats:.* triangles=\([0-9]*\).*/\1/p' <<<"$1" | tail -1; }
+out0=$(mpi_run 3 "$BIN/pcdm" -NEP -q 20.7 -a 3.356e-5 --stats data/lake.poly 2>&1)
+outs=$(mpi_run 3 "$BIN/pcdm" -NEP -q 20.7 -a "$asc" --stats --check "$T/lake_p.poly" 2>&1)
+rc=$?
+if [ $rc != 0 ] || [ -z "$(tri_of "$out0")" ] || [ "$(tri_of "$out0")" != "$(tri_of "$outs")" ]; then
+    fail "./pcdm -np 3 on the lake times 2^-500: exit $rc, $(tri_of "$outs") triangles against $(tri_of "$out0") on the lake: ${outs:0:300}"
+else
+    ok "./pcdm -np 3 on the lake times 2^-500: $(tri_of "$outs") triangles, as on the lake"
+fi
+# a cuts file is in the input's units both ways: written from the rescaled lake and read back,
+# it makes the mesh the lake's own cuts make
+mpi_run 3 "$BIN/pcdm" -NEP -q 20.7 -a 3.356e-5 --write-cuts "$T/l0.cuts" data/lake.poly >/dev/null 2>&1
+mpi_run 3 "$BIN/pcdm" -NEP -q 20.7 -a "$asc" --write-cuts "$T/lp.cuts" "$T/lake_p.poly" >/dev/null 2>&1
+out0=$(mpi_run 3 "$BIN/pcdm" -NEP -q 20.7 -a 3.356e-5 --stats --cuts "$T/l0.cuts" data/lake.poly 2>&1)
+outs=$(mpi_run 3 "$BIN/pcdm" -NEP -q 20.7 -a "$asc" --stats --check --cuts "$T/lp.cuts" "$T/lake_p.poly" 2>&1)
+rc=$?
+if [ $rc != 0 ] || [ -z "$(tri_of "$out0")" ] || [ "$(tri_of "$out0")" != "$(tri_of "$outs")" ]; then
+    fail "./pcdm --cuts on the lake times 2^-500: exit $rc, $(tri_of "$outs") triangles against $(tri_of "$out0") on the lake: ${outs:0:300}"
+else
+    ok "./pcdm --write-cuts, --cuts on the lake times 2^-500: $(tri_of "$outs") triangles, as on the lake"
+fi
+outs=$(mpi_run 4 "$BIN/pbw" -NEP -q 20.7 -a "$asc" --stats --check "$T/lake_p.poly" 2>&1)
+rc=$?
+most=$(sed -n 's/^rank [0-9]*: triangles=\([0-9]*\).*/\1/p' <<<"$outs" | sort -n | tail -1)
+if [ $rc != 0 ] || [ -z "$most" ] || [ $((most * 4)) -gt $((2 * $(tri_of "$outs"))) ]; then
+    fail "./pbw -np 4 on the lake times 2^-500: exit $rc, largest rank $most of $(tri_of "$outs") triangles: ${outs:0:300}"
+else
+    ok "./pbw -np 4 on the lake times 2^-500: largest rank $most of $(tri_of "$outs") triangles"
+fi
 
 # below the model: a clear refusal, not a mesh and not a hang
 f=$(python3 -c "print(2.0 ** -48 * (1e9 + 24) * 1.01)")

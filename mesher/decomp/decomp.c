@@ -26,6 +26,7 @@
 #include "geom/geom.h"
 
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -65,6 +66,12 @@ void pcdm_decomp_free(pcdm_decomp *d) {
     if (d->cdt) mesh_free(d->cdt);
     mesh_xfree(d->cdt);
     memset(d, 0, sizeof *d);
+}
+
+double decomp_scaled_area(const pslg *in, double area) {
+    if (!(area > 0) || in->scale_exp == 0) return area;
+    double a = ldexp(area, 2 * in->scale_exp);
+    return a > 0 ? a : DBL_MIN;
 }
 
 void decomp_int_weights(const double *w, int32_t n, idx_t *out) {
@@ -294,6 +301,7 @@ int decomp_build(const pslg *in, const mesh *m, const uint8_t *mseg_cut, const i
                  const int32_t *mseg_marker, const int32_t *part, const double *tw, int32_t K,
                  int keep_all, pcdm_decomp *d, char *err, size_t errlen) {
     memset(d, 0, sizeof *d);
+    d->g.scale_exp = in->scale_exp; /* its coordinates are in's, scaled alike */
     d->nsub = K;
     d->ninput_verts = in->nverts;
     d->ninput_segs = in->nsegs;
@@ -527,8 +535,11 @@ int pcdm_decomp_write_cuts(const pcdm_decomp *d, const char *path, char *err, si
     if (!fp) return decomp_fail(err, errlen, "%s: cannot create: %s", tmp, strerror(errno));
     fprintf(fp, "# pcdm cuts: %d subdomains; one cut per line: x1 y1 x2 y2\n", (int)d->nsub);
     for (int32_t k = 0; k < d->ncuts; k++)
-        fprintf(fp, "%.17g %.17g %.17g %.17g\n", d->cut_xy[4 * k], d->cut_xy[4 * k + 1],
-                d->cut_xy[4 * k + 2], d->cut_xy[4 * k + 3]);
+        fprintf(fp, "%.17g %.17g %.17g %.17g\n", /* in the input's units */
+                ldexp(d->cut_xy[4 * k], -d->g.scale_exp),
+                ldexp(d->cut_xy[4 * k + 1], -d->g.scale_exp),
+                ldexp(d->cut_xy[4 * k + 2], -d->g.scale_exp),
+                ldexp(d->cut_xy[4 * k + 3], -d->g.scale_exp));
     int bad = ferror(fp);
     if (fclose(fp) || bad) {
         remove(tmp);

@@ -54,7 +54,8 @@ typedef struct pcdm_decomp_opts {
                             * while the coarse mesh has fewer than 2 triangles per subdomain */
     double min_angle;      /* quality bound in degrees of the final mesh (the coarse mesh's bound is
                             * at least 30 and a little above this one) */
-    double max_area;       /* area bound, 0 = none */
+    double max_area;       /* area bound in the input's units (as given: the decomposition scales
+                            * it like the coordinates, pslg.scale_exp), 0 = none */
     double imbalance;      /* R > 0: rank 0 gets R times the weight of each other rank (1 = even) */
     int32_t per_sub;       /* auto: coarse triangles per subdomain (0 = default 200) */
     int32_t exact_per_sub; /* auto: exact preview when the final mesh has at most this many

@@ -227,6 +227,8 @@ int pcdm_decomp_read_cuts(const char *path, const pslg *in, const pcdm_decomp_op
         mesh_xfree(cline);
         return -1;
     }
+    for (int32_t i = 0; i < 4 * nc; i++) /* the file's units are the input's: scaled alike */
+        cxy[i] = ldexp(cxy[i], in->scale_exp);
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
     for (int32_t v = 0; v < in->nverts; v++)
         for (int k = 0; k < 2; k++) {
@@ -330,7 +332,8 @@ int pcdm_decomp_read_cuts(const char *path, const pslg *in, const pcdm_decomp_op
                 double ar =
                     geom_area(mesh_vertex_xy(&m, m.tv[3 * t]), mesh_vertex_xy(&m, m.tv[3 * t + 1]),
                               mesh_vertex_xy(&m, m.tv[3 * t + 2]));
-                tw[t] = o->max_area > 0 ? ar / o->max_area : ar;
+                double b = decomp_scaled_area(in, o->max_area);
+                tw[t] = b > 0 ? ar / b : ar;
             }
         rc = decomp_build(in, &m, iscut, parent, marker, lab, tw, K, 0, out, err, errlen);
     }

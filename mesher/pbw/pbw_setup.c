@@ -391,17 +391,20 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
     C->area_budget = mesh_rules_area_drift(dom_area, mag, blen) / C->size;
     C->unresolved_budget = mesh_rules_unresolved_budget(m0.ninput);
     if (so->max_area > 0 && C->size > 1) {
-        double a0 = fmax(dom_area / (PRE_TRIS_PER_RANK * C->size), PRE_COARSEN * so->max_area);
+        /* the bound in the working units of the coordinates (pslg_check's scaling), as areas
+         * are measured here */
+        double bound = ldexp(so->max_area, 2 * m0.scale_exp);
+        double a0 = fmax(dom_area / (PRE_TRIS_PER_RANK * C->size), PRE_COARSEN * bound);
         mesh_quality q;
         memset(&q, 0, sizeof q);
-        q.min_angle = 0; /* the area alone: see above */
-        q.max_area = a0;
+        q.min_angle = 0;                           /* the area alone: see above */
+        q.max_area = ldexp(a0, -2 * m0.scale_exp); /* mesh_quality takes the input's units */
         q.max_steiner = so->max_steiner;
         q.offcenter = so->offcenter;
         band B = {0};
         if (!so->regions && d->g.nsegs > d->nboundary) { /* regions: treg is the input's */
             band_build(&B, d, a0);
-            q.max_area = PRE_FAR * a0;
+            q.max_area = ldexp(PRE_FAR * a0, -2 * m0.scale_exp);
             mesh_set_size_rule(&m0, band_rule, &B);
         }
         mesh_set_quality(&m0, &q);
