@@ -317,8 +317,10 @@ static int band_rule(void *ctx, const double *const p[3], double area) {
     return S[j1 * w + i1] - S[j0 * w + i1] - S[j1 * w + i0] + S[j0 * w + i0] > 0;
 }
 
-/* The cells of d's interfaces (segments nboundary..) and their eight neighbours. */
-static void band_build(band *B, const pcdm_decomp *d, double a0) {
+/* The cells of d's interfaces (segments nboundary..) and their eight neighbours: cells of side
+ * about sqrt(a0), but at most four per fine triangle of the domain (area dom) -- a thin domain
+ * across a wide bounding box gets wider cells (a wider band), not millions of them. */
+static void band_build(band *B, const pcdm_decomp *d, double a0, double dom) {
     const pslg *g = &d->g;
     double x0 = g->xy[0], x1 = x0, y0 = g->xy[1], y1 = y0;
     for (int32_t v = 1; v < g->nverts; v++) {
@@ -326,7 +328,7 @@ static void band_build(band *B, const pcdm_decomp *d, double a0) {
         y0 = fmin(y0, g->xy[2 * v + 1]), y1 = fmax(y1, g->xy[2 * v + 1]);
     }
     sgrid G;
-    sgrid_build(&G, g, d->nboundary, g->nsegs, (x1 - x0) * (y1 - y0) / a0);
+    sgrid_build(&G, g, d->nboundary, g->nsegs, fmin((x1 - x0) * (y1 - y0), 4 * dom) / a0);
     B->x0 = G.x0, B->y0 = G.y0, B->cw = G.cw, B->ch = G.ch, B->nx = G.nx, B->ny = G.ny;
     B->a0 = a0;
     size_t w = (size_t)G.nx + 1;
@@ -408,7 +410,7 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
         q.offcenter = so->offcenter;
         band B = {0};
         if (!so->regions && d->g.nsegs > d->nboundary) { /* regions: treg is the input's */
-            band_build(&B, d, a0);
+            band_build(&B, d, a0, dom_area);
             q.max_area = ldexp(PRE_FAR * a0, -2 * m0.scale_exp);
             mesh_set_size_rule(&m0, band_rule, &B);
         }
