@@ -175,7 +175,9 @@ else
 fi
 
 # ---- 5. faults
-FAULT_RUN="-q 30 -a 1e-5 --net 5000"
+# 20 ms a message: the run lasts several seconds (locally 2.3-6.5 s of meshing); at 5 ms a ./pbw
+# whose end game keeps more cavities in flight finished in 1.8 s, before the fault came
+FAULT_RUN="-q 30 -a 1e-5 --net 20000"
 # fault_run NAME FAULT: ./pbw on 3 hosts, FAULT (kill or link) at 1.5 s; sets fault_msg
 since() { awk -v a="$1" -v b="${2:-$(date +%s.%N)}" 'BEGIN{printf "%.1f", b - a}'; } # T0 [NOW]
 gt() { awk -v a="$1" -v b="$2" 'BEGIN{exit !(a > b)}'; }
