@@ -26,7 +26,6 @@
 #include "geom/geom.h"
 
 #include <errno.h>
-#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -66,12 +65,6 @@ void pcdm_decomp_free(pcdm_decomp *d) {
     if (d->cdt) mesh_free(d->cdt);
     mesh_xfree(d->cdt);
     memset(d, 0, sizeof *d);
-}
-
-double decomp_scaled_area(const pslg *in, double area) {
-    if (!(area > 0) || in->scale_exp == 0) return area;
-    double a = ldexp(area, 2 * in->scale_exp);
-    return a > 0 ? a : DBL_MIN;
 }
 
 void decomp_int_weights(const double *w, int32_t n, idx_t *out) {

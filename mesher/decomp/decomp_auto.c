@@ -92,12 +92,6 @@ static void plan(int32_t K, int32_t P, double R, double *target, int32_t *owner)
     }
 }
 
-/* An area in the working units of m's coordinates (where this file measures areas) in the
- * input's units, as mesh_quality takes it. */
-static double input_units(const mesh *m, double area) {
-    return area > 0 ? ldexp(area, -2 * m->scale_exp) : area;
-}
-
 /* Refines m (off-centers and diametral circles, as ./mesh and ./pcdm) to area (working units,
  * 0: none); a Steiner limit (or an unresolved triangle) only leaves a coarser mesh, still a
  * partition. */
@@ -105,7 +99,7 @@ static mesh_refine_result refine(mesh *m, double angle, double area, int64_t lim
     mesh_quality q;
     memset(&q, 0, sizeof q);
     q.min_angle = angle;
-    q.max_area = input_units(m, area);
+    q.max_area = pslg_input_area(m->scale_exp, area);
     q.max_steiner = limit;
     q.offcenter = 1;
     mesh_set_quality(m, &q);
@@ -753,7 +747,7 @@ static int trial_ok(const pcdm_decomp *d, const pcdm_decomp_opts *o) {
         mesh_quality q;
         memset(&q, 0, sizeof q);
         q.min_angle = bounds_refine_angle(o->min_angle);
-        q.max_area = input_units(&m, o->max_area);
+        q.max_area = pslg_input_area(m.scale_exp, o->max_area);
         /* the preview's final mesh has at most K * exact_per_sub triangles (exact_preview):
          * a trial that needs 8 times as many cascades along an interface (a sliver of 1e-10
          * radians cut along its length split for minutes), so it is not ok */
@@ -772,7 +766,7 @@ static int trial_ok(const pcdm_decomp *d, const pcdm_decomp_opts *o) {
 int pcdm_decomp_auto(const pslg *in, const pcdm_decomp_opts *opts, pcdm_decomp *out, char *err,
                      size_t errlen) {
     pcdm_decomp_opts so = *opts; /* the area bound in the working units of in's coordinates */
-    so.max_area = decomp_scaled_area(in, opts->max_area);
+    so.max_area = pslg_scaled_area(in->scale_exp, opts->max_area);
     const pcdm_decomp_opts *o = &so;
     for (int mode = 0; mode < 3; mode++) {
         int rc = attempt(in, o, mode, out, err, errlen);

@@ -327,12 +327,12 @@ int pcdm_decomp_read_cuts(const char *path, const pslg *in, const pcdm_decomp_op
             iscut[s] = r->is_cut;
         }
         tw = mesh_xcalloc((size_t)m.nt + 1, sizeof(double));
+        double b = pslg_scaled_area(in->scale_exp, o->max_area);
         for (int32_t t = 0; t < m.nt; t++)
             if (mesh_tri_alive(&m, t)) {
                 double ar =
                     geom_area(mesh_vertex_xy(&m, m.tv[3 * t]), mesh_vertex_xy(&m, m.tv[3 * t + 1]),
                               mesh_vertex_xy(&m, m.tv[3 * t + 2]));
-                double b = decomp_scaled_area(in, o->max_area);
                 tw[t] = b > 0 ? ar / b : ar;
             }
         rc = decomp_build(in, &m, iscut, parent, marker, lab, tw, K, 0, out, err, errlen);

@@ -34,11 +34,6 @@ int decomp_build(const pslg *in, const mesh *m, const uint8_t *mseg_cut, const i
 int decomp_map_owners(pcdm_decomp *d, int32_t P, double R, const int32_t *planned, char *err,
                       size_t errlen);
 
-/* An area bound in the input's units (0: none) in the working units of in's coordinates
- * (times 2^(2 scale_exp), as pslg_check scaled them; the smallest positive double if that
- * underflows), where every mesh area is measured. */
-double decomp_scaled_area(const pslg *in, double area);
-
 /* Scales positive doubles to METIS integer weights (at least 1 each, sum below 2^30). */
 void decomp_int_weights(const double *w, int32_t n, idx_t *out);
 

@@ -17,6 +17,8 @@
 #ifndef PSLG_H
 #define PSLG_H
 
+#include <float.h>
+#include <math.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -60,6 +62,18 @@ int pslg_read(const char *path, pslg *out, char *err, size_t errlen);
 #define PSLG_TOP_EXP 100
 #define PSLG_GRID_EXP (-200)
 #define PSLG_MAX_SCALE 822 /* 2^(GRID - MAX_SCALE) = 2^-1022: unscaled points stay normal */
+
+/* An area in the input's units (a bound: 0 or less is none, and stays so) in the working units
+ * of coordinates scaled by 2^scale_exp, where meshes measure areas; one that underflows stays
+ * a bound (the smallest normal double).  pslg_input_area is the inverse. */
+static inline double pslg_scaled_area(int scale_exp, double area) {
+    if (!(area > 0) || scale_exp == 0) return area;
+    double s = ldexp(area, 2 * scale_exp);
+    return s > 0 ? s : DBL_MIN;
+}
+static inline double pslg_input_area(int scale_exp, double area) {
+    return area > 0 && scale_exp != 0 ? ldexp(area, -2 * scale_exp) : area;
+}
 
 /* Validates and normalises geometry (see above).  Returns 0, or -1 with a message in err.
  * Warnings (merged duplicates) go to stderr prefixed with the file and line, unless g->quiet. */

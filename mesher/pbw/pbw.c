@@ -177,12 +177,7 @@ int pbw_mesh(const mesh_bounds *b, const par_config *c, const pslg *in, const pc
      * (pslg_check), as refine.c takes it */
     double qa = b->refine_angle;
     if (qa > 60) qa = 60;
-    double area = b->max_area;
-    if (area > 0 && in->scale_exp != 0) {
-        area = ldexp(area, 2 * in->scale_exp);
-        if (!(area > 0)) area = DBL_MIN;
-    }
-    bounds_rules(b, area, &C->R);
+    bounds_rules(b, pslg_scaled_area(in->scale_exp, b->max_area), &C->R);
     C->poll_every = c->poll_every > 0 ? c->poll_every : WORK_BATCH;
     C->max_inflight = c->inflight > 0 ? c->inflight : MAX_INFLIGHT;
     C->endgame = c->phases ? -1 : 0; /* the paper's data-parallel variant as it was */

@@ -400,18 +400,18 @@ int pbw_setup(pbw_ctx *C, const pbw_setup_opts *so, const pslg *in, const pcdm_d
     if (so->max_area > 0 && C->size > 1) {
         /* the bound in the working units of the coordinates (pslg_check's scaling), as areas
          * are measured here */
-        double bound = ldexp(so->max_area, 2 * m0.scale_exp);
+        double bound = pslg_scaled_area(m0.scale_exp, so->max_area);
         double a0 = fmax(dom_area / (PRE_TRIS_PER_RANK * C->size), PRE_COARSEN * bound);
         mesh_quality q;
         memset(&q, 0, sizeof q);
-        q.min_angle = 0;                           /* the area alone: see above */
-        q.max_area = ldexp(a0, -2 * m0.scale_exp); /* mesh_quality takes the input's units */
+        q.min_angle = 0;                                /* the area alone: see above */
+        q.max_area = pslg_input_area(m0.scale_exp, a0); /* mesh_quality takes the input's units */
         q.max_steiner = so->max_steiner;
         q.offcenter = so->offcenter;
         band B = {0};
         if (!so->regions && d->g.nsegs > d->nboundary) { /* regions: treg is the input's */
             band_build(&B, d, a0, dom_area);
-            q.max_area = ldexp(PRE_FAR * a0, -2 * m0.scale_exp);
+            q.max_area = pslg_input_area(m0.scale_exp, PRE_FAR * a0);
             mesh_set_size_rule(&m0, band_rule, &B);
         }
         mesh_set_quality(&m0, &q);

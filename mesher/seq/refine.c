@@ -110,18 +110,11 @@ void mesh_refine_free(mesh *m) {
     m->rf = NULL;
 }
 
-/* An area bound in input units, in the mesh's (scaled) units; one that underflows stays a
- * bound. */
-static double scaled_area(const mesh *m, double a) {
-    if (!(a > 0) || m->scale_exp == 0) return a;
-    double s = ldexp(a, 2 * m->scale_exp);
-    return s > 0 ? s : DBL_MIN;
-}
-
 void mesh_set_quality(mesh *m, const mesh_quality *q) {
     mesh_refine_state *r = rf_get(m);
     m->q = *q;
-    mesh_rules_init(&r->R, q->min_angle, scaled_area(m, q->max_area), q->offcenter, q->lens);
+    mesh_rules_init(&r->R, q->min_angle, pslg_scaled_area(m->scale_exp, q->max_area), q->offcenter,
+                    q->lens);
     r->R.unsuitable = m->size_rule;
     r->R.unsuitable_ctx = m->size_rule_ctx;
     r->need_scan = 1;
@@ -164,7 +157,7 @@ MESH_RULES_INLINE int quality(const mesh *m, const mesh_rules *R, int32_t t, dou
 
 int mesh_tri_bad(const mesh *m, int32_t t) {
     mesh_rules R;
-    mesh_rules_init(&R, m->q.min_angle, scaled_area(m, m->q.max_area), 0, 0);
+    mesh_rules_init(&R, m->q.min_angle, pslg_scaled_area(m->scale_exp, m->q.max_area), 0, 0);
     R.unsuitable = m->size_rule;
     R.unsuitable_ctx = m->size_rule_ctx;
     return quality(m, &R, t, NULL, NULL);
