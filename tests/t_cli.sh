@@ -183,6 +183,19 @@ for prog in pcdm pbw; do
     mesher_cases "$prog" 2
     parallel_cases "$prog" 2
 done
+# an input that differs between the ranks (a file that differs between hosts): one message,
+# every rank exits 1, nothing hangs in the decomposition (./pbw's is collective)
+cp data/square.poly "$T/rankin.0"
+cp data/lake.poly "$T/rankin.1"
+for prog in pcdm pbw; do
+    mpi_run 2 sh -c "exec \"$BIN/$prog\" -NEP -q 20 -a 0.01 \"$T/rankin.\$OMPI_COMM_WORLD_RANK\"" \
+        >"$T/out" 2>"$T/err"
+    if ! all_ranks 2 1 || [ "$(grep -c 'the ranks read different inputs' "$T/err")" -ne 1 ]; then
+        fail "$prog, a different input on each rank: exits $rcs, stderr: $(head -c 400 "$T/err")"
+    else
+        ok "$prog, a different input on each rank: one message, every rank exits 1"
+    fi
+done
 expect_usage pcdm 2 "unknown option '--phases'" --phases data/square.poly
 expect_usage pcdm 2 "unknown option '--lens'" --lens data/square.poly
 expect_usage mesh 0 "unknown option '--poll'" --poll 1 data/square.poly

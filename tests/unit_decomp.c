@@ -528,6 +528,88 @@ START_TEST(test_owner_balance) {
 }
 END_TEST
 
+/* The predicted cost of d (decomp_seeds.c) recomputed from its interfaces, for a uniform area
+ * bound whose coarse triangles are all larger than it: each subdomain's work plus cost times
+ * its interface length over sqrt(area); the costliest subdomain's. */
+static double iface_cost(const pcdm_decomp *d, double cost, double area) {
+    double *c = calloc((size_t)d->nsub, sizeof(double)), worst = 0;
+    for (int32_t k = 0; k < d->nsub; k++)
+        c[k] = d->sub_weight[k];
+    for (int32_t s = d->nboundary; s < d->g.nsegs; s++) {
+        const double *a = d->g.xy + 2 * (size_t)d->g.seg[2 * s],
+                     *b = d->g.xy + 2 * (size_t)d->g.seg[2 * s + 1];
+        double l = hypot(a[0] - b[0], a[1] - b[1]) / sqrt(area);
+        for (int side = 0; side < 2; side++)
+            if (d->seg_sub[2 * s + side] >= 0) c[d->seg_sub[2 * s + side]] += cost * l;
+    }
+    for (int32_t k = 0; k < d->nsub; k++)
+        worst = fmax(worst, c[k]);
+    free(c);
+    return worst;
+}
+
+typedef struct pick_log {
+    int calls, fail;
+    double cost;
+} pick_log;
+
+static int pick_local(void *ctx, double cost, int32_t n, int32_t *part) {
+    pick_log *l = ctx;
+    l->calls++;
+    l->cost = cost;
+    ck_assert_int_gt(n, 0);
+    ck_assert_int_ge(part[0], -1);
+    return l->fail ? -1 : 0;
+}
+
+/* ./pbw's decomposition: the best of several METIS seeds by predicted cost (boundary_cost). */
+START_TEST(test_boundary_seeds) {
+    pslg in;
+    load("data/lake.poly", &in);
+    const double area = 3.356e-7, bc = 26;
+    pcdm_decomp_opts o;
+    pcdm_decomp_opts_default(&o);
+    o.nranks = 8;
+    o.min_angle = 20.7;
+    o.max_area = area;
+    pcdm_decomp d1, dc, d16;
+    char err[1024];
+    ck_assert_msg(pcdm_decomp_auto(&in, &o, &d1, err, sizeof err) == 0, "%s", err);
+    /* a cost with seed 1 alone: METIS's own partition */
+    o.boundary_cost = bc;
+    o.seed_first = 1;
+    o.seed_step = 1;
+    o.seed_count = 1;
+    ck_assert_msg(pcdm_decomp_auto(&in, &o, &dc, err, sizeof err) == 0, "%s", err);
+    ck_assert_int_eq(dc.g.nsegs, d1.g.nsegs);
+    ck_assert(!memcmp(dc.seg_sub, d1.seg_sub, 2 * (size_t)d1.g.nsegs * sizeof(int32_t)));
+    /* sixteen seeds, and pick sees the best one's cost */
+    pick_log log = {0, 0, 0};
+    o.seed_count = 16;
+    o.pick = pick_local;
+    o.pick_ctx = &log;
+    ck_assert_msg(pcdm_decomp_auto(&in, &o, &d16, err, sizeof err) == 0, "%s", err);
+    verify(&in, &d16, 8, 8);
+    double c1 = iface_cost(&d1, bc, area), c16 = iface_cost(&d16, bc, area);
+    printf("lake -a %g, 8 parts: predicted cost of the costliest part %.0f with seed 1, %.0f with "
+           "the best of 16 seeds (pick saw %.0f)\n",
+           area, c1, c16, log.cost);
+    ck_assert_int_eq(log.calls, 1);
+    ck_assert_msg(c16 < 0.99 * c1, "seed choice: %.0f against %.0f", c16, c1);
+    /* widen and merge_corners may move a few triangles after the choice */
+    ck_assert_msg(fabs(log.cost - c16) < 0.01 * c16, "pick saw %.0f, decomposition %.0f", log.cost,
+                  c16);
+    pcdm_decomp_free(&d16);
+    /* a pick that finds no partition anywhere fails the decomposition */
+    log.fail = 1;
+    ck_assert(pcdm_decomp_auto(&in, &o, &d16, err, sizeof err) != 0);
+    ck_assert_msg(strstr(err, "METIS") != NULL, "%s", err);
+    pcdm_decomp_free(&d1);
+    pcdm_decomp_free(&dc);
+    pslg_free(&in);
+}
+END_TEST
+
 static Suite *decomp_suite(void) {
     Suite *s = suite_create("decomp");
     TCase *tc = tcase_create("auto");
@@ -539,6 +621,7 @@ static Suite *decomp_suite(void) {
     tcase_add_loop_test(tc, test_exact_angle_only, 0, 3);
     tcase_add_test(tc, test_many_subdomains);
     tcase_add_test(tc, test_owner_balance);
+    tcase_add_test(tc, test_boundary_seeds);
     suite_add_tcase(s, tc);
     TCase *tf = tcase_create("cuts");
     tcase_set_timeout(tf, 60);

@@ -66,6 +66,20 @@ typedef struct pcdm_decomp_opts {
                             * auto: they enter the work weights, the exact preview and its
                             * trial (a cuts file's weights ignore them) */
     int keep_cdt;          /* auto: 1 = keep a copy of the input's CDT in the result (cdt) */
+    /* Auto, coarse route, K = P > 1, imbalance 1 (./pbw): the partition is the one of least
+     * predicted cost among several METIS seeds (decomp_seeds.c).  The cost of a part is its
+     * work plus boundary_cost times its boundary with other parts measured in local final
+     * triangle sizes; a partition's cost is its costliest part's.  0: METIS seed 1 alone.  This
+     * caller tries the seeds seed_first + i * seed_step, i < seed_count (seed_count 0: seed 1
+     * alone).  pick (if set) then chooses among the callers' candidates: it is called once,
+     * with this caller's best predicted cost and its labels of the coarse triangles (n of
+     * them), and replaces them with the labels every caller keeps (returns 0; -1 if no caller
+     * has one).  Collective where pick is: every rank calls pcdm_decomp_auto with the same input
+     * and options but its own seeds. */
+    double boundary_cost;
+    int32_t seed_first, seed_step, seed_count;
+    int (*pick)(void *ctx, double cost, int32_t n, int32_t *part);
+    void *pick_ctx;
 } pcdm_decomp_opts;
 
 typedef struct pcdm_decomp {

@@ -134,10 +134,13 @@ static int32_t uf_find(int32_t *up, int32_t x) {
 
 /* METIS on the dual graph of m's live triangles (id[t]: compact index, -1 for dead slots).  The
  * triangles around each input corner sharper than 60 degrees are one graph vertex (they must
- * share a part, merge_corners), so METIS sees their weight together and balances around it. */
+ * share a part, merge_corners), so METIS sees their weight together and balances around it.
+ * sel (NULL: seed 1): the seeds to try, keeping the partition of least decomp_part_cost in part
+ * and its cost in *cost (INFINITY, labels -1, if METIS failed on every seed: not an error
+ * here, since another rank may have one). */
 static int partition(const mesh *m, const int32_t *id, int32_t n, const double *tw,
-                     const double *target, int32_t K, int penalize, int32_t *part, char *err,
-                     size_t errlen) {
+                     const double *target, int32_t K, int penalize, const pcdm_decomp_opts *sel,
+                     double *cost, int32_t *part, char *err, size_t errlen) {
     /* graph vertices: triangles, those around a sharp corner united */
     int32_t *up = mesh_xmalloc((size_t)n + 1, sizeof(int32_t));
     for (int32_t i = 0; i < n; i++)
@@ -226,18 +229,37 @@ static int partition(const mesh *m, const int32_t *id, int32_t n, const double *
         tp[k] = (real_t)target[k];
     idx_t opt[METIS_NOPTIONS], nv = nn, ncon = 1, np = K, cut = 0;
     METIS_SetDefaultOptions(opt);
-    opt[METIS_OPTION_SEED] = 1;
     opt[METIS_OPTION_NUMBERING] = 0;
-    opt[METIS_OPTION_CONTIG] = reached == nn;
-    int rc = nn < K ? METIS_ERROR_INPUT
-                    : METIS_PartGraphKway(&nv, &ncon, xadj, adj, vw, NULL, ew, &np, tp, NULL, opt,
-                                          &cut, pp);
-    if (rc != METIS_OK && nn >= K && opt[METIS_OPTION_CONTIG]) {
-        opt[METIS_OPTION_CONTIG] = 0;
-        rc = METIS_PartGraphKway(&nv, &ncon, xadj, adj, vw, NULL, ew, &np, tp, NULL, opt, &cut, pp);
+    int32_t nseeds = sel && sel->seed_count > 0 ? sel->seed_count : 1;
+    int32_t *cand = sel ? mesh_xmalloc((size_t)m->nt + 1, sizeof(int32_t)) : part;
+    int rc = METIS_ERROR_INPUT;
+    if (sel) *cost = INFINITY;
+    for (int32_t i = 0; i < nseeds; i++) {
+        opt[METIS_OPTION_SEED] =
+            sel && sel->seed_count > 0 ? sel->seed_first + i * sel->seed_step : 1;
+        opt[METIS_OPTION_CONTIG] = reached == nn;
+        int r = nn < K ? METIS_ERROR_INPUT
+                       : METIS_PartGraphKway(&nv, &ncon, xadj, adj, vw, NULL, ew, &np, tp, NULL,
+                                             opt, &cut, pp);
+        if (r != METIS_OK && nn >= K && opt[METIS_OPTION_CONTIG]) {
+            opt[METIS_OPTION_CONTIG] = 0;
+            r = METIS_PartGraphKway(&nv, &ncon, xadj, adj, vw, NULL, ew, &np, tp, NULL, opt, &cut,
+                                    pp);
+        }
+        if (!sel || r == METIS_OK) rc = r;
+        for (int32_t t = 0; t < m->nt; t++)
+            cand[t] = id[t] >= 0 && r == METIS_OK ? (int32_t)pp[node[id[t]]] : -1;
+        if (!sel) break;
+        double c = r == METIS_OK ? decomp_part_cost(m, tw, cand, K, sel->boundary_cost) : INFINITY;
+        if (c < *cost || i == 0) {
+            if (c < *cost) *cost = c;
+            memcpy(part, cand, (size_t)m->nt * sizeof(int32_t));
+        }
     }
-    for (int32_t t = 0; t < m->nt; t++)
-        part[t] = id[t] >= 0 && rc == METIS_OK ? (int32_t)pp[node[id[t]]] : -1;
+    if (sel) {
+        mesh_xfree(cand);
+        rc = METIS_OK; /* failures: *cost stays INFINITY (the caller decides) */
+    }
     mesh_xfree(node);
     mesh_xfree(xadj);
     mesh_xfree(adj);
@@ -702,7 +724,16 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
         rc = decomp_fail(err, errlen,
                          "%d subdomains: the domain's coarse mesh has only %d triangles", (int)K,
                          (int)n);
-    if (rc == 0 && K > 1) rc = partition(&m, id, n, tw, target, K, exact, part, err, errlen);
+    /* ./pbw: the partition of least predicted cost among the seeds (decomp_seeds.c) */
+    int choose = K > 1 && K == P && R == 1 && !exact && o->boundary_cost > 0;
+    double cost = 0;
+    if (rc == 0 && K > 1)
+        rc =
+            partition(&m, id, n, tw, target, K, exact, choose ? o : NULL, &cost, part, err, errlen);
+    if (rc == 0 && choose &&
+        (o->pick ? o->pick(o->pick_ctx, cost, m.nt, part) != 0 : !isfinite(cost)))
+        rc = decomp_fail(err, errlen, "METIS could not partition %d coarse triangles into %d parts",
+                         (int)n, (int)K);
     if (rc == 0) {
         merge_corners(&m, part);
         if (K > 1) fill_empty(&m, part, K);

@@ -34,6 +34,12 @@ int decomp_build(const pslg *in, const mesh *m, const uint8_t *mseg_cut, const i
 int decomp_map_owners(pcdm_decomp *d, int32_t P, double R, const int32_t *planned, char *err,
                       size_t errlen);
 
+/* The predicted cost of the partition part of m's live triangles into K parts: that of its
+ * costliest part, work (tw) plus boundary_cost times its boundary with other parts in units
+ * of the local final triangle size (decomp_seeds.c). */
+double decomp_part_cost(const mesh *m, const double *tw, const int32_t *part, int32_t K,
+                        double boundary_cost);
+
 /* Scales positive doubles to METIS integer weights (at least 1 each, sum below 2^30). */
 void decomp_int_weights(const double *w, int32_t n, idx_t *out);
 

@@ -74,16 +74,29 @@ static uint64_t hash_bytes(uint64_t h, const void *p, size_t n) {
     return h;
 }
 
+static int hash_agrees(uint64_t h) {
+    uint64_t lo = 0, hi = 0;
+    MESH_MPI(MPI_Allreduce(&h, &lo, 1, MPI_UINT64_T, MPI_MIN, rt_app_comm()));
+    MESH_MPI(MPI_Allreduce(&h, &hi, 1, MPI_UINT64_T, MPI_MAX, rt_app_comm()));
+    return lo == hi;
+}
+
+int par_input_agrees(const pslg *in) {
+    uint64_t h = mesh_hash64((uint64_t)in->scale_exp);
+    h = hash_bytes(h, in->xy, 2 * (size_t)in->nverts * sizeof(double));
+    h = hash_bytes(h, in->seg, 2 * (size_t)in->nsegs * sizeof(int32_t));
+    h = hash_bytes(h, in->holes, 2 * (size_t)in->nholes * sizeof(double));
+    h = hash_bytes(h, in->regions, 4 * (size_t)in->nregions * sizeof(double));
+    return hash_agrees(h);
+}
+
 int par_decomp_agrees(const pcdm_decomp *d) {
     uint64_t h = 0;
     h = hash_bytes(h, d->g.xy, 2 * (size_t)d->g.nverts * sizeof(double));
     h = hash_bytes(h, d->g.seg, 2 * (size_t)d->g.nsegs * sizeof(int32_t));
     h = hash_bytes(h, d->seg_sub, 2 * (size_t)d->g.nsegs * sizeof(int32_t));
     h = hash_bytes(h, d->sub_owner, (size_t)d->nsub * sizeof(int32_t));
-    uint64_t lo = 0, hi = 0;
-    MESH_MPI(MPI_Allreduce(&h, &lo, 1, MPI_UINT64_T, MPI_MIN, rt_app_comm()));
-    MESH_MPI(MPI_Allreduce(&h, &hi, 1, MPI_UINT64_T, MPI_MAX, rt_app_comm()));
-    return lo == hi;
+    return hash_agrees(h);
 }
 
 double par_cpu_seconds(void) {

@@ -144,6 +144,10 @@ static inline int par_balance_dynamic(const par_opts *o) {
  * default mesh is the same for any ranks x threads up to this many */
 #define PAR_ROUNDS_SUBDOMAINS 16
 
+/* Collective over rt_app_comm().  1 iff every rank read the same input: a hash of its
+ * coordinates, segments, holes, regions and scaling is compared across the ranks. */
+int par_input_agrees(const pslg *in);
+
 /* Collective over rt_app_comm().  1 iff every rank computed the same decomposition: each rank
  * builds it alone (deterministic code, no communication), so a hash of what the meshers consume
  * (the cut geometry, the cuts' subdomains, the owners) is compared across the ranks. */

@@ -75,6 +75,18 @@ typedef struct pbw_result {
  * Returns 0 or a negative RT_E* code. */
 int pbw_register(void);
 
+/* Where ranks share cores, the decomposition for ./pbw weighs a part's boundary with other parts
+ * against its triangles: pcdm_decomp_opts.boundary_cost (decomp_seeds.c), PBW_BOUNDARY_COST as
+ * measured with PBW_BOUNDARY_RHO ranks per core (the lake at 10M triangles, 8 ranks on 2 cores),
+ * scaled by the share of ranks waiting for a core, 1 - 1/rho at rho ranks per core (a rank whose
+ * neighbour is not running waits for it; with a core per rank the partition is METIS's own:
+ * at 2 ranks on 2 cores the weighted choice measured 3% slower), the best of PBW_DECOMP_SEEDS
+ * METIS seeds (shared out over the ranks, at most PBW_SEEDS_PER_RANK on each). */
+#define PBW_BOUNDARY_COST 26.0
+#define PBW_BOUNDARY_RHO 4.0
+#define PBW_DECOMP_SEEDS 16
+#define PBW_SEEDS_PER_RANK 4
+
 /* Collective.  Builds the initial CDT of in on every rank (or takes d->cdt's contents when the
  * decomposition kept it: decomp.h), distributes its triangles by the
  * subdomains of d (triangle centroid -> subdomain -> d->sub_owner), refines the distributed

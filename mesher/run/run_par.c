@@ -1,8 +1,10 @@
 /* run_par.c: the parallel driver (run.h) -- ./pcdm, ./pbw and pcdm_triangulate_par: the stages
  * of run.c with the mesh made by PCDM (TR-97-17 section 3) or PBW (section 2) over the ranks.
  *
- * SPMD: every rank reads the same input and builds the same decomposition (a hash of it is
- * compared across the ranks), so input errors are found on every rank; every failure is still
+ * SPMD: every rank reads the same input (a hash of it is compared across the ranks) and builds
+ * the same decomposition (a hash of it is compared too; for ./pbw the ranks try different METIS
+ * seeds and all keep the partition of least predicted cost, pick_partition), so input errors are
+ * found on every rank; every failure is still
  * agreed collectively (run_agree: the lowest failing rank's message goes to every rank, rank 0
  * prints it unless the library asked), so no rank waits in a collective another one skipped.
  * After refinement each rank keeps its own part: the verdict is reduced over the ranks, then
@@ -54,9 +56,13 @@
 #include "pcdm/pcdm.h"
 #include "rt.h"
 
+#include <float.h>
+#include <limits.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 /* ---- agreement -------------------------------------------------------------------------- */
 
@@ -80,8 +86,37 @@ static const char *msg_prefix(const run_job *j, int with_input, char *buf, size_
 
 /* ---- load and decomposition ------------------------------------------------------------- */
 
-/* Local.  The decomposition of in for the ranks (auto, or --cuts).  Returns 0, or a RUN_F* code
- * with the message in err. */
+/* Collective (pcdm_decomp_opts.pick).  Every rank offers its best partition of the coarse mesh
+ * (the same mesh on every rank) and its predicted cost; the cheapest (the lowest rank on a tie)
+ * is broadcast to all.  -1 if no rank has one. */
+static int pick_partition(void *ctx, double cost, int32_t n, int32_t *part) {
+    (void)ctx;
+    double mine = isfinite(cost) ? cost : DBL_MAX, best = 0;
+    MESH_MPI(MPI_Allreduce(&mine, &best, 1, MPI_DOUBLE, MPI_MIN, rt_app_comm()));
+    if (best == DBL_MAX) return -1;
+    int me = mine == best ? rt_rank() : INT_MAX, root = 0;
+    MESH_MPI(MPI_Allreduce(&me, &root, 1, MPI_INT, MPI_MIN, rt_app_comm()));
+    MESH_MPI(MPI_Bcast(part, n, MPI_INT32_T, root, rt_app_comm()));
+    return 0;
+}
+
+/* Collective.  Ranks per core on the most crowded node: this node's ranks (MPI's shared-memory
+ * split) over its online CPUs, the largest over the ranks. */
+static double ranks_per_core(void) {
+    MPI_Comm node;
+    int local = 1;
+    MESH_MPI(
+        MPI_Comm_split_type(rt_app_comm(), MPI_COMM_TYPE_SHARED, rt_rank(), MPI_INFO_NULL, &node));
+    MESH_MPI(MPI_Comm_size(node, &local));
+    MESH_MPI(MPI_Comm_free(&node));
+    long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+    double mine = (double)local / (double)(cpus > 0 ? cpus : 1), most = mine;
+    MESH_MPI(MPI_Allreduce(&mine, &most, 1, MPI_DOUBLE, MPI_MAX, rt_app_comm()));
+    return most;
+}
+
+/* Local, but Collective for ./pbw's automatic decomposition (pick_partition).  The decomposition
+ * of in for the ranks (auto, or --cuts).  Returns 0, or a RUN_F* code with the message in err. */
 static int decompose(const run_job *j, const pslg *in, pcdm_decomp *d, char *err, size_t errlen) {
     const par_opts *o = &j->o;
     int P = rt_size(), rc = 0;
@@ -108,6 +143,17 @@ static int decompose(const run_job *j, const pslg *in, pcdm_decomp *d, char *err
     dopt.max_steiner = o->max_steiner;
     dopt.region_area = o->region_area;
     dopt.keep_cdt = j->method == RUN_PBW; /* PBW starts from the same CDT of the input */
+    /* ./pbw's ranks weigh boundary against triangles when they share cores (PBW_BOUNDARY_COST);
+     * the seeds are shared out: rank r tries r + 1, r + 1 + P, ... */
+    double rho = j->method == RUN_PBW && P > 1 && !o->cuts ? ranks_per_core() : 0;
+    if (rho > 1) {
+        int32_t per_rank = (PBW_DECOMP_SEEDS + P - 1) / P;
+        dopt.boundary_cost = PBW_BOUNDARY_COST * (1 - 1 / rho) / (1 - 1 / PBW_BOUNDARY_RHO);
+        dopt.seed_first = 1 + rt_rank();
+        dopt.seed_step = P;
+        dopt.seed_count = per_rank < PBW_SEEDS_PER_RANK ? per_rank : PBW_SEEDS_PER_RANK;
+        dopt.pick = pick_partition;
+    }
     if (!o->cuts && k > PAR_MAX_SUBDOMAINS) {
         snprintf(err, errlen,
                  "%d subdomains: the automatic decomposition supports at most %d (fewer ranks or "
@@ -139,8 +185,19 @@ int run_par_load(run_job *j, pslg *in, pcdm_decomp *d) {
     geom_init();
     int quiet = j->lib || o->quiet || rt_rank() != 0; /* warnings: rank 0 only */
     int rc = run_load(j, in, quiet, !j->lib, err, sizeof err) == 0 ? 0 : RUN_FINPUT;
-    if (rc == 0) rc = decompose(j, in, d, err, sizeof err);
     char pre[600];
+    snprintf(msg, sizeof msg, "%s%s", msg_prefix(j, 0, pre, sizeof pre), err);
+    /* every rank holds the same input before the decomposition, which may be collective */
+    if ((rc = run_agree(j, rc, msg)) != 0) goto fail;
+    if (!par_input_agrees(in)) {
+        snprintf(msg, sizeof msg,
+                 "%sthe ranks read different inputs from %.200s (is it the same file on every "
+                 "host?)",
+                 pre, o->input);
+        rc = run_agree(j, RUN_FINVAL, msg);
+        goto fail;
+    }
+    rc = decompose(j, in, d, err, sizeof err);
     snprintf(msg, sizeof msg, "%s%s", msg_prefix(j, 0, pre, sizeof pre), err);
     if ((rc = run_agree(j, rc, msg)) != 0) goto fail;
     if (!par_decomp_agrees(d)) {

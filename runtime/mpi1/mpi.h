@@ -83,6 +83,7 @@ enum {
 #define MPI_ERRORS_RETURN 1
 #define MPI_ERRORS_ARE_FATAL 2
 #define MPI_INFO_NULL 0
+#define MPI_COMM_TYPE_SHARED 1
 #define MPI_FILE_NULL (-1)
 
 #define MPI_THREAD_SINGLE 0
@@ -116,6 +117,7 @@ enum {
 #define MPI_Comm_rank pcdm_mpi1_Comm_rank
 #define MPI_Comm_set_errhandler pcdm_mpi1_Comm_set_errhandler
 #define MPI_Comm_size pcdm_mpi1_Comm_size
+#define MPI_Comm_split_type pcdm_mpi1_Comm_split_type
 #define MPI_Error_string pcdm_mpi1_Error_string
 #define MPI_Exscan pcdm_mpi1_Exscan
 #define MPI_File_close pcdm_mpi1_File_close
@@ -165,6 +167,7 @@ int MPI_Comm_dup(MPI_Comm comm, MPI_Comm *out);
 int MPI_Comm_free(MPI_Comm *comm);
 int MPI_Comm_rank(MPI_Comm comm, int *rank);
 int MPI_Comm_size(MPI_Comm comm, int *size);
+int MPI_Comm_split_type(MPI_Comm comm, int type, int key, MPI_Info info, MPI_Comm *out);
 int MPI_Comm_set_errhandler(MPI_Comm comm, MPI_Errhandler eh);
 
 /* datatypes */
