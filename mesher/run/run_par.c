@@ -180,30 +180,24 @@ static int decompose(const run_job *j, const pslg *in, pcdm_decomp *d, char *err
 
 int run_par_load(run_job *j, pslg *in, pcdm_decomp *d) {
     const par_opts *o = &j->o;
-    char err[1024], msg[sizeof j->msg];
+    char err[1024] = "", msg[sizeof j->msg];
     memset(d, 0, sizeof *d);
     geom_init();
     int quiet = j->lib || o->quiet || rt_rank() != 0; /* warnings: rank 0 only */
     int rc = run_load(j, in, quiet, !j->lib, err, sizeof err) == 0 ? 0 : RUN_FINPUT;
     char pre[600];
-    snprintf(msg, sizeof msg, "%s%s", msg_prefix(j, 0, pre, sizeof pre), err);
-    /* every rank holds the same input before the decomposition, which may be collective */
-    if ((rc = run_agree(j, rc, msg)) != 0) goto fail;
-    if (!par_input_agrees(in)) {
+    /* every rank holds the same input before the decomposition (which may be collective), and
+     * the same decomposition after it */
+    for (int stage = 0; stage < 2; stage++) {
+        if (stage == 1) rc = decompose(j, in, d, err, sizeof err);
+        snprintf(msg, sizeof msg, "%s%s", msg_prefix(j, 0, pre, sizeof pre), err);
+        if ((rc = run_agree(j, rc, msg)) != 0) goto fail;
+        if (stage == 0 ? par_input_agrees(in) : par_decomp_agrees(d)) continue;
         snprintf(msg, sizeof msg,
-                 "%sthe ranks read different inputs from %.200s (is it the same file on every "
-                 "host?)",
-                 pre, o->input);
-        rc = run_agree(j, RUN_FINVAL, msg);
-        goto fail;
-    }
-    rc = decompose(j, in, d, err, sizeof err);
-    snprintf(msg, sizeof msg, "%s%s", msg_prefix(j, 0, pre, sizeof pre), err);
-    if ((rc = run_agree(j, rc, msg)) != 0) goto fail;
-    if (!par_decomp_agrees(d)) {
-        snprintf(msg, sizeof msg,
-                 "%sthe ranks computed different decompositions of %.200s (was the same input "
-                 "and options passed on every rank?)",
+                 stage == 0 ? "%sthe ranks read different inputs from %.200s (is it the same file "
+                              "on every host?)"
+                            : "%sthe ranks computed different decompositions of %.200s (was the "
+                              "same input and options passed on every rank?)",
                  pre, o->input);
         rc = run_agree(j, RUN_FINVAL, msg);
         goto fail;
