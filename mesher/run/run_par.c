@@ -434,6 +434,9 @@ static int startup(int *argc, char ***argv, run_method method, par_parse_fn pars
         fprintf(stderr, "%s: cannot register the handlers: %s\n", prog, rt_strerror(rc));
         goto fin;
     }
+    /* the ranks compare their handler tables now, before any other collective (./pbw's
+     * decomposition has some): ranks running different programs stop here, each naming it */
+    rt_start();
     if (o->async && (o->threads > 1 || par_balance_dynamic(o) || o->deterministic)) {
         /* every rank parsed the same arguments: all stop */
         if (rt_rank() == 0)
