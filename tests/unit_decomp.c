@@ -572,6 +572,7 @@ START_TEST(test_boundary_seeds) {
     o.nranks = 8;
     o.min_angle = 20.7;
     o.max_area = area;
+    o.coarse_route = 1; /* as ./pbw's */
     pcdm_decomp d1, dc, d16;
     char err[1024];
     ck_assert_msg(pcdm_decomp_auto(&in, &o, &d1, err, sizeof err) == 0, "%s", err);

@@ -56,6 +56,7 @@ void pcdm_decomp_free(pcdm_decomp *d) {
     mesh_xfree(d->seg_parent);
     mesh_xfree(d->seg_iface);
     mesh_xfree(d->seg_sub);
+    mesh_xfree(d->vert_sub);
     mesh_xfree(d->cut_xy);
     mesh_xfree(d->sub_seed);
     mesh_xfree(d->sub_area);
@@ -347,6 +348,14 @@ int decomp_build(const pslg *in, const mesh *m, const uint8_t *mseg_cut, const i
     for (int32_t v = 0; v < (keep_all ? m->nv : m->ninput); v++) /* input (cuts-file) vertices */
         keep[v] = keep_all ? m->vtri[v] >= 0 || v < m->ninput : 1;
     build_vertices(in, m, mseg_marker, keep, gid, d);
+    d->vert_sub = mesh_xmalloc((size_t)d->g.nverts + 1, sizeof(int32_t));
+    for (int32_t v = 0; v < d->g.nverts; v++)
+        d->vert_sub[v] = -1;
+    for (int32_t t = 0; t < m->nt; t++)
+        for (int j = 0; mesh_tri_alive(m, t) && j < 3; j++) {
+            int32_t v = m->tv[3 * t + j];
+            if (keep[v] && gid[v] >= 0) d->vert_sub[gid[v]] = part[t];
+        }
     gbuild b = {d, 0};
     build_pieces(in, m, mseg_cut, mseg_parent, mseg_marker, part, keep, gid, &b);
     d->nboundary = d->g.nsegs;
@@ -380,6 +389,8 @@ int decomp_build(const pslg *in, const mesh *m, const uint8_t *mseg_cut, const i
         d->g.nsegs = 0;
     }
     copy_pslg_extras(in, &d->g);
+    for (int32_t s = 0; s < d->g.nsegs; s++) /* a vertex that ends a segment is on no side */
+        d->vert_sub[d->g.seg[2 * s]] = d->vert_sub[d->g.seg[2 * s + 1]] = -1;
     mesh_xfree(keep);
     mesh_xfree(gid);
     return 0;

@@ -66,6 +66,9 @@ typedef struct pcdm_decomp_opts {
                             * auto: they enter the work weights, the exact preview and its
                             * trial (a cuts file's weights ignore them) */
     int keep_cdt;          /* auto: 1 = keep a copy of the input's CDT in the result (cdt) */
+    int coarse_route;      /* auto: 1 = partition the lfs-graded coarse mesh, not the input's CDT
+                            * with interior points (./pbw: its set-up and its choice among METIS
+                            * seeds weigh that mesh; decomp_auto.c) */
     /* Auto, coarse route, K = P > 1, imbalance 1 (./pbw): the partition is the one of least
      * predicted cost among several METIS seeds (decomp_seeds.c).  The cost of a part is its
      * work plus boundary_cost times its boundary with other parts measured in local final
@@ -103,6 +106,12 @@ typedef struct pcdm_decomp {
     /* The interface edges as straight cuts (x1 y1 x2 y2 each), what --write-cuts writes. */
     int32_t ncuts;
     double *cut_xy;     /* 4 * ncuts */
+    int32_t *vert_sub;  /* g.nverts: the subdomain whose interior holds a vertex that ends no
+                         * segment (a free input or Steiner vertex), else -1 (on a segment, or
+                         * in no triangle: a hole, a merged duplicate) */
+    double floor2;      /* the refinement's squared length floor (mesh_rules_length_floor2) of
+                         * the input's CDT, so that every subdomain mesh and ./mesh use the
+                         * same one; 0: unknown (a subdomain then takes its own) */
     int32_t nsub;       /* K */
     int32_t nranks;     /* P */
     double *sub_seed;   /* 2 * K: a point strictly inside each subdomain */

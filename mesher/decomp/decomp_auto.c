@@ -11,33 +11,46 @@
  * (refined further with an area bound only if it has fewer than 12 triangles per rank or 2 per
  * subdomain).  Its triangles are the final ones, so METIS balances the actual triangles and every
  * interface is a final mesh edge; edges a neighbouring apex encroaches (diametral circle) cost
- * METIS 64 times their length, since PCDM would have to split them.  Otherwise (1) the CDT of the
- * input is refined with the angle bound alone (at least 30 degrees, a little above the final
- * bound), which grades it by the local feature size like the final mesh; then, with an area bound,
- * with an area bound that gives about per_sub triangles per subdomain (never below 4 times the
- * final bound, so the interfaces stay coarser than the final mesh); without one, only when that
- * leaves fewer than 8 triangles per subdomain.  (2) Each coarse triangle's work is max(1, area /
- * max_area) with an area bound, else 1.  (3) METIS_PartGraphKway splits the dual graph (vertex
- * weights: work; edge weights: shared edge length; target fractions from the imbalance;
- * contiguous parts when the graph is connected; fixed seed) into K parts; the triangles around an
- * input corner sharper than 60 degrees are one graph vertex.  (4) So they join one part, and no
- * interface ends in a corner whose coarse triangles are exempt from the angle bound; a part METIS
- * left empty takes a triangle of the largest part that can give one.  (5) Wide sectors (coarse
- * route): around every vertex, a sector of triangles of one part narrower than 60 degrees that an
- * interface bounds joins the lighter part across that interface if that lowers the number of narrow
- * sectors around the moved triangles (so it cannot oscillate; repeated until nothing changes, at
- * most 32 passes).  On the exact preview, instead, a triangle whose apex encroaches an interface
- * edge joins the part across it (or the triangle across joins its part), so PCDM splits no
- * interface and no cascade can start; if some interface stays encroached (parts of one or two
- * triangles), the sectors are widened as well.  Two interfaces (or an interface and the boundary)
- * meeting at less than 45 degrees split each other's dyadic pieces forever when their lengths fall
- * in a bad ratio (each new midpoint lies in the other piece's diametral circle), which refinement
- * reaches at many subdomains; at 60 degrees or more no midpoint can encroach the neighbouring
- * piece.  (6) decomp_build turns the labels into interface segments.  Every angle an interface
- * makes with another segment then contains a corner of a coarse triangle, hence is at least the
- * coarse bound.  (7) An exact preview is kept only if one sequential refinement of the augmented
- * PSLG meets the bounds (as small as the preview; the PCDM mesh does not depend on the ranks);
- * else it is redrawn with 12 triangles per subdomain, and failing that the coarse route is used.
+ * METIS 64 times their length, since PCDM would have to split them.  Otherwise (1) on inputs of
+ * FAST_MIN_VERTS vertices or more (below, the coarse route (1') costs little), the fast route:
+ * the input's CDT itself, with the centroids of its triangles larger than about 1/per_sub of
+ * a subdomain's area inserted (never below 4 times the final area bound), so the coarse mesh costs
+ * about one CDT of the input and splits no segment, whatever the input's size: on a coastline the
+ * lfs-graded mesh is most of the final one, and the subdomains make it in parallel.  Its work
+ * weights are 2.5 per triangle (the triangles the local feature size grades about each input
+ * vertex, 5 per vertex on coastlines, over about 2 CDT triangles a vertex) plus 1.45 area /
+ * max_area (the area bound's triangles, whose mean area is about 0.7 of the bound); its edges an
+ * apex encroaches cost METIS 64 times their length, as on the preview.  The interior points are
+ * circumcenters that encroach no segment (Ruppert's rule: well spaced, away from the boundary),
+ * else centroids.  When its interfaces meet a segment below FAST_MIN_DEG, or it fails, (1') the
+ * coarse route: the CDT of the input is refined
+ * with the angle bound alone (at least 30 degrees, a little above the final bound), which grades
+ * it by the local feature size like the final mesh; then, with an area bound, with an area bound
+ * that gives about per_sub triangles per subdomain (never below 4 times the final bound, so the
+ * interfaces stay coarser than the final mesh); without one, only when that leaves fewer than 8
+ * triangles per subdomain; the one whose interfaces are wider is kept.  (2) On the coarse route
+ * each coarse triangle's work is max(1, area / max_area) with an area bound, else 1.  (3)
+ * METIS_PartGraphKway splits the dual graph (vertex weights: work; edge weights: shared edge
+ * length; target fractions from the imbalance; contiguous parts when the graph is connected; fixed
+ * seed) into K parts; the triangles around an input corner sharper than 60 degrees are one graph
+ * vertex.  (4) So they join one part, and no interface ends in a corner whose coarse triangles are
+ * exempt from the angle bound; a part METIS left empty takes a triangle of the largest part that
+ * can give one.  (5) Wide sectors (coarse route): around every vertex, a sector of triangles of one
+ * part narrower than 60 degrees that an interface bounds joins the lighter part across that
+ * interface if that lowers the number of narrow sectors around the moved triangles (so it cannot
+ * oscillate; repeated until nothing changes, at most 32 passes).  On the exact preview, instead, a
+ * triangle whose apex encroaches an interface edge joins the part across it (or the triangle across
+ * joins its part), so PCDM splits no interface and no cascade can start; if some interface stays
+ * encroached (parts of one or two triangles), the sectors are widened as well.  Two interfaces (or
+ * an interface and the boundary) meeting at less than 45 degrees split each other's dyadic pieces
+ * forever when their lengths fall in a bad ratio (each new midpoint lies in the other piece's
+ * diametral circle), which refinement reaches at many subdomains; at 60 degrees or more no midpoint
+ * can encroach the neighbouring piece.  (6) decomp_build turns the labels into interface segments.
+ * Every angle an interface makes with another segment then contains a corner of a coarse triangle,
+ * hence is at least the coarse bound.  (7) An exact preview is kept only if one sequential
+ * refinement of the augmented PSLG meets the bounds (as small as the preview; the PCDM mesh does
+ * not depend on the ranks); else it is redrawn with 12 triangles per subdomain, and failing that
+ * the coarse route is used.
  *
  * Invariants: topology comes from the mesher's exact predicates (encroachment by
  * geom_encroaches); sector angles are a float quality figure that only moves interfaces; METIS
@@ -66,6 +79,9 @@
 #define ENC_PENALTY 64.0           /* METIS edge weight factor of an encroached edge (exact) */
 #define WIDE_DEG 60.0              /* sectors an interface bounds are at least this wide */
 #define WIDEN_PASSES 32
+#define FAST_MIN_DEG 30.0   /* the fast route's interfaces narrower than this: try the coarse one */
+#define FAST_MIN_VERTS 8192 /* inputs with fewer vertices take the coarse route (it costs little)  \
+                             */
 #define DEG_PER_RAD 57.295779513082320876798
 
 /* Rank 0 gets k0 ~ K R / (R + P - 1) subdomains (at least one, leaving one per other rank);
@@ -104,6 +120,58 @@ static mesh_refine_result refine(mesh *m, double angle, double area, int64_t lim
     q.offcenter = 1;
     mesh_set_quality(m, &q);
     return mesh_refine(m);
+}
+
+/* Inserts p as a free vertex of m, found from triangle t, unless it lies outside the domain, on
+ * a constraint, or (check) in the diametral circle of a constraint edge of its cavity's
+ * boundary (Ruppert's rule, which keeps inserted points away from the segments).  1 if
+ * inserted. */
+static int insert_free(mesh *m, const double p[2], int32_t t, int check) {
+    t = mesh_locate(m, p, t);
+    if (t < 0) return 0;
+    for (int j = 0; j < 3; j++) {
+        int32_t e = 3 * t + j;
+        const double *a = mesh_vertex_xy(m, m->tv[e]), *b = mesh_vertex_xy(m, mesh_dest(m, e));
+        if ((a[0] == p[0] && a[1] == p[1]) ||
+            (mesh_edge_constrained(m, e) && geom_orient2d(a, b, p) == 0))
+            return 0;
+    }
+    int32_t bad = -1;
+    int ok = mesh_cavity_collect(m, p, t, -1, &bad) == CAV_OK;
+    for (int32_t i = 0; ok && check && i < m->nbnd; i++) {
+        const mesh_bedge *b = &m->bnd[i];
+        if (b->cons && geom_encroaches(mesh_vertex_xy(m, b->org), mesh_vertex_xy(m, b->dest), p))
+            ok = 0;
+    }
+    if (!ok) {
+        mesh_cavity_abort(m);
+        return 0;
+    }
+    mesh_cavity_commit(m, mesh_vert_add(m, p[0], p[1], -1), -1, -1);
+    return 1;
+}
+
+/* The fast route's coarse mesh: every triangle larger than area (working units) gets a free
+ * vertex, pass after pass, until none is larger or limit vertices were added: its circumcenter
+ * where that encroaches no segment (well spaced, as in Delaunay refinement), else its centroid,
+ * which lies strictly inside it.  No segment is split: the input's segments stay whole. */
+static void interior_points(mesh *m, double area, int64_t limit) {
+    int64_t added = 0;
+    for (int more = 1; more && added < limit;) {
+        more = 0;
+        int32_t nt = m->nt;
+        for (int32_t t = 0; t < nt && added < limit; t++) {
+            if (!mesh_tri_alive(m, t)) continue;
+            const double *a = mesh_vertex_xy(m, m->tv[3 * t]),
+                         *b = mesh_vertex_xy(m, m->tv[3 * t + 1]),
+                         *c = mesh_vertex_xy(m, m->tv[3 * t + 2]);
+            if (geom_area(a, b, c) <= area) continue;
+            double cc[2], p[2] = {(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3};
+            int ins = geom_circumcenter(a, b, c, cc) == 0 && insert_free(m, cc, t, 1);
+            if (!ins) ins = insert_free(m, p, t, 0);
+            if (ins) added++, more = 1;
+        }
+    }
 }
 
 /* Is edge e (a live triangle's) encroached by the apex on either side (diametral circle)? */
@@ -645,7 +713,8 @@ static int exact_preview(mesh *m, const pslg *in, const pcdm_decomp_opts *o, int
 }
 
 /* One decomposition: mode 0 the exact preview with 2 triangles per subdomain at least, mode 1
- * with EXACT_SAFE_PER_SUB, mode 2 the coarse route only. */
+ * with EXACT_SAFE_PER_SUB (both else the fast route), mode 2 the fast route only, mode 3 the
+ * lfs-graded coarse route only. */
 static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_decomp *out, char *err,
                    size_t errlen) {
     memset(out, 0, sizeof *out);
@@ -661,12 +730,13 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
         mesh_free(&m);
         return -1;
     }
+    double floor2 = mesh_rules_length_floor2(m.xy, m.nv, m.tv, m.nt); /* as ./mesh's */
     if (o->keep_cdt) { /* the caller's copy, before anything below refines m */
         keep = mesh_xmalloc(1, sizeof *keep);
         mesh_copy(keep, &m);
     }
     int exact =
-        mode == 2 ? 0
+        mode >= 2 ? 0
                   : exact_preview(&m, in, o, &K, mesh_area(&m), mode == 0 ? 2 : EXACT_SAFE_PER_SUB);
     if (exact < 0) { /* the final mesh is larger: start again from the CDT */
         mesh_free(&m);
@@ -682,7 +752,15 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
     if (o->region_area && !exact) mesh_set_regions(&m, in, 0, m.nseg);
     double qc = o->min_angle + 2;
     qc = qc < 30 ? 30 : qc > 33 ? 33 : qc;
-    if (K > 1 && !exact) {
+    int fast = mode != 3 && !o->coarse_route && in->nverts >= FAST_MIN_VERTS;
+    if (K > 1 && !exact && fast) {
+        /* the fast route: the input's CDT, with an area bound alone for about per_sub
+         * triangles per subdomain (circumcenters of the large triangles: a few per subdomain) */
+        int64_t limit = 4 * (int64_t)K * per + 1000;
+        double A = mesh_area(&m), ac = A / ((double)K * per);
+        if (o->max_area > 0 && ac < 4 * o->max_area) ac = 4 * o->max_area;
+        if (ac < A) interior_points(&m, ac, limit);
+    } else if (K > 1 && !exact) {
         int64_t limit = 40 * (int64_t)K * per + 20 * (int64_t)m.nv + 1000;
         refine(&m, qc, 0, limit);
         double A = mesh_area(&m);
@@ -709,7 +787,10 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
         double b = o->max_area;
         if (o->region_area && m.treg && m.treg[t] >= 0)
             b = mesh_rules_area_bound(b, in->regions[4 * m.treg[t] + 3]);
-        tw[t] = b > 0 && ar > b ? ar / b : 1;
+        if (fast) /* lfs-graded triangles about each coarse one, and the area bound's */
+            tw[t] = (b > 0 ? 1.45 * ar / b : 0) + 2.5;
+        else
+            tw[t] = b > 0 && ar > b ? ar / b : 1;
     }
     /* a default count shrinks to what the coarse mesh can share out; halving from the same
      * default gives the same K for every rank count up to it */
@@ -728,8 +809,8 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
     int choose = K > 1 && K == P && R == 1 && !exact && o->boundary_cost > 0;
     double cost = 0;
     if (rc == 0 && K > 1)
-        rc =
-            partition(&m, id, n, tw, target, K, exact, choose ? o : NULL, &cost, part, err, errlen);
+        rc = partition(&m, id, n, tw, target, K, exact || fast, choose ? o : NULL, &cost, part, err,
+                       errlen);
     if (rc == 0 && choose &&
         (o->pick ? o->pick(o->pick_ctx, cost, m.nt, part) != 0 : !isfinite(cost)))
         rc = decomp_fail(err, errlen, "METIS could not partition %d coarse triangles into %d parts",
@@ -741,6 +822,7 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
         rc = decomp_build(in, &m, NULL, NULL, NULL, part, tw, K, exact, out, err, errlen);
     }
     if (rc == 0) {
+        out->floor2 = floor2;
         out->ncoarse = n;
         out->exact = exact;
         memcpy(out->sub_target, target, (size_t)K * sizeof(double));
@@ -801,6 +883,21 @@ int pcdm_decomp_auto(const pslg *in, const pcdm_decomp_opts *opts, pcdm_decomp *
     const pcdm_decomp_opts *o = &so;
     for (int mode = 0; mode < 3; mode++) {
         int rc = attempt(in, o, mode, out, err, errlen);
+        if (rc == 0 && !out->exact && pcdm_decomp_iface_min_angle(out) < FAST_MIN_DEG) {
+            /* the fast route's interfaces meet a segment at a narrow angle: the coarse route's
+             * (lfs-graded) mesh may give wider ones; the wider of the two is kept */
+            pcdm_decomp slow;
+            char e2[256];
+            if (attempt(in, o, 3, &slow, e2, sizeof e2) == 0 &&
+                pcdm_decomp_iface_min_angle(&slow) > pcdm_decomp_iface_min_angle(out)) {
+                pcdm_decomp_free(out);
+                *out = slow;
+            } else {
+                pcdm_decomp_free(&slow);
+            }
+        } else if (rc != 0) { /* the fast route (or the preview) failed: the coarse route */
+            return attempt(in, o, 3, out, err, errlen);
+        }
         if (rc != 0 || !out->exact || trial_ok(out, o)) return rc;
         /* would mode 1 differ? */
         int more = out->ncoarse < (int64_t)out->nsub * EXACT_SAFE_PER_SUB;

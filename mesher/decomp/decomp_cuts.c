@@ -21,6 +21,7 @@
 
 #include "base/base.h"
 #include "geom/geom.h"
+#include "seq/rules.h"
 
 #include <errno.h>
 #include <math.h>
@@ -338,6 +339,7 @@ int pcdm_decomp_read_cuts(const char *path, const pslg *in, const pcdm_decomp_op
         rc = decomp_build(in, &m, iscut, parent, marker, lab, tw, K, 0, out, err, errlen);
     }
     if (rc == 0) {
+        out->floor2 = mesh_rules_length_floor2(m.xy, m.nv, m.tv, m.nt);
         for (int32_t k = 0; k < K; k++)
             out->sub_target[k] =
                 out->total_weight > 0 ? out->sub_weight[k] / out->total_weight : 1.0 / K;

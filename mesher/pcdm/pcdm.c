@@ -3,16 +3,7 @@
  * asynchronous mode; the deterministic rounds (./pcdm --deterministic) are in pcdm_det.c and share
  * the build below (pcdm_build_mesh).
  *
- * Build: every rank triangulates the same augmented PSLG (input + interface cuts), so the
- * coarse CDT, its vertex numbering and its segment numbering are identical everywhere.  Each
- * region (component under adjacency across non-constraint edges) is mapped to a subdomain
- * exactly: a triangle edge on constraint piece s, directed like s (u -> v of its subsegment
- * record), has the triangle on the left of s, so the region lies in d->seg_sub[2s], otherwise
- * in d->seg_sub[2s + 1].  Every constraint edge of a region must agree (checked), so a wrong
- * decomposition is reported instead of producing a wrong mesh.  Regions of other ranks are
- * deleted (mesh_keep_regions).  The input's regions (-A, --region-areas) are labelled on the
- * whole coarse CDT first (mesh_set_regions crosses the interface edges), identically on every
- * rank, so a region spanning subdomains has one label everywhere; refinement inherits it.
+ * Build: pcdm_build.c (pcdm_build_mesh).
  *
  * Refine: rt_run's local work step is mesh_refine with a poll hook that stops it every
  * poll_every insertions (resumable), so the scheduler services incoming split requests between
@@ -102,94 +93,6 @@ int pcdm_register(void) {
     return pcdm_det_register();
 }
 
-/* ---- build ------------------------------------------------------------------------------- */
-
-int pcdm_build_mesh(mesh *m, const pcdm_decomp *d, int rank, int32_t only_sub, int regions,
-                    char *err, size_t errlen) {
-    mesh_init(m);
-    if (mesh_build_cdt(m, &d->g, d->seg_iface, err, errlen) != 0) {
-        mesh_free(m);
-        return -1;
-    }
-    if (m->nseg != d->g.nsegs) {
-        snprintf(err, errlen, "pcdm: the CDT has %d segments, the decomposition %d", (int)m->nseg,
-                 (int)d->g.nsegs);
-        mesh_free(m);
-        return -1;
-    }
-    int32_t *label = mesh_xmalloc((size_t)m->nt + 1, sizeof(int32_t));
-    int32_t nreg = mesh_label_regions(m, label);
-    int32_t *regsub = mesh_xmalloc((size_t)nreg + 1, sizeof(int32_t));
-    uint8_t *keep = mesh_xmalloc((size_t)nreg + 1, 1);
-    for (int32_t r = 0; r < nreg; r++)
-        regsub[r] = -2;
-    int bad = 0;
-    for (int32_t t = 0; t < m->nt && !bad; t++) {
-        if (!mesh_tri_alive(m, t) || !(m->tf[t] & 7)) continue;
-        for (int j = 0; j < 3 && !bad; j++) {
-            int32_t e = 3 * t + j;
-            if (!mesh_edge_constrained(m, e)) continue;
-            const mesh_subseg *s = mesh_subseg_of_edge(m, e);
-            if (!s || s->seg < 0 || s->seg >= d->g.nsegs) {
-                snprintf(err, errlen, "pcdm: constraint edge without a segment record");
-                bad = 1;
-                break;
-            }
-            int32_t o = mesh_org(m, e), de = mesh_dest(m, e), side;
-            if (o == s->u && de == s->v)
-                side = 0; /* triangle (ccw) on the left of the directed segment */
-            else if (o == s->v && de == s->u)
-                side = 1;
-            else {
-                snprintf(err, errlen, "pcdm: subsegment record does not match its edge");
-                bad = 1;
-                break;
-            }
-            int32_t sub = d->seg_sub[2 * (size_t)s->seg + side];
-            if (sub < 0 || sub >= d->nsub) {
-                snprintf(err, errlen,
-                         "pcdm: a triangle lies outside every subdomain (segment %d, side %d)",
-                         (int)s->seg, side);
-                bad = 1;
-            } else if (regsub[label[t]] == -2) {
-                regsub[label[t]] = sub;
-            } else if (regsub[label[t]] != sub) {
-                snprintf(err, errlen,
-                         "pcdm: inconsistent decomposition: one region touches subdomains %d "
-                         "and %d",
-                         (int)regsub[label[t]], (int)sub);
-                bad = 1;
-            }
-        }
-    }
-    for (int32_t r = 0; r < nreg && !bad; r++) {
-        if (regsub[r] == -2) {
-            snprintf(err, errlen, "pcdm: a region of the CDT has no constraint edge");
-            bad = 1;
-        } else {
-            keep[r] = only_sub >= 0 ? regsub[r] == only_sub : d->sub_owner[regsub[r]] == rank;
-        }
-    }
-    /* the length floor from the whole coarse CDT (the same on every rank, and like ./mesh's
-     * from the input's extent): computed from one rank's part alone, a part far from the
-     * input's largest coordinates got a floor far below ./mesh's and refined a thin region
-     * practically forever (a fuzzed point set 8e29 long and 2 wide, at 3 ranks) */
-    if (!bad) {
-        mesh_fix_length_floor(m);
-        if (regions != PCDM_REGIONS_NONE) /* the whole coarse CDT, the same on every rank */
-            mesh_set_regions(m, &d->g, regions == PCDM_REGIONS_AREA, d->nboundary);
-        mesh_keep_regions(m, label, keep);
-    }
-    free(label);
-    free(regsub);
-    free(keep);
-    if (bad) {
-        mesh_free(m);
-        return -1;
-    }
-    return 0;
-}
-
 /* Refuses a decomposition whose interfaces meet another segment at an angle so small that the
  * splits along the two would cascade practically forever (MESH_RULES_IFACE_MAX_PIECES, rules.h:
  * a degenerate input the coarse mesh could not resolve, e.g. a domain of one sliver triangle
@@ -228,11 +131,12 @@ int pcdm_part_build_regions(pcdm_part *p, const pcdm_decomp *d, int rank, int re
     return pcdm_build_mesh(&p->m, d, rank, -1, regions, err, errlen);
 }
 
-int pcdm_part_build_det(pcdm_part *p, const pcdm_decomp *d, int rank, int regions, char *err,
-                        size_t errlen) {
+int pcdm_part_build_det(pcdm_part *p, const pcdm_decomp *d, int rank, int regions, int threads,
+                        char *err, size_t errlen) {
     part_init(p, d, rank);
     p->regions = regions;
-    mesh_init(&p->m); /* stays empty */
+    p->threads = threads; /* the subdomains are built on the rank's threads */
+    mesh_init(&p->m);     /* stays empty */
     if (check_angles(d, err, errlen) != 0) return -1;
     return pcdm_det_build(p, err, errlen);
 }

@@ -119,8 +119,8 @@ int pcdm_part_build_regions(pcdm_part *p, const pcdm_decomp *d, int rank, int re
  * decomposition: bit-identical for any rank count and any message timing.  With -S each
  * subdomain gets the budget's share of its weight (sub_weight / total_weight).  regions: as
  * pcdm_part_build_regions.  Returns 0, or -1 with a message in err. */
-int pcdm_part_build_det(pcdm_part *p, const pcdm_decomp *d, int rank, int regions, char *err,
-                        size_t errlen);
+int pcdm_part_build_det(pcdm_part *p, const pcdm_decomp *d, int rank, int regions, int threads,
+                        char *err, size_t errlen);
 
 /* Collective (calls rt_run).  Refines p's mesh to q (per-rank Steiner limit: q->max_steiner
  * as given) with the split protocol above; poll_every (0: 300) insertions per work step

@@ -38,6 +38,7 @@
 #include "pcdm/pcdm_det_impl.h"
 
 #include "base/base.h"
+#include "base/pfor.h"
 #include "seq/kernel.h"
 
 #include "rt.h"
@@ -256,6 +257,7 @@ det_sub *det_release(pcdm_det *D, int32_t sub) {
 void det_sub_free(det_sub *s) {
     if (!s) return;
     mesh_free(&s->m);
+    pcdm_sub_map_free(&s->map);
     for (int32_t j = 0; j < s->nnb; j++)
         free(s->out[j].v);
     free(s->out);
@@ -266,6 +268,18 @@ void det_sub_free(det_sub *s) {
 }
 
 /* ---- build ---------------------------------------------------------------------------------- */
+
+typedef struct build_job {
+    pcdm_det *D;
+    int32_t *sub, n;
+    det_sub **rec;
+    char (*err)[256];
+} build_job;
+
+static void build_one(void *arg, int64_t i) {
+    build_job *b = arg;
+    b->rec[i] = det_sub_new(b->D, b->sub[i], b->err[i], sizeof b->err[i]);
+}
 
 int pcdm_det_build(pcdm_part *p, char *err, size_t errlen) {
     const pcdm_decomp *d = p->d;
@@ -280,16 +294,28 @@ int pcdm_det_build(pcdm_part *p, char *err, size_t errlen) {
         D->local[s] = -1;
         D->owner[s] = d->sub_owner[s];
     }
-    for (int32_t sub = 0; sub < d->nsub; sub++) {
-        if (d->sub_owner[sub] != p->rank) continue;
-        det_sub *s = det_sub_new(D, sub, err, errlen);
-        if (!s) {
-            pcdm_det_free(p);
-            return -1;
+    /* the owned subdomains' meshes, built on the rank's threads (each alone: its own size) */
+    build_job b = {D, mesh_xcalloc((size_t)d->nsub + 1, sizeof(int32_t)), 0, NULL, NULL};
+    for (int32_t sub = 0; sub < d->nsub; sub++)
+        if (d->sub_owner[sub] == p->rank) b.sub[b.n++] = sub;
+    b.rec = mesh_xcalloc((size_t)b.n + 1, sizeof(det_sub *));
+    b.err = mesh_xcalloc((size_t)b.n + 1, sizeof *b.err);
+    mesh_pfor_items(b.n, p->threads > 1 ? p->threads : 1, build_one, &b);
+    int rc = 0;
+    for (int32_t i = 0; i < b.n; i++) {
+        if (b.rec[i] && rc == 0) {
+            det_hold(D, b.rec[i]);
+            continue;
         }
-        det_hold(D, s);
+        if (!b.rec[i] && rc == 0) snprintf(err, errlen, "%s", b.err[i]);
+        det_sub_free(b.rec[i]);
+        rc = -1;
     }
-    return 0;
+    free(b.sub);
+    free(b.rec);
+    free(b.err);
+    if (rc != 0) pcdm_det_free(p);
+    return rc;
 }
 
 /* ---- refinement ----------------------------------------------------------------------------- */
@@ -297,8 +323,9 @@ int pcdm_det_build(pcdm_part *p, char *err, size_t errlen) {
 static void det_on_split(void *ctx, int32_t seg, int32_t level, int64_t k, unsigned flags) {
     det_sub *s = ctx;
     const pcdm_decomp *d = s->D->p->d;
-    if (!(flags & MESH_SPLIT_INTERFACE) || seg < 0 || seg >= d->g.nsegs || !d->seg_iface[seg])
-        return;
+    if (!(flags & MESH_SPLIT_INTERFACE) || seg < 0 || seg >= s->m.nseg) return;
+    seg = pcdm_map_seg_global(&s->map, seg); /* lists name d->g's segments */
+    if (seg < 0 || seg >= d->g.nsegs || !d->seg_iface[seg]) return;
     int32_t a = d->seg_sub[2 * (size_t)seg], b = d->seg_sub[2 * (size_t)seg + 1];
     int32_t o = a == s->id ? b : a;
     if (o < 0 || o == s->id) return;
@@ -372,8 +399,8 @@ det_sub *det_sub_new(pcdm_det *D, int32_t sub, char *err, size_t errlen) {
         s->nb[y] = o;
     }
     s->out = mesh_xcalloc((size_t)s->nnb + 1, sizeof(det_list));
-    if (pcdm_build_mesh(&s->m, d, D->p->rank, sub, D->p->regions, err, errlen) != 0) {
-        mesh_init(&s->m); /* pcdm_build_mesh freed it */
+    if (pcdm_build_sub(&s->m, &s->map, d, sub, D->p->regions, err, errlen) != 0) {
+        mesh_init(&s->m); /* pcdm_build_sub freed it */
         det_sub_free(s);
         return NULL;
     }
@@ -449,7 +476,9 @@ static int apply_lists(det_sub *s) {
     if (l->n > 1) qsort(l->v, (size_t)l->n, sizeof *l->v, split_cmp);
     for (int32_t k = 0; k < l->n; k++) {
         if (k > 0 && split_cmp(&l->v[k - 1], &l->v[k]) == 0) continue;
-        switch (mesh_split_subsegment_named(&s->m, l->v[k].seg, l->v[k].level, l->v[k].k)) {
+        int32_t seg = pcdm_map_seg_local(&s->map, l->v[k].seg);
+        switch (seg < 0 ? MESH_SPLIT_NOT_FOUND
+                        : mesh_split_subsegment_named(&s->m, seg, l->v[k].level, l->v[k].k)) {
         case MESH_SPLIT_DONE:
             s->sdone++;
             break;
@@ -730,7 +759,8 @@ int32_t pcdm_det_nmesh(const pcdm_part *p) {
     return p->det ? p->det->n : 0;
 }
 
-mesh *pcdm_det_mesh(pcdm_part *p, int32_t i, int32_t *sub) {
+mesh *pcdm_det_mesh(pcdm_part *p, int32_t i, int32_t *sub, const pcdm_sub_map **map) {
     *sub = p->det->s[i]->id;
+    *map = &p->det->s[i]->map;
     return &p->det->s[i]->m;
 }

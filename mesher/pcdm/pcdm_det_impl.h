@@ -32,6 +32,7 @@ typedef struct det_list {
 typedef struct det_sub {
     int32_t id; /* subdomain number in the decomposition */
     mesh m;
+    pcdm_sub_map map; /* m's vertices and segments in d->g (pcdm_build_sub) */
     int32_t nnb;
     int32_t *nb;    /* neighbouring subdomains, ascending */
     det_list *out;  /* per neighbour: this round's splits for it */

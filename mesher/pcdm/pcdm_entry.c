@@ -17,7 +17,7 @@ int pcdm_part_start(pcdm_part *p, const pcdm_decomp *d, const mesh_bounds *b, co
     /* subdomains move only as whole meshes, and threads refine whole subdomains */
     int det = c->deterministic || c->balance || c->threads > 1;
     int rank = rt_rank();
-    return det ? pcdm_part_build_det(p, d, rank, regions, err, errlen)
+    return det ? pcdm_part_build_det(p, d, rank, regions, c->threads, err, errlen)
                : pcdm_part_build_regions(p, d, rank, regions, err, errlen);
 }
 

@@ -128,6 +128,7 @@ static int32_t sfind(const id_table *t, const int32_t *seg, int32_t a, int32_t b
 /* One subdomain mesh in the merge. */
 typedef struct take_mesh {
     mesh *m;
+    const pcdm_sub_map *map; /* its input vertices in d->g (identity when gv is NULL) */
     int32_t sub;
     int32_t ncand, *cand; /* its non-input interface vertices, ascending */
     int32_t ndup;         /* of those, the ones an earlier candidate already gave a number */
@@ -176,8 +177,8 @@ static void take_scan(void *arg, int64_t i) {
     for (int32_t r = 0; r < m->nss; r++) {
         const mesh_subseg *s = &m->ss[r];
         if (s->level == -2 || !m->siface[s->seg]) continue;
-        if (s->u >= c->ninput) cv[n++] = s->u;
-        if (s->v >= c->ninput) cv[n++] = s->v;
+        if (s->u >= m->ninput) cv[n++] = s->u;
+        if (s->v >= m->ninput) cv[n++] = s->v;
     }
     qsort(cv, (size_t)n, sizeof *cv, mesh_cmp_i32);
     int32_t k = 0;
@@ -187,12 +188,14 @@ static void take_scan(void *arg, int64_t i) {
     tm->cand = cv;
 }
 
-/* The merged number of vertex v of tm (its dups decided up to v). */
-static int32_t merged_id(const take_mesh *tm, int32_t ninput, int32_t v) {
-    if (v < ninput) return v;
+/* The merged number of vertex v of tm (its dups decided up to v): an input vertex of the mesh
+ * keeps its number in d->g, the others follow. */
+static int32_t merged_id(const take_mesh *tm, int32_t v) {
+    int32_t nin = tm->m->ninput;
+    if (v < nin) return pcdm_map_vert_global(tm->map, v);
     int32_t k = mesh_lower_i32(tm->dv, tm->ndup, v);
     if (k < tm->ndup && tm->dv[k] == v) return tm->did[k];
-    return (int32_t)(tm->vbase + (v - ninput) - k);
+    return (int32_t)(tm->vbase + (v - nin) - k);
 }
 
 /* Item i of the second parallel pass: mesh i's triangles (with their open-edge bits), then its
@@ -203,11 +206,11 @@ static void take_copy(void *arg, int64_t i) {
     take_mesh *tm = &c->tm[i];
     mesh *m = tm->m;
     mesh_flat *f = c->f;
-    int32_t ninput = c->ninput;
+    int32_t ninput = m->ninput;
     int32_t *map = mesh_xmalloc((size_t)m->nv + 1, sizeof(int32_t));
     for (int32_t v = 0, k = 0; v < m->nv; v++) {
         if (v < ninput)
-            map[v] = v;
+            map[v] = pcdm_map_vert_global(tm->map, v);
         else if (k < tm->ndup && tm->dv[k] == v)
             map[v] = tm->did[k++];
         else
@@ -236,7 +239,7 @@ static void take_copy(void *arg, int64_t i) {
     }
     free(m->tv), free(m->tn), free(m->treg);
     m->tv = m->tn = m->treg = NULL;
-    for (int32_t v = i == 0 ? 0 : ninput, k = 0; v < m->nv; v++) {
+    for (int32_t v = ninput, k = 0; v < m->nv; v++) { /* d->g's vertices: pcdm_det_take */
         int32_t w = map[v];
         if (k < tm->ndup && tm->dv[k] == v) { /* a vertex an earlier candidate gave */
             k++;
@@ -244,9 +247,7 @@ static void take_copy(void *arg, int64_t i) {
         }
         f->xy[2 * (size_t)w] = m->xy[2 * (size_t)v];
         f->xy[2 * (size_t)w + 1] = m->xy[2 * (size_t)v + 1];
-        f->vmarker[w] = v < ninput        ? (m->in_vmarker ? m->in_vmarker[v] : 0)
-                        : m->vseg[v] >= 0 ? m->smarker[m->vseg[v]]
-                                          : 0;
+        f->vmarker[w] = m->vseg[v] >= 0 ? m->smarker[m->vseg[v]] : 0;
     }
     free(map);
     mesh_free(m);
@@ -257,9 +258,14 @@ void pcdm_det_take(pcdm_part *p, mesh_flat *f, uint8_t **artificial, int32_t **t
     int32_t nm = pcdm_det_nmesh(p), nboundary = p->d->nboundary;
     int T = p->threads > 1 ? p->threads : 1;
     memset(f, 0, sizeof *f);
-    if (nm == 1) { /* one subdomain: moved as it is (the memory peak of the asynchronous mode) */
+    int32_t sub0 = -1;
+    const pcdm_sub_map *map0 = NULL;
+    if (nm == 1) pcdm_det_mesh(p, 0, &sub0, &map0);
+    if (map0 && !map0->gv) { /* one subdomain numbered as d->g: moved as it is (the memory
+                              * peak of the asynchronous mode) */
         int32_t sub;
-        mesh *m = pcdm_det_mesh(p, 0, &sub);
+        const pcdm_sub_map *map;
+        mesh *m = pcdm_det_mesh(p, 0, &sub, &map);
         uint8_t *a = mesh_xmalloc((size_t)m->ss_live + 1, 1);
         int32_t k = 0;
         for (int32_t r = 0; r < m->nss; r++)
@@ -278,8 +284,9 @@ void pcdm_det_take(pcdm_part *p, mesh_flat *f, uint8_t **artificial, int32_t **t
     c.tm = mesh_xcalloc((size_t)nm + 1, sizeof(take_mesh));
     c.f = f;
     for (int32_t i = 0; i < nm; i++)
-        c.tm[i].m = pcdm_det_mesh(p, i, &c.tm[i].sub);
-    c.ninput = nm ? c.tm[0].m->ninput : 0;
+        c.tm[i].m = pcdm_det_mesh(p, i, &c.tm[i].sub, &c.tm[i].map);
+    const pslg *g = &p->d->g;
+    c.ninput = g->nverts; /* the part's first vertices are d->g's, every mesh's Steiner follow */
     int32_t ninput = c.ninput;
     mesh_pfor_items(nm, T, take_scan, &c);
 
@@ -296,9 +303,9 @@ void pcdm_det_take(pcdm_part *p, mesh_flat *f, uint8_t **artificial, int32_t **t
     for (int32_t i = 0; i < nm; i++) {
         take_mesh *tm = &c.tm[i];
         const mesh *m = tm->m;
-        if (m->ninput != ninput)
-            MESH_BUG("subdomain %d's mesh has %d input vertices, subdomain %d's %d", (int)tm->sub,
-                     (int)m->ninput, (int)c.tm[0].sub, (int)ninput);
+        if (tm->map->gv ? m->ninput != tm->map->nv : m->ninput != ninput)
+            MESH_BUG("subdomain %d's mesh has %d input vertices, its map %d", (int)tm->sub,
+                     (int)m->ninput, (int)(tm->map->gv ? tm->map->nv : ninput));
         tm->vbase = nv;
         tm->dv = mesh_xmalloc((size_t)tm->ncand + 1, sizeof(int32_t));
         tm->did = mesh_xmalloc((size_t)tm->ncand + 1, sizeof(int32_t));
@@ -308,8 +315,7 @@ void pcdm_det_take(pcdm_part *p, mesh_flat *f, uint8_t **artificial, int32_t **t
             int32_t w = vfind(&vt, rxy, m->xy + 2 * (size_t)v, &at);
             if (w >= 0) {
                 tm->dv[tm->ndup] = v;
-                tm->did[tm->ndup++] =
-                    merged_id(&c.tm[rec[2 * (size_t)w]], ninput, rec[2 * (size_t)w + 1]);
+                tm->did[tm->ndup++] = merged_id(&c.tm[rec[2 * (size_t)w]], rec[2 * (size_t)w + 1]);
                 continue;
             }
             rec[2 * (size_t)nrec] = i;
@@ -318,7 +324,7 @@ void pcdm_det_take(pcdm_part *p, mesh_flat *f, uint8_t **artificial, int32_t **t
             rxy[2 * (size_t)nrec + 1] = m->xy[2 * (size_t)v + 1];
             vt.slot[at] = nrec++;
         }
-        nv += (m->nv - ninput) - tm->ndup;
+        nv += (m->nv - m->ninput) - tm->ndup;
         tm->tbase = nt;
         nt += tm->nt;
     }
@@ -345,7 +351,7 @@ void pcdm_det_take(pcdm_part *p, mesh_flat *f, uint8_t **artificial, int32_t **t
         for (int32_t r = 0; r < m->nss; r++) {
             const mesh_subseg *s = &m->ss[r];
             if (s->level == -2) continue;
-            int32_t u = merged_id(tm, ninput, s->u), v = merged_id(tm, ninput, s->v);
+            int32_t u = merged_id(tm, s->u), v = merged_id(tm, s->v);
             if (m->siface[s->seg]) {
                 uint64_t at = 0;
                 int32_t w = sfind(&c.st, f->seg, u, v, &at);
@@ -359,7 +365,7 @@ void pcdm_det_take(pcdm_part *p, mesh_flat *f, uint8_t **artificial, int32_t **t
             f->seg[2 * (size_t)ns + 1] = v;
             f->smarker[ns] = m->smarker[s->seg];
             f->sinterface[ns] = m->siface[s->seg];
-            art[ns] = s->seg >= nboundary;
+            art[ns] = pcdm_map_seg_global(tm->map, s->seg) >= nboundary;
             dup[ns] = 0;
             ns++;
         }
@@ -377,6 +383,9 @@ void pcdm_det_take(pcdm_part *p, mesh_flat *f, uint8_t **artificial, int32_t **t
     if (any_reg) f->tattr = mesh_xmalloc((size_t)nt + 1, sizeof(double));
     c.ts = tsub ? mesh_xmalloc((size_t)nt + 1, sizeof(int32_t)) : NULL;
     c.open = topen ? mesh_xmalloc((size_t)nt + 1, 1) : NULL;
+    memcpy(f->xy, g->xy, 2 * (size_t)ninput * sizeof(double));
+    for (int32_t v = 0; v < ninput; v++)
+        f->vmarker[v] = g->vmarker ? g->vmarker[v] : 0;
     mesh_pfor_items(nm, T, take_copy, &c);
 
     for (int32_t i = 0; i < nm; i++) {

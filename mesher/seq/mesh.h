@@ -258,6 +258,9 @@ void mesh_set_size_rule(mesh *m, int (*fn)(void *ctx, const double *const p[3], 
  * rank builds alike, before keeping their own subdomains: the floor then depends on the input
  * (its extent and smallest features), not on which part a rank holds, as ./mesh's does. */
 void mesh_fix_length_floor(mesh *m);
+/* The same with a floor computed elsewhere (mesh_rules_length_floor2 of the mesh the floor is to
+ * follow; > 0): a subdomain built alone takes the one of the input's CDT. */
+void mesh_set_length_floor(mesh *m, double floor2);
 void mesh_set_hooks(mesh *m, const mesh_hooks *h);
 /* Local.  A caller's size rule (mesh_rules.unsuitable, rules.h: Triangle's triunsuitable; NULL:
  * none) for every later refinement, kept across mesh_set_quality: fn sees the mesh's working

@@ -290,6 +290,10 @@ void mesh_fix_length_floor(mesh *m) {
     rf_get(m)->floor2 = length_floor2(m);
 }
 
+void mesh_set_length_floor(mesh *m, double floor2) {
+    rf_get(m)->floor2 = floor2 > 0 ? floor2 : length_floor2(m);
+}
+
 /* 1 iff a new vertex at p would make an edge to a shorter than the floor. */
 static int below_floor(const mesh *m, const double *p, const double *a) {
     return geom_dist2(p, a) < m->rf->floor2;
