@@ -211,7 +211,7 @@ mpi_run 3 "$BIN/pcdm" -NEP -S 100000 -a 0.01 --check data/square.poly \
 # (a channel with a vertex on its wall, past the Steiner limit) fails on every rank, clearly,
 # instead of the interface check (in rounds: the same refusals in every run)
 expect_error "interfaces at 5e-10 degrees" 1 3 -q 30 --subdomains 3 tests/fuzz/regress/cuts_tiny_angle_5e-10.node
-grep -q "cannot decompose: a subdomain interface meets another segment at 4.71e-10 degrees" \
+grep -q "cuts_tiny_angle_5e-10.node: cannot decompose: a subdomain interface meets another segment at 4.71e-10 degrees" \
     "$T/err.txt" || fail "interfaces at 5e-10 degrees: $(head -c 300 "$T/err.txt")"
 expect_error "interface split refused on one side" 1 3 -q 30 -S 20000 --subdomains 3 --check \
     tests/fuzz/regress/iface_split_refused_channel.poly

@@ -102,10 +102,11 @@ static int check_angles(const pcdm_decomp *d, char *err, size_t errlen) {
            lim = 57.29577951308232 / MESH_RULES_IFACE_MAX_PIECES;
     if (ang >= lim) return 0;
     snprintf(err, errlen,
-             "cannot decompose: a subdomain interface meets another segment at %.3g degrees "
-             "(below %.2g, the splits along the two would never end); the input is too "
-             "degenerate for %d subdomains",
-             ang, lim, (int)d->nsub);
+             "%.400s: cannot decompose: a subdomain interface meets another segment at %.3g "
+             "degrees (below %.2g, the splits along the two would never end); the input is too "
+             "degenerate for %d subdomains: ask for fewer (--subdomains, fewer ranks or threads), "
+             "or mesh it with ./mesh",
+             d->g.path[0] ? d->g.path : "(input)", ang, lim, (int)d->nsub);
     return -1;
 }
 
