@@ -71,7 +71,7 @@ TESTS := $(patsubst tests/%.c,$(B)/tests/%,$(TEST_SRC))
 THR_TESTS := $(patsubst tests/%.c,$(B)/tests/%,$(wildcard tests/thr_*.c))
 BENCHES := $(patsubst bench/%.c,$(B)/bench/%,$(BENCH_SRC))
 
-.PHONY: all libs install uninstall examples deps fuzz fuzz-deps fuzz-replay stress test check-deps demo bench bench-quick bench-seq bench-primitives bench-python test-hosts bench-hosts format clean
+.PHONY: all libs install uninstall examples deps fuzz fuzz-deps fuzz-replay stress test check-deps demo bench bench-quick bench-seq bench-coast bench-primitives bench-python test-hosts bench-hosts format clean
 .DEFAULT_GOAL := all
 # Keep the objects of programs and tests (they are intermediate files to make otherwise).
 .SECONDARY: $(patsubst %.c,$(B)/obj/%.o,$(APP_SRC) $(TEST_SRC) $(BENCH_SRC))
@@ -281,6 +281,11 @@ bench-quick: deps
 bench-seq: deps
 	@$(MAKE) --no-print-directory all
 	@bash bench/seq.sh
+
+# The parallel meshers on real coastlines at 10M triangles, by phase (also a section of make bench).
+bench-coast: deps
+	@$(MAKE) --no-print-directory all
+	@bash bench/coast_scale.sh
 
 # The Python section alone (bench/python.py; the package installed by tests/t_python.sh).
 bench-python: deps

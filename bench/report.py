@@ -1059,6 +1059,26 @@ def sec_primitives(c):
     c.H()
 
 
+# ---------------------------------------------------------------------------- coastlines at scale
+def sec_coast_scale(c):
+    txt = read_lines(os.path.join(c.R, "coast_scale.txt"))
+    if not txt:
+        return
+    c.H("## Real coastlines at scale (`bash bench/coast_scale.sh`)")
+    c.H()
+    c.H("Great Britain and North America (GSHHG, full resolution, projected metres), -q 30, about "
+        "10M triangles; each run one whole process measured by the wall clock in this run; "
+        "x_mesh = wall / ./mesh's wall; phases from the programs' -V lines (seconds; refine_s of "
+        "./mesh: CDT + refinement; of Triangle: its triangulate() call alone); peak_MB: the "
+        "largest rank's peak resident size.  Goals: --threads 2 and -np 2 <= 0.6x ./mesh, -np 8 "
+        "no slower than -np 2, decomposition <= 5%, triangles within 3%.")
+    c.H()
+    c.H("```")
+    c.H("\n".join(txt))
+    c.H("```")
+    c.H()
+
+
 # ---------------------------------------------------------------------------- figures, decomposition
 def sec_figures(c):
     c.H("## Figures 1 and 3: meshes coloured by rank")
@@ -1457,6 +1477,7 @@ def main():
     sec_decomp(c)
     sec_scale(c)
     sec_coast(c)
+    sec_coast_scale(c)
     sec_output(c)
     sec_threads(c)
     sec_tail(c)

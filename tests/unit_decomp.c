@@ -562,6 +562,58 @@ static int pick_local(void *ctx, double cost, int32_t n, int32_t *part) {
     return l->fail ? -1 : 0;
 }
 
+/* pcdm_decomp_pack / unpack (what rank 0 sends the other ranks): the same decomposition field
+ * for field; every shorter buffer and a corrupt count refused; a kept CDT not packed. */
+START_TEST(test_pack) {
+    pslg in;
+    load("data/holes.poly", &in);
+    pcdm_decomp_opts o;
+    pcdm_decomp_opts_default(&o);
+    o.nsub = 6;
+    o.nranks = 3;
+    o.max_area = 0.001;
+    pcdm_decomp d, e;
+    char err[1024];
+    ck_assert_msg(pcdm_decomp_auto(&in, &o, &d, err, sizeof err) == 0, "%s", err);
+    void *buf = NULL;
+    size_t len = 0;
+    ck_assert_int_eq(pcdm_decomp_pack(&d, &buf, &len), 0);
+    ck_assert_int_eq(pcdm_decomp_unpack(buf, len, &e), 0);
+    ck_assert_int_eq(e.g.nverts, d.g.nverts);
+    ck_assert_int_eq(e.g.nsegs, d.g.nsegs);
+    ck_assert_int_eq(e.nsub, d.nsub);
+    ck_assert_int_eq(e.nboundary, d.nboundary);
+    ck_assert_int_eq(e.g.scale_exp, d.g.scale_exp);
+    ck_assert(e.floor2 == d.floor2);
+    ck_assert_str_eq(e.g.path, d.g.path);
+    size_t nv = (size_t)d.g.nverts, ns = (size_t)d.g.nsegs, K = (size_t)d.nsub;
+    ck_assert(!memcmp(e.g.xy, d.g.xy, 2 * nv * sizeof(double)));
+    ck_assert(!memcmp(e.g.seg, d.g.seg, 2 * ns * sizeof(int32_t)));
+    ck_assert(!memcmp(e.seg_sub, d.seg_sub, 2 * ns * sizeof(int32_t)));
+    ck_assert(!memcmp(e.seg_iface, d.seg_iface, ns));
+    ck_assert(!memcmp(e.vert_sub, d.vert_sub, nv * sizeof(int32_t)));
+    ck_assert(!memcmp(e.sub_owner, d.sub_owner, K * sizeof(int32_t)));
+    ck_assert(!memcmp(e.sub_weight, d.sub_weight, K * sizeof(double)));
+    ck_assert(!memcmp(e.g.holes, d.g.holes, 2 * (size_t)d.g.nholes * sizeof(double)));
+    pcdm_decomp_free(&e);
+    for (size_t cut = 0; cut < len; cut += 1 + cut / 7) { /* every prefix (sampled): refused */
+        ck_assert_int_eq(pcdm_decomp_unpack(buf, cut, &e), -1);
+        ck_assert_ptr_null(e.g.xy);
+    }
+    int64_t bad = -5; /* a negative vertex count in place of the first field */
+    int32_t nvert = d.g.nverts;
+    memcpy(buf, &bad, sizeof nvert);
+    ck_assert_int_eq(pcdm_decomp_unpack(buf, len, &e), -1);
+    free(buf);
+    pcdm_decomp_free(&d);
+    o.keep_cdt = 1; /* ./pbw's: not carried */
+    ck_assert(pcdm_decomp_auto(&in, &o, &d, err, sizeof err) == 0);
+    ck_assert_int_eq(pcdm_decomp_pack(&d, &buf, &len), -1);
+    pcdm_decomp_free(&d);
+    pslg_free(&in);
+}
+END_TEST
+
 /* ./pbw's decomposition: the best of several METIS seeds by predicted cost (boundary_cost). */
 START_TEST(test_boundary_seeds) {
     pslg in;
@@ -623,6 +675,7 @@ static Suite *decomp_suite(void) {
     tcase_add_test(tc, test_many_subdomains);
     tcase_add_test(tc, test_owner_balance);
     tcase_add_test(tc, test_boundary_seeds);
+    tcase_add_test(tc, test_pack);
     suite_add_tcase(s, tc);
     TCase *tf = tcase_create("cuts");
     tcase_set_timeout(tf, 60);

@@ -160,6 +160,15 @@ int pcdm_decomp_read_cuts(const char *path, const pslg *in, const pcdm_decomp_op
  * Returns 0, or -1 with "FILE: problem" in err. */
 int pcdm_decomp_write_cuts(const pcdm_decomp *d, const char *path, char *err, size_t errlen);
 
+/* d as one byte buffer (*buf, *len bytes; the caller frees *buf) that pcdm_decomp_unpack turns
+ * back into the same decomposition, field for field (decomp_pack.c).  Returns 0, or -1 when d
+ * holds a CDT (keep_cdt), which is not carried.  Local. */
+int pcdm_decomp_pack(const pcdm_decomp *d, void **buf, size_t *len);
+/* Fills d (zeroed first; owns its arrays on success) from a buffer pcdm_decomp_pack wrote with
+ * the same build.  Returns 0, or -1 (d holds nothing) if the buffer is short or malformed.
+ * Local. */
+int pcdm_decomp_unpack(const void *buf, size_t len, pcdm_decomp *d);
+
 /* Frees everything d owns and zeroes it.  Safe on a zeroed struct. */
 void pcdm_decomp_free(pcdm_decomp *d);
 

@@ -257,176 +257,29 @@ static int cmp_along(const void *vctx, int32_t i, int32_t j) {
     double dir = c->b[k] > c->a[k] ? 1 : -1;
     return pi == pj ? 0 : (pi - pj) * dir < 0 ? -1 : 1;
 }
-/* A sparse grid of the vertices for pslg_vertex_hits: square cells of side h about twice the
- * median segment length, grouped in blocks of 8 x 8 cells; only the occupied blocks are kept, in
- * an open-addressing table keyed by the block's (column, row).  On a coastline in a wide
- * bounding box a uniform grid of n cells has cells thousands of segments long, each holding
- * hundreds of vertices that every segment through it tests; here a cell holds a few, and a
- * block's cells lie together in memory, so the walk along a coastline (segments in file order)
- * stays in cache and mostly in the block it looked up last. */
-enum { HG_B = 8, HG_BB = HG_B * HG_B };
-
-typedef struct hgrid {
-    double x0, y0, h;
-    uint64_t mask;
-    int64_t *key;   /* mask + 1 slots: block key, or -1 empty */
-    int32_t *blk;   /* mask + 1 slots: the block's number */
-    int32_t nblk;   /* blocks */
-    int32_t *start; /* HG_BB * nblk + 1: cell c of block b holds item[start[i] .. start[i + 1]),
-                     * i = HG_BB * b + c */
-    int32_t *item;
-    int64_t last_key; /* the last block looked up, and its number */
-    int32_t last_blk;
-} hgrid;
-
-static int64_t hg_col(const hgrid *G, double x) {
-    double c = floor((x - G->x0) / G->h);
-    return c > 0 ? (int64_t)c : 0;
-}
-
-static int64_t hg_row(const hgrid *G, double y) {
-    double c = floor((y - G->y0) / G->h);
-    return c > 0 ? (int64_t)c : 0;
-}
-
-/* The slot of block key (its own, or the empty one where it would go). */
-static uint64_t hg_slot(const hgrid *G, int64_t key) {
-    uint64_t k = mesh_hash64((uint64_t)key) & G->mask;
-    while (G->key[k] >= 0 && G->key[k] != key)
-        k = (k + 1) & G->mask;
-    return k;
-}
-
-/* The number of the block holding cell (i, j), or -1 if it is empty. */
-static int32_t hg_block(hgrid *G, int64_t i, int64_t j) {
-    int64_t key = (i / HG_B) << 31 | (j / HG_B);
-    if (key == G->last_key) return G->last_blk;
-    uint64_t k = hg_slot(G, key);
-    G->last_key = key;
-    G->last_blk = G->key[k] < 0 ? -1 : G->blk[k];
-    return G->last_blk;
-}
-
-static int cmp_double(const void *a, const void *b) {
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-/* Builds the sparse grid of g's vertices over the box x0, y0, x1, y1; returns 0, or -1 (nothing
- * allocated) when it would not pay: a small input, no segment length to size it by, or segments
- * so long against the median that walking their cells would cost more than the uniform grid. */
-static int hgrid_build(hgrid *G, const pslg *g, double x0, double y0, double x1, double y1) {
-    int32_t n = g->nverts, ns = g->nsegs;
-    memset(G, 0, sizeof *G);
-    if (n < 1024 || ns < 1) return -1;
-    enum { SAMPLE = 1024 };
-    double len[SAMPLE];
-    int32_t m = 0;
-    for (int32_t i = 0; i < SAMPLE && i < ns; i++) {
-        int32_t s = (int32_t)((int64_t)i * ns / (ns < SAMPLE ? ns : SAMPLE));
-        len[m++] = sqrt(geom_dist2(g->xy + 2 * g->seg[2 * s], g->xy + 2 * g->seg[2 * s + 1]));
-    }
-    qsort(len, (size_t)m, sizeof *len, cmp_double);
-    double h = 2 * len[m / 2];
-    if (!(h > 0) || !isfinite(h) || (x1 - x0) / h > 0x1p30 || (y1 - y0) / h > 0x1p30) return -1;
-    double visits = 0; /* cells the segments will walk */
-    for (int32_t s = 0; s < ns; s++) {
-        const double *a = g->xy + 2 * g->seg[2 * s], *b = g->xy + 2 * g->seg[2 * s + 1];
-        visits += 3 * ((fabs(a[0] - b[0]) + fabs(a[1] - b[1])) / h + 3);
-    }
-    if (visits > 64.0 * (n + ns) + 1e6) return -1;
-    G->x0 = x0;
-    G->y0 = y0;
-    G->h = h;
-    G->last_key = -1;
-    uint64_t cap = 1024;
-    while (cap < 2 * (uint64_t)n)
-        cap *= 2;
-    G->mask = cap - 1;
-    G->key = mesh_xmalloc(cap, sizeof(int64_t));
-    G->blk = mesh_xmalloc(cap, sizeof(int32_t));
-    for (uint64_t k = 0; k < cap; k++)
-        G->key[k] = -1;
-    int32_t *cell = mesh_xmalloc((size_t)n, sizeof(int32_t)); /* HG_BB * block + cell */
-    int32_t bcap = 0;
-    for (int32_t v = 0; v < n; v++) {
-        int64_t i = hg_col(G, g->xy[2 * v]), j = hg_row(G, g->xy[2 * v + 1]);
-        int64_t key = (i / HG_B) << 31 | (j / HG_B);
-        uint64_t k = hg_slot(G, key);
-        if (G->key[k] < 0) {
-            G->key[k] = key;
-            G->blk[k] = G->nblk++;
-            if (G->nblk > bcap) {
-                bcap = bcap ? 2 * bcap : 1024;
-                G->start = mesh_xrealloc(G->start, (size_t)HG_BB * bcap + 1, sizeof(int32_t));
-            }
-            memset(G->start + (size_t)HG_BB * G->blk[k], 0, HG_BB * sizeof(int32_t));
-        }
-        cell[v] = HG_BB * G->blk[k] + (int32_t)(j % HG_B) * HG_B + (int32_t)(i % HG_B);
-        G->start[cell[v]]++;
-    }
-    size_t nc = (size_t)HG_BB * G->nblk;
-    G->start[nc] = 0;
-    for (size_t c = nc, sum = n; c > 0; c--) { /* start[c] = items in cells before c */
-        sum -= (size_t)G->start[c - 1];
-        G->start[c - 1] = (int32_t)sum;
-    }
-    G->start[nc] = n;
-    G->item = mesh_xmalloc((size_t)n, sizeof(int32_t));
-    int32_t *fill = mesh_xmalloc(nc + 1, sizeof(int32_t));
-    memcpy(fill, G->start, (nc + 1) * sizeof(int32_t));
-    for (int32_t v = 0; v < n; v++) /* in vertex order within a cell */
-        G->item[fill[cell[v]]++] = v;
-    free(fill);
-    free(cell);
-    return 0;
-}
-
-static void hgrid_free(hgrid *G) {
-    free(G->key), free(G->blk), free(G->start), free(G->item);
-    memset(G, 0, sizeof *G);
-}
-
-/* The vertices of G in the cells segment s passes near (row by row, padded by one cell in x so
- * rounding cannot lose a cell, as grid_segment), tested as split_visit does. */
-static void hgrid_segment(hgrid *G, pslg_split_ctx *c) {
+/* One cell of the sparse grid near a segment (pslg_sgrid_walk): its vertices tested as
+ * split_visit does. */
+static void hits_cell(void *vctx, const int32_t *item, int32_t n) {
+    pslg_split_ctx *c = vctx;
     const double *xy = c->g->xy;
     int32_t sa = c->g->seg[2 * c->s], sb = c->g->seg[2 * c->s + 1];
     const double *A = xy + 2 * sa, *B = xy + 2 * sb;
-    double ylo = fmin(A[1], B[1]), yhi = fmax(A[1], B[1]);
-    double xlo = fmin(A[0], B[0]), xhi = fmax(A[0], B[0]);
-    int64_t j0 = hg_row(G, ylo), j1 = hg_row(G, yhi), bx0 = hg_col(G, xlo), bx1 = hg_col(G, xhi);
-    for (int64_t j = j0; j <= j1; j++) {
-        int64_t i0 = bx0, i1 = bx1;
-        if (j0 != j1) {
-            double s0 = fmax(ylo, G->y0 + (double)j * G->h),
-                   s1 = fmin(yhi, G->y0 + (double)(j + 1) * G->h);
-            double k = (B[0] - A[0]) / (B[1] - A[1]);
-            double xa = A[0] + (s0 - A[1]) * k, xb = A[0] + (s1 - A[1]) * k;
-            int64_t c0 = hg_col(G, fmin(xa, xb)) - 1, c1 = hg_col(G, fmax(xa, xb)) + 1;
-            if (c0 > i0) i0 = c0;
-            if (c1 < i1) i1 = c1;
+    for (int32_t q = 0; q < n; q++) {
+        int32_t v = item[q];
+        if (v == sa || v == sb) continue;
+        const double *P = xy + 2 * v;
+        if (P[0] < fmin(A[0], B[0]) || P[0] > fmax(A[0], B[0]) || P[1] < fmin(A[1], B[1]) ||
+            P[1] > fmax(A[1], B[1]))
+            continue;
+        if (geom_orient2d(A, B, P) != 0 || !pslg_strictly_between(A, B, P)) continue;
+        if (c->nhits == c->cap) {
+            size_t nc = c->cap ? 2 * c->cap : 64;
+            c->hits = mesh_xrealloc(c->hits, nc * 2, sizeof(int32_t));
+            c->cap = nc;
         }
-        for (int64_t i = i0; i <= i1; i++) {
-            int32_t b = hg_block(G, i, j);
-            if (b < 0) continue;
-            int32_t cc = HG_BB * b + (int32_t)(j % HG_B) * HG_B + (int32_t)(i % HG_B);
-            for (int32_t q = G->start[cc]; q < G->start[cc + 1]; q++) {
-                int32_t v = G->item[q];
-                if (v == sa || v == sb) continue;
-                const double *P = xy + 2 * v;
-                if (P[0] < xlo || P[0] > xhi || P[1] < ylo || P[1] > yhi) continue;
-                if (geom_orient2d(A, B, P) != 0 || !pslg_strictly_between(A, B, P)) continue;
-                if (c->nhits == c->cap) {
-                    size_t ncap = c->cap ? 2 * c->cap : 64;
-                    c->hits = mesh_xrealloc(c->hits, ncap * 2, sizeof(int32_t));
-                    c->cap = ncap;
-                }
-                c->hits[2 * c->nhits] = c->s;
-                c->hits[2 * c->nhits + 1] = v;
-                c->nhits++;
-            }
-        }
+        c->hits[2 * c->nhits] = c->s;
+        c->hits[2 * c->nhits + 1] = v;
+        c->nhits++;
     }
 }
 
@@ -445,13 +298,15 @@ void pslg_vertex_hits(const pslg *g, pslg_grid *vg, pslg_split_ctx *sc) {
     }
     if (n == 0) x0 = x1 = y0 = y1 = 0;
     sc->g = g;
-    hgrid G;
-    if (hgrid_build(&G, g, x0, y0, x1, y1) == 0) {
+    pslg_sgrid G;
+    if (pslg_sgrid_init(&G, g, NULL, ns, n, x0, y0, x1, y1) == 0) {
+        pslg_sgrid_add_points(&G, g->xy, n);
         for (int32_t s = 0; s < ns; s++) {
             sc->s = s;
-            hgrid_segment(&G, sc);
+            pslg_sgrid_walk(&G, g->xy + 2 * g->seg[2 * s], g->xy + 2 * g->seg[2 * s + 1], hits_cell,
+                            sc);
         }
-        hgrid_free(&G);
+        pslg_sgrid_free(&G);
         return;
     }
     grid_setup(vg, x0, y0, x1, y1, n);
@@ -641,6 +496,52 @@ static int pslg_scale(pslg *g, char *err, size_t errlen) {
     return 0;
 }
 
+/* The crossing search's state: without split the conflicting pair whose later segment comes
+ * first in the file (bs, bt); with split every conflicting pair (pr, np of them). */
+typedef struct cross_ctx {
+    const pslg *g;
+    int split;
+    int32_t bs, bt;
+    int32_t *pr;
+    int64_t np, pcap;
+} cross_ctx;
+
+static int cmp_pair(const void *pa, const void *pb) {
+    const int32_t *a = pa, *b = pb;
+    if (a[0] != b[0]) return a[0] < b[0] ? -1 : 1;
+    return (a[1] > b[1]) - (a[1] < b[1]);
+}
+
+/* Every pair of the segments in one grid cell, decided exactly. */
+static void cross_cell(void *vctx, const int32_t *item, int32_t n) {
+    cross_ctx *c = vctx;
+    const pslg *g = c->g;
+    for (int32_t i = 0; i < n; i++)
+        for (int32_t j = i + 1; j < n; j++) {
+            int32_t s = item[i], t = item[j];
+            if (s > t) {
+                int32_t x = s;
+                s = t;
+                t = x;
+            }
+            /* report the pair whose later segment comes first in the file */
+            if (!c->split && c->bt >= 0 && (t > c->bt || (t == c->bt && s >= c->bs))) continue;
+            if (!segs_conflict(g->xy, g->seg[2 * s], g->seg[2 * s + 1], g->seg[2 * t],
+                               g->seg[2 * t + 1]))
+                continue;
+            c->bs = s;
+            c->bt = t;
+            if (!c->split) continue;
+            if (c->np == c->pcap) {
+                c->pcap = c->pcap ? 2 * c->pcap : 64;
+                c->pr = mesh_xrealloc(c->pr, (size_t)c->pcap, 2 * sizeof *c->pr);
+            }
+            c->pr[2 * c->np] = s;
+            c->pr[2 * c->np + 1] = t;
+            c->np++;
+        }
+}
+
 /* One normalisation pass of pslg_check_ex: merges duplicate vertices, rejects zero-length
  * segments, drops repeated ones and looks for conflicting pairs (crossing or overlapping).
  * quiet: no warnings (after a split the pieces are not the file's segments).  Without split the
@@ -737,47 +638,45 @@ static int normalise(pslg *g, int split, int quiet, int32_t **pairs, int64_t *np
         if (keep[s]) ids[nk++] = s;
     free(keep);
     /* 3. crossings and overlaps: grid candidates, exact decision */
-    pslg_grid gr;
+    pslg_grid gr = {0};
+    pslg_sgrid sg;
     int rc = 0;
-    int32_t *pr = NULL;
-    int64_t np = 0, pcap = 0;
-    if (grid_build_segments(&gr, g->xy, g->seg, ids, nk)) {
+    cross_ctx cc = {g, split, -1, -1, NULL, 0, 0};
+    double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+    for (int32_t i = 0; i < nk; i++)
+        for (int k = 0; k < 2; k++) {
+            const double *p = g->xy + 2 * g->seg[2 * ids[i] + k];
+            x0 = fmin(x0, p[0]), x1 = fmax(x1, p[0]), y0 = fmin(y0, p[1]), y1 = fmax(y1, p[1]);
+        }
+    if (nk > 0 && pslg_sgrid_init(&sg, g, ids, nk, nk, x0, y0, x1, y1) == 0) {
+        pslg_sgrid_add_segments(&sg, g->xy, g->seg, ids, nk);
+        pslg_sgrid_cells(&sg, cross_cell, &cc);
+        pslg_sgrid_free(&sg);
+        /* a pair shares several of these small cells: each once, in (s, t) order */
+        if (cc.np > 1) qsort(cc.pr, (size_t)cc.np, 2 * sizeof *cc.pr, cmp_pair);
+        int64_t k = 0;
+        for (int64_t i = 0; i < cc.np; i++)
+            if (k == 0 || cc.pr[2 * i] != cc.pr[2 * k - 2] ||
+                cc.pr[2 * i + 1] != cc.pr[2 * k - 1]) {
+                cc.pr[2 * k] = cc.pr[2 * i];
+                cc.pr[2 * k + 1] = cc.pr[2 * i + 1];
+                k++;
+            }
+        cc.np = k;
+    } else if (grid_build_segments(&gr, g->xy, g->seg, ids, nk)) {
         rc = gfail(err, errlen, "%s: too many segments to check for crossings (%d)", sf, nk);
     } else {
-        int32_t bs = -1, bt = -1;
         size_t ncell = (size_t)gr.nx * gr.ny;
-        for (size_t c = 0; c < ncell && rc == 0; c++) {
-            for (int32_t i = gr.start[c]; i < gr.start[c + 1]; i++)
-                for (int32_t j = i + 1; j < gr.start[c + 1]; j++) {
-                    int32_t s = gr.item[i], t = gr.item[j];
-                    if (s > t) {
-                        int32_t x = s;
-                        s = t;
-                        t = x;
-                    }
-                    /* report the pair whose later segment comes first in the file */
-                    if (!split && bt >= 0 && (t > bt || (t == bt && s >= bs))) continue;
-                    if (!segs_conflict(g->xy, g->seg[2 * s], g->seg[2 * s + 1], g->seg[2 * t],
-                                       g->seg[2 * t + 1]))
-                        continue;
-                    bs = s;
-                    bt = t;
-                    if (!split) continue;
-                    if (np == pcap) {
-                        pcap = pcap ? 2 * pcap : 64;
-                        pr = mesh_xrealloc(pr, (size_t)pcap, 2 * sizeof *pr);
-                    }
-                    pr[2 * np] = s;
-                    pr[2 * np + 1] = t;
-                    np++;
-                }
-        }
-        if (!split && bt >= 0)
-            rc = gfail(err, errlen, "%s:%d: segment %d crosses segment %d (line %d)", sf,
-                       g->sline ? g->sline[bt] : 0, bt + g->first_index, bs + g->first_index,
-                       g->sline ? g->sline[bs] : 0);
+        for (size_t c = 0; c < ncell; c++)
+            cross_cell(&cc, gr.item + gr.start[c], gr.start[c + 1] - gr.start[c]);
     }
     pslg_grid_free(&gr);
+    int32_t *pr = cc.pr;
+    int64_t np = cc.np;
+    if (rc == 0 && !split && cc.bt >= 0)
+        rc = gfail(err, errlen, "%s:%d: segment %d crosses segment %d (line %d)", sf,
+                   g->sline ? g->sline[cc.bt] : 0, cc.bt + g->first_index, cc.bs + g->first_index,
+                   g->sline ? g->sline[cc.bs] : 0);
     if (rc == 0 && nk < ns) { /* compact; pairs follow the segments' new numbers */
         int32_t *pos = mesh_xmalloc((size_t)ns, sizeof *pos);
         for (int32_t i = 0; i < nk; i++) {

@@ -42,6 +42,46 @@ typedef struct pslg_grid {
 
 void pslg_grid_free(pslg_grid *gr);
 
+/* A sparse grid (pslg_sgrid.c): square cells of side h, twice the median length of the
+ * segments it is sized by, grouped in blocks of 8 x 8 cells, of which only the occupied ones
+ * are kept (an open-addressing table keyed by the block's column and row).  For the candidate
+ * searches of pslg_check on inputs whose bounding box is far wider than their segments (a
+ * coastline: a uniform grid of n cells there holds hundreds of items a cell).  A block's cells
+ * lie together in memory, so a walk along a coastline (segments in file order) stays in cache
+ * and mostly in the block it looked up last.  Candidates only: every decision stays exact. */
+typedef struct pslg_sgrid {
+    double x0, y0, h;
+    uint64_t mask;
+    int64_t *key; /* mask + 1 slots: block key, or -1 empty */
+    int32_t *blk; /* mask + 1 slots: the block's number */
+    int32_t nblk, bcap;
+    int32_t *start; /* 64 nblk + 1: cell c of block b holds item[start[64 b + c] .. next) */
+    int32_t *item;
+    int64_t last_key; /* the block looked up last, and its number */
+    int32_t last_blk;
+} pslg_sgrid;
+
+/* Sizes G over the box x0, y0, x1, y1 by the segments ids[0..ns) of g (ids NULL: 0..ns-1).
+ * Returns 0, or -1 (nothing allocated: use a uniform grid) when it would not pay: fewer than
+ * 1024 items, no segment length to size it by, or segments so long against the median that
+ * walking their cells would cost more than nitems * 64 visits. */
+int pslg_sgrid_init(pslg_sgrid *G, const pslg *g, const int32_t *ids, int32_t ns, int64_t nitems,
+                    double x0, double y0, double x1, double y1);
+/* Fills G with the points xy[0..n): item i in the cell holding point i.  Once per grid. */
+void pslg_sgrid_add_points(pslg_sgrid *G, const double *xy, int32_t n);
+/* Fills G with segments ids[0..n) (NULL: 0..n-1) of seg over xy: each segment in every cell it
+ * passes near (pslg_sgrid_walk's cells).  Once per grid. */
+void pslg_sgrid_add_segments(pslg_sgrid *G, const double *xy, const int32_t *seg,
+                             const int32_t *ids, int32_t n);
+/* fn(ctx, items, count) for every occupied cell the segment ab passes near: row by row, padded
+ * by one cell in x so rounding cannot lose a cell (each cell once). */
+void pslg_sgrid_walk(pslg_sgrid *G, const double *a, const double *b,
+                     void (*fn)(void *ctx, const int32_t *item, int32_t n), void *ctx);
+/* fn(ctx, items, count) for every occupied cell. */
+void pslg_sgrid_cells(const pslg_sgrid *G, void (*fn)(void *ctx, const int32_t *item, int32_t n),
+                      void *ctx);
+void pslg_sgrid_free(pslg_sgrid *G);
+
 /* A segment as its sorted endpoints lo < hi, and its index i; ordered by (lo, hi, i). */
 typedef struct pslg_skey {
     int32_t lo, hi, i;

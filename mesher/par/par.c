@@ -114,15 +114,19 @@ long par_peak_rss_bytes(void) {
 
 /* ---- -V --------------------------------------------------------------------------------- */
 
-void par_verbose_input(const par_opts *o, const pslg *in, const pcdm_decomp *d) {
-    double build = d->build_s;
-    MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, &build, 1, MPI_DOUBLE, MPI_MAX, rt_app_comm()));
+void par_verbose_input(const par_opts *o, const pslg *in, const pcdm_decomp *d, double load_s) {
+    double t[2] = {d->build_s, load_s};
+    MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, t, 2, MPI_DOUBLE, MPI_MAX, rt_app_comm()));
+    double build = t[0];
     if (rt_rank() != 0) return;
     char area[64] = "none", steiner[64] = "none";
     if (o->max_area > 0) snprintf(area, sizeof area, "%g", o->max_area);
     if (o->max_steiner >= 0) snprintf(steiner, sizeof steiner, "%lld", (long long)o->max_steiner);
-    fprintf(stderr, "%s: %s: %ld vertices, %ld segments, %ld holes, %ld regions\n", o->prog,
-            o->input, (long)in->nverts, (long)in->nsegs, (long)in->nholes, (long)in->nregions);
+    fprintf(stderr,
+            "%s: %s: %ld vertices, %ld segments, %ld holes, %ld regions (read and checked in "
+            "%.3f s, slowest rank)\n",
+            o->prog, o->input, (long)in->nverts, (long)in->nsegs, (long)in->nholes,
+            (long)in->nregions, t[1]);
     fprintf(stderr, "%s: %d ranks, %d subdomains (%s, %.4f s)\n", o->prog, rt_size(), (int)d->nsub,
             o->cuts ? "--cuts" : "automatic", build);
     fprintf(stderr, "%s: bounds: -q %g, -a %s, -S %s; %s\n", o->prog, o->min_angle, area, steiner,

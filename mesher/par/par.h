@@ -105,7 +105,7 @@ typedef struct par_config {
 par_config par_config_of(const par_opts *o);
 
 /* Collective.  -V: rank 0 prints what was read and decomposed and the bounds asked for. */
-void par_verbose_input(const par_opts *o, const pslg *in, const pcdm_decomp *d);
+void par_verbose_input(const par_opts *o, const pslg *in, const pcdm_decomp *d, double load_s);
 
 /* Collective.  -V: rank 0 prints the slowest rank's refinement seconds (wall: this rank's), the
  * mesh made (ntris, nverts, min_angle over all ranks) and the output seconds. */

@@ -60,6 +60,7 @@ typedef struct run_job {
     void *user_size_ctx;
     int user_scale_exp; /* set by the driver: the scale its wrapper undoes */
     mesh_bounds bounds; /* the bounds stage's value (run_bounds) */
+    double load_s;      /* parallel: wall seconds this rank spent reading and checking the input */
     /* out */
     run_verdict verdict;
     int64_t unmet;          /* triangles outside the bounds, not forced (all ranks) */

@@ -62,6 +62,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 /* ---- agreement -------------------------------------------------------------------------- */
@@ -115,6 +116,59 @@ static double ranks_per_core(void) {
     return most;
 }
 
+/* Collective.  MPI_Bcast of n items of type t from rank 0, waited for asleep (100 us between
+ * tests), so that ranks sharing cores leave them to rank 0 while it works; in pieces of at most
+ * 2^28 items. */
+static void bcast_asleep(void *p, int64_t n, MPI_Datatype t, int size) {
+    for (int64_t at = 0; at < n;) {
+        int k = (int)(n - at < ((int64_t)1 << 28) ? n - at : ((int64_t)1 << 28));
+        MPI_Request rq;
+        MESH_MPI(MPI_Ibcast((char *)p + at * size, k, t, 0, rt_app_comm(), &rq));
+        for (int done = 0;;) {
+            MESH_MPI(MPI_Test(&rq, &done, MPI_STATUS_IGNORE));
+            if (done) break;
+            struct timespec ts = {0, 100000};
+            nanosleep(&ts, NULL);
+        }
+        at += k;
+    }
+}
+
+/* Collective.  Rank 0's decomposition, or its failure (rc != 0 and the message in err), to every
+ * rank as one packed buffer (pcdm_decomp_pack).  Returns rank 0's rc; d and err as on rank 0. */
+static int share_decomp(pcdm_decomp *d, int rc, char *err, size_t errlen) {
+    void *buf = NULL;
+    size_t len = 0;
+    int64_t hdr[2] = {rc, 0};
+    if (rt_rank() == 0) {
+        if (rc == 0 && pcdm_decomp_pack(d, &buf, &len) != 0) {
+            snprintf(err, errlen, "the decomposition cannot be sent to the other ranks");
+            rc = -1;
+        }
+        if (rc != 0) {
+            len = strlen(err) + 1;
+            buf = mesh_xmalloc(len, 1);
+            memcpy(buf, err, len);
+        }
+        hdr[0] = rc;
+        hdr[1] = (int64_t)len;
+    }
+    bcast_asleep(hdr, 2, MPI_INT64_T, (int)sizeof(int64_t));
+    if (rt_rank() != 0) buf = mesh_xmalloc((size_t)hdr[1] + 1, 1);
+    bcast_asleep(buf, hdr[1], MPI_BYTE, 1);
+    if (rt_rank() != 0) {
+        rc = (int)hdr[0];
+        if (rc != 0) {
+            snprintf(err, errlen, "%.*s", (int)(hdr[1] > 0 ? hdr[1] - 1 : 0), (char *)buf);
+        } else if (pcdm_decomp_unpack(buf, (size_t)hdr[1], d) != 0) {
+            snprintf(err, errlen, "the decomposition received from rank 0 is malformed");
+            rc = -1;
+        }
+    }
+    free(buf);
+    return rc;
+}
+
 /* Local, but Collective for ./pbw's automatic decomposition (pick_partition).  The decomposition
  * of in for the ranks (auto, or --cuts).  Returns 0, or a RUN_F* code with the message in err. */
 static int decompose(const run_job *j, const pslg *in, pcdm_decomp *d, char *err, size_t errlen) {
@@ -166,9 +220,14 @@ static int decompose(const run_job *j, const pslg *in, pcdm_decomp *d, char *err
         snprintf(err, errlen, "--subdomains %d: fewer subdomains than ranks (%d)", (int)o->nsub, P);
         return RUN_FINVAL;
     }
+    /* ./pcdm: rank 0 decomposes and the others receive it (./pbw's ranks each try their METIS
+     * seeds and keep the input's CDT, so they all decompose) */
+    int share = P > 1 && j->method == RUN_PCDM;
     double t0 = rt_wtime();
-    rc = o->cuts ? pcdm_decomp_read_cuts(o->cuts, in, &dopt, d, err, errlen)
-                 : pcdm_decomp_auto(in, &dopt, d, err, errlen);
+    if (!share || rt_rank() == 0)
+        rc = o->cuts ? pcdm_decomp_read_cuts(o->cuts, in, &dopt, d, err, errlen)
+                     : pcdm_decomp_auto(in, &dopt, d, err, errlen);
+    if (share) rc = share_decomp(d, rc, err, errlen);
     if (rc == 0) {
         d->build_s = rt_wtime() - t0;
         return 0;
@@ -185,7 +244,9 @@ int run_par_load(run_job *j, pslg *in, pcdm_decomp *d) {
     memset(d, 0, sizeof *d);
     geom_init();
     int quiet = j->lib || o->quiet || rt_rank() != 0; /* warnings: rank 0 only */
+    double t0 = rt_wtime();
     int rc = run_load(j, in, quiet, !j->lib, err, sizeof err) == 0 ? 0 : RUN_FINPUT;
+    j->load_s = rt_wtime() - t0;
     char pre[600];
     /* every rank holds the same input before the decomposition (which may be collective), and
      * the same decomposition after it */
@@ -580,7 +641,7 @@ int run_par_main(int argc, char **argv, run_method method, par_parse_fn parse, c
         return 1;
     }
     int verbose = j.o.verbose && !j.o.quiet; /* -Q wins */
-    if (verbose) par_verbose_input(&j.o, &in, &d);
+    if (verbose) par_verbose_input(&j.o, &in, &d, j.load_s);
     if (run_par_mesh(&j, &in, &d, &p, &st) != 0) goto done; /* 2-4. bounds, mesh, verdict */
     /* the mesh hash: a sum over triangles, so one reduction of the parts' sums */
     uint64_t hash = 0, hash_part = j.o.stats && method == RUN_PCDM

@@ -111,6 +111,7 @@ enum {
 #define MPI_Alltoallv pcdm_mpi1_Alltoallv
 #define MPI_Barrier pcdm_mpi1_Barrier
 #define MPI_Bcast pcdm_mpi1_Bcast
+#define MPI_Ibcast pcdm_mpi1_Ibcast
 #define MPI_Cancel pcdm_mpi1_Cancel
 #define MPI_Comm_dup pcdm_mpi1_Comm_dup
 #define MPI_Comm_free pcdm_mpi1_Comm_free
@@ -179,6 +180,7 @@ int MPI_Type_free(MPI_Datatype *t);
 int MPI_Barrier(MPI_Comm comm);
 int MPI_Ibarrier(MPI_Comm comm, MPI_Request *req);
 int MPI_Bcast(void *buf, int count, MPI_Datatype t, int root, MPI_Comm comm);
+int MPI_Ibcast(void *buf, int count, MPI_Datatype t, int root, MPI_Comm comm, MPI_Request *req);
 int MPI_Allreduce(const void *sb, void *rb, int count, MPI_Datatype t, MPI_Op op, MPI_Comm comm);
 int MPI_Reduce(const void *sb, void *rb, int count, MPI_Datatype t, MPI_Op op, int root,
                MPI_Comm comm);

@@ -226,6 +226,12 @@ int MPI_Bcast(void *buf, int count, MPI_Datatype t, int root, MPI_Comm comm) {
     return type_size(t) ? MPI_SUCCESS : MPI_ERR_TYPE;
 }
 
+int MPI_Ibcast(void *buf, int count, MPI_Datatype t, int root, MPI_Comm comm, MPI_Request *req) {
+    int rc = MPI_Bcast(buf, count, t, root, comm);
+    if (rc == MPI_SUCCESS) *req = REQ_DONE; /* one rank: complete at once, as Ibarrier */
+    return rc;
+}
+
 int MPI_Allreduce(const void *sb, void *rb, int count, MPI_Datatype t, MPI_Op op, MPI_Comm comm) {
     if (!comm_ok(comm)) return MPI_ERR_COMM;
     return copy(sb, rb, count, t);
