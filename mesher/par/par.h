@@ -148,9 +148,10 @@ static inline int par_balance_dynamic(const par_opts *o) {
  * coordinates, segments, holes, regions and scaling is compared across the ranks. */
 int par_input_agrees(const pslg *in);
 
-/* Collective over rt_app_comm().  1 iff every rank computed the same decomposition: each rank
- * builds it alone (deterministic code, no communication), so a hash of what the meshers consume
- * (the cut geometry, the cuts' subdomains, the owners) is compared across the ranks. */
+/* Collective over rt_app_comm().  1 iff every rank holds the same decomposition (./pbw's ranks
+ * build it alone, ./pcdm's receive rank 0's): a hash of what the meshers consume (the cut
+ * geometry, the cuts' subdomains, the owners) is compared across the ranks.  Both checks are 1
+ * at once on one rank. */
 int par_decomp_agrees(const pcdm_decomp *d);
 
 /* Collective.  Agreement on failure with a code: code (0: none) and msg (may be NULL) on this
