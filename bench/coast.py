@@ -47,19 +47,8 @@ def data_dir():
     return None
 
 
-def great_britain(d):
-    """The (lon, lat) points of Great Britain, closing point dropped."""
-    with open(os.path.join(d, "gshhsmeta_f.dat")) as fh:
-        for line in fh:
-            f = line.split()
-            if len(f) < 7 or f[0] != "1":
-                continue
-            area, south, north = float(f[1]), float(f[3]), float(f[4])
-            if 49.9 < south < 50.0 and 58.6 < north < 58.7 and 2.1e5 < area < 2.3e5:
-                n, off = int(f[2]), int(f[5])
-                break
-        else:
-            return None
+def read_polygon(d, n, off):
+    """The n (lon, lat) points at byte offset off of gshhs_f.dat, closing point dropped."""
     with open(os.path.join(d, "gshhs_f.dat"), "rb") as fh:
         fh.seek(off)
         raw = fh.read(8 * n)
@@ -68,26 +57,30 @@ def great_britain(d):
     if pts and pts[0] == pts[-1]:
         pts.pop()
     return pts
+
+
+def find_polygon(d, match):
+    """(points, byte offset) of the first level-1 polygon of gshhsmeta_f.dat whose fields
+    match(f) accepts, or None."""
+    with open(os.path.join(d, "gshhsmeta_f.dat")) as fh:
+        for line in fh:
+            f = line.split()
+            if len(f) >= 7 and f[0] == "1" and match(f):
+                return int(f[2]), int(f[5])
+    return None
+
+
+def great_britain(d):
+    """The (lon, lat) points of Great Britain, closing point dropped."""
+    hit = find_polygon(d, lambda f: 49.9 < float(f[3]) < 50.0 and 58.6 < float(f[4]) < 58.7 and
+                       2.1e5 < float(f[1]) < 2.3e5)
+    return read_polygon(d, *hit) if hit else None
 
 
 def north_america(d):
     """The (lon, lat) points of GSHHG polygon 2 (North America), closing point dropped."""
-    with open(os.path.join(d, "gshhsmeta_f.dat")) as fh:
-        for line in fh:
-            f = line.split()
-            if len(f) >= 8 and f[0] == "1" and f[7] == "2" and 1.9e7 < float(f[1]) < 2.1e7:
-                n, off = int(f[2]), int(f[5])
-                break
-        else:
-            return None
-    with open(os.path.join(d, "gshhs_f.dat"), "rb") as fh:
-        fh.seek(off)
-        raw = fh.read(8 * n)
-    vals = struct.unpack("<%df" % (2 * n), raw)
-    pts = list(zip(vals[0::2], vals[1::2]))
-    if pts and pts[0] == pts[-1]:
-        pts.pop()
-    return pts
+    hit = find_polygon(d, lambda f: len(f) >= 8 and f[7] == "2" and 1.9e7 < float(f[1]) < 2.1e7)
+    return read_polygon(d, *hit) if hit else None
 
 
 def project(lon, lat):

@@ -219,30 +219,6 @@ static int segs_conflict(const double *xy, int32_t a, int32_t b, int32_t c, int3
 
 /* ---------------------------------------------------------------- vertices inside segments */
 
-static void split_visit(void *vctx, int32_t cell) {
-    pslg_split_ctx *c = vctx;
-    const double *xy = c->g->xy;
-    int32_t a = c->g->seg[2 * c->s], b = c->g->seg[2 * c->s + 1];
-    for (int32_t i = c->vg->start[cell]; i < c->vg->start[cell + 1]; i++) {
-        int32_t v = c->vg->item[i];
-        if (v == a || v == b) continue;
-        const double *A = xy + 2 * a, *B = xy + 2 * b, *P = xy + 2 * v;
-        if (P[0] < fmin(A[0], B[0]) || P[0] > fmax(A[0], B[0]) || P[1] < fmin(A[1], B[1]) ||
-            P[1] > fmax(A[1], B[1]))
-            continue;
-        if (geom_orient2d(A, B, P) != 0 || !pslg_strictly_between(A, B, P)) continue;
-        /* each vertex lives in one cell and a segment visits a cell once: no repeats */
-        if (c->nhits == c->cap) {
-            size_t nc = c->cap ? 2 * c->cap : 64;
-            c->hits = mesh_xrealloc(c->hits, nc * 2, sizeof(int32_t));
-            c->cap = nc;
-        }
-        c->hits[2 * c->nhits] = c->s;
-        c->hits[2 * c->nhits + 1] = v;
-        c->nhits++;
-    }
-}
-
 /* Position of vertex v along segment s (for sorting split points). */
 typedef struct along_ctx {
     const double *xy;
@@ -257,8 +233,9 @@ static int cmp_along(const void *vctx, int32_t i, int32_t j) {
     double dir = c->b[k] > c->a[k] ? 1 : -1;
     return pi == pj ? 0 : (pi - pj) * dir < 0 ? -1 : 1;
 }
-/* One cell of the sparse grid near a segment (pslg_sgrid_walk): its vertices tested as
- * split_visit does. */
+/* The vertices item[0..n) of one grid cell near segment c->s: those strictly inside it (exact
+ * orient2d, bounding box first) are hits.  Each vertex lives in one cell and a segment visits a
+ * cell once: no repeats. */
 static void hits_cell(void *vctx, const int32_t *item, int32_t n) {
     pslg_split_ctx *c = vctx;
     const double *xy = c->g->xy;
@@ -281,6 +258,12 @@ static void hits_cell(void *vctx, const int32_t *item, int32_t n) {
         c->hits[2 * c->nhits + 1] = v;
         c->nhits++;
     }
+}
+
+/* One cell of the uniform vertex grid (grid_segment's visitor): as hits_cell. */
+static void split_visit(void *vctx, int32_t cell) {
+    pslg_split_ctx *c = vctx;
+    hits_cell(c, c->vg->item + c->vg->start[cell], c->vg->start[cell + 1] - c->vg->start[cell]);
 }
 
 /* The vertices of g lying strictly inside its segments (exact orient2d and bounds): sc->hits
