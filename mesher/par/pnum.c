@@ -302,10 +302,12 @@ static int cmp_i64(const void *pa, const void *pb) {
 /* Step (5): fills num->wseg, nwseg, nsegs. */
 static void number_segments(const mesh_flat *f, const uint8_t *artificial, const par_vtris *x,
                             par_numbering *num) {
-    open_list ol = {NULL, 0, 0}; /* the part's open edges, sorted: O(boundary) */
-    par_open_edges(f, x, list_open, &ol);
-    if (ol.n) qsort(ol.k, (size_t)ol.n, sizeof *ol.k, cmp_i64);
     int rank = rt_rank(), P = rt_size();
+    open_list ol = {NULL, 0, 0}; /* the part's open edges, sorted: O(boundary) */
+    if (P > 1) {                 /* one rank: no other part can list one of its subsegments */
+        par_open_edges(f, x, list_open, &ol);
+        if (ol.n) qsort(ol.k, (size_t)ol.n, sizeof *ol.k, cmp_i64);
+    }
     /* listed input subsegments, each pair once (a part may list one from both its sides):
      * sort (pair, id) and keep the first of each pair */
     int32_t nk = 0;
