@@ -79,9 +79,10 @@
 #define ENC_PENALTY 64.0           /* METIS edge weight factor of an encroached edge (exact) */
 #define WIDE_DEG 60.0              /* sectors an interface bounds are at least this wide */
 #define WIDEN_PASSES 32
-#define FAST_MIN_DEG 30.0   /* the fast route's interfaces narrower than this: try the coarse one */
-#define FAST_MIN_VERTS 8192 /* inputs with fewer vertices take the coarse route (it costs little)  \
-                             */
+#define FAST_MIN_DEG 30.0 /* the fast route's interfaces narrower than this: try the coarse one */
+#define FAST_MIN_VERTS                                                                             \
+    8192 /* inputs with fewer vertices take the coarse route (it costs little)                     \
+          */
 #define DEG_PER_RAD 57.295779513082320876798
 
 /* Rank 0 gets k0 ~ K R / (R + P - 1) subdomains (at least one, leaving one per other rank);
