@@ -18,13 +18,13 @@
  *          peak_rss_mb=R bytes_per_tri=Y mesh_bytes_per_tri=Z output_s=W cpu_max_s=C
  *          cpu_sum_s=E decomp_s=D tri_max=N tri_mean=M decomp_exact=0|1 rounds=R hash=H
  *          balance=static|dynamic migrations=N moved_bytes=B move_max_s=S forwarded=F
- *          comm_s=C comm_max_s=M handler_s=H net_latency_us=L net_MBps=B
+ *          comm_s=C comm_max_s=M handler_s=H net_latency_us=L net_MBps=B load_s=L run_s=R
  * or ./pbw's rsr line by kind, its cavities: and blocking: lines, and
  *   stats: ranks=P triangles=N vertices=N rsr=TOTAL_RSRS undone=CAVITIES_UNDONE min_angle=D
  *          wall_s=T busy_max_s=B busy_sum_s=S comm_pct=C undo_pct=U speedup_model=X
  *          peak_rss_mb=R bytes_per_tri=Y mesh_bytes_per_tri=Z phase1_s=F cpu_max_s=C
  *          cpu_sum_s=E output_s=W comm_s=C comm_max_s=M handler_s=H net_latency_us=L net_MBps=B
- *          endcheck_max_s=K endcheck_sum_s=L
+ *          load_s=L run_s=R endcheck_max_s=K endcheck_sum_s=L
  * (one line each).  Definitions (rt_stats time buckets, inside rt_run):
  *   busy (per rank) = RT_TIME_BUSY + RT_TIME_HANDLER (local work, tasks and handlers);
  *                     speedup_model = busy_sum / busy_max.
@@ -45,6 +45,9 @@
  *   the mesh hash (pcdm_flat_hash summed over the parts), the same for the same mesh whatever
  *   its numbering and rank count.  endcheck_*: pbw's always-on end check of the Delaunay property.
  *   net_latency_us, net_MBps: the network model in force (--net, PCDM_NET; 0 0: none).
+ *   load_s: the slowest rank's seconds reading and checking the input; run_s: the slowest
+ *   rank's whole run, from after MPI's start to the statistics (load, decomposition, mesh,
+ *   output), where wall_s is the meshing alone.
  */
 #include "run/run.h"
 #include "run/run_stats.h"
@@ -573,7 +576,7 @@ static void print_pcdm_stats(const run_job *j, const run_stats *st, const par_su
            "cpu_max_s=%.3f cpu_sum_s=%.3f decomp_s=%.3f tri_max=%.0f tri_mean=%.1f "
            "decomp_exact=%d rounds=%d hash=%016llx balance=%s migrations=%.0f "
            "moved_bytes=%.0f move_max_s=%.4f forwarded=%.0f comm_s=%.4f comm_max_s=%.4f "
-           "handler_s=%.4f net_latency_us=%.1f net_MBps=%.1f\n",
+           "handler_s=%.4f net_latency_us=%.1f net_MBps=%.1f load_s=%.3f run_s=%.3f\n",
            size, (long long)sum->ntris, (long long)sum->nverts, S("split_sent"), sum->min_angle,
            M("wall_s"), M("busy_s"), S("busy_s"), (int)d->nsub, M("idle_s"), sum->max_area,
            S("split_ignored"), S("mpi_msgs"), M("busy_s") > 0 ? S("busy_s") / M("busy_s") : 0.0,
@@ -581,7 +584,7 @@ static void print_pcdm_stats(const run_job *j, const run_stats *st, const par_su
            S("cpu_s"), d->build_s, M("triangles"), S("triangles") / size, d->exact, (int)rounds,
            (unsigned long long)hash, par_balance_dynamic(&j->o) ? "dynamic" : "static",
            S("migrations"), S("moved_bytes"), M("move_s"), S("forwarded"), S("comm_s"), M("comm_s"),
-           S("handler_s"), lat * 1e6, bw / 1e6);
+           S("handler_s"), lat * 1e6, bw / 1e6, M("load_s"), M("run_s"));
 }
 
 /* Rank 0: ./pbw's --stats lines (after the rank lines). */
@@ -611,14 +614,15 @@ static void print_pbw_stats(const run_stats *st, const par_summary *sum) {
            "undo_pct=%.2f speedup_model=%.2f peak_rss_mb=%.1f bytes_per_tri=%.1f "
            "mesh_bytes_per_tri=%.1f phase1_s=%.3f cpu_max_s=%.3f cpu_sum_s=%.3f output_s=%.3f "
            "comm_s=%.4f comm_max_s=%.4f handler_s=%.4f net_latency_us=%.1f net_MBps=%.1f "
-           "endcheck_max_s=%.4f endcheck_sum_s=%.4f\n",
+           "load_s=%.3f run_s=%.3f endcheck_max_s=%.4f endcheck_sum_s=%.4f\n",
            size, (long)sum->ntris, (long)sum->nverts, S("rsr_sent"),
            S("undone_local") + S("undone_remote"), sum->min_angle, M("wall_s"), M("busy_s"),
            S("busy_s"), nonidle > 0 ? 100.0 * (S("handler_s") + S("comm_s")) / nonidle : 0.0,
            nonidle > 0 ? 100.0 * S("undo_s") / nonidle : 0.0,
            M("busy_s") > 0 ? S("busy_s") / M("busy_s") : 0.0, M("rss") / 1048576.0, S("rss") / nt,
            S("mesh_bytes") / nt, M("phase1_s"), M("cpu_s"), S("cpu_s"), M("output_s"), S("comm_s"),
-           M("comm_s"), S("handler_s"), lat * 1e6, bw / 1e6, M("endcheck_s"), S("endcheck_s"));
+           M("comm_s"), S("handler_s"), lat * 1e6, bw / 1e6, M("load_s"), M("run_s"),
+           M("endcheck_s"), S("endcheck_s"));
 #undef S
 #undef M
 }
@@ -627,6 +631,7 @@ int run_par_main(int argc, char **argv, run_method method, par_parse_fn parse, c
     par_opts o;
     int code;
     if (startup(&argc, &argv, method, parse, ctx, &o, &code)) return code;
+    double t_run = rt_wtime(); /* run_s: from here (after MPI's start) to the statistics */
     run_job j;
     run_job_init(&j, method, &o);
     pslg in;
@@ -673,6 +678,8 @@ int run_par_main(int argc, char **argv, run_method method, par_parse_fn parse, c
     if (verbose && out == 0)
         par_verbose_result(&j.o, wall, sum.ntris, sum.nverts, sum.min_angle,
                            run_stats_get(&st, "output_s"));
+    run_stats_set(&st, "load_s", 3, 1, j.load_s);
+    run_stats_set(&st, "run_s", 3, 1, rt_wtime() - t_run);
     if (run_stats_collect(&st, j.o.stats)) {
         run_stats_rank_lines(&st, rt_size(), stdout);
         if (method == RUN_PCDM)

@@ -46,6 +46,7 @@ typedef struct progress {
     double t_cdt;     /* seconds of the triangulation */
     double c0;        /* CPU seconds at t0 */
     double wall, cpu; /* seconds of triangulation and refinement */
+    double t_read;    /* when reading the input began (run_s counts from there) */
     mesh *m;
 } progress;
 
@@ -155,9 +156,11 @@ static void print_stats(const run_job *j, const mesh *m, const progress *pr, dou
             (long long)s->unresolved, (long long)j->forced,
             m->nlive ? (double)mesh_memory_bytes(m) / m->nlive : 0.0);
     printf("stats: triangles=%ld vertices=%ld steiner=%ld min_angle=%.4f max_area=%.6g "
-           "wall_s=%.3f peak_rss_mb=%.1f bytes_per_tri=%.1f output_s=%.3f cpu_s=%.3f\n",
+           "wall_s=%.3f peak_rss_mb=%.1f bytes_per_tri=%.1f output_s=%.3f cpu_s=%.3f "
+           "load_s=%.3f run_s=%.3f\n",
            (long)m->nlive, (long)m->nv, (long)(m->nv - m->ninput), amin, amax, pr->wall,
-           rss / 1048576.0, m->nlive ? rss / m->nlive : 0.0, t_out, pr->cpu);
+           rss / 1048576.0, m->nlive ? rss / m->nlive : 0.0, t_out, pr->cpu, pr->t0 - pr->t_read,
+           now() - pr->t_read);
 }
 
 /* Stage 6 for ./mesh: the files asked for from f.  Returns 0, or 1 after a message. */
@@ -209,6 +212,7 @@ int run_mesh(run_job *j) {
     mesh_bounds b = run_bounds(j, &g); /* 2. bounds */
     progress pr = {0};
     pr.t0 = pr.last = now();
+    pr.t_read = t_read;
     pr.c0 = cpu_now();
     if (verbose) verbose_input(j, &g, pr.t0 - t_read);
     mesh m;
