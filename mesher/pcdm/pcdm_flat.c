@@ -260,21 +260,18 @@ void pcdm_det_take(pcdm_part *p, mesh_flat *f, uint8_t **artificial, int32_t **t
     memset(f, 0, sizeof *f);
     int32_t sub0 = -1;
     const pcdm_sub_map *map0 = NULL;
-    if (nm == 1) pcdm_det_mesh(p, 0, &sub0, &map0);
-    if (map0 && !map0->gv) { /* one subdomain numbered as d->g: moved as it is (the memory
-                              * peak of the asynchronous mode) */
-        int32_t sub;
-        const pcdm_sub_map *map;
-        mesh *m = pcdm_det_mesh(p, 0, &sub, &map);
-        uint8_t *a = mesh_xmalloc((size_t)m->ss_live + 1, 1);
+    mesh *m0 = nm == 1 ? pcdm_det_mesh(p, 0, &sub0, &map0) : NULL;
+    if (m0 && !map0->gv) { /* one subdomain numbered as d->g: moved as it is (the memory peak of
+                            * the asynchronous mode) */
+        uint8_t *a = mesh_xmalloc((size_t)m0->ss_live + 1, 1);
         int32_t k = 0;
-        for (int32_t r = 0; r < m->nss; r++)
-            if (m->ss[r].level != -2) a[k++] = m->ss[r].seg >= nboundary;
-        mesh_take_flat(m, f, topen);
+        for (int32_t r = 0; r < m0->nss; r++)
+            if (m0->ss[r].level != -2) a[k++] = m0->ss[r].seg >= nboundary;
+        mesh_take_flat(m0, f, topen);
         if (tsub) {
             *tsub = mesh_xmalloc((size_t)f->ntris + 1, sizeof(int32_t));
             for (int32_t t = 0; t < f->ntris; t++)
-                (*tsub)[t] = sub;
+                (*tsub)[t] = sub0;
         }
         *artificial = a;
         return;
