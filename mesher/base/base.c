@@ -13,6 +13,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 /* The parallel half of the report, when a program links it (base_mpi.c installs it before
  * main); NULL: a sequential program or library.  The one process-wide setting of mesher/: the
@@ -55,6 +58,12 @@ void *mesh_xcalloc_at(const char *file, int line, size_t n, size_t size) {
 
 void mesh_xfree(void *p) {
     free(p);
+}
+
+void mesh_alloc_for_program(void) {
+#ifdef __GLIBC__
+    mallopt(M_MMAP_THRESHOLD, 128 * 1024); /* a fixed threshold: glibc's dynamic one is off */
+#endif
 }
 
 char *mesh_read_stream(FILE *f, size_t *n) {

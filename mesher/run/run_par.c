@@ -482,6 +482,7 @@ void run_part_free(run_part *p) {
 static int startup(int *argc, char ***argv, run_method method, par_parse_fn parse, const void *ctx,
                    par_opts *o, int *code) {
     const char *prog = method == RUN_PBW ? "pbw" : "pcdm";
+    mesh_alloc_for_program();
     int rc = rt_init(argc, argv, NULL);
     *code = 1;
     if (rc != RT_OK) {
