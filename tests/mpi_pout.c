@@ -13,13 +13,16 @@
  *    broken (PCDM_TEST_BREAK_PIECE);
  *  - --vtk writes the .pvtu index and one piece per rank;
  *  - the interface local-Delaunay test finds a non-Delaunay edge between two ranks' triangles
- *    and exempts a constraint.
+ *    and exempts a constraint;
+ *  - the always-on interface check finds a T-junction and an unlisted boundary edge, at one rank
+ *    and across ranks, and passes a whole mesh.
  * Two shares: slabs by centroid (parts meet along chains of edges) and triangles dealt out by
  * a hash (parts meet everywhere, also at single vertices).  Results are reduced over ranks
  * before asserting.  CK_NOFORK (MPI does not survive fork); run from the repository root.
  */
-#include "bounds/bounds.h"
 #include "base/base.h"
+#include "bounds/bounds.h"
+#include "check/par_check.h"
 #include "check_run.h"
 #include "geom/geom.h"
 #include "par/par.h"
@@ -314,6 +317,52 @@ static long quad_bad(int diag, int constrained) {
     return tot;
 }
 
+/* The always-on interface check: a square (0,0) (2,0) (2,2) (0,2) cut along its diagonal, an
+ * interface; at one rank both triangles are rank 0's, at more rank 0 holds one and rank 1 the
+ * other.  Returns the ranks that found a disagreement: none for the whole square; with the
+ * diagonal split on one side only (a T-junction at (1,1)), or a boundary edge that is listed as
+ * no subsegment, some. */
+static int square_bad(int fault) {
+    double xy[10] = {0, 0, 2, 0, 2, 2, 0, 2, 1, 1};
+    int32_t a[3] = {0, 1, 2}, b[3] = {0, 2, 3}, bsplit[6] = {0, 4, 3, 4, 2, 3};
+    int32_t seg[14] = {0, 1, 1, 2, 2, 3, 3, 0, 0, 2, 0, 4, 4, 2};
+    int32_t sm[7] = {1, 1, 1, 1, 0, 0, 0}, si[7] = {0, 0, 0, 0, 1, 1, 1};
+    int rank = rt_rank(), P = rt_size();
+    int32_t tri[9];
+    mesh_flat f;
+    memset(&f, 0, sizeof f);
+    f.nverts = 5;
+    f.xy = xy;
+    f.tri = tri;
+    f.seg = seg;
+    f.smarker = sm;
+    f.sinterface = si;
+    f.nsegs = fault == 2 ? 6 : 7; /* fault 2: edge 0-1 unlisted (the list starts at 1-2) */
+    if (fault == 2) f.seg = seg + 2, f.smarker = sm + 1, f.sinterface = si + 1;
+    if (rank == 0) memcpy(tri, a, sizeof a), f.ntris = 1;
+    if (rank == (P > 1)) { /* B: rank 1, or rank 0 beside A */
+        memcpy(tri + 3 * f.ntris, fault == 1 ? bsplit : b, fault == 1 ? sizeof bsplit : sizeof b);
+        f.ntris += fault == 1 ? 2 : 1;
+    }
+    if (rank > 1) f.ntris = 0;
+    char msg[600] = "";
+    int bad = par_check_interfaces_open(&f, NULL, msg, sizeof msg) != 0, tot = 0;
+    if (bad) fprintf(stderr, "rank %d, fault %d: %s\n", rank, fault, msg);
+    MPI_Allreduce(&bad, &tot, 1, MPI_INT, MPI_SUM, rt_app_comm());
+    return tot;
+}
+
+START_TEST(test_interfaces_open) {
+    int whole = square_bad(0), tee = square_bad(1), unlisted = square_bad(2);
+    if (rt_rank() == 0)
+        fprintf(stderr, "interfaces: ranks in disagreement %d (want 0), %d, %d (want > 0)\n", whole,
+                tee, unlisted);
+    ck_assert_int_eq(whole, 0);
+    ck_assert_int_gt(tee, 0);
+    ck_assert_int_gt(unlisted, 0);
+}
+END_TEST
+
 START_TEST(test_interface_delaunay) {
     long want = rt_size() > 1 ? 1 : 0;
     long a = quad_bad(0, 0), b = quad_bad(1, 0), c = quad_bad(0, 1);
@@ -328,10 +377,10 @@ END_TEST
 
 int main(int argc, char **argv) {
     if (rt_init(&argc, &argv, NULL) != RT_OK) return 1;
-    int rc = ck_run_mpi(
-        ck_suite("mpi_pout", 0,
-                 CK_TESTS(test_roundtrip_slabs, test_roundtrip_scattered, test_interface_delaunay)),
-        rt_app_comm());
+    int rc = ck_run_mpi(ck_suite("mpi_pout", 0,
+                                 CK_TESTS(test_roundtrip_slabs, test_roundtrip_scattered,
+                                          test_interface_delaunay, test_interfaces_open)),
+                        rt_app_comm());
     rt_finalize();
     return rc;
 }

@@ -2,7 +2,8 @@
  * sequential library: no MPI) a bug is reported on rank "-" and the process aborts; with one (the
  * parallel layers install MPI's, base_mpi.c) the report names the rank the environment gives and
  * the environment's stop ends every rank with exit code 70.  Each case runs the bug in a child
- * process and reads its stderr and exit status. */
+ * process and reads its stderr and exit status.  The radix sort (mesh_sort_u64) is held to
+ * qsort's order. */
 #include "base/base.h"
 #include "check_run.h"
 
@@ -67,6 +68,37 @@ START_TEST(test_bug_with_env) {
 }
 END_TEST
 
+static int cmp_u64(const void *a, const void *b) {
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* mesh_sort_u64 against qsort: short arrays (insertion sort), long ones (radix passes) whose
+ * keys share some digits (passes skipped) or differ in every digit, repeats included. */
+START_TEST(test_sort_u64) {
+    size_t sizes[] = {0, 1, 2, 255, 256, 1000, 100003};
+    uint64_t masks[] = {~0ULL, 0xffff0000ffffULL, 0xff00000000000000ULL, 7};
+    uint64_t x = 88172645463325252ULL;
+    for (size_t si = 0; si < sizeof sizes / sizeof *sizes; si++)
+        for (size_t mi = 0; mi < sizeof masks / sizeof *masks; mi++) {
+            size_t n = sizes[si];
+            uint64_t *a = malloc((n + 1) * sizeof *a), *b = malloc((n + 1) * sizeof *b);
+            for (size_t i = 0; i < n; i++) {
+                x ^= x << 13, x ^= x >> 7, x ^= x << 17; /* xorshift64 */
+                a[i] = b[i] = x & masks[mi];
+            }
+            mesh_sort_u64(a, n);
+            qsort(b, n, sizeof *b, cmp_u64);
+            ck_assert_msg(n == 0 || memcmp(a, b, n * sizeof *a) == 0,
+                          "mesh_sort_u64: %zu keys under mask %llx not sorted as qsort sorts them",
+                          n, (unsigned long long)masks[mi]);
+            free(a);
+            free(b);
+        }
+}
+END_TEST
+
 int main(void) {
-    return ck_run(ck_suite("base", 0, CK_TESTS(test_bug_without_env, test_bug_with_env)));
+    return ck_run(
+        ck_suite("base", 0, CK_TESTS(test_bug_without_env, test_bug_with_env, test_sort_u64)));
 }

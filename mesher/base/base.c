@@ -66,6 +66,42 @@ void mesh_alloc_for_program(void) {
 #endif
 }
 
+void mesh_sort_u64(uint64_t *a, size_t n) {
+    if (n < 2) return;
+    if (n < 256) { /* insertion sort: no scratch */
+        for (size_t i = 1; i < n; i++) {
+            uint64_t x = a[i];
+            size_t j = i;
+            for (; j > 0 && a[j - 1] > x; j--)
+                a[j] = a[j - 1];
+            a[j] = x;
+        }
+        return;
+    }
+    uint64_t *tmp = mesh_xmalloc(n, sizeof *tmp), *src = a, *dst = tmp;
+    size_t *cnt = mesh_xmalloc(65536, sizeof *cnt);
+    for (int shift = 0; shift < 64; shift += 16) {
+        memset(cnt, 0, 65536 * sizeof *cnt);
+        for (size_t i = 0; i < n; i++)
+            cnt[src[i] >> shift & 0xffff]++;
+        if (cnt[src[0] >> shift & 0xffff] == n) continue; /* one digit: already in order */
+        size_t sum = 0;
+        for (size_t d = 0; d < 65536; d++) {
+            size_t c = cnt[d];
+            cnt[d] = sum;
+            sum += c;
+        }
+        for (size_t i = 0; i < n; i++)
+            dst[cnt[src[i] >> shift & 0xffff]++] = src[i];
+        uint64_t *t = src;
+        src = dst;
+        dst = t;
+    }
+    if (src != a) memcpy(a, src, n * sizeof *a);
+    free(cnt);
+    free(tmp);
+}
+
 char *mesh_read_stream(FILE *f, size_t *n) {
     size_t cap = 1 << 16, len = 0;
     char *buf = mesh_xmalloc(cap, 1);

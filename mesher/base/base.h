@@ -120,6 +120,10 @@ static inline uint64_t mesh_dbits(double x) {
     return u;
 }
 
+/* Sorts a[0..n) ascending (LSD radix sort, 16-bit digits; a digit every key shares costs no
+ * pass); O(n) time, n words of scratch from the funnel.  Local. */
+void mesh_sort_u64(uint64_t *a, size_t n);
+
 /* qsort comparators of int32_t and of double (no NaN). */
 static inline int mesh_cmp_i32(const void *pa, const void *pb) {
     int32_t a = *(const int32_t *)pa, b = *(const int32_t *)pb;

@@ -33,6 +33,7 @@
 #include "geom/geom.h"
 #include "rt.h"
 
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -52,35 +53,98 @@ typedef struct open_edge {
 } open_edge;
 _Static_assert(sizeof(open_edge) == 40, "open_edge must be 40 bytes, no padding");
 
-typedef struct ekey {
-    int32_t lo, hi, n;
-} ekey;
-
-static int cmp_ekey(const void *x, const void *y) {
-    const ekey *a = x, *b = y;
-    if (a->lo != b->lo) return a->lo < b->lo ? -1 : 1;
-    return (a->hi > b->hi) - (a->hi < b->hi);
+/* A listed subsegment as a sort key: lo << 33 | hi << 2 | kind (vertex numbers below 2^31;
+ * kind 1 a boundary (input) subsegment, 2 an interface). */
+static uint64_t seg_key(int32_t a, int32_t b, int kind) {
+    uint64_t lo = (uint64_t)(a < b ? a : b), hi = (uint64_t)(a < b ? b : a);
+    return lo << 33 | hi << 2 | (uint64_t)kind;
 }
 
-static int cmp_open(const void *x, const void *y) {
-    const open_edge *a = x, *b = y;
-    for (int k = 0; k < 4; k++)
-        if (a->x[k] != b->x[k]) return a->x[k] < b->x[k] ? -1 : 1;
-    return (a->rank > b->rank) - (a->rank < b->rank);
+/* The kinds (bit 1 << kind) of every listing of edge a-b among the n sorted keys k. */
+static int seg_kinds(const uint64_t *k, int32_t n, int32_t a, int32_t b) {
+    uint64_t want = seg_key(a, b, 0);
+    int32_t lo = 0, hi = n; /* the first key >= want */
+    while (lo < hi) {
+        int32_t mid = lo + (hi - lo) / 2;
+        if (k[mid] < want)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    int kinds = 0;
+    for (; lo < n && k[lo] >> 2 == want >> 2; lo++)
+        kinds |= 1 << (k[lo] & 3);
+    return kinds;
 }
 
-static uint64_t edge_hash(const open_edge *e) {
+/* The hash of an edge's endpoint bits: its rendezvous rank and its place in edge_order. */
+static uint64_t edges_hash(const double x[4]) {
     uint64_t h = 0;
     for (int k = 0; k < 4; k++)
-        h = mesh_hash64(h ^ coord_bits(e->x[k]));
+        h = mesh_hash64(h ^ coord_bits(x[k]));
     return h;
+}
+
+/* Endpoint bits, then rank: the order equal edges are grouped in (edge_order). */
+static int cmp_edge_bits(const double *x, int32_t rx, const double *y, int32_t ry) {
+    for (int k = 0; k < 4; k++) {
+        uint64_t u = coord_bits(x[k]), v = coord_bits(y[k]);
+        if (u != v) return u < v ? -1 : 1;
+    }
+    return (rx > ry) - (rx < ry);
+}
+
+static int same_edge(const double *x, const double *y) {
+    for (int k = 0; k < 4; k++)
+        if (coord_bits(x[k]) != coord_bits(y[k])) return 0;
+    return 1;
+}
+
+/* An order of the n records (size bytes each: the endpoints double x[4] first, the rank at
+ * rank_off) in which bit-equal edges are adjacent, by rank: sorted by a 32-bit hash of the
+ * endpoints (radix sort, O(n)), each run of equal hashes then by endpoint bits and rank
+ * (insertion sort: a run is the one or two records of an edge but for hash collisions).
+ * Returns n record numbers (free with free()). */
+static int32_t *edge_order(const void *recs, size_t size, size_t rank_off, int64_t n) {
+    const char *b = recs;
+    uint64_t *key = mesh_xmalloc((size_t)n + 1, sizeof *key);
+    for (int64_t i = 0; i < n; i++) {
+        uint64_t h = edges_hash((const double *)(const void *)(b + (size_t)i * size));
+        key[i] = (h >> 32) << 32 | (uint64_t)i;
+    }
+    mesh_sort_u64(key, (size_t)n);
+    int32_t *ord = mesh_xmalloc((size_t)n + 1, sizeof *ord);
+    for (int64_t i = 0; i < n; i++)
+        ord[i] = (int32_t)(key[i] & 0xffffffffu);
+    for (int64_t i = 0, j; i < n; i = j) {
+        for (j = i + 1; j < n && key[j] >> 32 == key[i] >> 32;)
+            j++;
+        for (int64_t u = i + 1; u < j; u++) { /* insertion sort of the run */
+            int32_t r = ord[u];
+            const char *pr = b + (size_t)r * size;
+            int64_t w = u;
+            for (; w > i; w--) {
+                const char *pq = b + (size_t)ord[w - 1] * size;
+                int32_t rq, rr;
+                memcpy(&rq, pq + rank_off, sizeof rq);
+                memcpy(&rr, pr + rank_off, sizeof rr);
+                if (cmp_edge_bits((const double *)(const void *)pq, rq,
+                                  (const double *)(const void *)pr, rr) <= 0)
+                    break;
+                ord[w] = ord[w - 1];
+            }
+            ord[w] = r;
+        }
+    }
+    free(key);
+    return ord;
 }
 
 /* What add_open needs: the part, its listed subsegments sorted by vertex pair, the growing
  * list of open edges. */
 typedef struct open_ctx {
     const mesh_flat *f;
-    const ekey *k;
+    const uint64_t *k;
     int rank;
     open_edge *o;
     int32_t n, cap;
@@ -92,20 +156,9 @@ typedef struct open_ctx {
 static void add_open(void *ctx, int32_t a, int32_t b, int32_t apex) {
     open_ctx *c = ctx;
     const mesh_flat *f = c->f;
-    ekey key = {a < b ? a : b, a < b ? b : a, 0};
-    const ekey *hit =
-        f->nsegs ? bsearch(&key, c->k, (size_t)f->nsegs, sizeof *c->k, cmp_ekey) : NULL;
-    int segkind = 0;
-    if (hit) { /* every listing of the pair */
-        const ekey *lo = hit, *hi = hit;
-        while (lo > c->k && !cmp_ekey(lo - 1, &key))
-            lo--;
-        while (hi + 1 < c->k + f->nsegs && !cmp_ekey(hi + 1, &key))
-            hi++;
-        for (; lo <= hi; lo++)
-            if (lo->n > segkind) segkind = lo->n;
-    }
-    const double *p = f->xy + 2 * (size_t)key.lo, *q = f->xy + 2 * (size_t)key.hi;
+    int kinds = seg_kinds(c->k, f->nsegs, a, b); /* every listing of the pair */
+    int segkind = kinds & 4 ? 2 : kinds & 2 ? 1 : 0;
+    const double *p = f->xy + 2 * (size_t)a, *q = f->xy + 2 * (size_t)b;
     int sw = p[0] > q[0] || (p[0] == q[0] && p[1] > q[1]);
     MESH_GROW(c->o, c->n, c->cap);
     open_edge *e = &c->o[c->n++];
@@ -119,21 +172,19 @@ static void add_open(void *ctx, int32_t a, int32_t b, int32_t apex) {
 }
 
 /* f's listed subsegments as sorted keys: n = 1 a boundary (input) subsegment, 2 an interface. */
-static ekey *seg_keys(const mesh_flat *f) {
-    ekey *k = mesh_xmalloc((size_t)f->nsegs + 1, sizeof(ekey));
-    for (int32_t s = 0; s < f->nsegs; s++) {
-        int32_t a = f->seg[2 * s], b = f->seg[2 * s + 1];
-        k[s] =
-            (ekey){a < b ? a : b, a < b ? b : a, 1 + (f->sinterface ? f->sinterface[s] != 0 : 0)};
-    }
-    qsort(k, (size_t)f->nsegs, sizeof *k, cmp_ekey);
+static uint64_t *seg_keys(const mesh_flat *f) {
+    uint64_t *k = mesh_xmalloc((size_t)f->nsegs + 1, sizeof *k);
+    for (int32_t s = 0; s < f->nsegs; s++)
+        k[s] = seg_key(f->seg[2 * s], f->seg[2 * s + 1],
+                       1 + (f->sinterface ? f->sinterface[s] != 0 : 0));
+    mesh_sort_u64(k, (size_t)f->nsegs);
     return k;
 }
 
 /* The open edges of local (edges of exactly one local triangle), found through the
  * vertex-to-triangle rows (ptopo.h: one pass, no sort of all edges). */
 static int32_t open_edges(const mesh_flat *f, const uint8_t *topen, int rank, open_edge **out) {
-    ekey *k = seg_keys(f);
+    uint64_t *k = seg_keys(f);
     par_vtris x;
     par_vtris_open(f, topen, &x);
     open_ctx oc = {f, k, rank, NULL, 0, 0};
@@ -152,34 +203,39 @@ int par_check_interfaces_open(const mesh_flat *local, const uint8_t *topen, char
     int rank = rt_rank(), P = rt_size();
     open_edge *e = NULL;
     int32_t n = open_edges(local, topen, rank, &e);
-    int *dest = mesh_xmalloc((size_t)n, sizeof(int));
-    for (int32_t i = 0; i < n; i++)
-        dest[i] = (int)(edge_hash(&e[i]) % (uint64_t)P);
-    int64_t nr;
-    open_edge *rb = par_exchange(e, sizeof *e, dest, n, &nr);
-    qsort(rb, (size_t)nr, sizeof *rb, cmp_open);
+    int64_t nr = n;
+    open_edge *rb = e; /* one rank: its own rendezvous */
+    if (P > 1) {
+        int *dest = mesh_xmalloc((size_t)n, sizeof(int));
+        for (int32_t i = 0; i < n; i++)
+            dest[i] = (int)(edges_hash(e[i].x) % (uint64_t)P);
+        rb = par_exchange(e, sizeof *e, dest, n, &nr);
+        mesh_xfree(dest);
+        mesh_xfree(e);
+    }
+    int32_t *ord = edge_order(rb, sizeof *rb, offsetof(open_edge, rank), nr);
     int bad = 0;
     char m[400] = "";
     for (int64_t i = 0; i < nr;) {
         int64_t j = i;
         int32_t must = 0;
-        while (j < nr && !memcmp(rb[j].x, rb[i].x, sizeof rb[i].x)) {
-            must |= rb[j].must;
+        const open_edge *first = &rb[ord[i]];
+        while (j < nr && same_edge(rb[ord[j]].x, first->x)) {
+            must |= rb[ord[j]].must;
             j++;
         }
-        int ok = (j - i == 1 && !must) || (j - i == 2 && rb[i].rank != rb[i + 1].rank);
+        int ok = (j - i == 1 && !must) || (j - i == 2 && first->rank != rb[ord[i + 1]].rank);
         if (!ok && !bad++)
             snprintf(m, sizeof m,
                      "interface check failed: edge (%.17g, %.17g)-(%.17g, %.17g) of rank %d %s",
-                     rb[i].x[0], rb[i].x[1], rb[i].x[2], rb[i].x[3], (int)rb[i].rank,
+                     first->x[0], first->x[1], first->x[2], first->x[3], (int)first->rank,
                      j - i == 1 ? "has no matching edge on the other side of the interface"
                                 : "is claimed by more than two pieces");
         i = j;
     }
     if (bad && msglen) snprintf(msg, msglen, "%s (%d edges disagree here)", m, bad);
-    mesh_xfree(e);
+    mesh_xfree(ord);
     mesh_xfree(rb);
-    mesh_xfree(dest);
     return bad ? -1 : 0;
 }
 
@@ -197,7 +253,7 @@ _Static_assert(sizeof(apex_edge) == 56, "apex_edge must be 56 bytes, no padding"
 typedef struct apex_ctx {
     const mesh_flat *f;
     const par_vtris *x; /* unused by the visitor (the apex comes with the edge) */
-    const ekey *k;
+    const uint64_t *k;
     int rank;
     apex_edge *o;
     int32_t n, cap;
@@ -207,20 +263,9 @@ typedef struct apex_ctx {
 static void add_apex(void *ctx, int32_t a, int32_t b, int32_t apex) {
     apex_ctx *c = ctx;
     const mesh_flat *f = c->f;
-    ekey key = {a < b ? a : b, a < b ? b : a, 0};
-    int exempt = 0;
-    const ekey *hit =
-        f->nsegs ? bsearch(&key, c->k, (size_t)f->nsegs, sizeof *c->k, cmp_ekey) : NULL;
-    if (hit) { /* an input subsegment in any listing: a constraint, exempt */
-        const ekey *lo = hit, *hi = hit;
-        while (lo > c->k && !cmp_ekey(lo - 1, &key))
-            lo--;
-        while (hi + 1 < c->k + f->nsegs && !cmp_ekey(hi + 1, &key))
-            hi++;
-        for (; lo <= hi; lo++)
-            exempt |= lo->n == 1;
-    }
-    const double *p = f->xy + 2 * (size_t)key.lo, *q = f->xy + 2 * (size_t)key.hi;
+    /* an input subsegment in any listing: a constraint, exempt */
+    int exempt = (seg_kinds(c->k, f->nsegs, a, b) & 2) != 0;
+    const double *p = f->xy + 2 * (size_t)a, *q = f->xy + 2 * (size_t)b;
     int sw = p[0] > q[0] || (p[0] == q[0] && p[1] > q[1]);
     MESH_GROW(c->o, c->n, c->cap);
     apex_edge *e = &c->o[c->n++];
@@ -235,27 +280,11 @@ static void add_apex(void *ctx, int32_t a, int32_t b, int32_t apex) {
     e->exempt = exempt;
 }
 
-static int cmp_apex(const void *x, const void *y) {
-    const apex_edge *a = x, *b = y;
-    for (int k = 0; k < 4; k++) {
-        uint64_t u = coord_bits(a->x[k]), v = coord_bits(b->x[k]);
-        if (u != v) return u < v ? -1 : 1;
-    }
-    return (a->rank > b->rank) - (a->rank < b->rank);
-}
-
-static uint64_t apex_hash(const apex_edge *e) {
-    uint64_t h = 0;
-    for (int k = 0; k < 4; k++)
-        h = mesh_hash64(h ^ coord_bits(e->x[k]));
-    return h;
-}
-
 long par_check_interface_delaunay(const mesh_flat *local, const uint8_t *topen, char *msg,
                                   size_t msglen) {
     int rank = rt_rank(), P = rt_size();
     if (msglen) msg[0] = '\0';
-    ekey *k = seg_keys(local);
+    uint64_t *k = seg_keys(local);
     par_vtris x;
     par_vtris_open(local, topen, &x);
     apex_ctx ac = {local, &x, k, rank, NULL, 0, 0};
@@ -265,16 +294,21 @@ long par_check_interface_delaunay(const mesh_flat *local, const uint8_t *topen, 
     int32_t n = ac.n;
     apex_edge *e = ac.o;
     /* to the rendezvous (the hash of the edge) */
-    int *dest = mesh_xmalloc((size_t)n, sizeof(int));
-    for (int32_t i = 0; i < n; i++)
-        dest[i] = (int)(apex_hash(&e[i]) % (uint64_t)P);
-    int64_t nr;
-    apex_edge *rb = par_exchange(e, sizeof *e, dest, n, &nr);
-    qsort(rb, (size_t)nr, sizeof *rb, cmp_apex);
+    int64_t nr = n;
+    apex_edge *rb = e; /* one rank: its own rendezvous */
+    if (P > 1) {
+        int *dest = mesh_xmalloc((size_t)n, sizeof(int));
+        for (int32_t i = 0; i < n; i++)
+            dest[i] = (int)(edges_hash(e[i].x) % (uint64_t)P);
+        rb = par_exchange(e, sizeof *e, dest, n, &nr);
+        mesh_xfree(dest);
+        mesh_xfree(e);
+    }
+    int32_t *ord = edge_order(rb, sizeof *rb, offsetof(apex_edge, rank), nr);
     long bad = 0;
     for (int64_t i = 0; i + 1 < nr; i++) {
-        const apex_edge *u = &rb[i], *v = &rb[i + 1];
-        if (memcmp(u->x, v->x, sizeof u->x) || u->rank == v->rank || u->exempt || v->exempt)
+        const apex_edge *u = &rb[ord[i]], *v = &rb[ord[i + 1]];
+        if (!same_edge(u->x, v->x) || u->rank == v->rank || u->exempt || v->exempt)
             continue; /* not the two sides of one interface edge (par_check_interfaces_open decides
                        * what else is wrong), or a constraint */
         const double *p = u->x, *q = u->x + 2;
@@ -287,8 +321,7 @@ long par_check_interface_delaunay(const mesh_flat *local, const uint8_t *topen, 
                      "locally Delaunay (apex (%.17g, %.17g) inside)",
                      p[0], p[1], q[0], q[1], (int)u->rank, (int)v->rank, v->c[0], v->c[1]);
     }
-    mesh_xfree(e);
+    mesh_xfree(ord);
     mesh_xfree(rb);
-    mesh_xfree(dest);
     return bad;
 }
