@@ -169,6 +169,12 @@ int pcdm_decomp_pack(const pcdm_decomp *d, void **buf, size_t *len);
  * Local. */
 int pcdm_decomp_unpack(const void *buf, size_t len, pcdm_decomp *d);
 
+/* The input g (read and checked) as one byte buffer, for ranks that did not read it, and back:
+ * the same fields and arrays as on the sender (decomp_pack.c).  pslg_unpack returns 0, or -1
+ * (g holds nothing) if the buffer is short or malformed.  Local. */
+void pslg_pack(const pslg *g, void **buf, size_t *len);
+int pslg_unpack(const void *buf, size_t len, pslg *g);
+
 /* Frees everything d owns and zeroes it.  Safe on a zeroed struct. */
 void pcdm_decomp_free(pcdm_decomp *d);
 

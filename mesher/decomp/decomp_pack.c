@@ -1,5 +1,6 @@
 /* decomp_pack: a decomposition as one byte buffer and back (pcdm_decomp_pack, pcdm_decomp_unpack),
- * so that one rank can compute it and the others receive it instead of computing it again.
+ * so that one rank can compute it and the others receive it instead of computing it again; the
+ * input PSLG alone the same way (pslg_pack, pslg_unpack), so that one rank reads and checks it.
  *
  * Layout: the scalar fields, then every array as (present, bytes, data): a 64-bit flag (0: the
  * pointer was NULL), a 64-bit byte count and the bytes, in a fixed order.  The buffer is read
@@ -73,27 +74,85 @@ static void *get_arr(rbuf *r, size_t len) {
 #define PUT(x) put(&w, &(x), sizeof(x))
 #define GET(x) get(&r, &(x), sizeof(x))
 
+/* A PSLG's counts and names, then (after the caller's scalars) its arrays. */
+static void put_pslg_head(wbuf *wp, const pslg *g) {
+    put(wp, &g->nverts, sizeof g->nverts), put(wp, &g->nattr, sizeof g->nattr);
+    put(wp, &g->nsegs, sizeof g->nsegs), put(wp, &g->nholes, sizeof g->nholes);
+    put(wp, &g->nregions, sizeof g->nregions), put(wp, &g->first_index, sizeof g->first_index);
+    put(wp, &g->quiet, sizeof g->quiet), put(wp, &g->scale_exp, sizeof g->scale_exp);
+    put(wp, g->path, sizeof g->path);
+    put(wp, g->segpath, sizeof g->segpath);
+}
+
+static void put_pslg_arrays(wbuf *wp, const pslg *g) {
+    size_t nv = (size_t)g->nverts, ns = (size_t)g->nsegs;
+    put_arr(wp, g->xy, 2 * nv * sizeof(double));
+    put_arr(wp, g->vmarker, nv * sizeof(int32_t));
+    put_arr(wp, g->vattr, (size_t)g->nattr * nv * sizeof(double));
+    put_arr(wp, g->vline, nv * sizeof(int32_t));
+    put_arr(wp, g->seg, 2 * ns * sizeof(int32_t));
+    put_arr(wp, g->smarker, ns * sizeof(int32_t));
+    put_arr(wp, g->sline, ns * sizeof(int32_t));
+    put_arr(wp, g->holes, 2 * (size_t)g->nholes * sizeof(double));
+    put_arr(wp, g->regions, 4 * (size_t)g->nregions * sizeof(double));
+}
+
+/* The counts are checked here: a bad one marks the buffer bad, and the arrays then read as
+ * empty (NULL). */
+static void get_pslg_head(rbuf *rp, pslg *g) {
+    get(rp, &g->nverts, sizeof g->nverts), get(rp, &g->nattr, sizeof g->nattr);
+    get(rp, &g->nsegs, sizeof g->nsegs), get(rp, &g->nholes, sizeof g->nholes);
+    get(rp, &g->nregions, sizeof g->nregions), get(rp, &g->first_index, sizeof g->first_index);
+    get(rp, &g->quiet, sizeof g->quiet), get(rp, &g->scale_exp, sizeof g->scale_exp);
+    get(rp, g->path, sizeof g->path);
+    get(rp, g->segpath, sizeof g->segpath);
+    g->path[sizeof g->path - 1] = g->segpath[sizeof g->segpath - 1] = '\0';
+    if (g->nverts < 0 || g->nsegs < 0 || g->nholes < 0 || g->nregions < 0 || g->nattr < 0)
+        rp->bad = 1;
+}
+
+static void get_pslg_arrays(rbuf *rp, pslg *g) {
+    size_t nv = rp->bad ? 0 : (size_t)g->nverts, ns = rp->bad ? 0 : (size_t)g->nsegs;
+    g->xy = get_arr(rp, 2 * nv * sizeof(double));
+    g->vmarker = get_arr(rp, nv * sizeof(int32_t));
+    g->vattr = get_arr(rp, (size_t)(rp->bad ? 0 : g->nattr) * nv * sizeof(double));
+    g->vline = get_arr(rp, nv * sizeof(int32_t));
+    g->seg = get_arr(rp, 2 * ns * sizeof(int32_t));
+    g->smarker = get_arr(rp, ns * sizeof(int32_t));
+    g->sline = get_arr(rp, ns * sizeof(int32_t));
+    g->holes = get_arr(rp, 2 * (size_t)(rp->bad ? 0 : g->nholes) * sizeof(double));
+    g->regions = get_arr(rp, 4 * (size_t)(rp->bad ? 0 : g->nregions) * sizeof(double));
+}
+
+void pslg_pack(const pslg *g, void **buf, size_t *len) {
+    wbuf w = {NULL, 0, 0};
+    put_pslg_head(&w, g);
+    put_pslg_arrays(&w, g);
+    *buf = w.p;
+    *len = w.n;
+}
+
+int pslg_unpack(const void *buf, size_t len, pslg *g) {
+    memset(g, 0, sizeof *g);
+    rbuf r = {buf, len, 0, 0};
+    get_pslg_head(&r, g);
+    get_pslg_arrays(&r, g);
+    if (!r.bad && r.at != r.n) r.bad = 1;
+    if (!r.bad && !g->xy) r.bad = 1;
+    if (r.bad) pslg_free(g);
+    return r.bad ? -1 : 0;
+}
+
 int pcdm_decomp_pack(const pcdm_decomp *d, void **buf, size_t *len) {
     if (d->cdt) return -1;
     wbuf w = {NULL, 0, 0};
     const pslg *g = &d->g;
-    PUT(g->nverts), PUT(g->nattr), PUT(g->nsegs), PUT(g->nholes), PUT(g->nregions);
-    PUT(g->first_index), PUT(g->quiet), PUT(g->scale_exp);
-    put(&w, g->path, sizeof g->path);
-    put(&w, g->segpath, sizeof g->segpath);
+    put_pslg_head(&w, g);
     PUT(d->ninput_verts), PUT(d->ninput_segs), PUT(d->nboundary), PUT(d->ncuts), PUT(d->nsub);
     PUT(d->nranks), PUT(d->floor2), PUT(d->total_weight), PUT(d->ncoarse), PUT(d->exact);
     PUT(d->build_s);
     size_t nv = (size_t)g->nverts, ns = (size_t)g->nsegs, K = (size_t)d->nsub;
-    put_arr(&w, g->xy, 2 * nv * sizeof(double));
-    put_arr(&w, g->vmarker, nv * sizeof(int32_t));
-    put_arr(&w, g->vattr, (size_t)g->nattr * nv * sizeof(double));
-    put_arr(&w, g->vline, nv * sizeof(int32_t));
-    put_arr(&w, g->seg, 2 * ns * sizeof(int32_t));
-    put_arr(&w, g->smarker, ns * sizeof(int32_t));
-    put_arr(&w, g->sline, ns * sizeof(int32_t));
-    put_arr(&w, g->holes, 2 * (size_t)g->nholes * sizeof(double));
-    put_arr(&w, g->regions, 4 * (size_t)g->nregions * sizeof(double));
+    put_pslg_arrays(&w, g);
     put_arr(&w, d->seg_parent, ns * sizeof(int32_t));
     put_arr(&w, d->seg_iface, ns);
     put_arr(&w, d->seg_sub, 2 * ns * sizeof(int32_t));
@@ -113,28 +172,14 @@ int pcdm_decomp_unpack(const void *buf, size_t len, pcdm_decomp *d) {
     memset(d, 0, sizeof *d);
     rbuf r = {buf, len, 0, 0};
     pslg *g = &d->g;
-    GET(g->nverts), GET(g->nattr), GET(g->nsegs), GET(g->nholes), GET(g->nregions);
-    GET(g->first_index), GET(g->quiet), GET(g->scale_exp);
-    get(&r, g->path, sizeof g->path);
-    get(&r, g->segpath, sizeof g->segpath);
+    get_pslg_head(&r, g);
     GET(d->ninput_verts), GET(d->ninput_segs), GET(d->nboundary), GET(d->ncuts), GET(d->nsub);
     GET(d->nranks), GET(d->floor2), GET(d->total_weight), GET(d->ncoarse), GET(d->exact);
     GET(d->build_s);
-    if (g->nverts < 0 || g->nsegs < 0 || g->nholes < 0 || g->nregions < 0 || g->nattr < 0 ||
-        d->ncuts < 0 || d->nsub < 1)
-        r.bad = 1;
-    g->path[sizeof g->path - 1] = g->segpath[sizeof g->segpath - 1] = '\0';
+    if (d->ncuts < 0 || d->nsub < 1) r.bad = 1;
     size_t nv = r.bad ? 0 : (size_t)g->nverts, ns = r.bad ? 0 : (size_t)g->nsegs,
            K = r.bad ? 0 : (size_t)d->nsub;
-    g->xy = get_arr(&r, 2 * nv * sizeof(double));
-    g->vmarker = get_arr(&r, nv * sizeof(int32_t));
-    g->vattr = get_arr(&r, (size_t)(r.bad ? 0 : g->nattr) * nv * sizeof(double));
-    g->vline = get_arr(&r, nv * sizeof(int32_t));
-    g->seg = get_arr(&r, 2 * ns * sizeof(int32_t));
-    g->smarker = get_arr(&r, ns * sizeof(int32_t));
-    g->sline = get_arr(&r, ns * sizeof(int32_t));
-    g->holes = get_arr(&r, 2 * (size_t)(r.bad ? 0 : g->nholes) * sizeof(double));
-    g->regions = get_arr(&r, 4 * (size_t)(r.bad ? 0 : g->nregions) * sizeof(double));
+    get_pslg_arrays(&r, g);
     d->seg_parent = get_arr(&r, ns * sizeof(int32_t));
     d->seg_iface = get_arr(&r, ns);
     d->seg_sub = get_arr(&r, 2 * ns * sizeof(int32_t));

@@ -65,13 +65,21 @@ int run_load(run_job *j, pslg *g, int quiet, int sizes, char *err, size_t errlen
     }
     if (pslg_boundary_markers(g) != 0) /* Triangle's marker rules, inherited by the mesh */
         MESH_BUG("%s: the boundary markers could not be set", g->path);
-    /* -r with -a alone: the old mesh's .area; --size: a background mesh (sizefield.h) */
-    if (sizes && size_field_load(&j->sizes, o->refine && o->region_area ? o->input : NULL,
-                                 o->size_field, g->scale_exp, err, errlen) != 0) {
+    if (sizes && run_load_sizes(j, g, err, errlen) != 0) {
         pslg_free(g);
         return -1;
     }
     return 0;
+}
+
+int run_load_sizes(run_job *j, const pslg *g, char *err, size_t errlen) {
+    const par_opts *o = &j->o;
+    memset(&j->sizes, 0, sizeof j->sizes);
+    /* -r with -a alone: the old mesh's .area; --size: a background mesh (sizefield.h) */
+    return size_field_load(&j->sizes, o->refine && o->region_area ? o->input : NULL, o->size_field,
+                           g->scale_exp, err, errlen) != 0
+               ? -1
+               : 0;
 }
 
 /* The library's size rule in the caller's units: coordinates and area scaled back exactly. */

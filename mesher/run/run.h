@@ -85,6 +85,10 @@ void run_job_free(run_job *j);
  * sizes set, loads -r's .area and --size into j->sizes.  Returns 0 (*g the caller's), or -1
  * with "FILE:LINE: problem" in err (*g holds nothing). */
 int run_load(run_job *j, pslg *g, int quiet, int sizes, char *err, size_t errlen);
+/* Local.  run_load's last step alone, for ranks that received g instead of reading it: loads
+ * -r's .area and --size into j->sizes (in g's working scale).  Returns 0, or -1 with the
+ * message in err. */
+int run_load_sizes(run_job *j, const pslg *g, char *err, size_t errlen);
 
 /* Local.  The bounds stage: the job's bounds as one value (bounds_make), with the region
  * bounds and the size rule (j->sizes, or the library's callback through a wrapper that shows

@@ -137,38 +137,67 @@ static void bcast_asleep(void *p, int64_t n, MPI_Datatype t, int size) {
     }
 }
 
+/* Collective.  Rank 0's status and bytes to every rank: with rc == 0 its *buf (*len bytes),
+ * else its message in err.  Returns rank 0's rc; the other ranks get *buf and *len (theirs to
+ * free) when it is 0, the message in err when it is not.  Rank 0's *buf stays its own. */
+static int share_bytes(int rc, void **buf, size_t *len, char *err, size_t errlen) {
+    int64_t hdr[2] = {rc, 0};
+    void *b = NULL;
+    if (rt_rank() == 0) {
+        b = rc == 0 ? *buf : err;
+        hdr[1] = (int64_t)(rc == 0 ? *len : strlen(err) + 1);
+    }
+    bcast_asleep(hdr, 2, MPI_INT64_T, (int)sizeof(int64_t));
+    if (rt_rank() != 0) b = mesh_xmalloc((size_t)hdr[1] + 1, 1);
+    bcast_asleep(b, hdr[1], MPI_BYTE, 1);
+    if (rt_rank() == 0) return rc;
+    rc = (int)hdr[0];
+    if (rc != 0) {
+        snprintf(err, errlen, "%.*s", (int)(hdr[1] > 0 ? hdr[1] - 1 : 0), (char *)b);
+        free(b);
+        return rc;
+    }
+    *buf = b;
+    *len = (size_t)hdr[1];
+    return 0;
+}
+
 /* Collective.  Rank 0's decomposition, or its failure (rc != 0 and the message in err), to every
  * rank as one packed buffer (pcdm_decomp_pack).  Returns rank 0's rc; d and err as on rank 0. */
 static int share_decomp(pcdm_decomp *d, int rc, char *err, size_t errlen) {
     void *buf = NULL;
     size_t len = 0;
-    int64_t hdr[2] = {rc, 0};
-    if (rt_rank() == 0) {
-        if (rc == 0 && pcdm_decomp_pack(d, &buf, &len) != 0) {
-            snprintf(err, errlen, "the decomposition cannot be sent to the other ranks");
-            rc = -1;
-        }
-        if (rc != 0) {
-            len = strlen(err) + 1;
-            buf = mesh_xmalloc(len, 1);
-            memcpy(buf, err, len);
-        }
-        hdr[0] = rc;
-        hdr[1] = (int64_t)len;
+    if (rt_rank() == 0 && rc == 0 && pcdm_decomp_pack(d, &buf, &len) != 0) {
+        snprintf(err, errlen, "the decomposition cannot be sent to the other ranks");
+        rc = -1;
     }
-    bcast_asleep(hdr, 2, MPI_INT64_T, (int)sizeof(int64_t));
-    if (rt_rank() != 0) buf = mesh_xmalloc((size_t)hdr[1] + 1, 1);
-    bcast_asleep(buf, hdr[1], MPI_BYTE, 1);
-    if (rt_rank() != 0) {
-        rc = (int)hdr[0];
-        if (rc != 0) {
-            snprintf(err, errlen, "%.*s", (int)(hdr[1] > 0 ? hdr[1] - 1 : 0), (char *)buf);
-        } else if (pcdm_decomp_unpack(buf, (size_t)hdr[1], d) != 0) {
-            snprintf(err, errlen, "the decomposition received from rank 0 is malformed");
+    rc = share_bytes(rc, &buf, &len, err, errlen);
+    if (rt_rank() != 0 && rc == 0 && pcdm_decomp_unpack(buf, len, d) != 0) {
+        snprintf(err, errlen, "the decomposition received from rank 0 is malformed");
+        rc = -1;
+    }
+    free(buf);
+    return rc;
+}
+
+/* Collective.  Rank 0's input, read and checked (or its failure: rc != 0, the message in err),
+ * to every rank (pslg_pack), which then loads the size rules itself.  Returns rank 0's rc, or
+ * -1 where the size rules cannot be loaded; in and err as on rank 0. */
+static int share_input(run_job *j, pslg *in, int rc, char *err, size_t errlen) {
+    void *buf = NULL;
+    size_t len = 0;
+    if (rt_rank() == 0 && rc == 0) pslg_pack(in, &buf, &len);
+    rc = share_bytes(rc, &buf, &len, err, errlen);
+    if (rt_rank() != 0 && rc == 0) {
+        if (pslg_unpack(buf, len, in) != 0) {
+            snprintf(err, errlen, "the input received from rank 0 is malformed");
             rc = -1;
+        } else {
+            in->quiet = 1; /* warnings: rank 0's */
         }
     }
     free(buf);
+    if (rc == 0 && run_load_sizes(j, in, err, errlen) != 0) rc = -1;
     return rc;
 }
 
@@ -247,8 +276,15 @@ int run_par_load(run_job *j, pslg *in, pcdm_decomp *d) {
     memset(d, 0, sizeof *d);
     geom_init();
     int quiet = j->lib || o->quiet || rt_rank() != 0; /* warnings: rank 0 only */
+    /* the programs: rank 0 reads and checks the input and sends it (ranks sharing cores would
+     * each read it again; the file need not be on the other ranks' machines); the library's
+     * ranks each hold their own arrays */
+    int share = rt_size() > 1 && !j->lib && !j->given;
     double t0 = rt_wtime();
-    int rc = run_load(j, in, quiet, !j->lib, err, sizeof err) == 0 ? 0 : RUN_FINPUT;
+    int rc = 0;
+    if (!share || rt_rank() == 0)
+        rc = run_load(j, in, quiet, !j->lib && !share, err, sizeof err) == 0 ? 0 : RUN_FINPUT;
+    if (share && share_input(j, in, rc, err, sizeof err) != 0 && rc == 0) rc = RUN_FINPUT;
     j->load_s = rt_wtime() - t0;
     char pre[600];
     /* every rank holds the same input before the decomposition (which may be collective), and
@@ -257,6 +293,7 @@ int run_par_load(run_job *j, pslg *in, pcdm_decomp *d) {
         if (stage == 1) rc = decompose(j, in, d, err, sizeof err);
         snprintf(msg, sizeof msg, "%s%s", msg_prefix(j, 0, pre, sizeof pre), err);
         if ((rc = run_agree(j, rc, msg)) != 0) goto fail;
+        if (stage == 0 && share) continue; /* received: rank 0's */
         if (stage == 0 ? par_input_agrees(in) : par_decomp_agrees(d)) continue;
         snprintf(msg, sizeof msg,
                  stage == 0 ? "%sthe ranks read different inputs from %.200s (is it the same file "
