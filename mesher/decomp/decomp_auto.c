@@ -188,13 +188,6 @@ typedef struct gedge {
     double len;
 } gedge;
 
-static int cmp_gedge(const void *x, const void *y) {
-    const gedge *p = x, *q = y;
-    if (p->a != q->a) return p->a < q->a ? -1 : 1;
-    if (p->b != q->b) return p->b < q->b ? -1 : 1;
-    return 0;
-}
-
 static int32_t uf_find(int32_t *up, int32_t x) {
     while (up[x] != x)
         x = up[x] = up[up[x]];
@@ -254,22 +247,40 @@ static int partition(const mesh *m, const int32_t *id, int32_t n, const double *
             ge[ng++] = (gedge){a, node[id[nb / 3]], l};
         }
     }
-    qsort(ge, (size_t)ng, sizeof *ge, cmp_gedge);
-    idx_t *xadj = mesh_xcalloc((size_t)nn + 1, sizeof(idx_t));
+    /* rows by a (a counting sort), each row by b with duplicates (united vertices) merged */
+    idx_t *xadj = mesh_xcalloc((size_t)nn + 2, sizeof(idx_t));
+    for (int32_t i = 0; i < ng; i++)
+        xadj[ge[i].a + 2]++;
+    for (int32_t x = 0; x < nn; x++)
+        xadj[x + 2] += xadj[x + 1];
+    gedge *row = mesh_xmalloc((size_t)ng + 1, sizeof(gedge));
+    for (int32_t i = 0; i < ng; i++)
+        row[xadj[ge[i].a + 1]++] = ge[i];
     idx_t *adj = mesh_xmalloc((size_t)ng + 1, sizeof(idx_t));
     double *len = mesh_xmalloc((size_t)ng + 1, sizeof(double));
     int32_t ne = 0;
-    for (int32_t i = 0; i < ng; i++) { /* duplicates (united vertices) merged */
-        if (ne > 0 && i > 0 && ge[i].a == ge[i - 1].a && ge[i].b == ge[i - 1].b) {
-            len[ne - 1] += ge[i].len;
-            continue;
+    for (int32_t x = 0, at = 0; x < nn; x++) {
+        int32_t end = (int32_t)xadj[x + 1];
+        xadj[x] = ne;
+        for (int32_t u = at + 1; u < end; u++) { /* insertion sort by b: rows are short */
+            gedge g = row[u];
+            int32_t k = u;
+            for (; k > at && row[k - 1].b > g.b; k--)
+                row[k] = row[k - 1];
+            row[k] = g;
         }
-        adj[ne] = ge[i].b;
-        len[ne++] = ge[i].len;
-        xadj[ge[i].a + 1] = ne;
+        for (int32_t i = at; i < end; i++) {
+            if (i > at && row[i].b == row[i - 1].b) {
+                len[ne - 1] += row[i].len;
+                continue;
+            }
+            adj[ne] = row[i].b;
+            len[ne++] = row[i].len;
+        }
+        at = end;
     }
-    for (int32_t x = 0; x < nn; x++) /* vertices with no edge of their own */
-        if (xadj[x + 1] < xadj[x]) xadj[x + 1] = xadj[x];
+    xadj[nn] = ne;
+    mesh_xfree(row);
     mesh_xfree(ge);
     /* connected? (contiguous parts are asked for only then) */
     int32_t *stk = mesh_xmalloc((size_t)nn + 1, sizeof(int32_t));
@@ -384,6 +395,10 @@ typedef struct smooth {
     corner_rec *c, *c2; /* corners of a star; of another star (bad_at) */
     int32_t ncap, ncap2;
     int32_t *vs, vcap; /* bad_around's vertices */
+    /* nv: 1 where a vertex may end an interface edge (set at each pass's start for those that
+     * do, and for every vertex of a moved triangle): a vertex with 0 bounds no sector a pass
+     * looks at, so its star (an arctangent a corner) is not walked */
+    uint8_t *near;
 } smooth;
 
 static int touches_corner(const mesh *m, int32_t t) {
@@ -425,6 +440,8 @@ static int move_tris(smooth *S, const int32_t *ts, int32_t n, int32_t p, int32_t
         S->part[ts[i]] = q;
         S->pw[p] -= S->tw[ts[i]];
         S->pw[q] += S->tw[ts[i]];
+        for (int j = 0; S->near && j < 3; j++)
+            S->near[S->m->tv[3 * ts[i] + j]] = 1;
     }
     S->cnt[p] -= n;
     S->cnt[q] += n;
@@ -541,7 +558,15 @@ static int32_t bad_around(smooth *S, const int32_t *ts, int32_t n) {
 static int32_t widen_pass(smooth *S, int exact) {
     const mesh *m = S->m;
     int32_t moves = 0, *ts = NULL, tcap = 0;
+    if (!exact) {
+        memset(S->near, 0, (size_t)m->nv);
+        for (int32_t t = 0; t < m->nt; t++)
+            for (int j = 0; mesh_tri_alive(m, t) && j < 3; j++)
+                if (edge_iface(m, S->part, 3 * t + j))
+                    S->near[mesh_org(m, 3 * t + j)] = S->near[mesh_dest(m, 3 * t + j)] = 1;
+    }
     for (int32_t v = 0; v < m->nv && !exact; v++) {
+        if (!S->near[v]) continue; /* no interface edge ends here */
         int32_t nc = star(S, v, &S->c, &S->ncap);
         for (int32_t a = 0, b = 0; a < nc; a = b) {
             /* the sector starting at corner a: corners a..b-1 (same part, no cut inside) */
@@ -617,6 +642,7 @@ static void widen(const mesh *m, int32_t *part, const double *tw, int32_t K, int
     S.tw = tw;
     S.pw = mesh_xcalloc((size_t)K, sizeof(double));
     S.cnt = mesh_xcalloc((size_t)K, sizeof(int32_t));
+    S.near = mesh_xcalloc((size_t)m->nv + 1, 1);
     for (int32_t t = 0; t < m->nt; t++)
         if (mesh_tri_alive(m, t)) {
             S.pw[part[t]] += tw[t];
@@ -639,6 +665,7 @@ static void widen(const mesh *m, int32_t *part, const double *tw, int32_t K, int
     mesh_xfree(S.vs);
     mesh_xfree(S.pw);
     mesh_xfree(S.cnt);
+    mesh_xfree(S.near);
 }
 
 /* Every part left empty by METIS (it may, at a few triangles per part) or by merge_corners
