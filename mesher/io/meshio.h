@@ -10,6 +10,8 @@
 #ifndef MESHIO_H
 #define MESHIO_H
 
+#include "base/base.h"
+
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -38,6 +40,25 @@ typedef struct mesh_flat {
     double *holes;   /* 2 * nholes */
     double *regions; /* 4 * nregions: x, y, attribute, maximum area */
 } mesh_flat;
+
+/* Triangle t's hash for the mesh hash (a sum of these mod 2^64 over every triangle): its
+ * vertices' coordinate bits, starting at the smallest (x, y) and kept counter-clockwise, so the
+ * sum is independent of numbering and of how the triangles are split among parts.  Local, pure. */
+static inline uint64_t meshio_tri_hash(const mesh_flat *f, int64_t t) {
+    const int32_t *v = f->tri + 3 * (size_t)t;
+    int first = 0;
+    for (int i = 1; i < 3; i++) {
+        const double *p = f->xy + 2 * (size_t)v[i], *q = f->xy + 2 * (size_t)v[first];
+        if (p[0] < q[0] || (p[0] == q[0] && p[1] < q[1])) first = i;
+    }
+    uint64_t h = 0x243f6a8885a308d3ULL;
+    for (int i = 0; i < 3; i++) {
+        const double *p = f->xy + 2 * (size_t)v[(first + i) % 3];
+        h = mesh_hash64(h ^ mesh_dbits(p[0]));
+        h = mesh_hash64(h ^ (mesh_dbits(p[1]) * 0x9e3779b97f4a7c15ULL));
+    }
+    return h;
+}
 
 struct pslg;
 

@@ -351,107 +351,109 @@ int par_write_parts(const par_opts *o, const pslg *in, const mesh_flat *local, c
     return 0;
 }
 
-/* The smallest angle and largest area without three atan2 per triangle: the smallest angle (at most
- * 60 degrees, opposite the shortest edge a) has sin^2 = (2 area)^2 / (b^2 c^2), monotone in the
- * angle there, so only the triangle minimising it gets geom_min_angle_deg.  On the rank's threads:
- * each takes a range of triangles; the lowest k wins, the first triangle on ties, as in one
- * pass. */
-typedef struct quality_job {
-    const mesh_flat *g;
-    double kmin[MESH_PFOR_MAXTHR], amax[MESH_PFOR_MAXTHR];
-    int32_t tmin[MESH_PFOR_MAXTHR];
-} quality_job;
+/* One pass over a part's triangles (the slowest part of the end on a large mesh is waiting on
+ * the coordinates, so every figure is taken at once), on the rank's threads, each a range of
+ * blocks of 256 triangles:
+ *  - the area: doubled areas summed plainly in each block, the blocks' sums then with
+ *    Neumaier's compensation in block order (as mesh_area): the same value for any thread count;
+ *  - the mesh hash's part (with hash): the sum of meshio_tri_hash mod 2^64;
+ *  - the quality (with quality): the smallest angle and largest area without three atan2 per
+ *    triangle -- the smallest angle (at most 60 degrees, opposite the shortest edge a) has
+ *    sin^2 = (2 area)^2 / (b^2 c^2), monotone in the angle there, so only the triangle minimising
+ *    it gets geom_min_angle_deg; the lowest value wins, the first triangle on ties, as in one
+ *    pass. */
+typedef struct survey {
+    double area;       /* the part's area, working scale */
+    uint64_t hash;     /* its share of the mesh hash (with hash) */
+    double kmin, amax; /* (with quality) the smallest sin^2 figure, the largest area */
+    int64_t tmin;      /* the triangle of kmin, -1 if none */
+} survey;
 
-static void quality_range(void *arg, int part, int64_t t0, int64_t t1) {
-    quality_job *j = arg;
-    const mesh_flat *g = j->g;
-    double kmin = 2, amax = 0;
-    int32_t tmin = -1;
-    for (int64_t t = t0; t < t1; t++) {
-        const double *a = g->xy + 2 * (size_t)g->tri[3 * (size_t)t],
-                     *b = g->xy + 2 * (size_t)g->tri[3 * (size_t)t + 1],
-                     *c = g->xy + 2 * (size_t)g->tri[3 * (size_t)t + 2];
-        double ab = (b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]);
-        double bc = (c[0] - b[0]) * (c[0] - b[0]) + (c[1] - b[1]) * (c[1] - b[1]);
-        double ca = (a[0] - c[0]) * (a[0] - c[0]) + (a[1] - c[1]) * (a[1] - c[1]);
-        double ar = geom_area(a, b, c), lo = fmin(ab, fmin(bc, ca));
-        double prod = lo == ab ? bc * ca : lo == bc ? ab * ca : ab * bc;
-        double k = prod > 0 ? 4 * ar * ar / prod : 0;
-        if (k < kmin) {
-            kmin = k;
-            tmin = (int32_t)t;
-        }
-        if (ar > amax) amax = ar;
-    }
-    j->kmin[part] = kmin;
-    j->tmin[part] = tmin;
-    j->amax[part] = amax;
-}
-
-static double part_quality(const mesh_flat *g, int threads, double *max_area) {
-    quality_job j = {.g = g};
-    int n = mesh_pfor_ranges(g->ntris, threads, 1 << 14, quality_range, &j);
-    double kmin = 2, amax = 0;
-    int32_t tmin = -1;
-    for (int k = 0; k < n; k++) {
-        if (j.kmin[k] < kmin) {
-            kmin = j.kmin[k];
-            tmin = j.tmin[k];
-        }
-        if (j.amax[k] > amax) amax = j.amax[k];
-    }
-    if (max_area) *max_area = amax;
-    if (tmin < 0) return 180;
-    return geom_min_angle_deg(g->xy + 2 * (size_t)g->tri[3 * (size_t)tmin],
-                              g->xy + 2 * (size_t)g->tri[3 * (size_t)tmin + 1],
-                              g->xy + 2 * (size_t)g->tri[3 * (size_t)tmin + 2]);
-}
-
-void par_quality_all(const mesh_flat *local, int threads, double *min_angle, double *max_area) {
-    double mx = 0, mn = part_quality(local, threads, &mx);
-    MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, &mn, 1, MPI_DOUBLE, MPI_MIN, rt_app_comm()));
-    MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, &mx, 1, MPI_DOUBLE, MPI_MAX, rt_app_comm()));
-    *min_angle = mn;
-    if (max_area) *max_area = mx;
-}
-
-/* The sum of a part's triangle areas (working scale): doubled areas summed plainly in blocks
- * of 256 (on the rank's threads, each a range of blocks), the blocks' sums then with Neumaier's
- * compensation in block order (as mesh_area): the same value for any thread count. */
-typedef struct area_job {
+typedef struct survey_job {
     const mesh_flat *f;
+    int hash, quality;
     double *blk;
-} area_job;
+    uint64_t hsum[MESH_PFOR_MAXTHR];
+    double kmin[MESH_PFOR_MAXTHR], amax[MESH_PFOR_MAXTHR];
+    int64_t tmin[MESH_PFOR_MAXTHR];
+} survey_job;
 
-static void area_range(void *arg, int part, int64_t b0, int64_t b1) {
-    (void)part;
-    const area_job *j = arg;
+static void survey_range(void *arg, int part, int64_t b0, int64_t b1) {
+    survey_job *j = arg;
     const mesh_flat *f = j->f;
+    double kmin = 2, amax = 0;
+    int64_t tmin = -1;
+    uint64_t hs = 0;
     for (int64_t k = b0; k < b1; k++) {
         int64_t t0 = 256 * k, t1 = f->ntris - t0 < 256 ? f->ntris : t0 + 256;
         double x = 0;
         for (int64_t t = t0; t < t1; t++) {
             const int32_t *v = f->tri + 3 * (size_t)t;
-            const double *p = f->xy + 2 * (size_t)v[0], *q = f->xy + 2 * (size_t)v[1],
-                         *r = f->xy + 2 * (size_t)v[2];
-            x += (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+            const double *a = f->xy + 2 * (size_t)v[0], *b = f->xy + 2 * (size_t)v[1],
+                         *c = f->xy + 2 * (size_t)v[2];
+            x += (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+            if (j->hash) hs += meshio_tri_hash(f, t);
+            if (!j->quality) continue;
+            double ab = (b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]);
+            double bc = (c[0] - b[0]) * (c[0] - b[0]) + (c[1] - b[1]) * (c[1] - b[1]);
+            double ca = (a[0] - c[0]) * (a[0] - c[0]) + (a[1] - c[1]) * (a[1] - c[1]);
+            double ar = geom_area(a, b, c), lo = fmin(ab, fmin(bc, ca));
+            double prod = lo == ab ? bc * ca : lo == bc ? ab * ca : ab * bc;
+            double q = prod > 0 ? 4 * ar * ar / prod : 0;
+            if (q < kmin) {
+                kmin = q;
+                tmin = t;
+            }
+            if (ar > amax) amax = ar;
         }
         j->blk[k] = x;
     }
+    j->hsum[part] = hs;
+    j->kmin[part] = kmin;
+    j->tmin[part] = tmin;
+    j->amax[part] = amax;
 }
 
-static double flat_area(const mesh_flat *f, int threads) {
+static void part_survey(const mesh_flat *f, int threads, int hash, int quality, survey *s) {
     int64_t nb = ((int64_t)f->ntris + 255) / 256;
-    area_job j = {f, mesh_xmalloc((size_t)nb + 1, sizeof(double))};
-    mesh_pfor_ranges(nb, threads, 64, area_range, &j);
+    survey_job j = {.f = f, .hash = hash, .quality = quality};
+    j.blk = mesh_xmalloc((size_t)nb + 1, sizeof(double));
+    int n = mesh_pfor_ranges(nb, threads, 64, survey_range, &j);
     double a = 0, c = 0;
     for (int64_t k = 0; k < nb; k++) {
-        double x = j.blk[k], s = a + x;
-        c += fabs(a) >= fabs(x) ? (a - s) + x : (x - s) + a;
-        a = s;
+        double x = j.blk[k], sum = a + x;
+        c += fabs(a) >= fabs(x) ? (a - sum) + x : (x - sum) + a;
+        a = sum;
     }
     free(j.blk);
-    return 0.5 * (a + c);
+    s->area = 0.5 * (a + c);
+    s->hash = 0;
+    s->kmin = 2;
+    s->amax = 0;
+    s->tmin = -1;
+    for (int k = 0; k < n; k++) { /* parts in order: the first triangle on ties */
+        s->hash += j.hsum[k];
+        if (j.kmin[k] < s->kmin) {
+            s->kmin = j.kmin[k];
+            s->tmin = j.tmin[k];
+        }
+        if (j.amax[k] > s->amax) s->amax = j.amax[k];
+    }
+}
+
+/* Collective.  The smallest angle and largest area over every rank's part, from each rank's
+ * survey (the same on every rank). */
+static void quality_all(const mesh_flat *f, const survey *s, double *min_angle, double *max_area) {
+    double mn = 180, mx = s->amax;
+    if (s->tmin >= 0) {
+        const int32_t *v = f->tri + 3 * (size_t)s->tmin;
+        mn = geom_min_angle_deg(f->xy + 2 * (size_t)v[0], f->xy + 2 * (size_t)v[1],
+                                f->xy + 2 * (size_t)v[2]);
+    }
+    MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, &mn, 1, MPI_DOUBLE, MPI_MIN, rt_app_comm()));
+    MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, &mx, 1, MPI_DOUBLE, MPI_MAX, rt_app_comm()));
+    *min_angle = mn;
+    *max_area = mx;
 }
 
 int par_output_sub(const par_opts *o, const pslg *in, mesh_flat *local, const uint8_t *artificial,
@@ -469,8 +471,13 @@ int par_output_sub(const par_opts *o, const pslg *in, mesh_flat *local, const ui
     snprintf(msg, sizeof msg, "%s: %s: rank %d: %s", o->prog, in->path[0] ? in->path : "mesh",
              rt_rank(), imsg);
     if (par_fail_any(ibad, msg)) return 1;
-    /* ... and the parts' areas sum to the domain's (the cheap net ./mesh runs too) */
-    double area = flat_area(local, o->threads), dom = 0;
+    /* ... and the parts' areas sum to the domain's (the cheap net ./mesh runs too); the hash
+     * and the quality figures in the same pass */
+    survey sv;
+    int quality = o->stats || o->verbose; /* only printed there */
+    part_survey(local, o->threads, o->stats, quality, &sv);
+    sum->hash = sv.hash;
+    double area = sv.area, dom = 0;
     MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, &area, 1, MPI_DOUBLE, MPI_SUM, rt_app_comm()));
     int abad = !validate_area_net(in, area, &dom);
     snprintf(msg, sizeof msg,
@@ -506,8 +513,7 @@ int par_output_sub(const par_opts *o, const pslg *in, mesh_flat *local, const ui
     sum->nsegs = num.nsegs;
     sum->nshared = num.nshared;
     par_numbering_free(&num);
-    if (o->stats || o->verbose) /* only printed there */
-        par_quality_all(local, o->threads, &sum->min_angle, &sum->max_area);
+    if (quality) quality_all(local, &sv, &sum->min_angle, &sum->max_area);
     sum->number_s = t1 - t0;
     sum->check_s = t2 - t1;
     sum->write_s = t3 - t2;

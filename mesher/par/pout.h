@@ -99,10 +99,6 @@ int par_check_parts(const par_opts *o, const pslg *in, mesh_flat *local, const p
 int par_write_parts(const par_opts *o, const pslg *in, const mesh_flat *local, const int32_t *tsub,
                     const par_numbering *num);
 
-/* Collective.  Smallest angle and largest area over every rank's triangles (the same on every
- * rank), each rank's part scanned on up to threads threads (the same result for any count). */
-void par_quality_all(const mesh_flat *local, int threads, double *min_angle, double *max_area);
-
 /* Collective.  The --stats figures: when on, rank 0 receives every rank's n figures (returned,
  * rank-major, free with free()) and tot/mx (n entries each) get their sums and maxima over the
  * ranks; other ranks, or on == 0: returns NULL and leaves tot/mx alone.  The mesh never moves:
@@ -113,6 +109,7 @@ double *par_stats_collect(const double *mine, int n, int on, double *tot, double
 typedef struct par_summary {
     int64_t ntris, nverts, nsegs;      /* the whole mesh as written */
     double min_angle, max_area;        /* over all triangles (with --stats or -V only; else 0) */
+    uint64_t hash;                     /* this rank's share of the mesh hash (--stats; else 0) */
     int32_t nshared;                   /* this rank's vertices another rank also holds */
     double number_s, check_s, write_s; /* seconds (this rank) in each step */
 } par_summary;

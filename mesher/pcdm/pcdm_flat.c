@@ -43,21 +43,8 @@ static void hash_range(void *arg, int k, int64_t a, int64_t b) {
     hash_job *j = arg;
     const mesh_flat *f = j->f;
     uint64_t sum = 0;
-    for (int64_t t = a; t < b; t++) {
-        const int32_t *v = f->tri + 3 * (size_t)t;
-        int first = 0;
-        for (int i = 1; i < 3; i++) {
-            const double *p = f->xy + 2 * (size_t)v[i], *q = f->xy + 2 * (size_t)v[first];
-            if (p[0] < q[0] || (p[0] == q[0] && p[1] < q[1])) first = i;
-        }
-        uint64_t h = 0x243f6a8885a308d3ULL;
-        for (int i = 0; i < 3; i++) {
-            const double *p = f->xy + 2 * (size_t)v[(first + i) % 3];
-            h = mesh_hash64(h ^ mesh_dbits(p[0]));
-            h = mesh_hash64(h ^ (mesh_dbits(p[1]) * 0x9e3779b97f4a7c15ULL));
-        }
-        sum += h;
-    }
+    for (int64_t t = a; t < b; t++)
+        sum += meshio_tri_hash(f, t);
     j->sum[k] = sum;
 }
 

@@ -686,12 +686,6 @@ int run_par_main(int argc, char **argv, run_method method, par_parse_fn parse, c
     int verbose = j.o.verbose && !j.o.quiet; /* -Q wins */
     if (verbose) par_verbose_input(&j.o, &in, &d, j.load_s);
     if (run_par_mesh(&j, &in, &d, &p, &st) != 0) goto done; /* 2-4. bounds, mesh, verdict */
-    /* the mesh hash: a sum over triangles, so one reduction of the parts' sums */
-    uint64_t hash = 0, hash_part = j.o.stats && method == RUN_PCDM
-                                       ? pcdm_flat_hash(&p.local, j.o.threads)
-                                       : 0;
-    if (j.o.stats && method == RUN_PCDM)
-        MESH_MPI(MPI_Reduce(&hash_part, &hash, 1, MPI_UINT64_T, MPI_SUM, 0, rt_app_comm()));
     /* 5, 6. the interface check, numbering, --check (held to the bounds only when they were
      * met) and the files, every rank its own part */
     par_summary sum;
@@ -699,6 +693,11 @@ int run_par_main(int argc, char **argv, run_method method, par_parse_fn parse, c
     par_opts oc = j.o;
     run_check_bounds(&j, &oc.min_angle, &oc.max_area, &oc.region_area);
     int out = par_output_sub(&oc, &in, &p.local, p.artificial, p.tsub, p.topen, &sum);
+    /* the mesh hash: a sum over triangles (par_output_sub's pass), so one reduction of the
+     * parts' sums */
+    uint64_t hash = 0;
+    if (j.o.stats && method == RUN_PCDM && out == 0)
+        MESH_MPI(MPI_Reduce(&sum.hash, &hash, 1, MPI_UINT64_T, MPI_SUM, 0, rt_app_comm()));
     int32_t rounds = p.rounds;
     double wall = p.wall;
     run_part_free(&p);
