@@ -614,6 +614,84 @@ START_TEST(test_pack) {
 }
 END_TEST
 
+/* The fast route (an input of FAST_MIN_VERTS vertices or more: a wavy ring of 9000) keeps its
+ * triangles by subdomain: every subdomain has some, every one is counter-clockwise and in g's
+ * vertices, they cover the domain's area, and they travel in the pack; the input alone packs
+ * and unpacks field for field (pslg_pack), and a cut buffer is refused. */
+START_TEST(test_pack_fast) {
+    enum { N = 9000 };
+    double *xy = malloc(2 * N * sizeof(double));
+    int32_t *seg = malloc(2 * N * sizeof(int32_t));
+    for (int i = 0; i < N; i++) {
+        double t = 2 * M_PI * i / N, r = 1 + 0.1 * sin(7 * t);
+        xy[2 * i] = r * cos(t);
+        xy[2 * i + 1] = r * sin(t);
+        seg[2 * i] = i;
+        seg[2 * i + 1] = (i + 1) % N;
+    }
+    pslg in;
+    memset(&in, 0, sizeof in);
+    in.nverts = N;
+    in.xy = xy;
+    in.vmarker = calloc(N, sizeof(int32_t));
+    in.vline = calloc(N, sizeof(int32_t));
+    in.nsegs = N;
+    in.seg = seg;
+    in.smarker = calloc(N, sizeof(int32_t));
+    in.sline = calloc(N, sizeof(int32_t));
+    char err[1024];
+    ck_assert_msg(pslg_check(&in, err, sizeof err) == 0, "%s", err);
+    pcdm_decomp_opts o;
+    pcdm_decomp_opts_default(&o);
+    o.nsub = 8;
+    o.nranks = 2;
+    o.max_area = 1e-4;
+    pcdm_decomp d, e;
+    ck_assert_msg(pcdm_decomp_auto(&in, &o, &d, err, sizeof err) == 0, "%s", err);
+    ck_assert_msg(d.tri_off && d.tri, "the fast route kept no triangles");
+    double area = 0;
+    for (int32_t k = 0; k < d.nsub; k++) {
+        ck_assert_int_gt(d.tri_off[k + 1], d.tri_off[k]);
+        for (int32_t t = d.tri_off[k]; t < d.tri_off[k + 1]; t++) {
+            const int32_t *v = d.tri + 3 * (size_t)t;
+            for (int j = 0; j < 3; j++)
+                ck_assert(v[j] >= 0 && v[j] < d.g.nverts);
+            double a = geom_area(d.g.xy + 2 * v[0], d.g.xy + 2 * v[1], d.g.xy + 2 * v[2]);
+            ck_assert_msg(a > 0, "triangle %d of subdomain %d is not counter-clockwise", t, k);
+            area += a;
+        }
+    }
+    ck_assert_msg(fabs(area - pslg_domain_area(&in)) <= 1e-9 * area, "area %.17g, domain %.17g",
+                  area, pslg_domain_area(&in));
+    void *buf = NULL;
+    size_t len = 0;
+    ck_assert_int_eq(pcdm_decomp_pack(&d, &buf, &len), 0);
+    ck_assert_int_eq(pcdm_decomp_unpack(buf, len, &e), 0);
+    size_t nt = (size_t)d.tri_off[d.nsub];
+    ck_assert(!memcmp(e.tri_off, d.tri_off, ((size_t)d.nsub + 1) * sizeof(int32_t)));
+    ck_assert(!memcmp(e.tri, d.tri, 3 * nt * sizeof(int32_t)));
+    pcdm_decomp_free(&e);
+    ck_assert_int_eq(pcdm_decomp_unpack(buf, len - 4, &e), -1);
+    free(buf);
+    pslg g;
+    pslg_pack(&in, &buf, &len);
+    ck_assert_int_eq(pslg_unpack(buf, len, &g), 0);
+    ck_assert_int_eq(g.nverts, in.nverts);
+    ck_assert_int_eq(g.nsegs, in.nsegs);
+    ck_assert_int_eq(g.scale_exp, in.scale_exp);
+    ck_assert(!memcmp(g.xy, in.xy, 2 * (size_t)N * sizeof(double)));
+    ck_assert(!memcmp(g.seg, in.seg, 2 * (size_t)in.nsegs * sizeof(int32_t)));
+    pslg_free(&g);
+    for (size_t cut = 0; cut < len; cut += 1 + cut / 5) {
+        ck_assert_int_eq(pslg_unpack(buf, cut, &g), -1);
+        ck_assert_ptr_null(g.xy);
+    }
+    free(buf);
+    pcdm_decomp_free(&d);
+    pslg_free(&in);
+}
+END_TEST
+
 /* ./pbw's decomposition: the best of several METIS seeds by predicted cost (boundary_cost). */
 START_TEST(test_boundary_seeds) {
     pslg in;
@@ -676,6 +754,7 @@ static Suite *decomp_suite(void) {
     tcase_add_test(tc, test_owner_balance);
     tcase_add_test(tc, test_boundary_seeds);
     tcase_add_test(tc, test_pack);
+    tcase_add_test(tc, test_pack_fast);
     suite_add_tcase(s, tc);
     TCase *tf = tcase_create("cuts");
     tcase_set_timeout(tf, 60);

@@ -1,7 +1,8 @@
 /* unit_mesh: Check suite for the mesher core (mesher/seq/mesh.h): Delaunay triangulation of point
  * sets (square, collinear, cocircular lattice, random), constrained Delaunay triangulation of
  * PSLGs (polygons with holes, random non-crossing segments, vertices lying exactly on
- * segments), refinement, the PCDM hooks (named splits, on_split, poll, resumable refinement,
+ * segments), a mesh from given triangles (mesh_build_from_triangles, with refused faults),
+ * refinement, the PCDM hooks (named splits, on_split, poll, resumable refinement,
  * regions), the flat output, and the quality rule (mesh_rules_bad_bound against its plain
  * statement, bit for bit).  Every mesh goes through a structural check of the mesh
  * itself (orientation, neighbour involution, constraint bits, boundary, local Delaunay with
@@ -988,6 +989,76 @@ START_TEST(test_quality_rule) {
 }
 END_TEST
 
+/* mesh_build_from_triangles: a CDT's own triangles give back a valid mesh that refines as the CDT
+ * does; triangles that are not a triangulation of the PSLG are refused: one turned clockwise,
+ * one missing (a boundary edge that is no segment), one repeated (an edge in three triangles),
+ * a segment that is no edge. */
+START_TEST(test_from_triangles) {
+    const double xy[] = {0, 0, 1, 0, 1, 1, 0, 1, 0.5, 0.4, 0.3, 0.7};
+    pslg g = make_pslg(6, xy, 4, square_seg, 0, NULL);
+    char err[512];
+    ck_assert_msg(pslg_check(&g, err, sizeof err) == 0, "pslg_check: %s", err);
+    mesh c;
+    mesh_init(&c);
+    ck_assert_msg(mesh_build_cdt(&c, &g, NULL, err, sizeof err) == 0, "cdt: %s", err);
+    int32_t n = 0, *tri = malloc(3 * (size_t)c.nt * sizeof(int32_t) + 12);
+    for (int32_t t = 0; t < c.nt; t++)
+        if (mesh_tri_alive(&c, t)) memcpy(tri + 3 * n++, c.tv + 3 * t, 3 * sizeof(int32_t));
+    mesh_free(&c);
+    mesh m;
+    mesh_init(&m);
+    ck_assert_msg(mesh_build_from_triangles(&m, &g, NULL, n, tri, err, sizeof err) == 0,
+                  "from triangles: %s", err);
+    validate(&m, &g, 0, 0);
+    mesh_quality mq = {30, 0.001, 2000000, 1, 0};
+    mesh_set_quality(&m, &mq);
+    ck_assert_int_eq(mesh_refine(&m), MESH_REFINE_DONE);
+    validate(&m, &g, 30, 0.001);
+    mesh_free(&m);
+    for (int fault = 0; fault < 4; fault++) {
+        int32_t k = n, *t2 = malloc(3 * ((size_t)n + 1) * sizeof(int32_t));
+        memcpy(t2, tri, 3 * (size_t)n * sizeof(int32_t));
+        /* fault 3: the square and one more segment between two vertices that no triangle
+         * joins (none lies on it: the interior points are not collinear with a corner) */
+        int32_t seg5[10];
+        memcpy(seg5, square_seg, 8 * sizeof(int32_t));
+        for (int32_t a = 0, found = 0; fault == 3 && a < 6 && !found; a++)
+            for (int32_t b = a + 1; b < 6 && !found; b++) {
+                int edge = (b == a + 1 && b < 4) || (a == 0 && b == 3);
+                for (int32_t i = 0; i < n && !edge; i++)
+                    for (int j = 0; j < 3; j++)
+                        edge |= (tri[3 * i + j] == a && tri[3 * i + (j + 1) % 3] == b) ||
+                                (tri[3 * i + j] == b && tri[3 * i + (j + 1) % 3] == a);
+                if (!edge) seg5[8] = a, seg5[9] = b, found = 1;
+            }
+        pslg h = make_pslg(6, xy, fault == 3 ? 5 : 4, seg5, 0, NULL);
+        ck_assert_int_eq(pslg_check(&h, err, sizeof err), 0);
+        if (fault == 0) { /* clockwise */
+            int32_t x = t2[0];
+            t2[0] = t2[1];
+            t2[1] = x;
+        } else if (fault == 1) { /* one missing */
+            k = n - 1;
+        } else if (fault == 2) { /* one repeated */
+            memcpy(t2 + 3 * n, t2, 3 * sizeof(int32_t));
+            k = n + 1;
+        }
+        mesh_init(&m);
+        err[0] = '\0';
+        int rc = mesh_build_from_triangles(&m, &h, NULL, k, t2, err, sizeof err);
+        ck_assert_msg(rc != 0, "fault %d: triangles accepted", fault);
+        /* a missing triangle leaves a boundary edge that is no segment, or a segment no edge */
+        const char *want[] = {"counter-clockwise", "edge", "more than two", "no edge"};
+        ck_assert_msg(strstr(err, want[fault]) != NULL, "fault %d: refused with '%s'", fault, err);
+        mesh_free(&m);
+        pslg_free(&h);
+        free(t2);
+    }
+    free(tri);
+    pslg_free(&g);
+}
+END_TEST
+
 static Suite *suite(void) {
     Suite *s = suite_create("mesh");
     TCase *tc = tcase(s, "delaunay");
@@ -1010,6 +1081,7 @@ static Suite *suite(void) {
     tcase_add_test(tc, test_area_drift);
     tcase_add_test(tc, test_sliver_hull);
     tcase_add_test(tc, test_off_line_fan);
+    tcase_add_test(tc, test_from_triangles);
     tc = tcase(s, "random");
     tcase_add_loop_test(tc, test_random_pslg, 0, 6);
     tc = tcase(s, "hooks");

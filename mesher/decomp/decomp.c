@@ -57,6 +57,12 @@ void pcdm_decomp_free(pcdm_decomp *d) {
     mesh_xfree(d->seg_iface);
     mesh_xfree(d->seg_sub);
     mesh_xfree(d->vert_sub);
+    mesh_xfree(d->tri_off);
+    mesh_xfree(d->tri);
+    mesh_xfree(d->sub_seg_off);
+    mesh_xfree(d->sub_seg);
+    mesh_xfree(d->sub_vert_off);
+    mesh_xfree(d->sub_vert);
     mesh_xfree(d->cut_xy);
     mesh_xfree(d->sub_seed);
     mesh_xfree(d->sub_area);
@@ -291,6 +297,40 @@ static void build_pieces(const pslg *in, const mesh *m, const uint8_t *mseg_cut,
     mesh_xfree(r);
 }
 
+void decomp_index(pcdm_decomp *d) {
+    int32_t K = d->nsub, ns = d->g.nsegs, nv = d->vert_sub ? d->g.nverts : 0;
+    int32_t *so = mesh_xcalloc((size_t)K + 2, sizeof(int32_t));
+    int32_t *vo = mesh_xcalloc((size_t)K + 2, sizeof(int32_t));
+    for (int pass = 0; pass < 2; pass++) { /* counts, then the lists (a counting sort) */
+        for (int32_t s = 0; s < ns; s++)
+            for (int side = 0; side < 2; side++) {
+                int32_t k = d->seg_sub[2 * (size_t)s + side];
+                if (k < 0 || k >= K || (side == 1 && k == d->seg_sub[2 * (size_t)s])) continue;
+                if (pass == 0)
+                    so[k + 2]++;
+                else
+                    d->sub_seg[so[k + 1]++] = s;
+            }
+        for (int32_t v = 0; v < nv; v++) {
+            int32_t k = d->vert_sub[v];
+            if (k < 0 || k >= K) continue;
+            if (pass == 0)
+                vo[k + 2]++;
+            else
+                d->sub_vert[vo[k + 1]++] = v;
+        }
+        if (pass == 1) break;
+        for (int32_t k = 0; k < K; k++) {
+            so[k + 2] += so[k + 1];
+            vo[k + 2] += vo[k + 1];
+        }
+        d->sub_seg = mesh_xmalloc((size_t)so[K + 1] + 1, sizeof(int32_t));
+        d->sub_vert = mesh_xmalloc((size_t)vo[K + 1] + 1, sizeof(int32_t));
+    }
+    d->sub_seg_off = so;
+    d->sub_vert_off = vo;
+}
+
 int decomp_build(const pslg *in, const mesh *m, const uint8_t *mseg_cut, const int32_t *mseg_parent,
                  const int32_t *mseg_marker, const int32_t *part, const double *tw, int32_t K,
                  int keep_all, pcdm_decomp *d, char *err, size_t errlen) {
@@ -391,6 +431,24 @@ int decomp_build(const pslg *in, const mesh *m, const uint8_t *mseg_cut, const i
     copy_pslg_extras(in, &d->g);
     for (int32_t s = 0; s < d->g.nsegs; s++) /* a vertex that ends a segment is on no side */
         d->vert_sub[d->g.seg[2 * s]] = d->vert_sub[d->g.seg[2 * s + 1]] = -1;
+    if (keep_all == 2) { /* m's triangles by part (a counting sort), in g's numbers */
+        d->tri_off = mesh_xcalloc((size_t)K + 2, sizeof(int32_t));
+        for (int32_t t = 0; t < m->nt; t++)
+            if (mesh_tri_alive(m, t)) d->tri_off[part[t] + 2]++;
+        for (int32_t k = 0; k < K; k++)
+            d->tri_off[k + 2] += d->tri_off[k + 1];
+        d->tri = mesh_xmalloc(3 * (size_t)d->tri_off[K + 1] + 1, sizeof(int32_t));
+        for (int32_t t = 0; t < m->nt; t++) {
+            if (!mesh_tri_alive(m, t)) continue;
+            int32_t at = d->tri_off[part[t] + 1]++;
+            for (int j = 0; j < 3; j++) {
+                int32_t v = gid[m->tv[3 * t + j]];
+                if (v < 0) MESH_BUG("vertex %d of triangle %d is not kept", m->tv[3 * t + j], t);
+                d->tri[3 * (size_t)at + j] = v;
+            }
+        }
+    }
+    decomp_index(d);
     mesh_xfree(keep);
     mesh_xfree(gid);
     return 0;

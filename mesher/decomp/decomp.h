@@ -105,10 +105,21 @@ typedef struct pcdm_decomp {
                           * (from its first to its second vertex); -1 = outside the domain */
     /* The interface edges as straight cuts (x1 y1 x2 y2 each), what --write-cuts writes. */
     int32_t ncuts;
-    double *cut_xy;     /* 4 * ncuts */
-    int32_t *vert_sub;  /* g.nverts: the subdomain whose interior holds a vertex that ends no
-                         * segment (a free input or Steiner vertex), else -1 (on a segment, or
-                         * in no triangle: a hole, a merged duplicate) */
+    double *cut_xy;    /* 4 * ncuts */
+    int32_t *vert_sub; /* g.nverts: the subdomain whose interior holds a vertex that ends no
+                        * segment (a free input or Steiner vertex), else -1 (on a segment, or
+                        * in no triangle: a hole, a merged duplicate) */
+    /* The fast route's triangles by subdomain, so that each subdomain's first mesh is cut
+     * from the decomposition's triangulation instead of triangulated again: subdomain k's are
+     * tri[3 tri_off[k] .. 3 tri_off[k + 1]), counter-clockwise, in g's vertex numbers (every
+     * vertex of a triangle is in g); both NULL on the other routes. */
+    int32_t *tri_off; /* K + 1 */
+    int32_t *tri;
+    /* Each subdomain's own segment pieces (a side of them in it) and free vertices, ascending:
+     * subdomain k's are sub_seg[sub_seg_off[k] .. sub_seg_off[k + 1]) and likewise sub_vert
+     * (from seg_sub and vert_sub, made wherever a decomposition is made or received, so that a
+     * subdomain's set-up costs its own size) */
+    int32_t *sub_seg_off, *sub_seg, *sub_vert_off, *sub_vert;
     double floor2;      /* the refinement's squared length floor (mesh_rules_length_floor2) of
                          * the input's CDT, so that every subdomain mesh and ./mesh use the
                          * same one; 0: unknown (a subdomain then takes its own) */

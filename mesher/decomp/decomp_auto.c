@@ -847,7 +847,9 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
         merge_corners(&m, part);
         if (K > 1) fill_empty(&m, part, K);
         if (K > 1) widen(&m, part, tw, K, exact);
-        rc = decomp_build(in, &m, NULL, NULL, NULL, part, tw, K, exact, out, err, errlen);
+        /* the fast route keeps its triangles: the subdomains' first meshes (pcdm_build_sub) */
+        int keep_all = exact ? 1 : fast && K > 1 ? 2 : 0;
+        rc = decomp_build(in, &m, NULL, NULL, NULL, part, tw, K, keep_all, out, err, errlen);
     }
     if (rc == 0) {
         out->floor2 = floor2;

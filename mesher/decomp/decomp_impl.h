@@ -19,12 +19,17 @@
  * cut's id; mseg_marker (may be NULL: m->smarker) the markers of m's segments.  Interface
  * edges are the edges between triangles of different parts that are not pieces of input
  * segments.  keep_all: every vertex of m in a triangle becomes a vertex of d->g (the CDT of
- * d->g is then m itself up to cocircular ties); else only input vertices and interface
- * endpoints.  Every part must hold a triangle.  Fills everything but sub_target and sub_owner.
- * Returns 0, or -1 with a message in err. */
+ * d->g is then m itself up to cocircular ties); keep_all 2: that, and m's triangles kept in
+ * d->tri_off, d->tri; else only input vertices and interface endpoints.  Every part must hold a
+ * triangle.  Fills everything but sub_target and sub_owner. Returns 0, or -1 with a message in err.
+ */
 int decomp_build(const pslg *in, const mesh *m, const uint8_t *mseg_cut, const int32_t *mseg_parent,
                  const int32_t *mseg_marker, const int32_t *part, const double *tw, int32_t K,
                  int keep_all, pcdm_decomp *d, char *err, size_t errlen);
+
+/* Makes d's per-subdomain lists (sub_seg_off, sub_seg, sub_vert_off, sub_vert) from seg_sub and
+ * vert_sub (vert_sub may be NULL: no free vertex listed). */
+void decomp_index(pcdm_decomp *d);
 
 /* Assigns d->sub_owner for P = nranks ranks and imbalance R (rank 0 gets R/(R+P-1) of the
  * work).  planned (K entries, may be NULL) are owners decided before partitioning (then kept);

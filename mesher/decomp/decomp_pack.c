@@ -157,6 +157,8 @@ int pcdm_decomp_pack(const pcdm_decomp *d, void **buf, size_t *len) {
     put_arr(&w, d->seg_iface, ns);
     put_arr(&w, d->seg_sub, 2 * ns * sizeof(int32_t));
     put_arr(&w, d->vert_sub, nv * sizeof(int32_t));
+    put_arr(&w, d->tri_off, d->tri_off ? (K + 2) * sizeof(int32_t) : 0);
+    put_arr(&w, d->tri, d->tri_off ? 3 * (size_t)d->tri_off[K] * sizeof(int32_t) : 0);
     put_arr(&w, d->cut_xy, 4 * (size_t)d->ncuts * sizeof(double));
     put_arr(&w, d->sub_seed, 2 * K * sizeof(double));
     put_arr(&w, d->sub_area, K * sizeof(double));
@@ -184,6 +186,14 @@ int pcdm_decomp_unpack(const void *buf, size_t len, pcdm_decomp *d) {
     d->seg_iface = get_arr(&r, ns);
     d->seg_sub = get_arr(&r, 2 * ns * sizeof(int32_t));
     d->vert_sub = get_arr(&r, nv * sizeof(int32_t));
+    d->tri_off = get_arr(&r, (K + 2) * sizeof(int32_t));
+    size_t ntri = 0; /* the offsets must run from 0 up to the count of triangles sent */
+    for (size_t k = 0; d->tri_off && !r.bad && k <= K; k++)
+        if (d->tri_off[k] < (k ? d->tri_off[k - 1] : 0)) r.bad = 1;
+    if (d->tri_off && !r.bad) ntri = (size_t)d->tri_off[K];
+    if (d->tri_off && d->tri_off[0] != 0) r.bad = 1;
+    d->tri = get_arr(&r, 3 * ntri * sizeof(int32_t));
+    if (!r.bad && (d->tri != NULL) != (d->tri_off != NULL)) r.bad = 1;
     d->cut_xy = get_arr(&r, 4 * (size_t)(r.bad ? 0 : d->ncuts) * sizeof(double));
     d->sub_seed = get_arr(&r, 2 * K * sizeof(double));
     d->sub_area = get_arr(&r, K * sizeof(double));
@@ -192,6 +202,10 @@ int pcdm_decomp_unpack(const void *buf, size_t len, pcdm_decomp *d) {
     d->sub_owner = get_arr(&r, K * sizeof(int32_t));
     if (!r.bad && r.at != r.n) r.bad = 1;
     if (!r.bad && (!g->xy || !g->seg || !d->seg_sub || !d->sub_owner)) r.bad = 1;
+    if (!r.bad) /* the per-subdomain lists are made again, not sent */
+        for (size_t s = 0; s < 2 * ns && !r.bad; s++)
+            if (d->seg_sub[s] < -1 || d->seg_sub[s] >= d->nsub) r.bad = 1;
+    if (!r.bad) decomp_index(d);
     if (r.bad) pcdm_decomp_free(d);
     return r.bad ? -1 : 0;
 }

@@ -22,7 +22,11 @@
  * the mesh is the whole build's up to cocircular ties, the same on every rank and thread.  Its
  * regions are mapped as above; those of no side of the subdomain (other subdomains it
  * surrounds, holes) are deleted, one that has both is an inconsistent decomposition.  The
- * length floor is the input's CDT's (d->floor2), as ./mesh's.
+ * length floor is the input's CDT's (d->floor2), as ./mesh's.  On the decomposition's fast route
+ * the subdomain's triangles come with it (d->tri: the triangles of the CDT it was partitioned
+ * on, every vertex kept), and the first mesh is made of those (mesh_build_from_triangles, which
+ * checks them) instead of being triangulated again; should they be refused, the CDT of the
+ * subdomain's PSLG is built as above.
  */
 #include "pcdm/pcdm_impl.h"
 
@@ -146,31 +150,50 @@ static int32_t edge_side(const mesh *m, const pcdm_decomp *d, const pcdm_sub_map
     return d->seg_sub[2 * (size_t)mp->gs[s->seg] + side];
 }
 
+/* Subdomain sub's first mesh cut from the decomposition's triangles (d->tri, in d->g's numbers)
+ * onto its PSLG lg (local numbers: vs[i] is local vertex i's number in d->g, sorted).  Returns
+ * 0, or -1 (m emptied again, fresh from mesh_init) when a triangle has a vertex outside the
+ * subdomain or mesh_build_from_triangles refuses them: the caller triangulates lg instead. */
+static int from_triangles(mesh *m, const pslg *lg, const uint8_t *iface, const pcdm_decomp *d,
+                          int32_t sub, const int32_t *vs, int32_t nv) {
+    int32_t a = d->tri_off[sub], n = d->tri_off[sub + 1] - a;
+    int32_t *lt = mesh_xmalloc(3 * (size_t)n + 1, sizeof(int32_t));
+    int rc = 0;
+    for (int64_t i = 0; i < 3 * (int64_t)n && rc == 0; i++) {
+        int32_t gv = d->tri[3 * (size_t)a + (size_t)i], l = mesh_lower_i32(vs, nv, gv);
+        if (l >= nv || vs[l] != gv) rc = -1;
+        lt[i] = l;
+    }
+    char e[256];
+    if (rc == 0) rc = mesh_build_from_triangles(m, lg, iface, n, lt, e, sizeof e);
+    free(lt);
+    if (rc != 0) {
+        mesh_free(m);
+        mesh_init(m);
+    }
+    return rc;
+}
+
 int pcdm_build_sub(mesh *m, pcdm_sub_map *mp, const pcdm_decomp *d, int32_t sub, int regions,
                    char *err, size_t errlen) {
     memset(mp, 0, sizeof *mp);
     if (regions != PCDM_REGIONS_NONE || d->floor2 <= 0 || !d->vert_sub)
         return pcdm_build_mesh(m, d, -1, sub, regions, err, errlen);
     const pslg *g = &d->g;
-    /* its segments and vertices, in d->g's order */
-    int32_t ns = 0, nv = 0;
-    for (int32_t s = 0; s < g->nsegs; s++)
-        ns += d->seg_sub[2 * (size_t)s] == sub || d->seg_sub[2 * (size_t)s + 1] == sub;
+    /* its segments and vertices, in d->g's order (the decomposition's lists) */
+    if (!d->sub_seg_off) MESH_BUG("decomposition without its per-subdomain lists");
+    const int32_t *sl = d->sub_seg + d->sub_seg_off[sub], *fl = d->sub_vert + d->sub_vert_off[sub];
+    int32_t ns = d->sub_seg_off[sub + 1] - d->sub_seg_off[sub], nv = 0;
+    int32_t nfree = d->sub_vert_off[sub + 1] - d->sub_vert_off[sub];
     mp->gs = mesh_xmalloc((size_t)ns + 1, sizeof(int32_t));
-    int32_t *vs = mesh_xmalloc(2 * (size_t)ns + 1, sizeof(int32_t));
-    ns = 0;
-    for (int32_t s = 0; s < g->nsegs; s++)
-        if (d->seg_sub[2 * (size_t)s] == sub || d->seg_sub[2 * (size_t)s + 1] == sub) {
-            mp->gs[ns++] = s;
-            vs[nv++] = g->seg[2 * (size_t)s];
-            vs[nv++] = g->seg[2 * (size_t)s + 1];
-        }
-    int32_t nfree = 0;
-    for (int32_t v = 0; v < g->nverts; v++)
-        nfree += d->vert_sub[v] == sub;
-    vs = mesh_xrealloc(vs, (size_t)nv + (size_t)nfree + 1, sizeof(int32_t));
-    for (int32_t v = 0; v < g->nverts; v++)
-        if (d->vert_sub[v] == sub) vs[nv++] = v;
+    memcpy(mp->gs, sl, (size_t)ns * sizeof(int32_t));
+    int32_t *vs = mesh_xmalloc(2 * (size_t)ns + (size_t)nfree + 1, sizeof(int32_t));
+    for (int32_t i = 0; i < ns; i++) {
+        vs[nv++] = g->seg[2 * (size_t)sl[i]];
+        vs[nv++] = g->seg[2 * (size_t)sl[i] + 1];
+    }
+    memcpy(vs + nv, fl, (size_t)nfree * sizeof(int32_t));
+    nv += nfree;
     qsort(vs, (size_t)nv, sizeof *vs, mesh_cmp_i32);
     int32_t k = 0;
     for (int32_t i = 0; i < nv; i++)
@@ -203,6 +226,11 @@ int pcdm_build_sub(mesh *m, pcdm_sub_map *mp, const pcdm_decomp *d, int32_t sub,
     lg.scale_exp = g->scale_exp;
     snprintf(lg.path, sizeof lg.path, "%s", g->path);
     mesh_init(m);
+    if (d->tri && from_triangles(m, &lg, iface, d, sub, vs, nv) == 0) {
+        free(lg.xy), free(lg.vmarker), free(lg.seg), free(lg.smarker), free(iface);
+        mesh_set_length_floor(m, d->floor2);
+        return 0;
+    }
     int rc = mesh_build_cdt(m, &lg, iface, err, errlen);
     free(lg.xy), free(lg.vmarker), free(lg.seg), free(lg.smarker), free(iface);
     if (rc == 0 && m->nseg != ns) {

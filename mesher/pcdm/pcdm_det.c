@@ -387,7 +387,9 @@ det_sub *det_sub_new(pcdm_det *D, int32_t sub, char *err, size_t errlen) {
     det_sub *s = mesh_xcalloc(1, sizeof *s);
     s->id = sub;
     s->D = D;
-    for (int32_t g = 0; g < d->g.nsegs; g++) { /* neighbours across interface pieces */
+    if (!d->sub_seg_off) MESH_BUG("decomposition without its per-subdomain lists");
+    for (int32_t i = d->sub_seg_off[sub]; i < d->sub_seg_off[sub + 1]; i++) {
+        int32_t g = d->sub_seg[i]; /* neighbours across interface pieces */
         if (!d->seg_iface[g]) continue;
         int32_t a = d->seg_sub[2 * (size_t)g], b = d->seg_sub[2 * (size_t)g + 1];
         int32_t o = a == sub ? b : b == sub ? a : -1;

@@ -15,6 +15,11 @@
  * 3. Triangles outside the domain are removed as Triangle does: everything reachable from the
  *    convex hull (ghost triangles) or from a hole point without crossing a segment.  A PSLG with
  *    no segment keeps its convex hull, whose edges become segments.
+ * 4. mesh_build_from_triangles takes a triangulation already made instead (a subdomain's
+ *    triangles cut from the CDT of its decomposition): the triangles' adjacency found through
+ *    each vertex's outgoing edges, each segment marked on its edge, checked (counter-clockwise
+ *    by exact orient2d, every edge in at most two triangles, every segment an edge, every
+ *    boundary edge a segment) rather than trusted.
  * Invariants on return: no ghost triangles; every boundary edge (tn == -1) is a constraint
  * edge with a subsegment record; every subsegment record is an edge of the mesh.
  */
@@ -553,6 +558,98 @@ int mesh_build_cdt(mesh *m, const pslg *g, const uint8_t *iface, char *err, size
     }
     MESH_ASSERT(r != 0 || mesh_consistent(m));
     return r;
+}
+
+/* The edge a -> b among the directed edges out of a (rows of the CSR off/code), or -1. */
+static int32_t out_edge(const mesh *m, const int32_t *off, const int32_t *code, int32_t a,
+                        int32_t b) {
+    for (int32_t i = off[a]; i < off[a + 1]; i++)
+        if (mesh_dest(m, code[i]) == b) return code[i];
+    return -1;
+}
+
+int mesh_build_from_triangles(mesh *m, const pslg *g, const uint8_t *iface, int32_t ntri,
+                              const int32_t *tri, char *err, size_t errlen) {
+    if (m->nv != 0 || m->nt != 0) {
+        set_err(err, errlen, "mesh_build: mesh is not empty");
+        return -1;
+    }
+    m->scale_exp = g->scale_exp;
+    int32_t n = g->nverts;
+    for (int32_t v = 0; v < n; v++)
+        mesh_vert_add(m, g->xy[2 * (size_t)v], g->xy[2 * (size_t)v + 1], -1);
+    m->ninput = n;
+    m->in_vmarker = mesh_xrealloc(NULL, (size_t)n + 1, sizeof(int32_t));
+    for (int32_t v = 0; v < n; v++)
+        m->in_vmarker[v] = g->vmarker ? g->vmarker[v] : 0;
+    int bad = ntri < 1;
+    if (bad) set_err(err, errlen, "no triangle");
+    for (int32_t i = 0; i < ntri && !bad; i++) {
+        const int32_t *v = tri + 3 * (size_t)i;
+        for (int j = 0; j < 3; j++)
+            bad |= v[j] < 0 || v[j] >= n;
+        if (bad || geom_orient2d(X(m, v[0]), X(m, v[1]), X(m, v[2])) <= 0) {
+            set_err(err, errlen, "triangle %d is not a counter-clockwise triangle of the vertices",
+                    (int)i);
+            bad = 1;
+            break;
+        }
+        int32_t t = mesh_tri_new(m);
+        for (int j = 0; j < 3; j++) {
+            m->tv[3 * t + j] = v[j];
+            m->tn[3 * t + j] = -1;
+        }
+    }
+    /* adjacency: each vertex's outgoing edges, then each edge's reverse among its end's */
+    int32_t *off = mesh_xcalloc((size_t)n + 2, sizeof(int32_t));
+    int32_t *code = mesh_xmalloc(3 * (size_t)(bad ? 0 : ntri) + 1, sizeof(int32_t));
+    if (!bad) {
+        for (int32_t e = 0; e < 3 * ntri; e++)
+            off[m->tv[e] + 2]++;
+        for (int32_t v = 0; v < n; v++)
+            off[v + 2] += off[v + 1];
+        for (int32_t e = 0; e < 3 * ntri; e++)
+            code[off[m->tv[e] + 1]++] = e;
+    }
+    for (int32_t e = 0; e < 3 * ntri && !bad; e++) {
+        int32_t a = mesh_org(m, e), b = mesh_dest(m, e), twin = out_edge(m, off, code, b, a);
+        if (twin >= 0) m->tn[e] = twin;
+        for (int32_t i = off[a]; i < off[a + 1] && !bad; i++) /* a -> b once only */
+            if (code[i] != e && mesh_dest(m, code[i]) == b) {
+                set_err(err, errlen, "edge %d-%d is in more than two triangles", (int)a, (int)b);
+                bad = 1;
+            }
+    }
+    /* the segments, each on its edge (one subsegment record, dyadic level 0) */
+    for (int32_t s = 0; s < g->nsegs && !bad; s++) {
+        int32_t a = g->seg[2 * (size_t)s], b = g->seg[2 * (size_t)s + 1];
+        int32_t id = mesh_seg_add(m, a, b, g->smarker ? g->smarker[s] : 0, iface ? iface[s] : 0);
+        int ok = a >= 0 && a < n && b >= 0 && b < n && a != b;
+        int32_t e = ok ? out_edge(m, off, code, a, b) : -1;
+        if (e < 0 && ok) e = out_edge(m, off, code, b, a);
+        if (e < 0) {
+            set_err(err, errlen, "segment %d (%d-%d) is no edge of the triangles", (int)s, (int)a,
+                    (int)b);
+            bad = 1;
+            break;
+        }
+        mesh_set_constrained(m, e);
+        if (mesh_ss_find_pair(m, a, b) < 0) mesh_ss_add(m, a, b, id, 0, 0);
+    }
+    for (int32_t e = 0; e < 3 * ntri && !bad; e++)
+        if (m->tn[e] < 0 && !mesh_edge_constrained(m, e)) {
+            set_err(err, errlen, "boundary edge %d-%d is no segment", (int)mesh_org(m, e),
+                    (int)mesh_dest(m, e));
+            bad = 1;
+        }
+    free(off);
+    free(code);
+    if (bad) return -1;
+    mesh_rebuild_vtri(m);
+    corners(m);
+    m->last = -1;
+    MESH_ASSERT(mesh_consistent(m));
+    return 0;
 }
 
 int mesh_build_delaunay(mesh *m, int32_t n, const double *xy, char *err, size_t errlen) {

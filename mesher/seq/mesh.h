@@ -184,6 +184,17 @@ void mesh_free(mesh *m);
  * all vertices collinear, empty domain). */
 int mesh_build_cdt(mesh *m, const pslg *g, const uint8_t *iface, char *err, size_t errlen);
 
+/* The mesh of g's vertices made of the ntri triangles tri (3 vertex numbers each, counter-
+ * clockwise), which must be a constrained Delaunay triangulation of g's segments over its domain
+ * (as a subdomain cut from a larger CDT is): the same invariants as mesh_build_cdt's, without
+ * the search.  Checked, not trusted: a triangle that is not counter-clockwise (exact), an edge
+ * in more than two triangles, a segment that is no edge, a boundary edge that is no segment is
+ * an error.  Every segment must be one edge (one subsegment record, dyadic level 0); iface as in
+ * mesh_build_cdt.  m must be empty.  Returns 0, or -1 with a message in err (m then holds
+ * partial state: mesh_free it). */
+int mesh_build_from_triangles(mesh *m, const pslg *g, const uint8_t *iface, int32_t ntri,
+                              const int32_t *tri, char *err, size_t errlen);
+
 /* Delaunay triangulation of n points (xy: 2n doubles); the convex hull edges become segments
  * (marker 1).  Duplicated points are left isolated (vtri == -1).  Returns 0 or -1 + message. */
 int mesh_build_delaunay(mesh *m, int32_t n, const double *xy, char *err, size_t errlen);
