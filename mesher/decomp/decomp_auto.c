@@ -84,6 +84,8 @@
     8192 /* inputs with fewer vertices take the coarse route (it costs little)                     \
           */
 #define DEG_PER_RAD 57.295779513082320876798
+#define CLUSTER 8         /* the fast route: METIS partitions clusters of this many triangles */
+#define CLUSTER_MIN 65536 /* ... when the graph has this many vertices */
 
 /* Rank 0 gets k0 ~ K R / (R + P - 1) subdomains (at least one, leaving one per other rank);
  * the others share the rest; a rank's work share is split evenly over its subdomains. */
@@ -194,6 +196,76 @@ static int32_t uf_find(int32_t *up, int32_t x) {
     return x;
 }
 
+/* The graph (nn vertices: rows xadj/adj, edge lengths len, weights w) with its vertices
+ * grown into connected clusters of at most CLUSTER (breadth first from the lowest unclustered
+ * vertex, in vertex order): cl[x] is x's cluster; the cluster graph replaces the graph in place
+ * (a cluster's weight the sum of its vertices', an edge's length the sum of those it stands
+ * for), so METIS starts CLUSTER times smaller.  Returns the number of clusters. */
+static int32_t contract(int32_t nn, idx_t **xadj, idx_t **adj, double **len, double **w,
+                        int32_t *cl) {
+    idx_t *xa = *xadj, *ad = *adj;
+    double *ln = *len, *wt = *w;
+    int32_t nc = 0, *q = mesh_xmalloc((size_t)nn + 1, sizeof(int32_t));
+    for (int32_t x = 0; x < nn; x++)
+        cl[x] = -1;
+    for (int32_t x = 0; x < nn; x++) {
+        if (cl[x] >= 0) continue;
+        int32_t qh = 0, qt = 0;
+        q[qt++] = x;
+        cl[x] = nc;
+        while (qh < qt && qt < CLUSTER) {
+            int32_t y = q[qh++];
+            for (idx_t k = xa[y]; k < xa[y + 1] && qt < CLUSTER; k++)
+                if (cl[ad[k]] < 0) {
+                    cl[ad[k]] = nc;
+                    q[qt++] = (int32_t)ad[k];
+                }
+        }
+        nc++;
+    }
+    /* rows by cluster (members in vertex order), each row's neighbours merged through last[] */
+    int32_t *start = mesh_xcalloc((size_t)nc + 2, sizeof(int32_t));
+    for (int32_t x = 0; x < nn; x++)
+        start[cl[x] + 2]++;
+    for (int32_t c = 0; c < nc; c++)
+        start[c + 2] += start[c + 1];
+    for (int32_t x = 0; x < nn; x++)
+        q[start[cl[x] + 1]++] = x;
+    idx_t *cx = mesh_xmalloc((size_t)nc + 1, sizeof(idx_t));
+    idx_t *ca = mesh_xmalloc((size_t)xa[nn] + 1, sizeof(idx_t));
+    double *cln = mesh_xmalloc((size_t)xa[nn] + 1, sizeof(double));
+    double *cw = mesh_xcalloc((size_t)nc + 1, sizeof(double));
+    int32_t *last = mesh_xmalloc((size_t)nc + 1, sizeof(int32_t));
+    for (int32_t c = 0; c < nc; c++)
+        last[c] = -1;
+    idx_t ne = 0;
+    for (int32_t c = 0, at = 0; c < nc; c++) {
+        cx[c] = ne;
+        for (; at < start[c + 1]; at++) {
+            int32_t x = q[at];
+            cw[c] += wt[x];
+            for (idx_t k = xa[x]; k < xa[x + 1]; k++) {
+                int32_t d = cl[ad[k]];
+                if (d == c) continue;
+                if (last[d] >= cx[c]) { /* this row has d already */
+                    cln[last[d]] += ln[k];
+                    continue;
+                }
+                last[d] = (int32_t)ne;
+                ca[ne] = d;
+                cln[ne++] = ln[k];
+            }
+        }
+    }
+    cx[nc] = ne;
+    mesh_xfree(q);
+    mesh_xfree(start);
+    mesh_xfree(last);
+    mesh_xfree(xa), mesh_xfree(ad), mesh_xfree(ln), mesh_xfree(wt);
+    *xadj = cx, *adj = ca, *len = cln, *w = cw;
+    return nc;
+}
+
 /* METIS on the dual graph of m's live triangles (id[t]: compact index, -1 for dead slots).  The
  * triangles around each input corner sharper than 60 degrees are one graph vertex (they must
  * share a part, merge_corners), so METIS sees their weight together and balances around it.
@@ -201,8 +273,9 @@ static int32_t uf_find(int32_t *up, int32_t x) {
  * and its cost in *cost (INFINITY, labels -1, if METIS failed on every seed: not an error
  * here, since another rank may have one). */
 static int partition(const mesh *m, const int32_t *id, int32_t n, const double *tw,
-                     const double *target, int32_t K, int penalize, const pcdm_decomp_opts *sel,
-                     double *cost, int32_t *part, char *err, size_t errlen) {
+                     const double *target, int32_t K, int penalize, int coarsen,
+                     const pcdm_decomp_opts *sel, double *cost, int32_t *part, char *err,
+                     size_t errlen) {
     /* graph vertices: triangles, those around a sharp corner united */
     int32_t *up = mesh_xmalloc((size_t)n + 1, sizeof(int32_t));
     for (int32_t i = 0; i < n; i++)
@@ -299,6 +372,15 @@ static int partition(const mesh *m, const int32_t *id, int32_t n, const double *
     }
     mesh_xfree(stk);
     mesh_xfree(seen);
+    if (coarsen && nn >= CLUSTER_MIN) { /* METIS on clusters: a graph vertex is its cluster */
+        int32_t *cl = mesh_xmalloc((size_t)nn + 1, sizeof(int32_t));
+        int32_t nc = contract(nn, &xadj, &adj, &len, &w, cl);
+        for (int32_t i = 0; i < n; i++)
+            node[i] = cl[node[i]];
+        mesh_xfree(cl);
+        nn = nc;
+        ne = (int32_t)xadj[nc];
+    }
     idx_t *vw = mesh_xmalloc((size_t)nn + 1, sizeof(idx_t)),
           *ew = mesh_xmalloc((size_t)ne + 1, sizeof(idx_t)),
           *pp = mesh_xmalloc((size_t)nn + 1, sizeof(idx_t));
@@ -837,8 +919,8 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
     int choose = K > 1 && K == P && R == 1 && !exact && o->boundary_cost > 0;
     double cost = 0;
     if (rc == 0 && K > 1)
-        rc = partition(&m, id, n, tw, target, K, exact || fast, choose ? o : NULL, &cost, part, err,
-                       errlen);
+        rc = partition(&m, id, n, tw, target, K, exact || fast, fast && !exact, choose ? o : NULL,
+                       &cost, part, err, errlen);
     if (rc == 0 && choose &&
         (o->pick ? o->pick(o->pick_ctx, cost, m.nt, part) != 0 : !isfinite(cost)))
         rc = decomp_fail(err, errlen, "METIS could not partition %d coarse triangles into %d parts",
