@@ -284,12 +284,39 @@ START_TEST(test_boundary_markers) {
 }
 END_TEST
 
+START_TEST(test_boundary_markers_all_marked) {
+    /* every segment marked (no face needed): the outer square 7, the hole 5, the dangling
+     * segments 9; vertex 10 (2, 0) lies inside the bottom segment (split there by pslg_check,
+     * both pieces 7); vertex 3 keeps the file's 3 */
+    const double xy[] = {0, 0, 4, 0, 4, 4, 0, 4, 1, 1, 2, 1, 2, 2, 1, 2, 3, 3, 3.5, 2, 2, 0};
+    const int32_t seg[] = {0, 1, 1, 2, 2, 3, 3, 0, 4, 5, 5, 6, 6, 7, 7, 4, 8, 2, 8, 9};
+    const int32_t mk[] = {7, 7, 7, 7, 5, 5, 5, 5, 9, 9};
+    pslg g;
+    build(&g, 11, xy, 10, seg, mk);
+    g.vmarker[3] = 3;
+    g.nholes = 1;
+    g.holes = malloc(2 * sizeof(double));
+    g.holes[0] = g.holes[1] = 1.5;
+    char err[256];
+    ck_assert_msg(pslg_check(&g, err, sizeof err) == 0, "%s", err);
+    ck_assert_int_eq(g.nsegs, 11);
+    ck_assert_int_eq(pslg_boundary_markers(&g), 0);
+    const int32_t want_v[] = {7, 7, 7, 3, 5, 5, 5, 5, 9, 9, 7};
+    for (int v = 0; v < 11; v++)
+        ck_assert_msg(g.vmarker[v] == want_v[v], "vertex %d: %d", v, g.vmarker[v]);
+    for (int s = 0; s < g.nsegs; s++)
+        ck_assert_msg(g.smarker[s] == 7 || g.smarker[s] == 5 || g.smarker[s] == 9, "segment %d: %d",
+                      s, g.smarker[s]);
+    pslg_free(&g);
+}
+END_TEST
+
 int main(void) {
     geom_init();
-    return ck_run(ck_suite("pslg_split", 0,
-                           CK_TESTS(test_cross, test_t_junction_split, test_overlap,
-                                    test_contained_and_shared_end, test_collinear_chain,
-                                    test_three_through_one_point, test_star_through_origin,
-                                    test_grid_of_crossings, test_attributes_interpolated,
-                                    test_scaled_input, test_boundary_markers)));
+    return ck_run(ck_suite(
+        "pslg_split", 0,
+        CK_TESTS(test_cross, test_t_junction_split, test_overlap, test_contained_and_shared_end,
+                 test_collinear_chain, test_three_through_one_point, test_star_through_origin,
+                 test_grid_of_crossings, test_attributes_interpolated, test_scaled_input,
+                 test_boundary_markers, test_boundary_markers_all_marked)));
 }

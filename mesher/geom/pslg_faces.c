@@ -572,6 +572,17 @@ int pslg_boundary_markers(pslg *g) {
         free(cyc);
     }
     if (g->nsegs == 0 || !g->smarker) return 0;
+    int32_t unmarked = 0;
+    for (int32_t s = 0; s < g->nsegs; s++)
+        unmarked += g->smarker[s] == 0;
+    if (unmarked == 0) { /* every segment marked: no face is needed (pslg_check left no vertex
+                          * inside a segment, so a segment's vertices are its two ends) */
+        for (int32_t s = 0; s < g->nsegs && g->vmarker; s++)
+            for (int k = 0; k < 2; k++)
+                if (g->vmarker[g->seg[2 * s + k]] == 0)
+                    g->vmarker[g->seg[2 * s + k]] = g->smarker[s];
+        return 0;
+    }
     faces F;
     faces_build(g, &F); /* g has segments: it has faces */
     uint8_t *onb = mesh_xcalloc((size_t)g->nsegs + 1, 1);
