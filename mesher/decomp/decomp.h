@@ -67,8 +67,7 @@ typedef struct pcdm_decomp_opts {
                             * trial (a cuts file's weights ignore them) */
     int keep_cdt;          /* auto: 1 = keep a copy of the input's CDT in the result (cdt) */
     int coarse_route;      /* auto: 1 = partition the lfs-graded coarse mesh, not the input's CDT
-                            * with interior points (./pbw: its set-up and its choice among METIS
-                            * seeds weigh that mesh; decomp_auto.c) */
+                            * with interior points, whatever the input's size (decomp_auto.c) */
     /* Auto, coarse route, K = P > 1, imbalance 1 (./pbw): the partition is the one of least
      * predicted cost among several METIS seeds (decomp_seeds.c).  The cost of a part is its
      * work plus boundary_cost times its boundary with other parts measured in local final

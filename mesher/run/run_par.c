@@ -229,7 +229,6 @@ static int decompose(const run_job *j, const pslg *in, pcdm_decomp *d, char *err
     dopt.max_steiner = o->max_steiner;
     dopt.region_area = o->region_area;
     dopt.keep_cdt = j->method == RUN_PBW; /* PBW starts from the same CDT of the input */
-    dopt.coarse_route = j->method == RUN_PBW;
     /* ./pbw's ranks weigh boundary against triangles when they share cores (PBW_BOUNDARY_COST);
      * the seeds are shared out: rank r tries r + 1, r + 1 + P, ... */
     double rho = j->method == RUN_PBW && P > 1 && !o->cuts ? ranks_per_core() : 0;
