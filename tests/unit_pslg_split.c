@@ -259,6 +259,21 @@ START_TEST(test_scaled_input) {
 }
 END_TEST
 
+/* The marker tests' PSLG: nv vertices, the ten segments seg (a square, a square hole around
+ * (1.5, 1.5), a dangling pair) marked mk; vertex 3 marked 3 in the file; checked, then given
+ * Triangle's markers (pslg_boundary_markers). */
+static void marked_square(pslg *g, int32_t nv, const double *xy, const int32_t *seg,
+                          const int32_t *mk) {
+    build(g, nv, xy, 10, seg, mk);
+    g->vmarker[3] = 3;
+    g->nholes = 1;
+    g->holes = malloc(2 * sizeof(double));
+    g->holes[0] = g->holes[1] = 1.5;
+    char err[256];
+    ck_assert_msg(pslg_check(g, err, sizeof err) == 0, "%s", err);
+    ck_assert_int_eq(pslg_boundary_markers(g), 0);
+}
+
 START_TEST(test_boundary_markers) {
     /* a square (bottom marker 7) with a square hole and a dangling interior segment, all other
      * markers 0; vertex 3 (0, 4) has marker 3 in the file */
@@ -266,14 +281,7 @@ START_TEST(test_boundary_markers) {
     const int32_t seg[] = {0, 1, 1, 2, 2, 3, 3, 0, 4, 5, 5, 6, 6, 7, 7, 4, 8, 2, 8, 9};
     const int32_t mk[] = {7, 0, 0, 0, 0, 0, 0, 0, 0, 0};
     pslg g;
-    build(&g, 10, xy, 10, seg, mk);
-    g.vmarker[3] = 3;
-    g.nholes = 1;
-    g.holes = malloc(2 * sizeof(double));
-    g.holes[0] = g.holes[1] = 1.5;
-    char err[256];
-    ck_assert_msg(pslg_check(&g, err, sizeof err) == 0, "%s", err);
-    ck_assert_int_eq(pslg_boundary_markers(&g), 0);
+    marked_square(&g, 10, xy, seg, mk);
     const int32_t want_s[] = {7, 1, 1, 1, 1, 1, 1, 1, 0, 0};
     const int32_t want_v[] = {7, 7, 1, 3, 1, 1, 1, 1, 0, 0};
     for (int s = 0; s < 10; s++)
@@ -292,15 +300,8 @@ START_TEST(test_boundary_markers_all_marked) {
     const int32_t seg[] = {0, 1, 1, 2, 2, 3, 3, 0, 4, 5, 5, 6, 6, 7, 7, 4, 8, 2, 8, 9};
     const int32_t mk[] = {7, 7, 7, 7, 5, 5, 5, 5, 9, 9};
     pslg g;
-    build(&g, 11, xy, 10, seg, mk);
-    g.vmarker[3] = 3;
-    g.nholes = 1;
-    g.holes = malloc(2 * sizeof(double));
-    g.holes[0] = g.holes[1] = 1.5;
-    char err[256];
-    ck_assert_msg(pslg_check(&g, err, sizeof err) == 0, "%s", err);
+    marked_square(&g, 11, xy, seg, mk);
     ck_assert_int_eq(g.nsegs, 11);
-    ck_assert_int_eq(pslg_boundary_markers(&g), 0);
     const int32_t want_v[] = {7, 7, 7, 3, 5, 5, 5, 5, 9, 9, 7};
     for (int v = 0; v < 11; v++)
         ck_assert_msg(g.vmarker[v] == want_v[v], "vertex %d: %d", v, g.vmarker[v]);

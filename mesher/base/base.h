@@ -148,4 +148,17 @@ static inline int32_t mesh_lower_i32(const int32_t *a, int32_t n, int32_t v) {
     return lo;
 }
 
+/* The same for n ascending 64-bit keys. */
+static inline int32_t mesh_lower_u64(const uint64_t *a, int32_t n, uint64_t v) {
+    int32_t lo = 0, hi = n;
+    while (lo < hi) {
+        int32_t mid = lo + (hi - lo) / 2;
+        if (a[mid] < v)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
 #endif

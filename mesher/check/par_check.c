@@ -63,14 +63,7 @@ static uint64_t seg_key(int32_t a, int32_t b, int kind) {
 /* The kinds (bit 1 << kind) of every listing of edge a-b among the n sorted keys k. */
 static int seg_kinds(const uint64_t *k, int32_t n, int32_t a, int32_t b) {
     uint64_t want = seg_key(a, b, 0);
-    int32_t lo = 0, hi = n; /* the first key >= want */
-    while (lo < hi) {
-        int32_t mid = lo + (hi - lo) / 2;
-        if (k[mid] < want)
-            lo = mid + 1;
-        else
-            hi = mid;
-    }
+    int32_t lo = mesh_lower_u64(k, n, want);
     int kinds = 0;
     for (; lo < n && k[lo] >> 2 == want >> 2; lo++)
         kinds |= 1 << (k[lo] & 3);
@@ -95,9 +88,24 @@ static int cmp_edge_bits(const double *x, int32_t rx, const double *y, int32_t r
 }
 
 static int same_edge(const double *x, const double *y) {
-    for (int k = 0; k < 4; k++)
-        if (coord_bits(x[k]) != coord_bits(y[k])) return 0;
-    return 1;
+    return cmp_edge_bits(x, 0, y, 0) == 0;
+}
+
+/* The n edge records at e (size bytes each, the endpoints double x[4] first) at their
+ * rendezvous ranks (the hash of the endpoints): the records this rank receives, *nr of them;
+ * e is taken (freed, or returned as it is at one rank, its own rendezvous). */
+static void *to_rendezvous(void *e, size_t size, int32_t n, int64_t *nr) {
+    int P = rt_size();
+    *nr = n;
+    if (P == 1) return e;
+    int *dest = mesh_xmalloc((size_t)n + 1, sizeof(int));
+    for (int32_t i = 0; i < n; i++)
+        dest[i] = (int)(edges_hash((const double *)(const void *)((char *)e + (size_t)i * size)) %
+                        (uint64_t)P);
+    void *rb = par_exchange(e, size, dest, n, nr);
+    mesh_xfree(dest);
+    mesh_xfree(e);
+    return rb;
 }
 
 /* An order of the n records (size bytes each: the endpoints double x[4] first, the rank at
@@ -200,19 +208,11 @@ static int32_t open_edges(const mesh_flat *f, const uint8_t *topen, int rank, op
 
 int par_check_interfaces_open(const mesh_flat *local, const uint8_t *topen, char *msg,
                               size_t msglen) {
-    int rank = rt_rank(), P = rt_size();
+    int rank = rt_rank();
     open_edge *e = NULL;
     int32_t n = open_edges(local, topen, rank, &e);
-    int64_t nr = n;
-    open_edge *rb = e; /* one rank: its own rendezvous */
-    if (P > 1) {
-        int *dest = mesh_xmalloc((size_t)n, sizeof(int));
-        for (int32_t i = 0; i < n; i++)
-            dest[i] = (int)(edges_hash(e[i].x) % (uint64_t)P);
-        rb = par_exchange(e, sizeof *e, dest, n, &nr);
-        mesh_xfree(dest);
-        mesh_xfree(e);
-    }
+    int64_t nr;
+    open_edge *rb = to_rendezvous(e, sizeof *e, n, &nr);
     int32_t *ord = edge_order(rb, sizeof *rb, offsetof(open_edge, rank), nr);
     int bad = 0;
     char m[400] = "";
@@ -282,7 +282,7 @@ static void add_apex(void *ctx, int32_t a, int32_t b, int32_t apex) {
 
 long par_check_interface_delaunay(const mesh_flat *local, const uint8_t *topen, char *msg,
                                   size_t msglen) {
-    int rank = rt_rank(), P = rt_size();
+    int rank = rt_rank();
     if (msglen) msg[0] = '\0';
     uint64_t *k = seg_keys(local);
     par_vtris x;
@@ -294,16 +294,8 @@ long par_check_interface_delaunay(const mesh_flat *local, const uint8_t *topen, 
     int32_t n = ac.n;
     apex_edge *e = ac.o;
     /* to the rendezvous (the hash of the edge) */
-    int64_t nr = n;
-    apex_edge *rb = e; /* one rank: its own rendezvous */
-    if (P > 1) {
-        int *dest = mesh_xmalloc((size_t)n, sizeof(int));
-        for (int32_t i = 0; i < n; i++)
-            dest[i] = (int)(edges_hash(e[i].x) % (uint64_t)P);
-        rb = par_exchange(e, sizeof *e, dest, n, &nr);
-        mesh_xfree(dest);
-        mesh_xfree(e);
-    }
+    int64_t nr;
+    apex_edge *rb = to_rendezvous(e, sizeof *e, n, &nr);
     int32_t *ord = edge_order(rb, sizeof *rb, offsetof(apex_edge, rank), nr);
     long bad = 0;
     for (int64_t i = 0; i + 1 < nr; i++) {
