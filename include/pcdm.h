@@ -54,7 +54,11 @@ enum {
     PCDM_EMPI = 5,     /* MPI is not initialised (or lacks MPI_THREAD_FUNNELED), or an MPI call
                         * failed */
     PCDM_EBUSY = 6,    /* the parallel runtime is already in use in this process */
-    PCDM_EMESH = 7     /* the mesher failed (a bug: please report the message) */
+    PCDM_EMESH = 7,    /* the mesher failed (a bug: please report the message) */
+    PCDM_ENOMEM = 8    /* out of memory: the message says how much more was asked; every block
+                        * the call took is given back.  Returned by the calls on the caller's
+                        * thread (pcdm_triangulate with threads 0); the threaded and parallel
+                        * calls end the program with that message instead */
 };
 
 typedef struct pcdm_status {

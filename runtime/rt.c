@@ -28,6 +28,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <cpuid.h>
 #include <x86intrin.h>
@@ -39,16 +40,32 @@ static atomic_long rt_live_allocs;
 
 /* ---- allocation and errors ---------------------------------------------------------------- */
 
+/* Out of memory is not a bug: the message says what was asked and what to change, and every
+ * rank ends with exit code 1. */
+static void oom_at(const char *file, int line, size_t n) {
+    fprintf(stderr,
+            "pcdm: out of memory on rank %d: %zu bytes more could not be had (%s:%d); ask for "
+            "fewer triangles (a larger -a or -S), run on more ranks or hosts, or raise the memory "
+            "limit (ulimit -v)\n",
+            rt_g.initialised ? rt_g.rank : -1, n, file, line);
+    fflush(stderr);
+    int inited = 0, fin = 0;
+    MPI_Initialized(&inited);
+    MPI_Finalized(&fin);
+    if (inited && !fin && !rt_in_worker) MPI_Abort(MPI_COMM_WORLD, 1);
+    _exit(1);
+}
+
 void *rt_xmalloc(size_t n) {
     void *p = malloc(n ? n : 1);
-    if (!p) RT_FATAL("out of memory allocating %zu bytes", n);
+    if (!p) oom_at(__FILE__, __LINE__, n);
     atomic_fetch_add(&rt_live_allocs, 1);
     return p;
 }
 
 void *rt_xrealloc(void *p, size_t n) {
     void *q = realloc(p, n ? n : 1);
-    if (!q) RT_FATAL("out of memory reallocating %zu bytes", n);
+    if (!q) oom_at(__FILE__, __LINE__, n);
     if (!p) atomic_fetch_add(&rt_live_allocs, 1);
     return q;
 }

@@ -15,8 +15,8 @@
  * every (triangle, corner) with the -o2 node opposite it.  The Gmsh file must exist whole.
  * CK_NOFORK (MPI does not survive fork); run from the repository root.
  */
-#include "bounds/bounds.h"
 #include "base/base.h"
+#include "bounds/bounds.h"
 #include "check_run.h"
 #include "geom/geom.h"
 #include "io/xwrite.h"
@@ -299,7 +299,7 @@ static void compare(int how) {
     snprintf(msh, sizeof msh, "%s/p.msh", dir);
     int ok = 1;
     if (rank == 0) {
-        mesh_xreq r = {sp, 1, 1, 1, NULL, NULL, 0};
+        mesh_xreq r = {sp, 1, 1, 1, NULL, NULL, 0, NULL};
         ok = meshio_write_extras(&F, &r, err, sizeof err) == 0;
         if (!ok) fprintf(stderr, "mpi_pextra: %s\n", err);
     }
@@ -312,7 +312,7 @@ static void compare(int how) {
     o.msh = msh;
     par_numbering num;
     ck_assert_int_eq(par_number(&part, &in, NULL, &num, err, sizeof err), 0);
-    ck_assert_int_eq(par_write_extras(&o, &in, &part, NULL, &num), 0);
+    ck_assert_int_eq(par_write_extras(&o, NULL, &in, &part, NULL, &num), 0);
     int good = 1; /* decided on rank 0, asserted on every rank (no rank left in a collective) */
     if (rank == 0) {
         static const char *const what[3] = {"edges and markers", "neighbours", "-o2 nodes"};

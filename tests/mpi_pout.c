@@ -214,7 +214,7 @@ static void roundtrip(int how) {
     int ok = par_check_parts(&o, &in, &part, &num, 0, &r);
     if (!ok && rank == 0) fprintf(stderr, "mpi_pout: check: %s\n", r.first_problem);
     ck_assert_int_eq(all_true(ok), 1);
-    ck_assert_int_eq(par_write_parts(&o, &in, &part, NULL, &num), 0);
+    ck_assert_int_eq(par_write_parts(&o, NULL, &in, &part, NULL, &num), 0);
 
     int good = 1;
     if (rank == 0) {

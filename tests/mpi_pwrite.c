@@ -155,7 +155,7 @@ START_TEST(test_triangle_files) {
     char par[300], seq[300], err[512] = "";
     snprintf(par, sizeof par, "%s/par", dir);
     snprintf(seq, sizeof seq, "%s/seq", dir);
-    int rc = meshio_pwrite_triangle(MPI_COMM_WORLD, &p, par, err, sizeof err);
+    int rc = meshio_pwrite_triangle(MPI_COMM_WORLD, NULL, &p, par, err, sizeof err);
     if (rc) fprintf(stderr, "rank %d: %s\n", rank, err);
     ck_assert_int_eq(all_true(rc == 0), 1);
     int ok = 1;
@@ -261,7 +261,7 @@ START_TEST(test_triangle_chunks) {
         q.keep = keep[c];
         q.threads = 1 + ct / 4;
         snprintf(par, sizeof par, "%s/chunk%d", dir, ct);
-        int rc = meshio_pwrite_triangle(MPI_COMM_WORLD, &q, par, err, sizeof err);
+        int rc = meshio_pwrite_triangle(MPI_COMM_WORLD, NULL, &q, par, err, sizeof err);
         if (rc) fprintf(stderr, "rank %d: chunk %zu: %s\n", rank, chunks[c], err);
         ok = ok && rc == 0;
         static const char *const ext[3] = {"node", "ele", "poly"};
@@ -295,7 +295,7 @@ START_TEST(test_missing_folder) {
     make_part(rank, size, &p, &xy, &vm, &tri, &tr, &seg, &sm);
     char pre[300], err[512] = "", all0[512] = "";
     snprintf(pre, sizeof pre, "%s/no-such-folder/out", dir);
-    int rc = meshio_pwrite_triangle(MPI_COMM_WORLD, &p, pre, err, sizeof err);
+    int rc = meshio_pwrite_triangle(MPI_COMM_WORLD, NULL, &p, pre, err, sizeof err);
     /* every rank failed, with rank 0's message */
     memcpy(all0, err, sizeof all0);
     MPI_Bcast(all0, (int)sizeof all0, MPI_CHAR, 0, MPI_COMM_WORLD);
@@ -322,7 +322,7 @@ START_TEST(test_pvtu) {
     m.tri = tri;
     char pre[300], err[512] = "";
     snprintf(pre, sizeof pre, "%s/pv", dir);
-    int ok = meshio_pwrite_pvtu(MPI_COMM_WORLD, &m, NULL, 1, pre, err, sizeof err) == 0;
+    int ok = meshio_pwrite_pvtu(MPI_COMM_WORLD, NULL, &m, NULL, 1, pre, err, sizeof err) == 0;
     if (!ok) fprintf(stderr, "rank %d: %s\n", rank, err);
     if (ok && rank == 0) {
         char path[320], buf[4096] = "";

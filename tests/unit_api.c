@@ -10,15 +10,18 @@
  *  - convex_hull (Triangle's -c) meshes segments that enclose nothing over their hull;
  *  - nothing is printed (duplicates merged quietly); two threads meshing at once agree with one;
  *  - a PSLG with crossing and overlapping segments (tests/inputs/cross.poly) is split and
- *    marked as ./mesh does: the same points, markers and triangles as ./mesh's files.
+ *    marked as ./mesh does: the same points, markers and triangles as ./mesh's files;
+ *  - out of memory returns PCDM_ENOMEM and gives back every block the call took.
  */
 #include "api_check.h"
 #include "check_run.h"
 #include "io/meshio.h"
 
+#include <malloc.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 START_TEST(test_plate) {
@@ -299,9 +302,72 @@ START_TEST(test_crossing_as_mesh) {
 }
 END_TEST
 
+/* Out of memory (an address-space limit a little above what the process holds, Check's forked
+ * child only): PCDM_ENOMEM with a message that says what to change, no mesh; the blocks the
+ * call took are given back (the heap in use after it as before it, within 1 MiB); the next call
+ * under the same limit, with a bound that fits, succeeds.  (Sanitizer builds reserve their
+ * shadow memory up front and cannot run under such a limit: SKIP there.) */
+static size_t heap_in_use(void) {
+    struct mallinfo2 mi = mallinfo2();
+    return mi.uordblks + mi.hblkhd;
+}
+
+static void limit_address_space(size_t more) {
+    FILE *f = fopen("/proc/self/statm", "r");
+    ck_assert_ptr_nonnull(f);
+    unsigned long pages = 0;
+    ck_assert_int_eq(fscanf(f, "%lu", &pages), 1);
+    fclose(f);
+    struct rlimit rl = {pages * (size_t)sysconf(_SC_PAGESIZE) + more, RLIM_INFINITY};
+    ck_assert_int_eq(setrlimit(RLIMIT_AS, &rl), 0);
+}
+
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define NO_AS_LIMIT 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+#define NO_AS_LIMIT 1
+#endif
+#endif
+
+START_TEST(test_out_of_memory) {
+#ifdef NO_AS_LIMIT
+    printf("unit_api: test_out_of_memory: SKIP (a sanitizer build: no address-space limit)\n");
+    return;
+#endif
+    pcdm_input in = plate();
+    pcdm_options o;
+    pcdm_options_default(&o);
+    o.min_angle = 30;
+    o.max_area = 0.1; /* a first call, so what the library keeps for good is already there */
+    pcdm_mesh m;
+    pcdm_status st;
+    ck_assert_int_eq(pcdm_triangulate(&in, &o, &m, &st), PCDM_OK);
+    pcdm_mesh_free(&m);
+    malloc_trim(0);
+    size_t before = heap_in_use();
+    limit_address_space((size_t)300 << 20);
+    o.max_area = 1e-7; /* some 10^9 triangles */
+    ck_assert_int_eq(pcdm_triangulate(&in, &o, &m, &st), PCDM_ENOMEM);
+    ck_assert_int_eq(st.code, PCDM_ENOMEM);
+    ck_assert_msg(strstr(st.message, "out of memory") && strstr(st.message, "max_area"), "%s",
+                  st.message);
+    ck_assert_ptr_null(m.points);
+    ck_assert_ptr_null(m.triangles);
+    size_t after = heap_in_use();
+    ck_assert_msg(after < before + ((size_t)1 << 20),
+                  "heap in use %zu bytes before the call, %zu after: not given back", before,
+                  after);
+    o.max_area = 0.01;
+    ck_assert_int_eq(pcdm_triangulate(&in, &o, &m, &st), PCDM_OK);
+    ck_assert(valid(&in, &m, 30, 0.01));
+    pcdm_mesh_free(&m);
+}
+END_TEST
+
 int main(void) {
-    return ck_run(
-        ck_suite("api", 120,
-                 CK_TESTS(test_plate, test_regions, test_convex_hull, test_callback, test_errors,
-                          test_steiner_limit, test_quiet, test_threads, test_crossing_as_mesh)));
+    return ck_run(ck_suite("api", 120,
+                           CK_TESTS(test_plate, test_regions, test_convex_hull, test_callback,
+                                    test_errors, test_steiner_limit, test_quiet, test_threads,
+                                    test_crossing_as_mesh, test_out_of_memory)));
 }

@@ -487,7 +487,7 @@ START_TEST(test_roundtrip) {
     fclose(f);
     /* VTK and SVG */
     snprintf(p, sizeof p, "%s.vtk", prefix);
-    ck_assert_msg(meshio_write_vtk(&m, 0, p, err, sizeof err) == 0, "%s", err);
+    ck_assert_msg(meshio_write_vtk(&m, NULL, 0, p, err, sizeof err) == 0, "%s", err);
     f = fopen(p, "r");
     ck_assert(f);
     int cells = 0, types = 0, scal = 0;
@@ -499,7 +499,7 @@ START_TEST(test_roundtrip) {
     fclose(f);
     ck_assert(cells == 1 && types == 1 && scal == 1);
     snprintf(p, sizeof p, "%s.svg", prefix);
-    ck_assert_msg(meshio_write_svg(&m, p, err, sizeof err) == 0, "%s", err);
+    ck_assert_msg(meshio_write_svg(&m, NULL, p, err, sizeof err) == 0, "%s", err);
     struct stat st;
     ck_assert(stat(p, &st) == 0 && st.st_size > 200);
     ck_assert_int_eq(count_tmp_leftovers(), 0);

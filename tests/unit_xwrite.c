@@ -95,7 +95,7 @@ START_TEST(test_files) {
     snprintf(msh, sizeof msh, "%s/sq.msh", dir);
     snprintf(vtk, sizeof vtk, "%s/sq.vtk", dir);
     mesh_flat m = square();
-    mesh_xreq r = {prefix, 1, 1, 1, msh, vtk, 0};
+    mesh_xreq r = {prefix, 1, 1, 1, msh, vtk, 0, NULL};
     ck_assert_msg(meshio_write_extras(&m, &r, err, sizeof err) == 0, "%s", err);
     /* edges in key order: (0,1) (0,3) (0,4) (1,2) (1,4) (2,3) (2,4) (3,4) */
     snprintf(p, sizeof p, "%s.edge", prefix);
@@ -126,7 +126,7 @@ START_TEST(test_files) {
     HAS(msh, "$EndElements\n");
     /* without attributes: one surface "domain"; linear elements */
     m.tattr = NULL;
-    r = (mesh_xreq){NULL, 0, 0, 0, msh, NULL, 0};
+    r = (mesh_xreq){NULL, 0, 0, 0, msh, NULL, 0, NULL};
     ck_assert_msg(meshio_write_extras(&m, &r, err, sizeof err) == 0, "%s", err);
     HAS(msh, "2 1 \"domain\"\n$EndPhysicalNames");
     HAS(msh, "$Nodes\n1 5 1 5\n");

@@ -198,6 +198,9 @@ int api_make_pslg(const pcdm_input *in, const pcdm_options *o, pslg *g, pcdm_sta
     return rc == 0 ? PCDM_OK : api_fail(st, PCDM_EINPUT, "%s", err);
 }
 
+static int triangulate_here(const pcdm_input *in, const pcdm_options *o, pcdm_mesh *out,
+                            pcdm_status *st);
+
 int pcdm_triangulate(const pcdm_input *in, const pcdm_options *opt, pcdm_mesh *out,
                      pcdm_status *st) {
     pcdm_status own;
@@ -225,19 +228,33 @@ int pcdm_triangulate(const pcdm_input *in, const pcdm_options *opt, pcdm_mesh *o
                         o.threads);
 #endif
     }
-    /* the driver's stages (run/run.h), as ./mesh: the input checked with crossing segments
-     * split and Triangle's boundary-marker rules, the bounds, the mesh, the verdict */
+    return triangulate_here(in, &o, out, st);
+}
+
+/* The driver's stages (run/run.h), as ./mesh: the input checked with crossing segments split
+ * and Triangle's boundary-marker rules, the bounds, the mesh, the verdict; out of memory
+ * anywhere in them gives back every block and returns here (base.h: mesh_guard). */
+static int triangulate_here(const pcdm_input *in, const pcdm_options *o, pcdm_mesh *out,
+                            pcdm_status *st) {
+    mesh_guard guard;
+    if (MESH_GUARD_ENTER(&guard)) {
+        memset(out, 0, sizeof *out);
+        return api_fail(st, PCDM_ENOMEM, "%s", guard.msg);
+    }
     pslg g;
     api_copy_input(in, &g);
     run_job j;
-    api_job(&o, RUN_SEQ, &g, &j);
+    api_job(o, RUN_SEQ, &g, &j);
     mesh_flat f;
     int scale_exp = 0;
     int rc = run_mesh_flat(&j, &f, &scale_exp);
+    if (rc == 0) {
+        flat_to_mesh(&f, scale_exp, out);
+        mesh_flat_free(&f);
+    }
+    mesh_guard_leave(&guard);
     if (rc == 1) return api_fail(st, PCDM_EINPUT, "%s", api_unpath(j.msg));
     if (rc == 2) return api_fail(st, PCDM_EUNMET, "%s", j.msg);
-    flat_to_mesh(&f, scale_exp, out);
-    mesh_flat_free(&f);
     if (j.verdict == RUN_STEINER) api_fail(st, PCDM_ESTEINER, "%s", j.msg);
     return st->code;
 }

@@ -2,13 +2,15 @@
  * one MPI error check, and the debug-only assertion tier.
  *
  * Three tiers of errors (house style):
- *  - bugs (a broken invariant, an impossible state, out of memory) go through MESH_BUG /
+ *  - bugs (a broken invariant, an impossible state) go through MESH_BUG /
  *    MESH_CHECK: one line "pcdm: bug on rank R (FILE:LINE): message" on stderr naming the
  *    caller's file and line, then MPI_Abort when MPI is running (so no rank hangs), abort()
  *    otherwise;
  *  - recoverable failures (bad input, I/O) are return codes with a "FILE:LINE: problem"
  *    message, decided by each layer;
  *  - algorithm outcomes are enums.
+ * Out of memory is none of these: the funnel ends the program with a message that says what was
+ * asked and what to change (mesh_oom_at), never a bug report.
  * The bug report needs no MPI; the parallel layers' half of it (the rank, MPI_Abort, the MPI
  * error check) is base_mpi.c, so the sequential library links without MPI.
  * MESH_ASSERT is the debug tier: checked in `make SANITIZE=1` and `make DEBUG=1` builds (which
@@ -21,9 +23,11 @@
 #ifndef MESH_BASE_H
 #define MESH_BASE_H
 
+#include <setjmp.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #if defined(__GNUC__)
@@ -60,6 +64,15 @@ typedef struct mesh_bug_env {
 } mesh_bug_env;
 void mesh_bug_set_env(const mesh_bug_env *e);
 
+/* What the bug report and the out-of-memory end run before the program stops (io/oset.c:
+ * removing the output's temporary files); set once; fn NULL: nothing. */
+void mesh_on_fatal(void (*fn)(void));
+
+/* Out of memory: n elements of size bytes could not be allocated at file:line.  Not a bug: the
+ * message says what was asked and what to change (larger -a, more ranks, the memory limit);
+ * the program ends with exit code 1 (every rank, via the environment above).  Never returns. */
+MESH_NORETURN void mesh_oom_at(const char *file, int line, size_t n, size_t size);
+
 /* Checks an MPI call's return code; a failure is reported as a bug with MPI's error string
  * (base_mpi.c: only code that links MPI uses it). */
 void mesh_mpi_fail_at(const char *file, int line, const char *call, int rc);
@@ -70,7 +83,8 @@ void mesh_mpi_fail_at(const char *file, int line, const char *call, int rc);
     } while (0)
 
 /* The allocation funnel.  n elements of size bytes (overflow-checked); a zero-size request
- * still returns a unique pointer.  Out of memory is reported at the caller's file and line.
+ * still returns a unique pointer.  Out of memory ends the program (mesh_oom_at) naming the
+ * caller's file and line.
  * Free with free() (or mesh_xfree). */
 void *mesh_xrealloc_at(const char *file, int line, void *p, size_t n, size_t size);
 void *mesh_xcalloc_at(const char *file, int line, size_t n, size_t size);
@@ -78,6 +92,35 @@ void *mesh_xcalloc_at(const char *file, int line, size_t n, size_t size);
 #define mesh_xmalloc(n, size) mesh_xrealloc_at(__FILE__, __LINE__, NULL, (n), (size))
 #define mesh_xcalloc(n, size) mesh_xcalloc_at(__FILE__, __LINE__, (n), (size))
 void mesh_xfree(void *p);
+
+/* Every free() in a file that includes this header is mesh_xfree (so an out-of-memory guard,
+ * below, knows each block that is given back); base.c alone calls the C library's. */
+#ifndef MESH_BASE_REAL_FREE
+#define free(p) mesh_xfree(p)
+#endif
+
+/* A recovery point for out of memory, for the sequential library (pcdm_triangulate on the
+ * caller's thread, and so the Python package): while a guard is entered on a thread, the funnel
+ * records every block it hands out on that thread and forgets each one given back; out of
+ * memory then frees every block still recorded and returns to the guard's setjmp with 1 (the
+ * message in g->msg) instead of ending the program.  Leaving the guard keeps the blocks (the
+ * result) and forgets the record.  Guards nest (the innermost is used).  Only for code whose
+ * blocks are all allocated and freed on the guarded thread: the threaded and parallel paths end
+ * the program instead (mesh_oom_at).  Usage:
+ *     mesh_guard g;
+ *     if (MESH_GUARD_ENTER(&g)) return out_of_memory(g.msg);   (g already left)
+ *     ... work ...
+ *     mesh_guard_leave(&g);                                    */
+typedef struct mesh_guard {
+    jmp_buf jb;
+    void **slot; /* open addressing, linear probing; NULL: empty */
+    size_t cap, n;
+    struct mesh_guard *prev;
+    char msg[256];
+} mesh_guard;
+void mesh_guard_push(mesh_guard *g);
+#define MESH_GUARD_ENTER(g) (mesh_guard_push(g), setjmp((g)->jb))
+void mesh_guard_leave(mesh_guard *g);
 
 /* Programs only (never the library: it is the host's process).  Blocks above 128 KiB always
  * come from mmap and go back to the system when freed.  glibc otherwise raises that threshold to

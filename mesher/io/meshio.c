@@ -18,6 +18,7 @@
 
 #include "geom/pslg.h"
 #include "io/fmt.h"
+#include "io/oset.h"
 #include "io/wfile.h"
 
 #include <errno.h>
@@ -45,26 +46,34 @@ int meshio_mktemp(const char *path, char *tmp, size_t tmplen, char *err, size_t 
     snprintf(tmp, tmplen, "%s.tmpXXXXXX", path);
     int fd = mkstemp(tmp);
     if (fd < 0)
-        return meshio_fail(err, errlen, "%s: cannot create temporary file: %s", path, strerror(errno));
+        return meshio_fail(err, errlen, "%s: cannot create temporary file: %s", path,
+                           strerror(errno));
     mode_t um = umask(0);
     umask(um);
     (void)fchmod(fd, 0666 & ~um); /* mkstemp makes 0600; the usual permissions, not fatal */
     return fd;
 }
 
-int meshio_wopen(wfile *w, const char *path, char *err, size_t errlen) {
+int meshio_wopen(wfile *w, meshio_set *set, const char *path, char *err, size_t errlen) {
     memset(w, 0, sizeof *w);
     w->path = path;
+    w->set = set;
     w->err = err;
     w->errlen = errlen;
     if (errlen) err[0] = '\0';
     int fd = meshio_mktemp(path, w->tmp, sizeof w->tmp, err, errlen);
     if (fd < 0) return -1;
+    if (meshio_set_add(set, w->tmp, path, err, errlen) != 0) {
+        close(fd);
+        unlink(w->tmp);
+        return -1;
+    }
     w->f = fdopen(fd, "w");
     if (!w->f) {
         int e = errno;
         close(fd);
         unlink(w->tmp);
+        meshio_set_drop(set, w->tmp);
         return meshio_fail(err, errlen, "%s: cannot open temporary file: %s", path, strerror(e));
     }
     w->vbuf = mesh_xmalloc(1 << 20, 1);
@@ -73,23 +82,35 @@ int meshio_wopen(wfile *w, const char *path, char *err, size_t errlen) {
 }
 
 int meshio_wclose(wfile *w, int failed) {
-    int bad = failed || ferror(w->f);
-    int e = bad ? EIO : 0;
+    int bad = failed, e = 0;
+    /* the cause: a write that failed earlier fails again when the buffer is flushed, and errno
+     * then names it (ENOSPC, EFBIG, EIO, ...) */
+    if (!bad && (fflush(w->f) != 0 || ferror(w->f))) {
+        bad = 1;
+        e = errno;
+    }
+    if (!bad && fsync(fileno(w->f)) != 0 && errno != EINVAL && errno != EROFS) {
+        bad = 1;
+        e = errno;
+    }
     if (fclose(w->f) != 0 && !bad) {
         bad = 1;
         e = errno;
     }
     free(w->vbuf);
-    if (!bad && rename(w->tmp, w->path) != 0) {
+    if (!bad && !w->set && rename(w->tmp, w->path) != 0) {
         bad = 1;
         e = errno;
     }
     if (bad) {
         unlink(w->tmp);
+        meshio_set_drop(w->set, w->tmp);
         if (!failed || !w->err[0])
-            meshio_fail(w->err, w->errlen, "%s: write failed: %s", w->path, strerror(e));
+            meshio_fail(w->err, w->errlen, "%s: write failed: %s", w->path,
+                        e ? strerror(e) : "an error of the C library's stream");
         return -1;
     }
+    meshio_set_done(w->set, w->tmp);
     return 0;
 }
 
@@ -115,9 +136,10 @@ static char *put_fix(char *p, double v) {
 
 /* ---------------------------------------------------------------- Triangle files -------- */
 
-static int write_node(const mesh_flat *m, const char *path, char *err, size_t errlen) {
+static int write_node(const mesh_flat *m, meshio_set *set, const char *path, char *err,
+                      size_t errlen) {
     wfile w;
-    if (meshio_wopen(&w, path, err, errlen)) return -1;
+    if (meshio_wopen(&w, set, path, err, errlen)) return -1;
     int nattr = m->vattr ? m->nattr : 0;
     fprintf(w.f, "%d 2 %d 1\n", (int)m->nverts, nattr);
     char *line = mesh_xmalloc(64 + 32 * (size_t)nattr, 1);
@@ -141,9 +163,10 @@ static int write_node(const mesh_flat *m, const char *path, char *err, size_t er
     return meshio_wclose(&w, 0);
 }
 
-static int write_ele(const mesh_flat *m, const char *path, char *err, size_t errlen) {
+static int write_ele(const mesh_flat *m, meshio_set *set, const char *path, char *err,
+                     size_t errlen) {
     wfile w;
-    if (meshio_wopen(&w, path, err, errlen)) return -1;
+    if (meshio_wopen(&w, set, path, err, errlen)) return -1;
     fprintf(w.f, "%d 3 %d\n", (int)m->ntris, m->tattr || m->trank ? 1 : 0);
     char line[128];
     for (int32_t t = 0; t < m->ntris; t++) {
@@ -169,9 +192,10 @@ static int write_ele(const mesh_flat *m, const char *path, char *err, size_t err
     return meshio_wclose(&w, 0);
 }
 
-static int write_poly(const mesh_flat *m, const char *path, char *err, size_t errlen) {
+static int write_poly(const mesh_flat *m, meshio_set *set, const char *path, char *err,
+                      size_t errlen) {
     wfile w;
-    if (meshio_wopen(&w, path, err, errlen)) return -1;
+    if (meshio_wopen(&w, set, path, err, errlen)) return -1;
     int32_t ns = 0;
     for (int32_t s = 0; s < m->nsegs; s++)
         ns += !(m->sinterface && m->sinterface[s]);
@@ -226,19 +250,20 @@ int meshio_flat_domain(mesh_flat *m, const struct pslg *g) {
 }
 
 int meshio_write_triangle(const mesh_flat *m, const char *prefix, char *err, size_t errlen) {
-    return meshio_write_triangle_some(m, prefix, 0, err, errlen);
+    return meshio_write_triangle_some(m, NULL, prefix, 0, err, errlen);
 }
 
-int meshio_write_triangle_some(const mesh_flat *m, const char *prefix, unsigned skip, char *err,
-                               size_t errlen) {
+int meshio_write_triangle_some(const mesh_flat *m, meshio_set *set, const char *prefix,
+                               unsigned skip, char *err, size_t errlen) {
     char path[1024];
-    if (strlen(prefix) + 6 > sizeof path) return meshio_fail(err, errlen, "%s: path too long", prefix);
+    if (strlen(prefix) + 6 > sizeof path)
+        return meshio_fail(err, errlen, "%s: path too long", prefix);
     snprintf(path, sizeof path, "%s.node", prefix);
-    if (!(skip & MESHIO_SKIP_NODE) && write_node(m, path, err, errlen)) return -1;
+    if (!(skip & MESHIO_SKIP_NODE) && write_node(m, set, path, err, errlen)) return -1;
     snprintf(path, sizeof path, "%s.ele", prefix);
-    if (!(skip & MESHIO_SKIP_ELE) && write_ele(m, path, err, errlen)) return -1;
+    if (!(skip & MESHIO_SKIP_ELE) && write_ele(m, set, path, err, errlen)) return -1;
     snprintf(path, sizeof path, "%s.poly", prefix);
-    return skip & MESHIO_SKIP_POLY ? 0 : write_poly(m, path, err, errlen);
+    return skip & MESHIO_SKIP_POLY ? 0 : write_poly(m, set, path, err, errlen);
 }
 
 /* ---------------------------------------------------------------- reading back ---------- */
@@ -435,7 +460,8 @@ int meshio_read_triangle(const char *prefix, mesh_flat *m, char *err, size_t err
     memset(m, 0, sizeof *m);
     if (errlen) err[0] = '\0';
     char path[1024];
-    if (strlen(prefix) + 6 > sizeof path) return meshio_fail(err, errlen, "%s: path too long", prefix);
+    if (strlen(prefix) + 6 > sizeof path)
+        return meshio_fail(err, errlen, "%s: path too long", prefix);
     pslg g;
     snprintf(path, sizeof path, "%s.node", prefix);
     if (pslg_read(path, &g, err, errlen)) return -1;
@@ -455,8 +481,8 @@ int meshio_read_triangle(const char *prefix, mesh_flat *m, char *err, size_t err
         if (pslg_read_segments(path, m->nverts, first, &g, err, errlen)) goto fail;
         if (g.nverts != 0) {
             pslg_free(&g);
-            meshio_fail(err, errlen, "%s: lists its own vertices; expected 0 (vertices in %s.node)", path,
-                  prefix);
+            meshio_fail(err, errlen, "%s: lists its own vertices; expected 0 (vertices in %s.node)",
+                        path, prefix);
             goto fail;
         }
         m->nsegs = g.nsegs;
@@ -522,9 +548,10 @@ static void vtk_ints(bebuf *w, const int32_t *v, int32_t n, int32_t dflt, int bi
     if (binary) be_end(w);
 }
 
-int meshio_write_vtk(const mesh_flat *m, int binary, const char *path, char *err, size_t errlen) {
+int meshio_write_vtk(const mesh_flat *m, meshio_set *set, int binary, const char *path, char *err,
+                     size_t errlen) {
     wfile wf;
-    if (meshio_wopen(&wf, path, err, errlen)) return -1;
+    if (meshio_wopen(&wf, set, path, err, errlen)) return -1;
     bebuf w = {wf.f, 0, {0}};
     fprintf(wf.f, "# vtk DataFile Version 3.0\npcdm mesh\n%s\nDATASET UNSTRUCTURED_GRID\n",
             binary ? "BINARY" : "ASCII");
@@ -601,7 +628,8 @@ static char *put_pt(char *p, const svgmap *sm, const double *q) {
     return put_fix(p, (sm->y1 - q[1]) * sm->s + sm->pad);
 }
 
-int meshio_write_svg(const mesh_flat *m, const char *path, char *err, size_t errlen) {
+int meshio_write_svg(const mesh_flat *m, meshio_set *set, const char *path, char *err,
+                     size_t errlen) {
     double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
     for (int32_t i = 0; i < m->nverts; i++) {
         x0 = fmin(x0, m->xy[2 * i]);
@@ -629,7 +657,7 @@ int meshio_write_svg(const mesh_flat *m, const char *path, char *err, size_t err
         start[r] = start[r - 1];
     start[0] = 0;
     wfile wf;
-    if (meshio_wopen(&wf, path, err, errlen)) {
+    if (meshio_wopen(&wf, set, path, err, errlen)) {
         free(start);
         free(order);
         return -1;

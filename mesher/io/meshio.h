@@ -82,8 +82,9 @@ int meshio_write_triangle(const mesh_flat *m, const char *prefix, char *err, siz
 enum { MESHIO_SKIP_NODE = 1, MESHIO_SKIP_ELE = 2, MESHIO_SKIP_POLY = 4, MESHIO_SKIP_ALL = 7 };
 
 /* meshio_write_triangle without the files skip names (MESHIO_SKIP_ALL: writes nothing). */
-int meshio_write_triangle_some(const mesh_flat *m, const char *prefix, unsigned skip, char *err,
-                               size_t errlen);
+struct meshio_set;
+int meshio_write_triangle_some(const mesh_flat *m, struct meshio_set *set, const char *prefix,
+                               unsigned skip, char *err, size_t errlen);
 
 /* Reads PREFIX.node and PREFIX.ele (and PREFIX.poly when present: segments, holes, regions)
  * back into m.  The .ele's first attribute goes into tattr (and into trank too when every value
@@ -128,11 +129,13 @@ void meshio_flat_orient_ccw(mesh_flat *m);
  * BINARY encoding (big-endian doubles and 32-bit ints, as VTK, ParaView and meshio read it; 12
  * bytes of text per number fewer, and no formatting); else ASCII (coordinates in the fewest digits
  * that read back to the same bits). */
-int meshio_write_vtk(const mesh_flat *m, int binary, const char *path, char *err, size_t errlen);
+int meshio_write_vtk(const mesh_flat *m, struct meshio_set *set, int binary, const char *path,
+                     char *err, size_t errlen);
 
 /* SVG picture: triangles filled by owning rank, constraint edges drawn thick, interface
  * constraints in a contrasting colour. */
-int meshio_write_svg(const mesh_flat *m, const char *path, char *err, size_t errlen);
+int meshio_write_svg(const mesh_flat *m, struct meshio_set *set, const char *path, char *err,
+                     size_t errlen);
 
 void mesh_flat_free(mesh_flat *m);
 

@@ -13,6 +13,7 @@
 #include "io/ptext.h"
 
 #include "base/base.h"
+#include "io/oset.h"
 #include "io/wfile.h"
 
 #include <errno.h>
@@ -21,6 +22,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #define PT_CHUNK ((size_t)1 << 20)
@@ -33,9 +36,9 @@ MESH_PRINTF(3, 4) static void pt_err(char *err, size_t errlen, const char *fmt, 
     va_end(ap);
 }
 
-static int pt_put(void *ctx, const char *path, const mesh_text_sec *s, int ns, char *err,
-                  size_t errlen) {
-    return meshio_pwrite_sections(*(MPI_Comm *)ctx, path, s, ns, err, errlen);
+static int pt_put(void *ctx, struct meshio_set *set, const char *path, const mesh_text_sec *s,
+                  int ns, char *err, size_t errlen) {
+    return meshio_pwrite_sections(*(MPI_Comm *)ctx, set, path, s, ns, err, errlen);
 }
 
 mesh_text_out meshio_ptext_out(MPI_Comm *comm) {
@@ -59,6 +62,29 @@ int meshio_pagree(MPI_Comm comm, int ok, char *err, size_t errlen) {
     return -1;
 }
 
+/* Why a write that MPI-IO reported as short stopped (Open MPI returns success with fewer bytes
+ * on a full disk or past the file size limit): the file size limit, or the space left in the
+ * file's file system; NULL when neither explains it. */
+static const char *short_cause(const char *path, long long end) {
+    struct rlimit rl;
+    if (getrlimit(RLIMIT_FSIZE, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY &&
+        (unsigned long long)end > (unsigned long long)rl.rlim_cur)
+        return "File too large (past the file size limit, ulimit -f)";
+    struct statvfs fs;
+    char dir[1100];
+    snprintf(dir, sizeof dir, "%s", path);
+    char *slash = strrchr(dir, '/');
+    if (slash)
+        slash[1] = '\0';
+    else
+        snprintf(dir, sizeof dir, ".");
+    if (statvfs(dir, &fs) == 0) {
+        unsigned long long blocks = geteuid() == 0 ? fs.f_bfree : fs.f_bavail;
+        if (blocks * fs.f_frsize < ((unsigned long long)1 << 20)) return "No space left on device";
+    }
+    return NULL;
+}
+
 int meshio_pwrite_at(MPI_File fh, long long off, const char *b, size_t n, const char *path,
                      char *err, size_t errlen) {
     size_t done = 0;
@@ -68,18 +94,21 @@ int meshio_pwrite_at(MPI_File fh, long long off, const char *b, size_t n, const 
         int got = 0, rc = MPI_File_write_at(fh, (MPI_Offset)(off + (long long)done), b + done,
                                             (int)piece, MPI_BYTE, &st);
         if (rc == MPI_SUCCESS) MPI_Get_count(&st, MPI_BYTE, &got);
-        if (rc != MPI_SUCCESS || got != (int)piece) {
-            pt_err(err, errlen, "%s: write failed at byte %lld (MPI-IO error %d)", path,
-                   off + (long long)done, rc);
+        if (rc != MPI_SUCCESS || got <= 0) { /* a short write is tried again for the rest */
+            char why[MPI_MAX_ERROR_STRING];
+            const char *cause = short_cause(path, off + (long long)n);
+            if (rc == MPI_SUCCESS && !cause) cause = "no byte written, no error given";
+            pt_err(err, errlen, "%s: write failed at byte %lld: %s", path, off + (long long)done,
+                   cause ? cause : meshio_mpi_strerror(rc, why));
             return -1;
         }
-        done += piece;
+        done += (size_t)got;
     }
     return 0;
 }
 
-int meshio_pwrite_sections(MPI_Comm comm, const char *path, const mesh_text_sec *s, int ns,
-                           char *err, size_t errlen) {
+int meshio_pwrite_sections(MPI_Comm comm, struct meshio_set *set, const char *path,
+                           const mesh_text_sec *s, int ns, char *err, size_t errlen) {
     int rank;
     MESH_MPI(MPI_Comm_rank(comm, &rank));
     if (errlen) err[0] = '\0';
@@ -104,10 +133,15 @@ int meshio_pwrite_sections(MPI_Comm comm, const char *path, const mesh_text_sec 
     int ok = 1;
     if (rank == 0) {
         int fd = meshio_mktemp(path, tmp, sizeof tmp, err, errlen);
-        if (fd < 0)
+        if (fd < 0) {
             ok = 0;
-        else
+        } else {
             close(fd);
+            if (meshio_set_add(set, tmp, path, err, errlen) != 0) {
+                ok = 0;
+                unlink(tmp);
+            }
+        }
     }
     if (meshio_pagree(comm, ok, err, errlen)) {
         free(line);
@@ -115,12 +149,18 @@ int meshio_pwrite_sections(MPI_Comm comm, const char *path, const mesh_text_sec 
     }
     MESH_MPI(MPI_Bcast(tmp, (int)sizeof tmp, MPI_CHAR, 0, comm));
     MPI_File fh;
-    if (MPI_File_open(comm, tmp, MPI_MODE_WRONLY, MPI_INFO_NULL, &fh) != MPI_SUCCESS) {
+    int orc = MPI_File_open(comm, tmp, MPI_MODE_WRONLY, MPI_INFO_NULL, &fh);
+    if (orc != MPI_SUCCESS) {
         ok = 0;
-        pt_err(err, errlen, "%s: cannot open for parallel writing", path);
+        char why[MPI_MAX_ERROR_STRING];
+        pt_err(err, errlen, "%s: cannot open for parallel writing: %s", path,
+               meshio_mpi_strerror(orc, why));
     }
     if (meshio_pagree(comm, ok, err, errlen)) {
-        if (rank == 0) unlink(tmp);
+        if (rank == 0) {
+            unlink(tmp);
+            meshio_set_drop(set, tmp);
+        }
         free(line);
         return -1;
     }
@@ -152,15 +192,15 @@ int meshio_pwrite_sections(MPI_Comm comm, const char *path, const mesh_text_sec 
     }
     free(buf);
     free(line);
-    if (MPI_File_close(&fh) != MPI_SUCCESS && ok) {
-        ok = 0;
-        pt_err(err, errlen, "%s: closing failed", path);
-    }
+    if (meshio_pclose(&fh, ok, path, err, errlen) != 0) ok = 0;
     int all = meshio_pagree(comm, ok, err, errlen) == 0;
     ok = 1;
     if (rank == 0) {
         if (!all) {
             unlink(tmp);
+            meshio_set_drop(set, tmp);
+        } else if (set) {
+            meshio_set_done(set, tmp);
         } else if (rename(tmp, path) != 0) {
             ok = 0;
             pt_err(err, errlen, "%s: cannot rename the written file: %s", path, strerror(errno));
@@ -169,4 +209,35 @@ int meshio_pwrite_sections(MPI_Comm comm, const char *path, const mesh_text_sec 
     }
     if (!all) return -1;
     return meshio_pagree(comm, ok, err, errlen);
+}
+
+const char *meshio_mpi_strerror(int rc, char *buf) {
+    int len = 0;
+    buf[0] = '\0';
+    if (MPI_Error_string(rc, buf, &len) != MPI_SUCCESS || !buf[0])
+        snprintf(buf, MPI_MAX_ERROR_STRING, "MPI error %d", rc);
+    return buf;
+}
+
+int meshio_pclose(MPI_File *fh, int ok, const char *path, char *err, size_t errlen) {
+    int rc = MPI_File_sync(*fh), bad = 0; /* collective: on every rank, whatever ok is */
+    char why[MPI_MAX_ERROR_STRING];
+    if (rc != MPI_SUCCESS && ok) {
+        bad = 1;
+        pt_err(err, errlen, "%s: writing to the disk failed: %s", path,
+               meshio_mpi_strerror(rc, why));
+    }
+    rc = MPI_File_close(fh);
+    if (rc != MPI_SUCCESS && ok && !bad) {
+        bad = 1;
+        pt_err(err, errlen, "%s: closing failed: %s", path, meshio_mpi_strerror(rc, why));
+    }
+    return bad ? -1 : 0;
+}
+
+int meshio_pset_commit(MPI_Comm comm, meshio_set *s, char *err, size_t errlen) {
+    for (int step = 1; step <= 3; step++)
+        if (meshio_pagree(comm, meshio_set_step(s, step, err, errlen) == 0, err, errlen) != 0)
+            return -1;
+    return 0;
 }

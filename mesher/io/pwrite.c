@@ -36,6 +36,7 @@
 
 #include "base/base.h"
 #include "io/fmt.h"
+#include "io/oset.h"
 #include "io/ptext.h"
 #include "io/wfile.h"
 
@@ -452,8 +453,8 @@ static void digits_range(prange *r) {
  * in pass 2 rank r writes the files starting with file r mod nf: on ext4 (and most local file
  * systems) buffered writes to one file hold its inode lock, so two ranks writing one file at
  * once mostly wait for each other, while two files fill in parallel. */
-static int write_files(MPI_Comm comm, const char (*path)[PATH_MAX_LEN + 8], ftext *x, int nf,
-                       char *err, size_t errlen) {
+static int write_files(MPI_Comm comm, meshio_set *set, const char (*path)[PATH_MAX_LEN + 8],
+                       ftext *x, int nf, char *err, size_t errlen) {
     int rank;
     MESH_MPI(MPI_Comm_rank(comm, &rank));
     char tmp[NFILES][PATH_MAX_LEN + 16];
@@ -461,12 +462,19 @@ static int write_files(MPI_Comm comm, const char (*path)[PATH_MAX_LEN + 8], ftex
     int ok = 1;
     for (int f = 0; f < nf && rank == 0 && ok; f++) {
         int fd = meshio_mktemp(path[f], tmp[f], sizeof tmp[f], err, errlen);
+        if (fd >= 0) {
+            close(fd);
+            if (meshio_set_add(set, tmp[f], path[f], err, errlen) != 0) {
+                unlink(tmp[f]);
+                fd = -1;
+            }
+        }
         if (fd < 0) {
             ok = 0;
-            for (int g = 0; g < f; g++)
+            for (int g = 0; g < f; g++) {
                 unlink(tmp[g]);
-        } else {
-            close(fd);
+                meshio_set_drop(set, tmp[g]);
+            }
         }
     }
     if (meshio_pagree(comm, ok, err, errlen)) return -1;
@@ -514,8 +522,9 @@ static int write_files(MPI_Comm comm, const char (*path)[PATH_MAX_LEN + 8], ftex
         int rc = MPI_File_open(comm, tmp[nopen], MPI_MODE_WRONLY, MPI_INFO_NULL, &fh[nopen]);
         if (rc != MPI_SUCCESS) {
             ok = 0;
-            efmt(err, errlen, "%s: cannot open for parallel writing (MPI-IO error %d)", path[nopen],
-                 rc);
+            char why[MPI_MAX_ERROR_STRING];
+            efmt(err, errlen, "%s: cannot open for parallel writing: %s", path[nopen],
+                 meshio_mpi_strerror(rc, why));
         }
         if (meshio_pagree(comm, ok, err, errlen)) break;
         MESH_MPI(MPI_File_set_errhandler(fh[nopen], MPI_ERRORS_RETURN));
@@ -548,15 +557,15 @@ static int write_files(MPI_Comm comm, const char (*path)[PATH_MAX_LEN + 8], ftex
         free(buf[f]);
     free(scratch);
     for (int f = 0; f < nopen; f++)
-        if (MPI_File_close(&fh[f]) != MPI_SUCCESS && ok) {
-            ok = 0;
-            efmt(err, errlen, "%s: closing failed", path[f]);
-        }
+        if (meshio_pclose(&fh[f], ok, path[f], err, errlen) != 0) ok = 0;
     int all = nopen == nf && meshio_pagree(comm, ok, err, errlen) == 0;
     ok = 1;
     for (int f = 0; f < nf && rank == 0; f++) {
         if (!all || !ok) {
             unlink(tmp[f]);
+            meshio_set_drop(set, tmp[f]);
+        } else if (set) {
+            meshio_set_done(set, tmp[f]);
         } else if (rename(tmp[f], path[f]) != 0) {
             ok = 0;
             efmt(err, errlen, "%s: cannot rename the written file: %s", path[f], strerror(errno));
@@ -578,8 +587,8 @@ static void counts(MPI_Comm comm, const mesh_part *p, long long tot[3], long lon
     if (rank == 0) base[0] = base[1] = base[2] = 0;
 }
 
-int meshio_pwrite_triangle(MPI_Comm comm, const mesh_part *p, const char *prefix, char *err,
-                           size_t errlen) {
+int meshio_pwrite_triangle(MPI_Comm comm, meshio_set *set, const mesh_part *p, const char *prefix,
+                           char *err, size_t errlen) {
     int rank, size;
     MESH_MPI(MPI_Comm_rank(comm, &rank));
     MESH_MPI(MPI_Comm_size(comm, &size));
@@ -623,7 +632,7 @@ int meshio_pwrite_triangle(MPI_Comm comm, const mesh_part *p, const char *prefix
             x[f].vlen = vlen;
         }
     }
-    int rc = write_files(comm, (const char(*)[PATH_MAX_LEN + 8]) path, x, nf, err, errlen);
+    int rc = write_files(comm, set, (const char(*)[PATH_MAX_LEN + 8]) path, x, nf, err, errlen);
     free(vdig);
     free(vlen);
     return rc;
@@ -693,10 +702,10 @@ static void vtu_fill(const mesh_flat *m, int rank, const int32_t *tsub, int a, s
 
 #define VTU_BLOCK 8192 /* values converted at a time */
 
-int meshio_write_vtu(const mesh_flat *m, int rank, const int32_t *tsub, int binary,
+int meshio_write_vtu(const mesh_flat *m, meshio_set *set, int rank, const int32_t *tsub, int binary,
                      const char *path, char *err, size_t errlen) {
     wfile w;
-    if (meshio_wopen(&w, path, err, errlen)) return -1;
+    if (meshio_wopen(&w, set, path, err, errlen)) return -1;
     FILE *f = w.f;
     int use[A_N];
     uint64_t off[A_N], o = 0;
@@ -771,8 +780,8 @@ int meshio_write_vtu(const mesh_flat *m, int rank, const int32_t *tsub, int bina
     return meshio_wclose(&w, 0);
 }
 
-int meshio_pwrite_pvtu(MPI_Comm comm, const mesh_flat *local, const int32_t *tsub, int binary,
-                       const char *prefix, char *err, size_t errlen) {
+int meshio_pwrite_pvtu(MPI_Comm comm, meshio_set *set, const mesh_flat *local, const int32_t *tsub,
+                       int binary, const char *prefix, char *err, size_t errlen) {
     int rank, size;
     MESH_MPI(MPI_Comm_rank(comm, &rank));
     MESH_MPI(MPI_Comm_size(comm, &size));
@@ -782,7 +791,7 @@ int meshio_pwrite_pvtu(MPI_Comm comm, const mesh_flat *local, const int32_t *tsu
     if (!ok) efmt(err, errlen, "%s: path too long", prefix);
     if (ok) {
         snprintf(path, sizeof path, "%s_%d.vtu", prefix, rank);
-        ok = meshio_write_vtu(local, rank, tsub, binary, path, err, errlen) == 0;
+        ok = meshio_write_vtu(local, set, rank, tsub, binary, path, err, errlen) == 0;
     }
     if (meshio_pagree(comm, ok, err, errlen)) return -1;
     if (rank == 0) {
@@ -790,7 +799,7 @@ int meshio_pwrite_pvtu(MPI_Comm comm, const mesh_flat *local, const int32_t *tsu
         const char *base = slash ? slash + 1 : prefix;
         snprintf(path, sizeof path, "%s.pvtu", prefix);
         wfile w;
-        ok = meshio_wopen(&w, path, err, errlen) == 0;
+        ok = meshio_wopen(&w, set, path, err, errlen) == 0;
         if (ok) {
             fprintf(w.f,
                     "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" "

@@ -10,7 +10,9 @@
  *  - ParaView's PREFIX.pvtu: one XML piece PREFIX_R.vtu per rank (binary appended data or
  *    ASCII), with the rank and the subdomain as cell data and the boundary marker as point data.
  * Every file appears whole or not at all: the data goes to a temporary name and rank 0 renames
- * it only after every rank reports success.
+ * it only after every rank reports success -- or, given an output set (oset.h; NULL: none),
+ * leaves it in the set, which the caller commits with the run's other files
+ * (meshio_pset_commit).
  *
  * The Collective functions (over comm) return the same status on every rank: 0, or -1
  * with the message (of the first rank that failed) in err on every rank.
@@ -71,8 +73,8 @@ typedef struct mesh_part {
  * the .node text, counting the rest), an MPI_Exscan gives its offsets, then it writes what it
  * kept and formats and writes the rest chunk after chunk (independent MPI_File_write_at), rank
  * r starting with file r mod 3 so that ranks fill different files at once. */
-int meshio_pwrite_triangle(MPI_Comm comm, const mesh_part *p, const char *prefix, char *err,
-                           size_t errlen);
+int meshio_pwrite_triangle(MPI_Comm comm, struct meshio_set *set, const mesh_part *p,
+                           const char *prefix, char *err, size_t errlen);
 
 /* Local.  Sets the writers' chunk size in bytes (0: the default, 1 MiB); tests shrink it so
  * that every path of the chunked writers runs on small meshes. */
@@ -82,13 +84,14 @@ void meshio_pwrite_set_chunk(size_t bytes);
  * (m->trank, or all `rank`) and "subdomain" (tsub, ntris entries, when not NULL), point data
  * "marker".  binary: raw appended data (little-endian, UInt64 headers); else ASCII.  Written
  * in chunks (no copy of the mesh). */
-int meshio_write_vtu(const mesh_flat *m, int rank, const int32_t *tsub, int binary,
-                     const char *path, char *err, size_t errlen);
+int meshio_write_vtu(const mesh_flat *m, struct meshio_set *set, int rank, const int32_t *tsub,
+                     int binary, const char *path, char *err, size_t errlen);
 
 /* Collective.  Each rank writes its local mesh as PREFIX_R.vtu (R = its rank in comm) and rank
  * 0 writes PREFIX.pvtu naming every piece (file names relative to the .pvtu's folder).  tsub:
  * as meshio_write_vtu; NULL or not on every rank alike. */
-int meshio_pwrite_pvtu(MPI_Comm comm, const mesh_flat *local, const int32_t *tsub, int binary,
-                       const char *prefix, char *err, size_t errlen);
+int meshio_pwrite_pvtu(MPI_Comm comm, struct meshio_set *set, const mesh_flat *local,
+                       const int32_t *tsub, int binary, const char *prefix, char *err,
+                       size_t errlen);
 
 #endif

@@ -25,10 +25,10 @@ size_t meshio_text_room(const mesh_text_sec *s, int ns) {
     return room;
 }
 
-int meshio_write_sections(const char *path, const mesh_text_sec *s, int ns, char *err,
-                          size_t errlen) {
+int meshio_write_sections(struct meshio_set *set, const char *path, const mesh_text_sec *s, int ns,
+                          char *err, size_t errlen) {
     wfile w;
-    if (meshio_wopen(&w, path, err, errlen)) return -1;
+    if (meshio_wopen(&w, set, path, err, errlen)) return -1;
     char *line = mesh_xmalloc(meshio_text_room(s, ns), 1);
     for (int k = 0; k < ns; k++) {
         const mesh_text_sec *c = &s[k];

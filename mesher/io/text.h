@@ -30,8 +30,9 @@ typedef struct mesh_text_sec {
 
 /* Local.  Writes the sections s[0 .. ns) (one process: every rank is this one) to path.
  * Returns 0, or -1 with "path: problem" in err. */
-int meshio_write_sections(const char *path, const mesh_text_sec *s, int ns, char *err,
-                          size_t errlen);
+struct meshio_set;
+int meshio_write_sections(struct meshio_set *set, const char *path, const mesh_text_sec *s, int ns,
+                          char *err, size_t errlen);
 
 /* Where sectioned files go: this process's rank among size writers and the function that
  * writes one file's sections (Collective over the writers when size > 1: ptext.h's
@@ -39,8 +40,8 @@ int meshio_write_sections(const char *path, const mesh_text_sec *s, int ns, char
  * process and meshio_write_sections. */
 typedef struct mesh_text_out {
     int rank, size;
-    int (*put)(void *ctx, const char *path, const mesh_text_sec *s, int ns, char *err,
-               size_t errlen);
+    int (*put)(void *ctx, struct meshio_set *set, const char *path, const mesh_text_sec *s, int ns,
+               char *err, size_t errlen);
     void *ctx; /* borrowed */
 } mesh_text_out;
 

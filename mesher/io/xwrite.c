@@ -435,10 +435,10 @@ static char *msh_tail(void *c, char *q) {
 
 /* ---- writing ------------------------------------------------------------------------------ */
 
-static int put(const mesh_text_out *out, const char *path, const mesh_text_sec *s, int ns,
-               char *err, size_t errlen) {
-    if (!out) return meshio_write_sections(path, s, ns, err, errlen);
-    return out->put(out->ctx, path, s, ns, err, errlen);
+static int put(const mesh_text_out *out, struct meshio_set *set, const char *path,
+               const mesh_text_sec *s, int ns, char *err, size_t errlen) {
+    if (!out) return meshio_write_sections(set, path, s, ns, err, errlen);
+    return out->put(out->ctx, set, path, s, ns, err, errlen);
 }
 
 /* Sorted positions' groups and per-group counts (for the Gmsh block headers). */
@@ -499,23 +499,23 @@ int mesh_xview_write(const mesh_xview *x, const mesh_text_out *out, const mesh_x
     if (r->prefix && r->edges) {
         snprintf(path, sizeof path, "%s.edge", r->prefix);
         mesh_text_sec s = {x->nwe, edge_head, edge_rec, tail_pcdm, &w, 64, rm};
-        rc = put(out, path, &s, 1, err, errlen);
+        rc = put(out, r->set, path, &s, 1, err, errlen);
     }
     if (rc == 0 && r->prefix && r->neighbors) {
         snprintf(path, sizeof path, "%s.neigh", r->prefix);
         mesh_text_sec s = {nt, neigh_head, neigh_rec, tail_pcdm, &w, 64, rm};
-        rc = put(out, path, &s, 1, err, errlen);
+        rc = put(out, r->set, path, &s, 1, err, errlen);
     }
     if (rc == 0 && r->prefix && r->order2 && !(r->skip & MESHIO_SKIP_NODE)) {
         snprintf(path, sizeof path, "%s.node", r->prefix);
         mesh_text_sec s[2] = {{nv, node2_head, node2_vrec, NULL, &w, 64, rm},
                               {x->nwe, NULL, node2_mrec, tail_pcdm, &w, 64, rm}};
-        rc = put(out, path, s, 2, err, errlen);
+        rc = put(out, r->set, path, s, 2, err, errlen);
     }
     if (rc == 0 && r->prefix && r->order2 && !(r->skip & MESHIO_SKIP_ELE)) {
         snprintf(path, sizeof path, "%s.ele", r->prefix);
         mesh_text_sec e = {nt, ele2_head, ele2_rec, tail_pcdm, &w, 64, rm};
-        rc = put(out, path, &e, 1, err, errlen);
+        rc = put(out, r->set, path, &e, 1, err, errlen);
     }
     if (rc == 0 && r->vtk && r->order2) {
         mesh_text_sec s[7] = {{nv, vtk_head, vtk_vrec, NULL, &w, 256, rm},
@@ -525,7 +525,7 @@ int mesh_xview_write(const mesh_xview *x, const mesh_text_out *out, const mesh_x
                               {nt, vtk_cdata_head, vtk_crank, NULL, &w, 128, rm},
                               {nv, vtk_pdata_head, vtk_vmark, NULL, &w, 128, rm},
                               {x->nwe, NULL, vtk_mmark, NULL, &w, 64, rm}};
-        rc = put(out, r->vtk, s, 7, err, errlen);
+        rc = put(out, r->set, r->vtk, s, 7, err, errlen);
     }
     if (rc == 0 && r->msh) {
         msh_groups(&w);
@@ -536,7 +536,7 @@ int mesh_xview_write(const mesh_xview *x, const mesh_text_out *out, const mesh_x
             {x->nwl, msh_ehead, msh_line, NULL, &w, 128, rm},
             {nt, NULL, msh_tri, msh_tail, &w, 64, rm}};
         if (!w.o2) s[1].head = NULL;
-        rc = put(out, r->msh, s, 4, err, errlen);
+        rc = put(out, r->set, r->msh, s, 4, err, errlen);
     }
     free(w.lgrp);
     free(w.tgrp);

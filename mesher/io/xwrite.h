@@ -117,6 +117,7 @@ typedef struct mesh_xreq {
     const char *msh; /* Gmsh 4.1 */
     const char *vtk; /* quadratic legacy VTK (order2 only) */
     unsigned skip;   /* -o2: MESHIO_SKIP_NODE / _ELE leave that file out (Triangle's -N, -E) */
+    struct meshio_set *set; /* the run's output set (io/oset.h; NULL: each file renamed at once) */
 } mesh_xreq;
 
 /* out == NULL: Local (x is the whole mesh, one process writes); else Collective over out's

@@ -20,6 +20,7 @@
 #include "base/base.h"
 #include "check/pexchange.h"
 #include "check/ptopo.h"
+#include "io/oset.h"
 #include "io/ptext.h"
 #include "io/xwrite.h"
 #include "rt.h"
@@ -186,7 +187,7 @@ static void *gather_distinct(const void *mine, int32_t n, size_t sz, MPI_Datatyp
     return all;
 }
 
-int par_write_extras(const par_opts *o, const pslg *in, const mesh_flat *local,
+int par_write_extras(const par_opts *o, meshio_set *set, const pslg *in, const mesh_flat *local,
                      const uint8_t *artificial, const par_numbering *num) {
     const char *prefix = o->out_prefix;
     if (!((prefix && (o->edges || o->neighbors || o->order2)) || o->msh || (o->vtk && o->order2)))
@@ -270,8 +271,9 @@ int par_write_extras(const par_opts *o, const pslg *in, const mesh_flat *local,
         }
         strcat(vtk, ".vtk");
     }
-    mesh_xreq r = {prefix,           o->edges, o->neighbors, o->order2, o->msh, vtk[0] ? vtk : NULL,
-                   par_skip_files(o)};
+    mesh_xreq r = {
+        prefix, o->edges, o->neighbors, o->order2, o->msh, vtk[0] ? vtk : NULL, par_skip_files(o),
+        set};
     char err[600];
     mesh_text_out out = meshio_ptext_out(&c);
     int rc = mesh_xview_write(&x, &out, &r, err, sizeof err);

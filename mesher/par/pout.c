@@ -26,6 +26,8 @@
 #include "base/base.h"
 #include "base/pfor.h"
 #include "geom/geom.h"
+#include "io/oset.h"
+#include "io/ptext.h"
 #include "io/pwrite.h"
 #include "par/pextra.h"
 #include "rt.h"
@@ -167,7 +169,7 @@ int par_check_parts(const par_opts *o, const pslg *in, mesh_flat *local, const p
 
 /* ---- Triangle files ------------------------------------------------------------------------ */
 
-static int write_triangle(const par_opts *o, const pslg *in, const mesh_flat *f,
+static int write_triangle(const par_opts *o, meshio_set *set, const pslg *in, const mesh_flat *f,
                           const par_numbering *num, char *err, size_t errlen) {
     int rank = rt_rank();
     int64_t nin = rank == 0 ? num->nin : 0;
@@ -214,7 +216,7 @@ static int write_triangle(const par_opts *o, const pslg *in, const mesh_flat *f,
                    .skip = par_skip_linear(o),
                    /* the rank's workers are idle now: they format the text */
                    .threads = o->threads};
-    int rc = meshio_pwrite_triangle(rt_app_comm(), &p, o->out_prefix, err, errlen);
+    int rc = meshio_pwrite_triangle(rt_app_comm(), set, &p, o->out_prefix, err, errlen);
     free(seg);
     free(smk);
     return rc;
@@ -247,8 +249,8 @@ static double *gather_doubles(const double *mine, int64_t n, int k, int64_t *nto
     return out;
 }
 
-static int write_svg(const par_opts *o, const mesh_flat *f, const par_numbering *num, char *err,
-                     size_t errlen) {
+static int write_svg(const par_opts *o, meshio_set *set, const mesh_flat *f,
+                     const par_numbering *num, char *err, size_t errlen) {
     if (num->ntris > PAR_SVG_MAX_TRIS) {
         snprintf(err, errlen,
                  "%s: the mesh has %lld triangles; --svg pictures are collected on rank 0 and "
@@ -306,7 +308,7 @@ static int write_svg(const par_opts *o, const mesh_flat *f, const par_numbering 
             g.smarker[i] = (int32_t)S[6 * (size_t)i + 4];
             g.sinterface[i] = (int32_t)S[6 * (size_t)i + 5];
         }
-        rc = meshio_write_svg(&g, o->svg, err, errlen);
+        rc = meshio_write_svg(&g, set, o->svg, err, errlen);
         mesh_flat_free(&g);
     }
     free(T);
@@ -316,11 +318,11 @@ static int write_svg(const par_opts *o, const mesh_flat *f, const par_numbering 
 
 /* ---- all outputs --------------------------------------------------------------------------- */
 
-int par_write_parts(const par_opts *o, const pslg *in, const mesh_flat *local, const int32_t *tsub,
-                    const par_numbering *num) {
+int par_write_parts(const par_opts *o, meshio_set *set, const pslg *in, const mesh_flat *local,
+                    const int32_t *tsub, const par_numbering *num) {
     char err[1024] = "", msg[1200];
     if (o->out_prefix && par_skip_linear(o) != MESHIO_SKIP_ALL) { /* collective: one status */
-        if (write_triangle(o, in, local, num, err, sizeof err) != 0) {
+        if (write_triangle(o, set, in, local, num, err, sizeof err) != 0) {
             if (rt_rank() == 0) fprintf(stderr, "%s: %s\n", o->prog, err);
             return -1;
         }
@@ -337,14 +339,14 @@ int par_write_parts(const par_opts *o, const pslg *in, const mesh_flat *local, c
                 break;
             }
         }
-        if (meshio_pwrite_pvtu(rt_app_comm(), local, tsub, !o->vtk_ascii, prefix, err,
+        if (meshio_pwrite_pvtu(rt_app_comm(), set, local, tsub, !o->vtk_ascii, prefix, err,
                                sizeof err) != 0) {
             if (rt_rank() == 0) fprintf(stderr, "%s: %s\n", o->prog, err);
             return -1;
         }
     }
     if (o->svg) {
-        int bad = write_svg(o, local, num, err, sizeof err) != 0;
+        int bad = write_svg(o, set, local, num, err, sizeof err) != 0;
         snprintf(msg, sizeof msg, "%s: %s", o->prog, err);
         if (par_fail_any(bad, msg)) return -1;
     }
@@ -505,8 +507,16 @@ int par_output_sub(const par_opts *o, const pslg *in, mesh_flat *local, const ui
         snprintf(msg, sizeof msg, "%s: %s: %s", o->prog, in->path, err);
         if (par_fail_any(bad, msg)) status = 1;
     }
-    if (status == 0 && par_write_parts(o, in, local, tsub, &num) != 0) status = 1;
-    if (status == 0 && par_write_extras(o, in, local, artificial, &num) != 0) status = 1;
+    /* the run's files as one set (io/oset.h): committed together once all are written */
+    meshio_set set;
+    meshio_set_init(&set);
+    if (status == 0 && par_write_parts(o, &set, in, local, tsub, &num) != 0) status = 1;
+    if (status == 0 && par_write_extras(o, &set, in, local, artificial, &num) != 0) status = 1;
+    if (status == 0 && meshio_pset_commit(rt_app_comm(), &set, err, sizeof err) != 0) {
+        if (rt_rank() == 0) fprintf(stderr, "%s: %s\n", o->prog, err);
+        status = 1;
+    }
+    meshio_set_free(&set);
     double t3 = rt_wtime();
     sum->ntris = num.ntris;
     sum->nverts = num.nverts;

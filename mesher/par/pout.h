@@ -96,8 +96,9 @@ int par_check_parts(const par_opts *o, const pslg *in, mesh_flat *local, const p
  * subdomain), --svg FILE
  * (collected on rank 0, at most PAR_SVG_MAX_TRIS triangles).  Returns 0, or -1 on every rank
  * (the message printed by rank 0). */
-int par_write_parts(const par_opts *o, const pslg *in, const mesh_flat *local, const int32_t *tsub,
-                    const par_numbering *num);
+struct meshio_set;
+int par_write_parts(const par_opts *o, struct meshio_set *set, const pslg *in,
+                    const mesh_flat *local, const int32_t *tsub, const par_numbering *num);
 
 /* Collective.  The --stats figures: when on, rank 0 receives every rank's n figures (returned,
  * rank-major, free with free()) and tot/mx (n entries each) get their sums and maxima over the

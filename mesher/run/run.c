@@ -27,6 +27,7 @@
 
 #include "base/base.h"
 #include "geom/geom.h"
+#include "io/oset.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -43,10 +44,25 @@ void run_job_free(run_job *j) {
     size_field_free(&j->sizes);
 }
 
+/* The programs' outputs, checked before any work: each file's folder must take new files (an
+ * unwritable or missing folder is found now, not after minutes of meshing). */
+static int probe_outputs(const par_opts *o, char *err, size_t errlen) {
+    char path[1100];
+    if (o->out_prefix && (par_skip_linear(o) != MESHIO_SKIP_ALL || o->edges || o->neighbors)) {
+        snprintf(path, sizeof path, "%.1000s.node", o->out_prefix);
+        if (meshio_probe(path, err, errlen) != 0) return -1;
+    }
+    const char *single[3] = {o->vtk, o->svg, o->msh};
+    for (int k = 0; k < 3; k++)
+        if (single[k] && meshio_probe(single[k], err, errlen) != 0) return -1;
+    return 0;
+}
+
 int run_load(run_job *j, pslg *g, int quiet, int sizes, char *err, size_t errlen) {
     const par_opts *o = &j->o;
     memset(g, 0, sizeof *g);
     memset(&j->sizes, 0, sizeof j->sizes);
+    if (!j->lib && probe_outputs(o, err, errlen) != 0) return -1;
     int rc;
     if (j->given) {
         *g = *j->given; /* taken over */

@@ -79,7 +79,9 @@ void run_job_free(run_job *j);
 
 /* ---- stages (run.c) ------------------------------------------------------------------- */
 
-/* Local.  The load stage: reads o.input (-r: as a mesh to refine) or takes j->given, checks it
+/* Local.  The load stage: for the programs first checks that every output's folder takes new
+ * files (io/oset.h: meshio_probe), then reads o.input (-r: as a mesh to refine) or takes
+ * j->given, checks it
  * (pslg_check_ex: crossing segments split unless --strict, -c's hull; warnings only when
  * quiet is 0), applies Triangle's boundary-marker rules (pslg_boundary_markers) and, with
  * sizes set, loads -r's .area and --size into j->sizes.  Returns 0 (*g the caller's), or -1

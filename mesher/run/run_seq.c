@@ -16,6 +16,7 @@
 #include "check/validate.h"
 #include "geom/geom.h"
 #include "io/meshio.h"
+#include "io/oset.h"
 #include "io/xwrite.h"
 #include "seq/vattr.h"
 
@@ -169,32 +170,45 @@ static int write_files(const run_job *j, const pslg *g, mesh_flat *f) {
     const char *prefix = o->out_prefix;
     int write_tri = prefix && par_skip_linear(o) != MESHIO_SKIP_ALL, rc = 0;
     char err[1024];
+    meshio_set set; /* the run's files as one set (io/oset.h): committed once all are written */
+    meshio_set_init(&set);
     if (prefix && mesh_interpolate_attributes(g, f, err, sizeof err) != 0) {
         fprintf(stderr, "mesh: %s: %s\n", o->input, err);
         rc = 1;
-    } else if (write_tri &&
-               meshio_write_triangle_some(f, prefix, par_skip_linear(o), err, sizeof err) != 0) {
+    } else if (write_tri && meshio_write_triangle_some(f, &set, prefix, par_skip_linear(o), err,
+                                                       sizeof err) != 0) {
         fprintf(stderr, "mesh: %s\n", err);
         rc = 1;
     }
     /* -e, -n, -o2 (quadratic .node/.ele and VTK), --msh: io/xwrite.h */
-    mesh_xreq xr = {prefix,           o->edges, o->neighbors,
-                    o->order2,        o->msh,   o->order2 ? o->vtk : NULL,
-                    par_skip_files(o)};
-    if ((prefix && (xr.edges || xr.neighbors || xr.order2)) || xr.msh || xr.vtk) {
+    mesh_xreq xr = {prefix,
+                    o->edges,
+                    o->neighbors,
+                    o->order2,
+                    o->msh,
+                    o->order2 ? o->vtk : NULL,
+                    par_skip_files(o),
+                    &set};
+    if (rc == 0 && ((prefix && (xr.edges || xr.neighbors || xr.order2)) || xr.msh || xr.vtk)) {
         if (meshio_write_extras(f, &xr, err, sizeof err) != 0) {
             fprintf(stderr, "mesh: %s\n", err);
             rc = 1;
         }
     }
-    if (o->vtk && !xr.vtk && meshio_write_vtk(f, !o->vtk_ascii, o->vtk, err, sizeof err) != 0) {
+    if (rc == 0 && o->vtk && !xr.vtk &&
+        meshio_write_vtk(f, &set, !o->vtk_ascii, o->vtk, err, sizeof err) != 0) {
         fprintf(stderr, "mesh: %s\n", err);
         rc = 1;
     }
-    if (o->svg && meshio_write_svg(f, o->svg, err, sizeof err) != 0) {
+    if (rc == 0 && o->svg && meshio_write_svg(f, &set, o->svg, err, sizeof err) != 0) {
         fprintf(stderr, "mesh: %s\n", err);
         rc = 1;
     }
+    if (rc == 0 && meshio_set_commit(&set, err, sizeof err) != 0) {
+        fprintf(stderr, "mesh: %s\n", err);
+        rc = 1;
+    }
+    meshio_set_free(&set);
     return rc;
 }
 

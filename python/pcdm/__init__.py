@@ -192,9 +192,10 @@ def triangulate(
     them says so).  The GIL is released while meshing (a size callable takes it back for each
     call).
 
-    Raises ``ValueError`` (bad input or switches, with the command line's message) or
-    ``MeshError`` (a ``ValueError``: the bounds cannot be met); the Steiner limit (``S``) returns
-    the mesh it reached with a ``RuntimeWarning``.
+    Raises ``ValueError`` (bad input or switches, with the command line's message),
+    ``MeshError`` (a ``ValueError``: the bounds cannot be met) or ``MemoryError`` (out of memory:
+    the message says how much more was asked; the memory the call took is given back); the
+    Steiner limit (``S``) returns the mesh it reached with a ``RuntimeWarning``.
     """
     if not isinstance(opts, str):
         raise TypeError("opts: a switch string such as 'pq30a0.01'")
@@ -253,6 +254,8 @@ def triangulate(
     if mesh is None:
         if code == 4:  # PCDM_EUNMET
             raise MeshError(message)
+        if code == 8:  # PCDM_ENOMEM: every block given back
+            raise MemoryError(message)
         raise ValueError(message)
     if code == 3:  # PCDM_ESTEINER: the mesh, outside the bounds
         warnings.warn(message, RuntimeWarning, stacklevel=2)

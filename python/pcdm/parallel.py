@@ -72,5 +72,5 @@ def triangulate(
         0 if method == "pcdm" else 1, int(subdomains), -1 if root is None else int(root),
         int(threads))
     if mesh is None:
-        raise (MeshError if code == 4 else ValueError)(message)
+        raise (MeshError if code == 4 else MemoryError if code == 8 else ValueError)(message)
     return mesh

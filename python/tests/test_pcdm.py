@@ -10,7 +10,8 @@ the validator (pcdm.check, ./meshcheck's code), and the Steiner points are withi
 Triangle's (plus a few points on tiny meshes, where one point is more than 5%; and in total
 over every case).  Then the bad-input table as arrays (ValueError every time), repeated calls
 (the process's memory does not grow), the GIL (another thread runs while one meshes), the
-keyword alternatives, the size callable, edges and neighbours, ``python -m pcdm``.
+keyword alternatives, the size callable, edges and neighbours, ``python -m pcdm``, and out of
+memory as ``MemoryError``.
 """
 
 import os
@@ -226,6 +227,32 @@ def test_bad_switches(opts, words):
     """The command line's words (./mesh -pqD says the same)."""
     with pytest.raises(ValueError, match=re.escape(words)):
         pcdm.triangulate({"vertices": SQ}, opts)
+
+
+def test_out_of_memory():
+    """Out of memory under an address-space limit raises MemoryError (the interpreter lives on,
+    the blocks are given back) and the next call, with a bound that fits, meshes."""
+    code = r"""
+import resource, pcdm
+SQ = [[0, 0], [1, 0], [1, 1], [0, 1]]
+BOX = [[0, 1], [1, 2], [2, 3], [3, 0]]
+pcdm.triangulate({"vertices": SQ, "segments": BOX}, "pq30a0.1")
+pages = int(open("/proc/self/statm").read().split()[0])
+lim = pages * resource.getpagesize() + (300 << 20)
+resource.setrlimit(resource.RLIMIT_AS, (lim, resource.RLIM_INFINITY))
+try:
+    pcdm.triangulate({"vertices": SQ, "segments": BOX}, "pq30a1e-9")
+    print("no error")
+except MemoryError as e:
+    print("MemoryError:", e)
+t = pcdm.triangulate({"vertices": SQ, "segments": BOX}, "pq30a0.001")
+print("then", len(t["triangles"]), "triangles")
+"""
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr[-2000:]
+    assert "MemoryError: out of memory" in r.stdout, r.stdout + r.stderr[-2000:]
+    assert "max_area" in r.stdout
+    assert re.search(r"then [0-9]{3,} triangles", r.stdout), r.stdout
 
 
 def test_bad_switches_as_the_command_line():

@@ -124,6 +124,7 @@ enum {
 #define MPI_File_close pcdm_mpi1_File_close
 #define MPI_File_open pcdm_mpi1_File_open
 #define MPI_File_set_errhandler pcdm_mpi1_File_set_errhandler
+#define MPI_File_sync pcdm_mpi1_File_sync
 #define MPI_File_write_at pcdm_mpi1_File_write_at
 #define MPI_Finalize pcdm_mpi1_Finalize
 #define MPI_Finalized pcdm_mpi1_Finalized
@@ -218,6 +219,7 @@ int MPI_File_open(MPI_Comm comm, const char *path, int amode, MPI_Info info, MPI
 int MPI_File_write_at(MPI_File fh, MPI_Offset off, const void *buf, int count, MPI_Datatype t,
                       MPI_Status *st);
 int MPI_File_close(MPI_File *fh);
+int MPI_File_sync(MPI_File fh);
 int MPI_File_set_errhandler(MPI_File fh, MPI_Errhandler eh);
 
 #ifdef __cplusplus

@@ -406,6 +406,10 @@ int MPI_File_write_at(MPI_File fh, MPI_Offset off, const void *buf, int count, M
     return MPI_SUCCESS;
 }
 
+int MPI_File_sync(MPI_File fh) {
+    return fsync(fh) == 0 || errno == EINVAL ? MPI_SUCCESS : MPI_ERR_IO;
+}
+
 int MPI_File_close(MPI_File *fh) {
     int rc = close(*fh);
     *fh = MPI_FILE_NULL;
