@@ -169,17 +169,24 @@ for prog in mesh pcdm; do
     done
 done
 
+# under_limit PROG SETUP ARGS...: ./mesh, or ./pcdm at 2 ranks, with the shell commands SETUP
+# (a limit) run in the program's own process -- each rank's for ./pcdm: mpirun's own files and
+# memory need more; stdout dropped, stderr in $T/err
+under_limit() {
+    local prog=$1 setup=$2
+    shift 2
+    if [ "$prog" = mesh ]; then
+        sh -c "$setup && exec \"\$0\" \"\$@\"" "$BIN/mesh" "$@"
+    else
+        timeout 120 $MPIRUN -np 2 sh -c "$setup && exec \"\$0\" \"\$@\"" "$BIN/pcdm" "$@"
+    fi >/dev/null 2>"$T/err"
+}
+
 # 4. the cause of a failed write: a file size limit (SIGXFSZ ignored: the write gets EFBIG)
 for prog in mesh pcdm; do
     d="$T/$prog.fsize"
     mkdir -p "$d"
-    if [ $prog = mesh ]; then
-        (trap '' XFSZ && ulimit -f 64 && "$BIN/mesh" -Q -q 30 -a 1e-5 -o "$d/P" "$IN") >/dev/null 2>"$T/err"
-    else
-        # the limit on the ranks alone (mpirun's own files need more)
-        timeout 120 $MPIRUN -np 2 sh -c "trap '' XFSZ && ulimit -f 64 && exec \"\$0\" \"\$@\"" \
-            "$BIN/pcdm" -Q -q 30 -a 1e-5 -o "$d/P" "$IN" >/dev/null 2>"$T/err"
-    fi
+    under_limit $prog "trap '' XFSZ && ulimit -f 64" -Q -q 30 -a 1e-5 -o "$d/P" "$IN"
     rc=$?
     msg=$(grep -m1 "P\.\(node\|ele\|poly\)" "$T/err")
     if [ $rc = 0 ]; then
@@ -237,12 +244,7 @@ done
 for prog in mesh pcdm; do
     d="$T/$prog.oom"
     mkdir -p "$d"
-    if [ $prog = mesh ]; then
-        (ulimit -v 400000 && "$BIN/mesh" -Q -q 30 -a 1e-9 -o "$d/P" "$IN") >/dev/null 2>"$T/err"
-    else
-        timeout 120 $MPIRUN -np 2 sh -c 'ulimit -v 600000 && exec "$0" "$@"' "$BIN/pcdm" -Q -q 30 \
-            -a 1e-9 -o "$d/P" "$IN" >/dev/null 2>"$T/err"
-    fi
+    under_limit $prog "ulimit -v 600000" -Q -q 30 -a 1e-9 -o "$d/P" "$IN"
     rc=$?
     msg=$(grep -m1 "out of memory" "$T/err")
     if [ $rc = 0 ]; then
