@@ -250,7 +250,7 @@ run_one() {
             head -3; } | sed 's/^/bench:     /' >&2
     else
         local short
-        short=$(echo "$stats" | tr ' ' '\n' | grep -E '^(triangles|rsr|wall_s|busy_max_s|comm_pct|undo_pct)=' | tr '\n' ' ')
+        short=$(echo "$stats" | tr ' ' '\n' | grep -E '^(triangles|rsr|mesh_s|wall_s|busy_max_s|comm_pct|undo_pct)=' | tr '\n' ' ')
         echo "bench:   $prog np=$np ${imb:+imb=$imb }rep $rep: ${short}(launch+run ${ext}s)"
     fi
 }
@@ -610,7 +610,7 @@ t0 = time.perf_counter()
 t = triangle.triangulate(d, "pq%sa%sQ" % (q, a))
 dt = time.perf_counter() - t0
 ru = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-print("stats: triangles=%d vertices=%d wall_s=%.3f peak_rss_mb=%.1f" % (len(t["triangles"]), len(t["vertices"]), dt, ru / 1024.0))'
+print("stats: triangles=%d vertices=%d mesh_s=%.3f peak_rss_mb=%.1f" % (len(t["triangles"]), len(t["vertices"]), dt, ru / 1024.0))'
 
 HAVE_TRI=0
 if [ -z "${NO_TRIANGLE:-}" ]; then
@@ -702,7 +702,7 @@ fi
 # ---------------------------------------------------------------- output (issue 12)
 # End to end with output, back to back: ./mesh -o against mpirun -np 2 ./pcdm -o (launch to
 # exit, files written) at about 10M triangles (-q 30 -a OUT_AREA on DOMAIN), OUT_REPS pairs;
-# pcdm's --stats gives its meshing (wall_s) and output (output_s: numbering + writing) seconds
+# pcdm's --stats gives its meshing (mesh_s) and output (output_s: the output stage, numbering and writing) seconds
 # and each rank's peak memory per triangle of its own part.  BENCH_100M=1 adds one run at ten
 # times the triangles (about 100M) with the distributed --check, outside the time budget (about
 # 5 GB per rank and 6 GB of files, removed afterwards).  Rows: $R/output.tsv.  NO_OUTPUT=1
@@ -748,7 +748,7 @@ out_run() { # out_run LABEL PROG NP AREA REP TIMEOUT [extra args]: one end-to-en
     printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$label" "$prog" "$np" "$area" "$rep" "$rc" "$ext" \
         "$stats" "$ranks" >>"${OUT_FILE:-$OUT_TSV}"
     rm -f "$pre".node "$pre".ele "$pre".poly
-    [ "$rc" = 0 ] && echo "bench:   $prog np=$np $label rep $rep: launch to exit ${ext}s; $(echo "$stats" | tr ' ' '\n' | grep -E '^(triangles|wall_s|output_s|peak_rss_mb|bytes_per_tri)=' | tr '\n' ' ')"
+    [ "$rc" = 0 ] && echo "bench:   $prog np=$np $label rep $rep: launch to exit ${ext}s; $(echo "$stats" | tr ' ' '\n' | grep -E '^(triangles|mesh_s|output_s|wall_s|peak_rss_mb|bytes_per_tri)=' | tr '\n' ' ')"
     [ -n "$ranks" ] && echo "bench:     per rank (rank:triangles:peak MB:bytes/triangle:output s): $ranks"
     return 0
 }
@@ -768,13 +768,13 @@ fi
 # ---------------------------------------------------------------- threads (issue 27)
 # One process on both cores: ./pcdm --threads 2 as a plain program (no mpirun; in rounds, 8
 # subdomains by default) against ./mesh, -q 30 -a OUT_AREA on DOMAIN (about 10M triangles on
-# lake), end to end with -o; goals: meshing (wall_s) <= 0.6x ./mesh's, launch to exit <= 0.65x.
+# lake), end to end with -o; goals: meshing (mesh_s) <= 0.6x ./mesh's, launch to exit <= 0.65x.
 # Then mpirun --bind-to none -np 1 ./pcdm --threads 2 (Open MPI binds a lone rank to one core
 # otherwise, and its two threads would share it) against mpirun -np 2 ./pcdm (each with its
 # default subdomains), also with -o: wall time (goal: within 10%) and peak memory summed over the ranks
 # (goal: less with threads); beside them the CPU seconds of ./pcdm --threads 2 over ./mesh's
 # (the work the threads add; on a loaded machine wall times say more about the scheduler than
-# about the programs) and both programs' seconds outside meshing (launch to exit minus wall_s:
+# about the programs) and both programs' seconds outside meshing (launch to exit minus mesh_s:
 # start-up, merging the subdomain meshes, numbering, writing, exit; steadier under load than the
 # ratio, which the meshing's wall time dominates).  THR_REPS rounds of the four runs (default 2), in alternation;
 # rows: $R/threads.tsv (as output.tsv), and a summary line "bench: threads: ...".  Quick runs and
@@ -798,7 +798,7 @@ if [ -z "$QUICK" ] && [ -z "${NO_THREADS:-}" ]; then
         function mem(r,   n, a, i, p, s) { n = split(r, a, ","); s = 0; for (i = 1; i <= n; i++) { split(a[i], p, ":"); s += p[3] } return s }
         function med(v, n,   i, j, t) { for (i = 1; i <= n; i++) for (j = i + 1; j <= n; j++) if (v[j] < v[i]) { t = v[i]; v[i] = v[j]; v[j] = t }
             return n == 0 ? "NA" : n % 2 ? sprintf("%.2f", v[(n + 1) / 2]) : sprintf("%.2f", (v[n / 2] + v[n / 2 + 1]) / 2) }
-        NR > 1 && $6 == 0 { k = $1 ":" $2; ext[k, $5] = $7; wall[k, $5] = st($8, "wall_s"); mb[k, $5] = mem($9); reps[$5] = 1
+        NR > 1 && $6 == 0 { k = $1 ":" $2; ext[k, $5] = $7; wall[k, $5] = st($8, "mesh_s"); mb[k, $5] = mem($9); reps[$5] = 1
             cpu[k, $5] = $2 == "mesh" ? st($8, "cpu_s") : st($8, "cpu_sum_s") }
         END { for (r in reps) {
                 if (wall["thr:mesh", r] > 0 && wall["thr:pcdm", r] != "") { m[++nm] = wall["thr:pcdm", r] / wall["thr:mesh", r]; e[++ne] = ext["thr:pcdm", r] / ext["thr:mesh", r]
@@ -806,7 +806,7 @@ if [ -z "$QUICK" ] && [ -z "${NO_THREADS:-}" ]; then
                     if (cpu["thr:mesh", r] > 0) c[++nc] = cpu["thr:pcdm", r] / cpu["thr:mesh", r] }
                 if (ext["mpi_np2:pcdm", r] > 0 && ext["mpi_t2:pcdm", r] != "") { w[++nw] = ext["mpi_t2:pcdm", r] / ext["mpi_np2:pcdm", r]
                     mw[++nmw] = wall["mpi_t2:pcdm", r] / wall["mpi_np2:pcdm", r]; t2[++nt] = mb["mpi_t2:pcdm", r]; n2[++nn] = mb["mpi_np2:pcdm", r] } }
-            printf "bench: threads: ./pcdm --threads 2 / ./mesh at -q 30 -a %s: meshing %s (goal <= 0.6), end to end %s (goal <= 0.65), CPU seconds %s, seconds outside meshing (launch to exit minus wall_s: start, merge, numbering, output, exit) %s vs %s; mpirun -np 1 --threads 2 / -np 2: end to end %s, meshing %s (goal <= 1.1), peak MB summed over ranks %s vs %s (%d rounds, medians)\n", area, med(m, nm), med(e, ne), med(c, nc), med(op, nop), med(om, nom), med(w, nw), med(mw, nmw), med(t2, nt), med(n2, nn), nm }' area="$OUT_AREA" "$THR_TSV" | tee "$R/threads.txt"
+            printf "bench: threads: ./pcdm --threads 2 / ./mesh at -q 30 -a %s: meshing %s (goal <= 0.6), end to end %s (goal <= 0.65), CPU seconds %s, seconds outside meshing (launch to exit minus mesh_s: start, merge, numbering, output, exit) %s vs %s; mpirun -np 1 --threads 2 / -np 2: end to end %s, meshing %s (goal <= 1.1), peak MB summed over ranks %s vs %s (%d rounds, medians)\n", area, med(m, nm), med(e, ne), med(c, nc), med(op, nop), med(om, nom), med(w, nw), med(mw, nmw), med(t2, nt), med(n2, nn), nm }' area="$OUT_AREA" "$THR_TSV" | tee "$R/threads.txt"
     section_end
 fi
 if [ -n "${BENCH_100M:-}" ]; then

@@ -98,7 +98,7 @@ for c in $COASTS; do
         pk=$(num ' peak_rss_mb=' <<<"$st")
         tri=$(num ' triangles=' <<<"$st")
         if [ "$k" = triangle ]; then
-            rf=$(num ' wall_s=' <<<"$st")
+            rf=$(num ' mesh_s=' <<<"$st")
             pk=$(num ' peak_rss_mb=' <<<"$st")
         fi
         dp=NA

@@ -106,7 +106,7 @@ echo "machine load (1-minute average) at the end of the round trips: $(cut -d' '
 # ---- 2. Tables 2 and 3: RSR counts, 3 hosts against one host
 echo
 echo "bench-hosts: Tables 2/3 RSR counts, $DOMAIN -q 20.7 -a $AREA, median of $REPS runs"
-printf '%-5s %-4s %-9s %-10s %10s %10s %10s %10s\n' prog imb ranks where triangles rsr mpi_msgs wall_s
+printf '%-5s %-4s %-9s %-10s %10s %10s %10s %10s\n' prog imb ranks where triangles rsr mpi_msgs mesh_s
 imbs="1 2"
 [ "${TABLES:-1}" = 0 ] && imbs="" && echo "(skipped: TABLES=0)"
 for imb in $imbs; do
@@ -134,7 +134,7 @@ for imb in $imbs; do
                     fi
                     msgs=$(printf '%s\n' "$out" | grep '^rsr:' | tail -1 | field mpi_msgs)
                     for k in triangles rsr; do printf '%s ' "$(printf '%s\n' "$s" | field $k)"; done >>"$W/t23"
-                    printf '%s %s' "${msgs:-NA}" "$(printf '%s\n' "$s" | field wall_s)" >>"$W/t23"
+                    printf '%s %s' "${msgs:-NA}" "$(printf '%s\n' "$s" | field mesh_s)" >>"$W/t23"
                     echo >>"$W/t23"
                 done
                 m() { awk -v c="$1" '{print $c}' "$W/t23" | median; }

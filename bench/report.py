@@ -10,7 +10,8 @@ section is generated from the run's own numbers.  Prints a summary; the last lin
   bench: pcdm_rsr_8=N pbw_rsr_8=M ratio_8=R pcdm_wall_8=S pbw_wall_8=T pcdm_speedup_model_8=X
          pbw_speedup_model_8=Y [new keys after these, see summary()]
 What each figure is (the report says it too):
-  wall s        measured: the program's own wall_s (rank 0, barrier to the end of meshing);
+  mesh s        measured: the program's own mesh_s, the meshing's wall-clock time (a barrier
+                after reading and decomposition to the end of meshing, the slowest rank);
   cpu_max s     measured: CPU seconds (getrusage) of the busiest rank over the same span -- a
                 LOWER BOUND on the run's time with one core per rank (it leaves out waiting);
   speedup       wall speedup (measured, the headline when the machine has at least as many
@@ -300,8 +301,10 @@ def sec_definitions(c):
         "so a wall time on more ranks than cores is not the time of a P-core machine.  The bench "
         "detects it (nproc) and says for every rank count which figure is the headline:" % c.cores)
     c.H()
-    c.H("* **wall s** (measured): the program's own `wall_s`, from a barrier after loading to the "
-        "end of meshing, rank 0.  **Wall speedup** = median wall on 1 rank / median wall on P ranks. "
+    c.H("* **mesh s** (measured): the program's own `mesh_s`, the meshing's wall-clock time, from a "
+        "barrier after reading and decomposition to the end of meshing, the slowest rank (start-up, "
+        "reading, decomposition and output are apart: the whole run is `wall_s`).  **Wall "
+        "speedup** = median mesh s on 1 rank / median mesh s on P ranks. "
         "It is the **headline** where P <= %d cores (here P = %s) and is marked *oversubscribed* "
         "beyond." % (c.cores, ", ".join(str(p) for p in full) or "none"))
     c.H("* **cpu_max s** (measured, a lower bound): the CPU seconds (user + system, getrusage) of "
@@ -354,7 +357,7 @@ def cell_of(c, section, label, prog, np_, base):
     if not rs:
         return None
     cs = [counts(r) for r in rs]
-    d = {"n": len(rs), "rs": rs, "wall": vals(rs, "wall_s"), "cpu": vals(rs, CPU),
+    d = {"n": len(rs), "rs": rs, "wall": vals(rs, "mesh_s"), "cpu": vals(rs, CPU),
          "tris": med(vals(rs, "triangles")), "mina": lo(vals(rs, "min_angle")),
          "comm": vals(rs, "comm_s")}
     for k in ("all", "requests", "unique", "duplicates", "replies", "mpi"):
@@ -392,7 +395,7 @@ def sec_table23(c, prog, tabno):
         "1M and 10M tables below are where time means something).  Median of the repetitions "
         "with (min-max)." % (c.meta.get("domain"), c.meta.get("qdeg"), c.areas["area_43k"]))
     c.H()
-    header = ["config", "ranks", "triangles", "wall s", "**paper** s", "cpu_max s (lower bound)",
+    header = ["config", "ranks", "triangles", "mesh s", "**paper** s", "cpu_max s (lower bound)",
               "headline speedup", "**paper** speedup", "RSRs (as counted)", "requests", "unique requests",
               "MPI msgs", "**paper** RSRs", "min angle"]
     rows, crows = [], []
@@ -428,7 +431,7 @@ def sec_table23(c, prog, tabno):
         "`imb2`).")
     c.H()
     c.csv("table%d_%s.csv" % (tabno, prog),
-          ["config", "ranks", "runs", "triangles", "wall_s_median", "wall_s_min", "wall_s_max",
+          ["config", "ranks", "runs", "triangles", "mesh_s_median", "mesh_s_min", "mesh_s_max",
            "paper_time_s", "cpu_max_s_median", "cpu_max_s_min", "cpu_max_s_max", "wall_speedup",
            "cpu_bound_speedup", "paper_speedup", "rsr_median", "requests_median", "unique_median",
            "mpi_msgs_median", "comm_s_median", "paper_rsr", "min_angle_min"], crows)
@@ -466,11 +469,11 @@ def sec_tables_big(c):
                 crows.append([size, name, np_, d["n"], d["tris"], d["wall_m"], lo(d["wall"]), hi(d["wall"]),
                               d["spread"], d["cpu_m"], lo(d["cpu"]), hi(d["cpu"]), d["wall_sp"], d["cpu_sp"],
                               med(d["all"]), med(d["requests"]), med(d["unique"]), med(d["mpi"]), med(d["comm"])])
-    c.H(md_table(["size", "program", "ranks", "triangles", "wall s", "cpu_max s (lower bound)",
+    c.H(md_table(["size", "program", "ranks", "triangles", "mesh s", "cpu_max s (lower bound)",
                   "headline speedup", "RSRs (as counted)", "requests", "MPI msgs", "comm s (sum)"], rows))
     c.H()
-    c.csv("tables23_big.csv", ["size", "program", "ranks", "runs", "triangles", "wall_s_median", "wall_s_min",
-                               "wall_s_max", "wall_spread", "cpu_max_s_median", "cpu_max_s_min",
+    c.csv("tables23_big.csv", ["size", "program", "ranks", "runs", "triangles", "mesh_s_median", "mesh_s_min",
+                               "mesh_s_max", "wall_spread", "cpu_max_s_median", "cpu_max_s_min",
                                "cpu_max_s_max", "wall_speedup", "cpu_bound_speedup", "rsr_median",
                                "requests_median", "unique_median", "mpi_msgs_median", "comm_s_median"], crows)
 
@@ -638,7 +641,7 @@ def sec_net(c):
                 series[(prog, np_)] = pts
     c.H(md_table(["program", "ranks", "latency 0 s"] + ["%d us" % l for l in lats], rows))
     c.H()
-    c.csv("net.csv", ["program", "ranks", "latency_us", "runs", "wall_s_median", "wall_s_min", "wall_s_max",
+    c.csv("net.csv", ["program", "ranks", "latency_us", "runs", "mesh_s_median", "mesh_s_min", "mesh_s_max",
                       "slowdown_vs_latency0", "rsr_median", "mpi_msgs_median", "comm_s_median"], crows)
     if series:
         svg_net(c, series, [0] + lats, os.path.join(c.R, "plot_net.svg"))
@@ -904,21 +907,21 @@ def sec_overhead(c):
                     rows.append([conf, prog, "NA (%s)" % c.why_missing("ovh", conf, prog, 4)] + ["NA"] * 8)
                 continue
             cp, up = vals(rs, "comm_pct"), vals(rs, "undo_pct")
-            rows.append([conf, prog, fi(med(vals(rs, "triangles"))), frange(vals(rs, "wall_s"), 3),
+            rows.append([conf, prog, fi(med(vals(rs, "triangles"))), frange(vals(rs, "mesh_s"), 3),
                          frange(vals(rs, CPU), 3), frange(vals(rs, "rsr"), integer=True),
                          frange(vals(rs, "comm_s"), 4),
                          frange(vals(rs, "undone"), integer=True) if prog == "pbw" else "-",
                          frange(cp, 1) if prog == "pbw" else "-", frange(up, 1) if prog == "pbw" else "-",
                          "27 / 1" if prog == "pbw" else "-"])
-            crows.append([conf, prog, 4, len(rs), med(vals(rs, "triangles")), med(vals(rs, "wall_s")),
+            crows.append([conf, prog, 4, len(rs), med(vals(rs, "triangles")), med(vals(rs, "mesh_s")),
                           med(vals(rs, CPU)), med(vals(rs, "rsr")), med(vals(rs, "comm_s")),
                           med(vals(rs, "undone")), med(cp), lo(cp), hi(cp), med(up), lo(up), hi(up),
                           PAPER_OVH["comm_pct"] if prog == "pbw" else None,
                           PAPER_OVH["undo_pct"] if prog == "pbw" else None])
-    c.H(md_table(["config", "program", "triangles", "wall s", "cpu_max s", "RSRs", "comm s (sum)", "undone",
+    c.H(md_table(["config", "program", "triangles", "mesh s", "cpu_max s", "RSRs", "comm s (sum)", "undone",
                   "comm %", "undo %", "**paper** comm % / undo %"], rows))
     c.H()
-    c.csv("overhead.csv", ["config", "program", "ranks", "runs", "triangles", "wall_s", "cpu_max_s", "rsr",
+    c.csv("overhead.csv", ["config", "program", "ranks", "runs", "triangles", "mesh_s", "cpu_max_s", "rsr",
                            "comm_s", "undone", "comm_pct_median", "comm_pct_min", "comm_pct_max",
                            "undo_pct_median", "undo_pct_min", "undo_pct_max", "paper_comm_pct",
                            "paper_undo_pct"], crows)
@@ -934,29 +937,29 @@ def sec_balance(c):
     c.H("./pcdm at `-a %s` (~1M triangles), %s repetitions, medians.  *balanced*: no `--imbalance`; "
         "*static*: `--imbalance 2`, one subdomain per rank (rank 0 gets twice the work); *dynamic*: "
         "`--imbalance 2 --balance dynamic` (4 subdomains per rank; an idle rank takes unstarted ones "
-        "from a busy rank).  wall s = measured wall time of the meshing (`wall_s`); CPU-bound speedup "
+        "from a busy rank).  mesh s = measured wall time of the meshing (`mesh_s`); CPU-bound speedup "
         "= cpu_sum / cpu_max (the busiest rank's CPU seconds: what a core per rank would bound); "
         "vs balanced = the balanced run's figure over this one's (wall: goal <= 1.1x at 2 ranks; CPU "
-        "speedup: goal >= 90%% at 8); moves = migrations, move %% = move_max_s / wall_s (goal <= 2%%)."
+        "speedup: goal >= 90%% at 8); moves = migrations, move %% = move_max_s / mesh_s (goal <= 2%%)."
         % (c.areas["area_1m"], max([int(r["rep"]) for r in c.sel("bal", ok=False)] or [0])))
     c.H()
     rows, crows = [], []
     for np_ in (2, 8):
         base = c.sel("bal", "static", "pcdm", np_)
-        bw = med(vals(base, "wall_s"))
+        bw = med(vals(base, "mesh_s"))
         bsp = med([div(r["s"].get("cpu_sum_s"), r["s"].get(CPU)) for r in base])
         for lab in ("static", "imb2static", "imb2dynamic"):
             rs = c.sel("bal", lab, "pcdm", np_)
             if not rs:
                 rows.append([np_, lab, "NA (%s)" % c.why_missing("bal", lab, "pcdm", np_)] + ["NA"] * 7)
                 continue
-            w = med(vals(rs, "wall_s"))
+            w = med(vals(rs, "mesh_s"))
             sp = med([div(r["s"].get("cpu_sum_s"), r["s"].get(CPU)) for r in rs])
             mig = med(vals(rs, "migrations"))
-            mv = med([div(r["s"].get("move_max_s"), r["s"].get("wall_s")) for r in rs])
-            rows.append([np_, lab, fi(med(vals(rs, "triangles"))), frange(vals(rs, "wall_s"), 3),
+            mv = med([div(r["s"].get("move_max_s"), r["s"].get("mesh_s")) for r in rs])
+            rows.append([np_, lab, fi(med(vals(rs, "triangles"))), frange(vals(rs, "mesh_s"), 3),
                          f(div(w, bw)), f(sp), f(div(sp, bsp)), fi(mig) if isnum(mig) else "-",
-                         f(100 * mv, 3) if isnum(mv) else "-", warn({"spread": spread(vals(rs, "wall_s"))}) or "-"])
+                         f(100 * mv, 3) if isnum(mv) else "-", warn({"spread": spread(vals(rs, "mesh_s"))}) or "-"])
             crows.append([np_, lab, len(rs), med(vals(rs, "triangles")), w, div(w, bw), sp, div(sp, bsp),
                           mig, mv])
             if lab == "imb2dynamic":
@@ -965,25 +968,25 @@ def sec_balance(c):
                              (np_, f(div(w, bw)), f(div(sp, bsp)), f(100 * mv, 3) if isnum(mv) else "NA"))
                 c.keys["dyn_wall_vs_balanced_%d" % np_] = f(div(w, bw))
                 c.keys["dyn_cpu_speedup_vs_balanced_%d" % np_] = f(div(sp, bsp))
-    c.H(md_table(["ranks", "config", "triangles", "wall s", "wall / balanced", "CPU-bound speedup",
+    c.H(md_table(["ranks", "config", "triangles", "mesh s", "wall / balanced", "CPU-bound speedup",
                   "speedup / balanced", "moves", "move %", "spread"], rows))
     c.H()
-    c.csv("balance.csv", ["ranks", "config", "runs", "triangles", "wall_s", "wall_vs_balanced",
+    c.csv("balance.csv", ["ranks", "config", "runs", "triangles", "mesh_s", "wall_vs_balanced",
                           "cpu_bound_speedup", "speedup_vs_balanced", "migrations", "move_fraction"], crows)
     da, dd = c.sel("det", "async", "pcdm", 2), c.sel("det", "deterministic", "pcdm", 2)
     area = (da or dd or [{"area": "NA"}])[0]["area"]
-    c.H("`--deterministic` against the asynchronous mode, 2 ranks, `-a %s`: wall s and the busiest "
+    c.H("`--deterministic` against the asynchronous mode, 2 ranks, `-a %s`: mesh s and the busiest "
         "rank's CPU seconds, median (min-max); goal <= 1.15x; hashes must agree between the "
         "deterministic runs." % area)
     c.H()
     if da and dd:
-        wa, wd = med(vals(da, "wall_s")), med(vals(dd, "wall_s"))
+        wa, wd = med(vals(da, "mesh_s")), med(vals(dd, "mesh_s"))
         ca, cd = med(vals(da, CPU)), med(vals(dd, CPU))
         hashes = sorted(set(str(r["s"].get("hash")) for r in dd))
-        c.H(md_table(["mode", "triangles", "wall s", "cpu_max s", "rounds", "hash"],
-                     [["async", fi(med(vals(da, "triangles"))), frange(vals(da, "wall_s"), 3),
+        c.H(md_table(["mode", "triangles", "mesh s", "cpu_max s", "rounds", "hash"],
+                     [["async", fi(med(vals(da, "triangles"))), frange(vals(da, "mesh_s"), 3),
                        frange(vals(da, CPU), 3), "-", "differs run to run"],
-                      ["deterministic", fi(med(vals(dd, "triangles"))), frange(vals(dd, "wall_s"), 3),
+                      ["deterministic", fi(med(vals(dd, "triangles"))), frange(vals(dd, "mesh_s"), 3),
                        frange(vals(dd, CPU), 3), fi(med(vals(dd, "rounds"))),
                        hashes[0] if len(hashes) == 1 else "DIFFER: " + " ".join(hashes)]]))
         c.H()
@@ -1106,8 +1109,8 @@ def sec_decomp(c):
     c.H("`./pcdm` at 8 ranks with its default subdomains, `-q %s`, beside `./mesh` at the same bounds; "
         "one run each.  balance = the busiest rank's triangles / the mean over the ranks (targets: "
         "<= 1.05 with an area bound, <= 1.10 with the angle bound alone); vs ./mesh = pcdm's "
-        "triangles / ./mesh's - 1; decomp s = wall seconds rank 0 spent building the "
-        "decomposition; decomp / mesh s = its share of pcdm's `wall_s`." % c.meta.get("qdeg", "20.7"))
+        "triangles / ./mesh's - 1; decomp s = the slowest rank's seconds in the "
+        "decomposition (`decomp_s`); decomp / mesh s = its share of pcdm's `mesh_s`." % c.meta.get("qdeg", "20.7"))
     c.H()
     rows = []
     for lab in sorted(set(r["label"] for r in c.runs if r["section"] == "decomp")):
@@ -1119,7 +1122,7 @@ def sec_decomp(c):
         s = pc[0]["s"]
         mt = ms[0]["s"].get("triangles") if ms else None
         rel = div(s.get("triangles"), mt)
-        share = div(s.get("decomp_s"), s.get("wall_s"))
+        share = div(s.get("decomp_s"), s.get("mesh_s"))
         ex = s.get("decomp_exact")
         rows.append([lab, "%d" % pc[0]["np"], fi(s.get("subdomains")),
                      "exact" if ex == 1 else "coarse" if ex == 0 else "-", fi(s.get("triangles")), fi(mt),
@@ -1145,7 +1148,7 @@ def sec_scale(c):
     c.H("Balanced runs; where a size ran several repetitions (alternating the programs), the figures "
         "are medians.  Against the sequential `./mesh` and Shewchuk's Triangle (PyPI "
         "`triangle`, time of the `triangulate` call only, switches `pq%sa<area>Q`).  tri/s = "
-        "triangles / wall s (measured); cpu_max s = the busiest rank's CPU seconds (a lower bound on "
+        "triangles / mesh s (measured); cpu_max s = the busiest rank's CPU seconds (a lower bound on "
         "the time with a core per rank); CPU-bound speedup = 1-rank cpu_max / cpu_max_P (an upper "
         "bound); vs ./mesh (wall) = ./mesh wall / wall.  Memory = sum over the processes of each "
         "one's peak RSS (`/usr/bin/time -f %%M`; Triangle: the python process's own peak), per "
@@ -1153,7 +1156,7 @@ def sec_scale(c):
     c.H()
     rows, crows = [], []
     for lab in [x for x in ("1m", "10m") if c.sel("scale", x, ok=False)]:
-        mesh_wall = med(vals(c.sel("scale", lab, "mesh", 1), "wall_s"))
+        mesh_wall = med(vals(c.sel("scale", lab, "mesh", 1), "mesh_s"))
         t1 = {p: med(vals(c.sel("scale", lab, p, 1), CPU)) for p in ("pcdm", "pbw")}
         for prog, np_ in [("mesh", 1), ("triangle", 1)] + [(p, n) for p in ("pcdm", "pbw") for n in NPS]:
             all_rs = c.sel("scale", lab, prog, np_, ok=False)
@@ -1165,7 +1168,7 @@ def sec_scale(c):
                 continue
             s = rs[0]["s"]
             par = prog in ("pcdm", "pbw")
-            tris, wall = s.get("triangles"), med(vals(rs, "wall_s"))
+            tris, wall = s.get("triangles"), med(vals(rs, "mesh_s"))
             cpu = med(vals(rs, CPU)) if par else None
             rss_kb = rs[0]["rss_sum_kb"] if isnum(rs[0]["rss_sum_kb"]) else None
             if prog == "triangle" and isnum(s.get("peak_rss_mb")):
@@ -1184,13 +1187,13 @@ def sec_scale(c):
             c.out.append("Scale %-3s %-8s P=%d: %s triangles, %s tri/s wall%s" % (
                 lab, prog, np_, fi(tris), fi(div(tris, wall)), (", CPU-bound speedup %s" % f(csp)) if csp else ""))
     if rows:
-        c.H(md_table(["size", "program", "ranks", "triangles", "wall s", "cpu_max s (lower bound)", "tri/s wall",
+        c.H(md_table(["size", "program", "ranks", "triangles", "mesh s", "cpu_max s (lower bound)", "tri/s wall",
                       "CPU-bound speedup", "vs ./mesh (wall)", "peak MB (sum)", "B/tri", "own B/tri", "RSRs",
                       "RSRs/1000 tri"], rows))
     else:
         c.H("_No scale runs._")
     c.H()
-    c.csv("scale.csv", ["size", "program", "ranks", "triangles", "vertices", "wall_s", "cpu_max_s",
+    c.csv("scale.csv", ["size", "program", "ranks", "triangles", "vertices", "mesh_s", "cpu_max_s",
                         "tri_per_s_wall", "cpu_bound_speedup", "speedup_vs_mesh_wall", "peak_rss_mb_sum",
                         "bytes_per_tri", "own_bytes_per_tri", "rsr", "rsr_per_1000_tri", "min_angle", "area"], crows)
 
@@ -1219,8 +1222,8 @@ def sec_coast(c):
         return
     c.H("Great Britain from GSHHG at full resolution (`%s`: one polygon of 49,152 vertices in projected "
         "metres, domain area %s m2, written by `bench/coast.py`), `-q 30 -a %s`: a domain with many "
-        "segments, where walks of point location meet constraint edges.  %s repetitions, medians (min-max).  wall s = the program's "
-        "`wall_s`; cpu_max s = the busiest rank's CPU seconds; pbw / pcdm = the ratio of the median wall "
+        "segments, where walks of point location meet constraint edges.  %s repetitions, medians (min-max).  mesh s = the program's "
+        "`mesh_s`; cpu_max s = the busiest rank's CPU seconds; pbw / pcdm = the ratio of the median wall "
         "times at the same rank count (goal <= %.1f), and of cpu_max; ./mesh's time beside.  %s" % (
             path, "%.3g" % num(c.meta.get("coast_domain_area"))
             if isnum(num(c.meta.get("coast_domain_area"))) else "NA", area,
@@ -1230,16 +1233,16 @@ def sec_coast(c):
     c.H()
     rows, crows = [], []
     mesh_rs = c.sel("coast", "gb", "mesh", 1)
-    mw = med(vals(mesh_rs, "wall_s"))
+    mw = med(vals(mesh_rs, "mesh_s"))
     rows.append(["./mesh", 1, fi(med(vals(mesh_rs, "triangles"))) if mesh_rs else
-                 "NA (%s; see *Problems*)" % c.why_missing("coast", "gb", "mesh", 1), frange(vals(mesh_rs, "wall_s"), 3),
+                 "NA (%s; see *Problems*)" % c.why_missing("coast", "gb", "mesh", 1), frange(vals(mesh_rs, "mesh_s"), 3),
                  "-", "-", "-", "-"])
     crows.append(["mesh", 1, len(mesh_rs), med(vals(mesh_rs, "triangles")), mw, None, None, None, None])
     for np_ in (2, 8):
         m = {}
         for prog in ("pcdm", "pbw"):
             rs = c.sel("coast", "gb", prog, np_)
-            m[prog] = (med(vals(rs, "wall_s")), med(vals(rs, CPU)), rs)
+            m[prog] = (med(vals(rs, "mesh_s")), med(vals(rs, CPU)), rs)
         rw, rc_ = div(m["pbw"][0], m["pcdm"][0]), div(m["pbw"][1], m["pcdm"][1])
         for prog in ("pcdm", "pbw"):
             w, cpu, rs = m[prog]
@@ -1248,7 +1251,7 @@ def sec_coast(c):
                             ["NA"] * 5)
                 continue
             last = prog == "pbw"
-            rows.append(["./" + prog, np_, fi(med(vals(rs, "triangles"))), frange(vals(rs, "wall_s"), 3),
+            rows.append(["./" + prog, np_, fi(med(vals(rs, "triangles"))), frange(vals(rs, "mesh_s"), 3),
                          frange(vals(rs, CPU), 3), fi(med(vals(rs, "rsr"))), f(div(w, mw)),
                          ("%s (wall), %s (cpu_max)%s" % (f(rw), f(rc_), "" if rw is None else
                           (" ok" if rw <= COAST_GOAL else " ABOVE GOAL"))) if last else "-"])
@@ -1257,10 +1260,10 @@ def sec_coast(c):
         c.out.append("Coast P=%d: pbw/pcdm wall %s (goal <= %.1f), cpu_max %s; pcdm %s s, pbw %s s, ./mesh %s s" % (
             np_, f(rw), COAST_GOAL, f(rc_), f(m["pcdm"][0], 3), f(m["pbw"][0], 3), f(mw, 3)))
         c.keys["coast_ratio_%d" % np_] = f(rw)
-    c.H(md_table(["program", "ranks", "triangles", "wall s", "cpu_max s", "RSRs", "wall / ./mesh",
+    c.H(md_table(["program", "ranks", "triangles", "mesh s", "cpu_max s", "RSRs", "wall / ./mesh",
                   "pbw / pcdm"], rows))
     c.H()
-    c.csv("coast.csv", ["program", "ranks", "runs", "triangles", "wall_s", "cpu_max_s", "rsr",
+    c.csv("coast.csv", ["program", "ranks", "runs", "triangles", "mesh_s", "cpu_max_s", "rsr",
                         "wall_vs_mesh", "pbw_over_pcdm_wall"], crows)
 
 
@@ -1273,9 +1276,10 @@ def sec_output(c):
     c.H("## Output without a gather (issue 12): end to end, and memory per rank")
     c.H()
     c.H("`./mesh -q 30 -a A -o P` and `mpirun -np 2 ./pcdm -q 30 -a A -o P` run back to back (launch to "
-        "exit, files written).  mesh s = the program's `wall_s` (meshing only); output s = pcdm's "
-        "`output_s` (numbering + writing, slowest rank).  Per rank: triangles of its part, peak RSS at "
-        "the end and that peak per triangle of its own part (goal: <= 60).")
+        "exit, files written).  mesh s = the program's `mesh_s` (meshing only); output s = pcdm's "
+        "`output_s` (the output stage: interface check, numbering, writing; slowest rank).  Per "
+        "rank: triangles of its part, peak RSS at the end and that peak per triangle of its own "
+        "part (goal: <= 60).")
     c.H()
     rows, ocsv, pair = [], [], {}
     for ln in lines:
@@ -1288,9 +1292,9 @@ def sec_output(c):
             per.append("r%s: %s tri, %s MB, %s B/tri" % (r, fi(num(tris)), mb, bpt))
         if rc == "0":
             pair.setdefault((label, rep), {})[prog] = num(ext)
-        rows.append([label, prog, np_, area, rep, rc, ext, fi(st.get("triangles")), f(st.get("wall_s")),
+        rows.append([label, prog, np_, area, rep, rc, ext, fi(st.get("triangles")), f(st.get("mesh_s")),
                      f(st.get("output_s")) if prog == "pcdm" else "-", "; ".join(per) or "-"])
-        ocsv.append([label, prog, np_, area, rep, rc, ext, st.get("triangles"), st.get("wall_s"),
+        ocsv.append([label, prog, np_, area, rep, rc, ext, st.get("triangles"), st.get("mesh_s"),
                      st.get("output_s"), ranks])
     c.H(md_table(["size", "program", "ranks", "-a", "rep", "status", "launch to exit s", "triangles",
                   "mesh s", "output s", "per rank"], rows))
@@ -1304,7 +1308,7 @@ def sec_output(c):
         c.out.append("Output 10M: pcdm(2)/mesh end to end %s" % ", ".join("%.2f" % x for x in ratios))
     c.H()
     c.csv("output.csv", ["size", "program", "ranks", "area", "rep", "rc", "launch_to_exit_s", "triangles",
-                         "wall_s", "output_s", "ranks_triangles_peakmb_bpt_outputs"], ocsv)
+                         "mesh_s", "output_s", "ranks_triangles_peakmb_bpt_outputs"], ocsv)
 
 
 # ---------------------------------------------------------------------------- threads (issue 27)
@@ -1318,7 +1322,7 @@ def sec_threads(c):
     c.H()
     c.H("`./mesh -q 30 -a A -o P`, `./pcdm --threads 2 -q 30 -a A -o P` (a plain program, no mpirun), "
         "`mpirun --bind-to none -np 1 ./pcdm --threads 2 ...` and `mpirun -np 2 ./pcdm ...`, in alternation (launch "
-        "to exit, files written).  mesh s = the program's `wall_s`; peak MB = each rank's peak RSS, "
+        "to exit, files written).  mesh s = the program's `mesh_s`; peak MB = each rank's peak RSS, "
         "summed over the ranks.")
     c.H()
     rows = []
@@ -1329,7 +1333,7 @@ def sec_threads(c):
         mb = sum(num(x.split(":")[2]) or 0 for x in ranks.split(",") if x.count(":") >= 2)
         how = {"thr": "./mesh" if prog == "mesh" else "./pcdm --threads 2",
                "mpi_t2": "mpirun --bind-to none -np 1 ./pcdm --threads 2", "mpi_np2": "mpirun -np 2 ./pcdm"}.get(label, label)
-        rows.append([how, rep, rc, ext, fi(st.get("triangles")), f(st.get("wall_s")),
+        rows.append([how, rep, rc, ext, fi(st.get("triangles")), f(st.get("mesh_s")),
                      fi(st.get("subdomains")) if st.get("subdomains") is not None else "-", "%.0f" % mb if mb else "-"])
     c.H(md_table(["run", "rep", "status", "launch to exit s", "triangles", "mesh s", "subdomains",
                   "peak MB (sum)"], rows))
@@ -1408,7 +1412,7 @@ def sec_tail(c):
 def summary(c):
     """Prints the summary; the last line keeps the historical keys first, new keys after."""
     print()
-    print("Tables 2/3 (imbalanced 2:1, -a %s): wall s | cpu_max s (lower bound) | RSRs   [paper s | RSRs]"
+    print("Tables 2/3 (imbalanced 2:1, -a %s): mesh s | cpu_max s (lower bound) | RSRs   [paper s | RSRs]"
           % c.areas["area_43k"])
     for prog in ("pbw", "pcdm"):
         for np_ in NPS:

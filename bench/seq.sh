@@ -8,8 +8,8 @@
 # installed on demand into build/bench-venv; the coastline's .poly is written at bench time
 # into build/bench-data/ (never into the repository).  Only Triangle's triangulate() call is
 # timed (bench/seq_triangle.py), and its memory is the wrapper process's peak RSS minus its RSS
-# just before the call.  ./mesh reports its own meshing time (CDT + refinement, no file I/O)
-# and its whole process's peak RSS.  When Triangle cannot be installed the bench says so and
+# just before the call.  ./mesh reports its own meshing time (mesh_s: CDT + refinement, no file
+# I/O) and its whole process's peak RSS.  When Triangle cannot be installed the bench says so and
 # runs ./mesh alone; when the coastline cannot, it says so and runs lake alone.
 #
 # Each case runs REPEAT times (default 3; the 10M cases REPEAT_BIG, default 2) and the fastest
@@ -84,7 +84,7 @@ best_of() {
             line="$line cpu_s=$cpu"
         fi
         local w
-        w=$(field wall_s "$line")
+        w=$(field mesh_s "$line")
         if [ -z "$bw" ] || awk -v a="$w" -v b="$bw" 'BEGIN { exit !(a < b) }'; then
             best=$line
             bw=$w
@@ -95,7 +95,7 @@ best_of() {
 
 printf '%s\n' "bench-seq: ./mesh vs Triangle, -q $Q, area bound = domain area * 1.6 / N"
 printf '%s\n' "host: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg); best of $REPEAT runs ($REPEAT_BIG for the 10M cases)"
-printf '%-16s %-8s %10s %10s %8s %10s %9s %7s\n' case mesher triangles steiner wall_s tri/s peak_MB B/tri
+printf '%-16s %-8s %10s %10s %8s %10s %9s %7s\n' case mesher triangles steiner mesh_s tri/s peak_MB B/tri
 summary=()
 run_case() { # name file n repeat
     local name=$1 f=$2 n=$3 rep=$4
@@ -113,7 +113,7 @@ run_case() { # name file n repeat
         return
     fi
     local mt ms mw mr mbpt mtps mc
-    mt=$(field triangles "$ml"); ms=$(field steiner "$ml"); mw=$(field wall_s "$ml")
+    mt=$(field triangles "$ml"); ms=$(field steiner "$ml"); mw=$(field mesh_s "$ml")
     mc=$(field cpu_s "$ml")
     mr=$(field peak_rss_mb "$ml"); mbpt=$(field bytes_per_tri "$ml")
     mtps=$(awk -v t="$mt" -v w="$mw" 'BEGIN { printf "%.0f", (w > 0 ? t / w : 0) }')
@@ -129,7 +129,7 @@ run_case() { # name file n repeat
         return
     fi
     local tt ts tw tr tb tmem tbpt ttps tc
-    tt=$(field triangles "$tl"); ts=$(field steiner "$tl"); tw=$(field wall_s "$tl")
+    tt=$(field triangles "$tl"); ts=$(field steiner "$tl"); tw=$(field mesh_s "$tl")
     tc=$(field cpu_s "$tl")
     tr=$(field peak_rss_mb "$tl"); tb=$(field base_rss_mb "$tl")
     tmem=$(awk -v p="$tr" -v b="$tb" 'BEGIN { printf "%.1f", p - b }')

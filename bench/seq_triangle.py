@@ -1,11 +1,12 @@
 """Runs Shewchuk's Triangle (through the PyPI `triangle` wrapper) on one .poly file and prints
 one line in the format of ./mesh --stats:
 
-  stats: triangles=N vertices=N steiner=N wall_s=T peak_rss_mb=M base_rss_mb=B cpu_s=C
+  stats: triangles=N vertices=N steiner=N mesh_s=T peak_rss_mb=M base_rss_mb=B cpu_s=C
 
 Usage: python seq_triangle.py input.poly SWITCHES      (e.g. pq20.7a0.000002Q)
 
-Only the triangulate() call is timed (wall_s; cpu_s: this process's CPU time during it).  peak_rss_mb is this process's peak resident size;
+Only the triangulate() call is timed (mesh_s, beside ./mesh's meshing time of that name; cpu_s:
+this process's CPU time during it).  peak_rss_mb is this process's peak resident size;
 base_rss_mb is its resident size just before the call (Python, numpy, the input), so the
 mesher's own memory is peak - base.  The .poly is read by bench/poly.py (vertices, segments,
 holes; 0- or 1-based like Triangle).
@@ -40,7 +41,7 @@ def main():
     nt = len(out["triangles"])
     nv = len(out["vertices"])
     print(f"stats: triangles={nt} vertices={nv} steiner={nv - len(d['vertices'])} "
-          f"wall_s={wall:.3f} peak_rss_mb={peak:.1f} base_rss_mb={base:.1f} cpu_s={cpu:.3f}")
+          f"mesh_s={wall:.3f} peak_rss_mb={peak:.1f} base_rss_mb={base:.1f} cpu_s={cpu:.3f}")
 
 
 if __name__ == "__main__":

@@ -6,7 +6,10 @@
 # exits 1 naming the file; every rank of a parallel run exits with the same status, and none
 # hangs (timeout); the shared options' help lines are the same in every mesher.  Triangle's
 # syntax end to end (issue 15): switch strings, NAME.1 output next to the input, -NEP, -N, -Q,
-# -V, --version, letters not supported (triangle_cases below).
+# -V, --version, letters not supported (triangle_cases below).  --stats' times (stats_cases
+# below): every phase field present (read_s, mesh_s, output_s; the parallel programs also
+# start_s and decomp_s) and wall_s the whole run -- at least the phases' sum, and at least a
+# read held up on purpose (the input a pipe that delivers it 1 s after it is opened).
 . "$(dirname "$0")/lib.sh"
 
 # run PROG NP ARGS...: runs the program (NP = 0: directly; else at NP ranks by mpi_run, which
@@ -280,6 +283,62 @@ triangle_cases() {
 triangle_cases mesh 0
 triangle_cases pcdm 2
 triangle_cases pbw 2
+# --stats' times: PROG NP.  A run with a large-ish output (-o, about 340K triangles, and
+# --check): each phase field present, and wall_s at least their sum (0.01 s: the printed values'
+# rounding) -- so at least output_s + mesh_s.  Then the input read from a pipe that delivers it
+# 1 s after the program opens it: read_s and wall_s at least that second.
+stats_cases() {
+    local prog=$1 np=$2 what="$1 (np $2) --stats" phases="read_s mesh_s output_s" k v sl
+    [ "$np" = 0 ] || phases="start_s read_s decomp_s mesh_s output_s"
+    rm -f "$T"/st.*
+    run "$prog" "$np" -q 30 -a 1e-5 -o "$T/st" --check --stats data/lake.poly
+    sl=$(grep '^stats:' <<<"$out" | tail -n 1)
+    if [ "$rc" -ne 0 ] || [ -z "$sl" ]; then
+        fail "$what -o: exit $rc, stats line '$sl': $err"
+    else
+        local sum=0 missing="" w m o
+        for k in $phases wall_s; do # a missing phase counts 0 in the sum
+            v=$(field "$k" <<<"$sl")
+            [[ "$v" =~ ^[0-9]+\.[0-9]+$ ]] || missing="$missing $k"
+            [ "$k" = wall_s ] || sum=$(awk -v a="$sum" -v b="${v:-0}" 'BEGIN { print a + b }')
+        done
+        [ -z "$missing" ] && ok "$what -o: $phases wall_s present" ||
+            fail "$what -o: no numeric$missing in: $sl"
+        w=$(field wall_s <<<"$sl") m=$(field mesh_s <<<"$sl") o=$(field output_s <<<"$sl")
+        if awk -v w="${w:-0}" -v s="$sum" -v m="${m:-0}" -v o="${o:-0}" \
+            'BEGIN { exit !(w >= s - 0.01 && w >= m + o - 0.01) }'; then
+            ok "$what -o: wall_s=$w >= the phases' sum $sum (mesh_s=$m output_s=$o)"
+        else
+            fail "$what -o: wall_s='$w' below the phases' sum $sum ($phases; mesh_s='$m' output_s='$o')"
+        fi
+    fi
+    rm -f "$T"/st.* "$T/slow.poly"
+    mkfifo "$T/slow.poly" || {
+        fail "$what: cannot make a pipe"
+        return
+    }
+    # the writer's open waits for the program's; then 1 s before the input comes
+    timeout 60 sh -c 'exec 3>"$1"; sleep 1; cat data/lake.poly >&3' sh "$T/slow.poly" &
+    local feeder=$!
+    run "$prog" "$np" -NEP -q 30 --stats "$T/slow.poly"
+    wait "$feeder"
+    sl=$(grep '^stats:' <<<"$out" | tail -n 1)
+    local r
+    r=$(field read_s <<<"$sl") w=$(field wall_s <<<"$sl")
+    if [ "$rc" -ne 0 ] || [ -z "$sl" ]; then
+        fail "$what, input from a slow pipe: exit $rc, stats line '$sl': $err"
+    elif ! awk -v r="${r:-0}" -v w="${w:-0}" 'BEGIN { exit !(r >= 1 && w >= r) }'; then
+        fail "$what, input from a pipe 1 s late: read_s='$r' wall_s='$w', expected both >= 1"
+    else
+        ok "$what, input from a pipe 1 s late: read_s=$r, wall_s=$w"
+    fi
+    rm -f "$T/slow.poly"
+}
+stats_cases mesh 0
+stats_cases pcdm 1
+stats_cases pcdm 3
+stats_cases pbw 2
+
 for prog in mesh meshcheck pcdm pbw; do
     np=0
     [ "$prog" = pcdm ] || [ "$prog" = pbw ] && np=2

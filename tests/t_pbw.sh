@@ -62,7 +62,7 @@ run() { # np domain q extra-args...: one run, its checks
         return
     fi
     grep -q '^meshcheck: OK' <<<"$out" || fail "--check did not pass (np=$np $d $*)"
-    grep -Eq '^stats: ranks=[0-9]+ triangles=[0-9]+ vertices=[0-9]+ rsr=[0-9]+ undone=[0-9]+ min_angle=[0-9.]+ wall_s=[0-9.]+ busy_max_s=[0-9.]+ busy_sum_s=[0-9.]+ comm_pct=[0-9.]+ undo_pct=[0-9.]+' <<<"$last" ||
+    grep -Eq '^stats: ranks=[0-9]+ triangles=[0-9]+ vertices=[0-9]+ rsr=[0-9]+ undone=[0-9]+ min_angle=[0-9.]+ mesh_s=[0-9.]+ busy_max_s=[0-9.]+ busy_sum_s=[0-9.]+ comm_pct=[0-9.]+ undo_pct=[0-9.]+' <<<"$last" ||
         fail "last line is not the stats line: $last"
     grep -q "^stats: ranks=$np " <<<"$last" || fail "stats line names the wrong rank count"
     grep -Eq '^rsr: expansion=[0-9]+ reply=[0-9]+ release=[0-9]+ commit=[0-9]+ split=[0-9]+' \

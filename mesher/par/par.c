@@ -123,8 +123,8 @@ long par_peak_rss_bytes(void) {
 
 /* ---- -V --------------------------------------------------------------------------------- */
 
-void par_verbose_input(const par_opts *o, const pslg *in, const pcdm_decomp *d, double load_s) {
-    double t[2] = {d->build_s, load_s};
+void par_verbose_input(const par_opts *o, const pslg *in, const pcdm_decomp *d, double read_s) {
+    double t[2] = {d->build_s, read_s};
     MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, t, 2, MPI_DOUBLE, MPI_MAX, rt_app_comm()));
     double build = t[0];
     if (rt_rank() != 0) return;
@@ -142,9 +142,9 @@ void par_verbose_input(const par_opts *o, const pslg *in, const pcdm_decomp *d, 
             o->circumcenters ? "circumcenters" : "off-centers");
 }
 
-void par_verbose_result(const par_opts *o, double wall, int64_t ntris, int64_t nverts,
+void par_verbose_result(const par_opts *o, double mesh_s, int64_t ntris, int64_t nverts,
                         double min_angle, double out_s) {
-    double t[2] = {wall, out_s};
+    double t[2] = {mesh_s, out_s};
     MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, t, 2, MPI_DOUBLE, MPI_MAX, rt_app_comm()));
     if (rt_rank() != 0) return;
     fprintf(stderr,
@@ -154,5 +154,7 @@ void par_verbose_result(const par_opts *o, double wall, int64_t ntris, int64_t n
     if (o->out_prefix && par_skip_files(o) != MESHIO_SKIP_ALL) /* -o2: the quadratic ones */
         fprintf(stderr, "%s: wrote %s%s%s%s\n", o->prog, o->out_prefix, o->no_node ? "" : ".node ",
                 o->no_ele ? "" : ".ele ", o->no_poly ? "" : ".poly");
-    fprintf(stderr, "%s: output %.4f s (numbering, --check, files; slowest rank)\n", o->prog, t[1]);
+    fprintf(stderr,
+            "%s: output %.4f s (interface check, numbering, --check, files; slowest rank)\n",
+            o->prog, t[1]);
 }

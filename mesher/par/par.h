@@ -105,11 +105,11 @@ typedef struct par_config {
 par_config par_config_of(const par_opts *o);
 
 /* Collective.  -V: rank 0 prints what was read and decomposed and the bounds asked for. */
-void par_verbose_input(const par_opts *o, const pslg *in, const pcdm_decomp *d, double load_s);
+void par_verbose_input(const par_opts *o, const pslg *in, const pcdm_decomp *d, double read_s);
 
-/* Collective.  -V: rank 0 prints the slowest rank's refinement seconds (wall: this rank's), the
- * mesh made (ntris, nverts, min_angle over all ranks) and the output seconds. */
-void par_verbose_result(const par_opts *o, double wall, int64_t ntris, int64_t nverts,
+/* Collective.  -V: rank 0 prints the slowest rank's refinement seconds (mesh_s: this rank's),
+ * the mesh made (ntris, nverts, min_angle over all ranks) and the output seconds. */
+void par_verbose_result(const par_opts *o, double mesh_s, int64_t ntris, int64_t nverts,
                         double min_angle, double out_s);
 
 /* Local.  The Triangle files o asks to leave out (-N, -E, -P), as MESHIO_SKIP_* bits. */

@@ -60,7 +60,7 @@ typedef struct run_job {
     void *user_size_ctx;
     int user_scale_exp; /* set by the driver: the scale its wrapper undoes */
     mesh_bounds bounds; /* the bounds stage's value (run_bounds) */
-    double load_s;      /* parallel: wall seconds this rank spent reading and checking the input */
+    double read_s;      /* parallel: wall seconds this rank spent reading and checking the input */
     /* out */
     run_verdict verdict;
     int64_t unmet;          /* triangles outside the bounds, not forced (all ranks) */
@@ -141,7 +141,7 @@ typedef struct run_part {
     int32_t *tsub;          /* pcdm with --vtk: each triangle's subdomain (else NULL) */
     int32_t rounds;         /* pcdm: the refinement's rounds (0: --async) */
     long long iface_remote; /* pcdm: interface pieces left encroached (all ranks) */
-    double t0, c0, wall;    /* wall seconds at the start of the mesh stage, CPU seconds, span */
+    double t0, c0, mesh_s;  /* the mesh stage's start (wall-clock s), CPU s then, its span */
 } run_part;
 
 struct run_stats;

@@ -13,18 +13,19 @@
  *
  * --stats (rank 0, stdout): one line per rank ("rank R: key=value ..."), then ./pcdm's
  *   rsr: split=S mpi_msgs=M
- *   stats: ranks=P triangles=N vertices=N rsr=S min_angle=D wall_s=T busy_max_s=B busy_sum_s=U
+ *   stats: ranks=P triangles=N vertices=N rsr=S min_angle=D mesh_s=T busy_max_s=B busy_sum_s=U
  *          subdomains=K idle_max_s=I max_area=A ignored=G mpi_msgs=M speedup_model=X
  *          peak_rss_mb=R bytes_per_tri=Y mesh_bytes_per_tri=Z output_s=W cpu_max_s=C
  *          cpu_sum_s=E decomp_s=D tri_max=N tri_mean=M decomp_exact=0|1 rounds=R hash=H
  *          balance=static|dynamic migrations=N moved_bytes=B move_max_s=S forwarded=F
- *          comm_s=C comm_max_s=M handler_s=H net_latency_us=L net_MBps=B load_s=L run_s=R
+ *          comm_s=C comm_max_s=M handler_s=H net_latency_us=L net_MBps=B start_s=S read_s=R
+ *          wall_s=W
  * or ./pbw's rsr line by kind, its cavities: and blocking: lines, and
  *   stats: ranks=P triangles=N vertices=N rsr=TOTAL_RSRS undone=CAVITIES_UNDONE min_angle=D
- *          wall_s=T busy_max_s=B busy_sum_s=S comm_pct=C undo_pct=U speedup_model=X
+ *          mesh_s=T busy_max_s=B busy_sum_s=S comm_pct=C undo_pct=U speedup_model=X
  *          peak_rss_mb=R bytes_per_tri=Y mesh_bytes_per_tri=Z phase1_s=F cpu_max_s=C
  *          cpu_sum_s=E output_s=W comm_s=C comm_max_s=M handler_s=H net_latency_us=L net_MBps=B
- *          load_s=L run_s=R endcheck_max_s=K endcheck_sum_s=L
+ *          start_s=S read_s=R decomp_s=D wall_s=W endcheck_max_s=K endcheck_sum_s=L
  * (one line each).  Definitions (rt_stats time buckets, inside rt_run):
  *   busy (per rank) = RT_TIME_BUSY + RT_TIME_HANDLER (local work, tasks and handlers);
  *                     speedup_model = busy_sum / busy_max.
@@ -35,19 +36,25 @@
  *   undo_pct = 100 sum(RT_TIME_UNDO) / sum(busy + comm), its undo computation overhead (the
  *   expansion work of cavities released after a lock conflict); undone = cavity attempts
  *   abandoned after a conflict; rsr = every RSR sent to another rank.
- *   wall_s: from a barrier after loading and decomposition to the last rank leaving the mesher
- *   (CDT, refinement, termination; no numbering, no output) -- ./mesh's wall_s span.
- *   cpu: CPU seconds (getrusage) over that span: unlike busy it does not grow when the machine
- *   is oversubscribed.  peak_rss_mb: the largest rank's peak RSS after the output;
+ *   Times: wall-clock seconds, each phase under its own name, the slowest rank's (rank lines:
+ *   each rank's own):
+ *     start_s: the start-up (MPI, the command line, the handlers, --threads' threads);
+ *     read_s: reading and checking the input (rank 0) and sending it to the other ranks;
+ *     decomp_s: the decomposition (automatic or --cuts), sent to the ranks where rank 0 makes it;
+ *     mesh_s: from a barrier after reading and decomposition to the last rank leaving the
+ *     mesher (CDT, refinement, termination; no numbering, no output) -- ./mesh's mesh_s span;
+ *     output_s: the output stage (par_output_sub): the interface and area checks, numbering,
+ *     --check and writing (./pcdm's rank lines: number_s and write_s apart);
+ *     wall_s: the whole run, from the program's start (before MPI's) to the statistics: the
+ *     phases above and what lies between them (agreement, verdict, the mesh hash).
+ *   cpu: CPU seconds (getrusage) over mesh_s's span: unlike busy it does not grow when the
+ *   machine is oversubscribed.  peak_rss_mb: the largest rank's peak RSS after the output;
  *   bytes_per_tri: the ranks' peak RSS summed over the triangles (rank lines: its own over its
- *   own); mesh_bytes_per_tri: the mesh arrays alone.  output_s: the slowest rank's seconds in
- *   numbering, --check and writing.  rounds: the refinement's rounds (0 with --async); hash:
- *   the mesh hash (pcdm_flat_hash summed over the parts), the same for the same mesh whatever
- *   its numbering and rank count.  endcheck_*: pbw's always-on end check of the Delaunay property.
- *   net_latency_us, net_MBps: the network model in force (--net, PCDM_NET; 0 0: none).
- *   load_s: the slowest rank's seconds reading and checking the input; run_s: the slowest
- *   rank's whole run, from after MPI's start to the statistics (load, decomposition, mesh,
- *   output), where wall_s is the meshing alone.
+ *   own); mesh_bytes_per_tri: the mesh arrays alone.  rounds: the refinement's rounds (0 with
+ *   --async); hash: the mesh hash (pcdm_flat_hash summed over the parts), the same for the same
+ *   mesh whatever its numbering and rank count.  endcheck_*: pbw's always-on end check of the
+ *   Delaunay property.  net_latency_us, net_MBps: the network model in force (--net, PCDM_NET;
+ *   0 0: none).
  */
 #include "run/run.h"
 #include "run/run_stats.h"
@@ -284,7 +291,7 @@ int run_par_load(run_job *j, pslg *in, pcdm_decomp *d) {
     if (!share || rt_rank() == 0)
         rc = run_load(j, in, quiet, !j->lib && !share, err, sizeof err) == 0 ? 0 : RUN_FINPUT;
     if (share && share_input(j, in, rc, err, sizeof err) != 0 && rc == 0) rc = RUN_FINPUT;
-    j->load_s = rt_wtime() - t0;
+    j->read_s = rt_wtime() - t0;
     char pre[600];
     /* every rank holds the same input before the decomposition (which may be collective), and
      * the same decomposition after it */
@@ -341,7 +348,7 @@ static int mesh_pcdm(run_job *j, const pcdm_decomp *d, const mesh_bounds *b, con
         return RUN_FINPUT;
     }
     pcdm_part_run(&part, b, c);
-    p->wall = rt_wtime() - p->t0;
+    p->mesh_s = rt_wtime() - p->t0;
     pcdm_figures fig;
     pcdm_part_figures(&part, &fig);
     rt_stats rs;
@@ -369,7 +376,7 @@ static int mesh_pcdm(run_job *j, const pcdm_decomp *d, const mesh_bounds *b, con
     run_stats_set(st, "flips", 0, 1, (double)part.flips);
     run_stats_set(st, "split_notfound", 0, 0, (double)part.split_notfound);
     run_stats_set(st, "mesh_bytes", 0, 0, (double)fig.mesh_bytes);
-    run_stats_set(st, "wall_s", 3, 0, p->wall);
+    run_stats_set(st, "mesh_s", 3, 0, p->mesh_s);
     MPI_Comm comm = rt_app_comm();
     int limit_any = 0;
     MESH_MPI(MPI_Allreduce(&part.limit_hit, &limit_any, 1, MPI_INT, MPI_MAX, comm));
@@ -407,7 +414,7 @@ static int mesh_pbw(run_job *j, const pslg *in, const pcdm_decomp *d, const mesh
         snprintf(j->msg, sizeof j->msg, "pbw: the distributed mesh cannot be built");
         return RUN_FMESH;
     }
-    p->wall = rt_wtime() - p->t0;
+    p->mesh_s = rt_wtime() - p->t0;
     p->topen = res.topen;
     rt_stats rs;
     rt_stats_local(&rs);
@@ -436,7 +443,7 @@ static int mesh_pbw(run_job *j, const pslg *in, const pcdm_decomp *d, const mesh
     run_stats_set(st, "unresolved", 0, 0, (double)res.unresolved);
     run_stats_set(st, "forced", 0, 0, (double)res.forced);
     run_stats_set(st, "mesh_bytes", 0, 0, (double)res.mesh_bytes);
-    run_stats_set(st, "wall_s", 3, 0, p->wall);
+    run_stats_set(st, "mesh_s", 3, 0, p->mesh_s);
     run_stats_set(st, "phase1_s", 3, 0, res.phase1_s);
     run_stats_set(st, "cpu_s", 3, 1, par_cpu_seconds() - p->c0);
     run_stats_set(st, "mpi_msgs", 0, 0, (double)rs.mpi_sent);
@@ -462,7 +469,7 @@ int run_par_mesh(run_job *j, const pslg *in, const pcdm_decomp *d, run_part *p, 
     par_config c = par_config_of(&j->o);
     if (j->lib) c.progress = 0;
     MPI_Comm comm = rt_app_comm();
-    /* wall_s starts here: input read, checked and decomposed on every rank */
+    /* mesh_s starts here: input read, checked and decomposed on every rank */
     MESH_MPI(MPI_Barrier(comm));
     p->t0 = rt_wtime();
     p->c0 = par_cpu_seconds();
@@ -607,21 +614,22 @@ static void print_pcdm_stats(const run_job *j, const run_stats *st, const par_su
     rt_net_get(&lat, &bw);
     printf("rsr: split=%.0f mpi_msgs=%.0f\n", S("split_sent"), S("mpi_msgs"));
     printf("stats: ranks=%d triangles=%lld vertices=%lld rsr=%.0f min_angle=%.4f "
-           "wall_s=%.3f busy_max_s=%.3f busy_sum_s=%.3f subdomains=%d idle_max_s=%.3f "
+           "mesh_s=%.3f busy_max_s=%.3f busy_sum_s=%.3f subdomains=%d idle_max_s=%.3f "
            "max_area=%.6g ignored=%.0f mpi_msgs=%.0f speedup_model=%.2f "
            "peak_rss_mb=%.1f bytes_per_tri=%.1f mesh_bytes_per_tri=%.1f output_s=%.3f "
            "cpu_max_s=%.3f cpu_sum_s=%.3f decomp_s=%.3f tri_max=%.0f tri_mean=%.1f "
            "decomp_exact=%d rounds=%d hash=%016llx balance=%s migrations=%.0f "
            "moved_bytes=%.0f move_max_s=%.4f forwarded=%.0f comm_s=%.4f comm_max_s=%.4f "
-           "handler_s=%.4f net_latency_us=%.1f net_MBps=%.1f load_s=%.3f run_s=%.3f\n",
+           "handler_s=%.4f net_latency_us=%.1f net_MBps=%.1f start_s=%.3f read_s=%.3f "
+           "wall_s=%.3f\n",
            size, (long long)sum->ntris, (long long)sum->nverts, S("split_sent"), sum->min_angle,
-           M("wall_s"), M("busy_s"), S("busy_s"), (int)d->nsub, M("idle_s"), sum->max_area,
+           M("mesh_s"), M("busy_s"), S("busy_s"), (int)d->nsub, M("idle_s"), sum->max_area,
            S("split_ignored"), S("mpi_msgs"), M("busy_s") > 0 ? S("busy_s") / M("busy_s") : 0.0,
            M("rss") / 1048576.0, S("rss") / nt, S("mesh_bytes") / nt, M("output_s"), M("cpu_s"),
-           S("cpu_s"), d->build_s, M("triangles"), S("triangles") / size, d->exact, (int)rounds,
+           S("cpu_s"), M("decomp_s"), M("triangles"), S("triangles") / size, d->exact, (int)rounds,
            (unsigned long long)hash, par_balance_dynamic(&j->o) ? "dynamic" : "static",
            S("migrations"), S("moved_bytes"), M("move_s"), S("forwarded"), S("comm_s"), M("comm_s"),
-           S("handler_s"), lat * 1e6, bw / 1e6, M("load_s"), M("run_s"));
+           S("handler_s"), lat * 1e6, bw / 1e6, M("start_s"), M("read_s"), M("wall_s"));
 }
 
 /* Rank 0: ./pbw's --stats lines (after the rank lines). */
@@ -647,19 +655,20 @@ static void print_pbw_stats(const run_stats *st, const par_summary *sum) {
     double nt = sum->ntris > 0 ? (double)sum->ntris : 1, lat, bw;
     rt_net_get(&lat, &bw);
     printf("stats: ranks=%d triangles=%ld vertices=%ld rsr=%.0f undone=%.0f "
-           "min_angle=%.4f wall_s=%.3f busy_max_s=%.3f busy_sum_s=%.3f comm_pct=%.2f "
+           "min_angle=%.4f mesh_s=%.3f busy_max_s=%.3f busy_sum_s=%.3f comm_pct=%.2f "
            "undo_pct=%.2f speedup_model=%.2f peak_rss_mb=%.1f bytes_per_tri=%.1f "
            "mesh_bytes_per_tri=%.1f phase1_s=%.3f cpu_max_s=%.3f cpu_sum_s=%.3f output_s=%.3f "
            "comm_s=%.4f comm_max_s=%.4f handler_s=%.4f net_latency_us=%.1f net_MBps=%.1f "
-           "load_s=%.3f run_s=%.3f endcheck_max_s=%.4f endcheck_sum_s=%.4f\n",
+           "start_s=%.3f read_s=%.3f decomp_s=%.3f wall_s=%.3f endcheck_max_s=%.4f "
+           "endcheck_sum_s=%.4f\n",
            size, (long)sum->ntris, (long)sum->nverts, S("rsr_sent"),
-           S("undone_local") + S("undone_remote"), sum->min_angle, M("wall_s"), M("busy_s"),
+           S("undone_local") + S("undone_remote"), sum->min_angle, M("mesh_s"), M("busy_s"),
            S("busy_s"), nonidle > 0 ? 100.0 * (S("handler_s") + S("comm_s")) / nonidle : 0.0,
            nonidle > 0 ? 100.0 * S("undo_s") / nonidle : 0.0,
            M("busy_s") > 0 ? S("busy_s") / M("busy_s") : 0.0, M("rss") / 1048576.0, S("rss") / nt,
            S("mesh_bytes") / nt, M("phase1_s"), M("cpu_s"), S("cpu_s"), M("output_s"), S("comm_s"),
-           M("comm_s"), S("handler_s"), lat * 1e6, bw / 1e6, M("load_s"), M("run_s"),
-           M("endcheck_s"), S("endcheck_s"));
+           M("comm_s"), S("handler_s"), lat * 1e6, bw / 1e6, M("start_s"), M("read_s"),
+           M("decomp_s"), M("wall_s"), M("endcheck_s"), S("endcheck_s"));
 #undef S
 #undef M
 }
@@ -667,8 +676,9 @@ static void print_pbw_stats(const run_stats *st, const par_summary *sum) {
 int run_par_main(int argc, char **argv, run_method method, par_parse_fn parse, const void *ctx) {
     par_opts o;
     int code;
+    double t_start = rt_wtime(); /* wall_s: from here (before MPI's start) to the statistics */
     if (startup(&argc, &argv, method, parse, ctx, &o, &code)) return code;
-    double t_run = rt_wtime(); /* run_s: from here (after MPI's start) to the statistics */
+    double start_s = rt_wtime() - t_start;
     run_job j;
     run_job_init(&j, method, &o);
     pslg in;
@@ -683,26 +693,27 @@ int run_par_main(int argc, char **argv, run_method method, par_parse_fn parse, c
         return 1;
     }
     int verbose = j.o.verbose && !j.o.quiet; /* -Q wins */
-    if (verbose) par_verbose_input(&j.o, &in, &d, j.load_s);
+    if (verbose) par_verbose_input(&j.o, &in, &d, j.read_s);
     if (run_par_mesh(&j, &in, &d, &p, &st) != 0) goto done; /* 2-4. bounds, mesh, verdict */
     /* 5, 6. the interface check, numbering, --check (held to the bounds only when they were
      * met) and the files, every rank its own part */
     par_summary sum;
-    double c2 = par_cpu_seconds();
+    double c2 = par_cpu_seconds(), t_out = rt_wtime();
     par_opts oc = j.o;
     run_check_bounds(&j, &oc.min_angle, &oc.max_area, &oc.region_area);
     int out = par_output_sub(&oc, &in, &p.local, p.artificial, p.tsub, p.topen, &sum);
+    double output_s = rt_wtime() - t_out;
     /* the mesh hash: a sum over triangles (par_output_sub's pass), so one reduction of the
      * parts' sums */
     uint64_t hash = 0;
     if (j.o.stats && method == RUN_PCDM && out == 0)
         MESH_MPI(MPI_Reduce(&sum.hash, &hash, 1, MPI_UINT64_T, MPI_SUM, 0, rt_app_comm()));
     int32_t rounds = p.rounds;
-    double wall = p.wall;
+    double mesh_s = p.mesh_s;
     run_part_free(&p);
     /* statistics: memory taken now, after the output */
     double rss = (double)par_peak_rss_bytes(), ntri = run_stats_get(&st, "triangles");
-    run_stats_set(&st, "output_s", 3, 1, sum.number_s + sum.check_s + sum.write_s);
+    run_stats_set(&st, "output_s", 3, 1, output_s);
     if (method == RUN_PCDM) {
         run_stats_set(&st, "number_s", 3, 1, sum.number_s);
         run_stats_set(&st, "write_s", 3, 1, sum.write_s);
@@ -712,10 +723,12 @@ int run_par_main(int argc, char **argv, run_method method, par_parse_fn parse, c
     run_stats_set(&st, "bytes_per_tri", 1, 1, rss / (ntri > 0 ? ntri : 1));
     run_stats_set(&st, "rss", 0, 0, rss);
     if (verbose && out == 0)
-        par_verbose_result(&j.o, wall, sum.ntris, sum.nverts, sum.min_angle,
+        par_verbose_result(&j.o, mesh_s, sum.ntris, sum.nverts, sum.min_angle,
                            run_stats_get(&st, "output_s"));
-    run_stats_set(&st, "load_s", 3, 1, j.load_s);
-    run_stats_set(&st, "run_s", 3, 1, rt_wtime() - t_run);
+    run_stats_set(&st, "start_s", 3, 0, start_s);
+    run_stats_set(&st, "read_s", 3, 1, j.read_s);
+    run_stats_set(&st, "decomp_s", 3, 0, d.build_s);
+    run_stats_set(&st, "wall_s", 3, 1, rt_wtime() - t_start);
     if (run_stats_collect(&st, j.o.stats)) {
         run_stats_rank_lines(&st, rt_size(), stdout);
         if (method == RUN_PCDM)

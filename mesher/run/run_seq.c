@@ -4,11 +4,16 @@
  *
  * ./mesh (run_mesh) prints a message per problem ("mesh: FILE:LINE: problem"), -V a summary on
  * stderr, --progress a line every 2 s, --stats on stdout the line
- *   stats: triangles=N vertices=N steiner=N min_angle=D max_area=A wall_s=T peak_rss_mb=M
- *          bytes_per_tri=B output_s=O cpu_s=C
- * after the kernel's counters on stderr; wall_s is the meshing time (triangulation and
- * refinement, no file I/O), cpu_s the process's CPU time over the same stretch, bytes_per_tri
- * the peak resident memory per triangle.  Every path ends at one clean-up and one exit status.
+ *   stats: triangles=N vertices=N steiner=N min_angle=D max_area=A mesh_s=T peak_rss_mb=M
+ *          bytes_per_tri=B output_s=O cpu_s=C read_s=R wall_s=W
+ * after the kernel's counters on stderr.  Times are wall-clock seconds, one field per phase:
+ *   read_s: reading and checking the input (and the bounds made from it);
+ *   mesh_s: the meshing -- triangulation and refinement, no file I/O;
+ *   output_s: the flat (numbered) mesh, the files (-o, --vtk, --svg, ...) and --check;
+ *   wall_s: the whole run, from before reading the input to after the output is written and
+ *   checked: the phases above and what lies between them (the verdict, the area check).
+ * cpu_s is the process's CPU time over the meshing (mesh_s's span), bytes_per_tri the peak
+ * resident memory per triangle.  Every path ends at one clean-up and one exit status.
  */
 #include "run/run.h"
 
@@ -46,8 +51,8 @@ typedef struct progress {
     double t0, last;
     double t_cdt;     /* seconds of the triangulation */
     double c0;        /* CPU seconds at t0 */
-    double wall, cpu; /* seconds of triangulation and refinement */
-    double t_read;    /* when reading the input began (run_s counts from there) */
+    double mesh, cpu; /* seconds of triangulation and refinement (mesh_s, cpu_s) */
+    double t_start;   /* when reading the input began (wall_s counts from there) */
     mesh *m;
 } progress;
 
@@ -100,7 +105,7 @@ static int mesh_and_judge(run_job *j, const pslg *g, const mesh_bounds *b, mesh 
         rr = mesh_refine(m);
     }
     if (pr) {
-        pr->wall = now() - pr->t0;
+        pr->mesh = now() - pr->t0;
         pr->cpu = cpu_now() - pr->c0;
     }
     /* never a silent success outside the bounds: what is left is forced, an error, or the
@@ -133,8 +138,9 @@ static int check_stage(run_job *j, const pslg *g, const mesh_flat *f) {
     return mesh_validate(g, f, &vo, &j->report);
 }
 
-/* --stats: the kernel's counters on stderr, the stats line on stdout. */
-static void print_stats(const run_job *j, const mesh *m, const progress *pr, double t_out) {
+/* --stats: the kernel's counters on stderr, the stats line on stdout; output_s: the seconds of
+ * the output stage (flat mesh, files, --check). */
+static void print_stats(const run_job *j, const mesh *m, const progress *pr, double output_s) {
     double amin = 180, amax = 0;
     for (int32_t t = 0; t < m->nt; t++) {
         if (!mesh_tri_alive(m, t)) continue;
@@ -157,11 +163,11 @@ static void print_stats(const run_job *j, const mesh *m, const progress *pr, dou
             (long long)s->unresolved, (long long)j->forced,
             m->nlive ? (double)mesh_memory_bytes(m) / m->nlive : 0.0);
     printf("stats: triangles=%ld vertices=%ld steiner=%ld min_angle=%.4f max_area=%.6g "
-           "wall_s=%.3f peak_rss_mb=%.1f bytes_per_tri=%.1f output_s=%.3f cpu_s=%.3f "
-           "load_s=%.3f run_s=%.3f\n",
-           (long)m->nlive, (long)m->nv, (long)(m->nv - m->ninput), amin, amax, pr->wall,
-           rss / 1048576.0, m->nlive ? rss / m->nlive : 0.0, t_out, pr->cpu, pr->t0 - pr->t_read,
-           now() - pr->t_read);
+           "mesh_s=%.3f peak_rss_mb=%.1f bytes_per_tri=%.1f output_s=%.3f cpu_s=%.3f "
+           "read_s=%.3f wall_s=%.3f\n",
+           (long)m->nlive, (long)m->nv, (long)(m->nv - m->ninput), amin, amax, pr->mesh,
+           rss / 1048576.0, m->nlive ? rss / m->nlive : 0.0, output_s, pr->cpu,
+           pr->t0 - pr->t_start, now() - pr->t_start);
 }
 
 /* Stage 6 for ./mesh: the files asked for from f.  Returns 0, or 1 after a message. */
@@ -218,7 +224,7 @@ int run_mesh(run_job *j) {
     char err[1024], msg[1400];
     geom_init();
     pslg g;
-    double t_read = now();
+    double t_start = now();                                /* wall_s and read_s start here */
     if (run_load(j, &g, quiet, 1, err, sizeof err) != 0) { /* 1. load */
         fprintf(stderr, "mesh: %s\n", err);
         return 1;
@@ -226,9 +232,9 @@ int run_mesh(run_job *j) {
     mesh_bounds b = run_bounds(j, &g); /* 2. bounds */
     progress pr = {0};
     pr.t0 = pr.last = now();
-    pr.t_read = t_read;
+    pr.t_start = t_start;
     pr.c0 = cpu_now();
-    if (verbose) verbose_input(j, &g, pr.t0 - t_read);
+    if (verbose) verbose_input(j, &g, pr.t0 - t_start);
     mesh m;
     mesh_init(&m);
     pr.m = &m;
@@ -255,12 +261,12 @@ int run_mesh(run_job *j) {
         fprintf(stderr,
                 "mesh: triangulation %.4f s, refinement %.4f s: %ld triangles, %ld vertices (%ld "
                 "Steiner points)\n",
-                pr.t_cdt, pr.wall - pr.t_cdt, (long)m.nlive, (long)m.nv, (long)(m.nv - m.ninput));
+                pr.t_cdt, pr.mesh - pr.t_cdt, (long)m.nlive, (long)m.nv, (long)(m.nv - m.ninput));
     const char *prefix = o->out_prefix;
     int write_tri = prefix && par_skip_linear(o) != MESHIO_SKIP_ALL;
     need_flat = write_tri || o->vtk || o->svg || o->check || o->msh ||
                 (prefix && (o->edges || o->neighbors || o->order2));
-    double t_out = now();
+    double t_out = now(); /* output_s starts here */
     if (need_flat) {
         if (mesh_to_flat(&m, &f) != 0 || meshio_flat_domain(&f, &g) != 0)
             MESH_BUG("the flat mesh could not be made");
@@ -270,17 +276,17 @@ int run_mesh(run_job *j) {
         }
         rc = write_files(j, &g, &f); /* 6. write */
     }
-    t_out = now() - t_out; /* the flat form and the files (-o, --vtk, --svg) */
+    double t_write = now() - t_out; /* the flat form and the files (-o, --vtk, --svg) */
     if (verbose && write_tri && rc == 0)
         fprintf(stderr, "mesh: wrote %s%s%s%s (%.3f s with the other outputs)\n", prefix,
                 o->no_node ? "" : ".node ", o->no_ele ? "" : ".ele ", o->no_poly ? "" : ".poly",
-                t_out);
+                t_write);
     if (o->check) { /* 5. check (after the files, as always: a failed check names them) */
         int good = check_stage(j, &g, &f);
         if (!good) rc = 1;
         if (!quiet || !good) validate_report_print(&j->report, stdout);
     }
-    if (o->stats) print_stats(j, &m, &pr, t_out);
+    if (o->stats) print_stats(j, &m, &pr, now() - t_out); /* output_s: with --check */
 done:
     if (need_flat) mesh_flat_free(&f);
     mesh_free(&m);
