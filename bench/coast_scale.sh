@@ -9,7 +9,9 @@
 # and -np 8 ./pcdm (rounds, the default mode), then Triangle (the PyPI `triangle` wrapper,
 # bench/seq_triangle.py: its whole process, and the triangulate() call alone).  Phases come from
 # each program's -V lines: read and check, decomposition, refinement (./mesh: CDT + refinement),
-# output (numbering and the interface check; no files, -NEP).  Peak memory: --stats'
+# output (numbering, the interface check and Triangle's .node/.ele/.poly written with -o into
+# OUTDIR/files, removed after each run; Triangle's wrapper returns arrays and writes no file).
+# Peak memory: --stats'
 # peak_rss_mb (the largest rank's).  SCALE_REPS repetitions (default 1), the programs
 # alternating; wall times are medians.  Last line:
 #   coast_scale: KEY=VALUE ...  (per coastline: x_threads2, x_np2, x_np8 = wall / ./mesh's wall,
@@ -32,7 +34,8 @@ TMO=${SCALE_TIMEOUT:-600}
 MESH=${MESH:-./mesh}
 PCDM=${PCDM:-./pcdm}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
-mkdir -p "$OUT/logs"
+mkdir -p "$OUT/logs" "$OUT/files"
+files=$OUT/files
 VENV=build/bench-venv
 PY=$VENV/bin/python
 have_triangle=0
@@ -59,9 +62,9 @@ for c in $COASTS; do
     for rep in $(seq 1 "$REPS"); do
         for k in $confs; do
             case $k in
-            mesh) cmd=("$MESH" -q 30 -a "$a" -NEP -V --stats "$f") ;;
-            threads2) cmd=("$PCDM" --threads 2 -q 30 -a "$a" -NEP -V --stats "$f") ;;
-            np2 | np8) cmd=(mpirun --oversubscribe -np "${k#np}" "$PCDM" -q 30 -a "$a" -NEP -V --stats "$f") ;;
+            mesh) cmd=("$MESH" -q 30 -a "$a" -o "$files/$c" -V --stats "$f") ;;
+            threads2) cmd=("$PCDM" --threads 2 -q 30 -a "$a" -o "$files/$c" -V --stats "$f") ;;
+            np2 | np8) cmd=(mpirun --oversubscribe -np "${k#np}" "$PCDM" -q 30 -a "$a" -o "$files/$c" -V --stats "$f") ;;
             triangle) cmd=("$PY" bench/seq_triangle.py "$f" "pq30a${a}Q") ;;
             esac
             log=$OUT/logs/${c}_${k}_r$rep
@@ -71,6 +74,7 @@ for c in $COASTS; do
             echo $? >"$log.rc"
             t1=$(now)
             awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.3f\n", b - a }' >"$log.wall"
+            rm -f "$files/$c".*
         done
     done
     printf '%-10s %8s %7s %7s %8s %7s %8s %8s %8s %10s %7s\n' run wall_s x_mesh read_s decomp_s \
@@ -93,8 +97,8 @@ for c in $COASTS; do
         else
             rf=$(num 'refinement ' <"$log.err")
         fi
-        op=$(num 'output ' <"$log.err")
         st=$(grep -h '^stats:' "$log.out" | tail -1)
+        op=$(num ' output_s=' <<<"$st")
         pk=$(num ' peak_rss_mb=' <<<"$st")
         tri=$(num ' triangles=' <<<"$st")
         if [ "$k" = triangle ]; then
