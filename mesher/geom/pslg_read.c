@@ -4,7 +4,10 @@
  * lines skipped; a UTF-8 byte-order mark, CRLF and CR-only line ends taken; NUL bytes refused,
  * so binary input stops at its first chunk), and every token is parsed in full (strtol/strtod
  * must consume the token); a count is checked against the bytes left before anything is
- * allocated for it.  Any problem becomes one
+ * allocated for it.  Every section Triangle's reader needs must be there: a .poly's vertices
+ * (or a count of 0 and NAME.node beside it), its segments and its hole count, each with all its
+ * records; only the regional attributes may be left out, as in Triangle's format (a file cut
+ * after its segments is refused, not read as a domain without holes).  Any problem becomes one
  * "FILE:LINE: problem" message and every allocation is released, so a failed read leaves
  * nothing behind.  The reader decides nothing about geometry: duplicate vertices, crossing and
  * zero-length segments are pslg_check's (pslg_check.c).  Invariant on a successful return:
@@ -357,9 +360,11 @@ static int read_poly(const char *path, pslg *g, int skip_node, int32_t nv, int f
         g->smarker[i] = (int32_t)mk;
         g->sline[i] = (int32_t)r.line;
     }
-    /* holes (a missing section means none) */
+    /* holes: the count must be there (a file cut after its segments is not a domain without
+     * holes), as in Triangle */
     if (!next_line(&r)) {
-        rc = 0;
+        rfail(&r, "the file ends before the hole count (a .poly lists its holes after its "
+                  "segments; write 0 for none)");
         goto out;
     }
     long nh;
