@@ -9,15 +9,16 @@
 #     byte, as from the plain LF file (.poly, and -r's .node/.ele/.area); a CR file's errors name
 #     the right line; UTF-16 text is refused saying so;
 #  3. /dev/zero, /dev/urandom and endless non-text streams (a .poly, -r's .node/.ele/.area,
-#     ./meshcheck's mesh, ./pcdm's input at 2 ranks) stop at once with "FILE:LINE: ..." and exit 1, under `timeout 10` and a
-#     2 GB address-space limit (so a reader that reads until memory runs out fails the test
-#     instead of taking the machine; no limit on sanitizer builds, which reserve more).
+#     ./meshcheck's mesh, ./pcdm's input at 2 ranks) stop at once with "FILE:LINE: ..." and
+#     exit 1, under `timeout 10` and a 2 GB address-space limit (so a reader that reads until
+#     memory runs out fails the test instead of taking the machine; no limit on ASan and TSan
+#     builds, whose shadow memory needs more).
 # Env: BIN, MPIRUN as the other tests.
 . "$(dirname "$0")/lib.sh"
 M=$BIN/mesh
 MC=$BIN/meshcheck
-LIMIT=2000000 # KiB of address space
-grep -qa __asan_init "$M" && LIMIT=unlimited
+LIMIT=2000000 # KiB of address space (none on sanitizer builds: their shadow memory needs more)
+grep -qaE "__asan_init|__tsan_init" "$M" && LIMIT=unlimited
 
 # refused NAME PATTERN CMD...: CMD exits 1 (within 10 s, in LIMIT) and its stderr has a line
 # "PROG: PATTERN" (PATTERN a grep -E pattern starting with FILE:LINE:)
