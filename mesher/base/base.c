@@ -248,17 +248,3 @@ void mesh_sort_u64(uint64_t *a, size_t n) {
     free(cnt);
     free(tmp);
 }
-
-char *mesh_read_stream(FILE *f, size_t *n) {
-    size_t cap = 1 << 16, len = 0;
-    char *buf = mesh_xmalloc(cap, 1);
-    for (;;) {
-        len += fread(buf + len, 1, cap - len - 1, f);
-        if (len < cap - 1) break;
-        buf = mesh_xrealloc(buf, cap, 2);
-        cap *= 2;
-    }
-    buf[len] = '\0';
-    *n = len;
-    return buf;
-}

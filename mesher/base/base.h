@@ -129,10 +129,6 @@ void mesh_guard_leave(mesh_guard *g);
  * --threads 2: peak 1249 MB, 752 MB with the fixed threshold, same time).  No-op off glibc. */
 void mesh_alloc_for_program(void);
 
-/* Reads f from where it stands to its end into one buffer from the funnel, NUL-terminated (free
- * with free()); *n gets the bytes read, the NUL excluded.  A read error shows in ferror(f). */
-char *mesh_read_stream(FILE *f, size_t *n);
-
 /* Grows array p (of element type *p) so that index n is valid; cap doubles (16 at first). */
 #define MESH_GROW(p, n, cap)                                                                       \
     do {                                                                                           \

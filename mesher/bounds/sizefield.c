@@ -5,15 +5,16 @@
  * its lengths) are each indexed by a tloc; a query locates the centroid of the new triangle
  * (rounded: it only picks which bound applies).  Everything is scaled by 2^scale_exp when
  * loaded, exactly (a power of two), so the rule compares internal coordinates with internal
- * coordinates.
+ * coordinates.  The .area file is loaded and walked as the .node and .ele are (base/textin.h)
+ * and must list every triangle.
  */
 #include "bounds/sizefield.h"
 
 #include "base/base.h"
+#include "base/textin.h"
 #include "geom/geom.h"
 #include "io/meshio.h"
 
-#include <errno.h>
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
@@ -22,72 +23,80 @@
 
 /* ---------------------------------------------------------------- .area ------------------ */
 
-/* The next line with data (comment after '#' cut), or NULL at the end; *line counts lines. */
-static char *data_line(FILE *f, char **buf, size_t *cap, long *line) {
-    while (getline(buf, cap, f) >= 0) {
-        (*line)++;
-        char *h = strchr(*buf, '#');
-        if (h) *h = '\0';
-        char *s = *buf + strspn(*buf, " \t\r\n\v\f");
-        if (*s) return s;
-    }
-    return NULL;
+/* A whole decimal integer token at *s, with an optional sign (advancing *s past it): 0, or -1
+ * when there is none, it leaves [-INT32_MAX, INT32_MAX], or more follows it than a blank.  By
+ * hand: strtol took a seventh of the time to read a .area of 1.7M triangles. */
+static int area_int(char **s, long *v) {
+    const char *p = *s + strspn(*s, " \t\r\v\f");
+    int neg = *p == '-';
+    p += *p == '+' || *p == '-';
+    const char *d = p;
+    long x = 0;
+    while (*p >= '0' && *p <= '9' && x <= INT32_MAX)
+        x = x * 10 + (*p++ - '0');
+    if (p == d || x > INT32_MAX || (*p && !strchr(" \t\r\v\f", *p))) return -1;
+    *v = neg ? -x : x;
+    *s = (char *)p;
+    return 0;
 }
 
-/* Reads PATH (.area) for nt triangles numbered from first into area[]. */
+/* Reads PATH (.area) for nt triangles numbered from first into area[]: loaded and walked by
+ * base/textin.h (as the .node and .ele), every triangle's line present. */
 static int read_area(const char *path, int32_t nt, int first, double *area, char *err,
                      size_t errlen) {
-    FILE *f = fopen(path, "r");
-    if (!f) return meshio_fail(err, errlen, "%s: cannot open: %s", path, strerror(errno));
-    char *buf = NULL, *s, *end;
-    size_t cap = 0;
-    long line = 0, rc = -1;
-    if (!(s = data_line(f, &buf, &cap, &line))) {
-        meshio_fail(err, errlen, "%s:%ld: empty file: expected a triangle count", path, line);
+    mesh_textin in;
+    if (mesh_textin_load(&in, path, err, errlen)) return -1;
+    char *s, *end;
+    long n, rc = -1;
+    if (!(s = mesh_textin_line(&in))) {
+        meshio_fail(err, errlen, "%s:%ld: empty file: expected a triangle count", path, in.line);
         goto out;
     }
-    long n = strtol(s, &end, 10);
-    if (end == s) {
-        meshio_fail(err, errlen, "%s:%ld: malformed triangle count", path, line);
+    if (area_int(&s, &n)) {
+        meshio_fail(err, errlen, "%s:%ld: malformed triangle count", path, in.line);
         goto out;
     }
     if (n != nt) {
         meshio_fail(err, errlen,
-                    "%s:%ld: triangle count %ld does not match the mesh's %d triangles", path, line,
-                    n, (int)nt);
+                    "%s:%ld: triangle count %ld does not match the mesh's %d triangles", path,
+                    in.line, n, (int)nt);
         goto out;
     }
     for (int32_t t = 0; t < nt; t++) {
-        if (!(s = data_line(f, &buf, &cap, &line))) {
+        if (!(s = mesh_textin_line(&in))) {
             meshio_fail(err, errlen,
                         "%s:%ld: unexpected end of file: expected %d triangles, found %d", path,
-                        line, (int)nt, (int)t);
+                        in.line, (int)nt, (int)t);
             goto out;
         }
-        long id = strtol(s, &end, 10);
-        if (end == s || id != (long)first + t) {
+        long id;
+        if (area_int(&s, &id)) {
+            meshio_fail(err, errlen, "%s:%ld: malformed triangle number", path, in.line);
+            goto out;
+        }
+        if (id != (long)first + t) {
             meshio_fail(err, errlen, "%s:%ld: triangle number out of sequence (expected %ld)", path,
-                        line, (long)first + t);
+                        in.line, (long)first + t);
             goto out;
         }
-        s = end;
         double a = strtod(s, &end);
         if (end == s || !isfinite(a)) {
-            meshio_fail(err, errlen, "%s:%ld: malformed maximum area of triangle %ld", path, line,
-                        id);
+            meshio_fail(err, errlen, "%s:%ld: malformed maximum area of triangle %ld", path,
+                        in.line, id);
             goto out;
         }
-        end += strspn(end, " \t\r\n\v\f");
+        end += strspn(end, " \t\r\v\f");
         if (*end) {
-            meshio_fail(err, errlen, "%s:%ld: unexpected text '%.40s'", path, line, end);
+            int k = (int)strcspn(end, " \t\r\v\f"); /* the token, not a CRLF file's CR */
+            meshio_fail(err, errlen, "%s:%ld: unexpected text '%.*s'", path, in.line,
+                        k < 40 ? k : 40, end);
             goto out;
         }
         area[t] = a;
     }
     rc = 0;
 out:
-    free(buf);
-    fclose(f);
+    mesh_textin_free(&in);
     return (int)rc;
 }
 

@@ -3,7 +3,10 @@
  * The reader accepts what Triangle accepts: '#' comments and blank lines anywhere, 0- or
  * 1-based ids (taken from the first vertex), attributes and boundary markers, a .poly whose
  * vertex count is 0 (vertices then come from the .node file of the same base name), holes and
- * the optional regional-attributes section.  Every problem is reported as one message
+ * the optional regional-attributes section; and LF, CRLF or CR line ends and a UTF-8
+ * byte-order mark (base/textin.h).  As in Triangle, every other section must be there whole: a
+ * file that ends before its hole count, or inside any list, is an error naming where it ends;
+ * so is a NUL byte (binary input).  Every problem is reported as one message
  * "FILE:LINE: problem" and the function returns an error; nothing is left allocated.
  *
  * After reading, pslg_check() validates geometry: finite coordinates, segments with distinct

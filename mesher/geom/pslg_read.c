@@ -1,8 +1,13 @@
 /* pslg_read: Triangle's .poly and .node files read into a pslg.
  *
- * The reader loads the whole file, walks it line by line (comments after '#' and blank lines
- * skipped), and parses every token in full (strtol/strtod must consume the token); a count is
- * checked against the bytes left before anything is allocated for it.  Any problem becomes one
+ * The file is loaded and walked line by line by base/textin.h (comments after '#' and blank
+ * lines skipped; a UTF-8 byte-order mark, CRLF and CR-only line ends taken; NUL bytes refused,
+ * so binary input stops at its first chunk), and every token is parsed in full (strtol/strtod
+ * must consume the token); a count is checked against the bytes left before anything is
+ * allocated for it.  Every section Triangle's reader needs must be there: a .poly's vertices
+ * (or a count of 0 and NAME.node beside it), its segments and its hole count, each with all its
+ * records; only the regional attributes may be left out, as in Triangle's format (a file cut
+ * after its segments is refused, not read as a domain without holes).  Any problem becomes one
  * "FILE:LINE: problem" message and every allocation is released, so a failed read leaves
  * nothing behind.  The reader decides nothing about geometry: duplicate vertices, crossing and
  * zero-length segments are pslg_check's (pslg_check.c).  Invariant on a successful return:
@@ -13,8 +18,8 @@
 #include "geom/pslg.h"
 
 #include "base/base.h"
+#include "base/textin.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -25,11 +30,9 @@
 
 typedef struct reader {
     const char *path;
-    char *buf; /* whole file, NUL-terminated, tokenised in place */
-    size_t len;
-    char *next; /* start of the next unread line */
-    char *cur;  /* cursor in the current line */
-    long line;  /* number of the current line (1-based) */
+    mesh_textin in; /* the file, tokenised in place */
+    char *cur;      /* cursor in the current line */
+    long line;      /* number of the current line (1-based) */
     char *err;
     size_t errlen;
 } reader;
@@ -44,61 +47,25 @@ __attribute__((format(printf, 2, 3))) static int rfail(reader *r, const char *fm
     return -1;
 }
 
-/* Loads path into r.  Returns 0, or -1 with "PATH: cannot open: reason". */
+/* Loads path into r.  Returns 0, or -1 with textin's message (cannot open, not a text file). */
 static int reader_open(reader *r, const char *path, char *err, size_t errlen) {
     memset(r, 0, sizeof *r);
     r->path = path;
     r->err = err;
     r->errlen = errlen;
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
-        return -1;
-    }
-    size_t n;
-    char *buf = mesh_read_stream(f, &n);
-    int bad = ferror(f);
-    fclose(f);
-    if (bad) {
-        free(buf);
-        snprintf(err, errlen, "%s: cannot read: %s", path, strerror(errno));
-        return -1;
-    }
-    r->buf = buf;
-    r->len = n;
-    r->next = buf;
-    return 0;
+    return mesh_textin_load(&r->in, path, err, errlen);
 }
 
 static void reader_close(reader *r) {
-    free(r->buf);
-    r->buf = NULL;
+    mesh_textin_free(&r->in);
 }
 
 /* Advances to the next line holding data (comments and blank lines skipped).  Returns 1, or 0
  * at the end of the file (r->line is then the last line of the file). */
 static int next_line(reader *r) {
-    while (r->next && r->next < r->buf + r->len) {
-        char *s = r->next;
-        char *e = memchr(s, '\n', (size_t)(r->buf + r->len - s));
-        if (e) {
-            *e = '\0';
-            r->next = e + 1;
-        } else {
-            e = r->buf + r->len;
-            r->next = NULL;
-        }
-        r->line++;
-        char *h = strchr(s, '#');
-        if (h) *h = '\0';
-        s += strspn(s, " \t\r\v\f");
-        if (*s) {
-            r->cur = s;
-            return 1;
-        }
-    }
-    r->cur = NULL;
-    return 0;
+    r->cur = mesh_textin_line(&r->in);
+    r->line = r->in.line;
+    return r->cur != NULL;
 }
 
 /* Next token of the current line, NUL-terminated in place, or NULL at its end. */
@@ -121,7 +88,7 @@ static char *next_tok(reader *r) {
 
 /* Bytes not yet consumed: an upper bound for how many records the rest of the file can hold. */
 static size_t bytes_left(const reader *r) {
-    return r->next ? (size_t)(r->buf + r->len - r->next) : 0;
+    return mesh_textin_left(&r->in);
 }
 
 /* Decimal integer with optional sign; *end is set past the digits.  Returns 0, or -1 when
@@ -393,9 +360,11 @@ static int read_poly(const char *path, pslg *g, int skip_node, int32_t nv, int f
         g->smarker[i] = (int32_t)mk;
         g->sline[i] = (int32_t)r.line;
     }
-    /* holes (a missing section means none) */
+    /* holes: the count must be there (a file cut after its segments is not a domain without
+     * holes), as in Triangle */
     if (!next_line(&r)) {
-        rc = 0;
+        rfail(&r, "the file ends before the hole count (a .poly lists its holes after its "
+                  "segments; write 0 for none)");
         goto out;
     }
     long nh;

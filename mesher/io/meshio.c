@@ -10,11 +10,14 @@
  * a million triangles stays a few tens of megabytes.  The .poly lists the input's segments (not
  * interface ones) and ends with the input's holes and regions (meshio_fmt_domain, which the
  * parallel writer shares), so it meshes the same domain again.  The reader takes .node (and .poly
- * segments) through pslg_read.c and parses .ele itself with the same full-token checks.
+ * segments) through pslg_read.c and parses .ele itself with the same full-token checks, the file
+ * loaded and walked by base/textin.h as pslg_read's are (the same encodings taken, binary input
+ * refused); a .ele must hold every triangle its count declares.
  */
 #include "io/meshio.h"
 
 #include "base/base.h"
+#include "base/textin.h"
 
 #include "geom/pslg.h"
 #include "io/fmt.h"
@@ -279,25 +282,6 @@ __attribute__((format(printf, 5, 6))) static int lfail(char *err, size_t errlen,
     return -1;
 }
 
-/* Next data line of buf (comments stripped, blank lines skipped); *line counts lines. */
-static char *ele_line(char **pos, char *end, long *line) {
-    while (*pos && *pos < end) {
-        char *s = *pos, *e = memchr(s, '\n', (size_t)(end - s));
-        if (e) {
-            *e = '\0';
-            *pos = e + 1;
-        } else {
-            *pos = NULL;
-        }
-        ++*line;
-        char *h = strchr(s, '#');
-        if (h) *h = '\0';
-        s += strspn(s, " \t\r\v\f");
-        if (*s) return s;
-    }
-    return NULL;
-}
-
 /* Parses one decimal integer token at *s (advancing *s); 0, or -1 if missing or malformed. */
 static int ele_int(char **s, long *v, int *missing) {
     char *t = *s + strspn(*s, " \t\r\v\f"), *p = t;
@@ -327,42 +311,34 @@ static int ele_dbl(char **s, double *v, int *missing) {
 }
 
 static int read_ele(const char *path, mesh_flat *m, int first, char *err, size_t errlen) {
-    FILE *f = fopen(path, "rb");
-    if (!f) return meshio_fail(err, errlen, "%s: cannot open: %s", path, strerror(errno));
-    size_t n;
-    char *buf = mesh_read_stream(f, &n);
-    int bad = ferror(f);
-    fclose(f);
-    if (bad) {
-        free(buf);
-        return meshio_fail(err, errlen, "%s: cannot read: %s", path, strerror(errno));
-    }
-    char *pos = buf, *end = buf + n, *s;
-    long line = 0, nt, npt = 3, nattr = 0, v;
+    mesh_textin in;
+    if (mesh_textin_load(&in, path, err, errlen)) return -1;
+    char *s;
+    long nt, npt = 3, nattr = 0, v;
     int miss, rc = -1;
-    if (!(s = ele_line(&pos, end, &line))) {
-        lfail(err, errlen, path, line, "empty file: expected a triangle count");
+    if (!(s = mesh_textin_line(&in))) {
+        lfail(err, errlen, path, in.line, "empty file: expected a triangle count");
         goto out;
     }
     if (ele_int(&s, &nt, &miss) || nt < 0) {
-        lfail(err, errlen, path, line, "malformed triangle count");
+        lfail(err, errlen, path, in.line, "malformed triangle count");
         goto out;
     }
     if (ele_int(&s, &npt, &miss) && !miss) {
-        lfail(err, errlen, path, line, "malformed nodes-per-triangle count");
+        lfail(err, errlen, path, in.line, "malformed nodes-per-triangle count");
         goto out;
     }
     if (ele_int(&s, &nattr, &miss) && !miss) {
-        lfail(err, errlen, path, line, "malformed attribute count");
+        lfail(err, errlen, path, in.line, "malformed attribute count");
         goto out;
     }
     if ((npt != 3 && npt != 6) || nattr < 0 || nattr > 1000) {
-        lfail(err, errlen, path, line,
+        lfail(err, errlen, path, in.line,
               "expected 3 nodes per triangle (6: second order, -o2) and 0..1000 attributes");
         goto out;
     }
-    if ((size_t)nt > (size_t)(end - (pos ? pos : end)) / 7 + 1) {
-        lfail(err, errlen, path, line, "triangle count %ld is more than the file can hold", nt);
+    if ((size_t)nt > mesh_textin_left(&in) / 7 + 1) {
+        lfail(err, errlen, path, in.line, "triangle count %ld is more than the file can hold", nt);
         goto out;
     }
     m->ntris = (int32_t)nt;
@@ -371,24 +347,24 @@ static int read_ele(const char *path, mesh_flat *m, int first, char *err, size_t
     m->tattr = nattr ? mesh_xmalloc((size_t)nt + 1, sizeof(double)) : NULL;
     int rank_ok = nattr > 0;
     for (long t = 0; t < nt; t++) {
-        if (!(s = ele_line(&pos, end, &line))) {
-            lfail(err, errlen, path, line,
+        if (!(s = mesh_textin_line(&in))) {
+            lfail(err, errlen, path, in.line,
                   "unexpected end of file: expected %ld triangles, found %ld", nt, t);
             goto out;
         }
         if (ele_int(&s, &v, &miss)) {
-            lfail(err, errlen, path, line, "malformed triangle number");
+            lfail(err, errlen, path, in.line, "malformed triangle number");
             goto out;
         }
         for (int k = 0; k < npt; k++) { /* three corners, then -o2's midside nodes */
             const char *what = k < 3 ? "vertex" : "node";
             if (ele_int(&s, &v, &miss)) {
-                lfail(err, errlen, path, line, "%s %s %d of triangle %ld",
+                lfail(err, errlen, path, in.line, "%s %s %d of triangle %ld",
                       miss ? "missing" : "malformed", what, k + 1, t + first);
                 goto out;
             }
             if (v < first || v >= (long)first + m->nverts) {
-                lfail(err, errlen, path, line, "triangle %ld: %s %ld out of range [%d, %ld]",
+                lfail(err, errlen, path, in.line, "triangle %ld: %s %ld out of range [%d, %ld]",
                       t + first, what, v, first, (long)first + m->nverts - 1);
                 goto out;
             }
@@ -403,7 +379,7 @@ static int read_ele(const char *path, mesh_flat *m, int first, char *err, size_t
                          *b = m->xy + 2 * (size_t)m->tri[3 * t + (k - 1) % 3],
                          *c = m->xy + 2 * (size_t)(v - first);
             if (c[0] != (a[0] + b[0]) / 2 || c[1] != (a[1] + b[1]) / 2) {
-                lfail(err, errlen, path, line,
+                lfail(err, errlen, path, in.line,
                       "triangle %ld: node %ld is not the midpoint of the edge opposite corner %d",
                       t + first, v, k - 2);
                 goto out;
@@ -412,7 +388,7 @@ static int read_ele(const char *path, mesh_flat *m, int first, char *err, size_t
         for (long k = 0; k < nattr; k++) {
             double a;
             if (ele_dbl(&s, &a, &miss)) {
-                lfail(err, errlen, path, line, "%s attribute %ld of triangle %ld",
+                lfail(err, errlen, path, in.line, "%s attribute %ld of triangle %ld",
                       miss ? "missing" : "malformed", k + 1, t + first);
                 goto out;
             }
@@ -426,7 +402,9 @@ static int read_ele(const char *path, mesh_flat *m, int first, char *err, size_t
         }
         s += strspn(s, " \t\r\v\f");
         if (*s) {
-            lfail(err, errlen, path, line, "unexpected text '%.40s' at the end of the line", s);
+            int n = (int)strcspn(s, " \t\r\v\f"); /* the token, not a CRLF file's CR */
+            lfail(err, errlen, path, in.line, "unexpected text '%.*s' at the end of the line",
+                  n < 40 ? n : 40, s);
             goto out;
         }
     }
@@ -436,7 +414,7 @@ static int read_ele(const char *path, mesh_flat *m, int first, char *err, size_t
     }
     rc = 0;
 out:
-    free(buf);
+    mesh_textin_free(&in);
     return rc;
 }
 
