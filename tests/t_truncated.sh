@@ -9,8 +9,8 @@
 #     byte, as from the plain LF file (.poly, and -r's .node/.ele/.area); a CR file's errors name
 #     the right line; UTF-16 text is refused saying so;
 #  3. /dev/zero, /dev/urandom and endless non-text streams (a .poly, -r's .node/.ele/.area,
-#     ./meshcheck's mesh, ./pcdm's input at 2 ranks) stop at once with "FILE:LINE: ..." and
-#     exit 1, under `timeout 10` and a 2 GB address-space limit (so a reader that reads until
+#     ./meshcheck's mesh, ./pcdm's input at 2 ranks and its --cuts file) stop at once with
+#     "FILE:LINE: ..." and exit 1, under `timeout 10` and a 2 GB address-space limit (so a reader that reads until
 #     memory runs out fails the test instead of taking the machine; no limit on ASan and TSan
 #     builds, whose shadow memory needs more).
 # Env: BIN, MPIRUN as the other tests.
@@ -179,6 +179,7 @@ for dev in /dev/zero /dev/urandom; do
             "$M" -NEP -r -a "$T/d$n$e"
     done
     refused "./meshcheck, $dev as the .ele" "$T/d${n}ele.ele:[0-9]+: a NUL byte" "$MC" "$L" "$T/d${n}ele"
+    refused "./pcdm --cuts $dev" ".*$dev:1: not a text file of cuts" "$BIN/pcdm" -NEP --cuts "$dev" "$L"
 done
 par_refused /dev/zero "/dev/zero:1: a NUL byte: not a text file" /dev/zero
 # endless streams without a NUL byte: text that is no count, comments, one endless line

@@ -124,6 +124,21 @@ static void add_split(aug *a, int32_t u, int32_t v, int32_t first_new, double to
     mesh_xfree(tp);
 }
 
+/* The next line of fp into buf (cap bytes, NUL-terminated, the newline kept): 1, 0 at the end,
+ * -1 on a NUL byte (not a text file: /dev/zero stops here) or a line longer than buf. */
+static int cut_line(FILE *fp, char *buf, size_t cap) {
+    size_t k = 0;
+    int c = EOF;
+    while (k + 1 < cap && (c = getc(fp)) != EOF) {
+        if (c == 0) return -1;
+        buf[k++] = (char)c;
+        if (c == '\n') break;
+    }
+    buf[k] = '\0';
+    if (k + 1 == cap && c != '\n') return -1;
+    return k > 0 ? 1 : 0;
+}
+
 static int read_cuts(const char *path, double **xy, int32_t **lines, int32_t *n, char *err,
                      size_t errlen) {
     FILE *fp = fopen(path, "r");
@@ -133,8 +148,15 @@ static int read_cuts(const char *path, double **xy, int32_t **lines, int32_t *n,
     *n = 0;
     *xy = NULL;
     *lines = NULL;
-    while (fgets(buf, sizeof buf, fp)) {
+    for (int got; (got = cut_line(fp, buf, sizeof buf)) != 0;) {
         line++;
+        if (got < 0) {
+            fclose(fp);
+            return decomp_fail(err, errlen,
+                               "%s:%d: not a text file of cuts (a NUL byte, or a line of more "
+                               "than %zu bytes)",
+                               path, (int)line, sizeof buf - 2);
+        }
         char *h = strchr(buf, '#');
         if (h) *h = 0;
         char *s = buf;
