@@ -10,9 +10,9 @@
 #     the right line; UTF-16 text is refused saying so;
 #  3. /dev/zero, /dev/urandom and endless non-text streams (a .poly, -r's .node/.ele/.area,
 #     ./meshcheck's mesh, ./pcdm's input at 2 ranks and its --cuts file) stop at once with
-#     "FILE:LINE: ..." and exit 1, under `timeout 10` and a 2 GB address-space limit (so a reader that reads until
-#     memory runs out fails the test instead of taking the machine; no limit on ASan and TSan
-#     builds, whose shadow memory needs more).
+#     "FILE:LINE: ..." and exit 1, under `timeout 10` and a 2 GB address-space limit (so a
+#     reader that reads until memory runs out fails the test instead of taking the machine; no
+#     limit on ASan and TSan builds, whose shadow memory needs more).
 # Env: BIN, MPIRUN as the other tests.
 . "$(dirname "$0")/lib.sh"
 M=$BIN/mesh
