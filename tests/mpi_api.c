@@ -14,6 +14,7 @@
  *  - threads: 2 worker threads per rank give the mesh of one (PCDM), and so does
  *    pcdm_triangulate with threads 2 on every rank (MPI_COMM_SELF); PBW refuses them;
  *  - bad input fails on every rank with the same code and message, and the next call works;
+ *  - the parts' areas are checked against the domain's (a planted fault fails both calls);
  *  - crossing and overlapping segments (tests/inputs/cross.poly), PCDM and PBW: split as
  *    ./pcdm and ./pbw split them, the whole mesh valid against the input so prepared.
  * Results are reduced over ranks before asserting, so no rank waits in a collective that
@@ -318,14 +319,41 @@ START_TEST(test_errors_agree) {
 }
 END_TEST
 
+/* The parallel call and the threaded one check that the parts' areas sum to the domain's, as
+ * the programs do: with the test-only fault PCDM_TEST_AREA_SKEW (each rank's area taken 1e-6
+ * too large) both fail with PCDM_EMESH saying so on every rank; without it they mesh. */
+START_TEST(test_area_checked) {
+    pcdm_input in = plate();
+    pcdm_mesh m;
+    pcdm_status st;
+    pcdm_options o;
+    pcdm_options_default(&o);
+    setenv("PCDM_TEST_AREA_SKEW", "1", 1);
+    int rc = pcdm_triangulate_par(MPI_COMM_WORLD, &in, &o, &m, &st);
+    int ok = rc == PCDM_EMESH && strstr(st.message, "areas sum to") && m.triangles == NULL;
+    o.threads = 2;
+    rc = pcdm_triangulate(&in, &o, &m, &st);
+    ok = ok && rc == PCDM_EMESH && strstr(st.message, "areas sum to") && m.triangles == NULL;
+    unsetenv("PCDM_TEST_AREA_SKEW");
+    rc = pcdm_triangulate(&in, &o, &m, &st);
+    ok = ok && rc == PCDM_OK && m.ntriangles > 0;
+    pcdm_mesh_free(&m);
+    o.threads = 0;
+    rc = pcdm_triangulate_par(MPI_COMM_WORLD, &in, &o, &m, &st);
+    ok = ok && rc == PCDM_OK && m.nglobaltriangles > 0;
+    pcdm_mesh_free(&m);
+    ck_assert(all_true(ok, MPI_COMM_WORLD));
+}
+END_TEST
+
 int main(int argc, char **argv) {
     int provided;
     MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
-    int rc =
-        ck_run_mpi(ck_suite("mpi_api", 0,
-                            CK_TESTS(test_world_root, test_split_parts, test_pbw, test_convex_hull,
-                                     test_crossing, test_threads, test_errors_agree)),
-                   MPI_COMM_WORLD);
+    int rc = ck_run_mpi(
+        ck_suite("mpi_api", 0,
+                 CK_TESTS(test_world_root, test_split_parts, test_pbw, test_convex_hull,
+                          test_crossing, test_threads, test_errors_agree, test_area_checked)),
+        MPI_COMM_WORLD);
     MPI_Finalize();
     return rc;
 }

@@ -443,6 +443,23 @@ static void part_survey(const mesh_flat *f, int threads, int hash, int quality, 
     }
 }
 
+int par_area_agrees(const pslg *in, double part_area, char *why, size_t len) {
+    double area = part_area, dom = 0;
+    MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, &area, 1, MPI_DOUBLE, MPI_SUM, rt_app_comm()));
+    if (validate_area_net(in, area, &dom)) return 1;
+    snprintf(why, len,
+             "the parts' areas sum to %.17g, the domain's area is %.17g: more apart than rounding "
+             "explains (features below the precision of the coordinates)",
+             ldexp(area, -2 * in->scale_exp), ldexp(dom, -2 * in->scale_exp));
+    return 0;
+}
+
+double par_part_area(const mesh_flat *f, int threads) {
+    survey sv;
+    part_survey(f, threads, 0, 0, &sv);
+    return sv.area;
+}
+
 /* Collective.  The smallest angle and largest area over every rank's part, from each rank's
  * survey (the same on every rank). */
 static void quality_all(const mesh_flat *f, const survey *s, double *min_angle, double *max_area) {
@@ -479,15 +496,12 @@ int par_output_sub(const par_opts *o, const pslg *in, mesh_flat *local, const ui
     int quality = o->stats || o->verbose; /* only printed there */
     part_survey(local, o->threads, o->stats, quality, &sv);
     sum->hash = sv.hash;
-    double area = sv.area, dom = 0;
-    MESH_MPI(MPI_Allreduce(MPI_IN_PLACE, &area, 1, MPI_DOUBLE, MPI_SUM, rt_app_comm()));
-    int abad = !validate_area_net(in, area, &dom);
-    snprintf(msg, sizeof msg,
-             "%s: %s: the parts' areas sum to %.17g, the domain's area is %.17g: more apart than "
-             "rounding explains (features below the precision of the coordinates); none written",
-             o->prog, in->path[0] ? in->path : "mesh", ldexp(area, -2 * in->scale_exp),
-             ldexp(dom, -2 * in->scale_exp));
-    if (par_fail_any(abad, msg)) return 1;
+    if (!par_area_agrees(in, sv.area, imsg, sizeof imsg)) { /* the same verdict on every rank */
+        if (rt_rank() == 0)
+            fprintf(stderr, "%s: %s: %s; none written\n", o->prog, in->path[0] ? in->path : "mesh",
+                    imsg);
+        return 1;
+    }
     double t0 = rt_wtime();
     par_numbering num;
     char err[512];

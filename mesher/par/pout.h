@@ -96,6 +96,16 @@ int par_check_parts(const par_opts *o, const pslg *in, mesh_flat *local, const p
  * subdomain), --svg FILE
  * (collected on rank 0, at most PAR_SVG_MAX_TRIS triangles).  Returns 0, or -1 on every rank
  * (the message printed by rank 0). */
+/* Collective.  The cheap check every end runs: the parts' areas (part_area, this rank's, in the
+ * working scale: par_part_area) summed over the ranks against the domain's (validate_area_net).
+ * 1 when they agree (on every rank alike); else 0 with "the parts' areas sum to A, the
+ * domain's area is D: ..." in why. */
+int par_area_agrees(const pslg *in, double part_area, char *why, size_t len);
+
+/* Local.  The area of f's triangles in its working scale, on threads threads (the same value
+ * for any thread count: blocks of 256 triangles summed in order with compensation). */
+double par_part_area(const mesh_flat *f, int threads);
+
 struct meshio_set;
 int par_write_parts(const par_opts *o, struct meshio_set *set, const pslg *in,
                     const mesh_flat *local, const int32_t *tsub, const par_numbering *num);
