@@ -368,7 +368,7 @@ def triangulate(
         area,
         steiner,
         cc,
-        hull,
+        hull and not refine_input,  # r: the mesh's domain (c: its boundary as segments)
         bool(s["region_attributes"]),
         bool(s["region_areas"]),
         not (q or a or size is not None),
@@ -388,7 +388,7 @@ def triangulate(
         raise ValueError(message)
     if code == 3:  # PCDM_ESTEINER: the mesh, outside the bounds
         warnings.warn(message, RuntimeWarning, stacklevel=2)
-    return _shape_output(mesh, tri, d, s, p_given or hull, refine_input)
+    return _shape_output(mesh, tri, d, s, p_given, hull)
 
 
 def _background(size: Any) -> Tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
@@ -431,14 +431,14 @@ def _background(size: Any) -> Tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
 
 
 def _shape_output(
-    mesh: Mesh, tri: Mapping[str, Any], d: Dict[str, Any], s: Dict[str, Any], p: bool, r: bool
+    mesh: Mesh, tri: Mapping[str, Any], d: Dict[str, Any], s: Dict[str, Any], p: bool, c: bool
 ) -> Mesh:
-    """triangle's output conventions: segments only with p (or c), holes and regions passed
+    """triangle's output conventions: segments only with p or c, holes and regions passed
     through with p, the files N, E, P leave out."""
-    if not p:
+    if not (p or c):
         mesh.pop("segments", None)
         mesh.pop("segment_markers", None)
-    else:
+    if p:
         for k in ("holes", "regions"):
             if tri.get(k) is not None and len(np.asarray(tri[k])):
                 mesh[k] = np.array(tri[k], dtype=np.float64)
@@ -461,7 +461,10 @@ def _refine_input(
     (and holes) the input gives with p, else the mesh's boundary edges with a hole point beside
     every chain of them; with a alone, tri["triangle_max_area"] bounds each old triangle's
     area (a new triangle is too big when it exceeds the bound of the old one holding its
-    centroid)."""
+    centroid).  As in Triangle, the domain is the mesh's: with p too, the boundary edges the
+    segments leave out are added to them and every chain gets its hole point (a dict returned
+    by triangulate lists no holes of its own: without them refining it again would fill the
+    places its triangles left empty)."""
     t = _ints(tri, "triangles", 3)
     if t is None or len(t) == 0:
         raise ValueError("option -r: the input has no triangles to refine")
@@ -470,12 +473,22 @@ def _refine_input(
     if len(bad):
         i, j = (int(x) for x in bad[0])
         raise ValueError(f"triangles[{i}]: vertex {int(t[i, j])} out of range (0..{n - 1})")
-    if not (p and d["segments"] is not None and len(d["segments"])):
-        seg, holes = _core.boundary(d["vertices"], t)
+    seg, holes = _core.boundary(d["vertices"], t)
+    if p and d["segments"] is not None and len(d["segments"]):
+        have = set(map(tuple, np.sort(d["segments"], axis=1).tolist()))
+        extra = seg[[tuple(e) not in have for e in np.sort(seg, axis=1).tolist()]]
+        if len(extra):  # marker 0: a boundary segment gets 1
+            d["segments"] = np.ascontiguousarray(np.vstack([d["segments"], extra]))
+            if d["segment_markers"] is not None:
+                zero = np.zeros(len(extra), dtype=np.int32)
+                d["segment_markers"] = np.ascontiguousarray(
+                    np.concatenate([d["segment_markers"], zero])
+                )
+    else:
         d["segments"], d["segment_markers"] = seg, None
-        if p and d["holes"] is not None:
-            holes = np.ascontiguousarray(np.vstack([d["holes"], holes]))
-        d["holes"] = holes
+    if p and d["holes"] is not None:
+        holes = np.ascontiguousarray(np.vstack([d["holes"], holes]))
+    d["holes"] = holes
     d["refine_areas"] = None
     if area_bare and tri.get("triangle_max_area") is not None:
         ar = np.asarray(tri["triangle_max_area"], dtype=np.float64).reshape(-1)

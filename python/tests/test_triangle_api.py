@@ -406,7 +406,7 @@ def test_load_and_get_data_not_found(tmp_path, monkeypatch):
     for where in ("a", "b", "c"):
         assert str(tmp_path / where) in msg
     assert "PCDM_DATA" in msg and "path=" in msg
-    assert os.path.join("pcdm", "data") in msg  # the package's own examples, looked in last
+    assert pcdm.data_path()[-1] in msg  # the package's own examples, looked in last
 
 
 def test_get_data_folders(tmp_path, monkeypatch):
@@ -491,6 +491,65 @@ def test_compare(tmp_path):
     plt.close("all")
     pcdm.show_data("lake")
     plt.close("all")
+
+
+# ---- r: the mesh's domain kept ------------------------------------------------------------------
+
+
+def area(m):
+    p = m["vertices"][m["triangles"]]
+    return 0.5 * orient(p[:, 0], p[:, 1], p[:, 2]).sum()
+
+
+def bare_mesh(tri):
+    """A mesh as a mesh alone (vertices and triangles, as Triangle's NAME.1.node/.ele)."""
+    m = pcdm.triangulate(tri, "p")
+    return {k: m[k] for k in ("vertices", "vertex_markers", "triangles")}
+
+
+HOLE = {"vertices": [[0, 0], [3, 0], [3, 3], [0, 3], [1, 1], [2, 1], [2, 2], [1, 2]],
+        "segments": [[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [5, 6], [6, 7], [7, 4]],
+        "holes": [[1.5, 1.5]]}
+
+
+def test_refine_again_keeps_the_hole():
+    """The documentation's refine.py: rpa0.2, then rpa0.05 and rpa0.0125 of each result (whose
+    dict lists no hole): the hole stays empty, as in Triangle."""
+    m = bare_mesh(HOLE)
+    for a in (0.2, 0.05, 0.0125):
+        m = pcdm.triangulate(m, "rpa%g" % a)
+        assert area(m) == pytest.approx(8)
+        assert pcdm.check(m, HOLE, a=a)["ok"]
+    tr = real_triangle()
+    t = bare_mesh(HOLE)
+    for a in (0.2, 0.05, 0.0125):
+        t = tr.triangulate(t, "rpa%g" % a)
+    assert area(t) == pytest.approx(8)
+    assert abs(len(m["triangles"]) - len(t["triangles"])) < 0.1 * len(t["triangles"])
+
+
+@pytest.mark.parametrize("opts", ["rc", "rpc"])
+def test_refine_c_gives_the_boundary(opts):
+    """The documentation's bndries.py: r with c keeps the mesh's domain (the L's concavity and
+    the hole stay out) and returns its boundary edges as segments, as Triangle does."""
+    for tri in (pcdm.get_data("lshape"), HOLE):
+        m = bare_mesh(tri)
+        r = pcdm.triangulate(m, opts)
+        assert area(r) == pytest.approx(area(m))
+        seg, _ = pcdm._core.boundary(np.ascontiguousarray(m["vertices"]), m["triangles"])
+        assert set(map(tuple, np.sort(r["segments"], 1).tolist())) == set(
+            map(tuple, np.sort(seg, 1).tolist()))
+        tr = real_triangle()
+        t = tr.triangulate(m, opts)
+        assert sorted(r) == sorted(t)
+        assert set(map(tuple, np.sort(r["segments"], 1).tolist())) == set(
+            map(tuple, np.sort(t["segments"], 1).tolist()))
+
+
+def test_holes_passed_through_with_p_only():
+    tr = real_triangle()
+    for opts in ("c", "pc", "p"):
+        assert sorted(pcdm.triangulate(HOLE, opts)) == sorted(tr.triangulate(HOLE, opts)), opts
 
 
 # ---- the switch string --------------------------------------------------------------------------
