@@ -75,6 +75,10 @@ class _Lines:
         (int64 (count,)), the integer columns (int64 (count, ints)) and the float columns
         (float64 (count, floats + extra), nan where an extra one is left out)."""
         self.lines = []  # each record's line, for messages (_base, _indices)
+        left = len(self.rows) - self.at
+        if count > left:  # found before anything is allocated for them
+            last = self.rows[-1][0] if self.rows else None
+            raise self.fail(last, f"the file ends where {what} {left + 1} of {count} should be")
         num = np.zeros(count, dtype=np.int64)
         iv = np.zeros((count, ints), dtype=np.int64)
         fv = np.full((count, floats + extra), np.nan)
@@ -147,6 +151,20 @@ def _column(a: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(a.reshape(-1, 1), dtype=np.int32)
 
 
+def _markers(a: np.ndarray, lines: _Lines, what: str) -> np.ndarray:
+    """A marker column read as numbers: integers, as an int32 (N, 1) column."""
+    bad = np.flatnonzero((a != np.round(a)) | (np.abs(a) >= 2**31))
+    if len(bad):
+        r = int(bad[0])
+        raise lines.fail(lines.lines[r], f"{what} marker {a[r]:g} is not an integer")
+    return _column(a)
+
+
+def _flag(lines: _Lines, value: int, what: str) -> None:
+    if value not in (0, 1):
+        raise lines.fail(lines.rows[lines.at - 1][0], f"{what} must be 0 or 1, not {value}")
+
+
 def _read_vertices(lines: _Lines, d: Data) -> Tuple[int, int]:
     """A vertex section (.node, or a .poly's first): into d; returns (count, numbering base)."""
     n, dim, nattr, nmark = lines.header(
@@ -154,8 +172,7 @@ def _read_vertices(lines: _Lines, d: Data) -> Tuple[int, int]:
     )
     if dim != 2:
         raise lines.fail(lines.rows[lines.at - 1][0], f"dimension must be 2, not {dim}")
-    if nmark not in (0, 1):
-        raise lines.fail(lines.rows[lines.at - 1][0], f"marker count must be 0 or 1, not {nmark}")
+    _flag(lines, nmark, "the marker count")
     num, _, fv = lines.table(n, "vertex", 0, 2 + nattr + nmark)
     base = _base(num, lines, "vertex")
     _sequence(num, base, lines, "vertex")
@@ -164,7 +181,7 @@ def _read_vertices(lines: _Lines, d: Data) -> Tuple[int, int]:
         if nattr:
             d["vertex_attributes"] = np.ascontiguousarray(fv[:, 2 : 2 + nattr])
         if nmark:
-            d["vertex_markers"] = _column(fv[:, 2 + nattr])
+            d["vertex_markers"] = _markers(fv[:, 2 + nattr], lines, "vertex")
     return n, base
 
 
@@ -211,12 +228,13 @@ def loads(
             d.update(pv)
             nv, base = n, pbase
         ns, nsm = lines.header("the segment header", ("segment count", "markers"))
+        _flag(lines, nsm, "the segment marker count")
         num, iv, fv = lines.table(ns, "segment", 2, nsm)
         sb = base if base is not None else _base(num, lines, "segment")
         if ns:
             d["segments"] = _indices(iv, sb, nv, lines, "segment")
             if nsm:
-                d["segment_markers"] = _column(fv[:, 0])
+                d["segment_markers"] = _markers(fv[:, 0], lines, "segment")
         if lines.more():  # holes (a missing section means none)
             (nh,) = lines.header("the hole count", ("hole count",))
             _, _, fv = lines.table(nh, "hole", 0, 2)
@@ -263,6 +281,12 @@ def loads(
     if edge is not None:
         lines = _Lines(edge, "edge")
         ne, nem = lines.header("the edge header", ("edge count", "markers"))
+        _flag(lines, nem, "the edge marker count")
+        if ne > len(lines.rows) - lines.at:  # found before anything is allocated for them
+            left = len(lines.rows) - lines.at
+            raise lines.fail(
+                lines.rows[-1][0], f"the file ends where edge {left + 1} of {ne} should be"
+            )
         rows = [lines.next(f"edge {r + 1} of {ne}") for r in range(ne)]
         lines.lines = [line for line, _ in rows]
         eb = base

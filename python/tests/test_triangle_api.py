@@ -376,6 +376,10 @@ def test_loads_numbering_and_comments():
 
 @pytest.mark.parametrize("kw,words", [
     ({"node": "3 2 0 0\n1 0 0\n2 1 0\n"}, "node:3: the file ends where vertex 3 of 3"),
+    ({"node": "99999999999 2 0 0\n1 0 0\n"}, "node:2: the file ends where vertex 2 of 99999999999"),
+    ({"node": "3 2 0 1\n1 0 0 1.5\n2 1 0 1\n3 0 1 1\n"}, "node:2: vertex marker 1.5 is not an"),
+    ({"poly": "3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n1 2\n1 1 2 3 4\n"},
+     "poly:5: the segment marker count must be 0 or 1, not 2"),
     ({"node": "3 2 0 0\n1 0 0\n2 1 x\n3 0 1\n"}, "node:3: vertex 'x' is not a number"),
     ({"node": "3 2 0 0\n2 0 0\n3 1 0\n4 0 1\n"}, "node:2: the first vertex number must be 0 or 1"),
     ({"node": "3 2 0 0\n1 0 0\n3 1 0\n2 0 1\n"}, "node:3: vertex number 3 out of sequence"),
@@ -396,7 +400,7 @@ def test_load_and_get_data_not_found(tmp_path, monkeypatch):
     with pytest.raises(FileNotFoundError, match="no such file"):
         pcdm.load(tmp_path, "nothing")
     bad = tmp_path / "bad.node"
-    bad.write_text("3 2 0 0\n1 0 0\n2 1\n")
+    bad.write_text("3 2 0 0\n1 0 0\n2 1\n3 0 1\n")
     with pytest.raises(ValueError, match=r"bad\.node:3: vertex: expected 3 numbers, found 2"):
         pcdm.load(tmp_path, "bad")
     monkeypatch.setenv("PCDM_DATA", str(tmp_path / "a") + os.pathsep + str(tmp_path / "b"))
