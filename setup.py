@@ -14,6 +14,9 @@ sources, every .c of runtime/ and mesher/*/ -- and python/pcdm/_par.c, with MPI'
 mpicc) and METIS.  Built when mpicc is on PATH and metis.h is found (PCDM_MPI=0: never;
 PCDM_MPI=1: required, an error otherwise); pcdm and pcdm._core never load MPI.
 
+pcdm/data: the project's example domains, data/*.poly, copied in when the package is built
+(pcdm.get_data's own examples).
+
 The version is include/pcdm.h's.  The flags are the Makefile's that matter for correctness:
 C11, and no contraction of products into fused multiply-adds (the exact predicates need every
 product and sum rounded once).
@@ -31,6 +34,7 @@ import copy
 import numpy
 from setuptools import Extension, setup
 from setuptools.command.build_ext import build_ext
+from setuptools.command.build_py import build_py
 
 ROOT = os.path.dirname(os.path.abspath(__file__))
 
@@ -180,6 +184,18 @@ class BuildExt(build_ext):
         return build_ext.build_extension(mine, ext)
 
 
-setup(version=version(), ext_modules=exts, cmdclass={"build_ext": BuildExt},
+class BuildPy(build_py):
+    """The package's own example domains, data/*.poly (the project's, MIT), as pcdm/data, where
+    pcdm.get_data finds them."""
+
+    def run(self):
+        build_py.run(self)
+        out = os.path.join(self.build_lib, "pcdm", "data")
+        os.makedirs(out, exist_ok=True)
+        for f in sorted(glob.glob(os.path.join(ROOT, "data", "*.poly"))):
+            self.copy_file(f, os.path.join(out, os.path.basename(f)))
+
+
+setup(version=version(), ext_modules=exts, cmdclass={"build_ext": BuildExt, "build_py": BuildPy},
       options={"build": {"build_base": os.path.join("build", "python")},
                "build_ext": {"force": True, "parallel": os.cpu_count() or 1}})

@@ -3,8 +3,11 @@
 # (build/pyvenv, made once, seeing the system's packages), then its pytest suite
 # (python/tests/test_pcdm.py: Triangle's example files through pcdm and the triangle package,
 # keys, dtypes, shapes, the validator, Steiner counts; bad input as ValueError; memory over
-# 10,000 calls; the GIL; python -m pcdm).  What the environment lacks is installed there from
-# PyPI with pip (setuptools, numpy, pytest, triangle, pinned as tests/t_examples.sh pins it).
+# 10,000 calls; the GIL; python -m pcdm; python/tests/test_triangle_api.py: delaunay,
+# convex_hull, voronoi, the file readers, plot and compare against the triangle package).  What
+# the environment lacks is installed there from PyPI with pip (setuptools, numpy, pytest,
+# triangle, pinned as tests/t_examples.sh pins it; matplotlib, without which plot and compare
+# are skipped, saying so).
 # With MPI (mpicc, METIS), pcdm.parallel too: python/tests/par_check.py under mpirun at 2 and 3
 # ranks (mpi4py from PyPI when missing).  Skips, saying why, without python3 (with venv and pip); the sanitizer and debug builds skip it
 # (the package is built by setup.py, not by their flags).
@@ -27,6 +30,8 @@ pip_in() { "$py" -m pip install -q --disable-pip-version-check "$@" >>"$T/pip.lo
 "$py" -c 'import pytest' 2>/dev/null || pip_in pytest || fatal "pip install pytest: $(tail -3 "$T/pip.log")"
 "$py" -c 'import triangle' 2>/dev/null || pip_in triangle==20250106 ||
     fatal "pip install triangle: $(tail -3 "$T/pip.log")"
+"$py" -c 'import matplotlib' 2>/dev/null || pip_in matplotlib ||
+    echo "$TEST: no matplotlib ($(tail -1 "$T/pip.log")): pcdm.plot and pcdm.compare not tested"
 # the package from this tree (no build isolation: the build's requirements are installed above)
 t0=$SECONDS
 if pip_in --no-build-isolation --no-deps --force-reinstall .; then

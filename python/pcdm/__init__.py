@@ -4,7 +4,7 @@ predicates), a drop-in for the ``triangle`` package.
 >>> import pcdm
 >>> t = pcdm.triangulate({"vertices": [[0, 0], [1, 0], [1, 1], [0, 1]]}, "qa0.1")
 >>> sorted(t)
-['segment_markers', 'segments', 'triangles', 'vertex_markers', 'vertices']
+['triangles', 'vertex_markers', 'vertices']
 >>> pcdm.check(t, {"vertices": [[0, 0], [1, 0], [1, 1], [0, 1]]}, q=20, a=0.1)["ok"]
 True
 
@@ -14,20 +14,45 @@ with the keys ``vertices``, ``vertex_markers``, ``vertex_attributes``, ``segment
 ``r``) -- and Triangle's switch string, read by the command line's own parser (``./mesh``):
 ``p`` (accepted), ``q[DEG]``, ``a[AREA]``, ``A``, ``c``, ``e``, ``n``, ``S[N]``, ``Q``, ``V``,
 ``r``, ``z`` (indices are always zero-based here).  It returns the same keys, dtypes and shapes.
-Switches the command line refuses raise ``ValueError`` with its message.  Meshing releases the
-GIL, so Python threads mesh at once.  ``pcdm.check`` runs the project's validator.
+Switches the command line refuses raise ``ValueError`` with its message, as do output files
+(``-o``, ``--vtk``, ...: the mesh is returned, not written) and characters that are no switch.
+Meshing releases the GIL, so Python threads mesh at once.  ``pcdm.check`` runs the project's
+validator.
+
+The rest of the ``triangle`` package's API, in Python on ``triangulate``: ``delaunay``,
+``convex_hull`` and ``voronoi`` of a point set; ``loads``, ``load`` and ``get_data`` reading
+Triangle's files (``get_data`` from the folders ``path=`` and ``PCDM_DATA`` name, then the
+package's own examples); ``plot``, ``compare`` and ``show_data`` drawing with matplotlib
+(imported only when they are called).
 """
 
 from __future__ import annotations
 
+import re
+import unicodedata
 import warnings
-from typing import Any, Callable, Dict, Mapping, Optional, Tuple, Union
+from typing import Any, Callable, Dict, Mapping, NamedTuple, Optional, Tuple, Union
 
 import numpy as np
 
 from . import _core
 
-__all__ = ["triangulate", "check", "__version__", "MeshError"]
+__all__ = [
+    "triangulate",
+    "check",
+    "__version__",
+    "MeshError",
+    "delaunay",
+    "convex_hull",
+    "voronoi",
+    "loads",
+    "load",
+    "get_data",
+    "data_path",
+    "show_data",
+    "plot",
+    "compare",
+]
 
 __version__: str = _core.version()
 
@@ -46,8 +71,13 @@ def _floats(tri: Mapping[str, Any], key: str, cols: Optional[int]) -> Optional[n
     if key not in tri or tri[key] is None:
         return None
     try:
-        a = np.asarray(tri[key], dtype=np.float64)
+        a = np.asarray(tri[key])
+        if a.dtype.kind == "c":
+            raise ValueError(f"{key}: complex numbers (dtype {a.dtype}); coordinates are real")
+        a = a.astype(np.float64, copy=False)
     except (TypeError, ValueError) as e:
+        if str(e).startswith(key):
+            raise
         raise ValueError(f"{key}: not an array of numbers ({e})") from None
     if cols is None:  # vertex attributes: (n, k) or (n,)
         if a.ndim == 1:
@@ -97,8 +127,9 @@ def _ints(tri: Mapping[str, Any], key: str, cols: int) -> Optional[np.ndarray]:
 def _input(tri: Mapping[str, Any]) -> Dict[str, Optional[np.ndarray]]:
     if not isinstance(tri, Mapping):
         raise TypeError("tri: a dict of arrays (vertices, segments, holes, regions, ...)")
-    if "vertices" not in tri:
-        raise ValueError("vertices: missing (the input needs at least 3 vertices)")
+    if tri.get("vertices") is None:
+        what = "missing" if "vertices" not in tri else "None"
+        raise ValueError(f"vertices: {what} (the input needs an (N, 2) array of N >= 3 vertices)")
     v = _floats(tri, "vertices", 2)
     d = {
         "vertices": v,
@@ -135,6 +166,101 @@ def _regions3(tri: Mapping[str, Any]) -> Optional[np.ndarray]:
     # attribute and the area bound; a (N, 3) array here means no area bound (-1)
     r = _floats(tri, "regions", 3)
     return None if r is None else np.ascontiguousarray(np.hstack([r, -np.ones((len(r), 1))]))
+
+
+# ---- the switch string --------------------------------------------------------------------------
+
+
+class _Switches(NamedTuple):
+    text: str  # what _core.parse reads: the string without Triangle's z
+    letters: str  # the switch letters given, numbers left out
+    long: str  # a long option's name ("--lens": "lens"), or ""
+
+
+# ./mesh's long options that pcdm.triangulate does not take, and what to use instead
+_WRITES = (
+    "writes files: pcdm.triangulate writes none, it returns the mesh (python -m pcdm, the "
+    "command line, writes them)"
+)
+_LONG_REFUSED = {
+    "vtk": _WRITES,
+    "vtk-ascii": _WRITES,
+    "svg": _WRITES,
+    "msh": _WRITES,
+    "size": "reads a size file: give pcdm.triangulate size= (a callable or a background mesh)",
+    "check": "is ./mesh's check: call pcdm.check(mesh, tri) on the result",
+    "stats": "prints ./mesh's report: pcdm.check(mesh, tri) returns the measures",
+    "progress": "prints ./mesh's progress lines: pcdm.triangulate prints nothing",
+    "write-partial": "writes a partial mesh: pcdm.triangulate raises MeshError instead",
+    "strict": "is not supported by pcdm.triangulate (crossing segments are split)",
+    "help": "is not a switch: help(pcdm.triangulate) lists them",
+    "version": "is not a switch: pcdm.__version__ is the version",
+}
+# a number as the command line reads one glued on to q, a or S: what strtod takes (decimal or
+# hexadecimal), then everything up to the next letter
+_GLUED = re.compile(
+    r"[+-]?(?:0[xX](?:[0-9a-fA-F]+\.?[0-9a-fA-F]*|\.[0-9a-fA-F]+)(?:[pP][+-]?[0-9]+)?"
+    r"|(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)[^A-Za-z]*"
+)
+
+
+def _switches(opts: Any) -> _Switches:
+    """Triangle's switch string checked and read as far as the command line's parser needs:
+    every character printable ASCII, Triangle's z (zero-based numbering, always so here) dropped
+    where it stands as a switch letter, -o (an output prefix) and ./mesh's long options that
+    write files or have no meaning here refused -- each a ValueError naming the switch."""
+    if not isinstance(opts, str):
+        raise TypeError(f"opts: a switch string such as 'pq30a0.01', not {type(opts).__name__}")
+    for i, ch in enumerate(opts):
+        if not (32 <= ord(ch) <= 126 or ch.isspace()):
+            name = unicodedata.name(ch, f"U+{ord(ch):04X}")
+            raise ValueError(
+                f"{ch!r} ({name}) at {i} in {opts!r}: not a switch (switches are ASCII letters "
+                "and numbers, as 'pq30a0.01')"
+            )
+    spaces = [i for i, ch in enumerate(opts) if ch.isspace()]
+    if spaces:  # a command line's words: an option that writes files named first
+        for w in opts.split():
+            name = w[2:].split("=", 1)[0]
+            if w.startswith("-o") and not w.startswith("-o2"):
+                raise ValueError(f"option -o (output prefix) in {opts!r} {_WRITES}")
+            if w.startswith("--") and name in _LONG_REFUSED:
+                raise ValueError(f"option --{name} in {opts!r} {_LONG_REFUSED[name]}")
+        raise ValueError(
+            f"{opts[spaces[0]]!r} at {spaces[0]} in {opts!r}: switches go together without "
+            "spaces, as 'pq30a0.01'"
+        )
+    if opts.startswith("--"):  # one long option, as ./mesh spells it
+        name = opts[2:].split("=", 1)[0]
+        if name in _LONG_REFUSED:
+            raise ValueError(f"option --{name} in {opts!r} {_LONG_REFUSED[name]}")
+        return _Switches(opts, "", name)
+    body = opts[1:] if opts.startswith("-") else opts
+    text, letters, i = [], [], 0
+    while i < len(body):
+        c = body[i]
+        if body.startswith("o2", i):  # -o2: quadratic triangles (refused after parsing)
+            text.append("o2")
+            letters.append("o")
+            i += 2
+            continue
+        if c == "o":
+            raise ValueError(f"option -o (output prefix) in {opts!r} {_WRITES}")
+        i += 1
+        number = _GLUED.match(body, i)
+        if c == "z":
+            if number:
+                raise ValueError(
+                    f"'{number.group()}' after z in {opts!r}: z takes no number (a number goes "
+                    "right after q, a or S)"
+                )
+            continue
+        text.append(c)
+        letters.append(c)
+        if c in "qaS" and number:
+            text.append(number.group())
+            i = number.end()
+    return _Switches("".join(text), "".join(letters), "")
 
 
 # ---- triangulate --------------------------------------------------------------------------------
@@ -197,15 +323,18 @@ def triangulate(
     the message says how much more was asked; the memory the call took is given back); the
     Steiner limit (``S``) returns the mesh it reached with a ``RuntimeWarning``.
     """
-    if not isinstance(opts, str):
-        raise TypeError("opts: a switch string such as 'pq30a0.01'")
-    s = _core.parse(opts.replace("z", ""))  # z (zero-based indices) is always so here
+    sw = _switches(opts)
+    s = _core.parse(sw.text)
     for w in s["warnings"].splitlines():
         warnings.warn(w, RuntimeWarning, stacklevel=2)
     if s["order2"]:
         raise ValueError("option -o2 (quadratic triangles) is not supported by pcdm.triangulate")
+    if sw.long == "lens" and lenses is None:
+        lenses = True
+    if sw.long == "cdt-only" and (min_angle, max_area, size) != (None, None, None):
+        raise ValueError("option --cdt-only: no refinement, but min_angle, max_area or size asks")
     d = _input(tri)
-    p_given = "p" in opts.lstrip("-") and not opts.startswith("--")
+    p_given = "p" in sw.letters
     refine_input = s["refine"]
     d["refine_areas"] = None
     if refine_input:
@@ -239,7 +368,7 @@ def triangulate(
         area,
         steiner,
         cc,
-        hull,
+        hull and not refine_input,  # r: the mesh's domain (c: its boundary as segments)
         bool(s["region_attributes"]),
         bool(s["region_areas"]),
         not (q or a or size is not None),
@@ -259,7 +388,7 @@ def triangulate(
         raise ValueError(message)
     if code == 3:  # PCDM_ESTEINER: the mesh, outside the bounds
         warnings.warn(message, RuntimeWarning, stacklevel=2)
-    return _shape_output(mesh, tri, d, s, p_given or hull, refine_input)
+    return _shape_output(mesh, tri, d, s, p_given, hull)
 
 
 def _background(size: Any) -> Tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
@@ -302,14 +431,14 @@ def _background(size: Any) -> Tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
 
 
 def _shape_output(
-    mesh: Mesh, tri: Mapping[str, Any], d: Dict[str, Any], s: Dict[str, Any], p: bool, r: bool
+    mesh: Mesh, tri: Mapping[str, Any], d: Dict[str, Any], s: Dict[str, Any], p: bool, c: bool
 ) -> Mesh:
-    """triangle's output conventions: segments only with p (or c), holes and regions passed
+    """triangle's output conventions: segments only with p or c, holes and regions passed
     through with p, the files N, E, P leave out."""
-    if not p:
+    if not (p or c):
         mesh.pop("segments", None)
         mesh.pop("segment_markers", None)
-    else:
+    if p:
         for k in ("holes", "regions"):
             if tri.get(k) is not None and len(np.asarray(tri[k])):
                 mesh[k] = np.array(tri[k], dtype=np.float64)
@@ -332,7 +461,10 @@ def _refine_input(
     (and holes) the input gives with p, else the mesh's boundary edges with a hole point beside
     every chain of them; with a alone, tri["triangle_max_area"] bounds each old triangle's
     area (a new triangle is too big when it exceeds the bound of the old one holding its
-    centroid)."""
+    centroid).  As in Triangle, the domain is the mesh's: with p too, the boundary edges the
+    segments leave out are added to them and every chain gets its hole point (a dict returned
+    by triangulate lists no holes of its own: without them refining it again would fill the
+    places its triangles left empty)."""
     t = _ints(tri, "triangles", 3)
     if t is None or len(t) == 0:
         raise ValueError("option -r: the input has no triangles to refine")
@@ -341,12 +473,22 @@ def _refine_input(
     if len(bad):
         i, j = (int(x) for x in bad[0])
         raise ValueError(f"triangles[{i}]: vertex {int(t[i, j])} out of range (0..{n - 1})")
-    if not (p and d["segments"] is not None and len(d["segments"])):
-        seg, holes = _core.boundary(d["vertices"], t)
+    seg, holes = _core.boundary(d["vertices"], t)
+    if p and d["segments"] is not None and len(d["segments"]):
+        have = set(map(tuple, np.sort(d["segments"], axis=1).tolist()))
+        extra = seg[[tuple(e) not in have for e in np.sort(seg, axis=1).tolist()]]
+        if len(extra):  # marker 0: a boundary segment gets 1
+            d["segments"] = np.ascontiguousarray(np.vstack([d["segments"], extra]))
+            if d["segment_markers"] is not None:
+                zero = np.zeros(len(extra), dtype=np.int32)
+                d["segment_markers"] = np.ascontiguousarray(
+                    np.concatenate([d["segment_markers"], zero])
+                )
+    else:
         d["segments"], d["segment_markers"] = seg, None
-        if p and d["holes"] is not None:
-            holes = np.ascontiguousarray(np.vstack([d["holes"], holes]))
-        d["holes"] = holes
+    if p and d["holes"] is not None:
+        holes = np.ascontiguousarray(np.vstack([d["holes"], holes]))
+    d["holes"] = holes
     d["refine_areas"] = None
     if area_bare and tri.get("triangle_max_area") is not None:
         ar = np.asarray(tri["triangle_max_area"], dtype=np.float64).reshape(-1)
@@ -411,3 +553,10 @@ def check(
         bool(region_attributes),
         bool(region_areas),
     )
+
+
+# ---- the rest of the triangle package's API -------------------------------------------------
+
+from ._files import data_path, get_data, load, loads, show_data  # noqa: E402
+from ._plot import compare, plot  # noqa: E402
+from ._points import convex_hull, delaunay, voronoi  # noqa: E402
