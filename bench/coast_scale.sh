@@ -56,6 +56,9 @@ for c in $COASTS; do
     dom=$(timeout "$TMO" "$MESH" -NEP --cdt-only --check "$f" 2>/dev/null | num 'domain_area=')
     [ -n "$dom" ] || { echo "coast_scale: $c: ./mesh cannot triangulate $f -- skipped"; continue; }
     a=$(awk -v A="$dom" -v n="$N" 'BEGIN { printf "%.6g", A * 1.6 / n }')
+    # Triangle's switches take no exponent ("a3.2e+06" is -a 3.2, then -e): the same bound in
+    # plain decimals
+    ta=$(awk -v a="$a" 'BEGIN { s = sprintf("%.15f", a); sub(/0+$/, "", s); sub(/\.$/, "", s); print s }')
     echo "coast_scale: $c: $f, -q 30 -a $a (about $N triangles)"
     confs="mesh threads2 np2 np8"
     [ "$have_triangle" = 1 ] && confs="$confs triangle"
@@ -65,7 +68,7 @@ for c in $COASTS; do
             mesh) cmd=("$MESH" -q 30 -a "$a" -o "$files/$c" -V --stats "$f") ;;
             threads2) cmd=("$PCDM" --threads 2 -q 30 -a "$a" -o "$files/$c" -V --stats "$f") ;;
             np2 | np8) cmd=(mpirun --oversubscribe -np "${k#np}" "$PCDM" -q 30 -a "$a" -o "$files/$c" -V --stats "$f") ;;
-            triangle) cmd=("$PY" bench/seq_triangle.py "$f" "pq30a${a}Q") ;;
+            triangle) cmd=("$PY" bench/seq_triangle.py "$f" "pq30a${ta}Q") ;;
             esac
             log=$OUT/logs/${c}_${k}_r$rep
             echo "${cmd[*]}" >"$log.cmd"
