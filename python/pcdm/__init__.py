@@ -12,8 +12,10 @@ True
 with the keys ``vertices``, ``vertex_markers``, ``vertex_attributes``, ``segments``,
 ``segment_markers``, ``holes``, ``regions`` (and ``triangles`` with ``triangle_max_area`` for
 ``r``) -- and Triangle's switch string, read by the command line's own parser (``./mesh``):
-``p`` (accepted), ``q[DEG]``, ``a[AREA]``, ``A``, ``c``, ``e``, ``n``, ``S[N]``, ``Q``, ``V``,
-``r``, ``z`` (indices are always zero-based here).  It returns the same keys, dtypes and shapes.
+``p`` (read the segments, holes and regions: without it, as in Triangle, the vertices' convex
+hull is meshed), ``q[DEG]``, ``a[AREA]``, ``A``, ``c``, ``e``, ``n``, ``S[N]``, ``Q``, ``V``,
+``r``, ``z`` (indices are always zero-based here).  It returns the same keys, dtypes and shapes,
+input vertex i at index i (a repeated vertex too, in no triangle), then the Steiner points.
 Switches the command line refuses raise ``ValueError`` with its message, as do output files
 (``-o``, ``--vtk``, ...: the mesh is returned, not written) and characters that are no switch.
 Meshing releases the GIL, so Python threads mesh at once.  ``pcdm.check`` runs the project's
@@ -278,6 +280,7 @@ def triangulate(
     circumcenters: Optional[bool] = None,
     lenses: Optional[bool] = None,
     threads: int = 0,
+    pslg: Optional[bool] = None,
 ) -> Mesh:
     """Mesh ``tri`` (a dict of arrays, as ``triangle.triangulate`` takes) with Triangle's
     switches ``opts``; returns a dict of numpy arrays with ``triangle``'s keys, dtypes and shapes
@@ -287,8 +290,20 @@ def triangulate(
     ``neighbors`` (``n``, -1 on the boundary); ``holes`` and ``regions`` are passed through with
     ``p``).  Indices are zero-based.
 
-    As in Triangle, without ``q``, ``a`` (or the keywords below) the mesh is the constrained
-    Delaunay triangulation alone.  Keyword alternatives to switches: ``min_angle`` (degrees,
+    As in Triangle, input vertex i is output vertex i, for every i: the Steiner points follow
+    the input's vertices.  A vertex given twice (the same x and y exactly) is meshed once, as
+    its first copy; a later copy stays in ``vertices`` at its own index, with its own marker and
+    attributes, in no triangle, segment or edge (a segment naming it goes through the first
+    copy).
+
+    As in Triangle, the input is a PSLG only with ``p``: without it (and without ``r``, which
+    keeps the given mesh's domain) ``segments``, ``holes`` and ``regions`` are not read and the
+    mesh covers the vertices' convex hull, so ``A`` and ``a`` without a number, which read the
+    regions, do nothing either (a long option alone, ``--lens``, has no ``p``: add
+    ``pslg=True``).  Without ``q``,
+    ``a`` (or the keywords below) the mesh is the constrained Delaunay triangulation alone.
+    Keyword alternatives to switches: ``pslg`` (``p``: True reads the segments, holes and
+    regions, False ignores them whatever ``opts`` says), ``min_angle`` (degrees,
     ``q``), ``max_area`` (``a``), ``max_steiner`` (``S``), ``convex_hull`` (``c``),
     ``circumcenters`` (circumcenters only, as Triangle; the default also uses off-centers),
     ``lenses`` (default True with ``threads=0``, as Triangle: a segment is split when a point
@@ -334,13 +349,25 @@ def triangulate(
     if sw.long == "cdt-only" and (min_angle, max_area, size) != (None, None, None):
         raise ValueError("option --cdt-only: no refinement, but min_angle, max_area or size asks")
     d = _input(tri)
-    p_given = "p" in sw.letters
+    p_given = bool(pslg) if pslg is not None else "p" in sw.letters
     refine_input = s["refine"]
+    # Triangle reads a PSLG with p (r reads the mesh, _refine_input); without either the
+    # vertices alone, their convex hull meshed, and A and a alone have no regions to read
+    reads_pslg = p_given or refine_input
+    if not reads_pslg:
+        for k in ("segments", "segment_markers", "holes", "regions"):
+            d[k] = None
+    given = {k: d[k] for k in ("vertices", "vertex_markers", "vertex_attributes")}
+    dup = _Duplicates.of(d["vertices"])
+    if dup is not None and d["vertex_markers"] is not None:
+        # the mesher gives a merged point the first nonzero marker of its copies; Triangle
+        # keeps the meshed copy's own (the later copies keep theirs, put back afterwards)
+        d["vertex_markers"] = dup.zero_later(d["vertex_markers"])
     d["refine_areas"] = None
     if refine_input:
-        d = _refine_input(tri, d, p_given, bool(s["region_areas"]))
+        d = _refine_input(tri, d, p_given, bool(s["region_areas"]), dup)
     q = s["q_given"] or min_angle is not None
-    a = s["a_given"] or max_area is not None or s["region_areas"]
+    a = s["a_given"] or max_area is not None or (s["region_areas"] and reads_pslg)
     ma = float(min_angle) if min_angle is not None else s["min_angle"]
     area = float(max_area) if max_area is not None else s["max_area"]
     steiner = int(max_steiner) if max_steiner is not None else s["max_steiner"]
@@ -369,8 +396,8 @@ def triangulate(
         steiner,
         cc,
         hull and not refine_input,  # r: the mesh's domain (c: its boundary as segments)
-        bool(s["region_attributes"]),
-        bool(s["region_areas"]),
+        bool(s["region_attributes"]) and reads_pslg,
+        bool(s["region_areas"]) and reads_pslg,
         not (q or a or size is not None),
         bool(lenses),
         fn,
@@ -388,7 +415,75 @@ def triangulate(
         raise ValueError(message)
     if code == 3:  # PCDM_ESTEINER: the mesh, outside the bounds
         warnings.warn(message, RuntimeWarning, stacklevel=2)
+    if dup is not None:
+        mesh = dup.expand(mesh, given)
     return _shape_output(mesh, tri, d, s, p_given, hull)
+
+
+class _Duplicates:
+    """The input's repeated vertices, found by the mesher's own rule (mesher/geom/pslg_check.c:
+    the same x and the same y as doubles, so -0.0 is 0.0; the exact power-of-two scaling done
+    before changes no equality): the first copy of each point is meshed, and the mesher's
+    vertices are the input's first copies in their order, then the Steiner points.  ``expand``
+    puts every later copy back at its own index, as Triangle keeps it: in no triangle, with its
+    own marker and attributes."""
+
+    def __init__(self, first: np.ndarray) -> None:
+        n = len(first)
+        self.first = first  # (n,) int32: each input vertex's first copy
+        self.kept = np.flatnonzero(first == np.arange(n))  # the mesher's vertices 0..m-1
+        self.later = np.flatnonzero(first != np.arange(n))
+
+    @staticmethod
+    def of(v: np.ndarray) -> Optional["_Duplicates"]:
+        """None when no point repeats (the common case, found by one sort of the x's)."""
+        n = len(v)
+        x, y = v[:, 0], v[:, 1]
+        xs = np.sort(x)
+        if n < 2 or not (xs[1:] == xs[:-1]).any():
+            return None
+        rx = xs[1:][xs[1:] == xs[:-1]]  # the x's that repeat (sorted): only these can be copies
+        rx = rx[np.concatenate([[True], rx[1:] != rx[:-1]])]
+        c = np.flatnonzero(rx[np.minimum(np.searchsorted(rx, x), len(rx) - 1)] == x)
+        c = c[np.lexsort((y[c], x[c]))]  # by x, y, then input order (lexsort is stable)
+        same = (x[c[1:]] == x[c[:-1]]) & (y[c[1:]] == y[c[:-1]])
+        if not same.any():
+            return None
+        start = np.concatenate([[True], ~same])  # a run of one point starts at its first copy
+        first = np.arange(n, dtype=np.int32)
+        first[c] = c[start][np.cumsum(start) - 1]
+        return _Duplicates(first)
+
+    def zero_later(self, markers: np.ndarray) -> np.ndarray:
+        z = markers.copy()
+        z[self.later] = 0
+        return z
+
+    def expand(self, mesh: Mesh, inp: Dict[str, Optional[np.ndarray]]) -> Mesh:
+        """The mesher's result renumbered: input vertex i at i, the Steiner points after them.
+        inp: the input's vertices, vertex_markers and vertex_attributes as given."""
+        v = inp["vertices"]
+        assert v is not None
+        n, m = len(v), len(self.kept)
+        mv = mesh["vertices"]
+        if len(mv) < m or not np.array_equal(mv[:m], v[self.kept]):
+            raise RuntimeError(  # the mesher merged other points than these: never expected
+                "pcdm: the mesher's vertices are not the input's distinct vertices in order")
+        to = np.concatenate([self.kept, np.arange(n, n + len(mv) - m)]).astype(np.int32)
+        for k in ("triangles", "segments", "edges"):
+            if k in mesh:
+                mesh[k] = np.ascontiguousarray(to[mesh[k]], dtype=np.int32)
+        for k, own in (("vertices", v), ("vertex_markers", inp.get("vertex_markers")),
+                       ("vertex_attributes", inp.get("vertex_attributes"))):
+            if k not in mesh:
+                continue
+            a = mesh[k]
+            out = np.zeros((n + len(a) - m,) + a.shape[1:], dtype=a.dtype)
+            out[to] = a
+            if own is not None:  # a later copy: its own values (no markers given: 0)
+                out[self.later] = own[self.later].reshape((-1,) + a.shape[1:])
+            mesh[k] = out
+        return mesh
 
 
 def _background(size: Any) -> Tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
@@ -455,7 +550,11 @@ def _shape_output(
 
 
 def _refine_input(
-    tri: Mapping[str, Any], d: Dict[str, Any], p: bool, area_bare: bool
+    tri: Mapping[str, Any],
+    d: Dict[str, Any],
+    p: bool,
+    area_bare: bool,
+    dup: Optional[_Duplicates] = None,
 ) -> Dict[str, Any]:
     """r: the mesh tri["triangles"] refined, as ./mesh -r does: every vertex kept; the segments
     (and holes) the input gives with p, else the mesh's boundary edges with a hole point beside
@@ -473,9 +572,14 @@ def _refine_input(
     if len(bad):
         i, j = (int(x) for x in bad[0])
         raise ValueError(f"triangles[{i}]: vertex {int(t[i, j])} out of range (0..{n - 1})")
+    if dup is not None:  # a repeated vertex is its first copy, as the mesher meshes it
+        t = np.ascontiguousarray(dup.first[t])
     seg, holes = _core.boundary(d["vertices"], t)
     if p and d["segments"] is not None and len(d["segments"]):
-        have = set(map(tuple, np.sort(d["segments"], axis=1).tolist()))
+        named = d["segments"]
+        if dup is not None and named.size and named.min() >= 0 and named.max() < n:
+            named = dup.first[named]
+        have = set(map(tuple, np.sort(named, axis=1).tolist()))
         extra = seg[[tuple(e) not in have for e in np.sort(seg, axis=1).tolist()]]
         if len(extra):  # marker 0: a boundary segment gets 1
             d["segments"] = np.ascontiguousarray(np.vstack([d["segments"], extra]))

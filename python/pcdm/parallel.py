@@ -14,7 +14,10 @@ number), ``triangle_first`` (the part's first triangle number in the whole mesh)
 ``global_vertices``/``global_triangles``/``global_segments``; with ``root=R`` rank R gets the
 whole mesh, the others an empty one.  Switches: those ``pcdm.triangulate`` takes but ``A``,
 ``e``, ``n`` and ``r`` (sequential only), and without ``q`` the default angle bound 20.7 (the
-parallel meshers always refine).  Built where MPI and METIS are (``pip install .[mpi]``).
+parallel meshers always refine).  Unlike ``pcdm.triangulate`` (a drop-in for ``triangle``),
+the input is read as a PSLG with or without ``p``, and a vertex given twice is meshed and
+numbered once: the whole mesh's numbering is the input's distinct vertices in their order, then
+the Steiner points.  Built where MPI and METIS are (``pip install .[mpi]``).
 """
 
 from __future__ import annotations
