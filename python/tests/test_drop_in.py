@@ -32,18 +32,7 @@ import pcdm
 
 triangle = pytest.importorskip("triangle")
 
-DATA = os.path.join(os.path.dirname(triangle.__file__), "data")
-IN_KEYS = ("vertices", "vertex_markers", "vertex_attributes", "segments", "segment_markers",
-           "holes", "regions")
-
-
-def names():
-    out = set()
-    for f in os.listdir(DATA):
-        base, ext = os.path.splitext(f)
-        if ext in (".poly", ".node") and "." not in base:
-            out.add(base)
-    return sorted(out)
+from tridata import DATA, IN_KEYS, names  # noqa: E402  (after the importorskip)
 
 
 def area(m):
