@@ -165,6 +165,26 @@ MESH_NORETURN static void unwind(const char *file, int line, size_t n, size_t si
     longjmp(g->jb, 1);
 }
 
+int mesh_fail(char *err, size_t errlen, const char *fmt, ...) {
+    if (!err || !errlen) return -1;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err, errlen, fmt, ap);
+    va_end(ap);
+    return -1;
+}
+
+int mesh_fail_at(char *err, size_t errlen, const char *path, long line, const char *fmt, ...) {
+    if (!err || !errlen) return -1;
+    char msg[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    snprintf(err, errlen, "%s:%ld: %s", path, line, msg);
+    return -1;
+}
+
 void *mesh_xrealloc_at(const char *file, int line, void *p, size_t n, size_t size) {
     mesh_guard *g = guard;
     if (size && n > SIZE_MAX / size) {

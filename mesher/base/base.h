@@ -7,7 +7,7 @@
  *    caller's file and line, then MPI_Abort when MPI is running (so no rank hangs), abort()
  *    otherwise;
  *  - recoverable failures (bad input, I/O) are return codes with a "FILE:LINE: problem"
- *    message, decided by each layer;
+ *    message (worded through mesh_fail / mesh_fail_at), decided by each layer;
  *  - algorithm outcomes are enums.
  * Out of memory is none of these: the funnel ends the program with a message that says what was
  * asked and what to change (mesh_oom_at), never a bug report.
@@ -72,6 +72,13 @@ void mesh_on_fatal(void (*fn)(void));
  * message says what was asked and what to change (larger -a, more ranks, the memory limit);
  * the program ends with exit code 1 (every rank, via the environment above).  Never returns. */
 MESH_NORETURN void mesh_oom_at(const char *file, int line, size_t n, size_t size);
+
+/* The one way every layer words a recoverable failure: formats the message into err (errlen
+ * bytes; err NULL or errlen 0: nothing) and returns -1. */
+MESH_PRINTF(3, 4) int mesh_fail(char *err, size_t errlen, const char *fmt, ...);
+/* The same with "path:line: " in front (the readers' "FILE:LINE: problem"). */
+MESH_PRINTF(5, 6)
+int mesh_fail_at(char *err, size_t errlen, const char *path, long line, const char *fmt, ...);
 
 /* Checks an MPI call's return code; a failure is reported as a bug with MPI's error string
  * (base_mpi.c: only code that links MPI uses it). */

@@ -1,5 +1,6 @@
 /* base_mpi.c: the MPI half of the bug report (base.h) -- the rank from MPI_COMM_WORLD and
- * MPI_Abort while MPI is initialised and not finalised -- and the MPI error check (MESH_MPI).
+ * MPI_Abort while MPI is initialised and not finalised -- the MPI error check (MESH_MPI), and
+ * the agreement on failure (base_mpi.h).
  *
  * Linked into every program and library that uses the parallel layers (they call
  * mesh_mpi_fail_at through MESH_MPI, which pulls this object in); a constructor installs the
@@ -7,10 +8,12 @@
  * rank, with no set-up call for a program or a test to forget.  The sequential library leaves
  * this file out and needs no MPI.
  */
+#include "base/base_mpi.h"
 #include "base/base.h"
 
 #include <mpi.h>
 #include <stdio.h>
+#include <string.h>
 
 static int mpi_rank(void) {
     int init = 0, fin = 0, r = 0;
@@ -40,4 +43,25 @@ void mesh_mpi_fail_at(const char *file, int line, const char *call, int rc) {
     int len = 0;
     if (MPI_Error_string(rc, s, &len) != MPI_SUCCESS) snprintf(s, sizeof s, "error %d", rc);
     mesh_bug_at(file, line, "%s failed: %s", call, s);
+}
+
+int mesh_agree(MPI_Comm comm, int code, const char *msg, char *out, size_t outlen) {
+    int rank, size;
+    MESH_MPI(MPI_Comm_rank(comm, &rank));
+    MESH_MPI(MPI_Comm_size(comm, &size));
+    int mine = code != 0 ? rank : size, first = size;
+    MESH_MPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm));
+    if (first == size) return 0;
+    struct {
+        int code;
+        char msg[1200];
+    } b;
+    memset(&b, 0, sizeof b);
+    if (rank == first) {
+        b.code = code;
+        if (msg) snprintf(b.msg, sizeof b.msg, "%s", msg);
+    }
+    MESH_MPI(MPI_Bcast(&b, (int)sizeof b, MPI_BYTE, first, comm));
+    if (out && outlen) snprintf(out, outlen, "%s", b.msg);
+    return b.code;
 }

@@ -23,17 +23,6 @@
 #define FIRST_LINE_MAX ((size_t)64 * 1024)
 #define PRELUDE_MAX ((size_t)1 << 20) /* comments and blanks before the first count */
 
-MESH_PRINTF(5, 6)
-static int tfail(char *err, size_t errlen, const char *path, long line, const char *fmt, ...) {
-    char msg[256];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(msg, sizeof msg, fmt, ap);
-    va_end(ap);
-    snprintf(err, errlen, "%s:%ld: %s", path, line, msg);
-    return -1;
-}
-
 /* Whether the text at s uses CR line ends: its first line end is a lone CR.  -1: not known yet
  * (no line end before e, or a CR last before e while more may follow). */
 static int cr_file(const char *s, const char *e, int eof) {
@@ -137,7 +126,7 @@ int mesh_textin_load(mesh_textin *t, const char *path, char *err, size_t errlen)
         if (len0 == 0) {
             const unsigned char *u = (const unsigned char *)buf;
             if (len >= 2 && ((u[0] == 0xff && u[1] == 0xfe) || (u[0] == 0xfe && u[1] == 0xff))) {
-                tfail(err, errlen, path, 1, "UTF-16 text (save the file as UTF-8 or ASCII)");
+                mesh_fail_at(err, errlen, path, 1, "UTF-16 text (save the file as UTF-8 or ASCII)");
                 goto out;
             }
             if (len >= 3 && u[0] == 0xef && u[1] == 0xbb && u[2] == 0xbf) skip = 3;
@@ -145,8 +134,8 @@ int mesh_textin_load(mesh_textin *t, const char *path, char *err, size_t errlen)
         const char *z = memchr(buf + len0, '\0', len - len0);
         if (z) {
             const char *s = buf + skip;
-            tfail(err, errlen, path, line_at(s, z, cr_file(s, z, 1) > 0),
-                  "a NUL byte: not a text file");
+            mesh_fail_at(err, errlen, path, line_at(s, z, cr_file(s, z, 1) > 0),
+                         "a NUL byte: not a text file");
             goto out;
         }
         if (verdict == J_NEED) {
@@ -154,7 +143,7 @@ int mesh_textin_load(mesh_textin *t, const char *path, char *err, size_t errlen)
             const char *why = "";
             verdict = judge(buf + skip, buf + len, eof, &line, &why);
             if (verdict == J_FAIL) {
-                tfail(err, errlen, path, line, "%s", why);
+                mesh_fail_at(err, errlen, path, line, "%s", why);
                 goto out;
             }
             if (verdict == J_STOP) break; /* the rest is never read: the reader refuses the line */

@@ -49,47 +49,46 @@ static int read_area(const char *path, int32_t nt, int first, double *area, char
     char *s, *end;
     long n, rc = -1;
     if (!(s = mesh_textin_line(&in))) {
-        meshio_fail(err, errlen, "%s:%ld: empty file: expected a triangle count", path, in.line);
+        mesh_fail(err, errlen, "%s:%ld: empty file: expected a triangle count", path, in.line);
         goto out;
     }
     if (area_int(&s, &n)) {
-        meshio_fail(err, errlen, "%s:%ld: malformed triangle count", path, in.line);
+        mesh_fail(err, errlen, "%s:%ld: malformed triangle count", path, in.line);
         goto out;
     }
     if (n != nt) {
-        meshio_fail(err, errlen,
-                    "%s:%ld: triangle count %ld does not match the mesh's %d triangles", path,
-                    in.line, n, (int)nt);
+        mesh_fail(err, errlen, "%s:%ld: triangle count %ld does not match the mesh's %d triangles",
+                  path, in.line, n, (int)nt);
         goto out;
     }
     for (int32_t t = 0; t < nt; t++) {
         if (!(s = mesh_textin_line(&in))) {
-            meshio_fail(err, errlen,
-                        "%s:%ld: unexpected end of file: expected %d triangles, found %d", path,
-                        in.line, (int)nt, (int)t);
+            mesh_fail(err, errlen,
+                      "%s:%ld: unexpected end of file: expected %d triangles, found %d", path,
+                      in.line, (int)nt, (int)t);
             goto out;
         }
         long id;
         if (area_int(&s, &id)) {
-            meshio_fail(err, errlen, "%s:%ld: malformed triangle number", path, in.line);
+            mesh_fail(err, errlen, "%s:%ld: malformed triangle number", path, in.line);
             goto out;
         }
         if (id != (long)first + t) {
-            meshio_fail(err, errlen, "%s:%ld: triangle number out of sequence (expected %ld)", path,
-                        in.line, (long)first + t);
+            mesh_fail(err, errlen, "%s:%ld: triangle number out of sequence (expected %ld)", path,
+                      in.line, (long)first + t);
             goto out;
         }
         double a = strtod(s, &end);
         if (end == s || !isfinite(a)) {
-            meshio_fail(err, errlen, "%s:%ld: malformed maximum area of triangle %ld", path,
-                        in.line, id);
+            mesh_fail(err, errlen, "%s:%ld: malformed maximum area of triangle %ld", path, in.line,
+                      id);
             goto out;
         }
         end += strspn(end, " \t\r\v\f");
         if (*end) {
             int k = (int)strcspn(end, " \t\r\v\f"); /* the token, not a CRLF file's CR */
-            meshio_fail(err, errlen, "%s:%ld: unexpected text '%.*s'", path, in.line,
-                        k < 40 ? k : 40, end);
+            mesh_fail(err, errlen, "%s:%ld: unexpected text '%.*s'", path, in.line, k < 40 ? k : 40,
+                      end);
             goto out;
         }
         area[t] = a;
@@ -142,7 +141,7 @@ static int load_old(size_field *S, const char *name, int e, char *err, size_t er
     }
     mesh_flat_free(&m);
     if (tloc_build(&S->old, S->oxy, S->otri, S->ont))
-        return meshio_fail(err, errlen, "%s.ele: too many triangles to index", prefix);
+        return mesh_fail(err, errlen, "%s.ele: too many triangles to index", prefix);
     return 0;
 }
 
@@ -153,10 +152,10 @@ static int load_background(size_field *S, const char *name, int e, char *err, si
     if (meshio_read_triangle(prefix, &m, err, errlen)) return -1;
     if (m.nattr < 1 || !m.vattr) {
         mesh_flat_free(&m);
-        return meshio_fail(err, errlen,
-                           "%s.node: a background mesh needs one attribute per vertex (the target "
-                           "edge length there)",
-                           prefix);
+        return mesh_fail(err, errlen,
+                         "%s.node: a background mesh needs one attribute per vertex (the target "
+                         "edge length there)",
+                         prefix);
     }
     S->bnv = m.nverts;
     S->bnt = m.ntris;
@@ -172,7 +171,7 @@ static int load_background(size_field *S, const char *name, int e, char *err, si
     m.tri = NULL;
     mesh_flat_free(&m);
     if (tloc_build(&S->bg, S->bxy, S->btri, S->bnt))
-        return meshio_fail(err, errlen, "%s.ele: too many triangles to index", prefix);
+        return mesh_fail(err, errlen, "%s.ele: too many triangles to index", prefix);
     return 0;
 }
 

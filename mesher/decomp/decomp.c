@@ -32,16 +32,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-int decomp_fail(char *err, size_t errlen, const char *fmt, ...) {
-    if (err && errlen) {
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(err, errlen, fmt, ap);
-        va_end(ap);
-    }
-    return -1;
-}
-
 void pcdm_decomp_opts_default(pcdm_decomp_opts *o) {
     memset(o, 0, sizeof *o);
     o->nranks = 1;
@@ -381,7 +371,7 @@ int decomp_build(const pslg *in, const mesh *m, const uint8_t *mseg_cut, const i
             mesh_xfree(gid);
             mesh_xfree(best);
             pcdm_decomp_free(d);
-            return decomp_fail(err, errlen, "subdomain %d of %d is empty", (int)k, (int)K);
+            return mesh_fail(err, errlen, "subdomain %d of %d is empty", (int)k, (int)K);
         }
     }
     mesh_xfree(best);
@@ -531,7 +521,7 @@ int decomp_map_owners(pcdm_decomp *d, int32_t P, double R, const int32_t *planne
                       size_t errlen) {
     int32_t K = d->nsub;
     d->nranks = P;
-    if (K < P) return decomp_fail(err, errlen, "%d subdomains for %d ranks", (int)K, (int)P);
+    if (K < P) return mesh_fail(err, errlen, "%d subdomains for %d ranks", (int)K, (int)P);
     if (planned || K == P || P == 1) { /* (METIS cannot make one part) */
         for (int32_t s = 0; s < K; s++)
             d->sub_owner[s] = planned ? planned[s] : P == 1 ? 0 : s;
@@ -592,9 +582,9 @@ int decomp_map_owners(pcdm_decomp *d, int32_t P, double R, const int32_t *planne
 int pcdm_decomp_write_cuts(const pcdm_decomp *d, const char *path, char *err, size_t errlen) {
     char tmp[1100];
     if (snprintf(tmp, sizeof tmp, "%s.tmp", path) >= (int)sizeof tmp)
-        return decomp_fail(err, errlen, "%s: path too long", path);
+        return mesh_fail(err, errlen, "%s: path too long", path);
     FILE *fp = fopen(tmp, "w");
-    if (!fp) return decomp_fail(err, errlen, "%s: cannot create: %s", tmp, strerror(errno));
+    if (!fp) return mesh_fail(err, errlen, "%s: cannot create: %s", tmp, strerror(errno));
     fprintf(fp, "# pcdm cuts: %d subdomains; one cut per line: x1 y1 x2 y2\n", (int)d->nsub);
     for (int32_t k = 0; k < d->ncuts; k++)
         fprintf(fp, "%.17g %.17g %.17g %.17g\n", /* in the input's units */
@@ -605,12 +595,11 @@ int pcdm_decomp_write_cuts(const pcdm_decomp *d, const char *path, char *err, si
     int bad = ferror(fp);
     if (fclose(fp) || bad) {
         remove(tmp);
-        return decomp_fail(err, errlen, "%s: write error", tmp);
+        return mesh_fail(err, errlen, "%s: write error", tmp);
     }
     if (rename(tmp, path)) {
         remove(tmp);
-        return decomp_fail(err, errlen, "%s: cannot rename from %s: %s", path, tmp,
-                           strerror(errno));
+        return mesh_fail(err, errlen, "%s: cannot rename from %s: %s", path, tmp, strerror(errno));
     }
     return 0;
 }

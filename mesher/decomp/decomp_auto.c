@@ -432,10 +432,10 @@ static int partition(const mesh *m, const int32_t *id, int32_t n, const double *
     mesh_xfree(pp);
     mesh_xfree(tp);
     if (rc != METIS_OK)
-        return decomp_fail(err, errlen,
-                           "METIS could not partition %d coarse triangles into %d "
-                           "parts (error %d)",
-                           (int)n, (int)K, rc);
+        return mesh_fail(err, errlen,
+                         "METIS could not partition %d coarse triangles into %d "
+                         "parts (error %d)",
+                         (int)n, (int)K, rc);
     return 0;
 }
 
@@ -829,9 +829,9 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
                    size_t errlen) {
     memset(out, 0, sizeof *out);
     int32_t P = o->nranks, K = o->nsub > 0 ? o->nsub : o->nranks;
-    if (P < 1) return decomp_fail(err, errlen, "%d ranks", (int)P);
+    if (P < 1) return mesh_fail(err, errlen, "%d ranks", (int)P);
     if (K < P)
-        return decomp_fail(err, errlen, "%d subdomains: fewer than the %d ranks", (int)K, (int)P);
+        return mesh_fail(err, errlen, "%d subdomains: fewer than the %d ranks", (int)K, (int)P);
     double R = o->imbalance > 0 ? o->imbalance : 1;
     int32_t per = o->per_sub > 0 ? o->per_sub : PER_SUB_DEFAULT;
     mesh m, *keep = NULL;
@@ -912,9 +912,8 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
     plan(K, P, R, target, planned);
     int rc = 0;
     if (K > 1 && n < 2 * K)
-        rc = decomp_fail(err, errlen,
-                         "%d subdomains: the domain's coarse mesh has only %d triangles", (int)K,
-                         (int)n);
+        rc = mesh_fail(err, errlen, "%d subdomains: the domain's coarse mesh has only %d triangles",
+                       (int)K, (int)n);
     /* ./pbw: the partition of least predicted cost among the seeds (decomp_seeds.c) */
     int choose = K > 1 && K == P && R == 1 && !exact && o->boundary_cost > 0;
     double cost = 0;
@@ -923,8 +922,8 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
                        &cost, part, err, errlen);
     if (rc == 0 && choose &&
         (o->pick ? o->pick(o->pick_ctx, cost, m.nt, part) != 0 : !isfinite(cost)))
-        rc = decomp_fail(err, errlen, "METIS could not partition %d coarse triangles into %d parts",
-                         (int)n, (int)K);
+        rc = mesh_fail(err, errlen, "METIS could not partition %d coarse triangles into %d parts",
+                       (int)n, (int)K);
     if (rc == 0) {
         merge_corners(&m, part);
         if (K > 1) fill_empty(&m, part, K);

@@ -142,7 +142,7 @@ static int cut_line(FILE *fp, char *buf, size_t cap) {
 static int read_cuts(const char *path, double **xy, int32_t **lines, int32_t *n, char *err,
                      size_t errlen) {
     FILE *fp = fopen(path, "r");
-    if (!fp) return decomp_fail(err, errlen, "%s: cannot open: %s", path, strerror(errno));
+    if (!fp) return mesh_fail(err, errlen, "%s: cannot open: %s", path, strerror(errno));
     char buf[4096];
     int32_t line = 0, cap = 0, lcap = 0;
     *n = 0;
@@ -152,10 +152,10 @@ static int read_cuts(const char *path, double **xy, int32_t **lines, int32_t *n,
         line++;
         if (got < 0) {
             fclose(fp);
-            return decomp_fail(err, errlen,
-                               "%s:%d: not a text file of cuts (a NUL byte, or a line of more "
-                               "than %zu bytes)",
-                               path, (int)line, sizeof buf - 2);
+            return mesh_fail(err, errlen,
+                             "%s:%d: not a text file of cuts (a NUL byte, or a line of more "
+                             "than %zu bytes)",
+                             path, (int)line, sizeof buf - 2);
         }
         char *h = strchr(buf, '#');
         if (h) *h = 0;
@@ -171,16 +171,16 @@ static int read_cuts(const char *path, double **xy, int32_t **lines, int32_t *n,
             v[k] = strtod(from, &end);
             if (end == from || errno || !isfinite(v[k]) || (*end && !strchr(" \t\r\n", *end))) {
                 fclose(fp);
-                return decomp_fail(err, errlen, "%s:%d: expected four finite numbers x1 y1 x2 y2",
-                                   path, (int)line);
+                return mesh_fail(err, errlen, "%s:%d: expected four finite numbers x1 y1 x2 y2",
+                                 path, (int)line);
             }
         }
         while (*end == ' ' || *end == '\t' || *end == '\r' || *end == '\n')
             end++;
         if (*end || (v[0] == v[2] && v[1] == v[3])) {
             fclose(fp);
-            return decomp_fail(err, errlen, "%s:%d: %s", path, (int)line,
-                               *end ? "trailing text after x1 y1 x2 y2" : "zero-length cut");
+            return mesh_fail(err, errlen, "%s:%d: %s", path, (int)line,
+                             *end ? "trailing text after x1 y1 x2 y2" : "zero-length cut");
         }
         MESH_GROW(*xy, 4 * (size_t)*n + 3, cap);
         MESH_GROW(*lines, *n, lcap);
@@ -188,7 +188,7 @@ static int read_cuts(const char *path, double **xy, int32_t **lines, int32_t *n,
         (*lines)[(*n)++] = line;
     }
     fclose(fp);
-    if (*n == 0) return decomp_fail(err, errlen, "%s: no cuts", path);
+    if (*n == 0) return mesh_fail(err, errlen, "%s: no cuts", path);
     return 0;
 }
 
@@ -208,10 +208,10 @@ static void sharp(void *vctx, int32_t v, int32_t s1, int32_t s2, double deg) {
     if (c->bad || (!a->is_cut && !b->is_cut)) return;
     const segrec *k = a->is_cut ? a : b, *o = a->is_cut ? b : a;
     c->bad = 1;
-    decomp_fail(c->err, c->errlen,
-                "%s:%d: the cut meets %s at %.2f degrees at (%.17g, %.17g), below the -q bound",
-                c->path, (int)k->line, o->is_cut ? "another cut" : "an input segment", deg,
-                c->g->xy[2 * (size_t)v], c->g->xy[2 * (size_t)v + 1]);
+    mesh_fail(c->err, c->errlen,
+              "%s:%d: the cut meets %s at %.2f degrees at (%.17g, %.17g), below the -q bound",
+              c->path, (int)k->line, o->is_cut ? "another cut" : "an input segment", deg,
+              c->g->xy[2 * (size_t)v], c->g->xy[2 * (size_t)v + 1]);
 }
 
 /* Components of m's triangles across non-constraint edges (the faces of the arrangement of
@@ -305,14 +305,14 @@ int pcdm_decomp_read_cuts(const char *path, const pslg *in, const pcdm_decomp_op
     if (rc == 0) rc = mesh_build_cdt(&m, g, NULL, err, errlen);
     for (int32_t s = 0; rc == 0 && s < m.nseg; s++) /* a cut in a hole or outside is eaten */
         if (a.sr[m.smarker[s]].is_cut && m.seg_nsub[s] == 0)
-            rc = decomp_fail(err, errlen, "%s:%d: the cut lies outside the domain", path,
-                             (int)a.sr[m.smarker[s]].line);
+            rc = mesh_fail(err, errlen, "%s:%d: the cut lies outside the domain", path,
+                           (int)a.sr[m.smarker[s]].line);
     for (int32_t i = 0; rc == 0 && i < m.nss; i++) {
         const mesh_subseg *r = &m.ss[i];
         if (r->level == -2 || !a.sr[m.smarker[r->seg]].is_cut) continue;
         if (mesh_find_edge(&m, r->u, r->v) < 0)
-            rc = decomp_fail(err, errlen, "%s:%d: the cut lies (partly) outside the domain", path,
-                             (int)a.sr[m.smarker[r->seg]].line);
+            rc = mesh_fail(err, errlen, "%s:%d: the cut lies (partly) outside the domain", path,
+                           (int)a.sr[m.smarker[r->seg]].line);
     }
     int32_t K = 0;
     if (rc == 0) {
@@ -325,20 +325,20 @@ int pcdm_decomp_read_cuts(const char *path, const pslg *in, const pcdm_decomp_op
                 const mesh_subseg *s = mesh_subseg_of_edge(&m, e);
                 if (!s || !a.sr[m.smarker[s->seg]].is_cut) continue;
                 if (n < 0 || lab[n / 3] == lab[t])
-                    rc = decomp_fail(err, errlen,
-                                     "%s:%d: the cut does not separate two "
-                                     "subdomains (%s)",
-                                     path, (int)a.sr[m.smarker[s->seg]].line,
-                                     n < 0 ? "it lies on the domain boundary"
-                                           : "the same subdomain is on both sides");
+                    rc = mesh_fail(err, errlen,
+                                   "%s:%d: the cut does not separate two "
+                                   "subdomains (%s)",
+                                   path, (int)a.sr[m.smarker[s->seg]].line,
+                                   n < 0 ? "it lies on the domain boundary"
+                                         : "the same subdomain is on both sides");
             }
     }
     if (rc == 0 && o->nsub > 0 && o->nsub != K)
-        rc = decomp_fail(err, errlen, "%s: the cuts make %d subdomains, not the %d asked for", path,
-                         (int)K, (int)o->nsub);
+        rc = mesh_fail(err, errlen, "%s: the cuts make %d subdomains, not the %d asked for", path,
+                       (int)K, (int)o->nsub);
     if (rc == 0 && K < o->nranks)
-        rc = decomp_fail(err, errlen, "%s: the cuts make %d subdomains, fewer than the %d ranks",
-                         path, (int)K, (int)o->nranks);
+        rc = mesh_fail(err, errlen, "%s: the cuts make %d subdomains, fewer than the %d ranks",
+                       path, (int)K, (int)o->nranks);
     if (rc == 0) {
         parent = mesh_xmalloc((size_t)m.nseg + 1, sizeof(int32_t));
         marker = mesh_xmalloc((size_t)m.nseg + 1, sizeof(int32_t));

@@ -48,10 +48,4 @@ double decomp_part_cost(const mesh *m, const double *tw, const int32_t *part, in
 /* Scales positive doubles to METIS integer weights (at least 1 each, sum below 2^30). */
 void decomp_int_weights(const double *w, int32_t n, idx_t *out);
 
-/* Message helper: formats into err, returns -1. */
-#if defined(__GNUC__)
-__attribute__((format(printf, 3, 4)))
-#endif
-int decomp_fail(char *err, size_t errlen, const char *fmt, ...);
-
 #endif

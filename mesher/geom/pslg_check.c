@@ -389,15 +389,6 @@ int pslg_cmp_skey(const void *pa, const void *pb) {
     return (a->i > b->i) - (a->i < b->i);
 }
 
-__attribute__((format(printf, 3, 4))) static int gfail(char *err, size_t errlen, const char *fmt,
-                                                       ...) {
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, errlen, fmt, ap);
-    va_end(ap);
-    return -1;
-}
-
 /* ---------------------------------------------------------------- scaling --------------- */
 
 /* 1 iff x * 2^e is a multiple of 2^PSLG_GRID_EXP (0 included); x * 2^e is at most 2^100. */
@@ -442,30 +433,31 @@ static int pslg_scale(pslg *g, char *err, size_t errlen) {
     frexp(big, &k);   /* big < 2^k */
     e = PSLG_TOP_EXP - k;
     if (e > PSLG_MAX_SCALE)
-        return gfail(err, errlen,
-                     "%s: the largest coordinate magnitude %.17g is below the supported range "
-                     "(at least 2^%d, about 1.8e-218)",
-                     vf, big, PSLG_TOP_EXP - 1 - PSLG_MAX_SCALE);
+        return mesh_fail(err, errlen,
+                         "%s: the largest coordinate magnitude %.17g is below the supported range "
+                         "(at least 2^%d, about 1.8e-218)",
+                         vf, big, PSLG_TOP_EXP - 1 - PSLG_MAX_SCALE);
     for (int32_t i = 0; i < 2 * g->nverts; i++)
         if (!on_grid(g->xy[i], e))
-            return gfail(err, errlen,
-                         "%s:%d: vertex %d: coordinate %.17g is too small next to the largest "
-                         "coordinate magnitude %.17g (supported: nonzero magnitudes down to "
-                         "2^-247, about 4.4e-75, times the largest)",
-                         vf, g->vline ? g->vline[i / 2] : 0, i / 2 + g->first_index, g->xy[i], big);
+            return mesh_fail(err, errlen,
+                             "%s:%d: vertex %d: coordinate %.17g is too small next to the largest "
+                             "coordinate magnitude %.17g (supported: nonzero magnitudes down to "
+                             "2^-247, about 4.4e-75, times the largest)",
+                             vf, g->vline ? g->vline[i / 2] : 0, i / 2 + g->first_index, g->xy[i],
+                             big);
     for (int32_t i = 0; i < 2 * g->nholes; i++)
         if (isfinite(g->holes[i]) && !on_grid(g->holes[i], e))
-            return gfail(err, errlen,
-                         "%s: hole %d: coordinate %.17g is too small next to the largest "
-                         "coordinate magnitude %.17g",
-                         sf, i / 2 + g->first_index, g->holes[i], big);
+            return mesh_fail(err, errlen,
+                             "%s: hole %d: coordinate %.17g is too small next to the largest "
+                             "coordinate magnitude %.17g",
+                             sf, i / 2 + g->first_index, g->holes[i], big);
     for (int32_t i = 0; i < g->nregions; i++)
         for (int j = 0; j < 2; j++)
             if (isfinite(g->regions[4 * i + j]) && !on_grid(g->regions[4 * i + j], e))
-                return gfail(err, errlen,
-                             "%s: region %d: coordinate %.17g is too small next to the largest "
-                             "coordinate magnitude %.17g",
-                             sf, i + g->first_index, g->regions[4 * i + j], big);
+                return mesh_fail(err, errlen,
+                                 "%s: region %d: coordinate %.17g is too small next to the largest "
+                                 "coordinate magnitude %.17g",
+                                 sf, i + g->first_index, g->regions[4 * i + j], big);
     for (int32_t i = 0; i < 2 * g->nverts; i++)
         g->xy[i] = ldexp(g->xy[i], e);
     for (int32_t i = 0; i < 2 * g->nholes; i++)
@@ -588,9 +580,10 @@ static int normalise(pslg *g, int split, int quiet, int32_t **pairs, int64_t *np
     int32_t ns = g->nsegs;
     for (int32_t s = 0; s < ns && !quiet; s++) /* pieces of a split: dropped below */
         if (g->seg[2 * s] == g->seg[2 * s + 1])
-            return gfail(err, errlen, "%s:%d: segment %d has zero length (both endpoints are %s)",
-                         sf, g->sline ? g->sline[s] : 0, s + g->first_index,
-                         ndup ? "the same point" : "the same vertex");
+            return mesh_fail(err, errlen,
+                             "%s:%d: segment %d has zero length (both endpoints are %s)", sf,
+                             g->sline ? g->sline[s] : 0, s + g->first_index,
+                             ndup ? "the same point" : "the same vertex");
     pslg_skey *sk = mesh_xmalloc((size_t)ns, sizeof *sk);
     int32_t *ids = mesh_xmalloc((size_t)ns, sizeof *ids);
     char *keep = mesh_xmalloc((size_t)ns, 1);
@@ -647,7 +640,7 @@ static int normalise(pslg *g, int split, int quiet, int32_t **pairs, int64_t *np
             }
         cc.np = k;
     } else if (grid_build_segments(&gr, g->xy, g->seg, ids, nk)) {
-        rc = gfail(err, errlen, "%s: too many segments to check for crossings (%d)", sf, nk);
+        rc = mesh_fail(err, errlen, "%s: too many segments to check for crossings (%d)", sf, nk);
     } else {
         size_t ncell = (size_t)gr.nx * gr.ny;
         for (size_t c = 0; c < ncell; c++)
@@ -657,9 +650,9 @@ static int normalise(pslg *g, int split, int quiet, int32_t **pairs, int64_t *np
     int32_t *pr = cc.pr;
     int64_t np = cc.np;
     if (rc == 0 && !split && cc.bt >= 0)
-        rc = gfail(err, errlen, "%s:%d: segment %d crosses segment %d (line %d)", sf,
-                   g->sline ? g->sline[cc.bt] : 0, cc.bt + g->first_index, cc.bs + g->first_index,
-                   g->sline ? g->sline[cc.bs] : 0);
+        rc = mesh_fail(err, errlen, "%s:%d: segment %d crosses segment %d (line %d)", sf,
+                       g->sline ? g->sline[cc.bt] : 0, cc.bt + g->first_index,
+                       cc.bs + g->first_index, g->sline ? g->sline[cc.bs] : 0);
     if (rc == 0 && nk < ns) { /* compact; pairs follow the segments' new numbers */
         int32_t *pos = mesh_xmalloc((size_t)ns, sizeof *pos);
         for (int32_t i = 0; i < nk; i++) {
@@ -693,14 +686,14 @@ int pslg_check_ex(pslg *g, unsigned flags, char *err, size_t errlen) {
     int32_t n = g->nverts;
     for (int32_t i = 0; i < n; i++)
         if (!isfinite(g->xy[2 * i]) || !isfinite(g->xy[2 * i + 1]))
-            return gfail(err, errlen, "%s:%d: vertex %d has a non-finite coordinate", vf,
-                         g->vline ? g->vline[i] : 0, i + g->first_index);
+            return mesh_fail(err, errlen, "%s:%d: vertex %d has a non-finite coordinate", vf,
+                             g->vline ? g->vline[i] : 0, i + g->first_index);
     for (int32_t s = 0; s < g->nsegs; s++)
         for (int k = 0; k < 2; k++)
             if (g->seg[2 * s + k] < 0 || g->seg[2 * s + k] >= n)
-                return gfail(err, errlen, "%s:%d: segment %d: vertex %d out of range", sf,
-                             g->sline ? g->sline[s] : 0, s + g->first_index,
-                             g->seg[2 * s + k] + g->first_index);
+                return mesh_fail(err, errlen, "%s:%d: segment %d: vertex %d out of range", sf,
+                                 g->sline ? g->sline[s] : 0, s + g->first_index,
+                                 g->seg[2 * s + k] + g->first_index);
     if (pslg_scale(g, err, errlen) != 0) return -1;
     int split = (flags & PSLG_SPLIT) != 0;
     for (int round = 0;; round++) {
@@ -720,12 +713,12 @@ int pslg_check_ex(pslg *g, unsigned flags, char *err, size_t errlen) {
         int rc = 0;
         if (round == PSLG_SPLIT_ROUNDS) {
             int32_t s = pairs[0], t = pairs[1];
-            rc = gfail(err, errlen,
-                       "%s:%d: the segment on this line crosses the segment on line %d, and "
-                       "splitting them at their intersection keeps making new crossings "
-                       "(intersection points rounded to doubles; the segments are too close to "
-                       "resolve): move them apart, or use --strict to see the first crossing",
-                       sf, g->sline ? g->sline[t] : 0, g->sline ? g->sline[s] : 0);
+            rc = mesh_fail(err, errlen,
+                           "%s:%d: the segment on this line crosses the segment on line %d, and "
+                           "splitting them at their intersection keeps making new crossings "
+                           "(intersection points rounded to doubles; the segments are too close to "
+                           "resolve): move them apart, or use --strict to see the first crossing",
+                           sf, g->sline ? g->sline[t] : 0, g->sline ? g->sline[s] : 0);
         } else {
             pslg_split_pairs(g, pairs, np);
         }

@@ -37,15 +37,9 @@ typedef struct reader {
     size_t errlen;
 } reader;
 
-__attribute__((format(printf, 2, 3))) static int rfail(reader *r, const char *fmt, ...) {
-    char msg[384];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(msg, sizeof msg, fmt, ap);
-    va_end(ap);
-    snprintf(r->err, r->errlen, "%s:%ld: %s", r->path, r->line > 0 ? r->line : 1, msg);
-    return -1;
-}
+/* "PATH:LINE: problem" at r's current line (0, before the first: 1) */
+#define rfail(r, ...)                                                                              \
+    mesh_fail_at((r)->err, (r)->errlen, (r)->path, (r)->line > 0 ? (r)->line : 1, __VA_ARGS__)
 
 /* Loads path into r.  Returns 0, or -1 with textin's message (cannot open, not a text file). */
 static int reader_open(reader *r, const char *path, char *err, size_t errlen) {

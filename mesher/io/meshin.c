@@ -24,7 +24,7 @@
 #include <unistd.h>
 
 int meshio_mesh_prefix(const char *name, char *out, size_t n, char *err, size_t errlen) {
-    if (strlen(name) + 8 > n) return meshio_fail(err, errlen, "%s: path too long", name);
+    if (strlen(name) + 8 > n) return mesh_fail(err, errlen, "%s: path too long", name);
     snprintf(out, n, "%s", name);
     static const char *const ext[] = {".node", ".ele", ".poly", ".area"};
     size_t l = strlen(out);
@@ -193,7 +193,7 @@ int meshio_read_mesh_pslg(const char *name, pslg *g, char *err, size_t errlen) {
     } else {
         snprintf(g->segpath, sizeof g->segpath, "%s.ele", prefix);
         if (meshio_boundary_pslg(&m, g) != 0)
-            rc = meshio_fail(err, errlen, "%s.ele: too many triangles to index", prefix);
+            rc = mesh_fail(err, errlen, "%s.ele: too many triangles to index", prefix);
     }
     mesh_flat_free(&m);
     if (rc) pslg_free(g);

@@ -36,21 +36,13 @@
 
 /* ---------------------------------------------------------------- atomic output --------- */
 
-int meshio_fail(char *err, size_t errlen, const char *fmt, ...) {
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, errlen, fmt, ap);
-    va_end(ap);
-    return -1;
-}
-
 int meshio_mktemp(const char *path, char *tmp, size_t tmplen, char *err, size_t errlen) {
-    if (strlen(path) + 12 > tmplen) return meshio_fail(err, errlen, "%s: path too long", path);
+    if (strlen(path) + 12 > tmplen) return mesh_fail(err, errlen, "%s: path too long", path);
     snprintf(tmp, tmplen, "%s.tmpXXXXXX", path);
     int fd = mkstemp(tmp);
     if (fd < 0)
-        return meshio_fail(err, errlen, "%s: cannot create temporary file: %s", path,
-                           strerror(errno));
+        return mesh_fail(err, errlen, "%s: cannot create temporary file: %s", path,
+                         strerror(errno));
     mode_t um = umask(0);
     umask(um);
     (void)fchmod(fd, 0666 & ~um); /* mkstemp makes 0600; the usual permissions, not fatal */
@@ -77,7 +69,7 @@ int meshio_wopen(wfile *w, meshio_set *set, const char *path, char *err, size_t 
         close(fd);
         unlink(w->tmp);
         meshio_set_drop(set, w->tmp);
-        return meshio_fail(err, errlen, "%s: cannot open temporary file: %s", path, strerror(e));
+        return mesh_fail(err, errlen, "%s: cannot open temporary file: %s", path, strerror(e));
     }
     w->vbuf = mesh_xmalloc(1 << 20, 1);
     if (w->vbuf) setvbuf(w->f, w->vbuf, _IOFBF, 1 << 20);
@@ -109,8 +101,8 @@ int meshio_wclose(wfile *w, int failed) {
         unlink(w->tmp);
         meshio_set_drop(w->set, w->tmp);
         if (!failed || !w->err[0])
-            meshio_fail(w->err, w->errlen, "%s: write failed: %s", w->path,
-                        e ? strerror(e) : "an error of the C library's stream");
+            mesh_fail(w->err, w->errlen, "%s: write failed: %s", w->path,
+                      e ? strerror(e) : "an error of the C library's stream");
         return -1;
     }
     meshio_set_done(w->set, w->tmp);
@@ -260,7 +252,7 @@ int meshio_write_triangle_some(const mesh_flat *m, meshio_set *set, const char *
                                unsigned skip, char *err, size_t errlen) {
     char path[1024];
     if (strlen(prefix) + 6 > sizeof path)
-        return meshio_fail(err, errlen, "%s: path too long", prefix);
+        return mesh_fail(err, errlen, "%s: path too long", prefix);
     snprintf(path, sizeof path, "%s.node", prefix);
     if (!(skip & MESHIO_SKIP_NODE) && write_node(m, set, path, err, errlen)) return -1;
     snprintf(path, sizeof path, "%s.ele", prefix);
@@ -271,16 +263,9 @@ int meshio_write_triangle_some(const mesh_flat *m, meshio_set *set, const char *
 
 /* ---------------------------------------------------------------- reading back ---------- */
 
-__attribute__((format(printf, 5, 6))) static int lfail(char *err, size_t errlen, const char *path,
-                                                       long line, const char *fmt, ...) {
-    char msg[384];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(msg, sizeof msg, fmt, ap);
-    va_end(ap);
-    snprintf(err, errlen, "%s:%ld: %s", path, line > 0 ? line : 1, msg);
-    return -1;
-}
+/* "PATH:LINE: problem" (line 0, before the first: 1) */
+#define lfail(err, errlen, path, line, ...)                                                        \
+    mesh_fail_at(err, errlen, path, (line) > 0 ? (line) : 1, __VA_ARGS__)
 
 /* Parses one decimal integer token at *s (advancing *s); 0, or -1 if missing or malformed. */
 static int ele_int(char **s, long *v, int *missing) {
@@ -439,7 +424,7 @@ int meshio_read_triangle(const char *prefix, mesh_flat *m, char *err, size_t err
     if (errlen) err[0] = '\0';
     char path[1024];
     if (strlen(prefix) + 6 > sizeof path)
-        return meshio_fail(err, errlen, "%s: path too long", prefix);
+        return mesh_fail(err, errlen, "%s: path too long", prefix);
     pslg g;
     snprintf(path, sizeof path, "%s.node", prefix);
     if (pslg_read(path, &g, err, errlen)) return -1;
@@ -459,8 +444,8 @@ int meshio_read_triangle(const char *prefix, mesh_flat *m, char *err, size_t err
         if (pslg_read_segments(path, m->nverts, first, &g, err, errlen)) goto fail;
         if (g.nverts != 0) {
             pslg_free(&g);
-            meshio_fail(err, errlen, "%s: lists its own vertices; expected 0 (vertices in %s.node)",
-                        path, prefix);
+            mesh_fail(err, errlen, "%s: lists its own vertices; expected 0 (vertices in %s.node)",
+                      path, prefix);
             goto fail;
         }
         m->nsegs = g.nsegs;

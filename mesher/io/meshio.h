@@ -91,14 +91,6 @@ int meshio_write_triangle_some(const mesh_flat *m, struct meshio_set *set, const
  * is a non-negative integer). */
 int meshio_read_triangle(const char *prefix, mesh_flat *m, char *err, size_t errlen);
 
-/* Formats a message into err (errlen bytes) and returns -1: the readers' and writers' failure
- * path ("FILE:LINE: problem"). */
-int meshio_fail(char *err, size_t errlen, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 3, 4)))
-#endif
-    ;
-
 /* Reads the mesh to refine (-r NAME; NAME, NAME.node or NAME.ele) into g as a PSLG (meshin.c;
  * *g zeroed first; on failure it holds nothing): the mesh's vertices (attributes and markers
  * included) are the PSLG's vertices, so the refined mesh keeps every one of them.  Segments and

@@ -80,7 +80,7 @@ static int ends_with(const char *s, const char *t) {
 int meshio_set_add(meshio_set *s, const char *tmp, const char *path, char *err, size_t errlen) {
     if (!s) return 0;
     if (strlen(tmp) >= sizeof s->f[0].tmp || strlen(path) >= sizeof s->f[0].path)
-        return meshio_fail(err, errlen, "%s: path too long", path);
+        return mesh_fail(err, errlen, "%s: path too long", path);
     sigset_t old;
     block(&old);
     if (s->n == s->cap) {
@@ -142,18 +142,18 @@ int meshio_set_step(meshio_set *s, int step, char *err, size_t errlen) {
     for (int i = 0; i < s->n; i++) {
         meshio_set_file *e = &s->f[i];
         if (!e->tmp[0]) continue;
-        if (!e->done) return meshio_fail(err, errlen, "%s: not written whole", e->path);
+        if (!e->done) return mesh_fail(err, errlen, "%s: not written whole", e->path);
         if (step == 1 && e->entry) {
             test_kill_point();
             if (unlink(e->path) != 0 && errno != ENOENT)
-                return meshio_fail(err, errlen, "%s: cannot remove the previous file: %s", e->path,
-                                   strerror(errno));
+                return mesh_fail(err, errlen, "%s: cannot remove the previous file: %s", e->path,
+                                 strerror(errno));
         }
         if ((step == 2 && !e->entry) || (step == 3 && e->entry)) {
             test_kill_point();
             if (rename(e->tmp, e->path) != 0)
-                return meshio_fail(err, errlen, "%s: cannot rename the written file %s: %s",
-                                   e->path, e->tmp, strerror(errno));
+                return mesh_fail(err, errlen, "%s: cannot rename the written file %s: %s", e->path,
+                                 e->tmp, strerror(errno));
             sigset_t old;
             block(&old);
             e->tmp[0] = '\0';
@@ -188,12 +188,12 @@ void meshio_set_free(meshio_set *s) {
 
 int meshio_probe(const char *path, char *err, size_t errlen) {
     char tmp[1100];
-    if (strlen(path) + 12 > sizeof tmp) return meshio_fail(err, errlen, "%s: path too long", path);
+    if (strlen(path) + 12 > sizeof tmp) return mesh_fail(err, errlen, "%s: path too long", path);
     snprintf(tmp, sizeof tmp, "%s.tmpXXXXXX", path);
     int fd = mkstemp(tmp);
     if (fd < 0)
-        return meshio_fail(err, errlen, "%s: cannot create files in its folder: %s", path,
-                           strerror(errno));
+        return mesh_fail(err, errlen, "%s: cannot create files in its folder: %s", path,
+                         strerror(errno));
     close(fd);
     unlink(tmp);
     return 0;

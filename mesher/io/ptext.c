@@ -13,6 +13,7 @@
 #include "io/ptext.h"
 
 #include "base/base.h"
+#include "base/base_mpi.h"
 #include "io/oset.h"
 #include "io/wfile.h"
 
@@ -28,14 +29,6 @@
 
 #define PT_CHUNK ((size_t)1 << 20)
 
-MESH_PRINTF(3, 4) static void pt_err(char *err, size_t errlen, const char *fmt, ...) {
-    if (!errlen) return;
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, errlen, fmt, ap);
-    va_end(ap);
-}
-
 static int pt_put(void *ctx, struct meshio_set *set, const char *path, const mesh_text_sec *s,
                   int ns, char *err, size_t errlen) {
     return meshio_pwrite_sections(*(MPI_Comm *)ctx, set, path, s, ns, err, errlen);
@@ -49,17 +42,7 @@ mesh_text_out meshio_ptext_out(MPI_Comm *comm) {
 }
 
 int meshio_pagree(MPI_Comm comm, int ok, char *err, size_t errlen) {
-    int rank, size;
-    MESH_MPI(MPI_Comm_rank(comm, &rank));
-    MESH_MPI(MPI_Comm_size(comm, &size));
-    int mine = ok ? size : rank, first;
-    MESH_MPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm));
-    if (first == size) return 0;
-    char msg[512] = "";
-    if (rank == first && errlen) snprintf(msg, sizeof msg, "%s", err);
-    MESH_MPI(MPI_Bcast(msg, (int)sizeof msg, MPI_CHAR, first, comm));
-    if (errlen) snprintf(err, errlen, "%s", msg);
-    return -1;
+    return mesh_agree(comm, !ok, errlen ? err : NULL, err, errlen) ? -1 : 0;
 }
 
 /* Why a write that MPI-IO reported as short stopped (Open MPI returns success with fewer bytes
@@ -98,8 +81,8 @@ int meshio_pwrite_at(MPI_File fh, long long off, const char *b, size_t n, const 
             char why[MPI_MAX_ERROR_STRING];
             const char *cause = short_cause(path, off + (long long)n);
             if (rc == MPI_SUCCESS && !cause) cause = "no byte written, no error given";
-            pt_err(err, errlen, "%s: write failed at byte %lld: %s", path, off + (long long)done,
-                   cause ? cause : meshio_mpi_strerror(rc, why));
+            mesh_fail(err, errlen, "%s: write failed at byte %lld: %s", path, off + (long long)done,
+                      cause ? cause : meshio_mpi_strerror(rc, why));
             return -1;
         }
         done += (size_t)got;
@@ -153,8 +136,8 @@ int meshio_pwrite_sections(MPI_Comm comm, struct meshio_set *set, const char *pa
     if (orc != MPI_SUCCESS) {
         ok = 0;
         char why[MPI_MAX_ERROR_STRING];
-        pt_err(err, errlen, "%s: cannot open for parallel writing: %s", path,
-               meshio_mpi_strerror(orc, why));
+        mesh_fail(err, errlen, "%s: cannot open for parallel writing: %s", path,
+                  meshio_mpi_strerror(orc, why));
     }
     if (meshio_pagree(comm, ok, err, errlen)) {
         if (rank == 0) {
@@ -185,8 +168,8 @@ int meshio_pwrite_sections(MPI_Comm comm, struct meshio_set *set, const char *pa
         }
         if (ok && at - start != mine[k]) {
             ok = 0;
-            pt_err(err, errlen, "%s: internal error: %lld bytes counted, %lld written", path,
-                   mine[k], at - start);
+            mesh_fail(err, errlen, "%s: internal error: %lld bytes counted, %lld written", path,
+                      mine[k], at - start);
         }
         base += tot[k];
     }
@@ -203,7 +186,7 @@ int meshio_pwrite_sections(MPI_Comm comm, struct meshio_set *set, const char *pa
             meshio_set_done(set, tmp);
         } else if (rename(tmp, path) != 0) {
             ok = 0;
-            pt_err(err, errlen, "%s: cannot rename the written file: %s", path, strerror(errno));
+            mesh_fail(err, errlen, "%s: cannot rename the written file: %s", path, strerror(errno));
             unlink(tmp);
         }
     }
@@ -224,13 +207,13 @@ int meshio_pclose(MPI_File *fh, int ok, const char *path, char *err, size_t errl
     char why[MPI_MAX_ERROR_STRING];
     if (rc != MPI_SUCCESS && ok) {
         bad = 1;
-        pt_err(err, errlen, "%s: writing to the disk failed: %s", path,
-               meshio_mpi_strerror(rc, why));
+        mesh_fail(err, errlen, "%s: writing to the disk failed: %s", path,
+                  meshio_mpi_strerror(rc, why));
     }
     rc = MPI_File_close(fh);
     if (rc != MPI_SUCCESS && ok && !bad) {
         bad = 1;
-        pt_err(err, errlen, "%s: closing failed: %s", path, meshio_mpi_strerror(rc, why));
+        mesh_fail(err, errlen, "%s: closing failed: %s", path, meshio_mpi_strerror(rc, why));
     }
     return bad ? -1 : 0;
 }

@@ -55,14 +55,6 @@
 
 /* ---- errors ------------------------------------------------------------------------- */
 
-MESH_PRINTF(3, 4) static void efmt(char *err, size_t errlen, const char *fmt, ...) {
-    if (!errlen) return;
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, errlen, fmt, ap);
-    va_end(ap);
-}
-
 /* ---- the text of one Triangle file, record by record --------------------------------- */
 
 #define CHUNK_DEFAULT ((size_t)1 << 20) /* formatted text still in cache when copied out */
@@ -523,8 +515,8 @@ static int write_files(MPI_Comm comm, meshio_set *set, const char (*path)[PATH_M
         if (rc != MPI_SUCCESS) {
             ok = 0;
             char why[MPI_MAX_ERROR_STRING];
-            efmt(err, errlen, "%s: cannot open for parallel writing: %s", path[nopen],
-                 meshio_mpi_strerror(rc, why));
+            mesh_fail(err, errlen, "%s: cannot open for parallel writing: %s", path[nopen],
+                      meshio_mpi_strerror(rc, why));
         }
         if (meshio_pagree(comm, ok, err, errlen)) break;
         MESH_MPI(MPI_File_set_errhandler(fh[nopen], MPI_ERRORS_RETURN));
@@ -549,8 +541,8 @@ static int write_files(MPI_Comm comm, meshio_set *set, const char (*path)[PATH_M
         if (ok && counted[f] &&
             at != off[f] + mine[f]) { /* pass 2 must have made exactly pass 1's bytes */
             ok = 0;
-            efmt(err, errlen, "%s: internal error: %lld bytes counted, %lld written", path[f],
-                 mine[f], at - off[f]);
+            mesh_fail(err, errlen, "%s: internal error: %lld bytes counted, %lld written", path[f],
+                      mine[f], at - off[f]);
         }
     }
     for (int f = 0; f < nf; f++)
@@ -568,7 +560,8 @@ static int write_files(MPI_Comm comm, meshio_set *set, const char (*path)[PATH_M
             meshio_set_done(set, tmp[f]);
         } else if (rename(tmp[f], path[f]) != 0) {
             ok = 0;
-            efmt(err, errlen, "%s: cannot rename the written file: %s", path[f], strerror(errno));
+            mesh_fail(err, errlen, "%s: cannot rename the written file: %s", path[f],
+                      strerror(errno));
             unlink(tmp[f]);
         }
     }
@@ -788,7 +781,7 @@ int meshio_pwrite_pvtu(MPI_Comm comm, meshio_set *set, const mesh_flat *local, c
     if (errlen) err[0] = '\0';
     char path[PATH_MAX_LEN + 32];
     int ok = strlen(prefix) < PATH_MAX_LEN;
-    if (!ok) efmt(err, errlen, "%s: path too long", prefix);
+    if (!ok) mesh_fail(err, errlen, "%s: path too long", prefix);
     if (ok) {
         snprintf(path, sizeof path, "%s_%d.vtu", prefix, rank);
         ok = meshio_write_vtu(local, set, rank, tsub, binary, path, err, errlen) == 0;

@@ -13,6 +13,7 @@
 #include "par/par.h"
 
 #include "base/base.h"
+#include "base/base_mpi.h"
 
 #include "geom/geom.h"
 #include "rt.h"
@@ -39,23 +40,7 @@ par_config par_config_of(const par_opts *o) {
 /* ---- collective failure ----------------------------------------------------------------- */
 
 int par_agree(int code, const char *msg, char *out, size_t outlen) {
-    MPI_Comm c = rt_app_comm();
-    int rank = rt_rank(), size = rt_size();
-    int mine = code != 0 ? rank : size, first = size;
-    MESH_MPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, c));
-    if (first == size) return 0;
-    struct {
-        int code;
-        char msg[1200];
-    } b;
-    memset(&b, 0, sizeof b);
-    if (rank == first) {
-        b.code = code;
-        if (msg) snprintf(b.msg, sizeof b.msg, "%s", msg);
-    }
-    MESH_MPI(MPI_Bcast(&b, (int)sizeof b, MPI_BYTE, first, c));
-    if (out && outlen) snprintf(out, outlen, "%s", b.msg);
-    return b.code;
+    return mesh_agree(rt_app_comm(), code, msg, out, outlen);
 }
 
 int par_fail_any(int local_fail, const char *msg) {

@@ -31,14 +31,6 @@
 #include <stdarg.h>
 #include <string.h>
 
-static void set_err(char *err, size_t errlen, const char *fmt, ...) {
-    if (!err || errlen == 0) return;
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, errlen, fmt, ap);
-    va_end(ap);
-}
-
 static const double *X(const mesh *m, int32_t v) {
     return m->xy + 2 * (size_t)v;
 }
@@ -127,7 +119,7 @@ static int delaunay(mesh *m, int32_t n, int32_t *dup, char *err, size_t errlen) 
     for (int32_t v = 0; v < n; v++)
         dup[v] = v;
     if (n < 3) {
-        set_err(err, errlen, "fewer than 3 vertices: nothing to triangulate");
+        mesh_fail(err, errlen, "fewer than 3 vertices: nothing to triangulate");
         return -1;
     }
     int32_t *order = brio_order(m, n);
@@ -141,7 +133,7 @@ static int delaunay(mesh *m, int32_t n, int32_t *dup, char *err, size_t errlen) 
     }
     if (i2 < 0) {
         free(order);
-        set_err(err, errlen, "all vertices are collinear: no triangle");
+        mesh_fail(err, errlen, "all vertices are collinear: no triangle");
         return -1;
     }
     if (o > 0)
@@ -510,7 +502,7 @@ static int build(mesh *m, int32_t n, const double *xy, const int32_t *vmarker, i
                  const int32_t *seg, const int32_t *smarker, const uint8_t *iface,
                  const double *holes, int32_t nholes, char *err, size_t errlen) {
     if (m->nv != 0 || m->nt != 0) {
-        set_err(err, errlen, "mesh_build: mesh is not empty");
+        mesh_fail(err, errlen, "mesh_build: mesh is not empty");
         return -1;
     }
     for (int32_t v = 0; v < n; v++)
@@ -541,7 +533,7 @@ static int build(mesh *m, int32_t n, const double *xy, const int32_t *vmarker, i
     corners(m);
     m->last = -1;
     if (m->nlive == 0) {
-        set_err(err, errlen, "the domain is empty (holes or missing boundary segments?)");
+        mesh_fail(err, errlen, "the domain is empty (holes or missing boundary segments?)");
         return -1;
     }
     return 0;
@@ -571,7 +563,7 @@ static int32_t out_edge(const mesh *m, const int32_t *off, const int32_t *code, 
 int mesh_build_from_triangles(mesh *m, const pslg *g, const uint8_t *iface, int32_t ntri,
                               const int32_t *tri, char *err, size_t errlen) {
     if (m->nv != 0 || m->nt != 0) {
-        set_err(err, errlen, "mesh_build: mesh is not empty");
+        mesh_fail(err, errlen, "mesh_build: mesh is not empty");
         return -1;
     }
     m->scale_exp = g->scale_exp;
@@ -583,14 +575,14 @@ int mesh_build_from_triangles(mesh *m, const pslg *g, const uint8_t *iface, int3
     for (int32_t v = 0; v < n; v++)
         m->in_vmarker[v] = g->vmarker ? g->vmarker[v] : 0;
     int bad = ntri < 1;
-    if (bad) set_err(err, errlen, "no triangle");
+    if (bad) mesh_fail(err, errlen, "no triangle");
     for (int32_t i = 0; i < ntri && !bad; i++) {
         const int32_t *v = tri + 3 * (size_t)i;
         for (int j = 0; j < 3; j++)
             bad |= v[j] < 0 || v[j] >= n;
         if (bad || geom_orient2d(X(m, v[0]), X(m, v[1]), X(m, v[2])) <= 0) {
-            set_err(err, errlen, "triangle %d is not a counter-clockwise triangle of the vertices",
-                    (int)i);
+            mesh_fail(err, errlen,
+                      "triangle %d is not a counter-clockwise triangle of the vertices", (int)i);
             bad = 1;
             break;
         }
@@ -616,7 +608,7 @@ int mesh_build_from_triangles(mesh *m, const pslg *g, const uint8_t *iface, int3
         if (twin >= 0) m->tn[e] = twin;
         for (int32_t i = off[a]; i < off[a + 1] && !bad; i++) /* a -> b once only */
             if (code[i] != e && mesh_dest(m, code[i]) == b) {
-                set_err(err, errlen, "edge %d-%d is in more than two triangles", (int)a, (int)b);
+                mesh_fail(err, errlen, "edge %d-%d is in more than two triangles", (int)a, (int)b);
                 bad = 1;
             }
     }
@@ -628,8 +620,8 @@ int mesh_build_from_triangles(mesh *m, const pslg *g, const uint8_t *iface, int3
         int32_t e = ok ? out_edge(m, off, code, a, b) : -1;
         if (e < 0 && ok) e = out_edge(m, off, code, b, a);
         if (e < 0) {
-            set_err(err, errlen, "segment %d (%d-%d) is no edge of the triangles", (int)s, (int)a,
-                    (int)b);
+            mesh_fail(err, errlen, "segment %d (%d-%d) is no edge of the triangles", (int)s, (int)a,
+                      (int)b);
             bad = 1;
             break;
         }
@@ -638,8 +630,8 @@ int mesh_build_from_triangles(mesh *m, const pslg *g, const uint8_t *iface, int3
     }
     for (int32_t e = 0; e < 3 * ntri && !bad; e++)
         if (m->tn[e] < 0 && !mesh_edge_constrained(m, e)) {
-            set_err(err, errlen, "boundary edge %d-%d is no segment", (int)mesh_org(m, e),
-                    (int)mesh_dest(m, e));
+            mesh_fail(err, errlen, "boundary edge %d-%d is no segment", (int)mesh_org(m, e),
+                      (int)mesh_dest(m, e));
             bad = 1;
         }
     free(off);
