@@ -134,7 +134,7 @@ static int read_uint(const char *s, const char **end, uint64_t *x) {
 }
 
 static int in_range(const cli_value *v, double x) {
-    return (v->min_open ? x > v->min : x >= v->min) && x <= v->max;
+    return (v->min_open ? x > v->min : x >= v->min) && (v->max_open ? x < v->max : x <= v->max);
 }
 
 /* "a non-negative number at most 60": what v accepts, for messages. */
@@ -147,7 +147,8 @@ static void describe(const cli_value *v, char *buf, size_t n) {
     else
         snprintf(lo, sizeof lo, "%s %s %.15g", v->kind == CLI_REAL ? "a number" : "an integer",
                  v->min_open ? "above" : "at least", v->min);
-    if (v->max < 9e18) snprintf(hi, sizeof hi, " at most %.15g", v->max);
+    if (v->max < 9e18)
+        snprintf(hi, sizeof hi, " %s %.15g", v->max_open ? "below" : "at most", v->max);
     snprintf(buf, n, "%s%s", lo, hi);
 }
 

@@ -80,6 +80,7 @@ typedef struct cli_value {
     double min, max;     /* accepted range of a number (inclusive) */
     int min_open;        /* 1: min itself is refused ("a positive number") */
     const char *choices; /* strings: the accepted words, "a|b|c" (NULL: any non-empty string) */
+    int max_open;        /* 1: max itself is refused ("below 60") */
 } cli_value;
 
 typedef struct cli_field {
@@ -134,8 +135,8 @@ int cli_output_name(const char *input, int refine, char *buf, size_t n);
 /* Local.  Writes p's --help text (usage, options with defaults, exit statuses) to f. */
 void cli_help(const cli_prog *p, FILE *f);
 
-/* Local; a par_parse_fn for the parallel driver (run_par_main).  prog is the cli_prog (cli_pcdm or cli_pbw); only
- * rank 0 prints. */
+/* Local; a par_parse_fn for the parallel driver (run_par_main).  prog is the cli_prog (cli_pcdm or
+ * cli_pbw); only rank 0 prints. */
 int cli_par_parse(int argc, char **argv, int rank, const void *prog, par_opts *o, int *status);
 
 #endif

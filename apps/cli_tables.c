@@ -9,6 +9,7 @@
  */
 #include "cli.h"
 
+#include "bounds/bounds.h"
 #include "par/pout.h"
 
 #include <math.h>
@@ -17,22 +18,23 @@
 
 /* ---- the tables ------------------------------------------------------------------------ */
 
-static const cli_value v_help = {CLI_HELP, NULL, 0, 0, 0, NULL};
-static const cli_value v_version = {CLI_VERSION, NULL, 0, 0, 0, NULL};
-static const cli_value v_flag = {CLI_FLAG, NULL, 0, 0, 0, NULL};
-static const cli_value v_file = {CLI_STRING, "FILE", 0, 0, 0, NULL};
-static const cli_value v_prefix = {CLI_STRING, "PREFIX", 0, 0, 0, NULL};
-static const cli_value v_angle = {CLI_REAL, "DEG", 0, 60, 0, NULL};
-static const cli_value v_area = {CLI_REAL, "AREA", 0, INFINITY, 0, NULL};
-static const cli_value v_count = {CLI_INT64, "N", 0, INFINITY, 0, NULL};
-static const cli_value v_nsub = {CLI_INT32, "K", 1, 1e6, 0, NULL};
-static const cli_value v_ratio = {CLI_REAL, "R", 0, 1e6, 1, NULL};
-static const cli_value v_seed = {CLI_UINT64, "SEED", 0, INFINITY, 0, NULL};
-static const cli_value v_poll = {CLI_INT32, "N", 1, 1e6, 0, NULL};
-static const cli_value v_inflight = {CLI_INT32, "N", 1, 1024, 0, NULL};
-static const cli_value v_threads = {CLI_INT32, "T", 1, 256, 0, NULL};
-static const cli_value v_balance = {CLI_STRING, "MODE", 0, 0, 0, "static|dynamic"};
-static const cli_value v_net = {CLI_STRING, "SPEC", 0, 0, 0, NULL};
+static const cli_value v_help = {CLI_HELP, NULL, 0, 0, 0, NULL, 0};
+static const cli_value v_version = {CLI_VERSION, NULL, 0, 0, 0, NULL, 0};
+static const cli_value v_flag = {CLI_FLAG, NULL, 0, 0, 0, NULL, 0};
+static const cli_value v_file = {CLI_STRING, "FILE", 0, 0, 0, NULL, 0};
+static const cli_value v_prefix = {CLI_STRING, "PREFIX", 0, 0, 0, NULL, 0};
+static const cli_value v_angle = {CLI_REAL, "DEG", 0, BOUNDS_ANGLE_LIMIT, 0, NULL, 1};
+static const cli_value v_check_angle = {CLI_REAL, "DEG", 0, 60, 0, NULL, 0};
+static const cli_value v_area = {CLI_REAL, "AREA", 0, INFINITY, 0, NULL, 0};
+static const cli_value v_count = {CLI_INT64, "N", 0, INFINITY, 0, NULL, 0};
+static const cli_value v_nsub = {CLI_INT32, "K", 1, 1e6, 0, NULL, 0};
+static const cli_value v_ratio = {CLI_REAL, "R", 0, 1e6, 1, NULL, 0};
+static const cli_value v_seed = {CLI_UINT64, "SEED", 0, INFINITY, 0, NULL, 0};
+static const cli_value v_poll = {CLI_INT32, "N", 1, 1e6, 0, NULL, 0};
+static const cli_value v_inflight = {CLI_INT32, "N", 1, 1024, 0, NULL, 0};
+static const cli_value v_threads = {CLI_INT32, "T", 1, 256, 0, NULL, 0};
+static const cli_value v_balance = {CLI_STRING, "MODE", 0, 0, 0, "static|dynamic", 0};
+static const cli_value v_net = {CLI_STRING, "SPEC", 0, 0, 0, NULL, 0};
 
 /* Every program. */
 static const cli_opt common_rows[] = {
@@ -44,6 +46,7 @@ static const cli_opt common_rows[] = {
 
 /* What every mesher (./mesh, ./pcdm, ./pbw) is told. */
 _Static_assert(PAR_SVG_MAX_TRIS == 2000000, "--svg's help text states the cap");
+_Static_assert(PAR_MAX_SUBDOMAINS == 256, "--subdomains' help text states the cap");
 
 static const cli_opt mesher_rows[] = {
     {.letter = 'p',
@@ -54,12 +57,13 @@ static const cli_opt mesher_rows[] = {
     {.letter = 'q',
      .value = &v_angle,
      .at = CLI_AT(par.min_angle),
-     .dflt = 20.7,
+     .dflt = BOUNDS_DEFAULT_ANGLE,
      .bare = "20",
      .warn_above = 34,
      .warning = "above about 34 degrees may not be reachable (refinement then stops with an "
                 "error)",
-     .help = "minimum angle bound in degrees, 0 to 60 (0: none; -q without a number: 20, as "
+     .help = "minimum angle bound in degrees, at least 0 and below 60 (0: none; -q without a "
+             "number: 20, as "
              "Triangle; above about 34, refinement may stall: it then stops with an error)"},
     {.letter = 'a',
      .value = &v_area,
@@ -215,7 +219,8 @@ static const cli_opt parallel_rows[] = {
      .dflt_text = "./pcdm: 16, or ranks x threads where that is more, fewer on a small mesh; "
                   "./pcdm --async and "
                   "./pbw: the ranks, x4 with --balance dynamic",
-     .help = "number of subdomains, at least the number of ranks"},
+     .help = "number of subdomains, at least the number of ranks (the automatic decomposition "
+             "makes at most 256; --cuts any number)"},
     {.name = "imbalance",
      .value = &v_ratio,
      .at = CLI_AT(par.imbalance),
@@ -310,7 +315,7 @@ static const cli_opt mesh_rows[] = {
  * meshers', but no bound unless given. */
 static const cli_opt meshcheck_rows[] = {
     {.letter = 'q',
-     .value = &v_angle,
+     .value = &v_check_angle,
      .at = CLI_AT(par.min_angle),
      .dflt = 0,
      .dflt_text = "no check",

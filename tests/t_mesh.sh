@@ -91,7 +91,7 @@ for f in tests/bad/*; do
     expect_fail "$f:[0-9]*:" "$M" -NEP --strict "$f"
 done
 expect_fail "unknown option" "$M" --bogus data/square.poly
-expect_fail "at most 60" "$M" -q 70 data/square.poly
+expect_fail "below 60" "$M" -q 70 data/square.poly
 expect_fail "bad value" "$M" -a -1 data/square.poly
 expect_fail "usage" "$M"
 "$M" -NEP tests/bad/duplicate_points.poly >/dev/null 2>&1 || fail "duplicate points should be merged"

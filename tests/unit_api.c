@@ -156,6 +156,9 @@ START_TEST(test_errors) {
     o.min_angle = 65;
     ck_assert_int_eq(pcdm_triangulate(&in, &o, &m, &st), PCDM_EINVAL);
     ck_assert_ptr_nonnull(strstr(st.message, "min_angle 65"));
+    o.min_angle = 60; /* the command line's rule: below 60 */
+    ck_assert_int_eq(pcdm_triangulate(&in, &o, &m, &st), PCDM_EINVAL);
+    ck_assert_ptr_nonnull(strstr(st.message, "min_angle 60: must be at least 0 and below 60"));
     o.min_angle = 20;
     o.threads = 2; /* libpcdm (MPI) runs threads on MPI_COMM_SELF: MPI is not initialised */
     ck_assert_int_eq(pcdm_triangulate(&in, &o, &m, &st), PCDM_EMPI);

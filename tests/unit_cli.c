@@ -111,9 +111,14 @@ START_TEST(test_number_edges) {
     ck_assert_int_eq(parse(&cli_pcdm, &o, NULL, 0, "--subdomains", "0", "i", NULL), 2);
     ck_assert_int_eq(parse(&cli_pcdm, &o, NULL, 0, "--imbalance", "1e-9", "i", NULL), -1);
     ck_assert(o.par.imbalance == 1e-9);
-    ck_assert_int_eq(parse(&cli_mesh, &o, NULL, 0, "-q", "60", "-a", "1e300", "i", NULL), -1);
-    ck_assert(o.par.min_angle == 60 && o.par.max_area == 1e300);
+    ck_assert_int_eq(parse(&cli_mesh, &o, NULL, 0, "-q", "59.999", "-a", "1e300", "i", NULL), -1);
+    ck_assert(o.par.min_angle == 59.999 && o.par.max_area == 1e300);
+    /* a bound of 60 no mesh meets: refused as the library refuses it (bounds_check) */
+    ck_assert_int_eq(parse(&cli_mesh, &o, NULL, 0, "-q", "60", "i", NULL), 2);
     ck_assert_int_eq(parse(&cli_mesh, &o, NULL, 0, "-q", "60.000001", "i", NULL), 2);
+    /* ./meshcheck may hold a mesh to 60 */
+    ck_assert_int_eq(parse(&cli_meshcheck, &o, NULL, 0, "-q", "60", "m", "i", NULL), -1);
+    ck_assert(o.par.min_angle == 60);
 }
 END_TEST
 
@@ -337,8 +342,8 @@ START_TEST(test_switch_errors) {
                 "--help)\n"},
         {"-q30x", "mesh: unknown option '-x' in '-q30x' (try --help)\n"},
         {"-S1.5", "mesh: bad value '1.5': -S needs a non-negative integer (try --help)\n"},
-        {"-q70", "mesh: bad value '70': -q needs a non-negative number at most 60 (try --help)\n"},
-        {"-pq-5", "mesh: bad value '-5': -q needs a non-negative number at most 60 (try --help)\n"},
+        {"-q70", "mesh: bad value '70': -q needs a non-negative number below 60 (try --help)\n"},
+        {"-pq-5", "mesh: bad value '-5': -q needs a non-negative number below 60 (try --help)\n"},
         {"-a1e400", "mesh: bad value '1e400': -a needs a non-negative number (try --help)\n"},
         {"-S0x10", "mesh: bad value '0x10': -S needs a non-negative integer (try --help)\n"},
     };

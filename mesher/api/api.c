@@ -16,6 +16,7 @@
 #include "api/api_impl.h"
 
 #include "base/base.h"
+#include "bounds/bounds.h"
 #include "geom/geom.h"
 #include "run/run.h"
 #include "seq/mesh.h"
@@ -32,7 +33,7 @@ const char *pcdm_version(void) {
 
 void pcdm_options_default(pcdm_options *o) {
     memset(o, 0, sizeof *o);
-    o->min_angle = 20.7;
+    o->min_angle = BOUNDS_DEFAULT_ANGLE;
     o->max_steiner = -1;
     o->root = -1;
 }
@@ -75,12 +76,9 @@ const char *api_unpath(const char *msg) {
 
 int api_check_args(const pcdm_input *in, const pcdm_options *o, pcdm_status *st) {
     if (!in) return api_fail(st, PCDM_EINVAL, "no input");
-    if (!(o->min_angle >= 0 && o->min_angle < 60))
-        return api_fail(st, PCDM_EINVAL, "min_angle %g: must be at least 0 and below 60",
-                        o->min_angle);
-    if (!(o->max_area >= 0) || isinf(o->max_area))
-        return api_fail(st, PCDM_EINVAL, "max_area %g: must be 0 (none) or a positive number",
-                        o->max_area);
+    char why[sizeof st->message];
+    if (bounds_check(o->min_angle, o->max_area, "min_angle", "max_area", why, sizeof why) != 0)
+        return api_fail(st, PCDM_EINVAL, "%s", why);
     if (in->npoints < 0 || in->nsegments < 0 || in->nholes < 0 || in->nregions < 0 ||
         in->npointattr < 0)
         return api_fail(st, PCDM_EINVAL, "a negative count in the input");

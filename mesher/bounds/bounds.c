@@ -8,8 +8,25 @@
  */
 #include "bounds/bounds.h"
 
+#include <math.h>
+#include <stdio.h>
+
 double bounds_refine_angle(double deg) {
     return deg > 0 ? deg * (1 + 1e-9) + 1e-12 : 0;
+}
+
+int bounds_check(double min_angle, double max_area, const char *angle_name, const char *area_name,
+                 char *err, size_t errlen) {
+    if (!(min_angle >= 0 && min_angle < BOUNDS_ANGLE_LIMIT)) {
+        snprintf(err, errlen, "%s %g: must be at least 0 and below %g", angle_name, min_angle,
+                 BOUNDS_ANGLE_LIMIT);
+        return -1;
+    }
+    if (!(max_area >= 0) || isinf(max_area)) {
+        snprintf(err, errlen, "%s %g: must be 0 (none) or a positive number", area_name, max_area);
+        return -1;
+    }
+    return 0;
 }
 
 mesh_bounds bounds_make(double min_angle, double max_area, int64_t max_steiner, int circumcenters,

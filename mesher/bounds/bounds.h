@@ -23,6 +23,12 @@
 
 /* A size rule: 1 iff the counter-clockwise triangle p (the mesher's internal coordinates) of
  * the given area is too big (mesh_rules.unsuitable). */
+/* The default angle bound (degrees): Triangle's -q without a number is 20; this is the largest
+ * bound Chew's and Ruppert's refinement with off-centres reaches on any input in practice. */
+#define BOUNDS_DEFAULT_ANGLE 20.7
+/* Angle bounds are below it: no triangle but the equilateral one has all angles at 60. */
+#define BOUNDS_ANGLE_LIMIT 60.0
+
 typedef int (*bounds_size_fn)(void *ctx, const double *const p[3], double area);
 
 typedef struct mesh_bounds {
@@ -46,6 +52,13 @@ double bounds_refine_angle(double deg);
  * bounds, no size rule (set b.region_area, bounds_set_size). */
 mesh_bounds bounds_make(double min_angle, double max_area, int64_t max_steiner, int circumcenters,
                         int lens);
+
+/* The one check of the bounds as stated, for every entry (command line, library, Python): 0
+ * iff 0 <= min_angle < BOUNDS_ANGLE_LIMIT and max_area is 0 (none) or positive and finite;
+ * else -1 with "NAME VALUE: must be ..." in err, each bound named as the caller's user knows it
+ * (angle_name "-q" or "min_angle"). */
+int bounds_check(double min_angle, double max_area, const char *angle_name, const char *area_name,
+                 char *err, size_t errlen);
 
 /* Sets b's size rule (fn NULL: none). */
 void bounds_set_size(mesh_bounds *b, bounds_size_fn fn, void *ctx);

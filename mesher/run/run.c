@@ -62,6 +62,9 @@ int run_load(run_job *j, pslg *g, int quiet, int sizes, char *err, size_t errlen
     const par_opts *o = &j->o;
     memset(g, 0, sizeof *g);
     memset(&j->sizes, 0, sizeof j->sizes);
+    if (bounds_check(o->min_angle, o->max_area, j->lib ? "min_angle" : "-q",
+                     j->lib ? "max_area" : "-a", err, errlen) != 0)
+        return -1;
     if (!j->lib && probe_outputs(o, err, errlen) != 0) return -1;
     int rc;
     if (j->given) {

@@ -371,8 +371,6 @@ def triangulate(
     ma = float(min_angle) if min_angle is not None else s["min_angle"]
     area = float(max_area) if max_area is not None else s["max_area"]
     steiner = int(max_steiner) if max_steiner is not None else s["max_steiner"]
-    if min_angle is not None and not (0 <= ma < 60):
-        raise ValueError(f"min_angle {ma:g}: must be at least 0 and below 60")
     if max_area is not None and not (area > 0 and np.isfinite(area)):
         raise ValueError(f"max_area {area:g}: must be a positive number")
     fn, background = (size, None) if size is None or callable(size) else (None, _background(size))

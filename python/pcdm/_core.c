@@ -19,6 +19,7 @@
 
 #include "pcdm.h"
 
+#include "bounds/bounds.h"
 #include "bounds/sizefield.h"
 #include "check/validate.h"
 #include "cli.h"
@@ -689,5 +690,13 @@ PyMODINIT_FUNC PyInit__core(void);
 PyMODINIT_FUNC PyInit__core(void) {
     import_array();
     geom_init();
-    return PyModule_Create(&module);
+    PyObject *mod = PyModule_Create(&module);
+    if (mod &&
+        (PyModule_AddObject(mod, "DEFAULT_MIN_ANGLE", PyFloat_FromDouble(BOUNDS_DEFAULT_ANGLE)) !=
+             0 ||
+         PyModule_AddObject(mod, "ANGLE_LIMIT", PyFloat_FromDouble(BOUNDS_ANGLE_LIMIT)) != 0)) {
+        Py_DECREF(mod);
+        return NULL;
+    }
+    return mod;
 }

@@ -3,6 +3,8 @@ from typing import Any, Callable, Dict, List, Optional, Tuple
 
 import numpy as np
 
+DEFAULT_MIN_ANGLE: float
+ANGLE_LIMIT: float
 def version() -> str: ...
 def parse(switches: str) -> Dict[str, Any]: ...
 def triangulate(

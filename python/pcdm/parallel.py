@@ -66,7 +66,8 @@ def triangulate(
     if method not in ("pcdm", "pbw"):
         raise ValueError(f"method {method!r}: 'pcdm' or 'pbw'")
     d = _input(tri)
-    ma = float(min_angle) if min_angle is not None else (s["min_angle"] if s["q_given"] else 20.7)
+    default = s["min_angle"] if s["q_given"] else _core.DEFAULT_MIN_ANGLE
+    ma = float(min_angle) if min_angle is not None else default
     area = float(max_area) if max_area is not None else s["max_area"]
     code, message, mesh = _par.triangulate(
         int(comm.py2f()), d["vertices"], d["vertex_markers"], d["vertex_attributes"],

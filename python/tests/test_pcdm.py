@@ -337,6 +337,11 @@ def test_keywords_match_switches():
     assert np.array_equal(a["triangles"], c["triangles"])
     with pytest.raises(ValueError, match="min_angle"):
         pcdm.triangulate(d, "p", min_angle=61)
+    with pytest.raises(ValueError, match="min_angle 60: must be at least 0 and below 60"):
+        pcdm.triangulate(d, "p", min_angle=60)
+    with pytest.raises(ValueError, match="-q needs a non-negative number below 60"):
+        pcdm.triangulate(d, "pq60")
+    assert pcdm._core.DEFAULT_MIN_ANGLE == 20.7  # the C default, one place
 
 
 def test_size_callable():
