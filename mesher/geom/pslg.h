@@ -155,11 +155,12 @@ int32_t pslg_region_at(const pslg_regions *R, const double p[2]);
 
 void pslg_regions_free(pslg_regions *R);
 
-/* The pieces of every segment (cut at the vertices lying on it) and whether each borders the
- * domain: segment s runs through vertices vert[start[s] .. start[s+1]) in order from its
- * first endpoint; the piece from vert[i] to vert[i+1] has the domain on at least one side iff
- * border[i] (0: inside the removed region, e.g. around a hole point on it).  The validator asks
- * the mesh for the bordering pieces only. */
+/* The pieces of every segment (cut at the vertices lying on it: none once pslg_check has run,
+ * which splits segments there) and whether each borders the domain: segment s runs through
+ * vertices vert[start[s] .. start[s+1]) in order from its first endpoint; the piece from
+ * vert[i] to vert[i+1] has the domain on at least one side iff border[i] (0: inside the removed
+ * region, e.g. around a hole point on it).  The validator asks the mesh for the bordering
+ * pieces only. */
 typedef struct pslg_pieces {
     int32_t *start; /* nsegs + 1 */
     int32_t *vert;
@@ -180,10 +181,11 @@ int pslg_read_segments(const char *path, int32_t nverts, int first_index, pslg *
                        size_t errlen);
 
 /* The angles between angularly consecutive segments at each vertex (in degrees, exact angular
- * order; a vertex lying inside a segment counts that segment twice, once each way).  For every such
- * pair (s1, then s2 counter-clockwise around v) whose angle is below bound_deg, calls fn(ctx, v,
- * s1, s2, angle) when fn is not NULL.  Returns the smallest angle found, or 360 when no vertex has
- * two segments.  A vertex with two segments has two angles (theta and 360 - theta). */
+ * order; g is pslg_check()ed, so no vertex lies inside a segment and every corner is at segment
+ * ends).  For every such pair (s1, then s2 counter-clockwise around v) whose angle is below
+ * bound_deg, calls fn(ctx, v, s1, s2, angle) when fn is not NULL.  Returns the smallest angle
+ * found, or 360 when no vertex has two segments.  A vertex with two segments has two angles (theta
+ * and 360 - theta). */
 double pslg_input_angles(const pslg *g, double bound_deg,
                          void (*fn)(void *ctx, int32_t v, int32_t s1, int32_t s2, double deg),
                          void *ctx);

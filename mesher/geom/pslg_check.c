@@ -370,23 +370,41 @@ void pslg_split_at_vertices(pslg *g) {
 
 /* ---------------------------------------------------------------- pslg_check ------------ */
 
-typedef struct vkey {
-    double x, y;
-    int32_t i;
-} vkey;
-
-static int cmp_vkey(const void *pa, const void *pb) {
-    const vkey *a = pa, *b = pb;
-    if (a->x != b->x) return a->x < b->x ? -1 : 1;
-    if (a->y != b->y) return a->y < b->y ? -1 : 1;
-    return (a->i > b->i) - (a->i < b->i);
+/* Vertices i, j of xy in (x, y, index) order. */
+static int cmp_vxy(const void *ctx, int32_t i, int32_t j) {
+    const double *xy = ctx;
+    if (xy[2 * i] != xy[2 * j]) return xy[2 * i] < xy[2 * j] ? -1 : 1;
+    if (xy[2 * i + 1] != xy[2 * j + 1]) return xy[2 * i + 1] < xy[2 * j + 1] ? -1 : 1;
+    return (i > j) - (i < j);
 }
 
-int pslg_cmp_skey(const void *pa, const void *pb) {
-    const pslg_skey *a = pa, *b = pb;
-    if (a->lo != b->lo) return a->lo < b->lo ? -1 : 1;
-    if (a->hi != b->hi) return a->hi < b->hi ? -1 : 1;
-    return (a->i > b->i) - (a->i < b->i);
+/* The higher endpoint of segment s. */
+static int32_t seg_hi(const int32_t *seg, int32_t s) {
+    return seg[2 * s] > seg[2 * s + 1] ? seg[2 * s] : seg[2 * s + 1];
+}
+
+/* Segments s, t of seg in (higher endpoint, index) order. */
+static int cmp_shi(const void *ctx, int32_t s, int32_t t) {
+    const int32_t *seg = ctx;
+    int32_t a = seg_hi(seg, s), b = seg_hi(seg, t);
+    if (a != b) return a < b ? -1 : 1;
+    return (s > t) - (s < t);
+}
+
+void pslg_buckets(const uint32_t *key, int32_t n, uint32_t nb, int32_t **start, int32_t **item) {
+    int32_t *st = mesh_xcalloc((size_t)nb + 1, sizeof *st);
+    int32_t *it = mesh_xmalloc((size_t)n + 1, sizeof *it);
+    for (int32_t i = 0; i < n; i++)
+        st[key[i] + 1]++;
+    for (uint32_t b = 0; b < nb; b++)
+        st[b + 1] += st[b];
+    for (int32_t i = 0; i < n; i++) /* ascending within each bucket: stable */
+        it[st[key[i]]++] = i;
+    for (uint32_t b = nb; b > 0; b--)
+        st[b] = st[b - 1];
+    st[0] = 0;
+    *start = st;
+    *item = it;
 }
 
 /* ---------------------------------------------------------------- scaling --------------- */
@@ -529,30 +547,51 @@ static int normalise(pslg *g, int split, int quiet, int32_t **pairs, int64_t *np
     int32_t n = g->nverts;
     *pairs = NULL;
     *npairs = 0;
-    /* 1. merge duplicate vertices */
-    vkey *vk = mesh_xmalloc((size_t)n, sizeof *vk);
+    /* 1. merge duplicate vertices: grouped by a hash of their coordinates (pslg_buckets), each
+     * group of equal points kept in index order so the first is the representative; the
+     * warnings go out in (x, y, index) order */
     int32_t *map = mesh_xmalloc((size_t)n, sizeof *map);
+    uint32_t nb = 1;
+    while (nb < (uint32_t)n && nb < (1u << 30))
+        nb *= 2;
+    uint32_t *key = mesh_xmalloc((size_t)n + 1, sizeof *key);
     for (int32_t i = 0; i < n; i++)
-        vk[i] = (vkey){g->xy[2 * i], g->xy[2 * i + 1], i};
-    qsort(vk, (size_t)n, sizeof *vk, cmp_vkey);
-    int32_t ndup = 0;
-    for (int32_t i = 0, rep = 0; i < n; i++) {
-        if (i > 0 && vk[i].x == vk[i - 1].x && vk[i].y == vk[i - 1].y) {
-            int32_t a = vk[i].i, b = vk[rep].i;
-            map[a] = b;
-            ndup++;
-            if (!quiet && !g->quiet)
-                fprintf(stderr,
-                        "%s:%d: warning: vertex %d duplicates vertex %d (line %d); merged\n", vf,
-                        g->vline ? g->vline[a] : 0, a + g->first_index, b + g->first_index,
-                        g->vline ? g->vline[b] : 0);
-            if (g->vmarker && g->vmarker[b] == 0) g->vmarker[b] = g->vmarker[a];
-        } else {
-            rep = i;
-            map[vk[i].i] = vk[i].i;
+        key[i] = (uint32_t)mesh_hash64(mesh_dbits(g->xy[2 * i]) ^
+                                       mesh_hash64(mesh_dbits(g->xy[2 * i + 1]))) &
+                 (nb - 1);
+    int32_t *bstart, *bitem;
+    pslg_buckets(key, n, nb, &bstart, &bitem);
+    free(key);
+    int32_t ndup = 0, *dup = NULL, *tmp = mesh_xmalloc((size_t)n + 1, sizeof *tmp);
+    for (uint32_t b = 0; b < nb; b++) {
+        int32_t *it = bitem + bstart[b], d = bstart[b + 1] - bstart[b];
+        if (d > 1) pslg_msort(it, tmp, d, cmp_vxy, g->xy);
+        for (int32_t k = 0, rep = 0; k < d; k++) {
+            int32_t a = it[k], r = it[rep];
+            if (k > 0 && g->xy[2 * a] == g->xy[2 * r] && g->xy[2 * a + 1] == g->xy[2 * r + 1]) {
+                map[a] = r;
+                if (!dup) dup = mesh_xmalloc((size_t)n, sizeof *dup);
+                dup[ndup++] = a;
+                if (g->vmarker && g->vmarker[r] == 0) g->vmarker[r] = g->vmarker[a];
+            } else {
+                rep = k;
+                map[a] = a;
+            }
         }
     }
-    free(vk);
+    free(bstart);
+    free(bitem);
+    if (ndup && !quiet && !g->quiet) {
+        pslg_msort(dup, tmp, ndup, cmp_vxy, g->xy);
+        for (int32_t k = 0; k < ndup; k++) {
+            int32_t a = dup[k], b = map[a];
+            fprintf(stderr, "%s:%d: warning: vertex %d duplicates vertex %d (line %d); merged\n",
+                    vf, g->vline ? g->vline[a] : 0, a + g->first_index, b + g->first_index,
+                    g->vline ? g->vline[b] : 0);
+        }
+    }
+    free(dup);
+    free(tmp);
     if (ndup) {
         int32_t m = 0;
         int32_t *newidx = mesh_xmalloc((size_t)n, sizeof *newidx);
@@ -584,22 +623,29 @@ static int normalise(pslg *g, int split, int quiet, int32_t **pairs, int64_t *np
                              "%s:%d: segment %d has zero length (both endpoints are %s)", sf,
                              g->sline ? g->sline[s] : 0, s + g->first_index,
                              ndup ? "the same point" : "the same vertex");
-    pslg_skey *sk = mesh_xmalloc((size_t)ns, sizeof *sk);
+    /* grouped by their lower endpoint, each group in (higher endpoint, index) order: one walk
+     * visits them in (lo, hi, index) order, and the first of a run of equal ones is kept */
     int32_t *ids = mesh_xmalloc((size_t)ns, sizeof *ids);
     char *keep = mesh_xmalloc((size_t)ns, 1);
+    uint32_t *lo = mesh_xmalloc((size_t)ns + 1, sizeof *lo);
     for (int32_t s = 0; s < ns; s++) {
         int32_t a = g->seg[2 * s], b = g->seg[2 * s + 1];
-        sk[s] = (pslg_skey){a < b ? a : b, a < b ? b : a, s};
+        lo[s] = (uint32_t)(a < b ? a : b);
         keep[s] = 1;
     }
-    qsort(sk, (size_t)ns, sizeof *sk, pslg_cmp_skey);
-    for (int32_t i = 0; i < ns; i++) /* a piece whose ends merged (quiet passes only) */
-        if (sk[i].lo == sk[i].hi) keep[sk[i].i] = 0;
-    for (int32_t i = 1, run = 0; i < ns; i++) {
-        if (sk[i].lo != sk[run].lo || sk[i].hi != sk[run].hi) {
-            run = i;
-        } else {
-            int32_t s = sk[i].i, t = sk[run].i; /* the first of a run is kept */
+    int32_t *sstart, *sitem, *stmp = mesh_xmalloc((size_t)ns + 1, sizeof *stmp);
+    pslg_buckets(lo, ns, (uint32_t)n, &sstart, &sitem);
+    free(lo);
+    for (int32_t v = 0; v < n; v++) {
+        int32_t *it = sitem + sstart[v], d = sstart[v + 1] - sstart[v];
+        if (d > 1) pslg_msort(it, stmp, d, cmp_shi, g->seg);
+        for (int32_t k = 0, run = 0; k < d; k++) {
+            int32_t s = it[k], t = it[run];
+            if (g->seg[2 * s] == g->seg[2 * s + 1]) keep[s] = 0; /* ends merged (quiet passes) */
+            if (k == 0 || seg_hi(g->seg, s) != seg_hi(g->seg, t)) {
+                run = k;
+                continue;
+            }
             keep[s] = 0;
             if (!quiet && !g->quiet)
                 fprintf(stderr,
@@ -608,7 +654,9 @@ static int normalise(pslg *g, int split, int quiet, int32_t **pairs, int64_t *np
                         g->sline ? g->sline[t] : 0);
         }
     }
-    free(sk);
+    free(sstart);
+    free(sitem);
+    free(stmp);
     int32_t nk = 0;
     for (int32_t s = 0; s < ns; s++)
         if (keep[s]) ids[nk++] = s;

@@ -1,11 +1,11 @@
 /* pslg_faces: the faces of a PSLG's segment arrangement, and what is measured on them.
  *
- * The arrangement is a half-edge structure: segments split at the vertices lying on them, the
- * outgoing half-edges of every vertex sorted counter-clockwise by an exact angular order
- * (quadrant, then geom_orient2d), so the face to the left of each half-edge is traced by one
- * step per half-edge.  Closed walks are classified by the exact sign of their area, negative
- * walks (islands and holes' outlines) attached to the bounded face enclosing them (exact
- * point-in-walk tests), and the faces reachable from a hole point removed.  From the faces:
+ * The arrangement is a half-edge structure: the segments (pslg_check has split them at every
+ * vertex lying on them), the outgoing half-edges of every vertex sorted counter-clockwise by an
+ * exact angular order (quadrant, then geom_orient2d), so the face to the left of each half-edge
+ * is traced by one step per half-edge.  Closed walks are classified by the exact sign of their
+ * area, negative walks (islands and holes' outlines) attached to the bounded face enclosing them
+ * (exact point-in-walk tests), and the faces reachable from a hole point removed.  From the faces:
  * pslg_domain_area measures the domain from the PSLG alone, so the validator can compare a
  * mesh against an independent figure; pslg_regions_build maps the region points onto faces, so
  * the validator finds each triangle's region without the mesher's labels;
@@ -27,8 +27,9 @@
 
 /* ---------------------------------------------------------------- arrangement ----------- */
 
-/* Half-edge structure of the segment arrangement: edges split at vertices lying on them,
- * outgoing half-edges of each vertex sorted counter-clockwise. */
+/* Half-edge structure of the segment arrangement: the segments as edges (pslg_check's
+ * invariant: no vertex lies inside a segment), outgoing half-edges of each vertex sorted
+ * counter-clockwise. */
 typedef struct arr {
     const double *xy;
     int32_t nv, ne;  /* vertices, undirected edges */
@@ -69,43 +70,31 @@ static void arr_build(const pslg *g, arr *A) {
     A->xy = g->xy;
     A->nv = g->nverts;
     int32_t n = g->nverts, ns = g->nsegs;
-    pslg_split_ctx sc = {0};
-    pslg_grid vg = {0};
-    /* vertices lying inside segments */
-    pslg_vertex_hits(g, &vg, &sc);
-    /* sub-edges: hits are grouped by segment already (segments visited in order) */
-    size_t nsub = (size_t)(ns > 0 ? ns : 0) + sc.nhits;
-    pslg_skey *ek = mesh_xmalloc(nsub, sizeof *ek);
-    int32_t *order = mesh_xmalloc(sc.nhits, sizeof *order);
-    int32_t *tmp = mesh_xmalloc(sc.nhits, sizeof *tmp);
-    size_t ne = 0, h = 0;
+    /* the edges: the segments (no vertex lies inside one: pslg_check's invariant), each as its
+     * sorted endpoints, in (lo, hi) order, once */
+    uint64_t *ek = mesh_xmalloc((size_t)(ns > 0 ? ns : 0) + 1, sizeof *ek);
+    size_t ne = 0;
     for (int32_t s = 0; s < ns; s++) {
-        int32_t a = g->seg[2 * s], b = g->seg[2 * s + 1];
-        int32_t m = pslg_hits_of(g, &sc, s, &h, order, tmp);
-        int32_t prev = a;
-        for (int32_t i = 0; i <= m; i++) {
-            int32_t v = i < m ? sc.hits[2 * order[i] + 1] : b;
-            if (v != prev) ek[ne++] = (pslg_skey){prev < v ? prev : v, prev < v ? v : prev, 0};
-            prev = v;
-        }
+        uint32_t a = (uint32_t)g->seg[2 * s], b = (uint32_t)g->seg[2 * s + 1];
+        if (a != b) ek[ne++] = a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
     }
-    qsort(ek, ne, sizeof *ek, pslg_cmp_skey);
+    mesh_sort_u64(ek, ne);
     size_t m = 0;
     for (size_t i = 0; i < ne; i++)
-        if (m == 0 || ek[i].lo != ek[m - 1].lo || ek[i].hi != ek[m - 1].hi) ek[m++] = ek[i];
+        if (m == 0 || ek[i] != ek[m - 1]) ek[m++] = ek[i];
     ne = m;
     A->ne = (int32_t)ne;
     A->org = mesh_xmalloc(2 * ne + 1, sizeof(int32_t));
     A->out = mesh_xmalloc(2 * ne + 1, sizeof(int32_t));
     A->pos = mesh_xmalloc(2 * ne + 1, sizeof(int32_t));
     A->vstart = mesh_xcalloc((size_t)n + 2, sizeof(int32_t));
-    free(tmp);
-    tmp = mesh_xmalloc(2 * ne + 1, sizeof(int32_t));
+    int32_t *tmp = mesh_xmalloc(2 * ne + 1, sizeof(int32_t));
     for (size_t e = 0; e < ne; e++) {
-        A->org[2 * e] = ek[e].lo;
-        A->org[2 * e + 1] = ek[e].hi;
-        A->vstart[ek[e].lo + 1]++;
-        A->vstart[ek[e].hi + 1]++;
+        int32_t lo = (int32_t)(ek[e] >> 32), hi = (int32_t)(ek[e] & 0xffffffffu);
+        A->org[2 * e] = lo;
+        A->org[2 * e + 1] = hi;
+        A->vstart[lo + 1]++;
+        A->vstart[hi + 1]++;
     }
     for (int32_t v = 0; v < n; v++)
         A->vstart[v + 1] += A->vstart[v];
@@ -121,10 +110,7 @@ static void arr_build(const pslg *g, arr *A) {
         for (int32_t i = 0; i < d; i++)
             A->pos[o[i]] = A->vstart[v] + i;
     }
-    free(sc.hits);
-    pslg_grid_free(&vg);
     free(ek);
-    free(order);
     free(tmp);
 }
 
@@ -142,46 +128,25 @@ double pslg_input_angles(const pslg *g, double bound_deg,
     geom_init();
     int32_t n = g->nverts, ns = g->nsegs;
     double best = 360;
-    /* A vertex lying inside a segment s (a T-junction, decided exactly by pslg_segment_pieces)
-     * is a corner too: there s leaves in both directions, so it gets two half-edges of s, each
-     * paired with a slot for the far end of s (which does not list it: at s's endpoints the
-     * segment is counted once). */
-    pslg_pieces P;
-    int have = ns > 0;
-    if (have) pslg_segment_pieces(g, &P);
+    /* every corner is at segment ends: pslg_check has split each segment at the vertices lying
+     * inside it (a T-junction is two segments' ends) */
     int32_t ne = ns;
-    for (int32_t s = 0; have && s < ns; s++)
-        if (P.start[s + 1] - P.start[s] > 2) ne += 2 * (P.start[s + 1] - P.start[s] - 2);
     arr A = {0};
     A.xy = g->xy;
     A.org = mesh_xmalloc(2 * (size_t)ne + 1, sizeof(int32_t));
     A.out = mesh_xmalloc(2 * (size_t)ne + 1, sizeof(int32_t));
     A.vstart = mesh_xcalloc((size_t)n + 2, sizeof(int32_t));
     int32_t *tmp = mesh_xmalloc(2 * (size_t)ne + 1, sizeof(int32_t));
-    int32_t *sid = mesh_xmalloc((size_t)ne + 1, sizeof(int32_t));
-    uint8_t *listed = mesh_xmalloc(2 * (size_t)ne + 1, 1); /* h is in v's list */
-    int32_t e = 0;
-    for (int32_t s = 0; s < ns; s++, e++) {
-        A.org[2 * e] = g->seg[2 * s];
-        A.org[2 * e + 1] = g->seg[2 * s + 1];
-        sid[e] = s;
-        listed[2 * e] = listed[2 * e + 1] = 1;
+    for (int32_t e = 0; e < ns; e++) {
+        A.org[2 * e] = g->seg[2 * e];
+        A.org[2 * e + 1] = g->seg[2 * e + 1];
     }
-    for (int32_t s = 0; have && s < ns; s++)
-        for (int32_t k = P.start[s] + 1; k + 1 < P.start[s + 1]; k++)
-            for (int end = 0; end < 2; end++, e++) {
-                A.org[2 * e] = P.vert[k];
-                A.org[2 * e + 1] = g->seg[2 * s + end];
-                sid[e] = s;
-                listed[2 * e] = 1;
-                listed[2 * e + 1] = 0;
-            }
     for (int32_t h = 0; h < 2 * ne; h++)
-        if (listed[h]) A.vstart[A.org[h] + 1]++;
+        A.vstart[A.org[h] + 1]++;
     for (int32_t v = 0; v < n; v++)
         A.vstart[v + 1] += A.vstart[v];
     for (int32_t h = 0; h < 2 * ne; h++)
-        if (listed[h]) A.out[A.vstart[A.org[h]]++] = h;
+        A.out[A.vstart[A.org[h]]++] = h;
     for (int32_t v = n; v > 0; v--)
         A.vstart[v] = A.vstart[v - 1];
     A.vstart[0] = 0;
@@ -201,16 +166,13 @@ double pslg_input_angles(const pslg *g, double bound_deg,
             if (side < 0) deg = 360 - deg;
             if (deg <= 0) deg += 360; /* coincident directions (overlapping segments) */
             if (deg < best) best = deg;
-            if (deg < bound_deg && fn) fn(ctx, v, sid[h1 >> 1], sid[h2 >> 1], deg);
+            if (deg < bound_deg && fn) fn(ctx, v, h1 >> 1, h2 >> 1, deg);
         }
     }
-    if (have) pslg_pieces_free(&P);
     free(A.org);
     free(A.out);
     free(A.vstart);
     free(tmp);
-    free(sid);
-    free(listed);
     return best;
 }
 

@@ -82,12 +82,10 @@ void pslg_sgrid_cells(const pslg_sgrid *G, void (*fn)(void *ctx, const int32_t *
                       void *ctx);
 void pslg_sgrid_free(pslg_sgrid *G);
 
-/* A segment as its sorted endpoints lo < hi, and its index i; ordered by (lo, hi, i). */
-typedef struct pslg_skey {
-    int32_t lo, hi, i;
-} pslg_skey;
-
-int pslg_cmp_skey(const void *pa, const void *pb);
+/* Items 0 .. n-1 grouped by key[i] < nb (a stable counting sort): group b's items are
+ * (*item)[(*start)[b] .. (*start)[b + 1]), ascending.  The caller frees *start (nb + 1) and
+ * *item (n). */
+void pslg_buckets(const uint32_t *key, int32_t n, uint32_t nb, int32_t **start, int32_t **item);
 
 /* 1 if p (collinear with ab) lies strictly between a and b. */
 static inline int pslg_strictly_between(const double *a, const double *b, const double *p) {
