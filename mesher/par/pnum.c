@@ -118,8 +118,17 @@ static void input_ids_range(void *arg, int part, int64_t a, int64_t b) {
 }
 
 /* in_id[v] = input number of local vertex v (exact coordinates), or -1; the lookups on up to
- * threads threads. */
+ * threads threads.  A part whose first vertices are the input's, in order and bit for bit (as
+ * ./pcdm's parts are: every subdomain mesh starts from the augmented PSLG's vertices), needs no
+ * lookup: its other vertices are distinct from those. */
 static int64_t *input_ids(const mesh_flat *f, const pslg *in, int threads) {
+    if (in->nverts > 0 && f->nverts >= in->nverts &&
+        memcmp(f->xy, in->xy, 2 * (size_t)in->nverts * sizeof(double)) == 0) {
+        int64_t *id = mesh_xmalloc((size_t)f->nverts + 1, sizeof(int64_t));
+        for (int32_t v = 0; v < f->nverts; v++)
+            id[v] = v < in->nverts ? v : -1;
+        return id;
+    }
     size_t ns = 16;
     while (ns < 2 * (size_t)in->nverts + 2)
         ns *= 2;
