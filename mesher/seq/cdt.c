@@ -61,9 +61,10 @@ typedef struct {
     int32_t v;
 } okey;
 
-static int okey_cmp(const void *a, const void *b) {
-    uint64_t x = ((const okey *)a)->key, y = ((const okey *)b)->key;
-    return x < y ? -1 : x > y;
+static int okey_cmp(const void *a, const void *b) { /* by key, then vertex */
+    const okey *p = a, *q = b;
+    if (p->key != q->key) return p->key < q->key ? -1 : 1;
+    return (p->v > q->v) - (p->v < q->v);
 }
 
 static int32_t *brio_order(mesh *m, int32_t n) {
@@ -75,7 +76,11 @@ static int32_t *brio_order(mesh *m, int32_t n) {
         }
     double span = fmax(hi[0] - lo[0], hi[1] - lo[1]);
     if (!(span > 0)) span = 1;
-    okey *k = mesh_xrealloc(NULL, n, sizeof(okey));
+    /* sorted by (key, v): one radix sort of (round, Hilbert index, v) packed into 64 bits
+     * (5 + 32 + 27) while v fits, else a comparison sort of the pairs */
+    int packed = n <= (1 << 27);
+    okey *k = packed ? NULL : mesh_xrealloc(NULL, n, sizeof(okey));
+    uint64_t *pk = packed ? mesh_xrealloc(NULL, n, sizeof(uint64_t)) : NULL;
     for (int32_t v = 0; v < n; v++) {
         uint32_t hx = (uint32_t)fmin(65535.0, (X(m, v)[0] - lo[0]) / span * 65535.0);
         uint32_t hy = (uint32_t)fmin(65535.0, (X(m, v)[1] - lo[1]) / span * 65535.0);
@@ -83,14 +88,24 @@ static int32_t *brio_order(mesh *m, int32_t n) {
         uint32_t round = 0;
         while ((r & 1) && round < 20)
             round++, r >>= 1;
-        k[v].key = ((uint64_t)(20 - round) << 32) | hilbert_index(hx, hy);
-        k[v].v = v;
+        uint64_t key = ((uint64_t)(20 - round) << 32) | hilbert_index(hx, hy);
+        if (packed)
+            pk[v] = key << 27 | (uint64_t)v;
+        else
+            k[v] = (okey){key, v};
     }
-    qsort(k, n, sizeof(okey), okey_cmp);
     int32_t *order = mesh_xrealloc(NULL, n, sizeof(int32_t));
-    for (int32_t i = 0; i < n; i++)
-        order[i] = k[i].v;
-    free(k);
+    if (packed) {
+        mesh_sort_u64(pk, (size_t)n);
+        for (int32_t i = 0; i < n; i++)
+            order[i] = (int32_t)(pk[i] & ((1u << 27) - 1));
+        free(pk);
+    } else {
+        qsort(k, n, sizeof(okey), okey_cmp);
+        for (int32_t i = 0; i < n; i++)
+            order[i] = k[i].v;
+        free(k);
+    }
     return order;
 }
 
