@@ -8,12 +8,13 @@
  *
  * Algorithm: each rank lists the open edges of its piece (edges of exactly one local triangle;
  * found through vertex-to-triangle rows, ptopo.h), with endpoints in lexicographic order
- * so both sides name an edge identically, and a flag: a non-interface constraint edge may be
- * unmatched (it lies on the domain boundary), any other open edge must be matched.  Each edge is
- * sent to the rank its coordinate bits hash to (a distributed hash table: MPI_Alltoall of the
- * counts, MPI_Alltoallv of the edges, O(interface) data).  There, equal edges are grouped: a
- * group of two from two different ranks is a matched interface edge, a group of one is fine only
- * for a boundary edge; anything else is a disagreement.
+ * so both sides name an edge identically.  A non-interface constraint edge (a domain-boundary
+ * subsegment: the domain on one side, so one part claims it) stays at home -- on a coastline
+ * most open edges are such; two parts claiming one would overlap, which the area check after
+ * this one sees.  Every other open edge must be matched: it is sent to the rank its coordinate
+ * bits hash to (a distributed hash table: MPI_Alltoall of the counts, MPI_Alltoallv of the edges,
+ * O(interface) data).  There, equal edges are grouped: a group of two from two different ranks
+ * is a matched interface edge; anything else is a disagreement.
  *
  * The interface local-Delaunay test (par_check_interface_delaunay, for the distributed --check)
  * goes the same way: each open edge that is not an input constraint travels with the apex of
@@ -49,7 +50,7 @@ static uint64_t coord_bits(double x) {
 typedef struct open_edge {
     double x[4];
     int32_t rank;
-    int32_t must; /* 1: must be matched by another rank's piece (not a domain-boundary segment) */
+    int32_t pad;
 } open_edge;
 _Static_assert(sizeof(open_edge) == 40, "open_edge must be 40 bytes, no padding");
 
@@ -159,13 +160,14 @@ typedef struct open_ctx {
 } open_ctx;
 
 /* par_open_edges visitor: records open edge a -> b with its coordinates in lexicographic
- * order; a listed subsegment's kind (1 boundary, 2 interface; the larger if listed twice)
- * decides whether it must be matched. */
+ * order, unless it is listed as a boundary subsegment only (kind 1; kind 2, an interface, wins
+ * if listed twice). */
 static void add_open(void *ctx, int32_t a, int32_t b, int32_t apex) {
     open_ctx *c = ctx;
     const mesh_flat *f = c->f;
     int kinds = seg_kinds(c->k, f->nsegs, a, b); /* every listing of the pair */
     int segkind = kinds & 4 ? 2 : kinds & 2 ? 1 : 0;
+    if (segkind == 1) return; /* a domain-boundary subsegment: needs no match */
     const double *p = f->xy + 2 * (size_t)a, *q = f->xy + 2 * (size_t)b;
     int sw = p[0] > q[0] || (p[0] == q[0] && p[1] > q[1]);
     MESH_GROW(c->o, c->n, c->cap);
@@ -176,7 +178,6 @@ static void add_open(void *ctx, int32_t a, int32_t b, int32_t apex) {
     e->x[2] = sw ? p[0] : q[0];
     e->x[3] = sw ? p[1] : q[1];
     e->rank = c->rank;
-    e->must = segkind != 1;
 }
 
 /* f's listed subsegments as sorted keys: n = 1 a boundary (input) subsegment, 2 an interface. */
@@ -218,13 +219,10 @@ int par_check_interfaces_open(const mesh_flat *local, const uint8_t *topen, char
     char m[400] = "";
     for (int64_t i = 0; i < nr;) {
         int64_t j = i;
-        int32_t must = 0;
         const open_edge *first = &rb[ord[i]];
-        while (j < nr && same_edge(rb[ord[j]].x, first->x)) {
-            must |= rb[ord[j]].must;
+        while (j < nr && same_edge(rb[ord[j]].x, first->x))
             j++;
-        }
-        int ok = (j - i == 1 && !must) || (j - i == 2 && first->rank != rb[ord[i + 1]].rank);
+        int ok = j - i == 2 && first->rank != rb[ord[i + 1]].rank;
         if (!ok && !bad++)
             snprintf(m, sizeof m,
                      "interface check failed: edge (%.17g, %.17g)-(%.17g, %.17g) of rank %d %s",

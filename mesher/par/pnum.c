@@ -315,7 +315,7 @@ static void number_segments(const mesh_flat *f, const uint8_t *artificial, const
     open_list ol = {NULL, 0, 0}; /* the part's open edges, sorted: O(boundary) */
     if (P > 1) {                 /* one rank: no other part can list one of its subsegments */
         par_open_edges(f, x, list_open, &ol);
-        if (ol.n) qsort(ol.k, (size_t)ol.n, sizeof *ol.k, cmp_i64);
+        mesh_sort_u64((uint64_t *)ol.k, (size_t)ol.n); /* non-negative: the same order */
     }
     /* listed input subsegments, each pair once (a part may list one from both its sides):
      * sort (pair, id) and keep the first of each pair */
@@ -338,6 +338,9 @@ static void number_segments(const mesh_flat *f, const uint8_t *artificial, const
             continue;
         }
         int32_t s = (int32_t)kp[2 * i + 1];
+        /* a PCDM part's subsegment with the same subdomain on both sides, or the domain on one
+         * (sinterface 0), has one lister: no other part lists it, open or not */
+        if (artificial && f->sinterface && !f->sinterface[s]) continue;
         if (ol.n && bsearch(&kp[2 * i], ol.k, (size_t)ol.n, sizeof *ol.k, cmp_i64))
             cand[nc++] = s; /* an open edge: another part may list it too */
     }

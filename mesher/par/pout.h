@@ -57,9 +57,11 @@ typedef struct par_numbering {
 
 /* Collective.  Numbers local (this rank's part) as above.  artificial (local->nsegs flags, may
  * be NULL: none) marks the subsegments that are not input constraints (PCDM's interface
- * edges).  Returns 0 and fills *num (free with par_numbering_free), or -1 on every rank with
- * the same message in err (*num then holds nothing) when the parts disagree about a shared
- * vertex (one holder does not have it on its part's boundary). */
+ * edges); given, local is a PCDM part, whose subsegments with sinterface 0 (no interface: the
+ * same subdomain on both sides, or the domain on one) no other part lists.  Returns 0 and fills
+ * *num (free with par_numbering_free), or -1 on every rank with the same message in err (*num then
+ * holds nothing) when the parts disagree about a shared vertex (one holder does not have it on its
+ * part's boundary). */
 int par_number(const mesh_flat *local, const pslg *in, const uint8_t *artificial,
                par_numbering *num, char *err, size_t errlen);
 
