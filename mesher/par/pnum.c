@@ -83,12 +83,6 @@ static int cmp_sq(const void *pa, const void *pb) {
     return (a->rank > b->rank) - (a->rank < b->rank);
 }
 
-static int cmp_pair_id(const void *pa, const void *pb) { /* int64 pairs (key, id) */
-    const int64_t *a = pa, *b = pb;
-    if (a[0] != b[0]) return a[0] < b[0] ? -1 : 1;
-    return (a[1] > b[1]) - (a[1] < b[1]);
-}
-
 /* ---- input vertices ------------------------------------------------------------------------ */
 
 /* The input's points in an open-addressing table keyed by their coordinates. */
@@ -308,6 +302,20 @@ static int cmp_i64(const void *pa, const void *pb) {
     return (a > b) - (a < b);
 }
 
+/* idx[0 .. n) reordered stably by key[idx[i]] in [0, nb) (a counting sort; tmp: n items, cnt:
+ * nb + 1). */
+static void count_sort(int32_t *idx, int32_t *tmp, int32_t n, const int32_t *key, int32_t nb,
+                       int32_t *cnt) {
+    memset(cnt, 0, ((size_t)nb + 1) * sizeof *cnt);
+    for (int32_t i = 0; i < n; i++)
+        cnt[key[idx[i]] + 1]++;
+    for (int32_t b = 0; b < nb; b++)
+        cnt[b + 1] += cnt[b];
+    for (int32_t i = 0; i < n; i++)
+        tmp[cnt[key[idx[i]]]++] = idx[i];
+    memcpy(idx, tmp, (size_t)n * sizeof *idx);
+}
+
 /* Step (5): fills num->wseg, nwseg, nsegs. */
 static void number_segments(const mesh_flat *f, const uint8_t *artificial, const par_vtris *x,
                             par_numbering *num) {
@@ -318,33 +326,43 @@ static void number_segments(const mesh_flat *f, const uint8_t *artificial, const
         mesh_sort_u64((uint64_t *)ol.k, (size_t)ol.n); /* non-negative: the same order */
     }
     /* listed input subsegments, each pair once (a part may list one from both its sides):
-     * sort (pair, id) and keep the first of each pair */
-    int32_t nk = 0;
-    int64_t *kp = mesh_xmalloc(2 * (size_t)f->nsegs + 1, sizeof(int64_t));
-    for (int32_t s = 0; s < f->nsegs; s++) {
-        if (artificial && artificial[s]) continue;
-        int64_t a = f->seg[2 * (size_t)s], b = f->seg[2 * (size_t)s + 1];
-        kp[2 * nk] = (a < b ? a : b) << 32 | (a < b ? b : a);
-        kp[2 * nk + 1] = s;
-        nk++;
+     * in (pair, id) order -- two stable counting sorts, by the higher end, then the lower --
+     * the first of each pair kept */
+    int32_t nk = 0, ns = f->nsegs;
+    int32_t *lo = mesh_xmalloc((size_t)ns + 1, sizeof(int32_t)),
+            *hi = mesh_xmalloc((size_t)ns + 1, sizeof(int32_t));
+    int32_t *ord = mesh_xmalloc((size_t)ns + 1, sizeof(int32_t)),
+            *tmp = mesh_xmalloc((size_t)ns + 1, sizeof(int32_t));
+    for (int32_t s = 0; s < ns; s++) {
+        int32_t a = f->seg[2 * (size_t)s], b = f->seg[2 * (size_t)s + 1];
+        lo[s] = a < b ? a : b;
+        hi[s] = a < b ? b : a;
+        if (!(artificial && artificial[s])) ord[nk++] = s;
     }
-    qsort(kp, (size_t)nk, 2 * sizeof(int64_t), cmp_pair_id);
+    int32_t *cnt = mesh_xmalloc((size_t)f->nverts + 1, sizeof(int32_t));
+    count_sort(ord, tmp, nk, hi, f->nverts, cnt);
+    count_sort(ord, tmp, nk, lo, f->nverts, cnt);
+    free(cnt);
+    free(tmp);
     int32_t *cand = mesh_xmalloc((size_t)nk + 1, sizeof(int32_t));
     int32_t nc = 0;
     uint8_t *skip = mesh_xcalloc((size_t)f->nsegs + 1, 1);
     for (int32_t i = 0; i < nk; i++) {
-        if (i > 0 && kp[2 * i] == kp[2 * (i - 1)]) {
-            skip[kp[2 * i + 1]] = 1;
+        int32_t s = ord[i];
+        if (i > 0 && lo[s] == lo[ord[i - 1]] && hi[s] == hi[ord[i - 1]]) {
+            skip[s] = 1;
             continue;
         }
-        int32_t s = (int32_t)kp[2 * i + 1];
+        int64_t key = (int64_t)lo[s] << 32 | hi[s];
         /* a PCDM part's subsegment with the same subdomain on both sides, or the domain on one
          * (sinterface 0), has one lister: no other part lists it, open or not */
         if (artificial && f->sinterface && !f->sinterface[s]) continue;
-        if (ol.n && bsearch(&kp[2 * i], ol.k, (size_t)ol.n, sizeof *ol.k, cmp_i64))
+        if (ol.n && bsearch(&key, ol.k, (size_t)ol.n, sizeof *ol.k, cmp_i64))
             cand[nc++] = s; /* an open edge: another part may list it too */
     }
-    free(kp);
+    free(ord);
+    free(lo);
+    free(hi);
     free(ol.k);
     /* open listed subsegments to their rendezvous: all but the lowest holder skip them */
     sq *q = mesh_xmalloc((size_t)nc + 1, sizeof(sq));
