@@ -4,7 +4,11 @@
 #     prints "meshcheck: OK", every rank exits 0, the files (written by MPI-IO from every rank's
 #     part) pass ./meshcheck, and the .pvtu index names one .vtu piece per rank;
 #  2. a broken part (test-only fault PCDM_TEST_BREAK_PIECE=R: rank R reverses a triangle) makes
-#     --check fail with exit status 1 on every rank, and nothing is written.
+#     --check fail with exit status 1 on every rank, and nothing is written;
+#  3. parts whose areas do not sum to the domain's (test-only fault PCDM_TEST_AREA_SKEW=R: rank
+#     R's area taken 1e-6 too large) fail the always-on area check, whose domain area rank 0
+#     computes on a thread while it decomposes: exit status 1 on every rank, nothing written
+#     (./pcdm at 2 ranks, and at 1 rank with --threads 2).
 # (The numbering itself, and files written by 1-8 ranks being equal as sets of exact
 # coordinates, are tested by tests/mpi_pout.c.)  Env: BIN, MPIRUN as the other tests.
 . "$(dirname "$0")/lib.sh"
@@ -43,6 +47,19 @@ for prog in pcdm pbw; do
     grep -q '^meshcheck: FAIL rank 2: ' "$T/out" && ok "$name: $(grep '^meshcheck' "$T/out" | cut -c1-70)" ||
         fail "$name: no FAIL line naming rank 2: $(head -2 "$T/out")"
     [ ! -e "$T/broken.node" ] && ok "$name: nothing written" || fail "$name: files written"
+done
+
+for np in 2 1; do
+    thr=()
+    [ "$np" = 1 ] && thr=(--threads 2)
+    PCDM_TEST_AREA_SKEW=$((np - 1)) mpi_run $np "$BIN/pcdm" "${thr[@]}" -q 30 -a $A -o "$T/skew" \
+        data/lake.poly >"$T/out" 2>"$T/err"
+    name="pcdm np=$np ${thr[*]} area skew"
+    if all_ranks "$np" 1 && grep -q "areas sum to" "$T/err" && ! ls "$T"/skew.* >/dev/null 2>&1; then
+        ok "$name: refused on every rank, nothing written"
+    else
+        fail "$name: exit statuses $rcs, files: $(ls "$T"/skew.* 2>/dev/null | head -2), $(head -2 "$T/err")"
+    fi
 done
 
 finish

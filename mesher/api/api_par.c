@@ -275,7 +275,7 @@ static int finish_part(mesh_flat *local, const pslg *in, uint8_t *artificial, ui
      * fault PCDM_TEST_AREA_SKEW: this rank's area taken 1e-6 too large) */
     double area = rc == PCDM_OK ? par_part_area(local, j->o.threads) : 0;
     if (getenv("PCDM_TEST_AREA_SKEW")) area *= 1 + 1e-6;
-    if (!agree(rc, st) && !par_area_agrees(in, area, msg, sizeof msg))
+    if (!agree(rc, st) && !par_area_agrees(in, area, NULL, msg, sizeof msg))
         api_fail(st, PCDM_EMESH, "%s", msg); /* the same on every rank */
     par_numbering num;
     memset(&num, 0, sizeof num);

@@ -363,7 +363,12 @@ int validate_area_net(const pslg *g, double mesh_area, double *dom) {
     *dom = 0;
     if (!g || g->nsegs == 0) return 1; /* a point set: its hull is what the mesher made */
     *dom = pslg_domain_area(g);
-    return validate_area_ok(mesh_area, *dom, input_area_slack(g, *dom));
+    return validate_area_net_at(g, mesh_area, *dom);
+}
+
+int validate_area_net_at(const pslg *g, double mesh_area, double dom) {
+    if (!g || g->nsegs == 0) return 1;
+    return validate_area_ok(mesh_area, dom, input_area_slack(g, dom));
 }
 
 /* 11. area of the domain */

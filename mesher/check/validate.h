@@ -105,6 +105,10 @@ static inline int validate_area_ok(double mesh_area, double dom, double slack) {
  * arrangement (pslg_domain_area).  Local. */
 int validate_area_net(const pslg *g, double mesh_area, double *dom);
 
+/* validate_area_net with the domain's area dom already known (pslg_domain_area of g, e.g.
+ * computed ahead on another thread).  Local. */
+int validate_area_net_at(const pslg *g, double mesh_area, double dom);
+
 /* Validates m against input g.  Returns 1 if the mesh passes, else 0; r filled either way. */
 int mesh_validate(const pslg *g, const mesh_flat *m, const validate_opts *o, validate_report *r);
 

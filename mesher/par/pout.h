@@ -14,6 +14,7 @@
 #ifndef PAR_POUT_H
 #define PAR_POUT_H
 
+#include <pthread.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -99,10 +100,25 @@ int par_check_parts(const par_opts *o, const pslg *in, mesh_flat *local, const p
  * (collected on rank 0, at most PAR_SVG_MAX_TRIS triangles).  Returns 0, or -1 on every rank
  * (the message printed by rank 0). */
 /* Collective.  The cheap check every end runs: the parts' areas (part_area, this rank's, in the
- * working scale: par_part_area) summed over the ranks against the domain's (validate_area_net).
- * 1 when they agree (on every rank alike); else 0 with "the parts' areas sum to A, the
- * domain's area is D: ..." in why. */
-int par_area_agrees(const pslg *in, double part_area, char *why, size_t len);
+ * working scale: par_part_area) summed over the ranks against the domain's (validate_area_net),
+ * decided on rank 0 and sent to the others; dom: the domain's area when rank 0 already has it
+ * (par_dom_ahead), else NULL (rank 0 computes it).  1 when they agree (on every rank alike);
+ * else 0 with "the parts' areas sum to A, the domain's area is D: ..." in why. */
+int par_area_agrees(const pslg *in, double part_area, const double *dom, char *why, size_t len);
+
+/* The domain's area (pslg_domain_area) computed on a thread of its own while the caller goes on
+ * (rank 0 during the decomposition, when the other ranks and threads wait), so that the area
+ * check after meshing finds it made.  start: in must stay alive and unchanged until
+ * par_dom_ahead_get, which joins the thread (safe to call more than once, and on a struct that
+ * never started: it returns NULL then).  Local. */
+typedef struct par_dom_ahead {
+    const pslg *in;
+    double area;
+    int started, joined;
+    pthread_t thr;
+} par_dom_ahead;
+void par_dom_ahead_start(par_dom_ahead *a, const pslg *in);
+const double *par_dom_ahead_get(par_dom_ahead *a);
 
 /* Local.  The area of f's triangles in its working scale, on threads threads (the same value
  * for any thread count: blocks of 256 triangles summed in order with compensation). */
@@ -133,10 +149,11 @@ typedef struct par_summary {
  * check when o->check (its summary line printed by rank 0), then par_write_parts (nothing is
  * written when the check failed).  tsub: each triangle's subdomain (local->ntris entries, NULL
  * or not on every rank alike), written as VTU cell data; topen: the part's open edges from the
- * mesher's mask (mesh_take_flat's, or NULL), which saves the vertex rows.  Returns 0, or 1 on
- * every rank (messages printed by rank 0).  local may be changed by the test-only fault of
- * par_check_parts. */
-int par_output_sub(const par_opts *o, const pslg *in, mesh_flat *local, const uint8_t *artificial,
-                   const int32_t *tsub, const uint8_t *topen, par_summary *sum);
+ * mesher's mask (mesh_take_flat's, or NULL), which saves the vertex rows; dom: as
+ * par_area_agrees.  Returns 0, or 1 on every rank (messages printed by rank 0).  local may be
+ * changed by the test-only fault of par_check_parts. */
+int par_output_sub(const par_opts *o, const pslg *in, const double *dom, mesh_flat *local,
+                   const uint8_t *artificial, const int32_t *tsub, const uint8_t *topen,
+                   par_summary *sum);
 
 #endif

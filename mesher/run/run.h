@@ -29,6 +29,7 @@
 #include "decomp/decomp.h"
 #include "geom/pslg.h"
 #include "par/par.h"
+#include "par/pout.h"
 #include "seq/mesh.h"
 
 /* How the mesh is made. */
@@ -61,6 +62,9 @@ typedef struct run_job {
     int user_scale_exp; /* set by the driver: the scale its wrapper undoes */
     mesh_bounds bounds; /* the bounds stage's value (run_bounds) */
     double read_s;      /* parallel: wall seconds this rank spent reading and checking the input */
+    /* the parallel programs: the domain's area, computed on rank 0 while it decomposes
+     * (run_par_load starts it; the area check after meshing takes it) */
+    par_dom_ahead dom_ahead;
     /* out */
     run_verdict verdict;
     int64_t unmet;          /* triangles outside the bounds, not forced (all ranks) */

@@ -292,6 +292,10 @@ int run_par_load(run_job *j, pslg *in, pcdm_decomp *d) {
         rc = run_load(j, in, quiet, !j->lib && !share, err, sizeof err) == 0 ? 0 : RUN_FINPUT;
     if (share && share_input(j, in, rc, err, sizeof err) != 0 && rc == 0) rc = RUN_FINPUT;
     j->read_s = rt_wtime() - t0;
+    /* the area check's domain area, on a thread of rank 0 while it decomposes and the other
+     * ranks and threads wait for it */
+    if (rc == 0 && !j->lib && rt_rank() == 0 && (rt_size() > 1 || o->threads > 1))
+        par_dom_ahead_start(&j->dom_ahead, in);
     char pre[600];
     /* every rank holds the same input before the decomposition (which may be collective), and
      * the same decomposition after it */
@@ -317,7 +321,8 @@ int run_par_load(run_job *j, pslg *in, pcdm_decomp *d) {
     if ((rc = run_agree(j, rc, msg)) != 0) goto fail;
     return 0;
 fail:
-    pslg_free(in); /* both zero what they free and accept a zeroed struct */
+    par_dom_ahead_get(&j->dom_ahead); /* joined before in goes */
+    pslg_free(in);                    /* both zero what they free and accept a zeroed struct */
     pcdm_decomp_free(d);
     run_job_free(j);
     return rc;
@@ -701,7 +706,8 @@ int run_par_main(int argc, char **argv, run_method method, par_parse_fn parse, c
     double c2 = par_cpu_seconds(), t_out = rt_wtime();
     par_opts oc = j.o;
     run_check_bounds(&j, &oc.min_angle, &oc.max_area, &oc.region_area);
-    int out = par_output_sub(&oc, &in, &p.local, p.artificial, p.tsub, p.topen, &sum);
+    int out = par_output_sub(&oc, &in, par_dom_ahead_get(&j.dom_ahead), &p.local, p.artificial,
+                             p.tsub, p.topen, &sum);
     double output_s = rt_wtime() - t_out;
     /* the mesh hash: a sum over triangles (par_output_sub's pass), so one reduction of the
      * parts' sums */
@@ -739,6 +745,7 @@ int run_par_main(int argc, char **argv, run_method method, par_parse_fn parse, c
     fflush(stdout);
     status = run_exit_status(j.verdict, out); /* 7. exit status */
 done:
+    par_dom_ahead_get(&j.dom_ahead); /* joined before in goes */
     run_part_free(&p);
     run_stats_free(&st);
     pcdm_decomp_free(&d);
