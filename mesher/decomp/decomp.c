@@ -253,7 +253,24 @@ static void build_pieces(const pslg *in, const mesh *m, const uint8_t *mseg_cut,
                      *bb = m->xy + 2 * (size_t)m->seg[2 * s->seg + 1];
         r[nr++] = (rec){s->seg, s->u, s->v, lex_cmp(a, bb) < 0, m->xy};
     }
-    qsort(r, (size_t)nr, sizeof *r, cmp_rec);
+    /* by segment (a stable counting sort), then along it: cmp_rec's order (it has no ties), and
+     * on the fast route most segments have one piece */
+    int32_t *cnt = mesh_xcalloc((size_t)m->nseg + 1, sizeof(int32_t));
+    rec *sorted = mesh_xmalloc((size_t)nr + 1, sizeof(rec));
+    for (int32_t k = 0; k < nr; k++)
+        cnt[r[k].seg + 1]++;
+    for (int32_t s = 0; s < m->nseg; s++)
+        cnt[s + 1] += cnt[s];
+    for (int32_t k = 0; k < nr; k++)
+        sorted[cnt[r[k].seg]++] = r[k];
+    mesh_xfree(cnt);
+    mesh_xfree(r);
+    r = sorted;
+    for (int32_t k = 0, k2; k < nr; k = k2) {
+        for (k2 = k + 1; k2 < nr && r[k2].seg == r[k].seg; k2++)
+            ;
+        if (k2 - k > 1) qsort(r + k, (size_t)(k2 - k), sizeof *r, cmp_rec);
+    }
     int32_t i = 0;
     for (int32_t s = 0; s < m->nseg; s++) {
         if (mseg_cut && mseg_cut[s]) continue;

@@ -194,7 +194,13 @@ int pcdm_build_sub(mesh *m, pcdm_sub_map *mp, const pcdm_decomp *d, int32_t sub,
     }
     memcpy(vs + nv, fl, (size_t)nfree * sizeof(int32_t));
     nv += nfree;
-    qsort(vs, (size_t)nv, sizeof *vs, mesh_cmp_i32);
+    uint64_t *vk = mesh_xmalloc((size_t)nv + 1, sizeof *vk); /* sorted by a radix sort */
+    for (int32_t i = 0; i < nv; i++)
+        vk[i] = (uint64_t)(uint32_t)vs[i];
+    mesh_sort_u64(vk, (size_t)nv);
+    for (int32_t i = 0; i < nv; i++)
+        vs[i] = (int32_t)vk[i];
+    free(vk);
     int32_t k = 0;
     for (int32_t i = 0; i < nv; i++)
         if (k == 0 || vs[i] != vs[k - 1]) vs[k++] = vs[i];
