@@ -109,8 +109,9 @@ int par_area_agrees(const pslg *in, double part_area, const double *dom, char *w
 /* The domain's area (pslg_domain_area) computed on a thread of its own while the caller goes on
  * (rank 0 during the decomposition, when the other ranks and threads wait), so that the area
  * check after meshing finds it made.  start: in must stay alive and unchanged until
- * par_dom_ahead_get, which joins the thread (safe to call more than once, and on a struct that
- * never started: it returns NULL then).  Local. */
+ * par_dom_ahead_get, which joins the thread and returns the area (safe to call more than once:
+ * the later calls return it at once; NULL on a struct that never started).  Join it before
+ * anything that may end the process, so no thread is left behind.  Local. */
 typedef struct par_dom_ahead {
     const pslg *in;
     double area;

@@ -314,6 +314,9 @@ int run_par_load(run_job *j, pslg *in, pcdm_decomp *d) {
         rc = run_agree(j, RUN_FINVAL, msg);
         goto fail;
     }
+    /* the area's thread is done by now (it costs a fraction of the decomposition): joined
+     * here, so that no thread of ours outlives a fatal error in the meshing */
+    par_dom_ahead_get(&j->dom_ahead);
     if (o->write_cuts && rt_rank() == 0 &&
         pcdm_decomp_write_cuts(d, o->write_cuts, err, sizeof err) != 0)
         rc = RUN_FINPUT;
