@@ -6,9 +6,11 @@
  * caller takes items too, so the loop finishes even when no thread starts.  The mutex also
  * orders each item's writes before the join that ends the call.
  */
+#define _GNU_SOURCE /* pthread_setaffinity_np, CPU_SET */
 #include "base/pfor.h"
 
 #include <pthread.h>
+#include <sched.h>
 
 typedef struct range_job {
     void (*fn)(void *ctx, int k, int64_t a, int64_t b);
@@ -79,4 +81,21 @@ void mesh_pfor_items(int64_t count, int threads, void (*fn)(void *ctx, int64_t i
     for (int k = 1; k < n; k++)
         if (started[k]) pthread_join(th[k], NULL);
     pthread_mutex_destroy(&j.mu);
+}
+
+void mesh_thread_spread(const uint8_t *cpus) {
+#ifdef __linux__
+    if (!cpus) return;
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    int n = 0;
+    for (int c = 0; c < MESH_HOST_CPUS && c < CPU_SETSIZE; c++)
+        if (cpus[c]) {
+            CPU_SET(c, &set);
+            n++;
+        }
+    if (n > 0) (void)pthread_setaffinity_np(pthread_self(), sizeof set, &set);
+#else
+    (void)cpus;
+#endif
 }

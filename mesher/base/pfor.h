@@ -27,4 +27,11 @@ int mesh_pfor_ranges(int64_t count, int threads, int64_t min_len,
  * once; the threads take the next item as they finish one (items of uneven size balance). */
 void mesh_pfor_items(int64_t count, int threads, void (*fn)(void *ctx, int64_t i), void *ctx);
 
+/* The CPUs a helper thread may take beyond its rank's (MESH_HOST_CPUS entries, 1 = may run
+ * there): a launcher binds each rank to a core, and while the other ranks of the host wait
+ * asleep their cores are free.  mesh_thread_spread moves the calling thread onto the CPUs set in
+ * cpus (all 0, or NULL: it stays where it is); Linux only, a no-op elsewhere or on failure. */
+enum { MESH_HOST_CPUS = 1024 };
+void mesh_thread_spread(const uint8_t *cpus);
+
 #endif

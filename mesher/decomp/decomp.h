@@ -66,8 +66,14 @@ typedef struct pcdm_decomp_opts {
                             * auto: they enter the work weights, the exact preview and its
                             * trial (a cuts file's weights ignore them) */
     int keep_cdt;          /* auto: 1 = keep a copy of the input's CDT in the result (cdt) */
-    int coarse_route;      /* auto: 1 = partition the lfs-graded coarse mesh, not the input's CDT
-                            * with interior points, whatever the input's size (decomp_auto.c) */
+    /* auto: the Delaunay triangulation of exactly in's vertices, already made by
+     * mesh_build_points (its duplicate map in *dt_dup), or NULL: the first CDT of the input is
+     * completed from it (mesh_build_cdt_from_points: the same mesh) instead of built; taken (*dt
+     * left empty, *dt_dup NULL) when used */
+    struct mesh *dt;
+    int32_t **dt_dup;
+    int coarse_route; /* auto: 1 = partition the lfs-graded coarse mesh, not the input's CDT
+                       * with interior points, whatever the input's size (decomp_auto.c) */
     /* Auto, coarse route, K = P > 1, imbalance 1 (./pbw): the partition is the one of least
      * predicted cost among several METIS seeds (decomp_seeds.c).  The cost of a part is its
      * work plus boundary_cost times its boundary with other parts measured in local final

@@ -836,7 +836,17 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
     int32_t per = o->per_sub > 0 ? o->per_sub : PER_SUB_DEFAULT;
     mesh m, *keep = NULL;
     mesh_init(&m);
-    if (mesh_build_cdt(&m, in, NULL, err, errlen) != 0) {
+    int built;
+    if (o->dt && o->dt_dup && *o->dt_dup && o->dt->nv == in->nverts) { /* made ahead: taken */
+        m = *o->dt;
+        mesh_init(o->dt);
+        int32_t *dup = *o->dt_dup;
+        *o->dt_dup = NULL;
+        built = mesh_build_cdt_from_points(&m, dup, in, NULL, err, errlen);
+    } else {
+        built = mesh_build_cdt(&m, in, NULL, err, errlen);
+    }
+    if (built != 0) {
         mesh_free(&m);
         return -1;
     }

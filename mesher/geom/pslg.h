@@ -105,6 +105,14 @@ enum {
  * ...)).  Returns 0, or -1 with a message in err. */
 int pslg_check_ex(pslg *g, unsigned flags, char *err, size_t errlen);
 
+/* pslg_check_ex in two steps, for a caller that starts work on the vertices between them (the
+ * parallel programs' rank 0 triangulates them while the rest is checked): pslg_check_start
+ * refuses non-finite coordinates and segment ends out of range and scales the vertices into the
+ * working range; pslg_check_finish then does the rest, which may still merge, drop or add
+ * vertices.  Each returns 0, or -1 with a message in err; finish only after start returned 0. */
+int pslg_check_start(pslg *g, char *err, size_t errlen);
+int pslg_check_finish(pslg *g, unsigned flags, char *err, size_t errlen);
+
 /* Triangle's -c: encloses the convex hull of g's vertices with segments.  The hull's edges are
  * cut at every vertex lying on them (exact orient2d), so no new segment passes through a
  * vertex; an edge an input segment already covers (the segment lying on the hull's boundary)

@@ -726,7 +726,7 @@ static int normalise(pslg *g, int split, int quiet, int32_t **pairs, int64_t *np
     return rc;
 }
 
-int pslg_check_ex(pslg *g, unsigned flags, char *err, size_t errlen) {
+int pslg_check_start(pslg *g, char *err, size_t errlen) {
     geom_init();
     if (errlen) err[0] = '\0';
     const char *vf = g->path[0] ? g->path : "(input)";
@@ -742,7 +742,11 @@ int pslg_check_ex(pslg *g, unsigned flags, char *err, size_t errlen) {
                 return mesh_fail(err, errlen, "%s:%d: segment %d: vertex %d out of range", sf,
                                  g->sline ? g->sline[s] : 0, s + g->first_index,
                                  g->seg[2 * s + k] + g->first_index);
-    if (pslg_scale(g, err, errlen) != 0) return -1;
+    return pslg_scale(g, err, errlen) != 0 ? -1 : 0;
+}
+
+int pslg_check_finish(pslg *g, unsigned flags, char *err, size_t errlen) {
+    const char *sf = g->segpath[0] ? g->segpath : g->path[0] ? g->path : "(input)";
     int split = (flags & PSLG_SPLIT) != 0;
     for (int round = 0;; round++) {
         int32_t *pairs;
@@ -773,6 +777,11 @@ int pslg_check_ex(pslg *g, unsigned flags, char *err, size_t errlen) {
         free(pairs);
         if (rc != 0) return -1;
     }
+}
+
+int pslg_check_ex(pslg *g, unsigned flags, char *err, size_t errlen) {
+    if (pslg_check_start(g, err, errlen) != 0) return -1;
+    return pslg_check_finish(g, flags, err, errlen);
 }
 
 int pslg_check(pslg *g, char *err, size_t errlen) {

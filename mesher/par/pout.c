@@ -465,13 +465,15 @@ int par_area_agrees(const pslg *in, double part_area, const double *dom, char *w
 
 static void *dom_ahead_run(void *arg) {
     par_dom_ahead *a = arg;
+    mesh_thread_spread(a->cpus);
     a->area = pslg_domain_area(a->in);
     return NULL;
 }
 
-void par_dom_ahead_start(par_dom_ahead *a, const pslg *in) {
+void par_dom_ahead_start(par_dom_ahead *a, const pslg *in, const uint8_t *cpus) {
     memset(a, 0, sizeof *a);
     a->in = in;
+    a->cpus = cpus;
     if (!in || in->nsegs == 0) return; /* a point set: no area to compute */
     a->started = pthread_create(&a->thr, NULL, dom_ahead_run, a) == 0;
 }

@@ -114,11 +114,12 @@ int par_area_agrees(const pslg *in, double part_area, const double *dom, char *w
  * anything that may end the process, so no thread is left behind.  Local. */
 typedef struct par_dom_ahead {
     const pslg *in;
+    const uint8_t *cpus; /* where the thread may run (mesh_thread_spread; NULL: the rank's) */
     double area;
     int started, joined;
     pthread_t thr;
 } par_dom_ahead;
-void par_dom_ahead_start(par_dom_ahead *a, const pslg *in);
+void par_dom_ahead_start(par_dom_ahead *a, const pslg *in, const uint8_t *cpus);
 const double *par_dom_ahead_get(par_dom_ahead *a);
 
 /* Local.  The area of f's triangles in its working scale, on threads threads (the same value

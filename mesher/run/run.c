@@ -78,7 +78,12 @@ int run_load(run_job *j, pslg *g, int quiet, int sizes, char *err, size_t errlen
     if (rc != 0) return -1;
     g->quiet = quiet; /* no warnings (merged duplicates) */
     unsigned flags = (o->strict ? 0u : PSLG_SPLIT) | (o->convex_hull ? PSLG_HULL : 0u);
-    if (pslg_check_ex(g, flags, err, errlen) != 0) {
+    if (pslg_check_start(g, err, errlen) != 0) {
+        pslg_free(g);
+        return -1;
+    }
+    if (j->vertices_ready) j->vertices_ready(j, g);
+    if (pslg_check_finish(g, flags, err, errlen) != 0) {
         pslg_free(g);
         return -1;
     }

@@ -24,6 +24,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "base/pfor.h"
 #include "bounds/bounds.h"
 #include "bounds/sizefield.h"
 #include "decomp/decomp.h"
@@ -42,6 +43,21 @@ typedef enum run_verdict {
     RUN_UNMET    /* refinement cannot reach the bounds: exit 1, the mesh written only with
                     --write-partial (the library: no mesh) */
 } run_verdict;
+
+/* The Delaunay triangulation of the input's vertices, made on a thread of its own while the rest
+ * of the input is checked (the parallel programs' rank 0, whose decomposition starts from it:
+ * run_ahead.c).  Owned by the job; run_par_load joins and frees it once the decomposition is
+ * made or has failed. */
+typedef struct run_dt_ahead {
+    int32_t n;
+    double *xy;          /* the n points it triangulates, a copy taken before the check goes on */
+    mesh m;              /* mesh_build_points' triangulation, once joined */
+    int32_t *dup;        /* its duplicate map */
+    int rc;              /* mesh_build_points' status */
+    const uint8_t *cpus; /* where the thread may run (mesh_thread_spread) */
+    int started, joined;
+    pthread_t thr;
+} run_dt_ahead;
 
 /* A job.  o is the request as the front end (apps/cli.h) or the library fills it; the rest is
  * the driver's. */
@@ -65,6 +81,13 @@ typedef struct run_job {
     /* the parallel programs: the domain's area, computed on rank 0 while it decomposes
      * (run_par_load starts it; the area check after meshing takes it) */
     par_dom_ahead dom_ahead;
+    /* set by the driver before run_load: called once between pslg_check_start and
+     * pslg_check_finish, when the vertices are in their working scale (run_dt_ahead_start) */
+    void (*vertices_ready)(struct run_job *j, const pslg *g);
+    run_dt_ahead dt_ahead;
+    /* rank 0: the CPUs the ranks of its host are bound to, which its threads ahead (the area,
+     * the triangulation) may use while those ranks wait (run_ahead_host_cpus) */
+    uint8_t host_cpus[MESH_HOST_CPUS];
     /* out */
     run_verdict verdict;
     int64_t unmet;          /* triangles outside the bounds, not forced (all ranks) */
@@ -74,6 +97,19 @@ typedef struct run_job {
     int check_ok;           /* o.check: 1 iff the validator passed the mesh (run_mesh_flat) */
     validate_report report; /* o.check: the validator's report */
 } run_job;
+
+/* Local (run_ahead.c, the parallel library only).  start: a thread begins the Delaunay
+ * triangulation of g's vertices (copied first; g may change afterwards).  take: joins it and,
+ * when it succeeded on exactly g's vertices (count and coordinates bit for bit), returns it for
+ * mesh_build_cdt_from_points (the caller may take m and dup, leaving them empty and NULL); else
+ * frees it and returns NULL.  free: joins and frees whatever is left (safe on a struct that
+ * never started, and more than once). */
+void run_dt_ahead_start(run_job *j, const pslg *g);
+/* Collective (run_ahead.c).  Fills j->host_cpus on the first rank of each host (the union of
+ * the affinity masks of the ranks there); all 0 at one rank (the thread stays in the rank's). */
+void run_ahead_host_cpus(run_job *j);
+run_dt_ahead *run_dt_ahead_take(run_dt_ahead *a, const pslg *g);
+void run_dt_ahead_free(run_dt_ahead *a);
 
 /* Local.  A job for method with the options o (copied); nothing else set. */
 void run_job_init(run_job *j, run_method method, const par_opts *o);

@@ -210,7 +210,7 @@ static int share_input(run_job *j, pslg *in, int rc, char *err, size_t errlen) {
 
 /* Local, but Collective for ./pbw's automatic decomposition (pick_partition).  The decomposition
  * of in for the ranks (auto, or --cuts).  Returns 0, or a RUN_F* code with the message in err. */
-static int decompose(const run_job *j, const pslg *in, pcdm_decomp *d, char *err, size_t errlen) {
+static int decompose(run_job *j, const pslg *in, pcdm_decomp *d, char *err, size_t errlen) {
     const par_opts *o = &j->o;
     int P = rt_size(), rc = 0;
     pcdm_decomp_opts dopt;
@@ -262,10 +262,18 @@ static int decompose(const run_job *j, const pslg *in, pcdm_decomp *d, char *err
      * seeds and keep the input's CDT, so they all decompose) */
     int share = P > 1 && j->method == RUN_PCDM;
     double t0 = rt_wtime();
+    /* the input's vertices, triangulated while it was checked (rank 0; run_ahead.c) */
+    run_dt_ahead *dt = run_dt_ahead_take(&j->dt_ahead, in);
+    if (dt) {
+        dopt.dt = &dt->m;
+        dopt.dt_dup = &dt->dup;
+    }
     if (!share || rt_rank() == 0)
         rc = o->cuts ? pcdm_decomp_read_cuts(o->cuts, in, &dopt, d, err, errlen)
                      : pcdm_decomp_auto(in, &dopt, d, err, errlen);
+    run_dt_ahead_free(&j->dt_ahead);
     if (share) rc = share_decomp(d, rc, err, errlen);
+
     if (rc == 0) {
         d->build_s = rt_wtime() - t0;
         return 0;
@@ -286,8 +294,15 @@ int run_par_load(run_job *j, pslg *in, pcdm_decomp *d) {
      * each read it again; the file need not be on the other ranks' machines); the library's
      * ranks each hold their own arrays */
     int share = rt_size() > 1 && !j->lib && !j->given;
+    if (share) run_ahead_host_cpus(j);
     double t0 = rt_wtime();
     int rc = 0;
+    /* ./pcdm's rank 0, which alone decomposes while the other ranks and its own workers wait:
+     * the input's vertices are triangulated on a second thread while the rest of the input is
+     * checked */
+    if (j->method == RUN_PCDM && !j->lib && !j->given && !o->cuts && rt_rank() == 0 &&
+        (rt_size() > 1 || o->threads > 1))
+        j->vertices_ready = run_dt_ahead_start;
     if (!share || rt_rank() == 0)
         rc = run_load(j, in, quiet, !j->lib && !share, err, sizeof err) == 0 ? 0 : RUN_FINPUT;
     if (share && share_input(j, in, rc, err, sizeof err) != 0 && rc == 0) rc = RUN_FINPUT;
@@ -295,7 +310,7 @@ int run_par_load(run_job *j, pslg *in, pcdm_decomp *d) {
     /* the area check's domain area, on a thread of rank 0 while it decomposes and the other
      * ranks and threads wait for it */
     if (rc == 0 && !j->lib && rt_rank() == 0 && (rt_size() > 1 || o->threads > 1))
-        par_dom_ahead_start(&j->dom_ahead, in);
+        par_dom_ahead_start(&j->dom_ahead, in, j->host_cpus);
     char pre[600];
     /* every rank holds the same input before the decomposition (which may be collective), and
      * the same decomposition after it */
@@ -325,7 +340,8 @@ int run_par_load(run_job *j, pslg *in, pcdm_decomp *d) {
     return 0;
 fail:
     par_dom_ahead_get(&j->dom_ahead); /* joined before in goes */
-    pslg_free(in);                    /* both zero what they free and accept a zeroed struct */
+    run_dt_ahead_free(&j->dt_ahead);
+    pslg_free(in); /* both zero what they free and accept a zeroed struct */
     pcdm_decomp_free(d);
     run_job_free(j);
     return rc;

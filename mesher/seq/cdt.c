@@ -513,9 +513,9 @@ static void corners(mesh *m) {
     }
 }
 
-static int build(mesh *m, int32_t n, const double *xy, const int32_t *vmarker, int32_t nseg,
-                 const int32_t *seg, const int32_t *smarker, const uint8_t *iface,
-                 const double *holes, int32_t nholes, char *err, size_t errlen) {
+/* The first half of build: the vertices and their Delaunay triangulation (dup: n entries). */
+static int build_points(mesh *m, int32_t n, const double *xy, int32_t *dup, char *err,
+                        size_t errlen) {
     if (m->nv != 0 || m->nt != 0) {
         mesh_fail(err, errlen, "mesh_build: mesh is not empty");
         return -1;
@@ -523,14 +523,16 @@ static int build(mesh *m, int32_t n, const double *xy, const int32_t *vmarker, i
     for (int32_t v = 0; v < n; v++)
         mesh_vert_add(m, xy[2 * v], xy[2 * v + 1], -1);
     m->ninput = n;
+    return delaunay(m, n, dup, err, errlen);
+}
+
+/* The second half: the input markers, the segments, the exterior removed.  Frees dup. */
+static int build_rest(mesh *m, int32_t n, const int32_t *vmarker, int32_t nseg, const int32_t *seg,
+                      const int32_t *smarker, const uint8_t *iface, const double *holes,
+                      int32_t nholes, int32_t *dup, char *err, size_t errlen) {
     m->in_vmarker = mesh_xrealloc(NULL, (size_t)n + 1, sizeof(int32_t));
     for (int32_t v = 0; v < n; v++)
         m->in_vmarker[v] = vmarker ? vmarker[v] : 0;
-    int32_t *dup = mesh_xrealloc(NULL, (size_t)n + 1, sizeof(int32_t));
-    if (delaunay(m, n, dup, err, errlen) != 0) {
-        free(dup);
-        return -1;
-    }
     ivec pieces = {0}, cross = {0};
     for (int32_t s = 0; s < nseg; s++) {
         int32_t a = dup[seg[2 * s]], b = dup[seg[2 * s + 1]];
@@ -554,15 +556,50 @@ static int build(mesh *m, int32_t n, const double *xy, const int32_t *vmarker, i
     return 0;
 }
 
+static int build(mesh *m, int32_t n, const double *xy, const int32_t *vmarker, int32_t nseg,
+                 const int32_t *seg, const int32_t *smarker, const uint8_t *iface,
+                 const double *holes, int32_t nholes, char *err, size_t errlen) {
+    int32_t *dup = mesh_xrealloc(NULL, (size_t)n + 1, sizeof(int32_t));
+    if (build_points(m, n, xy, dup, err, errlen) != 0) {
+        free(dup);
+        return -1;
+    }
+    return build_rest(m, n, vmarker, nseg, seg, smarker, iface, holes, nholes, dup, err, errlen);
+}
+
+/* mesh_build_cdt's message: "FILE: problem". */
+static void name_failure(const pslg *g, char *err, size_t errlen) {
+    if (!err || errlen == 0) return;
+    char tmp[1200];
+    snprintf(tmp, sizeof tmp, "%.512s: %.600s", g->path[0] ? g->path : "(pslg)", err);
+    snprintf(err, errlen, "%s", tmp);
+}
+
+int mesh_build_points(mesh *m, int32_t n, const double *xy, int32_t **dup, char *err,
+                      size_t errlen) {
+    *dup = mesh_xrealloc(NULL, (size_t)n + 1, sizeof(int32_t));
+    if (build_points(m, n, xy, *dup, err, errlen) == 0) return 0;
+    free(*dup);
+    *dup = NULL;
+    return -1;
+}
+
+int mesh_build_cdt_from_points(mesh *m, int32_t *dup, const pslg *g, const uint8_t *iface,
+                               char *err, size_t errlen) {
+    m->scale_exp = g->scale_exp;
+    MESH_ASSERT(m->ninput == g->nverts && m->nv == g->nverts);
+    int r = build_rest(m, g->nverts, g->vmarker, g->nsegs, g->seg, g->smarker, iface, g->holes,
+                       g->nholes, dup, err, errlen);
+    if (r != 0) name_failure(g, err, errlen);
+    MESH_ASSERT(r != 0 || mesh_consistent(m));
+    return r;
+}
+
 int mesh_build_cdt(mesh *m, const pslg *g, const uint8_t *iface, char *err, size_t errlen) {
     m->scale_exp = g->scale_exp;
     int r = build(m, g->nverts, g->xy, g->vmarker, g->nsegs, g->seg, g->smarker, iface, g->holes,
                   g->nholes, err, errlen);
-    if (r != 0 && err && errlen > 0) {
-        char tmp[1200];
-        snprintf(tmp, sizeof tmp, "%.512s: %.600s", g->path[0] ? g->path : "(pslg)", err);
-        snprintf(err, errlen, "%s", tmp);
-    }
+    if (r != 0) name_failure(g, err, errlen);
     MESH_ASSERT(r != 0 || mesh_consistent(m));
     return r;
 }

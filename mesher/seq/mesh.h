@@ -184,6 +184,20 @@ void mesh_free(mesh *m);
  * all vertices collinear, empty domain). */
 int mesh_build_cdt(mesh *m, const pslg *g, const uint8_t *iface, char *err, size_t errlen);
 
+/* mesh_build_cdt in two halves, so that the first can run while the input is still being
+ * checked (the parallel programs' rank 0 does).  mesh_build_points: the Delaunay triangulation
+ * of the n points xy (copied) in the empty m, a point equal to an earlier one left out (*dup:
+ * n entries, the point each one repeats, or itself; the caller's).  Touches nothing but m and
+ * *dup, so it may run on any thread once geom_init has run.  Returns 0, or -1 with the message
+ * (fewer than 3 points, all collinear) and m to be freed.  mesh_build_cdt_from_points: the rest
+ * for g, whose vertices must be those n points exactly (same number and coordinates, bit for
+ * bit): then m ends as mesh_build_cdt(m, g, iface) makes it, and the same messages.  Takes dup
+ * (freed). */
+int mesh_build_points(mesh *m, int32_t n, const double *xy, int32_t **dup, char *err,
+                      size_t errlen);
+int mesh_build_cdt_from_points(mesh *m, int32_t *dup, const pslg *g, const uint8_t *iface,
+                               char *err, size_t errlen);
+
 /* The mesh of g's vertices made of the ntri triangles tri (3 vertex numbers each, counter-
  * clockwise), which must be a constrained Delaunay triangulation of g's segments over its domain
  * (as a subdomain cut from a larger CDT is): the same invariants as mesh_build_cdt's, without
