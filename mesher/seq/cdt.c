@@ -354,22 +354,26 @@ static void sloan(mesh *m, int32_t a, int32_t b, ivec *q) {
 
 static void insert_segment(mesh *m, int32_t s, ivec *pieces, ivec *cross) {
     int32_t a = m->seg[2 * s], b = m->seg[2 * s + 1], cur = a;
+    /* pieces: each piece's end and whether its edge was a constraint already (only then can
+     * an earlier segment have a record for it: records are made here, for constraint edges) */
     pieces->n = 0;
-    ivec_push2(pieces, a, a);
+    ivec_push2(pieces, a, 0);
     while (cur != b) {
         cross->n = cross->head = 0;
         int32_t end = trace(m, cur, b, cross);
         if (cross->n > 0) sloan(m, cur, end, cross);
         int32_t e = mesh_find_edge(m, cur, end);
         if (e < 0) MESH_BUG("segment piece %d-%d missing after insertion", cur, end);
+        int was = mesh_edge_constrained(m, e);
         mesh_set_constrained(m, e);
-        ivec_push2(pieces, end, end);
+        ivec_push2(pieces, end, was);
         cur = end;
     }
     int32_t np = pieces->n / 2 - 1;
     for (int32_t i = 0; i < np; i++) {
         int32_t u = pieces->a[2 * i], v = pieces->a[2 * i + 2];
-        if (mesh_ss_find_pair(m, u, v) >= 0) continue; /* shared with an earlier segment */
+        if (pieces->a[2 * i + 3] && mesh_ss_find_pair(m, u, v) >= 0)
+            continue; /* shared with an earlier segment */
         mesh_ss_add(m, u, v, s, np == 1 ? 0 : -1, 0);
     }
 }
@@ -534,6 +538,7 @@ static int build_rest(mesh *m, int32_t n, const int32_t *vmarker, int32_t nseg, 
     for (int32_t v = 0; v < n; v++)
         m->in_vmarker[v] = vmarker ? vmarker[v] : 0;
     ivec pieces = {0}, cross = {0};
+    mesh_ss_reserve(m, nseg); /* a record a segment, unless segments are cut at vertices */
     for (int32_t s = 0; s < nseg; s++) {
         int32_t a = dup[seg[2 * s]], b = dup[seg[2 * s + 1]];
         int32_t id = mesh_seg_add(m, a, b, smarker ? smarker[s] : 0, iface ? iface[s] : 0);

@@ -73,6 +73,21 @@ static void tab_rebuild(mesh *m, uint32_t cap) {
     }
 }
 
+void mesh_ss_reserve(mesh *m, int32_t n) {
+    if (n <= 0) return;
+    int64_t cap = m->sscap ? m->sscap : 64;
+    while (cap < n)
+        cap *= 2;
+    if (cap > m->sscap) {
+        m->sscap = (int32_t)cap;
+        m->ss = mesh_xrealloc(m->ss, m->sscap, sizeof(mesh_subseg));
+    }
+    uint64_t h = m->hcap ? m->hcap : 256; /* as mesh_ss_add's growth: 2 live < hcap */
+    while (2 * (uint64_t)n >= h)
+        h *= 2;
+    if (h > m->hcap) tab_rebuild(m, (uint32_t)h);
+}
+
 int32_t mesh_ss_add(mesh *m, int32_t u, int32_t v, int32_t seg, int32_t level, int64_t k) {
     int32_t r;
     if (m->ss_free >= 0) {
