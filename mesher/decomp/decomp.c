@@ -40,6 +40,13 @@ void pcdm_decomp_opts_default(pcdm_decomp_opts *o) {
     o->max_steiner = -1;
 }
 
+void pcdm_decomp_drop_triangles(pcdm_decomp *d) {
+    mesh_xfree(d->tri_off);
+    mesh_xfree(d->tri);
+    d->tri_off = NULL;
+    d->tri = NULL;
+}
+
 void pcdm_decomp_free(pcdm_decomp *d) {
     if (!d) return;
     pslg_free(&d->g);

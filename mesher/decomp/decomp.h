@@ -147,6 +147,10 @@ typedef struct pcdm_decomp {
     struct mesh *cdt;
 } pcdm_decomp;
 
+/* Local.  Frees the fast route's triangles (tri_off, tri: both NULL after) once the
+ * subdomains' first meshes are built from them; the rest of d stays whole. */
+void pcdm_decomp_drop_triangles(pcdm_decomp *d);
+
 /* Fills o with defaults: nsub 0, nranks 1, min_angle 30, max_area 0, imbalance 1,
  * per_sub 0 (200), exact_per_sub 0 (1000), max_steiner -1, keep_cdt 0. */
 void pcdm_decomp_opts_default(pcdm_decomp_opts *o);

@@ -304,31 +304,36 @@ static int partition(const mesh *m, const int32_t *id, int32_t n, const double *
         node[i] = node[r];
     }
     mesh_xfree(up);
+    /* the graph's edges in rows by a, in triangle order within a row (two passes over the
+     * triangles: the rows' lengths, then the edges in place), each row then sorted by b with
+     * duplicates (united vertices) merged */
     double *w = mesh_xcalloc((size_t)nn + 1, sizeof(double));
-    gedge *ge = mesh_xmalloc(3 * (size_t)n + 1, sizeof(gedge));
-    int32_t ng = 0;
+    idx_t *xadj = mesh_xcalloc((size_t)nn + 2, sizeof(idx_t));
     for (int32_t t = 0; t < m->nt; t++) {
         if (id[t] < 0) continue;
         int32_t a = node[id[t]];
         w[a] += tw[t];
+        for (int j = 0; j < 3; j++) {
+            int32_t nb = m->tn[3 * t + j];
+            if (nb >= 0 && node[id[nb / 3]] != a) xadj[a + 2]++;
+        }
+    }
+    for (int32_t x = 0; x < nn; x++)
+        xadj[x + 2] += xadj[x + 1];
+    int32_t ng = (int32_t)xadj[nn + 1];
+    gedge *row = mesh_xmalloc((size_t)ng + 1, sizeof(gedge));
+    for (int32_t t = 0; t < m->nt; t++) {
+        if (id[t] < 0) continue;
+        int32_t a = node[id[t]];
         for (int j = 0; j < 3; j++) {
             int32_t e = 3 * t + j, nb = m->tn[e];
             if (nb < 0 || node[id[nb / 3]] == a) continue;
             double l = sqrt(
                 geom_dist2(mesh_vertex_xy(m, mesh_org(m, e)), mesh_vertex_xy(m, mesh_dest(m, e))));
             if (penalize && edge_encroached(m, e)) l *= ENC_PENALTY;
-            ge[ng++] = (gedge){a, node[id[nb / 3]], l};
+            row[xadj[a + 1]++] = (gedge){a, node[id[nb / 3]], l};
         }
     }
-    /* rows by a (a counting sort), each row by b with duplicates (united vertices) merged */
-    idx_t *xadj = mesh_xcalloc((size_t)nn + 2, sizeof(idx_t));
-    for (int32_t i = 0; i < ng; i++)
-        xadj[ge[i].a + 2]++;
-    for (int32_t x = 0; x < nn; x++)
-        xadj[x + 2] += xadj[x + 1];
-    gedge *row = mesh_xmalloc((size_t)ng + 1, sizeof(gedge));
-    for (int32_t i = 0; i < ng; i++)
-        row[xadj[ge[i].a + 1]++] = ge[i];
     idx_t *adj = mesh_xmalloc((size_t)ng + 1, sizeof(idx_t));
     double *len = mesh_xmalloc((size_t)ng + 1, sizeof(double));
     int32_t ne = 0;
@@ -354,7 +359,6 @@ static int partition(const mesh *m, const int32_t *id, int32_t n, const double *
     }
     xadj[nn] = ne;
     mesh_xfree(row);
-    mesh_xfree(ge);
     /* connected? (contiguous parts are asked for only then) */
     int32_t *stk = mesh_xmalloc((size_t)nn + 1, sizeof(int32_t));
     uint8_t *seen = mesh_xcalloc((size_t)nn + 1, 1);

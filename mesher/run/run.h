@@ -201,9 +201,9 @@ int run_par_load(run_job *j, pslg *in, pcdm_decomp *d);
  * or pbw_mesh; the handlers registered), the verdict reduced over the ranks (its message printed
  * by rank 0 unless j->lib) and, for PCDM, the interfaces' Delaunay property.  Fills *p (free
  * with run_part_free) and the per-rank statistics st.  Returns 0 (a mesh to write: met, the
- * Steiner limit, or --write-partial), or a RUN_F* code on every rank (j->msg). */
-int run_par_mesh(run_job *j, const pslg *in, const pcdm_decomp *d, run_part *p,
-                 struct run_stats *st);
+ * Steiner limit, or --write-partial), or a RUN_F* code on every rank (j->msg).  PCDM frees d's
+ * triangles once the subdomains are built from them (pcdm_decomp_drop_triangles). */
+int run_par_mesh(run_job *j, const pslg *in, pcdm_decomp *d, run_part *p, struct run_stats *st);
 
 /* Local. */
 void run_part_free(run_part *p);

@@ -360,7 +360,7 @@ static void set_runtime_times(run_stats *st, const rt_stats *rs) {
 
 /* Collective.  PCDM: this rank's subdomains refined to b; figures into st.  Returns 0, or a
  * RUN_F* code on every rank (message agreed). */
-static int mesh_pcdm(run_job *j, const pcdm_decomp *d, const mesh_bounds *b, const par_config *c,
+static int mesh_pcdm(run_job *j, pcdm_decomp *d, const mesh_bounds *b, const par_config *c,
                      run_part *p, run_stats *st, long long *unmet) {
     char err[1024], msg[sizeof j->msg];
     pcdm_part part;
@@ -371,6 +371,7 @@ static int mesh_pcdm(run_job *j, const pcdm_decomp *d, const mesh_bounds *b, con
         if (rc == 0) pcdm_part_free(&part);
         return RUN_FINPUT;
     }
+    pcdm_decomp_drop_triangles(d); /* the subdomains are built: no longer needed */
     pcdm_part_run(&part, b, c);
     p->mesh_s = rt_wtime() - p->t0;
     pcdm_figures fig;
@@ -487,7 +488,7 @@ static int mesh_pbw(run_job *j, const pslg *in, const pcdm_decomp *d, const mesh
     return 0;
 }
 
-int run_par_mesh(run_job *j, const pslg *in, const pcdm_decomp *d, run_part *p, run_stats *st) {
+int run_par_mesh(run_job *j, const pslg *in, pcdm_decomp *d, run_part *p, run_stats *st) {
     memset(p, 0, sizeof *p);
     mesh_bounds b = run_bounds(j, in); /* 2. bounds */
     par_config c = par_config_of(&j->o);
