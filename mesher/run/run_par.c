@@ -156,7 +156,13 @@ static int share_bytes(int rc, void **buf, size_t *len, char *err, size_t errlen
     }
     bcast_asleep(hdr, 2, MPI_INT64_T, (int)sizeof(int64_t));
     if (rt_rank() != 0) b = mesh_xmalloc((size_t)hdr[1] + 1, 1);
-    bcast_asleep(b, hdr[1], MPI_BYTE, 1);
+    /* the bytes with a plain broadcast: every rank is here now, and a large broadcast moves on
+     * only while the ranks forwarding it call MPI (asleep, each piece would wait for a wake) */
+    for (int64_t at = 0; at < hdr[1];) {
+        int k = (int)(hdr[1] - at < ((int64_t)1 << 28) ? hdr[1] - at : ((int64_t)1 << 28));
+        MESH_MPI(MPI_Bcast((char *)b + at, k, MPI_BYTE, 0, rt_app_comm()));
+        at += k;
+    }
     if (rt_rank() == 0) return rc;
     rc = (int)hdr[0];
     if (rc != 0) {
