@@ -19,7 +19,9 @@
 #include "base/base_mpi.h"
 #include "rt.h"
 
+#include <math.h>
 #include <sched.h>
+#include <stdlib.h>
 #include <string.h>
 
 void run_ahead_host_cpus(run_job *j) {
@@ -43,6 +45,7 @@ static void *dt_run(void *arg) {
     run_dt_ahead *a = arg;
     char err[256];
     mesh_thread_spread(a->cpus);
+    if (getenv("PCDM_TEST_AHEAD_STALE")) a->xy[0] = nextafter(a->xy[0], INFINITY);
     a->rc = mesh_build_points(&a->m, a->n, a->xy, &a->dup, err, sizeof err);
 
     return NULL;
@@ -71,8 +74,12 @@ static void join(run_dt_ahead *a) {
 run_dt_ahead *run_dt_ahead_take(run_dt_ahead *a, const pslg *g) {
     if (!a->started) return NULL;
     join(a);
+    /* test-only faults (tests/t_ahead.sh): PCDM_TEST_AHEAD_STALE, a stale copy (dt_run moved
+     * one of its points by an ulp); PCDM_TEST_AHEAD_TRUST, the copy taken without the
+     * comparison */
+    int trust = getenv("PCDM_TEST_AHEAD_TRUST") != NULL;
     int same = a->rc == 0 && a->xy && a->n == g->nverts &&
-               memcmp(a->xy, g->xy, 2 * (size_t)a->n * sizeof(double)) == 0;
+               (trust || memcmp(a->xy, g->xy, 2 * (size_t)a->n * sizeof(double)) == 0);
     mesh_xfree(a->xy);
     a->xy = NULL;
     if (same) return a;
