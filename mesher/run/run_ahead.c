@@ -47,7 +47,6 @@ static void *dt_run(void *arg) {
     mesh_thread_spread(a->cpus);
     if (getenv("PCDM_TEST_AHEAD_STALE")) a->xy[0] = nextafter(a->xy[0], INFINITY);
     a->rc = mesh_build_points(&a->m, a->n, a->xy, &a->dup, err, sizeof err);
-
     return NULL;
 }
 

@@ -279,7 +279,6 @@ static int decompose(run_job *j, const pslg *in, pcdm_decomp *d, char *err, size
                      : pcdm_decomp_auto(in, &dopt, d, err, errlen);
     run_dt_ahead_free(&j->dt_ahead);
     if (share) rc = share_decomp(d, rc, err, errlen);
-
     if (rc == 0) {
         d->build_s = rt_wtime() - t0;
         return 0;
