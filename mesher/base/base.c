@@ -234,12 +234,16 @@ void mesh_alloc_for_program(void) {
 }
 
 void mesh_sort_u64(uint64_t *a, size_t n) {
+    mesh_sort_u64_from(a, n, 0);
+}
+
+void mesh_sort_u64_from(uint64_t *a, size_t n, int lo) {
     if (n < 2) return;
     if (n < 256) { /* insertion sort: no scratch */
         for (size_t i = 1; i < n; i++) {
             uint64_t x = a[i];
             size_t j = i;
-            for (; j > 0 && a[j - 1] > x; j--)
+            for (; j > 0 && a[j - 1] >> lo > x >> lo; j--)
                 a[j] = a[j - 1];
             a[j] = x;
         }
@@ -247,7 +251,7 @@ void mesh_sort_u64(uint64_t *a, size_t n) {
     }
     uint64_t *tmp = mesh_xmalloc(n, sizeof *tmp), *src = a, *dst = tmp;
     size_t *cnt = mesh_xmalloc(65536, sizeof *cnt);
-    for (int shift = 0; shift < 64; shift += 16) {
+    for (int shift = lo; shift < 64; shift += 16) {
         memset(cnt, 0, 65536 * sizeof *cnt);
         for (size_t i = 0; i < n; i++)
             cnt[src[i] >> shift & 0xffff]++;
@@ -265,6 +269,6 @@ void mesh_sort_u64(uint64_t *a, size_t n) {
         dst = t;
     }
     if (src != a) memcpy(a, src, n * sizeof *a);
-    free(cnt);
-    free(tmp);
+    mesh_xfree(cnt); /* the funnel's blocks: a guard must forget them */
+    mesh_xfree(tmp);
 }

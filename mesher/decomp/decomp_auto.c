@@ -157,24 +157,43 @@ static int insert_free(mesh *m, const double p[2], int32_t t, int check) {
 /* The fast route's coarse mesh: every triangle larger than area (working units) gets a free
  * vertex, pass after pass, until none is larger or limit vertices were added: its circumcenter
  * where that encroaches no segment (well spaced, as in Delaunay refinement), else its centroid,
- * which lies strictly inside it.  No segment is split: the input's segments stay whole. */
+ * which lies strictly inside it.  No segment is split: the input's segments stay whole.  A pass
+ * visits the slots in index order as a scan of all would, but skips those found small since
+ * they were last made (look[]: cleared when a slot is found small, set again when an insertion
+ * makes a triangle there), which a full scan would skip too. */
 static void interior_points(mesh *m, double area, int64_t limit) {
     int64_t added = 0;
+    int32_t cap = m->nt + 64;
+    uint8_t *look = mesh_xmalloc((size_t)cap, 1);
+    memset(look, 1, (size_t)cap);
     for (int more = 1; more && added < limit;) {
         more = 0;
         int32_t nt = m->nt;
         for (int32_t t = 0; t < nt && added < limit; t++) {
-            if (!mesh_tri_alive(m, t)) continue;
+            if (!look[t] || !mesh_tri_alive(m, t)) continue;
             const double *a = mesh_vertex_xy(m, m->tv[3 * t]),
                          *b = mesh_vertex_xy(m, m->tv[3 * t + 1]),
                          *c = mesh_vertex_xy(m, m->tv[3 * t + 2]);
-            if (geom_area(a, b, c) <= area) continue;
+            if (geom_area(a, b, c) <= area) {
+                look[t] = 0;
+                continue;
+            }
             double cc[2], p[2] = {(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3};
             int ins = geom_circumcenter(a, b, c, cc) == 0 && insert_free(m, cc, t, 1);
             if (!ins) ins = insert_free(m, p, t, 0);
-            if (ins) added++, more = 1;
+            if (!ins) continue;
+            added++, more = 1;
+            if (m->nt > cap) {
+                int32_t nc = m->nt + m->nt / 4 + 64;
+                look = mesh_xrealloc(look, (size_t)nc, 1);
+                memset(look + cap, 1, (size_t)(nc - cap));
+                cap = nc;
+            }
+            for (int32_t i = 0; i < m->nnewt; i++)
+                look[m->newt[i]] = 1;
         }
     }
+    mesh_xfree(look);
 }
 
 /* Is edge e (a live triangle's) encroached by the apex on either side (diametral circle)? */
@@ -322,16 +341,19 @@ static int partition(const mesh *m, const int32_t *id, int32_t n, const double *
         xadj[x + 2] += xadj[x + 1];
     int32_t ng = (int32_t)xadj[nn + 1];
     gedge *row = mesh_xmalloc((size_t)ng + 1, sizeof(gedge));
-    for (int32_t t = 0; t < m->nt; t++) {
+    for (int32_t t = 0; t < m->nt; t++) { /* each edge once, from its lower code: both rows */
         if (id[t] < 0) continue;
         int32_t a = node[id[t]];
         for (int j = 0; j < 3; j++) {
             int32_t e = 3 * t + j, nb = m->tn[e];
-            if (nb < 0 || node[id[nb / 3]] == a) continue;
+            if (nb < e) continue;
+            int32_t b = node[id[nb / 3]];
+            if (b == a) continue;
             double l = sqrt(
                 geom_dist2(mesh_vertex_xy(m, mesh_org(m, e)), mesh_vertex_xy(m, mesh_dest(m, e))));
             if (penalize && edge_encroached(m, e)) l *= ENC_PENALTY;
-            row[xadj[a + 1]++] = (gedge){a, node[id[nb / 3]], l};
+            row[xadj[a + 1]++] = (gedge){a, b, l};
+            row[xadj[b + 1]++] = (gedge){b, a, l};
         }
     }
     idx_t *adj = mesh_xmalloc((size_t)ng + 1, sizeof(idx_t));

@@ -67,7 +67,7 @@ static int okey_cmp(const void *a, const void *b) { /* by key, then vertex */
     return (p->v > q->v) - (p->v < q->v);
 }
 
-static int32_t *brio_order(mesh *m, int32_t n) {
+static int32_t *brio_order(mesh *m, int32_t n, uint32_t *hv) {
     double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL};
     for (int32_t v = 0; v < n; v++)
         for (int c = 0; c < 2; c++) {
@@ -88,7 +88,8 @@ static int32_t *brio_order(mesh *m, int32_t n) {
         uint32_t round = 0;
         while ((r & 1) && round < 20)
             round++, r >>= 1;
-        uint64_t key = ((uint64_t)(20 - round) << 32) | hilbert_index(hx, hy);
+        hv[v] = hilbert_index(hx, hy);
+        uint64_t key = ((uint64_t)(20 - round) << 32) | hv[v];
         if (packed)
             pk[v] = key << 27 | (uint64_t)v;
         else
@@ -129,6 +130,49 @@ static void initial_triangle(mesh *m, int32_t a, int32_t b, int32_t c) {
     m->last = t;
 }
 
+/* The triangles renumbered in the Hilbert order of a vertex of theirs (hv: each vertex's
+ * index on the curve, from brio_order), the dead slots dropped: neighbours then lie near each
+ * other in memory, which the passes over the triangulation (segment insertion, the
+ * decomposition's graph, refinement) feel on large inputs, where the slots the insertions
+ * reused are scattered.  Only tv, tn, tf, vtri and last refer to triangles at this point. */
+static void sort_triangles(mesh *m, const uint32_t *hv) {
+    uint64_t *key = mesh_xrealloc(NULL, (size_t)m->nlive + 1, sizeof(uint64_t));
+    int32_t nk = 0;
+    for (int32_t t = 0; t < m->nt; t++) {
+        const int32_t *v = m->tv + 3 * (size_t)t;
+        if (v[0] == MESH_DEAD) continue;
+        int32_t a = v[0] >= 0 ? v[0] : v[1];
+        key[nk++] = (uint64_t)hv[a] << 32 | (uint32_t)t;
+    }
+    mesh_sort_u64_from(key, (size_t)nk, 32); /* by curve index; slots in order already */
+    int32_t *nid = mesh_xrealloc(NULL, (size_t)m->nt + 1, sizeof(int32_t));
+    for (int32_t i = 0; i < nk; i++)
+        nid[(uint32_t)key[i]] = i;
+    free(key);
+    int32_t *tv = mesh_xrealloc(NULL, 3 * (size_t)m->tcap, sizeof(int32_t));
+    int32_t *tn = mesh_xrealloc(NULL, 3 * (size_t)m->tcap, sizeof(int32_t));
+    uint8_t *tf = mesh_xrealloc(NULL, (size_t)m->tcap, 1);
+    for (int32_t t = 0; t < m->nt; t++) {
+        if (m->tv[3 * (size_t)t] == MESH_DEAD) continue;
+        int32_t i = nid[t];
+        for (int j = 0; j < 3; j++) {
+            int32_t e = m->tn[3 * t + j];
+            tv[3 * i + j] = m->tv[3 * t + j];
+            tn[3 * i + j] = e >= 0 ? 3 * nid[e / 3] + e % 3 : e;
+        }
+        tf[i] = m->tf[t];
+    }
+    for (int32_t v = 0; v < m->nv; v++)
+        if (m->vtri[v] >= 0) m->vtri[v] = nid[m->vtri[v]];
+
+    if (m->last >= 0) m->last = mesh_tri_alive(m, m->last) ? nid[m->last] : -1;
+    free(m->tv), free(m->tn), free(m->tf);
+    m->tv = tv, m->tn = tn, m->tf = tf;
+    m->nt = nk;
+    m->free_head = -1;
+    free(nid);
+}
+
 /* Triangulates vertices 0..n-1.  dup[v] = the vertex v duplicates (or v). */
 static int delaunay(mesh *m, int32_t n, int32_t *dup, char *err, size_t errlen) {
     for (int32_t v = 0; v < n; v++)
@@ -137,7 +181,8 @@ static int delaunay(mesh *m, int32_t n, int32_t *dup, char *err, size_t errlen) 
         mesh_fail(err, errlen, "fewer than 3 vertices: nothing to triangulate");
         return -1;
     }
-    int32_t *order = brio_order(m, n);
+    uint32_t *hv = mesh_xrealloc(NULL, (size_t)n, sizeof(uint32_t));
+    int32_t *order = brio_order(m, n, hv);
     int32_t i0 = order[0], i1 = -1, i2 = -1;
     for (int32_t i = 1; i < n && i1 < 0; i++)
         if (X(m, order[i])[0] != X(m, i0)[0] || X(m, order[i])[1] != X(m, i0)[1]) i1 = order[i];
@@ -148,6 +193,7 @@ static int delaunay(mesh *m, int32_t n, int32_t *dup, char *err, size_t errlen) 
     }
     if (i2 < 0) {
         free(order);
+        free(hv);
         mesh_fail(err, errlen, "all vertices are collinear: no triangle");
         return -1;
     }
@@ -176,6 +222,8 @@ static int delaunay(mesh *m, int32_t n, int32_t *dup, char *err, size_t errlen) 
         mesh_cavity_commit(m, v, -1, -1);
     }
     free(order);
+    sort_triangles(m, hv);
+    free(hv);
     return 0;
 }
 
@@ -206,14 +254,18 @@ static int same_direction(const double *a, const double *b, const double *x) {
 
 /* Traces segment a->b from a.  Returns the vertex where this piece ends (b, or a vertex lying
  * exactly on the segment) and appends the crossed edges as (right, left) vertex pairs. */
-static int32_t trace(mesh *m, int32_t a, int32_t b, ivec *cross) {
+static int32_t trace(mesh *m, int32_t a, int32_t b, ivec *cross, int32_t *edge) {
+    *edge = -1;
     int32_t t = m->vtri[a];
     int j = m->tv[3 * t] == a ? 0 : m->tv[3 * t + 1] == a ? 1 : 2;
     int32_t e0 = 3 * t + j, e = e0, start = -1;
     int64_t guard = (int64_t)m->nt + 4;
     do {
         int32_t x = mesh_dest(m, e), y = mesh_apex(m, e);
-        if (x == b || y == b) return b;
+        if (x == b || y == b) { /* the edge a-b exists: the one mesh_find_edge would find */
+            *edge = x == b ? e : mesh_edge_prev(e);
+            return b;
+        }
         /* a hull edge out of a belongs to a ghost triangle: test both fan vertices */
         if (y >= 0 && geom_orient2d(X(m, a), X(m, b), X(m, y)) == 0 &&
             same_direction(X(m, a), X(m, b), X(m, y)))
@@ -352,7 +404,10 @@ static void sloan(mesh *m, int32_t a, int32_t b, ivec *q) {
     free(newe.a);
 }
 
-static void insert_segment(mesh *m, int32_t s, ivec *pieces, ivec *cross) {
+/* Inserts segment s (flips, Sloan's method), its pieces made constraint edges; each piece's
+ * subsegment record is left in pend (u, v, s, was: whether the edge was a constraint already),
+ * for add_records. */
+static void insert_segment(mesh *m, int32_t s, ivec *pieces, ivec *cross, ivec *pend) {
     int32_t a = m->seg[2 * s], b = m->seg[2 * s + 1], cur = a;
     /* pieces: each piece's end and whether its edge was a constraint already (only then can
      * an earlier segment have a record for it: records are made here, for constraint edges) */
@@ -360,9 +415,9 @@ static void insert_segment(mesh *m, int32_t s, ivec *pieces, ivec *cross) {
     ivec_push2(pieces, a, 0);
     while (cur != b) {
         cross->n = cross->head = 0;
-        int32_t end = trace(m, cur, b, cross);
+        int32_t e, end = trace(m, cur, b, cross, &e);
         if (cross->n > 0) sloan(m, cur, end, cross);
-        int32_t e = mesh_find_edge(m, cur, end);
+        if (e < 0) e = mesh_find_edge(m, cur, end);
         if (e < 0) MESH_BUG("segment piece %d-%d missing after insertion", cur, end);
         int was = mesh_edge_constrained(m, e);
         mesh_set_constrained(m, e);
@@ -371,10 +426,29 @@ static void insert_segment(mesh *m, int32_t s, ivec *pieces, ivec *cross) {
     }
     int32_t np = pieces->n / 2 - 1;
     for (int32_t i = 0; i < np; i++) {
-        int32_t u = pieces->a[2 * i], v = pieces->a[2 * i + 2];
-        if (pieces->a[2 * i + 3] && mesh_ss_find_pair(m, u, v) >= 0)
-            continue; /* shared with an earlier segment */
-        mesh_ss_add(m, u, v, s, np == 1 ? 0 : -1, 0);
+        ivec_push2(pend, pieces->a[2 * i], pieces->a[2 * i + 2]);
+        ivec_push2(pend, np == 1 ? s : -1 - s, pieces->a[2 * i + 3]);
+    }
+}
+
+/* The subsegment records of the pieces in pend (insert_segment), in order: a piece whose edge
+ * was a constraint before its segment came may be an earlier segment's piece, which keeps it.
+ * The same records in the same table slots as adding each at its segment, but the tables are
+ * read a few pieces ahead (mesh_ss_prefetch): on a large input each record's slots are a
+ * cache miss otherwise. */
+static void add_records(mesh *m, const ivec *pend) {
+    enum { AHEAD = 12 };
+    int32_t n = pend->n / 4;
+    const int32_t *q = pend->a;
+    for (int32_t i = 0; i < n; i++) {
+        if (i + AHEAD < n) {
+            const int32_t *r = q + 4 * (i + AHEAD);
+            mesh_ss_prefetch(m, r[0], r[1], r[2] >= 0 ? r[2] : -1 - r[2], r[2] >= 0 ? 0 : -1, 0);
+        }
+        const int32_t *r = q + 4 * i;
+        int32_t u = r[0], v = r[1], s = r[2] >= 0 ? r[2] : -1 - r[2];
+        if (r[3] && mesh_ss_find_pair(m, u, v) >= 0) continue; /* shared with an earlier one */
+        mesh_ss_add(m, u, v, s, r[2] >= 0 ? 0 : -1, 0);
     }
 }
 
@@ -537,16 +611,18 @@ static int build_rest(mesh *m, int32_t n, const int32_t *vmarker, int32_t nseg, 
     m->in_vmarker = mesh_xrealloc(NULL, (size_t)n + 1, sizeof(int32_t));
     for (int32_t v = 0; v < n; v++)
         m->in_vmarker[v] = vmarker ? vmarker[v] : 0;
-    ivec pieces = {0}, cross = {0};
+    ivec pieces = {0}, cross = {0}, pend = {0};
     mesh_ss_reserve(m, nseg); /* a record a segment, unless segments are cut at vertices */
     for (int32_t s = 0; s < nseg; s++) {
         int32_t a = dup[seg[2 * s]], b = dup[seg[2 * s + 1]];
         int32_t id = mesh_seg_add(m, a, b, smarker ? smarker[s] : 0, iface ? iface[s] : 0);
         if (a == b) continue;
-        insert_segment(m, id, &pieces, &cross);
+        insert_segment(m, id, &pieces, &cross, &pend);
     }
+    add_records(m, &pend);
     free(pieces.a);
     free(cross.a);
+    free(pend.a);
     free(dup);
     if (nseg == 0) hull_to_segments(m);
     carve(m, holes, nholes, nseg == 0);

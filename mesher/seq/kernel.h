@@ -58,6 +58,9 @@ void mesh_flip(mesh *m, int32_t e);
 int32_t mesh_ss_add(mesh *m, int32_t u, int32_t v, int32_t seg, int32_t level, int64_t k);
 void mesh_ss_del(mesh *m, int32_t r);
 int32_t mesh_ss_find_pair(const mesh *m, int32_t u, int32_t v);
+/* A hint: the table slots mesh_ss_add(m, u, v, seg, level, k) will touch, read into the cache
+ * now (no effect on the tables). */
+void mesh_ss_prefetch(const mesh *m, int32_t u, int32_t v, int32_t seg, int32_t level, int64_t k);
 /* Room for n live records at once: the record array and both tables grown now to the sizes
  * that adding records one by one up to n would reach, so no table is rebuilt on the way. */
 void mesh_ss_reserve(mesh *m, int32_t n);

@@ -124,6 +124,13 @@ void mesh_ss_del(mesh *m, int32_t r) {
     m->ss_live--;
 }
 
+void mesh_ss_prefetch(const mesh *m, int32_t u, int32_t v, int32_t seg, int32_t level, int64_t k) {
+    if (m->hcap == 0) return;
+    uint32_t mask = m->hcap - 1;
+    __builtin_prefetch(&m->hpair[(uint32_t)hash_pair(u, v) & mask], 1);
+    if (level >= 0) __builtin_prefetch(&m->hname[(uint32_t)hash_name(seg, level, k) & mask], 1);
+}
+
 int32_t mesh_ss_find_pair(const mesh *m, int32_t u, int32_t v) {
     if (m->hcap == 0) return -1;
     uint32_t mask = m->hcap - 1, i = (uint32_t)hash_pair(u, v) & mask;

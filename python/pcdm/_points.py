@@ -91,7 +91,7 @@ def voronoi(pts: Any) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
 
     >>> points, edges, origin, direction = voronoi([[0, 0], [1, 0], [0, 1], [1, 1.5]])
     >>> points.tolist(), edges.tolist()
-    ([[0.75, 0.75], [0.5, 0.5]], [[0, 1]])
+    ([[0.5, 0.5], [0.75, 0.75]], [[0, 1]])
     """
     p, m = _mesh(pts, "")
     t = np.ascontiguousarray(m["triangles"], dtype=np.int64)
