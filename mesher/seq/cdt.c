@@ -5,13 +5,16 @@
  *    hull need no special case).  Insertion order is BRIO (Amenta, Choi, Rote, "Incremental
  *    constructions con BRIO", 2003): rounds of geometrically growing random subsets, each round
  *    sorted along a Hilbert curve, and every walk starts from the previous insertion, so point
- *    location is a few steps and memory access stays local.
+ *    location is a few steps and memory access stays local.  Then the triangles are renumbered
+ *    along the same curve (the slots the insertions freed and reused scatter neighbours over
+ *    the arrays; every later pass reads them in adjacency order).
  * 2. Segments are inserted one by one (Sloan, "A fast algorithm for generating constrained
  *    Delaunay triangulations", 1993): walk along the segment from one endpoint collecting the
  *    edges it crosses (stopping early at a vertex lying exactly on it -- exact orient2d == 0 --
  *    where the segment is split), flip crossing edges whose quadrilateral is strictly convex
  *    until none crosses, then flip the new edges that are not locally Delaunay.  The result is
- *    the CDT (Chew 1989, Lee and Lin 1986).
+ *    the CDT (Chew 1989, Lee and Lin 1986).  The pieces' subsegment records are added after the
+ *    last segment, in segment order, the hash tables read a few records ahead.
  * 3. Triangles outside the domain are removed as Triangle does: everything reachable from the
  *    convex hull (ghost triangles) or from a hole point without crossing a segment.  A PSLG with
  *    no segment keeps its convex hull, whose edges become segments.
@@ -97,7 +100,7 @@ static int32_t *brio_order(mesh *m, int32_t n, uint32_t *hv) {
     }
     int32_t *order = mesh_xrealloc(NULL, n, sizeof(int32_t));
     if (packed) {
-        mesh_sort_u64(pk, (size_t)n);
+        mesh_sort_u64_from(pk, (size_t)n, 27); /* v ascending already: ties keep it */
         for (int32_t i = 0; i < n; i++)
             order[i] = (int32_t)(pk[i] & ((1u << 27) - 1));
         free(pk);
