@@ -165,8 +165,10 @@ static void sort_triangles(mesh *m, const uint32_t *hv) {
         }
         tf[i] = m->tf[t];
     }
-    for (int32_t v = 0; v < m->nv; v++)
+    for (int32_t v = 0; v < m->nv; v++) { /* a commit points its cavity's vertices at live ones */
+        MESH_ASSERT(m->vtri[v] < 0 || mesh_tri_alive(m, m->vtri[v]));
         if (m->vtri[v] >= 0) m->vtri[v] = nid[m->vtri[v]];
+    }
 
     if (m->last >= 0) m->last = mesh_tri_alive(m, m->last) ? nid[m->last] : -1;
     free(m->tv), free(m->tn), free(m->tf);
