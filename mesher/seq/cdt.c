@@ -169,7 +169,6 @@ static void sort_triangles(mesh *m, const uint32_t *hv) {
         MESH_ASSERT(m->vtri[v] < 0 || mesh_tri_alive(m, m->vtri[v]));
         if (m->vtri[v] >= 0) m->vtri[v] = nid[m->vtri[v]];
     }
-
     if (m->last >= 0) m->last = mesh_tri_alive(m, m->last) ? nid[m->last] : -1;
     free(m->tv), free(m->tn), free(m->tf);
     m->tv = tv, m->tn = tn, m->tf = tf;
