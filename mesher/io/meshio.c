@@ -14,6 +14,7 @@
  * loaded and walked by base/textin.h as pslg_read's are (the same encodings taken, binary input
  * refused); a .ele must hold every triangle its count declares.
  */
+#define _GNU_SOURCE /* sync_file_range, fopencookie */
 #include "io/meshio.h"
 
 #include "base/base.h"
@@ -25,6 +26,7 @@
 #include "io/wfile.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdint.h>
@@ -49,6 +51,52 @@ int meshio_mktemp(const char *path, char *tmp, size_t tmplen, char *err, size_t 
     return fd;
 }
 
+void meshio_writeback(int fd, long long off, long long n) {
+#ifdef SYNC_FILE_RANGE_WRITE
+    if (fd >= 0 && off >= 0 && n > 0) (void)sync_file_range(fd, off, n, SYNC_FILE_RANGE_WRITE);
+#else
+    (void)fd, (void)off, (void)n;
+#endif
+}
+
+int meshio_writeback_open(const char *path) {
+#ifdef SYNC_FILE_RANGE_WRITE
+    return open(path, O_WRONLY | O_CLOEXEC);
+#else
+    (void)path;
+    return -1;
+#endif
+}
+
+#define WB_STEP ((long long)8 << 20) /* bytes between two writeback hints */
+
+/* The stream's write: all of n bytes to the descriptor (a short write is continued), then a
+ * writeback hint every WB_STEP bytes.  Returns the bytes written, 0 on an error (errno set, as
+ * the stream's caller then reads it). */
+static ssize_t wf_write(void *cookie, const char *b, size_t n) {
+    wfile *w = cookie;
+    size_t done = 0;
+    while (done < n) {
+        ssize_t k = write(w->fd, b + done, n - done);
+        if (k < 0 && errno == EINTR) continue;
+        if (k <= 0) {
+            if (k == 0) errno = EIO;
+            break;
+        }
+        done += (size_t)k;
+    }
+    w->at += (long long)done;
+    if (w->at - w->hinted >= WB_STEP) {
+        meshio_writeback(w->fd, w->hinted, w->at - w->hinted);
+        w->hinted = w->at;
+    }
+    return (ssize_t)done;
+}
+
+static int wf_close(void *cookie) {
+    return close(((wfile *)cookie)->fd);
+}
+
 int meshio_wopen(wfile *w, meshio_set *set, const char *path, char *err, size_t errlen) {
     memset(w, 0, sizeof *w);
     w->path = path;
@@ -63,7 +111,8 @@ int meshio_wopen(wfile *w, meshio_set *set, const char *path, char *err, size_t 
         unlink(w->tmp);
         return -1;
     }
-    w->f = fdopen(fd, "w");
+    w->fd = fd;
+    w->f = fopencookie(w, "w", (cookie_io_functions_t){NULL, wf_write, NULL, wf_close});
     if (!w->f) {
         int e = errno;
         close(fd);
@@ -84,7 +133,7 @@ int meshio_wclose(wfile *w, int failed) {
         bad = 1;
         e = errno;
     }
-    if (!bad && fsync(fileno(w->f)) != 0 && errno != EINVAL && errno != EROFS) {
+    if (!bad && fsync(w->fd) != 0 && errno != EINVAL && errno != EROFS) {
         bad = 1;
         e = errno;
     }

@@ -6,9 +6,9 @@
  * sections of all ranks before, then the lower ranks' bytes of this section.  Rank 0 creates
  * the temporary file (mkstemp) and names it to all; pass 2 formats the records again into a
  * 1 MiB chunk and writes each full chunk at its offset (independent MPI_File_write_at, so no
- * rank waits for another inside the loop).  Each rank checks that pass 2 made exactly pass 1's
- * bytes; after MPI_File_close the ranks agree, and rank 0 renames or removes the file.
- * Invariant: every rank returns the same status.
+ * rank waits for another inside the loop), its disk write started at once (wfile.h).  Each rank
+ * checks that pass 2 made exactly pass 1's bytes; after MPI_File_close the ranks agree, and rank 0
+ * renames or removes the file. Invariant: every rank returns the same status.
  */
 #include "io/ptext.h"
 
@@ -68,7 +68,7 @@ static const char *short_cause(const char *path, long long end) {
     return NULL;
 }
 
-int meshio_pwrite_at(MPI_File fh, long long off, const char *b, size_t n, const char *path,
+int meshio_pwrite_at(MPI_File fh, int wb, long long off, const char *b, size_t n, const char *path,
                      char *err, size_t errlen) {
     size_t done = 0;
     while (done < n) {
@@ -87,6 +87,7 @@ int meshio_pwrite_at(MPI_File fh, long long off, const char *b, size_t n, const 
         }
         done += (size_t)got;
     }
+    meshio_writeback(wb, off, (long long)n);
     return 0;
 }
 
@@ -148,6 +149,7 @@ int meshio_pwrite_sections(MPI_Comm comm, struct meshio_set *set, const char *pa
         return -1;
     }
     MESH_MPI(MPI_File_set_errhandler(fh, MPI_ERRORS_RETURN));
+    int wb = meshio_writeback_open(tmp);
     /* pass 2: format again, chunk by chunk */
     char *buf = mesh_xmalloc(PT_CHUNK + room, 1);
     long long base = 0;
@@ -161,7 +163,7 @@ int meshio_pwrite_sections(MPI_Comm comm, struct meshio_set *set, const char *pa
             if (i == c->nrec && c->tail) q = c->tail(c->ctx, q);
             if ((size_t)(q - buf) >= PT_CHUNK || i == c->nrec) {
                 size_t n = (size_t)(q - buf);
-                if (n && meshio_pwrite_at(fh, at, buf, n, path, err, errlen) != 0) ok = 0;
+                if (n && meshio_pwrite_at(fh, wb, at, buf, n, path, err, errlen) != 0) ok = 0;
                 at += (long long)n;
                 q = buf;
             }
@@ -176,6 +178,7 @@ int meshio_pwrite_sections(MPI_Comm comm, struct meshio_set *set, const char *pa
     free(buf);
     free(line);
     if (meshio_pclose(&fh, ok, path, err, errlen) != 0) ok = 0;
+    if (wb >= 0) close(wb);
     int all = meshio_pagree(comm, ok, err, errlen) == 0;
     ok = 1;
     if (rank == 0) {

@@ -29,9 +29,10 @@ mesh_text_out meshio_ptext_out(MPI_Comm *comm);
  * rank's message in err. */
 int meshio_pagree(MPI_Comm comm, int ok, char *err, size_t errlen);
 
-/* Local.  Writes n bytes of b at byte off of fh (pieces of at most 1 GiB: MPI counts are int);
- * 0, or -1 with "path: write failed at byte N" in err. */
-int meshio_pwrite_at(MPI_File fh, long long off, const char *b, size_t n, const char *path,
+/* Local.  Writes n bytes of b at byte off of fh (pieces of at most 1 GiB: MPI counts are int)
+ * and starts their disk write (meshio_writeback on wb, a descriptor of the same file from
+ * meshio_writeback_open, or -1: none); 0, or -1 with "path: write failed at byte N" in err. */
+int meshio_pwrite_at(MPI_File fh, int wb, long long off, const char *b, size_t n, const char *path,
                      char *err, size_t errlen);
 
 /* Local.  MPI's message for error code rc into buf (MPI_MAX_ERROR_STRING bytes); returns buf. */
