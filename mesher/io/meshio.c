@@ -68,6 +68,7 @@ int meshio_writeback_open(const char *path) {
 #endif
 }
 
+#ifdef __GLIBC__
 #define WB_STEP ((long long)8 << 20) /* bytes between two writeback hints */
 
 /* The stream's write: all of n bytes to the descriptor (a short write is continued), then a
@@ -96,6 +97,7 @@ static ssize_t wf_write(void *cookie, const char *b, size_t n) {
 static int wf_close(void *cookie) {
     return close(((wfile *)cookie)->fd);
 }
+#endif
 
 int meshio_wopen(wfile *w, meshio_set *set, const char *path, char *err, size_t errlen) {
     memset(w, 0, sizeof *w);
@@ -112,7 +114,11 @@ int meshio_wopen(wfile *w, meshio_set *set, const char *path, char *err, size_t 
         return -1;
     }
     w->fd = fd;
+#ifdef __GLIBC__ /* a stream that hints the writeback as it goes */
     w->f = fopencookie(w, "w", (cookie_io_functions_t){NULL, wf_write, NULL, wf_close});
+#else
+    w->f = fdopen(fd, "w");
+#endif
     if (!w->f) {
         int e = errno;
         close(fd);
