@@ -180,18 +180,33 @@ int pcdm_decomp_read_cuts(const char *path, const pslg *in, const pcdm_decomp_op
  * Returns 0, or -1 with "FILE: problem" in err. */
 int pcdm_decomp_write_cuts(const pcdm_decomp *d, const char *path, char *err, size_t errlen);
 
-/* d as one byte buffer (*buf, *len bytes; the caller frees *buf) that pcdm_decomp_unpack turns
- * back into the same decomposition, field for field (decomp_pack.c).  Returns 0, or -1 when d
- * holds a CDT (keep_cdt), which is not carried.  Local. */
-int pcdm_decomp_pack(const pcdm_decomp *d, void **buf, size_t *len);
-/* Fills d (zeroed first; owns its arrays on success) from a buffer pcdm_decomp_pack wrote with
- * the same build.  Returns 0, or -1 (d holds nothing) if the buffer is short or malformed.
- * Local. */
-int pcdm_decomp_unpack(const void *buf, size_t len, pcdm_decomp *d);
+/* Sending a decomposition (or the input) to the ranks that did not compute it, without copying
+ * it: the sender's *_pack_head makes a head (*head, *hlen bytes, the caller frees it: the
+ * scalars and every array's length) and lists the arrays to send after it (a[0 .. *na), each
+ * where it lies and its bytes; at most PCDM_PACK_MAX_ARRS).  A receiver's *_unpack_head fills
+ * the fields from the head and allocates the arrays (a: where to receive each), and *_unpack_done
+ * checks them once filled (contents against counts, labels in range) and makes the
+ * per-subdomain lists.  The unpacks return 0, or -1 with nothing held (zeroed) when the head or
+ * the arrays are malformed.  The pack of a decomposition that holds a CDT (keep_cdt, which is
+ * not carried) returns -1.  Local, machine-native byte order (decomp_pack.c). */
+enum { PCDM_PACK_MAX_ARRS = 24 };
+typedef struct pcdm_pack_arr {
+    void *p;
+    size_t len;
+} pcdm_pack_arr;
+int pcdm_decomp_pack_head(const pcdm_decomp *d, void **head, size_t *hlen, pcdm_pack_arr *a,
+                          int *na);
+int pcdm_decomp_unpack_head(const void *head, size_t hlen, pcdm_decomp *d, pcdm_pack_arr *a,
+                            int *na);
+int pcdm_decomp_unpack_done(pcdm_decomp *d, const pcdm_pack_arr *a, int na);
+void pslg_pack_head(const pslg *g, void **head, size_t *hlen, pcdm_pack_arr *a, int *na);
+int pslg_unpack_head(const void *head, size_t hlen, pslg *g, pcdm_pack_arr *a, int *na);
+int pslg_unpack_done(pslg *g);
 
-/* The input g (read and checked) as one byte buffer, for ranks that did not read it, and back:
- * the same fields and arrays as on the sender (decomp_pack.c).  pslg_unpack returns 0, or -1
- * (g holds nothing) if the buffer is short or malformed.  Local. */
+/* The same as one byte buffer (*buf, *len bytes: the head, then the arrays; the caller frees
+ * *buf) and back, field for field. */
+int pcdm_decomp_pack(const pcdm_decomp *d, void **buf, size_t *len);
+int pcdm_decomp_unpack(const void *buf, size_t len, pcdm_decomp *d);
 void pslg_pack(const pslg *g, void **buf, size_t *len);
 int pslg_unpack(const void *buf, size_t len, pslg *g);
 

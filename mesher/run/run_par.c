@@ -175,42 +175,72 @@ static int share_bytes(int rc, void **buf, size_t *len, char *err, size_t errlen
     return 0;
 }
 
+/* Collective.  After a head every rank has (a receiver's read of it failed: bad), the arrays it
+ * lists, a[0 .. na) on every rank, from rank 0's memory straight into the receivers' (one
+ * plain broadcast each, in pieces of at most 2^28 bytes: every rank is here).  Returns 0, or -1
+ * on every rank when some rank could not read the head (nothing sent). */
+static int share_arrays(int bad, const pcdm_pack_arr *a, int na) {
+    int any = 0;
+    MESH_MPI(MPI_Allreduce(&bad, &any, 1, MPI_INT, MPI_MAX, rt_app_comm()));
+    if (any) return -1;
+    for (int i = 0; i < na; i++)
+        for (size_t at = 0; at < a[i].len;) {
+            size_t left = a[i].len - at, k = left < ((size_t)1 << 28) ? left : (size_t)1 << 28;
+            MESH_MPI(MPI_Bcast((char *)a[i].p + at, (int)k, MPI_BYTE, 0, rt_app_comm()));
+            at += k;
+        }
+    return 0;
+}
+
 /* Collective.  Rank 0's decomposition, or its failure (rc != 0 and the message in err), to every
- * rank as one packed buffer (pcdm_decomp_pack).  Returns rank 0's rc; d and err as on rank 0. */
+ * rank: its head (pcdm_decomp_pack_head), then its arrays, received where they will stay (no
+ * packed copy on either side).  Returns rank 0's rc; d and err as on rank 0. */
 static int share_decomp(pcdm_decomp *d, int rc, char *err, size_t errlen) {
-    void *buf = NULL;
-    size_t len = 0;
-    if (rt_rank() == 0 && rc == 0 && pcdm_decomp_pack(d, &buf, &len) != 0) {
+    void *head = NULL;
+    size_t hlen = 0;
+    pcdm_pack_arr a[PCDM_PACK_MAX_ARRS];
+    int na = 0, mine = rt_rank() == 0;
+    if (mine && rc == 0 && pcdm_decomp_pack_head(d, &head, &hlen, a, &na) != 0) {
         snprintf(err, errlen, "the decomposition cannot be sent to the other ranks");
         rc = -1;
     }
-    rc = share_bytes(rc, &buf, &len, err, errlen);
-    if (rt_rank() != 0 && rc == 0 && pcdm_decomp_unpack(buf, len, d) != 0) {
-        snprintf(err, errlen, "the decomposition received from rank 0 is malformed");
-        rc = -1;
+    rc = share_bytes(rc, &head, &hlen, err, errlen);
+    if (rc != 0) {
+        if (mine) free(head);
+        return rc;
     }
-    free(buf);
-    return rc;
+    int bad = !mine && pcdm_decomp_unpack_head(head, hlen, d, a, &na) != 0;
+    free(head);
+    if (share_arrays(bad, a, na) != 0 || (!mine && pcdm_decomp_unpack_done(d, a, na) != 0)) {
+        snprintf(err, errlen, "the decomposition received from rank 0 is malformed");
+        return -1;
+    }
+    return 0;
 }
 
 /* Collective.  Rank 0's input, read and checked (or its failure: rc != 0, the message in err),
- * to every rank (pslg_pack), which then loads the size rules itself.  Returns rank 0's rc, or
- * -1 where the size rules cannot be loaded; in and err as on rank 0. */
+ * to every rank as share_decomp sends a decomposition (pslg_pack_head), which then loads the
+ * size rules itself.  Returns rank 0's rc, or -1 where the size rules cannot be loaded; in and
+ * err as on rank 0. */
 static int share_input(run_job *j, pslg *in, int rc, char *err, size_t errlen) {
-    void *buf = NULL;
-    size_t len = 0;
-    if (rt_rank() == 0 && rc == 0) pslg_pack(in, &buf, &len);
-    rc = share_bytes(rc, &buf, &len, err, errlen);
-    if (rt_rank() != 0 && rc == 0) {
-        if (pslg_unpack(buf, len, in) != 0) {
-            snprintf(err, errlen, "the input received from rank 0 is malformed");
-            rc = -1;
-        } else {
-            in->quiet = 1; /* warnings: rank 0's */
-        }
+    void *head = NULL;
+    size_t hlen = 0;
+    pcdm_pack_arr a[PCDM_PACK_MAX_ARRS];
+    int na = 0, mine = rt_rank() == 0;
+    if (mine && rc == 0) pslg_pack_head(in, &head, &hlen, a, &na);
+    rc = share_bytes(rc, &head, &hlen, err, errlen);
+    if (rc != 0) {
+        if (mine) free(head);
+        return rc;
     }
-    free(buf);
-    if (rc == 0 && run_load_sizes(j, in, err, errlen) != 0) rc = -1;
+    int bad = !mine && pslg_unpack_head(head, hlen, in, a, &na) != 0;
+    free(head);
+    if (share_arrays(bad, a, na) != 0 || (!mine && pslg_unpack_done(in) != 0)) {
+        snprintf(err, errlen, "the input received from rank 0 is malformed");
+        return -1;
+    }
+    if (!mine) in->quiet = 1; /* warnings: rank 0's */
+    if (run_load_sizes(j, in, err, errlen) != 0) rc = -1;
     return rc;
 }
 
