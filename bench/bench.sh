@@ -472,17 +472,18 @@ fi
 
 # ---------------------------------------------------------------- real coastlines at scale
 # bench/coast_scale.sh: Great Britain and North America at about SCALE_N triangles (10M), end to
-# end and by phase: ./mesh, ./pcdm --threads 2, mpirun -np 2 and -np 8, Triangle beside; the
-# table goes to $R/coast_scale.txt, its last line (coast_scale: ...) to the summary.  Skipped by
-# NO_COAST=1 and in a quick run (it needs the downloaded coastlines and a few minutes).
+# end and by phase: ./mesh, ./pcdm --threads 2, mpirun -np 2 and -np 8, ./pbw at 2 ranks,
+# Triangle beside; the table goes to $R/coast_scale.txt, its last line (coast_scale: ...) to the
+# summary.  Skipped by NO_COAST=1 and in a quick run (it needs the downloaded coastlines and a
+# few minutes).
 section_begin "coast_scale"
 if [ -n "${NO_COAST:-}" ] || [ -n "$QUICK" ]; then
     note "real coastlines at scale: skipped ($([ -n "$QUICK" ] && echo 'quick run' || echo NO_COAST=1))"
 elif over_budget; then
     note "real coastlines at scale: skipped, time budget used up"
 else
-    echo "MESH=$MESH PCDM=$PCDM bash bench/coast_scale.sh $R/coast_scale" >>"$CMDS"
-    MESH=$MESH PCDM=$PCDM bash bench/coast_scale.sh "$R/coast_scale" >"$R/coast_scale.txt" \
+    echo "MESH=$MESH PCDM=$PCDM PBW=$PBW bash bench/coast_scale.sh $R/coast_scale" >>"$CMDS"
+    MESH=$MESH PCDM=$PCDM PBW=$PBW bash bench/coast_scale.sh "$R/coast_scale" >"$R/coast_scale.txt" \
         2>"$R/logs/coast_scale.err"
     if grep -q '^coast_scale: .*=' "$R/coast_scale.txt"; then
         tail -1 "$R/coast_scale.txt" | sed 's/^/bench:   /'

@@ -6,7 +6,7 @@
 # committed), -q 30, an area bound for about SCALE_N triangles (domain area * 1.6 / SCALE_N, the
 # rule of bench/seq.sh; the counts made are printed).  Each run is one whole process, read to
 # exit, measured here by the wall clock: ./mesh, ./pcdm --threads 2 (one process), mpirun -np 2
-# and -np 8 ./pcdm (rounds, the default mode), then Triangle (the PyPI `triangle` wrapper,
+# and -np 8 ./pcdm (rounds, the default mode), mpirun -np 2 ./pbw (the same start-up), then Triangle (the PyPI `triangle` wrapper,
 # bench/seq_triangle.py: its whole process, and the triangulate() call alone).  Phases come from
 # each program's -V lines: read and check, decomposition, refinement (./mesh: CDT + refinement),
 # output (numbering, the interface check and Triangle's .node/.ele/.poly written with -o into
@@ -16,12 +16,14 @@
 # alternating; wall times are medians.  Last line:
 #   coast_scale: KEY=VALUE ...  (per coastline: x_threads2, x_np2, x_np8 = wall / ./mesh's wall,
 #   decomp_pct_np2, decomp_pct_np8 = the decomposition's share of the end-to-end time,
-#   tri_pct = ./pcdm's triangles against ./mesh's, in percent)
+#   tri_pct = ./pcdm's triangles against ./mesh's, in percent; x_pbw2_pcdm2 = ./pbw's wall at 2
+#   ranks over ./pcdm's)
 # Goals (the issue on real coastlines): x_threads2 and x_np2 <= 0.6, np8 no slower than np2,
-# decomposition <= 5%, triangles within 3%, reading and checking <= the CDT.
+# decomposition <= 5%, triangles within 3%, reading and checking <= the CDT, ./pbw at 2 ranks
+# within 1.5x ./pcdm.
 # Usage: bash bench/coast_scale.sh [OUTDIR]   (default build/bench-coast)
 # Env: SCALE_N (10000000), SCALE_REPS (1), SCALE_COASTS ("gb na"), SCALE_TIMEOUT (600 s a run),
-# NO_TRIANGLE=1, MESH, PCDM (programs; default ./mesh, ./pcdm), COAST_INSTALL (1: install the
+# NO_TRIANGLE=1, MESH, PCDM, PBW (programs; default ./mesh, ./pcdm, ./pbw), COAST_INSTALL (1: install the
 # coastlines' package when missing; 0: cached coastlines only).
 set -uo pipefail
 cd "$(dirname "$0")/.."
@@ -33,6 +35,7 @@ COASTS=${SCALE_COASTS:-gb na}
 TMO=${SCALE_TIMEOUT:-600}
 MESH=${MESH:-./mesh}
 PCDM=${PCDM:-./pcdm}
+PBW=${PBW:-./pbw}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 mkdir -p "$OUT/logs" "$OUT/files"
 files=$OUT/files
@@ -60,7 +63,7 @@ for c in $COASTS; do
     # plain decimals
     ta=$(awk -v a="$a" 'BEGIN { s = sprintf("%.15f", a); sub(/0+$/, "", s); sub(/\.$/, "", s); print s }')
     echo "coast_scale: $c: $f, -q 30 -a $a (about $N triangles)"
-    confs="mesh threads2 np2 np8"
+    confs="mesh threads2 np2 np8 pbw2"
     [ "$have_triangle" = 1 ] && confs="$confs triangle"
     for rep in $(seq 1 "$REPS"); do
         for k in $confs; do
@@ -68,6 +71,7 @@ for c in $COASTS; do
             mesh) cmd=("$MESH" -q 30 -a "$a" -o "$files/$c" -V --stats "$f") ;;
             threads2) cmd=("$PCDM" --threads 2 -q 30 -a "$a" -o "$files/$c" -V --stats "$f") ;;
             np2 | np8) cmd=(mpirun --oversubscribe -np "${k#np}" "$PCDM" -q 30 -a "$a" -o "$files/$c" -V --stats "$f") ;;
+            pbw2) cmd=(mpirun --oversubscribe -np 2 "$PBW" -q 30 -a "$a" -o "$files/$c" -V --stats "$f") ;;
             triangle) cmd=("$PY" bench/seq_triangle.py "$f" "pq30a${ta}Q") ;;
             esac
             log=$OUT/logs/${c}_${k}_r$rep
@@ -117,7 +121,8 @@ for c in $COASTS; do
         threads2 | np2 | np8) summary+=("${c}_x_$k=$x") ;;
         esac
         case $k in np2 | np8) summary+=("${c}_decomp_pct_$k=$dp") ;; esac
-        [ "$k" = np2 ] && summary+=("${c}_tri_pct=$tp")
+        [ "$k" = np2 ] && summary+=("${c}_tri_pct=$tp") && np2wall=$w
+        [ "$k" = pbw2 ] && summary+=("${c}_x_pbw2_pcdm2=$(awk -v w="$w" -v p="${np2wall:-0}" 'BEGIN { if (p > 0) printf "%.2f", w / p; else print "NA" }')")
         [ "$k" = triangle ] && summary+=("${c}_x_triangle=$x")
     done
     echo
