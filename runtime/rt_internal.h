@@ -31,6 +31,10 @@ double rt_now(void);
 /* Before MPI_Init (rt.c): asks Open MPI for the ob1 point-to-point layer (OMPI_MCA_pml=ob1)
  * when every rank runs on one node and the user has not chosen one; 1 if it did. */
 int rt_prefer_local_pml(void);
+/* Before MPI_Init (rt.c): asks hwloc to leave I/O devices out of the topology Open MPI discovers
+ * (HWLOC_COMPONENTS=-linuxio,-pci) when every rank runs on one node and the user has not chosen;
+ * 1 if it did. */
+int rt_prefer_cpu_topology(void);
 /* Before MPI_Init (rt.c): asks Open MPI to run a singleton (no launcher) without its daemon
  * (OMPI_MCA_ess_singleton_isolated=1) unless the user has chosen; 1 if it did. */
 int rt_prefer_isolated_singleton(void);

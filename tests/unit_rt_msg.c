@@ -191,6 +191,28 @@ START_TEST(test_prefer_local_pml) {
 }
 END_TEST
 
+/* The topology without I/O devices: only when every rank is local (or a singleton), never over
+ * the user's own choice. */
+START_TEST(test_prefer_cpu_topology) {
+    unsetenv("HWLOC_COMPONENTS");
+    setenv("OMPI_COMM_WORLD_SIZE", "8", 1);
+    setenv("OMPI_COMM_WORLD_LOCAL_SIZE", "4", 1); /* two nodes */
+    ck_assert_int_eq(rt_prefer_cpu_topology(), 0);
+    ck_assert_ptr_null(getenv("HWLOC_COMPONENTS"));
+    setenv("OMPI_COMM_WORLD_LOCAL_SIZE", "8", 1); /* one node */
+    ck_assert_int_eq(rt_prefer_cpu_topology(), 1);
+    ck_assert_str_eq(getenv("HWLOC_COMPONENTS"), "-linuxio,-pci");
+    setenv("HWLOC_COMPONENTS", "x86", 1); /* the user's choice stands */
+    ck_assert_int_eq(rt_prefer_cpu_topology(), 0);
+    ck_assert_str_eq(getenv("HWLOC_COMPONENTS"), "x86");
+    unsetenv("HWLOC_COMPONENTS");
+    unsetenv("OMPI_COMM_WORLD_SIZE");
+    unsetenv("OMPI_COMM_WORLD_LOCAL_SIZE"); /* a singleton */
+    ck_assert_int_eq(rt_prefer_cpu_topology(), 1);
+    unsetenv("HWLOC_COMPONENTS");
+}
+END_TEST
+
 /* A singleton runs without Open MPI's daemon; under a launcher, or by the user's choice, the
  * setting is left alone. */
 START_TEST(test_prefer_isolated_singleton) {
@@ -216,9 +238,10 @@ START_TEST(test_prefer_isolated_singleton) {
 END_TEST
 
 int main(void) {
-    return ck_run(ck_suite("rt_msg", 0,
-                           CK_TESTS(test_pack_unpack_many, test_prefer_local_pml,
-                                    test_prefer_isolated_singleton, test_wire_size_and_full,
-                                    test_malformed, test_item_copy, test_term_decide,
-                                    test_term_ring_one_rank, test_perturb_keeps_source_order)));
+    return ck_run(
+        ck_suite("rt_msg", 0,
+                 CK_TESTS(test_pack_unpack_many, test_prefer_local_pml, test_prefer_cpu_topology,
+                          test_prefer_isolated_singleton, test_wire_size_and_full, test_malformed,
+                          test_item_copy, test_term_decide, test_term_ring_one_rank,
+                          test_perturb_keeps_source_order)));
 }
