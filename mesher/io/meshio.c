@@ -461,6 +461,7 @@ out:
 void mesh_flat_free(mesh_flat *m) {
     if (!m) return;
     free(m->xy);
+    free(m->vin);
     free(m->vmarker);
     free(m->vattr);
     free(m->tri);

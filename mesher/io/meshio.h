@@ -19,6 +19,10 @@
 typedef struct mesh_flat {
     int32_t nverts;
     double *xy;       /* 2 * nverts */
+    int32_t nvin;     /* vin's length: vertices nvin .. nverts - 1 are no input vertices */
+    int32_t *vin;     /* nvin: the input vertex each vertex is (its 0-based number in the
+                       * input) or -1; NULL: found by coordinates (a part that holds the input's
+                       * vertices in input order first is recognised without a search) */
     int32_t *vmarker; /* nverts (may be NULL) */
     int nattr;
     double *vattr; /* nattr * nverts (may be NULL) */

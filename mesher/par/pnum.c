@@ -1,7 +1,8 @@
 /* pnum.c: global numbering of a distributed mesh without a gather (pout.h, par_number).
  *
- * Algorithm.  (1) Input vertices are found in the part by their exact coordinate bits (a hash
- * of the input, which every rank holds) and keep their input numbers.  (2) The part's open
+ * Algorithm.  (1) Input vertices keep their input numbers: the part names them (mesh_flat.vin),
+ * or holds them first in input order, or they are found by their exact coordinate bits (a hash
+ * of the input, which every rank holds).  (2) The part's open
  * edges (edges of one local triangle) are found in O(n) with a vertex-to-triangle index; a
  * vertex another rank also holds lies on an open edge of every holder (the parts are disjoint
  * and only touch along their boundaries; a pinch point of the domain boundary is an input
@@ -116,6 +117,12 @@ static void input_ids_range(void *arg, int part, int64_t a, int64_t b) {
  * ./pcdm's parts are: every subdomain mesh starts from the augmented PSLG's vertices), needs no
  * lookup: its other vertices are distinct from those. */
 static int64_t *input_ids(const mesh_flat *f, const pslg *in, int threads) {
+    if (f->vin) { /* the part says which */
+        int64_t *id = mesh_xmalloc((size_t)f->nverts + 1, sizeof(int64_t));
+        for (int32_t v = 0; v < f->nverts; v++)
+            id[v] = v < f->nvin && f->vin[v] >= 0 && f->vin[v] < in->nverts ? f->vin[v] : -1;
+        return id;
+    }
     if (in->nverts > 0 && f->nverts >= in->nverts &&
         memcmp(f->xy, in->xy, 2 * (size_t)in->nverts * sizeof(double)) == 0) {
         int64_t *id = mesh_xmalloc((size_t)f->nverts + 1, sizeof(int64_t));

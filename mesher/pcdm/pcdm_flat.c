@@ -2,18 +2,21 @@
  *
  * Merge (pcdm_det_take).  The deterministic mode keeps one mesh per subdomain; the output layer
  * (pout.h) takes one part per rank.  The meshes come from the same coarse CDT, so their first
- * ninput vertices (the augmented PSLG's) are the same and keep their numbers.  Any other vertex
- * two subdomains of this rank share lies on their interface, is an endpoint of an interface
- * subsegment in both meshes and has bit-equal coordinates there (dyadic splits): such
- * candidates are merged through a hash of their coordinate bits; every other vertex is
- * appended.  An interface subsegment both subdomains list is kept once, and the triangle edges
- * on it are no longer open.  The part is the meshes' vertices and live triangles in mesh order
- * (each mesh in mesh_take_flat's order), so every place in it is known before anything is
- * copied: (1) on the rank's threads, each mesh sheds its scratch, counts its triangles and lists
- * its candidates; (2) one thread numbers the candidates in mesh order (a repeat takes the first
- * one's number: vertex v of mesh i is numbered vbase_i + v - ninput - (repeats of mesh i below
- * v)) and merges the subsegments (O(interface)); (3) on the rank's threads, each mesh writes
- * its triangles, then its vertices, straight into the part and frees each array once read.  The
+ * ninput vertices (the augmented PSLG's) are the same: those any of the rank's meshes holds come
+ * first in the part, in the augmented PSLG's order, each named as the input vertex it is
+ * (mesh_flat.vin), and the others are left out (the part and the output's passes over it follow
+ * the rank's share, not the whole input).  Any other vertex two subdomains of this rank share
+ * lies on their interface, is an endpoint of an interface subsegment in both meshes and has
+ * bit-equal coordinates there (dyadic splits): such candidates are merged through a hash of
+ * their coordinate bits; every other vertex is appended.  An interface subsegment both
+ * subdomains list is kept once, and the triangle edges on it are no longer open.  The part is
+ * the meshes' vertices and live triangles in mesh order (each mesh in mesh_take_flat's order),
+ * so every place in it is known before anything is copied: (1) on the rank's threads, each
+ * mesh sheds its scratch, counts its triangles and lists its candidates; (2) one thread numbers
+ * the candidates in mesh order (a repeat takes the first one's number: vertex v of mesh i is
+ * numbered vbase_i + v - ninput - (repeats of mesh i below v)) and merges the subsegments
+ * (O(interface)); (3) on the rank's threads, each mesh writes its triangles, then its vertices,
+ * straight into the part and frees each array once read.  The
  * part is the one the meshes merged one after another would give, for any thread count, and
  * the rank holds each triangle about once (the part grows as the meshes go).
  *
@@ -116,6 +119,7 @@ static int32_t sfind(const id_table *t, const int32_t *seg, int32_t a, int32_t b
 typedef struct take_mesh {
     mesh *m;
     const pcdm_sub_map *map; /* its input vertices in d->g (identity when gv is NULL) */
+    const int32_t *gpos;     /* d->g's vertices: their numbers in the part (-1: in no mesh) */
     int32_t sub;
     int32_t ncand, *cand; /* its non-input interface vertices, ascending */
     int32_t ndup;         /* of those, the ones an earlier candidate already gave a number */
@@ -176,10 +180,10 @@ static void take_scan(void *arg, int64_t i) {
 }
 
 /* The merged number of vertex v of tm (its dups decided up to v): an input vertex of the mesh
- * keeps its number in d->g, the others follow. */
+ * (a d->g vertex) takes its place among the part's d->g vertices, the others follow. */
 static int32_t merged_id(const take_mesh *tm, int32_t v) {
     int32_t nin = tm->m->ninput;
-    if (v < nin) return pcdm_map_vert_global(tm->map, v);
+    if (v < nin) return tm->gpos[pcdm_map_vert_global(tm->map, v)];
     int32_t k = mesh_lower_i32(tm->dv, tm->ndup, v);
     if (k < tm->ndup && tm->dv[k] == v) return tm->did[k];
     return (int32_t)(tm->vbase + (v - nin) - k);
@@ -197,7 +201,7 @@ static void take_copy(void *arg, int64_t i) {
     int32_t *map = mesh_xmalloc((size_t)m->nv + 1, sizeof(int32_t));
     for (int32_t v = 0, k = 0; v < m->nv; v++) {
         if (v < ninput)
-            map[v] = pcdm_map_vert_global(tm->map, v);
+            map[v] = tm->gpos[pcdm_map_vert_global(tm->map, v)];
         else if (k < tm->ndup && tm->dv[k] == v)
             map[v] = tm->did[k++];
         else
@@ -270,8 +274,22 @@ void pcdm_det_take(pcdm_part *p, mesh_flat *f, uint8_t **artificial, int32_t **t
     for (int32_t i = 0; i < nm; i++)
         c.tm[i].m = pcdm_det_mesh(p, i, &c.tm[i].sub, &c.tm[i].map);
     const pslg *g = &p->d->g;
-    c.ninput = g->nverts; /* the part's first vertices are d->g's, every mesh's Steiner follow */
-    int32_t ninput = c.ninput;
+    /* the part's first vertices are the d->g vertices its meshes hold, in d->g's order (the
+     * others are in no triangle of this rank: left out), every mesh's Steiner vertices follow */
+    int32_t *gpos = mesh_xmalloc((size_t)g->nverts + 1, sizeof(int32_t));
+    for (int32_t v = 0; v < g->nverts; v++)
+        gpos[v] = -1;
+    for (int32_t i = 0; i < nm; i++) {
+        const pcdm_sub_map *mp = c.tm[i].map;
+        int32_t n = mp->gv ? mp->nv : g->nverts;
+        for (int32_t v = 0; v < n; v++)
+            gpos[pcdm_map_vert_global(mp, v)] = 0;
+        c.tm[i].gpos = gpos;
+    }
+    int32_t ninput = 0;
+    for (int32_t v = 0; v < g->nverts; v++)
+        if (gpos[v] == 0) gpos[v] = ninput++;
+    c.ninput = ninput;
     mesh_pfor_items(nm, T, take_scan, &c);
 
     /* vertices: numbers in mesh order, a candidate seen before (bit-equal coordinates) takes
@@ -287,9 +305,9 @@ void pcdm_det_take(pcdm_part *p, mesh_flat *f, uint8_t **artificial, int32_t **t
     for (int32_t i = 0; i < nm; i++) {
         take_mesh *tm = &c.tm[i];
         const mesh *m = tm->m;
-        if (tm->map->gv ? m->ninput != tm->map->nv : m->ninput != ninput)
+        if (tm->map->gv ? m->ninput != tm->map->nv : m->ninput != g->nverts)
             MESH_BUG("subdomain %d's mesh has %d input vertices, its map %d", (int)tm->sub,
-                     (int)m->ninput, (int)(tm->map->gv ? tm->map->nv : ninput));
+                     (int)m->ninput, (int)(tm->map->gv ? tm->map->nv : g->nverts));
         tm->vbase = nv;
         tm->dv = mesh_xmalloc((size_t)tm->ncand + 1, sizeof(int32_t));
         tm->did = mesh_xmalloc((size_t)tm->ncand + 1, sizeof(int32_t));
@@ -367,10 +385,19 @@ void pcdm_det_take(pcdm_part *p, mesh_flat *f, uint8_t **artificial, int32_t **t
     if (any_reg) f->tattr = mesh_xmalloc((size_t)nt + 1, sizeof(double));
     c.ts = tsub ? mesh_xmalloc((size_t)nt + 1, sizeof(int32_t)) : NULL;
     c.open = topen ? mesh_xmalloc((size_t)nt + 1, 1) : NULL;
-    memcpy(f->xy, g->xy, 2 * (size_t)ninput * sizeof(double));
-    for (int32_t v = 0; v < ninput; v++)
-        f->vmarker[v] = g->vmarker ? g->vmarker[v] : 0;
+    f->nvin = ninput;
+    f->vin = mesh_xmalloc((size_t)ninput + 1, sizeof(int32_t));
+    int32_t nin = p->d->ninput_verts; /* d->g's first vertices are the input's */
+    for (int32_t v = 0; v < g->nverts; v++) {
+        int32_t w = gpos[v];
+        if (w < 0) continue;
+        f->xy[2 * (size_t)w] = g->xy[2 * (size_t)v];
+        f->xy[2 * (size_t)w + 1] = g->xy[2 * (size_t)v + 1];
+        f->vmarker[w] = g->vmarker ? g->vmarker[v] : 0;
+        f->vin[w] = v < nin ? v : -1;
+    }
     mesh_pfor_items(nm, T, take_copy, &c);
+    free(gpos);
 
     for (int32_t i = 0; i < nm; i++) {
         free(c.tm[i].cand);
