@@ -214,10 +214,15 @@ static void apply_env(rt_config *c) {
  * without mpirun) and the user has not chosen (OMPI_MCA_pml unset; mpirun --mca pml X sets it),
  * ob1 is asked for; across nodes Open MPI's own choice stands.  Before MPI_Init only, and never
  * when the caller initialised MPI. */
-int rt_prefer_local_pml(void) {
-    if (getenv("OMPI_MCA_pml")) return 0;
+/* Every rank on one node: mpirun's OMPI_COMM_WORLD_LOCAL_SIZE equals OMPI_COMM_WORLD_SIZE, or
+ * a singleton without mpirun (neither set). */
+static int one_node(void) {
     const char *n = getenv("OMPI_COMM_WORLD_SIZE"), *l = getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
-    if (!((n && l && strcmp(n, l) == 0) || (!n && !l))) return 0;
+    return (n && l && strcmp(n, l) == 0) || (!n && !l);
+}
+
+int rt_prefer_local_pml(void) {
+    if (getenv("OMPI_MCA_pml") || !one_node()) return 0;
     return setenv("OMPI_MCA_pml", "ob1", 0) == 0;
 }
 
@@ -232,9 +237,7 @@ int rt_prefer_local_pml(void) {
  * (HWLOC_COMPONENTS=-linuxio,-pci: processors, caches and memory are still discovered).  Before
  * MPI_Init only. */
 int rt_prefer_cpu_topology(void) {
-    if (getenv("HWLOC_COMPONENTS")) return 0;
-    const char *n = getenv("OMPI_COMM_WORLD_SIZE"), *l = getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
-    if (!((n && l && strcmp(n, l) == 0) || (!n && !l))) return 0;
+    if (getenv("HWLOC_COMPONENTS") || !one_node()) return 0;
     return setenv("HWLOC_COMPONENTS", "-linuxio,-pci", 0) == 0;
 }
 

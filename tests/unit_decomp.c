@@ -616,8 +616,10 @@ END_TEST
 
 /* The fast route (an input of FAST_MIN_VERTS vertices or more: a wavy ring of 9000) keeps its
  * triangles by subdomain: every subdomain has some, every one is counter-clockwise and in g's
- * vertices, they cover the domain's area, and they travel in the pack; the input alone packs
- * and unpacks field for field (pslg_pack), and a cut buffer is refused. */
+ * vertices, they cover the domain's area, and they travel in the pack, in one buffer and as a
+ * head and arrays (a count of triangles that disagrees with the offsets refused); the input
+ * alone packs and unpacks field for field (pslg_pack, pslg_pack_head), and a cut buffer or
+ * head is refused. */
 START_TEST(test_pack_fast) {
     enum { N = 9000 };
     double *xy = malloc(2 * N * sizeof(double));
@@ -673,6 +675,33 @@ START_TEST(test_pack_fast) {
     pcdm_decomp_free(&e);
     ck_assert_int_eq(pcdm_decomp_unpack(buf, len - 4, &e), -1);
     free(buf);
+    /* the ranks' form: a head, then the arrays copied from where they lie into the receiver's
+     * (as the broadcasts do); a triangle count that disagrees with the offsets is refused */
+    void *head = NULL;
+    size_t hlen = 0;
+    pcdm_pack_arr sa[PCDM_PACK_MAX_ARRS], ra[PCDM_PACK_MAX_ARRS];
+    int sn = 0, rn = 0;
+    ck_assert_int_eq(pcdm_decomp_pack_head(&d, &head, &hlen, sa, &sn), 0);
+    for (int bad = 0; bad < 2; bad++) {
+        ck_assert_int_eq(pcdm_decomp_unpack_head(head, hlen, &e, ra, &rn), 0);
+        ck_assert_int_eq(rn, sn);
+        for (int i = 0; i < rn; i++) {
+            ck_assert_uint_eq(ra[i].len, sa[i].len);
+            memcpy(ra[i].p, sa[i].p, sa[i].len);
+        }
+        if (bad) e.tri_off[e.nsub] -= 1; /* one triangle fewer than sent */
+        ck_assert_int_eq(pcdm_decomp_unpack_done(&e, ra, rn), bad ? -1 : 0);
+        if (bad) {
+            ck_assert_ptr_null(e.g.xy);
+            continue;
+        }
+        ck_assert(!memcmp(e.tri, d.tri, 3 * nt * sizeof(int32_t)));
+        ck_assert(!memcmp(e.g.xy, d.g.xy, 2 * (size_t)d.g.nverts * sizeof(double)));
+        ck_assert_ptr_nonnull(e.sub_seg_off); /* the per-subdomain lists made again */
+        pcdm_decomp_free(&e);
+    }
+    ck_assert_int_eq(pcdm_decomp_unpack_head(head, hlen - 1, &e, ra, &rn), -1);
+    free(head);
     pslg g;
     pslg_pack(&in, &buf, &len);
     ck_assert_int_eq(pslg_unpack(buf, len, &g), 0);
@@ -682,6 +711,16 @@ START_TEST(test_pack_fast) {
     ck_assert(!memcmp(g.xy, in.xy, 2 * (size_t)N * sizeof(double)));
     ck_assert(!memcmp(g.seg, in.seg, 2 * (size_t)in.nsegs * sizeof(int32_t)));
     pslg_free(&g);
+    pslg_pack_head(&in, &head, &hlen, sa, &sn);
+    ck_assert_int_eq(pslg_unpack_head(head, hlen, &g, ra, &rn), 0);
+    ck_assert_int_eq(rn, sn);
+    for (int i = 0; i < rn; i++)
+        memcpy(ra[i].p, sa[i].p, sa[i].len);
+    ck_assert_int_eq(pslg_unpack_done(&g), 0);
+    ck_assert(!memcmp(g.xy, in.xy, 2 * (size_t)N * sizeof(double)));
+    pslg_free(&g);
+    ck_assert_int_eq(pslg_unpack_head(head, hlen - 1, &g, ra, &rn), -1);
+    free(head);
     for (size_t cut = 0; cut < len; cut += 1 + cut / 5) {
         ck_assert_int_eq(pslg_unpack(buf, cut, &g), -1);
         ck_assert_ptr_null(g.xy);
