@@ -22,35 +22,35 @@
  * max_area (the area bound's triangles, whose mean area is about 0.7 of the bound); its edges an
  * apex encroaches cost METIS 64 times their length, as on the preview.  The interior points are
  * circumcenters that encroach no segment (Ruppert's rule: well spaced, away from the boundary),
- * else centroids.  When its interfaces meet a segment below FAST_MIN_DEG, or it fails, (1') the
- * coarse route: the CDT of the input is refined
- * with the angle bound alone (at least 30 degrees, a little above the final bound), which grades
- * it by the local feature size like the final mesh; then, with an area bound, with an area bound
- * that gives about per_sub triangles per subdomain (never below 4 times the final bound, so the
- * interfaces stay coarser than the final mesh); without one, only when that leaves fewer than 8
- * triangles per subdomain; the one whose interfaces are wider is kept.  (2) On the coarse route
- * each coarse triangle's work is max(1, area / max_area) with an area bound, else 1.  (3)
- * METIS_PartGraphKway splits the dual graph (vertex weights: work; edge weights: shared edge
- * length; target fractions from the imbalance; contiguous parts when the graph is connected; fixed
- * seed) into K parts; the triangles around an input corner sharper than 60 degrees are one graph
- * vertex.  (4) So they join one part, and no interface ends in a corner whose coarse triangles are
- * exempt from the angle bound; a part METIS left empty takes a triangle of the largest part that
- * can give one.  (5) Wide sectors (coarse route): around every vertex, a sector of triangles of one
- * part narrower than 60 degrees that an interface bounds joins the lighter part across that
- * interface if that lowers the number of narrow sectors around the moved triangles (so it cannot
- * oscillate; repeated until nothing changes, at most 32 passes).  On the exact preview, instead, a
- * triangle whose apex encroaches an interface edge joins the part across it (or the triangle across
- * joins its part), so PCDM splits no interface and no cascade can start; if some interface stays
- * encroached (parts of one or two triangles), the sectors are widened as well.  Two interfaces (or
- * an interface and the boundary) meeting at less than 45 degrees split each other's dyadic pieces
- * forever when their lengths fall in a bad ratio (each new midpoint lies in the other piece's
- * diametral circle), which refinement reaches at many subdomains; at 60 degrees or more no midpoint
- * can encroach the neighbouring piece.  (6) decomp_build turns the labels into interface segments.
- * Every angle an interface makes with another segment then contains a corner of a coarse triangle,
- * hence is at least the coarse bound.  (7) An exact preview is kept only if one sequential
- * refinement of the augmented PSLG meets the bounds (as small as the preview; the PCDM mesh does
- * not depend on the ranks); else it is redrawn with 12 triangles per subdomain, and failing that
- * the coarse route is used.
+ * else centroids.  When its interfaces meet a segment below FAST_MIN_DEG for FAST_SEEDS METIS
+ * seeds (the partition made again for each), or it fails, (1') the coarse route: the CDT of the
+ * input is refined with the angle bound alone (at least 30 degrees, a little above the final
+ * bound), which grades it by the local feature size like the final mesh; then, with an area bound,
+ * with an area bound that gives about per_sub triangles per subdomain (never below 4 times the
+ * final bound, so the interfaces stay coarser than the final mesh); without one, only when that
+ * leaves fewer than 8 triangles per subdomain; the one whose interfaces are wider is kept.  (2) On
+ * the coarse route each coarse triangle's work is max(1, area / max_area) with an area bound,
+ * else 1.  (3) METIS_PartGraphKway splits the dual graph (vertex weights: work; edge weights:
+ * shared edge length; target fractions from the imbalance; contiguous parts when the graph is
+ * connected; fixed seed) into K parts; the triangles around an input corner sharper than 60 degrees
+ * are one graph vertex.  (4) So they join one part, and no interface ends in a corner whose coarse
+ * triangles are exempt from the angle bound; a part METIS left empty takes a triangle of the
+ * largest part that can give one.  (5) Wide sectors (coarse route): around every vertex, a sector
+ * of triangles of one part narrower than 60 degrees that an interface bounds joins the lighter part
+ * across that interface if that lowers the number of narrow sectors around the moved triangles (so
+ * it cannot oscillate; repeated until nothing changes, at most 32 passes).  On the exact preview,
+ * instead, a triangle whose apex encroaches an interface edge joins the part across it (or the
+ * triangle across joins its part), so PCDM splits no interface and no cascade can start; if some
+ * interface stays encroached (parts of one or two triangles), the sectors are widened as well.  Two
+ * interfaces (or an interface and the boundary) meeting at less than 45 degrees split each other's
+ * dyadic pieces forever when their lengths fall in a bad ratio (each new midpoint lies in the other
+ * piece's diametral circle), which refinement reaches at many subdomains; at 60 degrees or more no
+ * midpoint can encroach the neighbouring piece.  (6) decomp_build turns the labels into interface
+ * segments. Every angle an interface makes with another segment then contains a corner of a coarse
+ * triangle, hence is at least the coarse bound.  (7) An exact preview is kept only if one
+ * sequential refinement of the augmented PSLG meets the bounds (as small as the preview; the PCDM
+ * mesh does not depend on the ranks); else it is redrawn with 12 triangles per subdomain, and
+ * failing that the coarse route is used.
  *
  * Invariants: topology comes from the mesher's exact predicates (encroachment by
  * geom_encroaches); sector angles are a float quality figure that only moves interfaces; METIS
@@ -80,6 +80,7 @@
 #define WIDE_DEG 60.0              /* sectors an interface bounds are at least this wide */
 #define WIDEN_PASSES 32
 #define FAST_MIN_DEG 30.0 /* the fast route's interfaces narrower than this: try the coarse one */
+#define FAST_SEEDS 3      /* ... after this many METIS seeds on the fast route */
 #define FAST_MIN_VERTS                                                                             \
     8192 /* inputs with fewer vertices take the coarse route (it costs little)                     \
           */
@@ -293,8 +294,8 @@ static int32_t contract(int32_t nn, idx_t **xadj, idx_t **adj, double **len, dou
  * here, since another rank may have one). */
 static int partition(const mesh *m, const int32_t *id, int32_t n, const double *tw,
                      const double *target, int32_t K, int penalize, int coarsen,
-                     const pcdm_decomp_opts *sel, double *cost, int32_t *part, char *err,
-                     size_t errlen) {
+                     const pcdm_decomp_opts *sel, int32_t seed, double *cost, int32_t *part,
+                     char *err, size_t errlen) {
     /* graph vertices: triangles, those around a sharp corner united */
     int32_t *up = mesh_xmalloc((size_t)n + 1, sizeof(int32_t));
     for (int32_t i = 0; i < n; i++)
@@ -424,7 +425,7 @@ static int partition(const mesh *m, const int32_t *id, int32_t n, const double *
     if (sel) *cost = INFINITY;
     for (int32_t i = 0; i < nseeds; i++) {
         opt[METIS_OPTION_SEED] =
-            sel && sel->seed_count > 0 ? sel->seed_first + i * sel->seed_step : 1;
+            sel && sel->seed_count > 0 ? sel->seed_first + i * sel->seed_step : seed;
         opt[METIS_OPTION_CONTIG] = reached == nn;
         int r = nn < K ? METIS_ERROR_INPUT
                        : METIS_PartGraphKway(&nv, &ncon, xadj, adj, vw, NULL, ew, &np, tp, NULL,
@@ -851,8 +852,9 @@ static int exact_preview(mesh *m, const pslg *in, const pcdm_decomp_opts *o, int
 /* One decomposition: mode 0 the exact preview with 2 triangles per subdomain at least, mode 1
  * with EXACT_SAFE_PER_SUB (both else the fast route), mode 2 the fast route only, mode 3 the
  * lfs-graded coarse route only. */
-static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_decomp *out, char *err,
-                   size_t errlen) {
+static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_decomp *out,
+                   double *angle, char *err, size_t errlen) {
+    *angle = NAN;
     memset(out, 0, sizeof *out);
     int32_t P = o->nranks, K = o->nsub > 0 ? o->nsub : o->nranks;
     if (P < 1) return mesh_fail(err, errlen, "%d ranks", (int)P);
@@ -953,20 +955,42 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
     /* ./pbw: the partition of least predicted cost among the seeds (decomp_seeds.c) */
     int choose = K > 1 && K == P && R == 1 && !exact && o->boundary_cost > 0;
     double cost = 0;
-    if (rc == 0 && K > 1)
-        rc = partition(&m, id, n, tw, target, K, exact || fast, fast && !exact, choose ? o : NULL,
-                       &cost, part, err, errlen);
-    if (rc == 0 && choose &&
-        (o->pick ? o->pick(o->pick_ctx, cost, m.nt, part) != 0 : !isfinite(cost)))
-        rc = mesh_fail(err, errlen, "METIS could not partition %d coarse triangles into %d parts",
-                       (int)n, (int)K);
-    if (rc == 0) {
-        merge_corners(&m, part);
-        if (K > 1) fill_empty(&m, part, K);
-        if (K > 1) widen(&m, part, tw, K, exact);
-        /* the fast route keeps its triangles: the subdomains' first meshes (pcdm_build_sub) */
-        int keep_all = exact ? 1 : fast && K > 1 ? 2 : 0;
-        rc = decomp_build(in, &m, NULL, NULL, NULL, part, tw, K, keep_all, out, err, errlen);
+    /* the fast route: when its interfaces meet a segment below FAST_MIN_DEG, the partition alone
+     * again with the next METIS seeds (measured on Great Britain at 0.97M triangles: seed 1 20.8
+     * degrees, seeds 2-8 48-64), the widest kept, before the caller turns to the coarse route */
+    int seeds = fast && !exact && K > 1 && !choose ? FAST_SEEDS : 1;
+    for (int32_t seed = 1, got = 0; seed <= seeds && rc == 0; seed++) {
+        pcdm_decomp cand;
+        if (K > 1)
+            rc = partition(&m, id, n, tw, target, K, exact || fast, fast && !exact,
+                           choose ? o : NULL, seed, &cost, part, err, errlen);
+        if (rc == 0 && choose &&
+            (o->pick ? o->pick(o->pick_ctx, cost, m.nt, part) != 0 : !isfinite(cost)))
+            rc = mesh_fail(err, errlen,
+                           "METIS could not partition %d coarse triangles into %d parts", (int)n,
+                           (int)K);
+        if (rc == 0) {
+            merge_corners(&m, part);
+            if (K > 1) fill_empty(&m, part, K);
+            if (K > 1) widen(&m, part, tw, K, exact);
+            /* the fast route keeps its triangles: the subdomains' first meshes (pcdm_build_sub) */
+            int keep_all = exact ? 1 : fast && K > 1 ? 2 : 0;
+            rc = decomp_build(in, &m, NULL, NULL, NULL, part, tw, K, keep_all, &cand, err, errlen);
+        }
+        if (rc != 0) { /* a later seed's failure: the best so far stands */
+            if (got) rc = 0;
+            break;
+        }
+        double a = seeds > 1 ? pcdm_decomp_iface_min_angle(&cand) : NAN;
+        if (!got || a > *angle) {
+            if (got) pcdm_decomp_free(out);
+            *out = cand;
+            *angle = a;
+            got = 1;
+        } else {
+            pcdm_decomp_free(&cand);
+        }
+        if (!(*angle < FAST_MIN_DEG)) break;
     }
     if (rc == 0) {
         out->floor2 = floor2;
@@ -1028,22 +1052,24 @@ int pcdm_decomp_auto(const pslg *in, const pcdm_decomp_opts *opts, pcdm_decomp *
     pcdm_decomp_opts so = *opts; /* the area bound in the working units of in's coordinates */
     so.max_area = pslg_scaled_area(in->scale_exp, opts->max_area);
     const pcdm_decomp_opts *o = &so;
+    double ang, slow_ang;
     for (int mode = 0; mode < 3; mode++) {
-        int rc = attempt(in, o, mode, out, err, errlen);
-        if (rc == 0 && !out->exact && pcdm_decomp_iface_min_angle(out) < FAST_MIN_DEG) {
+        int rc = attempt(in, o, mode, out, &ang, err, errlen);
+        if (rc == 0 && !out->exact && isnan(ang)) ang = pcdm_decomp_iface_min_angle(out);
+        if (rc == 0 && !out->exact && ang < FAST_MIN_DEG) {
             /* the fast route's interfaces meet a segment at a narrow angle: the coarse route's
              * (lfs-graded) mesh may give wider ones; the wider of the two is kept */
             pcdm_decomp slow;
             char e2[256];
-            if (attempt(in, o, 3, &slow, e2, sizeof e2) == 0 &&
-                pcdm_decomp_iface_min_angle(&slow) > pcdm_decomp_iface_min_angle(out)) {
+            if (attempt(in, o, 3, &slow, &slow_ang, e2, sizeof e2) == 0 &&
+                pcdm_decomp_iface_min_angle(&slow) > ang) {
                 pcdm_decomp_free(out);
                 *out = slow;
             } else {
                 pcdm_decomp_free(&slow);
             }
         } else if (rc != 0) { /* the fast route (or the preview) failed: the coarse route */
-            return attempt(in, o, 3, out, err, errlen);
+            return attempt(in, o, 3, out, &ang, err, errlen);
         }
         if (rc != 0 || !out->exact || trial_ok(out, o)) return rc;
         /* would mode 1 differ? */
@@ -1051,5 +1077,5 @@ int pcdm_decomp_auto(const pslg *in, const pcdm_decomp_opts *opts, pcdm_decomp *
         pcdm_decomp_free(out);
         if (mode == 0 && !more) mode = 1;
     }
-    return attempt(in, o, 2, out, err, errlen); /* not reached: mode 2 is never exact */
+    return attempt(in, o, 2, out, &ang, err, errlen); /* not reached: mode 2 is never exact */
 }
