@@ -199,17 +199,23 @@ void pslg_pack_head(const pslg *g, void **head, size_t *hlen, pcdm_pack_arr *a, 
     *hlen = wb.n;
 }
 
-int pslg_unpack_head(const void *head, size_t hlen, pslg *g, pcdm_pack_arr *a, int *na) {
+/* The head's fields into g and its arrays allocated (whole: as get_arrs); r's position after the
+ * head. */
+static void read_pslg_head(rbuf *r, pslg *g, int whole, pcdm_pack_arr *a, int *na) {
     memset(g, 0, sizeof *g);
-    rbuf rb = {head, hlen, 0, 0}, *r = &rb;
     *na = 0;
     get_pslg_head(r, g);
     arrs l = {0};
     if (!r->bad) pslg_arrs(g, &l);
-    get_arrs(r, &l, 0, a, na);
-    if (!r->bad && r->at != r->n) r->bad = 1;
-    if (r->bad) pslg_free(g);
-    return r->bad ? -1 : 0;
+    get_arrs(r, &l, whole, a, na);
+}
+
+int pslg_unpack_head(const void *head, size_t hlen, pslg *g, pcdm_pack_arr *a, int *na) {
+    rbuf rb = {head, hlen, 0, 0};
+    read_pslg_head(&rb, g, 0, a, na);
+    if (!rb.bad && rb.at != rb.n) rb.bad = 1;
+    if (rb.bad) pslg_free(g);
+    return rb.bad ? -1 : 0;
 }
 
 int pslg_unpack_done(pslg *g) {
@@ -231,17 +237,13 @@ void pslg_pack(const pslg *g, void **buf, size_t *len) {
 int pslg_unpack(const void *buf, size_t len, pslg *g) {
     pcdm_pack_arr a[MAX_ARRS];
     int na;
-    memset(g, 0, sizeof *g);
-    rbuf rb = {buf, len, 0, 0}, *r = &rb;
-    get_pslg_head(r, g);
-    arrs l = {0};
-    if (!r->bad) pslg_arrs(g, &l);
-    get_arrs(r, &l, 1, a, &na);
-    if (r->bad) {
+    rbuf rb = {buf, len, 0, 0};
+    read_pslg_head(&rb, g, 1, a, &na);
+    if (rb.bad) {
         pslg_free(g);
         return -1;
     }
-    fill(buf, r->at, a, na);
+    fill(buf, rb.at, a, na);
     return pslg_unpack_done(g);
 }
 
