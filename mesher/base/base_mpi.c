@@ -14,6 +14,12 @@
 #include <mpi.h>
 #include <stdio.h>
 #include <string.h>
+#include <time.h>
+
+/* the sleeping wait: tests without a pause first, then pauses doubling up to the longest */
+#define WAIT_SPINS 64
+#define WAIT_FIRST_NS 20000L
+#define WAIT_MAX_NS 1000000L
 
 static int mpi_rank(void) {
     int init = 0, fin = 0, r = 0;
@@ -45,11 +51,34 @@ void mesh_mpi_fail_at(const char *file, int line, const char *call, int rc) {
     mesh_bug_at(file, line, "%s failed: %s", call, s);
 }
 
+void mesh_mpi_wait_asleep(MPI_Request *rq) {
+    long ns = 0;
+    for (int done = 0, spins = 0;;) {
+        MESH_MPI(MPI_Test(rq, &done, MPI_STATUS_IGNORE));
+        if (done) return;
+        if (++spins <= WAIT_SPINS) continue;
+        ns = ns ? 2 * ns : WAIT_FIRST_NS;
+        if (ns > WAIT_MAX_NS) ns = WAIT_MAX_NS;
+        struct timespec ts = {0, ns};
+        nanosleep(&ts, NULL);
+    }
+}
+
+void mesh_mpi_settle(MPI_Comm comm) {
+    int size = 1;
+    MESH_MPI(MPI_Comm_size(comm, &size));
+    if (size < 2) return;
+    MPI_Request rq;
+    MESH_MPI(MPI_Ibarrier(comm, &rq));
+    mesh_mpi_wait_asleep(&rq);
+}
+
 int mesh_agree(MPI_Comm comm, int code, const char *msg, char *out, size_t outlen) {
     int rank, size;
     MESH_MPI(MPI_Comm_rank(comm, &rank));
     MESH_MPI(MPI_Comm_size(comm, &size));
     int mine = code != 0 ? rank : size, first = size;
+    mesh_mpi_settle(comm); /* the ranks that wait for a slower one, asleep */
     MESH_MPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm));
     if (first == size) return 0;
     struct {

@@ -109,6 +109,7 @@ int meshio_pwrite_sections(MPI_Comm comm, struct meshio_set *set, const char *pa
             mine[k] += meshio_text_len(c->rec(c->ctx, i, line) - line, c->recmax);
         if (c->tail) mine[k] += meshio_text_len(c->tail(c->ctx, line) - line, c->headmax);
     }
+    mesh_mpi_settle(comm); /* the ranks that formatted fewer bytes wait asleep */
     MESH_MPI(MPI_Allreduce(mine, tot, ns, MPI_LONG_LONG, MPI_SUM, comm));
     MESH_MPI(MPI_Exscan(mine, below, ns, MPI_LONG_LONG, MPI_SUM, comm));
     if (rank == 0) memset(below, 0, sizeof below);
@@ -177,6 +178,8 @@ int meshio_pwrite_sections(MPI_Comm comm, struct meshio_set *set, const char *pa
     }
     free(buf);
     free(line);
+    mesh_mpi_settle(
+        comm); /* the ranks that wrote less wait asleep (MPI_File_sync's barrier spins) */
     if (meshio_pclose(&fh, ok, path, err, errlen) != 0) ok = 0;
     if (wb >= 0) close(wb);
     int all = meshio_pagree(comm, ok, err, errlen) == 0;

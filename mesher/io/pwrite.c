@@ -37,6 +37,7 @@
 #include "io/pwrite.h"
 
 #include "base/base.h"
+#include "base/base_mpi.h"
 #include "io/fmt.h"
 #include "io/oset.h"
 #include "io/ptext.h"
@@ -505,6 +506,7 @@ static int write_files(MPI_Comm comm, meshio_set *set, const char (*path)[PATH_M
                 mine[f] += (long long)rec_len(&x[f], j);
         if (x[f].last && !tail_done[f]) mine[f] += (long long)(fmt_tail(&x[f], scratch) - scratch);
     }
+    mesh_mpi_settle(comm); /* the ranks that formatted fewer bytes wait asleep */
     MESH_MPI(MPI_Exscan(mine, off, nf, MPI_LONG_LONG, MPI_SUM, comm));
     if (rank == 0) /* MPI_Exscan leaves rank 0's result undefined */
         for (int f = 0; f < nf; f++)
@@ -555,6 +557,8 @@ static int write_files(MPI_Comm comm, meshio_set *set, const char (*path)[PATH_M
     for (int f = 0; f < nf; f++)
         free(buf[f]);
     free(scratch);
+    mesh_mpi_settle(
+        comm); /* the ranks that wrote less wait asleep (MPI_File_sync's barrier spins) */
     for (int f = 0; f < nopen; f++)
         if (meshio_pclose(&fh[f], ok, path[f], err, errlen) != 0) ok = 0;
     for (int f = 0; f < nf; f++)

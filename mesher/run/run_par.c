@@ -60,6 +60,7 @@
 #include "run/run_stats.h"
 
 #include "base/base.h"
+#include "base/base_mpi.h"
 #include "geom/geom.h"
 #include "par/pout.h"
 #include "pbw/pbw.h"
@@ -72,7 +73,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
 /* ---- agreement -------------------------------------------------------------------------- */
@@ -126,22 +126,12 @@ static double ranks_per_core(void) {
     return most;
 }
 
-/* Collective.  MPI_Bcast of n items of type t from rank 0, waited for asleep (100 us between
- * tests), so that ranks sharing cores leave them to rank 0 while it works; in pieces of at most
- * 2^28 items. */
-static void bcast_asleep(void *p, int64_t n, MPI_Datatype t, int size) {
-    for (int64_t at = 0; at < n;) {
-        int k = (int)(n - at < ((int64_t)1 << 28) ? n - at : ((int64_t)1 << 28));
-        MPI_Request rq;
-        MESH_MPI(MPI_Ibcast((char *)p + at * size, k, t, 0, rt_app_comm(), &rq));
-        for (int done = 0;;) {
-            MESH_MPI(MPI_Test(&rq, &done, MPI_STATUS_IGNORE));
-            if (done) break;
-            struct timespec ts = {0, 100000};
-            nanosleep(&ts, NULL);
-        }
-        at += k;
-    }
+/* Collective.  MPI_Bcast of n (a few) items of type t from rank 0, waited for asleep
+ * (mesh_mpi_wait_asleep), so that ranks sharing cores leave them to rank 0 while it works. */
+static void bcast_asleep(void *p, int n, MPI_Datatype t) {
+    MPI_Request rq;
+    MESH_MPI(MPI_Ibcast(p, n, t, 0, rt_app_comm(), &rq));
+    mesh_mpi_wait_asleep(&rq);
 }
 
 /* Collective.  Rank 0's status and bytes to every rank: with rc == 0 its *buf (*len bytes),
@@ -154,7 +144,7 @@ static int share_bytes(int rc, void **buf, size_t *len, char *err, size_t errlen
         b = rc == 0 ? *buf : err;
         hdr[1] = (int64_t)(rc == 0 ? *len : strlen(err) + 1);
     }
-    bcast_asleep(hdr, 2, MPI_INT64_T, (int)sizeof(int64_t));
+    bcast_asleep(hdr, 2, MPI_INT64_T);
     if (rt_rank() != 0) b = mesh_xmalloc((size_t)hdr[1] + 1, 1);
     /* the bytes with a plain broadcast: every rank is here now, and a large broadcast moves on
      * only while the ranks forwarding it call MPI (asleep, each piece would wait for a wake) */
