@@ -504,10 +504,13 @@ typedef struct smooth {
     corner_rec *c, *c2; /* corners of a star; of another star (bad_at) */
     int32_t ncap, ncap2;
     int32_t *vs, vcap; /* bad_around's vertices */
-    /* nv: 1 where a vertex may end an interface edge (set at each pass's start for those that
-     * do, and for every vertex of a moved triangle): a vertex with 0 bounds no sector a pass
-     * looks at, so its star (an arctangent a corner) is not walked */
+    /* nv: 1 where a vertex may end an interface edge (set, at the first pass over vertices, for
+     * those that do, and for every vertex of a moved triangle, so a superset of those that do
+     * at every pass's start: a vertex becomes an end only when a triangle around it moves): a
+     * vertex with 0 bounds no sector a pass looks at, so its star (an arctangent a corner) is
+     * not walked; one with 1 that ends no interface edge moves nothing */
     uint8_t *near;
+    int near_set;
 } smooth;
 
 static int touches_corner(const mesh *m, int32_t t) {
@@ -667,12 +670,12 @@ static int32_t bad_around(smooth *S, const int32_t *ts, int32_t n) {
 static int32_t widen_pass(smooth *S, int exact) {
     const mesh *m = S->m;
     int32_t moves = 0, *ts = NULL, tcap = 0;
-    if (!exact) {
-        memset(S->near, 0, (size_t)m->nv);
+    if (!exact && !S->near_set) { /* once: moves mark their vertices (move_tris) */
         for (int32_t t = 0; t < m->nt; t++)
             for (int j = 0; mesh_tri_alive(m, t) && j < 3; j++)
                 if (edge_iface(m, S->part, 3 * t + j))
                     S->near[mesh_org(m, 3 * t + j)] = S->near[mesh_dest(m, 3 * t + j)] = 1;
+        S->near_set = 1;
     }
     for (int32_t v = 0; v < m->nv && !exact; v++) {
         if (!S->near[v]) continue; /* no interface edge ends here */
