@@ -32,7 +32,8 @@
  * the coarse route each coarse triangle's work is max(1, area / max_area) with an area bound,
  * else 1.  (3) METIS_PartGraphKway splits the dual graph (vertex weights: work; edge weights:
  * shared edge length; target fractions from the imbalance; contiguous parts when the graph is
- * connected; fixed seed) into K parts; the triangles around an input corner sharper than 60 degrees
+ * connected, but not on the fast route's clusters; fixed seed; the graph made once for every
+ * seed tried) into K parts; the triangles around an input corner sharper than 60 degrees
  * are one graph vertex.  (4) So they join one part, and no interface ends in a corner whose coarse
  * triangles are exempt from the angle bound; a part METIS left empty takes a triangle of the
  * largest part that can give one.  (5) Wide sectors (coarse route): around every vertex, a sector
@@ -216,6 +217,129 @@ static int32_t uf_find(int32_t *up, int32_t x) {
     return x;
 }
 
+/* The graph METIS partitions: nn vertices in rows xadj/adj (no duplicates, none to itself),
+ * edge lengths len, vertex weights w; node[i] is the graph vertex of compact triangle i;
+ * connected: every vertex reached from vertex 0 (contiguous parts are asked for only then). */
+typedef struct pgraph {
+    int32_t nn, *node;
+    idx_t *xadj, *adj;
+    double *len, *w;
+    int connected;
+} pgraph;
+
+static void graph_free(pgraph *g) {
+    mesh_xfree(g->node);
+    mesh_xfree(g->xadj);
+    mesh_xfree(g->adj);
+    mesh_xfree(g->len);
+    mesh_xfree(g->w);
+    memset(g, 0, sizeof *g);
+}
+
+/* The length METIS sees on edge e (a live triangle's): its length, ENC_PENALTY times when an
+ * apex encroaches it and penalize is set.  The same from either side. */
+static double edge_len(const mesh *m, int32_t e, int penalize) {
+    double l =
+        sqrt(geom_dist2(mesh_vertex_xy(m, mesh_org(m, e)), mesh_vertex_xy(m, mesh_dest(m, e))));
+    return penalize && edge_encroached(m, e) ? l * ENC_PENALTY : l;
+}
+
+/* Triangles' graph vertices (node[i] of compact triangle i): the triangles around each input
+ * corner sharper than 60 degrees united, numbered in order of first appearance.  Returns their
+ * number. */
+static int32_t corner_nodes(const mesh *m, const int32_t *id, int32_t n, int32_t *node) {
+    int32_t *up = mesh_xmalloc((size_t)n + 1, sizeof(int32_t));
+    for (int32_t i = 0; i < n; i++)
+        up[i] = i;
+    if (m->has_corners && m->corner) {
+        int32_t *first = mesh_xmalloc((size_t)m->ninput + 1, sizeof(int32_t));
+        for (int32_t v = 0; v < m->ninput; v++)
+            first[v] = -1;
+        for (int32_t t = 0; t < m->nt; t++)
+            for (int j = 0; id[t] >= 0 && j < 3; j++) {
+                int32_t v = m->tv[3 * t + j];
+                if (v >= m->ninput || !m->corner[v]) continue;
+                if (first[v] < 0)
+                    first[v] = id[t];
+                else
+                    up[uf_find(up, id[t])] = uf_find(up, first[v]);
+            }
+        mesh_xfree(first);
+    }
+    int32_t nn = 0;
+    for (int32_t i = 0; i < n; i++)
+        node[i] = -1;
+    for (int32_t i = 0; i < n; i++) { /* numbered in order of first appearance */
+        int32_t r = uf_find(up, i);
+        if (node[r] < 0) node[r] = nn++;
+        node[i] = node[r];
+    }
+    mesh_xfree(up);
+    return nn;
+}
+
+/* The dual graph itself: a vertex per corner node.  The edges in rows by a, in triangle order
+ * within a row (two passes over the triangles: the rows' lengths, then the edges in place),
+ * each row then sorted by b with duplicates (united vertices) merged. */
+static void graph_triangles(const mesh *m, const int32_t *id, const double *tw, int penalize,
+                            pgraph *g) {
+    int32_t nn = g->nn, *node = g->node;
+    double *w = mesh_xcalloc((size_t)nn + 1, sizeof(double));
+    idx_t *xadj = mesh_xcalloc((size_t)nn + 2, sizeof(idx_t));
+    for (int32_t t = 0; t < m->nt; t++) {
+        if (id[t] < 0) continue;
+        int32_t a = node[id[t]];
+        w[a] += tw[t];
+        for (int j = 0; j < 3; j++) {
+            int32_t nb = m->tn[3 * t + j];
+            if (nb >= 0 && node[id[nb / 3]] != a) xadj[a + 2]++;
+        }
+    }
+    for (int32_t x = 0; x < nn; x++)
+        xadj[x + 2] += xadj[x + 1];
+    int32_t ng = (int32_t)xadj[nn + 1];
+    gedge *row = mesh_xmalloc((size_t)ng + 1, sizeof(gedge));
+    for (int32_t t = 0; t < m->nt; t++) { /* each edge once, from its lower code: both rows */
+        if (id[t] < 0) continue;
+        int32_t a = node[id[t]];
+        for (int j = 0; j < 3; j++) {
+            int32_t e = 3 * t + j, nb = m->tn[e];
+            if (nb < e) continue;
+            int32_t b = node[id[nb / 3]];
+            if (b == a) continue;
+            double l = edge_len(m, e, penalize);
+            row[xadj[a + 1]++] = (gedge){a, b, l};
+            row[xadj[b + 1]++] = (gedge){b, a, l};
+        }
+    }
+    idx_t *adj = mesh_xmalloc((size_t)ng + 1, sizeof(idx_t));
+    double *len = mesh_xmalloc((size_t)ng + 1, sizeof(double));
+    int32_t ne = 0;
+    for (int32_t x = 0, at = 0; x < nn; x++) {
+        int32_t end = (int32_t)xadj[x + 1];
+        xadj[x] = ne;
+        for (int32_t u = at + 1; u < end; u++) { /* insertion sort by b: rows are short */
+            gedge ge = row[u];
+            int32_t k = u;
+            for (; k > at && row[k - 1].b > ge.b; k--)
+                row[k] = row[k - 1];
+            row[k] = ge;
+        }
+        for (int32_t i = at; i < end; i++) {
+            if (i > at && row[i].b == row[i - 1].b) {
+                len[ne - 1] += row[i].len;
+                continue;
+            }
+            adj[ne] = row[i].b;
+            len[ne++] = row[i].len;
+        }
+        at = end;
+    }
+    xadj[nn] = ne;
+    mesh_xfree(row);
+    g->xadj = xadj, g->adj = adj, g->len = len, g->w = w;
+}
+
 /* The graph (nn vertices: rows xadj/adj, edge lengths len, weights w) with its vertices
  * grown into connected clusters of at most CLUSTER (breadth first from the lowest unclustered
  * vertex, in vertex order): cl[x] is x's cluster; the cluster graph replaces the graph in place
@@ -286,103 +410,18 @@ static int32_t contract(int32_t nn, idx_t **xadj, idx_t **adj, double **len, dou
     return nc;
 }
 
-/* METIS on the dual graph of m's live triangles (id[t]: compact index, -1 for dead slots).  The
- * triangles around each input corner sharper than 60 degrees are one graph vertex (they must
- * share a part, merge_corners), so METIS sees their weight together and balances around it.
- * sel (NULL: seed 1): the seeds to try, keeping the partition of least decomp_part_cost in part
- * and its cost in *cost (INFINITY, labels -1, if METIS failed on every seed: not an error
- * here, since another rank may have one). */
-static int partition(const mesh *m, const int32_t *id, int32_t n, const double *tw,
-                     const double *target, int32_t K, int penalize, int coarsen,
-                     const pcdm_decomp_opts *sel, int32_t seed, double *cost, int32_t *part,
-                     char *err, size_t errlen) {
-    /* graph vertices: triangles, those around a sharp corner united */
-    int32_t *up = mesh_xmalloc((size_t)n + 1, sizeof(int32_t));
-    for (int32_t i = 0; i < n; i++)
-        up[i] = i;
-    if (m->has_corners && m->corner) {
-        int32_t *first = mesh_xmalloc((size_t)m->ninput + 1, sizeof(int32_t));
-        for (int32_t v = 0; v < m->ninput; v++)
-            first[v] = -1;
-        for (int32_t t = 0; t < m->nt; t++)
-            for (int j = 0; id[t] >= 0 && j < 3; j++) {
-                int32_t v = m->tv[3 * t + j];
-                if (v >= m->ninput || !m->corner[v]) continue;
-                if (first[v] < 0)
-                    first[v] = id[t];
-                else
-                    up[uf_find(up, id[t])] = uf_find(up, first[v]);
-            }
-        mesh_xfree(first);
-    }
-    int32_t *node = mesh_xmalloc((size_t)n + 1, sizeof(int32_t)), nn = 0;
-    for (int32_t i = 0; i < n; i++)
-        node[i] = -1;
-    for (int32_t i = 0; i < n; i++) { /* numbered in order of first appearance */
-        int32_t r = uf_find(up, i);
-        if (node[r] < 0) node[r] = nn++;
-        node[i] = node[r];
-    }
-    mesh_xfree(up);
-    /* the graph's edges in rows by a, in triangle order within a row (two passes over the
-     * triangles: the rows' lengths, then the edges in place), each row then sorted by b with
-     * duplicates (united vertices) merged */
-    double *w = mesh_xcalloc((size_t)nn + 1, sizeof(double));
-    idx_t *xadj = mesh_xcalloc((size_t)nn + 2, sizeof(idx_t));
-    for (int32_t t = 0; t < m->nt; t++) {
-        if (id[t] < 0) continue;
-        int32_t a = node[id[t]];
-        w[a] += tw[t];
-        for (int j = 0; j < 3; j++) {
-            int32_t nb = m->tn[3 * t + j];
-            if (nb >= 0 && node[id[nb / 3]] != a) xadj[a + 2]++;
-        }
-    }
-    for (int32_t x = 0; x < nn; x++)
-        xadj[x + 2] += xadj[x + 1];
-    int32_t ng = (int32_t)xadj[nn + 1];
-    gedge *row = mesh_xmalloc((size_t)ng + 1, sizeof(gedge));
-    for (int32_t t = 0; t < m->nt; t++) { /* each edge once, from its lower code: both rows */
-        if (id[t] < 0) continue;
-        int32_t a = node[id[t]];
-        for (int j = 0; j < 3; j++) {
-            int32_t e = 3 * t + j, nb = m->tn[e];
-            if (nb < e) continue;
-            int32_t b = node[id[nb / 3]];
-            if (b == a) continue;
-            double l = sqrt(
-                geom_dist2(mesh_vertex_xy(m, mesh_org(m, e)), mesh_vertex_xy(m, mesh_dest(m, e))));
-            if (penalize && edge_encroached(m, e)) l *= ENC_PENALTY;
-            row[xadj[a + 1]++] = (gedge){a, b, l};
-            row[xadj[b + 1]++] = (gedge){b, a, l};
-        }
-    }
-    idx_t *adj = mesh_xmalloc((size_t)ng + 1, sizeof(idx_t));
-    double *len = mesh_xmalloc((size_t)ng + 1, sizeof(double));
-    int32_t ne = 0;
-    for (int32_t x = 0, at = 0; x < nn; x++) {
-        int32_t end = (int32_t)xadj[x + 1];
-        xadj[x] = ne;
-        for (int32_t u = at + 1; u < end; u++) { /* insertion sort by b: rows are short */
-            gedge g = row[u];
-            int32_t k = u;
-            for (; k > at && row[k - 1].b > g.b; k--)
-                row[k] = row[k - 1];
-            row[k] = g;
-        }
-        for (int32_t i = at; i < end; i++) {
-            if (i > at && row[i].b == row[i - 1].b) {
-                len[ne - 1] += row[i].len;
-                continue;
-            }
-            adj[ne] = row[i].b;
-            len[ne++] = row[i].len;
-        }
-        at = end;
-    }
-    xadj[nn] = ne;
-    mesh_xfree(row);
-    /* connected? (contiguous parts are asked for only then) */
+/* The graph of m's live triangles (id[t]: compact index, -1 for dead slots) that partition
+ * splits: the dual graph, the triangles around each input corner sharper than 60 degrees one
+ * graph vertex (they must share a part, merge_corners, so METIS sees their weight together and
+ * balances around it); with coarsen and at least CLUSTER_MIN of those, its clusters
+ * (contract).  Made once for all the seeds partition tries on it. */
+static void graph_build(const mesh *m, const int32_t *id, int32_t n, const double *tw, int penalize,
+                        int coarsen, pgraph *g) {
+    memset(g, 0, sizeof *g);
+    g->node = mesh_xmalloc((size_t)n + 1, sizeof(int32_t));
+    g->nn = corner_nodes(m, id, n, g->node);
+    graph_triangles(m, id, tw, penalize, g);
+    int32_t nn = g->nn;
     int32_t *stk = mesh_xmalloc((size_t)nn + 1, sizeof(int32_t));
     uint8_t *seen = mesh_xcalloc((size_t)nn + 1, 1);
     int32_t ns = 0, reached = 1;
@@ -390,29 +429,43 @@ static int partition(const mesh *m, const int32_t *id, int32_t n, const double *
     seen[0] = 1;
     while (ns > 0) {
         int32_t x = stk[--ns];
-        for (idx_t k = xadj[x]; k < xadj[x + 1]; k++)
-            if (!seen[adj[k]]) {
-                seen[adj[k]] = 1;
+        for (idx_t k = g->xadj[x]; k < g->xadj[x + 1]; k++)
+            if (!seen[g->adj[k]]) {
+                seen[g->adj[k]] = 1;
                 reached++;
-                stk[ns++] = (int32_t)adj[k];
+                stk[ns++] = (int32_t)g->adj[k];
             }
     }
     mesh_xfree(stk);
     mesh_xfree(seen);
+    g->connected = reached == nn;
     if (coarsen && nn >= CLUSTER_MIN) { /* METIS on clusters: a graph vertex is its cluster */
+        /* and no contiguous parts asked for: measured on North America at 16 subdomains, they
+         * made 64% more interface splits and a largest part 3% larger */
+        g->connected = 0;
         int32_t *cl = mesh_xmalloc((size_t)nn + 1, sizeof(int32_t));
-        int32_t nc = contract(nn, &xadj, &adj, &len, &w, cl);
+        g->nn = contract(nn, &g->xadj, &g->adj, &g->len, &g->w, cl);
         for (int32_t i = 0; i < n; i++)
-            node[i] = cl[node[i]];
+            g->node[i] = cl[g->node[i]];
         mesh_xfree(cl);
-        nn = nc;
-        ne = (int32_t)xadj[nc];
     }
+}
+
+/* METIS on g (graph_build of m's triangles), n of them live, into K parts of the target
+ * fractions; labels of m's triangle slots into part (-1 for dead ones).  sel (NULL: METIS seed
+ * `seed`): the seeds to try, keeping the partition of least decomp_part_cost in part and its
+ * cost in *cost (INFINITY, labels -1, if METIS failed on every seed: not an error here, since
+ * another rank may have one). */
+static int partition(const mesh *m, const int32_t *id, int32_t n, const pgraph *g, const double *tw,
+                     const double *target, int32_t K, const pcdm_decomp_opts *sel, int32_t seed,
+                     double *cost, int32_t *part, char *err, size_t errlen) {
+    int32_t nn = g->nn, ne = (int32_t)g->xadj[nn];
+    const int32_t *node = g->node;
     idx_t *vw = mesh_xmalloc((size_t)nn + 1, sizeof(idx_t)),
           *ew = mesh_xmalloc((size_t)ne + 1, sizeof(idx_t)),
           *pp = mesh_xmalloc((size_t)nn + 1, sizeof(idx_t));
-    decomp_int_weights(w, nn, vw);
-    decomp_int_weights(len, ne, ew);
+    decomp_int_weights(g->w, nn, vw);
+    decomp_int_weights(g->len, ne, ew);
     real_t *tp = mesh_xmalloc((size_t)K, sizeof(real_t));
     for (int32_t k = 0; k < K; k++)
         tp[k] = (real_t)target[k];
@@ -426,14 +479,14 @@ static int partition(const mesh *m, const int32_t *id, int32_t n, const double *
     for (int32_t i = 0; i < nseeds; i++) {
         opt[METIS_OPTION_SEED] =
             sel && sel->seed_count > 0 ? sel->seed_first + i * sel->seed_step : seed;
-        opt[METIS_OPTION_CONTIG] = reached == nn;
+        opt[METIS_OPTION_CONTIG] = g->connected;
         int r = nn < K ? METIS_ERROR_INPUT
-                       : METIS_PartGraphKway(&nv, &ncon, xadj, adj, vw, NULL, ew, &np, tp, NULL,
-                                             opt, &cut, pp);
+                       : METIS_PartGraphKway(&nv, &ncon, g->xadj, g->adj, vw, NULL, ew, &np, tp,
+                                             NULL, opt, &cut, pp);
         if (r != METIS_OK && nn >= K && opt[METIS_OPTION_CONTIG]) {
             opt[METIS_OPTION_CONTIG] = 0;
-            r = METIS_PartGraphKway(&nv, &ncon, xadj, adj, vw, NULL, ew, &np, tp, NULL, opt, &cut,
-                                    pp);
+            r = METIS_PartGraphKway(&nv, &ncon, g->xadj, g->adj, vw, NULL, ew, &np, tp, NULL, opt,
+                                    &cut, pp);
         }
         if (!sel || r == METIS_OK) rc = r;
         for (int32_t t = 0; t < m->nt; t++)
@@ -449,11 +502,6 @@ static int partition(const mesh *m, const int32_t *id, int32_t n, const double *
         mesh_xfree(cand);
         rc = METIS_OK; /* failures: *cost stays INFINITY (the caller decides) */
     }
-    mesh_xfree(node);
-    mesh_xfree(xadj);
-    mesh_xfree(adj);
-    mesh_xfree(len);
-    mesh_xfree(w);
     mesh_xfree(vw);
     mesh_xfree(ew);
     mesh_xfree(pp);
@@ -962,11 +1010,14 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
      * again with the next METIS seeds (measured on Great Britain at 0.97M triangles: seed 1 20.8
      * degrees, seeds 2-8 48-64), the widest kept, before the caller turns to the coarse route */
     int seeds = fast && !exact && K > 1 && !choose ? FAST_SEEDS : 1;
+    pgraph g; /* made once for every seed */
+    memset(&g, 0, sizeof g);
+    if (K > 1 && rc == 0) graph_build(&m, id, n, tw, exact || fast, fast && !exact, &g);
     for (int32_t seed = 1, got = 0; seed <= seeds && rc == 0; seed++) {
         pcdm_decomp cand;
         if (K > 1)
-            rc = partition(&m, id, n, tw, target, K, exact || fast, fast && !exact,
-                           choose ? o : NULL, seed, &cost, part, err, errlen);
+            rc = partition(&m, id, n, &g, tw, target, K, choose ? o : NULL, seed, &cost, part, err,
+                           errlen);
         if (rc == 0 && choose &&
             (o->pick ? o->pick(o->pick_ctx, cost, m.nt, part) != 0 : !isfinite(cost)))
             rc = mesh_fail(err, errlen,
@@ -995,6 +1046,7 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
         }
         if (!(*angle < FAST_MIN_DEG)) break;
     }
+    graph_free(&g);
     if (rc == 0) {
         out->floor2 = floor2;
         out->ncoarse = n;
