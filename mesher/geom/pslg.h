@@ -54,6 +54,12 @@ typedef struct pslg {
  * its arrays on success; on failure it holds nothing. */
 int pslg_read(const char *path, pslg *out, char *err, size_t errlen);
 
+/* pslg_read, calling on_vertices(ctx, out) once the vertices are read, before the rest of the
+ * file (out's vertex arrays and count set, coordinates as in the file; NULL: no call), so that
+ * work on the vertices can start while the segments are parsed. */
+int pslg_read_ex(const char *path, pslg *out, void (*on_vertices)(void *ctx, const pslg *g),
+                 void *ctx, char *err, size_t errlen);
+
 /* Coordinates (pslg_check): any finite doubles whose largest magnitude is at least 2^-723
  * (about 1.8e-218) and whose nonzero magnitudes are at least 2^-247 (about 4.4e-75) times the
  * largest (smaller ones only when they are multiples of 2^-300 of its power-of-two scale).
@@ -112,6 +118,13 @@ int pslg_check_ex(pslg *g, unsigned flags, char *err, size_t errlen);
  * vertices.  Each returns 0, or -1 with a message in err; finish only after start returned 0. */
 int pslg_check_start(pslg *g, char *err, size_t errlen);
 int pslg_check_finish(pslg *g, unsigned flags, char *err, size_t errlen);
+
+/* Local.  g's vertex coordinates into xy (2 g->nverts doubles) as pslg_check_start leaves them
+ * when g's holes and regions do not change the scale it picks (a g of which only the vertices
+ * are read yet, or one already checked, whose coordinates come back as they are).  Returns 0,
+ * or -1 when a coordinate is not finite or not representable at that scale (pslg_check_start
+ * says which). */
+int pslg_vertices_scaled(const pslg *g, double *xy);
 
 /* Triangle's -c: encloses the convex hull of g's vertices with segments.  The hull's edges are
  * cut at every vertex lying on them (exact orient2d), so no new segment passes through a

@@ -422,10 +422,9 @@ static double scale_area(double a, int e) {
     return s > 0 ? s : DBL_MIN; /* a bound that underflowed stays a bound */
 }
 
-/* Scales g by an exact power of two into the predicates' working range (pslg.h). */
-static int pslg_scale(pslg *g, char *err, size_t errlen) {
-    const char *vf = g->path[0] ? g->path : "(input)";
-    const char *sf = g->segpath[0] ? g->segpath : vf;
+/* The exponent pslg_scale applies to g (*e; 0: none) and g's largest magnitude (*bigp).
+ * Returns 0, or -1 when that magnitude is below the supported range. */
+static int scale_choice(const pslg *g, double *bigp, int *ep) {
     double big = 0;
     for (int32_t i = 0; i < 2 * g->nverts; i++)
         big = fmax(big, fabs(g->xy[i]));
@@ -434,6 +433,8 @@ static int pslg_scale(pslg *g, char *err, size_t errlen) {
     for (int32_t i = 0; i < g->nregions; i++)
         for (int k = 0; k < 2; k++)
             if (isfinite(g->regions[4 * i + k])) big = fmax(big, fabs(g->regions[4 * i + k]));
+    *bigp = big;
+    *ep = 0;
     if (big == 0) return 0;
     int e = 0, k;
     if (big > 0x1p100) {
@@ -450,11 +451,35 @@ static int pslg_scale(pslg *g, char *err, size_t errlen) {
     if (!e) return 0; /* already in range: nothing moves, not even by a bit */
     frexp(big, &k);   /* big < 2^k */
     e = PSLG_TOP_EXP - k;
-    if (e > PSLG_MAX_SCALE)
+    *ep = e;
+    return e > PSLG_MAX_SCALE ? -1 : 0;
+}
+
+int pslg_vertices_scaled(const pslg *g, double *xy) {
+    for (int32_t i = 0; i < 2 * g->nverts; i++)
+        if (!isfinite(g->xy[i])) return -1;
+    double big;
+    int e;
+    if (scale_choice(g, &big, &e) != 0) return -1;
+    for (int32_t i = 0; i < 2 * g->nverts; i++) {
+        if (!on_grid(g->xy[i], e)) return -1;
+        xy[i] = ldexp(g->xy[i], e);
+    }
+    return 0;
+}
+
+/* Scales g by an exact power of two into the predicates' working range (pslg.h). */
+static int pslg_scale(pslg *g, char *err, size_t errlen) {
+    const char *vf = g->path[0] ? g->path : "(input)";
+    const char *sf = g->segpath[0] ? g->segpath : vf;
+    double big;
+    int e;
+    if (scale_choice(g, &big, &e) != 0)
         return mesh_fail(err, errlen,
                          "%s: the largest coordinate magnitude %.17g is below the supported range "
                          "(at least 2^%d, about 1.8e-218)",
                          vf, big, PSLG_TOP_EXP - 1 - PSLG_MAX_SCALE);
+    if (!e) return 0; /* already in range: nothing moves, not even by a bit */
     for (int32_t i = 0; i < 2 * g->nverts; i++)
         if (!on_grid(g->xy[i], e))
             return mesh_fail(err, errlen,

@@ -278,7 +278,8 @@ out:
 
 /* The .poly reader.  skip_node: do not read the .node file when the vertex count is 0; check
  * indices against (nv, first) instead. */
-static int read_poly(const char *path, pslg *g, int skip_node, int32_t nv, int first, char *err,
+static int read_poly(const char *path, pslg *g, int skip_node, int32_t nv, int first,
+                     void (*on_vertices)(void *, const pslg *), void *ctx, char *err,
                      size_t errlen) {
     reader r;
     if (reader_open(&r, path, err, errlen)) return -1;
@@ -314,6 +315,7 @@ static int read_poly(const char *path, pslg *g, int skip_node, int32_t nv, int f
             nv = g->nverts;
             first = g->first_index;
         }
+        if (on_vertices && !skip_node) on_vertices(ctx, g);
     }
     /* segments */
     if (!next_line(&r)) {
@@ -421,14 +423,20 @@ out:
 }
 
 int pslg_read(const char *path, pslg *out, char *err, size_t errlen) {
+    return pslg_read_ex(path, out, NULL, NULL, err, errlen);
+}
+
+int pslg_read_ex(const char *path, pslg *out, void (*on_vertices)(void *ctx, const pslg *g),
+                 void *ctx, char *err, size_t errlen) {
     memset(out, 0, sizeof *out);
     if (errlen) err[0] = '\0';
     int rc;
     if (ends_with(path, ".node")) {
         rc = read_node_file(path, out, err, errlen);
         snprintf(out->segpath, sizeof out->segpath, "%s", path);
+        if (rc == 0 && on_vertices) on_vertices(ctx, out);
     } else {
-        rc = read_poly(path, out, 0, 0, 0, err, errlen);
+        rc = read_poly(path, out, 0, 0, 0, on_vertices, ctx, err, errlen);
     }
     if (rc) pslg_free(out);
     return rc;
@@ -438,7 +446,7 @@ int pslg_read_segments(const char *path, int32_t nverts, int first_index, pslg *
                        size_t errlen) {
     memset(out, 0, sizeof *out);
     if (errlen) err[0] = '\0';
-    int rc = read_poly(path, out, 1, nverts, first_index, err, errlen);
+    int rc = read_poly(path, out, 1, nverts, first_index, NULL, NULL, err, errlen);
     if (rc) pslg_free(out);
     return rc;
 }

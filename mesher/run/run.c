@@ -58,6 +58,14 @@ static int probe_outputs(const par_opts *o, char *err, size_t errlen) {
     return 0;
 }
 
+/* j->vertices_ready, once: as soon as the input's vertices are read, else after pslg_check_start */
+static void vertices_read(void *ctx, const pslg *g) {
+    run_job *j = ctx;
+    void (*ready)(run_job *, const pslg *) = j->vertices_ready;
+    j->vertices_ready = NULL;
+    ready(j, g);
+}
+
 int run_load(run_job *j, pslg *g, int quiet, int sizes, char *err, size_t errlen) {
     const par_opts *o = &j->o;
     memset(g, 0, sizeof *g);
@@ -73,7 +81,8 @@ int run_load(run_job *j, pslg *g, int quiet, int sizes, char *err, size_t errlen
         rc = 0;
     } else {
         rc = o->refine ? meshio_read_mesh_pslg(o->input, g, err, errlen)
-                       : pslg_read(o->input, g, err, errlen);
+                       : pslg_read_ex(o->input, g, j->vertices_ready ? vertices_read : NULL, j, err,
+                                      errlen);
     }
     if (rc != 0) return -1;
     g->quiet = quiet; /* no warnings (merged duplicates) */
@@ -82,7 +91,7 @@ int run_load(run_job *j, pslg *g, int quiet, int sizes, char *err, size_t errlen
         pslg_free(g);
         return -1;
     }
-    if (j->vertices_ready) j->vertices_ready(j, g);
+    if (j->vertices_ready) vertices_read(j, g); /* not read from a .poly or .node */
     if (pslg_check_finish(g, flags, err, errlen) != 0) {
         pslg_free(g);
         return -1;

@@ -81,8 +81,10 @@ typedef struct run_job {
     /* the parallel programs: the domain's area, computed on rank 0 while it decomposes
      * (run_par_load starts it; the area check after meshing takes it) */
     par_dom_ahead dom_ahead;
-    /* set by the driver before run_load: called once between pslg_check_start and
-     * pslg_check_finish, when the vertices are in their working scale (run_dt_ahead_start) */
+    /* set by the driver before run_load: called once, as soon as the input's vertices are read
+     * (before its segments are parsed; their coordinates as in the file), or between
+     * pslg_check_start and pslg_check_finish for an input not read from a file or with -r
+     * (in their working scale); run_load clears it (run_dt_ahead_start) */
     void (*vertices_ready)(struct run_job *j, const pslg *g);
     run_dt_ahead dt_ahead;
     /* rank 0: the CPUs the ranks of its host are bound to, which its threads ahead (the area,
@@ -99,7 +101,8 @@ typedef struct run_job {
 } run_job;
 
 /* Local (run_ahead.c, the parallel library only).  start: a thread begins the Delaunay
- * triangulation of g's vertices (copied first; g may change afterwards).  take: joins it and,
+ * triangulation of g's vertices (copied first, in their working scale: pslg_vertices_scaled; g
+ * may change afterwards).  take: joins it and,
  * when it succeeded on exactly g's vertices (count and coordinates bit for bit), returns it for
  * mesh_build_cdt_from_points (the caller may take m and dup, leaving them empty and NULL); else
  * frees it and returns NULL.  free: joins and frees whatever is left (safe on a struct that

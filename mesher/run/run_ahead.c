@@ -1,8 +1,9 @@
 /* run_ahead: the Delaunay triangulation of the input's vertices, made on a second thread of the
- * parallel programs' rank 0 while its main thread checks the rest of the input (crossings,
- * duplicates, vertices on segments), so that the decomposition's constrained Delaunay
- * triangulation of the input only has its segments left to insert.  The other ranks and the
- * rank's own worker threads wait in that phase, so the thread takes an idle core.
+ * parallel programs' rank 0, from the moment the vertices are read, while its main thread parses
+ * the segments and checks the input (crossings, duplicates, vertices on segments), so that the
+ * decomposition's constrained Delaunay triangulation of the input only has its segments left to
+ * insert.  The other ranks and the rank's own worker threads wait in that phase, so the thread
+ * takes an idle core.
  *
  * Invariant: the triangulation is used only for exactly the vertices the check leaves (same
  * count, coordinates equal bit for bit: the check merged, dropped and added none); it is then the
@@ -58,7 +59,10 @@ void run_dt_ahead_start(run_job *j, const pslg *g) {
     if (g->nverts < 3) return; /* mesh_build_cdt says why */
     a->n = g->nverts;
     a->xy = mesh_xmalloc(2 * (size_t)a->n, sizeof(double));
-    memcpy(a->xy, g->xy, 2 * (size_t)a->n * sizeof(double));
+    if (pslg_vertices_scaled(g, a->xy) != 0) { /* the check will refuse it */
+        run_dt_ahead_free(a);
+        return;
+    }
     a->started = pthread_create(&a->thr, NULL, dt_run, a) == 0;
     if (!a->started) run_dt_ahead_free(a);
 }
