@@ -178,9 +178,7 @@ int meshio_pwrite_sections(MPI_Comm comm, struct meshio_set *set, const char *pa
     }
     free(buf);
     free(line);
-    mesh_mpi_settle(
-        comm); /* the ranks that wrote less wait asleep (MPI_File_sync's barrier spins) */
-    if (meshio_pclose(&fh, ok, path, err, errlen) != 0) ok = 0;
+    if (meshio_pclose(comm, &fh, ok, path, err, errlen) != 0) ok = 0;
     if (wb >= 0) close(wb);
     int all = meshio_pagree(comm, ok, err, errlen) == 0;
     ok = 1;
@@ -208,7 +206,9 @@ const char *meshio_mpi_strerror(int rc, char *buf) {
     return buf;
 }
 
-int meshio_pclose(MPI_File *fh, int ok, const char *path, char *err, size_t errlen) {
+int meshio_pclose(MPI_Comm comm, MPI_File *fh, int ok, const char *path, char *err, size_t errlen) {
+    /* the ranks that wrote less wait asleep: MPI_File_sync's barrier spins */
+    mesh_mpi_settle(comm);
     int rc = MPI_File_sync(*fh), bad = 0; /* collective: on every rank, whatever ok is */
     char why[MPI_MAX_ERROR_STRING];
     if (rc != MPI_SUCCESS && ok) {

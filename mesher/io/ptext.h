@@ -38,10 +38,11 @@ int meshio_pwrite_at(MPI_File fh, int wb, long long off, const char *b, size_t n
 /* Local.  MPI's message for error code rc into buf (MPI_MAX_ERROR_STRING bytes); returns buf. */
 const char *meshio_mpi_strerror(int rc, char *buf);
 
-/* Collective over the file's communicator.  Writes *fh to the disk (MPI_File_sync) and closes
- * it; ok: nothing failed before on this rank (a failure here is then reported).  0, or -1 with
- * "path: problem: MPI's cause" in err. */
-int meshio_pclose(MPI_File *fh, int ok, const char *path, char *err, size_t errlen);
+/* Collective over comm, the file's communicator.  Writes *fh to the disk (MPI_File_sync) and
+ * closes it, the ranks that arrive first waiting asleep (mesh_mpi_settle); ok: nothing failed
+ * before on this rank (a failure here is then reported).  0, or -1 with "path: problem: MPI's
+ * cause" in err. */
+int meshio_pclose(MPI_Comm comm, MPI_File *fh, int ok, const char *path, char *err, size_t errlen);
 
 /* Collective over comm.  Commits every rank's files of s (oset.h) step by step, all ranks
  * agreeing after each step (so no entry file is renamed before every other file is in place).

@@ -557,10 +557,8 @@ static int write_files(MPI_Comm comm, meshio_set *set, const char (*path)[PATH_M
     for (int f = 0; f < nf; f++)
         free(buf[f]);
     free(scratch);
-    mesh_mpi_settle(
-        comm); /* the ranks that wrote less wait asleep (MPI_File_sync's barrier spins) */
     for (int f = 0; f < nopen; f++)
-        if (meshio_pclose(&fh[f], ok, path[f], err, errlen) != 0) ok = 0;
+        if (meshio_pclose(comm, &fh[f], ok, path[f], err, errlen) != 0) ok = 0;
     for (int f = 0; f < nf; f++)
         if (wb[f] >= 0) close(wb[f]);
     int all = nopen == nf && meshio_pagree(comm, ok, err, errlen) == 0;
