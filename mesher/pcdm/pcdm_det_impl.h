@@ -11,6 +11,7 @@
 #ifndef PCDM_DET_IMPL_H
 #define PCDM_DET_IMPL_H
 
+#include "base/gate.h"
 #include "pcdm/pcdm_impl.h"
 
 enum { DET_WINDOW = 3, DET_MAX_PAYLOAD = 1 << 28 };
@@ -89,6 +90,7 @@ struct pcdm_det {
     int threads;
     int32_t nrunning;
     det_sub **job;
+    mesh_gate gate;    /* the host's CPU gate (gate.h): held while refining, one thread only */
     int32_t fault_sub; /* test-only (PCDM_TEST_WORKER_FAULT=SUB): the worker that takes
                         * subdomain SUB's first round stops the job as a broken invariant in
                         * the kernel would (MESH_BUG); -1: off */
