@@ -199,9 +199,24 @@ int pcdm_decomp_pack_head(const pcdm_decomp *d, void **head, size_t *hlen, pcdm_
 int pcdm_decomp_unpack_head(const void *head, size_t hlen, pcdm_decomp *d, pcdm_pack_arr *a,
                             int *na);
 int pcdm_decomp_unpack_done(pcdm_decomp *d, const pcdm_pack_arr *a, int na);
+/* pcdm_decomp_unpack_done, but a malformed d is left as it is (-1: the caller frees it), for
+ * arrays that live in the caller's memory (pcdm_decomp_pack_place). */
+int pcdm_decomp_unpack_index(pcdm_decomp *d, const pcdm_pack_arr *a, int na);
 void pslg_pack_head(const pslg *g, void **head, size_t *hlen, pcdm_pack_arr *a, int *na);
 int pslg_unpack_head(const void *head, size_t hlen, pslg *g, pcdm_pack_arr *a, int *na);
 int pslg_unpack_done(pslg *g);
+
+/* Local.  The arrays a pack lists (the present ones, in the list's order: a sender's as its
+ * *_pack_head lists them, a receiver's as its *_unpack_head allocated them) moved to at[0],
+ * at[1], ... (memory the caller owns and fills, each as large as the listed bytes): the old
+ * arrays are freed, their contents not copied.  *_pack_forget: every such array for which held(ctx,
+ * p) is 1 is forgotten (its pointer NULL, not freed), so that d (g) can be freed while the caller's
+ * memory lives on. */
+void pslg_pack_place(pslg *g, unsigned char *const *at);
+void pcdm_decomp_pack_place(pcdm_decomp *d, unsigned char *const *at);
+void pslg_pack_forget(pslg *g, int (*held)(const void *ctx, const void *p), const void *ctx);
+void pcdm_decomp_pack_forget(pcdm_decomp *d, int (*held)(const void *ctx, const void *p),
+                             const void *ctx);
 
 /* The same as one byte buffer (*buf, *len bytes: the head, then the arrays; the caller frees
  * *buf) and back, field for field. */

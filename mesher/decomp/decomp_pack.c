@@ -187,6 +187,49 @@ static void fill(const unsigned char *p, size_t at, const pcdm_pack_arr *a, int 
     }
 }
 
+/* The present arrays of a (those a pack lists, in its order) moved to at[0], at[1], ...: each
+ * old array freed.  Returns how many. */
+static int place(const arrs *a, unsigned char *const *at) {
+    int k = 0;
+    for (int i = 0; i < a->n; i++) {
+        if (!*a->slot[i]) continue;
+        mesh_xfree(*a->slot[i]);
+        *a->slot[i] = at[k++];
+    }
+    return k;
+}
+
+/* Every array of a that held says lives elsewhere forgotten (NULL, not freed). */
+static void forget(const arrs *a, int (*held)(const void *ctx, const void *p), const void *ctx) {
+    for (int i = 0; i < a->n; i++)
+        if (*a->slot[i] && held(ctx, *a->slot[i])) *a->slot[i] = NULL;
+}
+
+void pslg_pack_place(pslg *g, unsigned char *const *at) {
+    arrs l = {0};
+    pslg_arrs(g, &l);
+    place(&l, at);
+}
+
+void pcdm_decomp_pack_place(pcdm_decomp *d, unsigned char *const *at) {
+    arrs l = {0};
+    decomp_arrs(d, &l);
+    place(&l, at);
+}
+
+void pslg_pack_forget(pslg *g, int (*held)(const void *ctx, const void *p), const void *ctx) {
+    arrs l = {0};
+    pslg_arrs(g, &l);
+    forget(&l, held, ctx);
+}
+
+void pcdm_decomp_pack_forget(pcdm_decomp *d, int (*held)(const void *ctx, const void *p),
+                             const void *ctx) {
+    arrs l = {0};
+    decomp_arrs(d, &l);
+    forget(&l, held, ctx);
+}
+
 /* ---- the input ------------------------------------------------------------------------------ */
 
 void pslg_pack_head(const pslg *g, void **head, size_t *hlen, pcdm_pack_arr *a, int *na) {
@@ -299,6 +342,12 @@ int pcdm_decomp_unpack_head(const void *head, size_t hlen, pcdm_decomp *d, pcdm_
 }
 
 int pcdm_decomp_unpack_done(pcdm_decomp *d, const pcdm_pack_arr *a, int na) {
+    if (pcdm_decomp_unpack_index(d, a, na) == 0) return 0;
+    pcdm_decomp_free(d);
+    return -1;
+}
+
+int pcdm_decomp_unpack_index(pcdm_decomp *d, const pcdm_pack_arr *a, int na) {
     size_t ns = (size_t)d->g.nsegs, K = (size_t)d->nsub;
     int bad = !d->g.xy || !d->g.seg || !d->seg_sub || !d->sub_owner;
     bad = bad || (d->tri != NULL) != (d->tri_off != NULL);
@@ -313,10 +362,7 @@ int pcdm_decomp_unpack_done(pcdm_decomp *d, const pcdm_pack_arr *a, int na) {
     }
     for (size_t s = 0; s < 2 * ns && !bad; s++) /* the per-subdomain lists are made again */
         if (d->seg_sub[s] < -1 || d->seg_sub[s] >= d->nsub) bad = 1;
-    if (bad) {
-        pcdm_decomp_free(d);
-        return -1;
-    }
+    if (bad) return -1;
     decomp_index(d);
     return 0;
 }

@@ -90,6 +90,11 @@ typedef struct run_job {
     /* rank 0: the CPUs the ranks of its host are bound to, which its threads ahead (the area,
      * the triangulation) may use while those ranks wait (run_ahead_host_cpus) */
     uint8_t host_cpus[MESH_HOST_CPUS];
+    /* set by run_par_main before run_par_load: the input and the decomposition received into
+     * blocks the host's ranks share (shared: run_par.c's, released by run_par_main; without
+     * host_share, private copies the caller frees as always) */
+    int host_share;
+    struct run_shared *shared;
     /* out */
     run_verdict verdict;
     int64_t unmet;          /* triangles outside the bounds, not forced (all ranks) */

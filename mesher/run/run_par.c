@@ -1,12 +1,15 @@
 /* run_par.c: the parallel driver (run.h) -- ./pcdm, ./pbw and pcdm_triangulate_par: the stages
  * of run.c with the mesh made by PCDM (TR-97-17 section 3) or PBW (section 2) over the ranks.
  *
- * SPMD: every rank reads the same input (a hash of it is compared across the ranks) and builds
- * the same decomposition (a hash of it is compared too; for ./pbw the ranks try different METIS
- * seeds and all keep the partition of least predicted cost, pick_partition), so input errors are
- * found on every rank; every failure is still
- * agreed collectively (run_agree: the lowest failing rank's message goes to every rank, rank 0
- * prints it unless the library asked), so no rank waits in a collective another one skipped.
+ * The programs' rank 0 reads and checks the input and ./pcdm's rank 0 decomposes it (./pbw's
+ * ranks each decompose, trying different METIS seeds, and all keep the partition of least
+ * predicted cost, pick_partition); the input and ./pcdm's decomposition go to the other ranks
+ * into one block per host that the host's ranks share read-only (base/hostmem.h: held once per
+ * host, not once per rank; private copies where no block can be had).  The library's ranks each
+ * hold their own input (a hash of it is compared across the ranks, and of a decomposition each
+ * made).  Every failure is agreed collectively (run_agree: the lowest failing rank's message
+ * goes to every rank, rank 0 prints it unless the library asked), so no rank waits in a
+ * collective another one skipped.
  * After refinement each rank keeps its own part: the verdict is reduced over the ranks, then
  * the programs check the interfaces, number, check (--check) and write in parallel (par/pout.h)
  * and the library copies the part out (api_par.c); no rank ever gathers the mesh.
@@ -61,6 +64,7 @@
 
 #include "base/base.h"
 #include "base/base_mpi.h"
+#include "base/hostmem.h"
 #include "geom/geom.h"
 #include "par/pout.h"
 #include "pbw/pbw.h"
@@ -165,27 +169,102 @@ static int share_bytes(int rc, void **buf, size_t *len, char *err, size_t errlen
     return 0;
 }
 
-/* Collective.  After a head every rank has (a receiver's read of it failed: bad), the arrays it
- * lists, a[0 .. na) on every rank, from rank 0's memory straight into the receivers' (one
- * plain broadcast each, in pieces of at most 2^28 bytes: every rank is here).  Returns 0, or -1
- * on every rank when some rank could not read the head (nothing sent). */
-static int share_arrays(int bad, const pcdm_pack_arr *a, int na) {
-    int any = 0;
-    MESH_MPI(MPI_Allreduce(&bad, &any, 1, MPI_INT, MPI_MAX, rt_app_comm()));
-    if (any) return -1;
+/* Collective.  The arrays a[0 .. na) a head lists, from rank 0's memory straight into the
+ * receivers' (one plain broadcast each, in pieces of at most 2^28 bytes: every rank is here). */
+static void share_arrays(const pcdm_pack_arr *a, int na) {
     for (int i = 0; i < na; i++)
         for (size_t at = 0; at < a[i].len;) {
             size_t left = a[i].len - at, k = left < ((size_t)1 << 28) ? left : (size_t)1 << 28;
             MESH_MPI(MPI_Bcast((char *)a[i].p + at, (int)k, MPI_BYTE, 0, rt_app_comm()));
             at += k;
         }
+}
+
+/* The blocks the ranks of a host share (hostmem.h): the input's arrays and the
+ * decomposition's, each held once per host. */
+struct run_shared {
+    mesh_hostmem in, d;
+};
+
+static int shared_holds(const void *ctx, const void *p) {
+    const struct run_shared *sh = ctx;
+    return mesh_hostmem_holds(&sh->in, p) || mesh_hostmem_holds(&sh->d, p);
+}
+
+/* Local.  Forgets in's and d's arrays that live in the host's blocks (either may be NULL), so
+ * that they can be freed, and unmaps the blocks. */
+static void unshare(run_job *j, pslg *in, pcdm_decomp *d) {
+    struct run_shared *sh = j->shared;
+    if (!sh) return;
+    if (in) pslg_pack_forget(in, shared_holds, sh);
+    if (d) pcdm_decomp_pack_forget(d, shared_holds, sh);
+    mesh_hostmem_close(&sh->in);
+    mesh_hostmem_close(&sh->d);
+    mesh_xfree(sh);
+    j->shared = NULL;
+}
+
+/* Collective.  The arrays a[0 .. na) a head lists -- rank 0's, the others' as their unpack
+ * allocated them, empty -- into one block shared by each host's ranks (hm): rank 0 copies its
+ * arrays into its host's and sends them to the first rank of every other host, which receives
+ * them into its own, and each host's block is sealed read-only; at[i] is where a[i] now lies.
+ * Returns 0, or -1 on every rank when a block cannot be had (nothing sent). */
+static int share_arrays_host(const pcdm_pack_arr *a, int na, mesh_hostmem *hm, unsigned char **at) {
+    size_t off[PCDM_PACK_MAX_ARRS], tot = 0;
+    for (int i = 0; i < na; i++) {
+        off[i] = tot;
+        /* each array on cache lines of its own, an empty one too (so every at[i] lies inside
+         * the block, which is how unshare knows it) */
+        tot += (a[i].len + 64) / 64 * 64;
+    }
+    if (mesh_hostmem_open(hm, rt_app_comm(), tot > 0 ? tot : 64) != 0) return 1;
+    for (int i = 0; i < na; i++)
+        at[i] = hm->base + off[i];
+    int P = rt_size(), me = rt_rank();
+    int *lead = mesh_xmalloc((size_t)P, sizeof(int));
+    MESH_MPI(MPI_Allgather(&hm->leader, 1, MPI_INT, lead, 1, MPI_INT, rt_app_comm()));
+    if (me == 0)
+        for (int i = 0; i < na; i++)
+            if (a[i].len) memcpy(at[i], a[i].p, a[i].len);
+    for (int r = 1; r < P; r++) { /* the other hosts' first ranks, from rank 0 */
+        if (!lead[r] || (me != 0 && me != r)) continue;
+        for (int i = 0; i < na; i++)
+            for (size_t o = 0; o < a[i].len;) {
+                size_t left = a[i].len - o, k = left < ((size_t)1 << 28) ? left : (size_t)1 << 28;
+                if (me == 0) {
+                    MPI_Request rq;
+                    MESH_MPI(MPI_Isend(at[i] + o, (int)k, MPI_BYTE, r, 0, rt_app_comm(), &rq));
+                    MESH_MPI(MPI_Wait(&rq, MPI_STATUS_IGNORE));
+                } else
+                    MESH_MPI(MPI_Recv(at[i] + o, (int)k, MPI_BYTE, 0, 0, rt_app_comm(),
+                                      MPI_STATUS_IGNORE));
+                o += k;
+            }
+    }
+    mesh_xfree(lead);
+    mesh_hostmem_seal(hm);
     return 0;
+}
+
+/* Collective.  After a head every rank has (a receiver's read of it failed: bad), the arrays it
+ * lists (a, as for share_arrays_host): with j->host_share into the host's block hm
+ * (share_arrays_host; returns 0, at[i] where a[i] now lies), else or when no block can be had
+ * into the private arrays a (share_arrays; returns 1).  -1 on every rank when some rank could
+ * not read the head (nothing sent). */
+static int share_any(const run_job *j, int bad, const pcdm_pack_arr *a, int na, mesh_hostmem *hm,
+                     unsigned char **at) {
+    int any = 0;
+    MESH_MPI(MPI_Allreduce(&bad, &any, 1, MPI_INT, MPI_MAX, rt_app_comm()));
+    if (any) return -1;
+    if (j->host_share && share_arrays_host(a, na, hm, at) == 0) return 0;
+    share_arrays(a, na);
+    return 1;
 }
 
 /* Collective.  Rank 0's decomposition, or its failure (rc != 0 and the message in err), to every
  * rank: its head (pcdm_decomp_pack_head), then its arrays, received where they will stay (no
  * packed copy on either side).  Returns rank 0's rc; d and err as on rank 0. */
-static int share_decomp(pcdm_decomp *d, int rc, char *err, size_t errlen) {
+static int share_decomp(run_job *j, pcdm_decomp *d, int rc, char *err, size_t errlen) {
     void *head = NULL;
     size_t hlen = 0;
     pcdm_pack_arr a[PCDM_PACK_MAX_ARRS];
@@ -201,7 +280,17 @@ static int share_decomp(pcdm_decomp *d, int rc, char *err, size_t errlen) {
     }
     int bad = !mine && pcdm_decomp_unpack_head(head, hlen, d, a, &na) != 0;
     free(head);
-    if (share_arrays(bad, a, na) != 0 || (!mine && pcdm_decomp_unpack_done(d, a, na) != 0)) {
+    unsigned char *at[PCDM_PACK_MAX_ARRS];
+    if (j->host_share && !j->shared) j->shared = mesh_xcalloc(1, sizeof *j->shared);
+    int host = share_any(j, bad, a, na, j->shared ? &j->shared->d : NULL, at);
+    if (host == 0) { /* the host's copy replaces this rank's arrays */
+        pcdm_decomp_pack_place(d, at);
+        for (int i = 0; i < na; i++)
+            a[i].p = at[i];
+    }
+    /* in the host's block, a malformed d is freed by the caller (unshare first) */
+    if (host < 0 || (!mine && (host == 0 ? pcdm_decomp_unpack_index(d, a, na)
+                                         : pcdm_decomp_unpack_done(d, a, na)) != 0)) {
         snprintf(err, errlen, "the decomposition received from rank 0 is malformed");
         return -1;
     }
@@ -225,7 +314,11 @@ static int share_input(run_job *j, pslg *in, int rc, char *err, size_t errlen) {
     }
     int bad = !mine && pslg_unpack_head(head, hlen, in, a, &na) != 0;
     free(head);
-    if (share_arrays(bad, a, na) != 0 || (!mine && pslg_unpack_done(in) != 0)) {
+    unsigned char *at[PCDM_PACK_MAX_ARRS];
+    if (j->host_share && !j->shared) j->shared = mesh_xcalloc(1, sizeof *j->shared);
+    int host = share_any(j, bad, a, na, j->shared ? &j->shared->in : NULL, at);
+    if (host == 0) pslg_pack_place(in, at); /* the host's copy replaces this rank's arrays */
+    if (host < 0 || (!mine && pslg_unpack_done(in) != 0)) {
         snprintf(err, errlen, "the input received from rank 0 is malformed");
         return -1;
     }
@@ -298,7 +391,7 @@ static int decompose(run_job *j, const pslg *in, pcdm_decomp *d, char *err, size
         rc = o->cuts ? pcdm_decomp_read_cuts(o->cuts, in, &dopt, d, err, errlen)
                      : pcdm_decomp_auto(in, &dopt, d, err, errlen);
     run_dt_ahead_free(&j->dt_ahead);
-    if (share) rc = share_decomp(d, rc, err, errlen);
+    if (share) rc = share_decomp(j, d, rc, err, errlen);
     if (rc == 0) {
         d->build_s = rt_wtime() - t0;
         return 0;
@@ -366,6 +459,7 @@ int run_par_load(run_job *j, pslg *in, pcdm_decomp *d) {
 fail:
     par_dom_ahead_get(&j->dom_ahead); /* joined before in goes */
     run_dt_ahead_free(&j->dt_ahead);
+    unshare(j, in, d);
     pslg_free(in); /* both zero what they free and accept a zeroed struct */
     pcdm_decomp_free(d);
     run_job_free(j);
@@ -396,7 +490,12 @@ static int mesh_pcdm(run_job *j, pcdm_decomp *d, const mesh_bounds *b, const par
         if (rc == 0) pcdm_part_free(&part);
         return RUN_FINPUT;
     }
-    pcdm_decomp_drop_triangles(d); /* the subdomains are built: no longer needed */
+    /* the subdomains are built: the triangles are no longer needed (a host's shared copy stays
+     * until the end) */
+    if (j->shared && shared_holds(j->shared, d->tri))
+        d->tri = NULL, d->tri_off = NULL;
+    else
+        pcdm_decomp_drop_triangles(d);
     pcdm_part_run(&part, b, c);
     p->mesh_s = rt_wtime() - p->t0;
     pcdm_figures fig;
@@ -731,6 +830,7 @@ int run_par_main(int argc, char **argv, run_method method, par_parse_fn parse, c
     double start_s = rt_wtime() - t_start;
     run_job j;
     run_job_init(&j, method, &o);
+    j.host_share = 1; /* released below (unshare) */
     pslg in;
     pcdm_decomp d;
     run_part p;
@@ -793,6 +893,7 @@ done:
     par_dom_ahead_get(&j.dom_ahead); /* joined before in goes */
     run_part_free(&p);
     run_stats_free(&st);
+    unshare(&j, &in, &d);
     pcdm_decomp_free(&d);
     pslg_free(&in);
     run_job_free(&j);
