@@ -4,7 +4,7 @@
  * Opening: the ranks of a host (MPI_Comm_split_type, shared memory) exchange their CPU sets
  * (sched_getaffinity) with one MPI_Allgather; a group is the ranks with the same set, its slots
  * the set's CPU count.  A group no larger than its slots needs no gate.  Otherwise its lowest
- * rank creates the semaphore under a fresh name (process id, rank, clock), the names go round
+ * rank creates the semaphore under a fresh name (mesh_host_name), the names go round
  * in a second MPI_Allgather, every member opens its group's, and after a barrier the creator
  * unlinks it: the semaphore lives on only in the open handles, and goes with the processes.
  * A failure anywhere leaves that rank (or group) without a gate, which only costs speed.
@@ -13,15 +13,14 @@
 #include "base/gate.h"
 
 #include "base/base.h"
+#include "base/hostmem.h"
 
 #include <errno.h>
 #include <fcntl.h>
 #include <sched.h>
 #include <semaphore.h>
-#include <stdio.h>
 #include <string.h>
 #include <time.h>
-#include <unistd.h>
 
 #define NAME_LEN 64
 
@@ -52,10 +51,7 @@ void mesh_gate_open(mesh_gate *g, MPI_Comm comm) {
     sem_t *sem = SEM_FAILED;
     char name[NAME_LEN] = "";
     if (want && lead == me) {
-        struct timespec ts;
-        clock_gettime(CLOCK_MONOTONIC, &ts);
-        snprintf(name, sizeof name, "/pcdm-gate-%ld-%d-%ld", (long)getpid(), rank,
-                 (long)ts.tv_nsec);
+        mesh_host_name(name, sizeof name, "gate", rank);
         sem = sem_open(name, O_CREAT | O_EXCL, 0600, (unsigned)slots);
         if (sem == SEM_FAILED) name[0] = '\0';
     }

@@ -22,6 +22,12 @@
 
 #define NAME_LEN 64
 
+void mesh_host_name(char *buf, size_t len, const char *kind, int rank) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    snprintf(buf, len, "/pcdm-%s-%ld-%d-%ld", kind, (long)getpid(), rank, (long)ts.tv_nsec);
+}
+
 int mesh_hostmem_open(mesh_hostmem *h, MPI_Comm comm, size_t len) {
     memset(h, 0, sizeof *h);
     int rank = 0, me = 0, ok = 1;
@@ -34,10 +40,7 @@ int mesh_hostmem_open(mesh_hostmem *h, MPI_Comm comm, size_t len) {
     char name[NAME_LEN] = "";
     int fd = -1;
     if (ok && h->leader) {
-        struct timespec ts;
-        clock_gettime(CLOCK_MONOTONIC, &ts);
-        snprintf(name, sizeof name, "/pcdm-host-%ld-%d-%ld", (long)getpid(), rank,
-                 (long)ts.tv_nsec);
+        mesh_host_name(name, sizeof name, "host", rank);
         fd = shm_open(name, O_CREAT | O_EXCL | O_RDWR, 0600);
         if (fd < 0 || posix_fallocate(fd, 0, (off_t)len) != 0) {
             if (fd >= 0) close(fd), shm_unlink(name);

@@ -35,6 +35,10 @@ void mesh_hostmem_seal(mesh_hostmem *h);
 /* Local.  1 iff p points into the block. */
 int mesh_hostmem_holds(const mesh_hostmem *h, const void *p);
 
+/* Local.  A fresh name for a POSIX object of this host ("/pcdm-KIND-PID-RANK-NS": process id,
+ * rank, clock) into buf (len bytes), for an O_EXCL create. */
+void mesh_host_name(char *buf, size_t len, const char *kind, int rank);
+
 /* Local.  Unmaps the block (h zeroed; accepts a zeroed h). */
 void mesh_hostmem_close(mesh_hostmem *h);
 

@@ -247,16 +247,19 @@ static int share_arrays_host(const pcdm_pack_arr *a, int na, mesh_hostmem *hm, u
 }
 
 /* Collective.  After a head every rank has (a receiver's read of it failed: bad), the arrays it
- * lists (a, as for share_arrays_host): with j->host_share into the host's block hm
- * (share_arrays_host; returns 0, at[i] where a[i] now lies), else or when no block can be had
- * into the private arrays a (share_arrays; returns 1).  -1 on every rank when some rank could
- * not read the head (nothing sent). */
-static int share_any(const run_job *j, int bad, const pcdm_pack_arr *a, int na, mesh_hostmem *hm,
+ * lists (a, as for share_arrays_host): with j->host_share into the host's block for the input
+ * (decomp 0) or the decomposition (decomp 1) (share_arrays_host; returns 0, at[i] where a[i] now
+ * lies), else or when no block can be had into the private arrays a (share_arrays; returns 1).
+ * -1 on every rank when some rank could not read the head (nothing sent). */
+static int share_any(run_job *j, int decomp, int bad, const pcdm_pack_arr *a, int na,
                      unsigned char **at) {
     int any = 0;
     MESH_MPI(MPI_Allreduce(&bad, &any, 1, MPI_INT, MPI_MAX, rt_app_comm()));
     if (any) return -1;
-    if (j->host_share && share_arrays_host(a, na, hm, at) == 0) return 0;
+    if (j->host_share) {
+        if (!j->shared) j->shared = mesh_xcalloc(1, sizeof *j->shared);
+        if (share_arrays_host(a, na, decomp ? &j->shared->d : &j->shared->in, at) == 0) return 0;
+    }
     share_arrays(a, na);
     return 1;
 }
@@ -281,8 +284,7 @@ static int share_decomp(run_job *j, pcdm_decomp *d, int rc, char *err, size_t er
     int bad = !mine && pcdm_decomp_unpack_head(head, hlen, d, a, &na) != 0;
     free(head);
     unsigned char *at[PCDM_PACK_MAX_ARRS];
-    if (j->host_share && !j->shared) j->shared = mesh_xcalloc(1, sizeof *j->shared);
-    int host = share_any(j, bad, a, na, j->shared ? &j->shared->d : NULL, at);
+    int host = share_any(j, 1, bad, a, na, at);
     if (host == 0) { /* the host's copy replaces this rank's arrays */
         pcdm_decomp_pack_place(d, at);
         for (int i = 0; i < na; i++)
@@ -315,8 +317,7 @@ static int share_input(run_job *j, pslg *in, int rc, char *err, size_t errlen) {
     int bad = !mine && pslg_unpack_head(head, hlen, in, a, &na) != 0;
     free(head);
     unsigned char *at[PCDM_PACK_MAX_ARRS];
-    if (j->host_share && !j->shared) j->shared = mesh_xcalloc(1, sizeof *j->shared);
-    int host = share_any(j, bad, a, na, j->shared ? &j->shared->in : NULL, at);
+    int host = share_any(j, 0, bad, a, na, at);
     if (host == 0) pslg_pack_place(in, at); /* the host's copy replaces this rank's arrays */
     if (host < 0 || (!mine && pslg_unpack_done(in) != 0)) {
         snprintf(err, errlen, "the input received from rank 0 is malformed");
