@@ -86,8 +86,8 @@
     8192 /* inputs with fewer vertices take the coarse route (it costs little)                     \
           */
 #define DEG_PER_RAD 57.295779513082320876798
-#define CLUSTER 8         /* the fast route: METIS partitions clusters of this many triangles */
-#define CLUSTER_MIN 65536 /* ... when the graph has this many vertices */
+#define CLUSTER 8        /* the fast route: METIS partitions clusters of this many triangles */
+#define CLUSTER_MIN 8192 /* ... when the graph has this many vertices */
 
 /* Rank 0 gets k0 ~ K R / (R + P - 1) subdomains (at least one, leaving one per other rank);
  * the others share the rest; a rank's work share is split evenly over its subdomains. */
@@ -219,9 +219,10 @@ static int32_t uf_find(int32_t *up, int32_t x) {
 
 /* The graph METIS partitions: nn vertices in rows xadj/adj (no duplicates, none to itself),
  * edge lengths len, vertex weights w; node[i] is the graph vertex of compact triangle i;
- * connected: every vertex reached from vertex 0 (contiguous parts are asked for only then). */
+ * connected: every vertex reached from vertex 0 (contiguous parts are asked for only then);
+ * ntri: the number of compact triangles. */
 typedef struct pgraph {
-    int32_t nn, *node;
+    int32_t nn, ntri, *node;
     idx_t *xadj, *adj;
     double *len, *w;
     int connected;
@@ -340,44 +341,53 @@ static void graph_triangles(const mesh *m, const int32_t *id, const double *tw, 
     g->xadj = xadj, g->adj = adj, g->len = len, g->w = w;
 }
 
-/* The graph (nn vertices: rows xadj/adj, edge lengths len, weights w) with its vertices
- * grown into connected clusters of at most CLUSTER (breadth first from the lowest unclustered
- * vertex, in vertex order): cl[x] is x's cluster; the cluster graph replaces the graph in place
- * (a cluster's weight the sum of its vertices', an edge's length the sum of those it stands
- * for), so METIS starts CLUSTER times smaller.  Returns the number of clusters. */
-static int32_t contract(int32_t nn, idx_t **xadj, idx_t **adj, double **len, double **w,
-                        int32_t *cl) {
-    idx_t *xa = *xadj, *ad = *adj;
-    double *ln = *len, *wt = *w;
-    int32_t nc = 0, *q = mesh_xmalloc((size_t)nn + 1, sizeof(int32_t));
+/* The graph of clusters (g->node: the triangles' graph vertices, g->nn of them), made from m
+ * directly, never the graph of the triangles: the graph vertices are grown into connected
+ * clusters of at most CLUSTER (breadth first across the triangles' edges from the lowest
+ * unclustered triangle, in slot order: a cluster of the triangles' graph, since a corner node's
+ * triangles are one graph vertex), and a cluster is a vertex of the graph METIS partitions (its
+ * weight the sum of its triangles' tw, an edge's length the sum of edge_len over the triangle
+ * edges it stands for), so METIS starts CLUSTER times smaller.  g->node is mapped to the
+ * clusters; g->nn becomes their number. */
+static void graph_clusters(const mesh *m, const int32_t *id, const double *tw, int penalize,
+                           pgraph *g) {
+    int32_t nn = g->nn, nc = 0, *node = g->node;
+    int32_t *cl = mesh_xmalloc((size_t)nn + 1, sizeof(int32_t));
+    int32_t *q = mesh_xmalloc((size_t)m->nt + 1, sizeof(int32_t));
     for (int32_t x = 0; x < nn; x++)
         cl[x] = -1;
-    for (int32_t x = 0; x < nn; x++) {
-        if (cl[x] >= 0) continue;
-        int32_t qh = 0, qt = 0;
-        q[qt++] = x;
-        cl[x] = nc;
-        while (qh < qt && qt < CLUSTER) {
+    for (int32_t t = 0; t < m->nt; t++) {
+        if (id[t] < 0 || cl[node[id[t]]] >= 0) continue;
+        int32_t qh = 0, qt = 0, got = 1;
+        q[qt++] = t;
+        cl[node[id[t]]] = nc;
+        while (qh < qt && got < CLUSTER) {
             int32_t y = q[qh++];
-            for (idx_t k = xa[y]; k < xa[y + 1] && qt < CLUSTER; k++)
-                if (cl[ad[k]] < 0) {
-                    cl[ad[k]] = nc;
-                    q[qt++] = (int32_t)ad[k];
-                }
+            for (int j = 0; j < 3 && got < CLUSTER; j++) {
+                int32_t nb = m->tn[3 * y + j];
+                if (nb < 0) continue;
+                int32_t b = node[id[nb / 3]];
+                if (cl[b] >= 0) continue;
+                cl[b] = nc;
+                got++;
+                q[qt++] = nb / 3;
+            }
         }
         nc++;
     }
-    /* rows by cluster (members in vertex order), each row's neighbours merged through last[] */
+    /* the live triangles by cluster (a counting sort, slot order within one) */
     int32_t *start = mesh_xcalloc((size_t)nc + 2, sizeof(int32_t));
-    for (int32_t x = 0; x < nn; x++)
-        start[cl[x] + 2]++;
+    for (int32_t t = 0; t < m->nt; t++)
+        if (id[t] >= 0) start[cl[node[id[t]]] + 2]++;
     for (int32_t c = 0; c < nc; c++)
         start[c + 2] += start[c + 1];
-    for (int32_t x = 0; x < nn; x++)
-        q[start[cl[x] + 1]++] = x;
+    for (int32_t t = 0; t < m->nt; t++)
+        if (id[t] >= 0) q[start[cl[node[id[t]]] + 1]++] = t;
+    /* each cluster's row: its triangles' edges to other clusters, merged through last[] */
+    int64_t cap = 4 * (int64_t)nc + 64;
     idx_t *cx = mesh_xmalloc((size_t)nc + 1, sizeof(idx_t));
-    idx_t *ca = mesh_xmalloc((size_t)xa[nn] + 1, sizeof(idx_t));
-    double *cln = mesh_xmalloc((size_t)xa[nn] + 1, sizeof(double));
+    idx_t *ca = mesh_xmalloc((size_t)cap, sizeof(idx_t));
+    double *cln = mesh_xmalloc((size_t)cap, sizeof(double));
     double *cw = mesh_xcalloc((size_t)nc + 1, sizeof(double));
     int32_t *last = mesh_xmalloc((size_t)nc + 1, sizeof(int32_t));
     for (int32_t c = 0; c < nc; c++)
@@ -386,28 +396,38 @@ static int32_t contract(int32_t nn, idx_t **xadj, idx_t **adj, double **len, dou
     for (int32_t c = 0, at = 0; c < nc; c++) {
         cx[c] = ne;
         for (; at < start[c + 1]; at++) {
-            int32_t x = q[at];
-            cw[c] += wt[x];
-            for (idx_t k = xa[x]; k < xa[x + 1]; k++) {
-                int32_t d = cl[ad[k]];
+            int32_t t = q[at];
+            cw[c] += tw[t];
+            for (int j = 0; j < 3; j++) {
+                int32_t e = 3 * t + j, nb = m->tn[e];
+                if (nb < 0) continue;
+                int32_t d = cl[node[id[nb / 3]]];
                 if (d == c) continue;
+                double l = edge_len(m, e, penalize);
                 if (last[d] >= cx[c]) { /* this row has d already */
-                    cln[last[d]] += ln[k];
+                    cln[last[d]] += l;
                     continue;
+                }
+                if (ne == cap) {
+                    cap *= 2;
+                    ca = mesh_xrealloc(ca, (size_t)cap, sizeof(idx_t));
+                    cln = mesh_xrealloc(cln, (size_t)cap, sizeof(double));
                 }
                 last[d] = (int32_t)ne;
                 ca[ne] = d;
-                cln[ne++] = ln[k];
+                cln[ne++] = l;
             }
         }
     }
     cx[nc] = ne;
+    for (int32_t i = 0; i < g->ntri; i++)
+        node[i] = cl[node[i]];
     mesh_xfree(q);
     mesh_xfree(start);
     mesh_xfree(last);
-    mesh_xfree(xa), mesh_xfree(ad), mesh_xfree(ln), mesh_xfree(wt);
-    *xadj = cx, *adj = ca, *len = cln, *w = cw;
-    return nc;
+    mesh_xfree(cl);
+    g->nn = nc;
+    g->xadj = cx, g->adj = ca, g->len = cln, g->w = cw;
 }
 
 /* 1 iff every vertex of g is reached from vertex 0. */
@@ -435,24 +455,22 @@ static int graph_connected(const pgraph *g) {
  * splits: the dual graph, the triangles around each input corner sharper than 60 degrees one
  * graph vertex (they must share a part, merge_corners, so METIS sees their weight together and
  * balances around it); with coarsen and at least CLUSTER_MIN of those, its clusters
- * (contract).  Made once for all the seeds partition tries on it. */
+ * (graph_clusters, which never makes the graph of the triangles).  Made once for all the seeds
+ * partition tries on it. */
 static void graph_build(const mesh *m, const int32_t *id, int32_t n, const double *tw, int penalize,
                         int coarsen, pgraph *g) {
     memset(g, 0, sizeof *g);
     g->node = mesh_xmalloc((size_t)n + 1, sizeof(int32_t));
+    g->ntri = n;
     g->nn = corner_nodes(m, id, n, g->node);
-    graph_triangles(m, id, tw, penalize, g);
-    int32_t nn = g->nn;
-    if (!(coarsen && nn >= CLUSTER_MIN)) {
+    if (coarsen && g->nn >= CLUSTER_MIN) {
+        /* METIS on clusters, and no contiguous parts asked for (g->connected 0): measured on
+         * North America at 16 subdomains, they made 64% more interface splits and a largest
+         * part 3% larger */
+        graph_clusters(m, id, tw, penalize, g);
+    } else {
+        graph_triangles(m, id, tw, penalize, g);
         g->connected = graph_connected(g);
-    } else { /* METIS on clusters: a graph vertex is its cluster */
-        /* and no contiguous parts asked for (g->connected 0): measured on North America at 16
-         * subdomains, they made 64% more interface splits and a largest part 3% larger */
-        int32_t *cl = mesh_xmalloc((size_t)nn + 1, sizeof(int32_t));
-        g->nn = contract(nn, &g->xadj, &g->adj, &g->len, &g->w, cl);
-        for (int32_t i = 0; i < n; i++)
-            g->node[i] = cl[g->node[i]];
-        mesh_xfree(cl);
     }
 }
 
