@@ -156,46 +156,100 @@ static int insert_free(mesh *m, const double p[2], int32_t t, int check) {
     return 1;
 }
 
+/* A min-heap of slot indices (interior_points' slots made ahead of its position in a pass). */
+typedef struct iheap {
+    int32_t *a, n, cap;
+} iheap;
+
+static void iheap_push(iheap *h, int32_t x) {
+    MESH_GROW(h->a, (size_t)h->n + 1, h->cap);
+    int32_t i = h->n++;
+    for (; i > 0 && h->a[(i - 1) / 2] > x; i = (i - 1) / 2)
+        h->a[i] = h->a[(i - 1) / 2];
+    h->a[i] = x;
+}
+
+static int32_t iheap_pop(iheap *h) {
+    int32_t top = h->a[0], x = h->a[--h->n], i = 0;
+    for (;;) {
+        int32_t c = 2 * i + 1;
+        if (c >= h->n) break;
+        if (c + 1 < h->n && h->a[c + 1] < h->a[c]) c++;
+        if (h->a[c] >= x) break;
+        h->a[i] = h->a[c];
+        i = c;
+    }
+    if (h->n > 0) h->a[i] = x;
+    return top;
+}
+
 /* The fast route's coarse mesh: every triangle larger than area (working units) gets a free
  * vertex, pass after pass, until none is larger or limit vertices were added: its circumcenter
  * where that encroaches no segment (well spaced, as in Delaunay refinement), else its centroid,
  * which lies strictly inside it.  No segment is split: the input's segments stay whole.  A pass
- * visits the slots in index order as a scan of all would, but skips those found small since
- * they were last made (look[]: cleared when a slot is found small, set again when an insertion
- * makes a triangle there), which a full scan would skip too. */
+ * visits, in index order, the slots below the pass's first slot count that are not known small
+ * -- the order of a scan of all of them that skips the slots found small since they were last
+ * made -- but only those: the first pass every slot, later ones the slots an insertion made
+ * (behind the pass's position or beyond its count: the next pass; ahead of it: this one, from
+ * the heap) and those whose insertion failed. */
 static void interior_points(mesh *m, double area, int64_t limit) {
     int64_t added = 0;
-    int32_t cap = m->nt + 64;
-    uint8_t *look = mesh_xmalloc((size_t)cap, 1);
-    memset(look, 1, (size_t)cap);
+    int32_t nb = m->nt, *base = mesh_xmalloc((size_t)nb + 1, sizeof(int32_t)), nn = 0, ncap = 0;
+    int32_t *next = NULL;
+    for (int32_t t = 0; t < nb; t++)
+        base[t] = t;
+    iheap h = {0};
     for (int more = 1; more && added < limit;) {
         more = 0;
-        int32_t nt = m->nt;
-        for (int32_t t = 0; t < nt && added < limit; t++) {
-            if (!look[t] || !mesh_tri_alive(m, t)) continue;
+        int32_t nt = m->nt, last = -1;
+        nn = 0;
+        for (int32_t bi = 0; added < limit;) {
+            int32_t t;
+            if (h.n > 0 && (bi == nb || h.a[0] < base[bi]))
+                t = iheap_pop(&h);
+            else if (bi < nb)
+                t = base[bi++];
+            else
+                break;
+            if (t <= last || t >= nt) continue; /* met twice, or made after the pass began */
+            last = t;
+            if (!mesh_tri_alive(m, t)) continue; /* made again later: an insertion's new slot */
             const double *a = mesh_vertex_xy(m, m->tv[3 * t]),
                          *b = mesh_vertex_xy(m, m->tv[3 * t + 1]),
                          *c = mesh_vertex_xy(m, m->tv[3 * t + 2]);
-            if (geom_area(a, b, c) <= area) {
-                look[t] = 0;
-                continue;
-            }
+            if (geom_area(a, b, c) <= area) continue; /* small: until it is made again */
             double cc[2], p[2] = {(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3};
             int ins = geom_circumcenter(a, b, c, cc) == 0 && insert_free(m, cc, t, 1);
             if (!ins) ins = insert_free(m, p, t, 0);
-            if (!ins) continue;
-            added++, more = 1;
-            if (m->nt > cap) {
-                int32_t nc = m->nt + m->nt / 4 + 64;
-                look = mesh_xrealloc(look, (size_t)nc, 1);
-                memset(look + cap, 1, (size_t)(nc - cap));
-                cap = nc;
+            if (!ins) { /* looked at again next pass */
+                MESH_GROW(next, (size_t)nn + 1, ncap);
+                next[nn++] = t;
+                continue;
             }
-            for (int32_t i = 0; i < m->nnewt; i++)
-                look[m->newt[i]] = 1;
+            added++, more = 1;
+            for (int32_t i = 0; i < m->nnewt; i++) {
+                int32_t u = m->newt[i];
+                if (u > t && u < nt) {
+                    iheap_push(&h, u);
+                } else {
+                    MESH_GROW(next, (size_t)nn + 1, ncap);
+                    next[nn++] = u;
+                }
+            }
         }
+        h.n = 0;
+        /* the next pass's slots, ascending, each once */
+        qsort(next, (size_t)nn, sizeof(int32_t), mesh_cmp_i32);
+        int32_t k = 0;
+        for (int32_t i = 0; i < nn; i++)
+            if (k == 0 || next[i] != next[k - 1]) next[k++] = next[i];
+        mesh_xfree(base);
+        base = next, nb = k;
+        next = NULL, ncap = 0;
     }
-    mesh_xfree(look);
+    mesh_xfree(base);
+    mesh_xfree(next);
+    mesh_xfree(h.a);
 }
 
 /* Is edge e (a live triangle's) encroached by the apex on either side (diametral circle)? */

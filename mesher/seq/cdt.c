@@ -534,15 +534,29 @@ static void carve(mesh *m, const double *holes, int32_t nholes, int keep_hull) {
         }
     }
     free(stk);
+    /* a constraint edge whose triangles all go leaves the mesh: its subsegment record goes
+     * too, the records in index order (as a look-up of every record's edge would find them) */
+    int32_t *lost = NULL, nl = 0, lcap = 0;
     for (int32_t t = 0; t < m->nt; t++) {
         if (!mesh_tri_alive(m, t) || !(m->tf[t] & MESH_MARK)) continue;
         for (int j = 0; j < 3; j++) {
-            int32_t nb = m->tn[3 * t + j];
-            if (nb >= 0 && mesh_tri_alive(m, nb / 3) && !(m->tf[nb / 3] & MESH_MARK))
+            int32_t e = 3 * t + j, nb = m->tn[e];
+            if (nb >= 0 && mesh_tri_alive(m, nb / 3) && !(m->tf[nb / 3] & MESH_MARK)) {
                 m->tn[nb] = -1;
+            } else if (mesh_edge_constrained(m, e)) {
+                int32_t r = mesh_ss_find_pair(m, m->tv[e], mesh_dest(m, e));
+                if (r >= 0) {
+                    MESH_GROW(lost, (size_t)nl + 1, lcap);
+                    lost[nl++] = r;
+                }
+            }
         }
         mesh_tri_kill(m, t);
     }
+    qsort(lost, (size_t)nl, sizeof(int32_t), mesh_cmp_i32);
+    for (int32_t i = 0; i < nl; i++)
+        if (i == 0 || lost[i] != lost[i - 1]) mesh_ss_del(m, lost[i]);
+    free(lost);
 }
 
 /* Convex hull edges become segments (marker 1): used when the input has no segment. */
@@ -556,6 +570,18 @@ static void hull_to_segments(mesh *m) {
         mesh_set_constrained(m, re);
         mesh_ss_add(m, u, v, s, 0, 0);
     }
+}
+
+/* geom_angle_deg(a, b, c) < 60, its arc tangent taken only within a few degrees of 60 (the
+ * angle is atan2(|cross|, dot), so below 56 degrees |cross| < 1.5 dot, above 63 |cross| > 2 dot,
+ * and dot <= 0 with cross != 0 is 90 degrees or more). */
+static int sharp(const double *a, const double *b, const double *c) {
+    double cross = fabs(geom_orient2d(a, c, b));
+    double dot = (a[0] - b[0]) * (c[0] - b[0]) + (a[1] - b[1]) * (c[1] - b[1]);
+    if (dot <= 0 && cross != 0) return 0;
+    if (dot > 0 && cross < 1.5 * dot) return 1;
+    if (dot > 0 && cross > 2 * dot) return 0;
+    return geom_angle_deg(a, b, c) < 60.0;
 }
 
 /* Incidence lists of the segments at input vertices, and the small-angle corners. */
@@ -589,7 +615,7 @@ static void corners(mesh *m) {
                 int32_t s1 = m->inc_seg[i], s2 = m->inc_seg[j];
                 int32_t o1 = m->seg[2 * s1] == v ? m->seg[2 * s1 + 1] : m->seg[2 * s1];
                 int32_t o2 = m->seg[2 * s2] == v ? m->seg[2 * s2 + 1] : m->seg[2 * s2];
-                if (geom_angle_deg(X(m, o1), X(m, v), X(m, o2)) < 60.0) m->corner[v] = 1;
+                if (sharp(X(m, o1), X(m, v), X(m, o2))) m->corner[v] = 1;
             }
         m->has_corners |= m->corner[v];
     }
@@ -629,9 +655,8 @@ static int build_rest(mesh *m, int32_t n, const int32_t *vmarker, int32_t nseg, 
     free(pend.a);
     free(dup);
     if (nseg == 0) hull_to_segments(m);
-    carve(m, holes, nholes, nseg == 0);
+    carve(m, holes, nholes, nseg == 0); /* and the records of the edges it removes */
     mesh_rebuild_vtri(m);
-    mesh_ss_prune(m);
     corners(m);
     m->last = -1;
     if (m->nlive == 0) {
