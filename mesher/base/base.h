@@ -166,11 +166,11 @@ static inline uint64_t mesh_dbits(double x) {
     return u;
 }
 
-/* Sorts a[0..n) ascending (LSD radix sort, 16-bit digits; a digit every key shares costs no
+/* Sorts a[0..n) ascending (LSD radix sort, 11-bit digits; a digit every key shares costs no
  * pass); O(n) time, n words of scratch from the funnel.  Local. */
 void mesh_sort_u64(uint64_t *a, size_t n);
 /* The same by the bits from lo (0..63) up only, stably: keys equal there keep their order (one
- * pass for every 16 of those bits).  Local. */
+ * pass for every 11 of those bits).  Local. */
 void mesh_sort_u64_from(uint64_t *a, size_t n, int lo);
 
 /* qsort comparators of int32_t and of double (no NaN). */

@@ -252,31 +252,39 @@ static void build_pieces(const pslg *in, const mesh *m, const uint8_t *mseg_cut,
                          const int32_t *part, const uint8_t *keep, const int32_t *gid, gbuild *b) {
     rec *r = mesh_xmalloc((size_t)m->nss + 1, sizeof(rec));
     int32_t nr = 0;
+    int in_order = 1; /* by segment already (records are made segment by segment) */
     for (int32_t i = 0; i < m->nss; i++) {
         const mesh_subseg *s = &m->ss[i];
         if (s->level == -2 || s->seg < 0 || s->seg >= m->nseg) continue;
         if (mseg_cut && mseg_cut[s->seg]) continue;
-        const double *a = m->xy + 2 * (size_t)m->seg[2 * s->seg],
-                     *bb = m->xy + 2 * (size_t)m->seg[2 * s->seg + 1];
-        r[nr++] = (rec){s->seg, s->u, s->v, lex_cmp(a, bb) < 0, m->xy};
+        if (nr > 0 && s->seg < r[nr - 1].seg) in_order = 0;
+        r[nr++] = (rec){s->seg, s->u, s->v, 0, m->xy};
     }
-    /* by segment (a stable counting sort), then along it: cmp_rec's order (it has no ties), and
-     * on the fast route most segments have one piece */
-    int32_t *cnt = mesh_xcalloc((size_t)m->nseg + 1, sizeof(int32_t));
-    rec *sorted = mesh_xmalloc((size_t)nr + 1, sizeof(rec));
-    for (int32_t k = 0; k < nr; k++)
-        cnt[r[k].seg + 1]++;
-    for (int32_t s = 0; s < m->nseg; s++)
-        cnt[s + 1] += cnt[s];
-    for (int32_t k = 0; k < nr; k++)
-        sorted[cnt[r[k].seg]++] = r[k];
-    mesh_xfree(cnt);
-    mesh_xfree(r);
-    r = sorted;
+    /* by segment (a stable counting sort, unless they are in order), then along it: cmp_rec's
+     * order (it has no ties), and on the fast route most segments have one piece */
+    if (!in_order) {
+        int32_t *cnt = mesh_xcalloc((size_t)m->nseg + 1, sizeof(int32_t));
+        rec *sorted = mesh_xmalloc((size_t)nr + 1, sizeof(rec));
+        for (int32_t k = 0; k < nr; k++)
+            cnt[r[k].seg + 1]++;
+        for (int32_t s = 0; s < m->nseg; s++)
+            cnt[s + 1] += cnt[s];
+        for (int32_t k = 0; k < nr; k++)
+            sorted[cnt[r[k].seg]++] = r[k];
+        mesh_xfree(cnt);
+        mesh_xfree(r);
+        r = sorted;
+    }
     for (int32_t k = 0, k2; k < nr; k = k2) {
         for (k2 = k + 1; k2 < nr && r[k2].seg == r[k].seg; k2++)
             ;
-        if (k2 - k > 1) qsort(r + k, (size_t)(k2 - k), sizeof *r, cmp_rec);
+        if (k2 - k == 1) continue;
+        int32_t sg = r[k].seg; /* the segment's direction, for cmp_rec */
+        int asc =
+            lex_cmp(m->xy + 2 * (size_t)m->seg[2 * sg], m->xy + 2 * (size_t)m->seg[2 * sg + 1]) < 0;
+        for (int32_t q = k; q < k2; q++)
+            r[q].asc = asc;
+        qsort(r + k, (size_t)(k2 - k), sizeof *r, cmp_rec);
     }
     int32_t i = 0;
     for (int32_t s = 0; s < m->nseg; s++) {

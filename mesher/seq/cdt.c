@@ -40,21 +40,37 @@ static const double *X(const mesh *m, int32_t v) {
 
 /* ---- insertion order: BRIO rounds, Hilbert order inside a round --------------------------- */
 
-static uint32_t hilbert_index(uint32_t x, uint32_t y) {
-    const uint32_t n = 1u << 16;
-    uint32_t d = 0;
-    for (uint32_t s = n / 2; s > 0; s /= 2) {
-        uint32_t rx = (x & s) ? 1 : 0, ry = (y & s) ? 1 : 0;
-        d += s * s * ((3 * rx) ^ ry);
-        if (ry == 0) {
-            if (rx == 1) {
-                x = n - 1 - x;
-                y = n - 1 - y;
+/* The Hilbert curve's index of cell (x, y) of a 65536 x 65536 grid, read 4 bits of x and y at
+ * a time.  The curve's rule, a bit of each at a time from the top: the quadrant (rx, ry) of the
+ * coordinates as the curve's orientation there sees them gives the index's next 2 bits
+ * (3 rx) ^ ry, and when ry is 0 the orientation turns: the axes swap, and both flip when rx is
+ * 1.  Swap and flip commute, so an orientation is two bits (swap, flip), and tab[orientation,
+ * 4 bits of x, 4 bits of y] holds the 8 index bits those 4 levels give and the orientation
+ * after them (hilbert_table fills it from the rule). */
+static void hilbert_table(uint16_t tab[1024]) {
+    for (int st = 0; st < 4; st++)
+        for (int bx4 = 0; bx4 < 16; bx4++)
+            for (int by4 = 0; by4 < 16; by4++) {
+                int sw = st & 1, fl = st >> 1, d = 0;
+                for (int k = 3; k >= 0; k--) {
+                    int bx = bx4 >> k & 1, by = by4 >> k & 1;
+                    int rx = (sw ? by : bx) ^ fl, ry = (sw ? bx : by) ^ fl;
+                    d = d << 2 | ((3 * rx) ^ ry);
+                    if (!ry) {
+                        fl ^= rx;
+                        sw ^= 1;
+                    }
+                }
+                tab[st << 8 | bx4 << 4 | by4] = (uint16_t)(d | (sw | fl << 1) << 8);
             }
-            uint32_t t = x;
-            x = y;
-            y = t;
-        }
+}
+
+static uint32_t hilbert_index(const uint16_t *tab, uint32_t x, uint32_t y) {
+    uint32_t d = 0, st = 0;
+    for (int k = 12; k >= 0; k -= 4) {
+        uint32_t e = tab[st << 8 | (x >> k & 15) << 4 | (y >> k & 15)];
+        d = d << 8 | (e & 255);
+        st = e >> 8;
     }
     return d;
 }
@@ -82,6 +98,8 @@ static int32_t *brio_order(mesh *m, int32_t n, uint32_t *hv) {
     /* sorted by (key, v): one radix sort of (round, Hilbert index, v) packed into 64 bits
      * (5 + 32 + 27) while v fits, else a comparison sort of the pairs */
     int packed = n <= (1 << 27);
+    uint16_t tab[1024];
+    hilbert_table(tab);
     okey *k = packed ? NULL : mesh_xrealloc(NULL, n, sizeof(okey));
     uint64_t *pk = packed ? mesh_xrealloc(NULL, n, sizeof(uint64_t)) : NULL;
     for (int32_t v = 0; v < n; v++) {
@@ -91,7 +109,7 @@ static int32_t *brio_order(mesh *m, int32_t n, uint32_t *hv) {
         uint32_t round = 0;
         while ((r & 1) && round < 20)
             round++, r >>= 1;
-        hv[v] = hilbert_index(hx, hy);
+        hv[v] = hilbert_index(tab, hx, hy);
         uint64_t key = ((uint64_t)(20 - round) << 32) | hv[v];
         if (packed)
             pk[v] = key << 27 | (uint64_t)v;
