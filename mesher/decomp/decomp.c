@@ -471,6 +471,7 @@ int decomp_build(const pslg *in, const mesh *m, const uint8_t *mseg_cut, const i
         }
     }
     decomp_index(d);
+    d->iface_min_deg = pcdm_decomp_iface_min_angle(d);
     mesh_xfree(keep);
     mesh_xfree(gid);
     return 0;

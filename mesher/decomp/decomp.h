@@ -136,10 +136,11 @@ typedef struct pcdm_decomp {
     double *sub_target; /* K: target fraction of the total work (sums to 1) */
     int32_t *sub_owner; /* K: owning rank; every rank owns at least one subdomain */
     double total_weight;
-    int32_t ncoarse; /* triangles of the coarse mesh the decomposition was drawn on */
-    int exact;       /* 1: drawn on the exact preview (the coarse mesh is the final mesh at the
-                      * real bounds, and every one of its vertices is a vertex of g) */
-    double build_s;  /* wall seconds this rank spent building it (the driver measures) */
+    int32_t ncoarse;      /* triangles of the coarse mesh the decomposition was drawn on */
+    int exact;            /* 1: drawn on the exact preview (the coarse mesh is the final mesh at the
+                           * real bounds, and every one of its vertices is a vertex of g) */
+    double iface_min_deg; /* pcdm_decomp_iface_min_angle, found once where it is drawn */
+    double build_s;       /* wall seconds this rank spent building it (the driver measures) */
     /* pcdm_decomp_auto with opts.keep_cdt: the constrained Delaunay triangulation of the input
      * (mesh_build_cdt of in, no iface marks), as built before any refinement; else NULL.  Owned
      * (pcdm_decomp_free frees it); a user may take its contents, leaving it an empty mesh

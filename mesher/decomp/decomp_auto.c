@@ -1112,7 +1112,7 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
             if (got) rc = 0;
             break;
         }
-        double a = seeds > 1 ? pcdm_decomp_iface_min_angle(&cand) : NAN;
+        double a = cand.iface_min_deg;
         if (!got || a > *angle) {
             if (got) pcdm_decomp_free(out);
             *out = cand;
@@ -1154,7 +1154,7 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
 static int trial_ok(const pcdm_decomp *d, const pcdm_decomp_opts *o) {
     /* interfaces at a tiny angle to a segment split each other practically forever (a sliver
      * of 1e-10 radians along its length): not ok, and PCDM would refuse it anyway */
-    if (pcdm_decomp_iface_min_angle(d) < 57.29577951308232 / MESH_RULES_IFACE_MAX_PIECES) return 0;
+    if (d->iface_min_deg < 57.29577951308232 / MESH_RULES_IFACE_MAX_PIECES) return 0;
     mesh m;
     mesh_init(&m);
     char e[256];
@@ -1187,14 +1187,14 @@ int pcdm_decomp_auto(const pslg *in, const pcdm_decomp_opts *opts, pcdm_decomp *
     double ang, slow_ang;
     for (int mode = 0; mode < 3; mode++) {
         int rc = attempt(in, o, mode, out, &ang, err, errlen);
-        if (rc == 0 && !out->exact && isnan(ang)) ang = pcdm_decomp_iface_min_angle(out);
+        if (rc == 0 && !out->exact && isnan(ang)) ang = out->iface_min_deg;
         if (rc == 0 && !out->exact && ang < FAST_MIN_DEG) {
             /* the fast route's interfaces meet a segment at a narrow angle: the coarse route's
              * (lfs-graded) mesh may give wider ones; the wider of the two is kept */
             pcdm_decomp slow;
             char e2[256];
             if (attempt(in, o, 3, &slow, &slow_ang, e2, sizeof e2) == 0 &&
-                pcdm_decomp_iface_min_angle(&slow) > ang) {
+                slow.iface_min_deg > ang) {
                 pcdm_decomp_free(out);
                 *out = slow;
             } else {

@@ -295,13 +295,13 @@ int pslg_unpack(const void *buf, size_t len, pslg *g) {
 static void put_decomp_scalars(wbuf *w, const pcdm_decomp *d) {
     PUT(d->ninput_verts), PUT(d->ninput_segs), PUT(d->nboundary), PUT(d->ncuts), PUT(d->nsub);
     PUT(d->nranks), PUT(d->floor2), PUT(d->total_weight), PUT(d->ncoarse), PUT(d->exact);
-    PUT(d->build_s);
+    PUT(d->build_s), PUT(d->iface_min_deg);
 }
 
 static void get_decomp_scalars(rbuf *r, pcdm_decomp *d) {
     GET(d->ninput_verts), GET(d->ninput_segs), GET(d->nboundary), GET(d->ncuts), GET(d->nsub);
     GET(d->nranks), GET(d->floor2), GET(d->total_weight), GET(d->ncoarse), GET(d->exact);
-    GET(d->build_s);
+    GET(d->build_s), GET(d->iface_min_deg);
     if (d->ncuts < 0 || d->nsub < 1) r->bad = 1;
 }
 

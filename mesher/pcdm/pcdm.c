@@ -98,8 +98,8 @@ int pcdm_register(void) {
  * a degenerate input the coarse mesh could not resolve, e.g. a domain of one sliver triangle
  * cut in three).  The same decision on every rank (same d). */
 static int check_angles(const pcdm_decomp *d, char *err, size_t errlen) {
-    double ang = pcdm_decomp_iface_min_angle(d),
-           lim = 57.29577951308232 / MESH_RULES_IFACE_MAX_PIECES;
+    double ang = d->iface_min_deg, /* found where d was drawn */
+        lim = 57.29577951308232 / MESH_RULES_IFACE_MAX_PIECES;
     if (ang >= lim) return 0;
     snprintf(err, errlen,
              "%.400s: cannot decompose: a subdomain interface meets another segment at %.3g "

@@ -328,6 +328,12 @@ static int share_input(run_job *j, pslg *in, int rc, char *err, size_t errlen) {
     return rc;
 }
 
+/* ./pcdm: rank 0 decomposes and the other ranks receive its decomposition (./pbw's ranks each
+ * try their METIS seeds and keep the input's CDT, so they all decompose) */
+static int decomp_received(const run_job *j) {
+    return rt_size() > 1 && j->method == RUN_PCDM;
+}
+
 /* Local, but Collective for ./pbw's automatic decomposition (pick_partition).  The decomposition
  * of in for the ranks (auto, or --cuts).  Returns 0, or a RUN_F* code with the message in err. */
 static int decompose(run_job *j, const pslg *in, pcdm_decomp *d, char *err, size_t errlen) {
@@ -378,9 +384,7 @@ static int decompose(run_job *j, const pslg *in, pcdm_decomp *d, char *err, size
         snprintf(err, errlen, "--subdomains %d: fewer subdomains than ranks (%d)", (int)o->nsub, P);
         return RUN_FINVAL;
     }
-    /* ./pcdm: rank 0 decomposes and the others receive it (./pbw's ranks each try their METIS
-     * seeds and keep the input's CDT, so they all decompose) */
-    int share = P > 1 && j->method == RUN_PCDM;
+    int share = decomp_received(j);
     double t0 = rt_wtime();
     /* the input's vertices, triangulated while it was checked (rank 0; run_ahead.c) */
     run_dt_ahead *dt = run_dt_ahead_take(&j->dt_ahead, in);
@@ -437,7 +441,7 @@ int run_par_load(run_job *j, pslg *in, pcdm_decomp *d) {
         if (stage == 1) rc = decompose(j, in, d, err, sizeof err);
         snprintf(msg, sizeof msg, "%s%s", msg_prefix(j, 0, pre, sizeof pre), err);
         if ((rc = run_agree(j, rc, msg)) != 0) goto fail;
-        if (stage == 0 && share) continue; /* received: rank 0's */
+        if (stage == 0 ? share : decomp_received(j)) continue; /* received: rank 0's */
         if (stage == 0 ? par_input_agrees(in) : par_decomp_agrees(d)) continue;
         snprintf(msg, sizeof msg,
                  stage == 0 ? "%sthe ranks read different inputs from %.200s (is it the same file "
