@@ -571,7 +571,7 @@ static void carve(mesh *m, const double *holes, int32_t nholes, int keep_hull) {
         }
         mesh_tri_kill(m, t);
     }
-    qsort(lost, (size_t)nl, sizeof(int32_t), mesh_cmp_i32);
+    if (nl > 1) qsort(lost, (size_t)nl, sizeof(int32_t), mesh_cmp_i32);
     for (int32_t i = 0; i < nl; i++)
         if (i == 0 || lost[i] != lost[i - 1]) mesh_ss_del(m, lost[i]);
     free(lost);
