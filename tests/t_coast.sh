@@ -5,7 +5,9 @@
 # -q 30 and two area bounds: ./mesh's mesh, then ./pcdm at (ranks, threads) (1,1) (1,2) (2,1)
 # (3,1) (2,2) (8,1): every mesh passes --check, all give one hash (the mesh depends on the
 # subdomains alone), and the triangle count is within 3% of ./mesh's (the interfaces add no
-# refinement of their own); ./pbw at 3 ranks passes --check.  Planted faults show the checks
+# refinement of their own); a 40,000-segment shore (the decomposition's passes in several
+# chunks, on 1 or 2 threads) gives one mesh at (1,1) (1,2) (2,1) (3,1); ./pbw at 3 ranks passes
+# --check.  Planted faults show the checks
 # can fail: a part with one triangle reversed (PCDM_TEST_BREAK_PIECE) must fail --check, and
 # rank 1's split requests dropped (PCDM_TEST_DROP_SPLIT) must end the run with an error on every rank.
 # SANITIZE=1: one area bound, (1,1) (2,1) (1,2).
@@ -49,6 +51,27 @@ for a in $areas; do
         fi
     done
 done
+
+# a shore of 40,000 segments: the decomposition's passes over its 84,000 coarse triangles run
+# in more than one chunk (decomp_pass.c), on 1 or 2 threads by configuration; one mesh for all
+if [ "${SANITIZE:-}" != 1 ]; then
+    awk -v n=40000 -f tests/coastline.awk >"$T/coast40k.poly" || fatal "coastline.awk -v n=40000"
+    want=""
+    for cfg in "1 1" "1 2" "2 1" "3 1"; do
+        set -- $cfg
+        name="./pcdm 40,000-segment shore, ranks $1 threads $2"
+        mpi_run "$1" "$BIN/pcdm" --threads "$2" -q 30 -a 0.002 -NEP --stats --check \
+            "$T/coast40k.poly" >"$T/out.txt" 2>&1
+        rc=$?
+        h=$(grep -o 'hash=[0-9a-f]*' "$T/out.txt" | tail -1)
+        if [ "$rc" != 0 ] || ! grep -q '^meshcheck: OK' "$T/out.txt" || [ -z "$h" ]; then
+            fail "$name: exit $rc: $(grep -m1 -v '^rank' "$T/out.txt" | head -c 300)"
+            continue
+        fi
+        [ -n "$want" ] || want=$h
+        if [ "$h" != "$want" ]; then fail "$name: $h, (1,1) gave $want"; else ok "$name: $h"; fi
+    done
+fi
 
 mpi_run 3 "$BIN/pbw" -q 30 -a 0.002 -NEP --check "$f" >"$T/out.txt" 2>&1
 rc=$?

@@ -11,6 +11,7 @@
 
 #include <pthread.h>
 #include <sched.h>
+#include <string.h>
 
 typedef struct range_job {
     void (*fn)(void *ctx, int k, int64_t a, int64_t b);
@@ -98,4 +99,18 @@ void mesh_thread_spread(const uint8_t *cpus) {
 #else
     (void)cpus;
 #endif
+}
+
+void mesh_cpus_beside(const uint8_t *cpus, uint8_t *out) {
+    memset(out, 0, MESH_HOST_CPUS);
+    if (!cpus) return;
+    int n = 0;
+#ifdef __linux__
+    cpu_set_t own;
+    CPU_ZERO(&own);
+    if (pthread_getaffinity_np(pthread_self(), sizeof own, &own) != 0) CPU_ZERO(&own);
+    for (int c = 0; c < MESH_HOST_CPUS && c < CPU_SETSIZE; c++)
+        if (cpus[c] && !CPU_ISSET(c, &own)) out[c] = 1, n++;
+#endif
+    if (n == 0) memcpy(out, cpus, MESH_HOST_CPUS);
 }

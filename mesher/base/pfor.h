@@ -33,5 +33,9 @@ void mesh_pfor_items(int64_t count, int threads, void (*fn)(void *ctx, int64_t i
  * cpus (all 0, or NULL: it stays where it is); Linux only, a no-op elsewhere or on failure. */
 enum { MESH_HOST_CPUS = 1024 };
 void mesh_thread_spread(const uint8_t *cpus);
+/* out (MESH_HOST_CPUS entries) = the CPUs of cpus outside the calling thread's own, or all of
+ * cpus when none is (cpus NULL: none): where the caller's helpers go (mesh_thread_spread) to
+ * run beside it, not on the core a launcher bound it to. */
+void mesh_cpus_beside(const uint8_t *cpus, uint8_t *out);
 
 #endif

@@ -353,96 +353,57 @@ void decomp_index(pcdm_decomp *d) {
     d->sub_vert_off = vo;
 }
 
-int decomp_build(const pslg *in, const mesh *m, const uint8_t *mseg_cut, const int32_t *mseg_parent,
-                 const int32_t *mseg_marker, const int32_t *part, const double *tw, int32_t K,
-                 int keep_all, pcdm_decomp *d, char *err, size_t errlen) {
+int decomp_build(const decomp_threads *th, const pslg *in, const mesh *m, const uint8_t *mseg_cut,
+                 const int32_t *mseg_parent, const int32_t *mseg_marker, const int32_t *part,
+                 const double *tw, int32_t K, int keep_all, pcdm_decomp *d, char *err,
+                 size_t errlen) {
     memset(d, 0, sizeof *d);
     d->g.scale_exp = in->scale_exp; /* its coordinates are in's, scaled alike */
     d->nsub = K;
     d->ninput_verts = in->nverts;
     d->ninput_segs = in->nsegs;
     uint8_t *keep = mesh_xcalloc((size_t)m->nv + 1, 1);
-    int32_t *gid = mesh_xmalloc((size_t)m->nv + 1, sizeof(int32_t));
-    int32_t *best = mesh_xmalloc((size_t)K, sizeof(int32_t));
     d->sub_seed = mesh_xcalloc(2 * (size_t)K, sizeof(double));
     d->sub_area = mesh_xcalloc((size_t)K, sizeof(double));
     d->sub_weight = mesh_xcalloc((size_t)K, sizeof(double));
     d->sub_target = mesh_xcalloc((size_t)K, sizeof(double));
     d->sub_owner = mesh_xcalloc((size_t)K, sizeof(int32_t));
-    double *barea = mesh_xcalloc((size_t)K, sizeof(double));
-    for (int32_t k = 0; k < K; k++)
-        best[k] = -1;
     /* pass 1: interface edges mark their endpoints; per-part sums and seeds */
-    for (int32_t t = 0; t < m->nt; t++) {
-        if (!mesh_tri_alive(m, t)) continue;
-        int32_t p = part[t];
-        if (p < 0 || p >= K) MESH_BUG("triangle %d has label %d of %d", t, p, K);
-        const double *a = mesh_vertex_xy(m, m->tv[3 * t]),
-                     *bb = mesh_vertex_xy(m, m->tv[3 * t + 1]),
-                     *c = mesh_vertex_xy(m, m->tv[3 * t + 2]);
-        double ar = geom_area(a, bb, c);
-        d->sub_area[p] += ar;
-        d->sub_weight[p] += tw[t];
-        if (best[p] < 0 || ar > barea[p]) {
-            best[p] = t;
-            barea[p] = ar;
-            d->sub_seed[2 * p] = (a[0] + bb[0] + c[0]) / 3;
-            d->sub_seed[2 * p + 1] = (a[1] + bb[1] + c[1]) / 3;
-        }
-        for (int j = 0; j < 3; j++) {
-            int32_t e = 3 * t + j, n = m->tn[e];
-            if (n < 0 || part[n / 3] == p) continue;
-            keep[mesh_org(m, e)] = keep[mesh_dest(m, e)] = 1;
-        }
+    int32_t empty = decomp_pass1(th, m, part, tw, K, keep, d);
+    if (empty >= 0) {
+        mesh_xfree(keep);
+        pcdm_decomp_free(d);
+        return mesh_fail(err, errlen, "subdomain %d of %d is empty", (int)empty, (int)K);
     }
-    mesh_xfree(barea);
-    for (int32_t k = 0; k < K; k++) {
-        d->total_weight += d->sub_weight[k];
-        if (best[k] < 0) {
-            mesh_xfree(keep);
-            mesh_xfree(gid);
-            mesh_xfree(best);
-            pcdm_decomp_free(d);
-            return mesh_fail(err, errlen, "subdomain %d of %d is empty", (int)k, (int)K);
-        }
-    }
-    mesh_xfree(best);
+    int32_t *gid = mesh_xmalloc((size_t)m->nv + 1, sizeof(int32_t));
     for (int32_t v = 0; v < (keep_all ? m->nv : m->ninput); v++) /* input (cuts-file) vertices */
         keep[v] = keep_all ? m->vtri[v] >= 0 || v < m->ninput : 1;
     build_vertices(in, m, mseg_marker, keep, gid, d);
     d->vert_sub = mesh_xmalloc((size_t)d->g.nverts + 1, sizeof(int32_t));
     for (int32_t v = 0; v < d->g.nverts; v++)
         d->vert_sub[v] = -1;
-    for (int32_t t = 0; t < m->nt; t++)
-        for (int j = 0; mesh_tri_alive(m, t) && j < 3; j++) {
-            int32_t v = m->tv[3 * t + j];
-            if (keep[v] && gid[v] >= 0) d->vert_sub[gid[v]] = part[t];
-        }
+    decomp_vert_parts(th, m, part, keep, gid, d->vert_sub);
     gbuild b = {d, 0};
     build_pieces(in, m, mseg_cut, mseg_parent, mseg_marker, part, keep, gid, &b);
     d->nboundary = d->g.nsegs;
     /* pass 2: the interface edges (non-input edges between different parts) */
-    int32_t ncut = 0, ccap = 0;
-    for (int32_t t = 0; t < m->nt; t++) {
-        if (!mesh_tri_alive(m, t)) continue;
-        for (int j = 0; j < 3; j++) {
-            int32_t e = 3 * t + j, n = m->tn[e];
-            if (n < 0 || n / 3 < t || part[n / 3] == part[t]) continue;
-            int32_t cid = -1;
-            if (mesh_edge_constrained(m, e)) {
-                const mesh_subseg *s = mesh_subseg_of_edge(m, e);
-                if (!s) MESH_BUG("constraint edge %d has no subsegment", e);
-                if (!mseg_cut || !mseg_cut[s->seg]) continue; /* an input piece: done above */
-                cid = mseg_parent ? mseg_parent[s->seg] : s->seg;
-            }
-            int32_t u = mesh_org(m, e), v = mesh_dest(m, e);
-            add_seg(&b, gid[u], gid[v], 0, 0, cid >= 0 ? cid : ncut, part[t], part[n / 3], 1);
-            MESH_GROW(d->cut_xy, 4 * (size_t)ncut + 3, ccap);
-            memcpy(d->cut_xy + 4 * (size_t)ncut, mesh_vertex_xy(m, u), 2 * sizeof(double));
-            memcpy(d->cut_xy + 4 * (size_t)ncut + 2, mesh_vertex_xy(m, v), 2 * sizeof(double));
-            ncut++;
+    int32_t ncut = 0, ccap = 0, ne = 0, *edges = decomp_part_edges(th, m, part, &ne);
+    for (int32_t i = 0; i < ne; i++) {
+        int32_t e = edges[i], t = e / 3, n = m->tn[e], cid = -1;
+        if (mesh_edge_constrained(m, e)) {
+            const mesh_subseg *s = mesh_subseg_of_edge(m, e);
+            if (!s) MESH_BUG("constraint edge %d has no subsegment", e);
+            if (!mseg_cut || !mseg_cut[s->seg]) continue; /* an input piece: done above */
+            cid = mseg_parent ? mseg_parent[s->seg] : s->seg;
         }
+        int32_t u = mesh_org(m, e), v = mesh_dest(m, e);
+        add_seg(&b, gid[u], gid[v], 0, 0, cid >= 0 ? cid : ncut, part[t], part[n / 3], 1);
+        MESH_GROW(d->cut_xy, 4 * (size_t)ncut + 3, ccap);
+        memcpy(d->cut_xy + 4 * (size_t)ncut, mesh_vertex_xy(m, u), 2 * sizeof(double));
+        memcpy(d->cut_xy + 4 * (size_t)ncut + 2, mesh_vertex_xy(m, v), 2 * sizeof(double));
+        ncut++;
     }
+    mesh_xfree(edges);
     d->ncuts = ncut;
     if (!d->cut_xy) d->cut_xy = mesh_xmalloc(1, sizeof(double));
     if (!d->g.seg) { /* no segments at all: keep the arrays non-NULL */
@@ -453,23 +414,7 @@ int decomp_build(const pslg *in, const mesh *m, const uint8_t *mseg_cut, const i
     copy_pslg_extras(in, &d->g);
     for (int32_t s = 0; s < d->g.nsegs; s++) /* a vertex that ends a segment is on no side */
         d->vert_sub[d->g.seg[2 * s]] = d->vert_sub[d->g.seg[2 * s + 1]] = -1;
-    if (keep_all == 2) { /* m's triangles by part (a counting sort), in g's numbers */
-        d->tri_off = mesh_xcalloc((size_t)K + 2, sizeof(int32_t));
-        for (int32_t t = 0; t < m->nt; t++)
-            if (mesh_tri_alive(m, t)) d->tri_off[part[t] + 2]++;
-        for (int32_t k = 0; k < K; k++)
-            d->tri_off[k + 2] += d->tri_off[k + 1];
-        d->tri = mesh_xmalloc(3 * (size_t)d->tri_off[K + 1] + 1, sizeof(int32_t));
-        for (int32_t t = 0; t < m->nt; t++) {
-            if (!mesh_tri_alive(m, t)) continue;
-            int32_t at = d->tri_off[part[t] + 1]++;
-            for (int j = 0; j < 3; j++) {
-                int32_t v = gid[m->tv[3 * t + j]];
-                if (v < 0) MESH_BUG("vertex %d of triangle %d is not kept", m->tv[3 * t + j], t);
-                d->tri[3 * (size_t)at + j] = v;
-            }
-        }
-    }
+    if (keep_all == 2) decomp_tris_by_part(th, m, part, gid, K, d); /* in g's numbers */
     decomp_index(d);
     d->iface_min_deg = pcdm_decomp_iface_min_angle(d);
     mesh_xfree(keep);

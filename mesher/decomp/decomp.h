@@ -88,6 +88,11 @@ typedef struct pcdm_decomp_opts {
     int32_t seed_first, seed_step, seed_count;
     int (*pick)(void *ctx, double cost, int32_t n, int32_t *part);
     void *pick_ctx;
+    /* threads the decomposition's passes may run on (< 2: the caller's alone; the result is the
+     * same for any count) and the CPUs its helper threads move onto (MESH_HOST_CPUS entries, as
+     * mesh_thread_spread takes them; NULL: the caller's) */
+    int threads;
+    const uint8_t *cpus;
 } pcdm_decomp_opts;
 
 typedef struct pcdm_decomp {

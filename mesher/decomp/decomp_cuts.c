@@ -358,7 +358,8 @@ int pcdm_decomp_read_cuts(const char *path, const pslg *in, const pcdm_decomp_op
                               mesh_vertex_xy(&m, m.tv[3 * t + 2]));
                 tw[t] = b > 0 ? ar / b : ar;
             }
-        rc = decomp_build(in, &m, iscut, parent, marker, lab, tw, K, 0, out, err, errlen);
+        decomp_threads th = {o->threads, o->cpus};
+        rc = decomp_build(&th, in, &m, iscut, parent, marker, lab, tw, K, 0, out, err, errlen);
     }
     if (rc == 0) {
         out->floor2 = mesh_rules_length_floor2(m.xy, m.nv, m.tv, m.nt);

@@ -385,6 +385,15 @@ static int decompose(run_job *j, const pslg *in, pcdm_decomp *d, char *err, size
         return RUN_FINVAL;
     }
     int share = decomp_received(j);
+    /* the passes of a decomposition made alone (./pcdm's rank 0, or one rank) take the CPUs the
+     * waiting ranks and workers leave (the same decomposition for any number) */
+    if (share || P == 1) {
+        int ncpu = 0;
+        for (int c = 0; c < MESH_HOST_CPUS; c++)
+            ncpu += j->host_cpus[c] != 0;
+        dopt.threads = ncpu > 0 ? ncpu : o->threads;
+        dopt.cpus = ncpu > 0 ? j->host_cpus : NULL;
+    }
     double t0 = rt_wtime();
     /* the input's vertices, triangulated while it was checked (rank 0; run_ahead.c) */
     run_dt_ahead *dt = run_dt_ahead_take(&j->dt_ahead, in);
