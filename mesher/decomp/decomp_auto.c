@@ -250,51 +250,6 @@ static void interior_points(mesh *m, double area, int64_t limit) {
     mesh_xfree(h.a);
 }
 
-/* Every live triangle around an input corner sharper than 60 degrees takes the part of the
- * first such triangle (in slot order), a triangle at two such corners that of its last one:
- * chunk by chunk (decomp_for_chunks), first[v] the lowest slot at corner v (an atomic minimum,
- * whatever the order the chunks run in), then every chunk's triangles relabelled. */
-typedef struct corner_merge {
-    const mesh *m;
-    int32_t *part, *first, *cp;
-    int relabel;
-} corner_merge;
-
-static void corners_chunk(void *arg, int32_t c, int32_t t0, int32_t t1) {
-    (void)c;
-    corner_merge *C = arg;
-    const mesh *m = C->m;
-    for (int32_t t = t0; t < t1; t++)
-        for (int j = 0; mesh_tri_alive(m, t) && j < 3; j++) {
-            int32_t v = m->tv[3 * t + j];
-            if (v >= m->ninput || !m->corner[v]) continue;
-            if (C->relabel) {
-                C->part[t] = C->cp[v];
-                continue;
-            }
-            int32_t cur = __atomic_load_n(&C->first[v], __ATOMIC_RELAXED);
-            while (t < cur && !__atomic_compare_exchange_n(&C->first[v], &cur, t, 0,
-                                                           __ATOMIC_RELAXED, __ATOMIC_RELAXED))
-                ;
-        }
-}
-
-static void merge_corners(const decomp_threads *th, const mesh *m, int32_t *part) {
-    if (!m->has_corners || !m->corner) return;
-    corner_merge C = {.m = m, .part = part};
-    C.first = mesh_xmalloc((size_t)m->ninput + 1, sizeof(int32_t));
-    C.cp = mesh_xmalloc((size_t)m->ninput + 1, sizeof(int32_t));
-    for (int32_t v = 0; v < m->ninput; v++)
-        C.first[v] = INT32_MAX;
-    decomp_for_chunks(th, m->nt, corners_chunk, &C);
-    for (int32_t v = 0; v < m->ninput; v++)
-        C.cp[v] = C.first[v] < INT32_MAX ? part[C.first[v]] : -1;
-    C.relabel = 1;
-    decomp_for_chunks(th, m->nt, corners_chunk, &C);
-    mesh_xfree(C.first);
-    mesh_xfree(C.cp);
-}
-
 /* Step 0: refines m (the input's CDT, area A) at the real bounds under a Steiner limit (and
  * with an area bound up to min_per_sub triangles per subdomain).
  * Returns 1 if m is now the exact preview, 0 if it was not tried (m untouched), -1 if it was
@@ -490,7 +445,7 @@ static int attempt(const pslg *in, const pcdm_decomp_opts *o, int mode, pcdm_dec
                            "METIS could not partition %d coarse triangles into %d parts", (int)n,
                            (int)K);
         if (rc == 0) {
-            merge_corners(&th, &m, part);
+            decomp_merge_corners(&th, &m, part);
             if (K > 1) decomp_fill_empty(&m, part, K);
             if (K > 1) decomp_widen(&m, part, tw, K, exact);
             /* the fast route keeps its triangles: the subdomains' first meshes (pcdm_build_sub) */

@@ -318,8 +318,8 @@ static int graph_connected(const pgraph *g) {
 
 /* The graph of m's live triangles (id[t]: compact index, -1 for dead slots) that partition
  * splits: the dual graph, the triangles around each input corner sharper than 60 degrees one
- * graph vertex (they must share a part, merge_corners, so METIS sees their weight together and
- * balances around it); with coarsen and at least CLUSTER_MIN of those, its clusters
+ * graph vertex (they must share a part, decomp_merge_corners, so METIS sees their weight together
+ * and balances around it); with coarsen and at least CLUSTER_MIN of those, its clusters
  * (graph_clusters, which never makes the graph of the triangles).  Made once for all the seeds
  * partition tries on it. */
 void decomp_graph_build(const decomp_threads *th, const mesh *m, const int32_t *id, int32_t n,

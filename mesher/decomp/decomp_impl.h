@@ -78,6 +78,9 @@ int decomp_build(const decomp_threads *th, const pslg *in, const mesh *m, const 
  * half-edges e between live triangles of different parts (seen from the lower triangle), in
  * slot order (*count of them; free the array).  decomp_tris_by_part: d->tri_off, d->tri: the
  * live triangles part by part, in slot order within one, their vertices in gid's numbers. */
+/* Every live triangle around an input corner sharper than 60 degrees takes the part of the first
+ * such triangle in slot order (one at two such corners, its last one's). */
+void decomp_merge_corners(const decomp_threads *th, const mesh *m, int32_t *part);
 int32_t decomp_nchunks(int64_t n);
 int64_t decomp_chunk(int64_t n); /* the items of each of them but the last */
 /* fn(ctx, c, a, b) for every chunk c of [0, n) ([a, b): decomp_nchunks' chunks, whatever

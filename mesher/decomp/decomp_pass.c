@@ -144,6 +144,53 @@ int decomp_pass1(const decomp_threads *th, const mesh *m, const int32_t *part, c
     return empty;
 }
 
+/* ---- the sharp corners' parts (decomp_auto.c, step (4)) ---------------------------------- */
+
+/* Every live triangle around an input corner sharper than 60 degrees takes the part of the
+ * first such triangle (in slot order), a triangle at two such corners that of its last one:
+ * chunk by chunk (decomp_for_chunks), first[v] the lowest slot at corner v (an atomic minimum,
+ * whatever the order the chunks run in), then every chunk's triangles relabelled. */
+typedef struct corner_merge {
+    const mesh *m;
+    int32_t *part, *first, *cp;
+    int relabel;
+} corner_merge;
+
+static void corners_chunk(void *arg, int32_t c, int32_t t0, int32_t t1) {
+    (void)c;
+    corner_merge *C = arg;
+    const mesh *m = C->m;
+    for (int32_t t = t0; t < t1; t++)
+        for (int j = 0; mesh_tri_alive(m, t) && j < 3; j++) {
+            int32_t v = m->tv[3 * t + j];
+            if (v >= m->ninput || !m->corner[v]) continue;
+            if (C->relabel) {
+                C->part[t] = C->cp[v];
+                continue;
+            }
+            int32_t cur = __atomic_load_n(&C->first[v], __ATOMIC_RELAXED);
+            while (t < cur && !__atomic_compare_exchange_n(&C->first[v], &cur, t, 0,
+                                                           __ATOMIC_RELAXED, __ATOMIC_RELAXED))
+                ;
+        }
+}
+
+void decomp_merge_corners(const decomp_threads *th, const mesh *m, int32_t *part) {
+    if (!m->has_corners || !m->corner) return;
+    corner_merge C = {.m = m, .part = part};
+    C.first = mesh_xmalloc((size_t)m->ninput + 1, sizeof(int32_t));
+    C.cp = mesh_xmalloc((size_t)m->ninput + 1, sizeof(int32_t));
+    for (int32_t v = 0; v < m->ninput; v++)
+        C.first[v] = INT32_MAX;
+    decomp_for_chunks(th, m->nt, corners_chunk, &C);
+    for (int32_t v = 0; v < m->ninput; v++)
+        C.cp[v] = C.first[v] < INT32_MAX ? part[C.first[v]] : -1;
+    C.relabel = 1;
+    decomp_for_chunks(th, m->nt, corners_chunk, &C);
+    mesh_xfree(C.first);
+    mesh_xfree(C.cp);
+}
+
 /* ---- the kept vertices' parts ----------------------------------------------------------- */
 
 typedef struct pv {

@@ -318,7 +318,7 @@ void decomp_widen(const mesh *m, int32_t *part, const double *tw, int32_t K, int
     mesh_xfree(S.near);
 }
 
-/* Every part left empty by METIS (it may, at a few triangles per part) or by merge_corners
+/* Every part left empty by METIS (it may, at a few triangles per part) or by decomp_merge_corners
  * takes one triangle of the part with the most: preferably one whose edges no apex encroaches
  * (on the exact preview they all become interfaces) and that touches no sharp input corner. */
 void decomp_fill_empty(const mesh *m, int32_t *part, int32_t K) {
